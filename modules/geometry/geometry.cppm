@@ -1,0 +1,34 @@
+// rocking.geometry: the structure as plain constant data, and what follows from
+// its geometry alone (MODEL.md 1 and 8; the paper's Table 1 and Eq. 10).
+// Nodes 1..N at heights H with lumped masses m (no rotational inertia), a rigid
+// foundation beam (node 0, height 0, mass m0), two pivot axes at x = -B and +B,
+// Euler-Bernoulli elements with section stiffness E*I_e (element e spans node
+// e-1 to e). SI units: m, kg, N, rad.
+module;
+#include <rocking/eigen.hpp>
+export module rocking.geometry;
+
+export namespace rocking {
+
+struct Structure {
+  double half_width = 0;       // B: half the distance between the pivots [m]
+  Eigen::VectorXd heights;     // H: heights of nodes 1..N, increasing [m]
+  Eigen::VectorXd masses;      // m: lumped masses of nodes 1..N [kg]
+  double base_mass = 0;        // m0: foundation beam [kg]
+  Eigen::VectorXd EI;          // E*I_e of element e (node e-1 to e) [N m^2]
+  double EI_scale = 1;         // multiplies every EI (parametric studies)
+  double damping_ratio = 0;    // zeta on the first two fixed-base modes [-]
+};
+
+// Throws std::invalid_argument naming the first field that breaks an
+// invariant (sizes agree, masses and EI positive, heights increasing from > 0).
+void check(const Structure& s);
+
+Eigen::Index node_count(const Structure& s);          // N
+double total_mass(const Structure& s);                // m0 + sum m
+double pivot_inertia(const Structure& s);             // J_p = m0 B^2 + sum m (H^2 + B^2)
+double centre_of_gravity_height(const Structure& s);  // H_cg = sum m H / total mass
+double slenderness(const Structure& s);               // alpha_cg = atan(B / H_cg)
+double restitution_eq10(const Structure& s);          // r = 1 - 2 (1'M1 + m0) B^2 / J_p
+
+}  // namespace rocking

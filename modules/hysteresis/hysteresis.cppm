@@ -1,0 +1,34 @@
+// rocking.hysteresis: the metallic dampers at the rocking interface (MODEL.md 5;
+// the paper's Eqs. 6-7, Bouc-Wen after Wen 1976). Each edge carries one damper,
+// stretched when that edge lifts; its elongation is the chord of the lifted
+// edge, d = 4B sin(|theta|/2), and it yields at d_y = 4B sin(theta_y/2).
+// Damper thickness scale tau models a tapered plate in bending: stiffness
+// scales with tau^3, yield force with tau^2, so d_y scales with 1/tau.
+// SI units: N/m, m, rad.
+module;
+export module rocking.hysteresis;
+
+export namespace rocking {
+
+struct Damper {
+  bool enabled = true;
+  double stiffness = 0;         // k_hd, pre-yield [N/m]
+  double post_yield_ratio = 0;  // eps [-]
+  double theta_y = 0;           // base rotation at full yield [rad] (as built)
+  double alpha = 1, beta = 0, n = 1;  // Bouc-Wen shape parameters [-]
+  double thickness = 1;         // tau, plate thickness scale (1 = as built)
+};
+
+// The damper with its thickness scale applied (stiffness x tau^3,
+// theta_y such that d_y x 1/tau), and thickness reset to 1.
+Damper scaled_for_thickness(const Damper& d);
+
+// d_y = 4B sin(theta_y/2) [m]
+double yield_displacement(const Damper& d, double half_width);
+
+// Rotational stiffness about a pivot of a damper at lever arm 2B, for the
+// linearised rocking phase: pre-yield k (2B)^2, post-yield eps k (2B)^2.
+double pre_yield_rotational_stiffness(const Damper& d, double half_width);
+double post_yield_rotational_stiffness(const Damper& d, double half_width);
+
+}  // namespace rocking

@@ -1,0 +1,9 @@
+// rocking: the umbrella module. It only re-exports the workspace's modules, so
+// that an application can `import rocking;` and see the whole public API.
+export module rocking;
+export import rocking.errors;
+export import rocking.geometry;
+export import rocking.beam;
+export import rocking.hysteresis;
+export import rocking.modal;
+export import rocking.scene;

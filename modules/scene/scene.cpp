@@ -1,0 +1,277 @@
+module;
+#include <rocking/eigen.hpp>
+#include <toml++/toml.h>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <ranges>
+#include <set>
+#include <string>
+#include <string_view>
+#include <vector>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+module rocking.scene;
+import rocking.errors;
+
+namespace rocking {
+
+namespace {
+
+// The schema: every table and key a scene may hold. Anything else is an error,
+// so that a typo never silently falls back to a default.
+const std::map<std::string, std::set<std::string, std::less<>>, std::less<>> schema = {
+    {"scene", {"name", "description"}},
+    {"structure", {"half_width", "heights", "masses", "base_mass", "second_moments",
+                   "youngs_modulus", "EI_scale", "damping_ratio"}},
+    {"contact", {"rocking", "restitution", "theta_dot_min"}},
+    {"damper", {"enabled", "stiffness", "post_yield_ratio", "theta_y", "alpha", "beta", "n",
+                "thickness"}},
+};
+
+std::string where(const toml::source_region& src, std::string_view fallback) {
+  if (!src.path) return std::string(fallback);
+  return fmt::format("{}:{}", *src.path, src.begin.line);
+}
+
+// "table.key" -> "--set table.key=value" for every overridden key: toml++ does
+// not keep a node's source when it is copied into the scene's table.
+using Origins = std::map<std::string, std::string, std::less<>>;
+
+// Reads typed values out of one table, failing with file:line and the key.
+class TableReader {
+ public:
+  TableReader(const toml::table& root, std::string table, std::string file, const Origins& origins)
+      : table_name_(std::move(table)), file_(std::move(file)), origins_(origins) {
+    const toml::node* node = root.get(table_name_);
+    if (node == nullptr) fail(nullptr, "", fmt::format("missing table [{}]", table_name_));
+    table_ = node->as_table();
+    if (table_ == nullptr) fail(node, "", "must be a table");
+  }
+
+  bool has(std::string_view key) const { return table_->get(key) != nullptr; }
+
+  [[noreturn]] void fail(const toml::node* node, std::string_view key, std::string_view what) const {
+    const std::string name = key.empty() ? table_name_ : fmt::format("{}.{}", table_name_, key);
+    const auto set = origins_.find(name.substr(0, name.find('[')));
+    const std::string at = set != origins_.end() ? set->second
+                           : node                ? where(node->source(), file_)
+                           : table_              ? where(table_->source(), file_)
+                                                 : file_;
+    throw InputError(fmt::format("{}: {}: {}", at, name, what));
+  }
+
+  const toml::node& required(std::string_view key) const {
+    const toml::node* node = table_->get(key);
+    if (node == nullptr) fail(nullptr, key, "missing key");
+    return *node;
+  }
+
+  double number(std::string_view key, const std::function<bool(double)>& ok,
+                std::string_view rule) const {
+    return checked_number(required(key), key, ok, rule);
+  }
+
+  double number_or(std::string_view key, double fallback, const std::function<bool(double)>& ok,
+                   std::string_view rule) const {
+    return has(key) ? number(key, ok, rule) : fallback;
+  }
+
+  Eigen::VectorXd numbers(std::string_view key, const std::function<bool(double)>& ok,
+                          std::string_view rule) const {
+    const toml::node& node = required(key);
+    const toml::array* array = node.as_array();
+    if (array == nullptr || array->empty()) fail(&node, key, "must be a non-empty array of numbers");
+    Eigen::VectorXd out(static_cast<Eigen::Index>(array->size()));
+    for (std::size_t i = 0; i < array->size(); ++i)
+      out[static_cast<Eigen::Index>(i)] =
+          checked_number((*array)[i], fmt::format("{}[{}]", key, i), ok, rule);
+    return out;
+  }
+
+  bool boolean_or(std::string_view key, bool fallback) const {
+    if (!has(key)) return fallback;
+    const toml::node& node = required(key);
+    if (!node.is_boolean()) fail(&node, key, "must be true or false");
+    return *node.value<bool>();
+  }
+
+  std::string string_or(std::string_view key, std::string fallback) const {
+    if (!has(key)) return fallback;
+    const toml::node& node = required(key);
+    if (!node.is_string()) fail(&node, key, "must be a string");
+    return *node.value<std::string>();
+  }
+
+ private:
+  double checked_number(const toml::node& node, std::string_view key,
+                        const std::function<bool(double)>& ok, std::string_view rule) const {
+    if (!node.is_number()) fail(&node, key, "must be a number");
+    const double v = *node.value<double>();
+    if (!std::isfinite(v)) fail(&node, key, "must be a finite number");
+    if (!ok(v)) fail(&node, key, fmt::format("must be {} (got {})", rule, v));
+    return v;
+  }
+
+  std::string table_name_;
+  std::string file_;
+  const Origins& origins_;
+  const toml::table* table_ = nullptr;
+};
+
+const auto positive = [](double v) { return v > 0; };
+const auto non_negative = [](double v) { return v >= 0; };
+
+void check_known_keys(const toml::table& root, const std::string& file) {
+  for (auto&& [table_key, node] : root) {
+    const auto known = schema.find(table_key.str());
+    if (known == schema.end())
+      throw InputError(fmt::format("{}: unknown table [{}] (known: {})", where(table_key.source(), file),
+                                   table_key.str(), fmt::join(schema | std::views::keys, ", ")));
+    if (const toml::table* table = node.as_table())
+      for (auto&& [key, value] : *table)
+        if (!known->second.contains(key.str()))
+          throw InputError(fmt::format("{}: {}.{}: unknown key (known: {})",
+                                       where(key.source(), file), table_key.str(), key.str(),
+                                       fmt::join(known->second, ", ")));
+  }
+}
+
+// "table.key=value": the value is parsed as TOML; a bare word becomes a string.
+void apply_override(toml::table& root, const std::string& text, Origins& origins) {
+  const auto eq = text.find('=');
+  const std::string key = eq == std::string::npos ? "" : text.substr(0, eq);
+  const std::string value = eq == std::string::npos ? "" : text.substr(eq + 1);
+  const auto dot = key.find('.');
+  const bool shaped = !key.empty() && !value.empty() && dot != std::string::npos &&
+                      dot > 0 && dot + 1 < key.size() && key.find('.', dot + 1) == std::string::npos;
+  if (!shaped) throw InputError(fmt::format("--set {}: expected TABLE.KEY=VALUE, e.g. structure.EI_scale=0.5", text));
+  const std::string table_name = key.substr(0, dot), leaf = key.substr(dot + 1);
+  const auto known = schema.find(table_name);
+  if (known == schema.end() || !known->second.contains(leaf))
+    throw InputError(fmt::format("--set {}: unknown key '{}'", text, key));
+  const std::string origin = "--set " + text;
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + value, origin);
+  } catch (const toml::parse_error&) {
+    if (value.find_first_of("'\n") != std::string::npos)
+      throw InputError(fmt::format("{}: value is neither TOML nor a plain word", origin));
+    parsed = toml::parse("v = '" + value + "'", origin);
+  }
+  if (!root.contains(table_name)) root.insert(table_name, toml::table{});
+  toml::table* table = root.get_as<toml::table>(table_name);
+  if (table == nullptr) throw InputError(fmt::format("{}: [{}] is not a table", origin, table_name));
+  table->insert_or_assign(leaf, *parsed.get("v"));
+  origins[key] = origin;
+}
+
+Structure read_structure(const toml::table& root, const std::string& file, const Origins& origins) {
+  const TableReader t(root, "structure", file, origins);
+  Structure s;
+  s.half_width = t.number("half_width", positive, "positive");
+  s.heights = t.numbers("heights", positive, "positive");
+  s.masses = t.numbers("masses", positive, "positive");
+  s.base_mass = t.number("base_mass", non_negative, "non-negative");
+  const Eigen::VectorXd I = t.numbers("second_moments", positive, "positive");
+  const double E = t.number("youngs_modulus", positive, "positive");
+  s.EI = E * I;
+  s.EI_scale = t.number_or("EI_scale", 1.0, positive, "positive");
+  s.damping_ratio = t.number("damping_ratio", [](double z) { return z >= 0 && z < 1; }, "in [0, 1)");
+  const auto n = s.heights.size();
+  if (s.masses.size() != n) t.fail(&t.required("masses"), "masses", fmt::format("must have one entry per height ({})", n));
+  if (I.size() != n) t.fail(&t.required("second_moments"), "second_moments", fmt::format("must have one entry per element ({})", n));
+  const toml::array& h = *t.required("heights").as_array();
+  for (Eigen::Index i = 1; i < n; ++i)
+    if (!(s.heights[i] > s.heights[i - 1]))
+      t.fail(h.get(static_cast<std::size_t>(i)), fmt::format("heights[{}]", i),
+             fmt::format("heights must increase (got {} after {})", s.heights[i], s.heights[i - 1]));
+  return s;
+}
+
+Contact read_contact(const toml::table& root, const std::string& file, const Origins& origins) {
+  Contact c;
+  if (!root.contains("contact")) return c;
+  const TableReader t(root, "contact", file, origins);
+  c.rocking = t.boolean_or("rocking", true);
+  c.theta_dot_min = t.number_or("theta_dot_min", c.theta_dot_min, non_negative, "non-negative");
+  if (t.has("restitution")) {
+    const toml::node& r = t.required("restitution");
+    if (r.is_string()) {
+      const std::string rule = *r.value<std::string>();
+      if (rule == "eq10") c.restitution_rule = RestitutionRule::eq10;
+      else if (rule == "eq9") c.restitution_rule = RestitutionRule::eq9;
+      else t.fail(&r, "restitution", fmt::format("must be a number in [0, 1], eq10 or eq9 (got '{}')", rule));
+    } else {
+      c.restitution_rule = RestitutionRule::constant;
+      c.restitution = t.number("restitution", [](double v) { return v >= 0 && v <= 1; }, "in [0, 1], eq10 or eq9");
+    }
+  }
+  return c;
+}
+
+Damper read_damper(const toml::table& root, const std::string& file, const Origins& origins) {
+  Damper d;
+  if (!root.contains("damper")) {
+    d.enabled = false;
+    return d;
+  }
+  const TableReader t(root, "damper", file, origins);
+  d.enabled = t.boolean_or("enabled", true);
+  d.stiffness = t.number("stiffness", positive, "positive");
+  d.post_yield_ratio = t.number("post_yield_ratio", [](double e) { return e >= 0 && e < 1; }, "in [0, 1)");
+  d.theta_y = t.number("theta_y", positive, "positive");
+  d.alpha = t.number_or("alpha", 1.0, non_negative, "non-negative");
+  d.beta = t.number_or("beta", 0.0, [](double) { return true; }, "a number");
+  d.n = t.number_or("n", 1.0, [](double n) { return n >= 1; }, ">= 1");
+  d.thickness = t.number_or("thickness", 1.0, positive, "positive");
+  if (!(d.alpha + d.beta > 0)) t.fail(nullptr, "beta", "alpha + beta must be positive (bounded hysteresis)");
+  return d;
+}
+
+Scene read_scene(toml::table root, const std::string& file, const std::vector<std::string>& overrides) {
+  Origins origins;
+  for (const std::string& o : overrides) apply_override(root, o, origins);
+  check_known_keys(root, file);
+  Scene scene;
+  scene.source = file;
+  scene.name = std::filesystem::path(file).stem().string();
+  if (root.contains("scene")) {
+    const TableReader meta(root, "scene", file, origins);
+    scene.name = meta.string_or("name", scene.name);
+    scene.description = meta.string_or("description", "");
+  }
+  scene.structure = read_structure(root, file, origins);
+  scene.contact = read_contact(root, file, origins);
+  scene.damper = read_damper(root, file, origins);
+  return scene;
+}
+
+std::string parse_error_line(const toml::parse_error& e, const std::string& file) {
+  return fmt::format("{}: invalid TOML: {}", where(e.source(), file), e.description());
+}
+
+}  // namespace
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw InputError(fmt::format("{}: scene file not found", path));
+  try {
+    return read_scene(toml::parse_file(path), path, overrides);
+  } catch (const toml::parse_error& e) {
+    throw InputError(parse_error_line(e, path));
+  }
+}
+
+Scene load_default_scene(const std::vector<std::string>& overrides) {
+  const std::string name = "embedded:christchurch_chimney.toml";
+  try {
+    return read_scene(toml::parse(default_scene_text(), name), name, overrides);
+  } catch (const toml::parse_error& e) {
+    throw InputError(parse_error_line(e, name));
+  }
+}
+
+}  // namespace rocking

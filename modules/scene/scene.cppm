@@ -1,0 +1,47 @@
+// rocking.scene: what a scene file says, read from TOML (toml++) into the plain
+// constant data the physics modules take. A scene names the structure
+// ([structure]: geometry, masses, sections, damping), how it meets the ground
+// ([contact]) and its dampers ([damper]); see data/scenes/*.toml for the keys,
+// which are SI throughout. Any key can be overridden with `--set table.key=value`
+// (the value is read as TOML, or as a bare string such as eq10).
+// Every error is an InputError of one line: where (file:line, or the --set
+// text), which key, what is wrong.
+module;
+#include <rocking/eigen.hpp>
+#include <string>
+#include <string_view>
+#include <vector>
+export module rocking.scene;
+export import rocking.geometry;
+export import rocking.hysteresis;
+
+export namespace rocking {
+
+// How the rocking velocity after an impact follows from the one before
+// (MODEL.md 6): a constant r, Eq. 10 from the geometry, or Eq. 9 per impact.
+enum class RestitutionRule { constant, eq10, eq9 };
+
+struct Contact {
+  bool rocking = true;                       // false: fixed base
+  RestitutionRule restitution_rule = RestitutionRule::eq10;
+  double restitution = 0;                    // r when the rule is constant
+  double theta_dot_min = 0.0015;             // Eq. 8 threshold [rad/s]
+};
+
+struct Scene {
+  std::string name;
+  std::string description;
+  std::string source;  // file path, or "embedded:christchurch_chimney.toml"
+  Structure structure;
+  Contact contact;
+  Damper damper;       // damper.enabled = false when the scene has none
+};
+
+// Reads a scene file and applies overrides ("table.key=value") in order.
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+
+// The Christchurch chimney, embedded in the program at build time.
+Scene load_default_scene(const std::vector<std::string>& overrides = {});
+std::string_view default_scene_text();
+
+}  // namespace rocking

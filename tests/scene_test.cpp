@@ -1,0 +1,125 @@
+// rocking.scene: reading scene files, --set overrides, and one-line errors that
+// name the file, the line and the key.
+#include <rocking/eigen.hpp>
+#include <doctest/doctest.h>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+import rocking.scene;
+import rocking.errors;
+
+using namespace rocking;
+
+namespace {
+
+// Writes the embedded chimney scene with `from` replaced by `to` to a temp file.
+std::string chimney_with(const std::string& from, const std::string& to) {
+  std::string text(default_scene_text());
+  const auto at = text.find(from);
+  REQUIRE_MESSAGE(at != std::string::npos, "test setup: '" << from << "' not in the scene");
+  text.replace(at, from.size(), to);
+  const auto path = std::filesystem::temp_directory_path() / "rocking_scene_test.toml";
+  std::ofstream(path) << text;
+  return path.string();
+}
+
+int line_of(const std::string& path, const std::string& needle) {
+  std::ifstream in(path);
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n)
+    if (line.find(needle) != std::string::npos) return n;
+  return -1;
+}
+
+// The InputError message of a failing load (and that it is one line).
+std::string error_of(const std::string& path, const std::vector<std::string>& sets = {}) {
+  try {
+    load_scene(path, sets);
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    CHECK(what.find('\n') == std::string::npos);
+    return what;
+  }
+  FAIL("expected an InputError for " << path);
+  return {};
+}
+
+}  // namespace
+
+TEST_CASE("the data/ chimney file and the embedded scene agree") {
+  const Scene embedded = load_default_scene();
+  const Scene file = load_scene(ROCKING_SCENES "/christchurch_chimney.toml");
+  CHECK(embedded.name == "Christchurch chimney");
+  CHECK(file.structure.heights == embedded.structure.heights);
+  CHECK(file.structure.masses == embedded.structure.masses);
+  CHECK(file.damper.stiffness == 1.0e7);  // N/m, MODEL.md 9.1
+  CHECK(file.contact.restitution_rule == RestitutionRule::constant);
+  CHECK(file.contact.restitution == 0.94);
+}
+
+TEST_CASE("--set overrides typed values, bare words and booleans") {
+  const Scene s = load_default_scene(
+      {"structure.EI_scale=0.5", "contact.restitution=eq10", "damper.enabled=false"});
+  CHECK(s.structure.EI_scale == 0.5);
+  CHECK(s.contact.restitution_rule == RestitutionRule::eq10);
+  CHECK_FALSE(s.damper.enabled);
+  CHECK(load_default_scene({"structure.masses=[1.0, 2.0, 3.0, 4.0]"}).structure.masses[3] == 4.0);
+}
+
+TEST_CASE("a missing key names the key, the file and the table's line") {
+  const std::string path = chimney_with("base_mass = 62400.0", "");
+  const std::string what = error_of(path);
+  CHECK(what == path + ":" + std::to_string(line_of(path, "[structure]")) + ": structure.base_mass: missing key");
+}
+
+TEST_CASE("an unknown key is an error, not silently ignored") {
+  const std::string path = chimney_with("base_mass = 62400.0", "base_mass = 62400.0\nbase_mas = 1.0");
+  const std::string what = error_of(path);
+  CHECK(what.starts_with(path + ":" + std::to_string(line_of(path, "base_mas =")) + ": structure.base_mas: unknown key"));
+}
+
+TEST_CASE("a negative mass names the element and its line") {
+  const std::string path = chimney_with("53800.0", "-53800.0");
+  CHECK(error_of(path) == path + ":" + std::to_string(line_of(path, "masses =")) +
+                              ": structure.masses[2]: must be positive (got -53800)");
+}
+
+TEST_CASE("non-increasing heights are refused") {
+  const std::string path = chimney_with("25.5,", "17.0,");
+  CHECK(error_of(path).find("structure.heights[2]: heights must increase (got 17 after 17.95)") !=
+        std::string::npos);
+}
+
+TEST_CASE("a zero section is refused") {
+  const std::string path = chimney_with("[9.84, 4.03,", "[9.84, 0.0,");
+  CHECK(error_of(path).ends_with("structure.second_moments[1]: must be positive (got 0)"));
+}
+
+TEST_CASE("malformed and unknown --set are one-line errors naming the --set") {
+  const std::string path = ROCKING_SCENES "/christchurch_chimney.toml";
+  CHECK(error_of(path, {"structure.EI_scale"}).starts_with("--set structure.EI_scale: expected TABLE.KEY=VALUE"));
+  CHECK(error_of(path, {"=3"}).starts_with("--set =3: expected"));
+  CHECK(error_of(path, {"EI_scale=3"}).starts_with("--set EI_scale=3: expected"));
+  CHECK(error_of(path, {"structure.EI_scal=3"}) == "--set structure.EI_scal=3: unknown key 'structure.EI_scal'");
+  CHECK(error_of(path, {"structure.EI_scale=-1"}) ==
+        "--set structure.EI_scale=-1: structure.EI_scale: must be positive (got -1)");
+  CHECK(error_of(path, {"structure.EI_scale=soft"}) ==
+        "--set structure.EI_scale=soft: structure.EI_scale: must be a number");
+}
+
+TEST_CASE("invalid TOML reports the parser's line") {
+  const std::string path = chimney_with("half_width = 3.3", "half_width = = 3.3");
+  const std::string what = error_of(path);
+  CHECK(what.starts_with(path + ":" + std::to_string(line_of(path, "half_width")) + ": invalid TOML:"));
+}
+
+TEST_CASE("a missing scene file is one line naming it") {
+  CHECK(error_of("/nonexistent/scene.toml") == "/nonexistent/scene.toml: scene file not found");
+}
+
+TEST_CASE("NaN and wrong types are refused") {
+  CHECK(error_of(chimney_with("half_width = 3.3", "half_width = nan")).ends_with("structure.half_width: must be a finite number"));
+  CHECK(error_of(chimney_with("rocking = true", "rocking = 1")).ends_with("contact.rocking: must be true or false"));
+  CHECK(error_of(chimney_with("restitution = 0.94", "restitution = 1.5")).ends_with("contact.restitution: must be in [0, 1], eq10 or eq9 (got 1.5)"));
+}
