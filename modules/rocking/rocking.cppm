@@ -7,3 +7,5 @@ export import rocking.beam;
 export import rocking.hysteresis;
 export import rocking.modal;
 export import rocking.scene;
+export import rocking.integrator;
+export import rocking.sundials;

@@ -1,0 +1,37 @@
+module;
+#include <rocking/eigen.hpp>
+#include <string>
+#include <fmt/format.h>
+module rocking.integrator;
+
+namespace rocking::ode {
+
+namespace {
+std::string describe(IntegrationError::Kind kind) {
+  switch (kind) {
+    case IntegrationError::Kind::step_size_underflow: return "step size underflow";
+    case IntegrationError::Kind::max_steps: return "maximum number of steps reached";
+    case IntegrationError::Kind::non_finite_state: return "non-finite state";
+    case IntegrationError::Kind::backend: return "integrator failure";
+  }
+  return "integrator failure";
+}
+}  // namespace
+
+IntegrationError::IntegrationError(Kind kind, double t, const std::string& detail)
+    : RunError(fmt::format("{} at t = {:.9g} s{}{}", describe(kind), t, detail.empty() ? "" : ": ", detail)),
+      kind_(kind),
+      time_(t) {}
+
+StepReport advance(Integrator& integrator, double t_end) {
+  StepReport report{Stop::limit, integrator.time()};
+  while (integrator.time() < t_end) {
+    report = integrator.step(t_end);
+    if (report.reason == Stop::event) return report;
+  }
+  report.reason = Stop::limit;
+  report.t = integrator.time();
+  return report;
+}
+
+}  // namespace rocking::ode

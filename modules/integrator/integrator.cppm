@@ -1,0 +1,106 @@
+// rocking.integrator: a generic initial-value-problem integrator with events
+// and breakpoints; it knows nothing of rocking. y' = f(t, y), y in R^n.
+//
+// The project's own backend is Dormand-Prince 5(4) (Dormand & Prince 1980),
+// FSAL, with the PI step-size controller, the mixed rtol/atol RMS error norm,
+// the automatic initial step and the 4th-order continuous extension of Hairer,
+// Norsett & Wanner, Solving ODEs I (2nd ed.), II.5-II.6 and their DOPRI5 code:
+//   y(t0 + s h) = r1 + s (r2 + (1-s) (r3 + s (r4 + (1-s) r5)))
+// Events are scalar guards g_i(t, y), each with a direction; a sign change is
+// looked for on the dense output at interior points of every step (so a
+// crossing and back inside one step is not missed when the samples see it) and
+// located by the Illinois method with bisection fallback. Breakpoints are
+// times the integrator lands on exactly and never steps across. The SUNDIALS
+// backends (module rocking.sundials) implement the same interface.
+module;
+#include <rocking/eigen.hpp>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+export module rocking.integrator;
+import rocking.errors;
+
+export namespace rocking::ode {
+
+using Rhs = std::function<void(double t, Eigen::Ref<const Eigen::VectorXd> y,
+                               Eigen::Ref<Eigen::VectorXd> dydt)>;
+using GuardValues = std::function<void(double t, Eigen::Ref<const Eigen::VectorXd> y,
+                                       Eigen::Ref<Eigen::VectorXd> g)>;
+
+// Which sign changes of a guard are events.
+enum class Direction { rising, falling, either };
+
+// The active guards: fn fills one value per direction. Empty: no events.
+struct Guards {
+  GuardValues fn;
+  std::vector<Direction> directions;
+};
+
+struct Options {
+  double rtol = 1e-6;
+  double atol = 1e-9;
+  double max_step = std::numeric_limits<double>::infinity();
+  double initial_step = 0;        // 0: chosen automatically
+  long max_steps = 10'000'000;    // accepted + rejected, over the integrator's life
+};
+
+enum class Stop { step, event, breakpoint, limit };
+
+// Why step() returned. For an event: which guard, and which way it crossed.
+struct StepReport {
+  Stop reason = Stop::step;
+  double t = 0;
+  int guard = -1;
+  Direction crossing = Direction::either;
+};
+
+struct Stats {
+  long rhs = 0;       // right-hand-side evaluations
+  long steps = 0;     // accepted steps
+  long rejected = 0;  // rejected step attempts (error test or non-finite)
+  long events = 0;    // events reported
+  long guards = 0;    // guard-function evaluations
+};
+
+// A failure with its context; a RunError, so the app exits with code 3.
+class IntegrationError : public RunError {
+ public:
+  enum class Kind { step_size_underflow, max_steps, non_finite_state, backend };
+  IntegrationError(Kind kind, double t, const std::string& detail);
+  Kind kind() const { return kind_; }
+  double time() const { return time_; }
+
+ private:
+  Kind kind_;
+  double time_;
+};
+
+class Integrator {
+ public:
+  virtual ~Integrator() = default;
+  // (Re)start at (t, y) with these guards, e.g. after the caller changed the
+  // state at an event. A guard exactly zero at t is silent until it leaves zero.
+  virtual void reset(double t, const Eigen::VectorXd& y, Guards guards) = 0;
+  // Sorted times to land on exactly and never step across.
+  virtual void set_breakpoints(std::vector<double> times) = 0;
+  // One step towards t_limit (never past it): returns at the end of an
+  // internal step, at an event (state interpolated there), at a breakpoint,
+  // or on reaching t_limit. Throws IntegrationError.
+  virtual StepReport step(double t_limit) = 0;
+  virtual double time() const = 0;
+  virtual const Eigen::VectorXd& state() const = 0;
+  // Dense output: the state at any t in [previous_time(), time()].
+  virtual double previous_time() const = 0;
+  virtual void dense(double t, Eigen::Ref<Eigen::VectorXd> y) = 0;
+  virtual Stats stats() const = 0;
+  virtual std::string name() const = 0;
+};
+
+std::unique_ptr<Integrator> make_rk45(Eigen::Index n, Rhs rhs, Options options);
+
+// Steps until t_end or the first event; returns the final report.
+StepReport advance(Integrator& integrator, double t_end);
+
+}  // namespace rocking::ode

@@ -1,0 +1,287 @@
+// Dormand-Prince 5(4) with dense output, PI control, breakpoints and events.
+// Coefficients and controller constants as in Hairer's DOPRI5 (see the module
+// interface for the references).
+module;
+#include <rocking/eigen.hpp>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+module rocking.integrator;
+
+namespace rocking::ode {
+
+namespace {
+
+constexpr double c2 = 1.0 / 5, c3 = 3.0 / 10, c4 = 4.0 / 5, c5 = 8.0 / 9;
+constexpr double a21 = 1.0 / 5;
+constexpr double a31 = 3.0 / 40, a32 = 9.0 / 40;
+constexpr double a41 = 44.0 / 45, a42 = -56.0 / 15, a43 = 32.0 / 9;
+constexpr double a51 = 19372.0 / 6561, a52 = -25360.0 / 2187, a53 = 64448.0 / 6561, a54 = -212.0 / 729;
+constexpr double a61 = 9017.0 / 3168, a62 = -355.0 / 33, a63 = 46732.0 / 5247, a64 = 49.0 / 176,
+                 a65 = -5103.0 / 18656;
+constexpr double a71 = 35.0 / 384, a73 = 500.0 / 1113, a74 = 125.0 / 192, a75 = -2187.0 / 6784,
+                 a76 = 11.0 / 84;
+// error estimate: 5th- minus 4th-order weights
+constexpr double e1 = 71.0 / 57600, e3 = -71.0 / 16695, e4 = 71.0 / 1920, e5 = -17253.0 / 339200,
+                 e6 = 22.0 / 525, e7 = -1.0 / 40;
+// dense output
+constexpr double d1 = -12715105075.0 / 11282082432, d3 = 87487479700.0 / 32700410799,
+                 d4 = -10690763975.0 / 1880347072, d5 = 701980252875.0 / 199316789632,
+                 d6 = -1453857185.0 / 822651844, d7 = 69997945.0 / 29380423;
+// PI controller (Hairer: beta = 0.04, safety 0.9, step ratio in [0.2, 10])
+constexpr double beta = 0.04, expo1 = 0.2 - 0.75 * beta, safety = 0.9, fac_min = 0.2, fac_max = 10.0;
+constexpr double eps = std::numeric_limits<double>::epsilon();
+constexpr int samples_per_step = 4;  // guard samples inside each step (incl. its end)
+
+int sign(double v) { return (v > 0) - (v < 0); }
+
+bool wanted(Direction d, int from, int to) {
+  return (d != Direction::falling && from < 0 && to > 0) || (d != Direction::rising && from > 0 && to < 0);
+}
+
+class DormandPrince final : public Integrator {
+ public:
+  DormandPrince(Eigen::Index n, Rhs rhs, Options o) : n_(n), rhs_(std::move(rhs)), opt_(o) {
+    for (auto* v : {&y_, &y_new_, &y_stage_, &y_dense_, &k1_, &k2_, &k3_, &k4_, &k5_, &k6_, &k7_,
+                    &r1_, &r2_, &r3_, &r4_, &r5_})
+      v->setZero(n);
+  }
+
+  void reset(double t, const Eigen::VectorXd& y, Guards guards) override {
+    t_ = t_prev_ = restart_t_ = t;
+    y_ = y;
+    r1_ = y;
+    r2_.setZero(); r3_.setZero(); r4_.setZero(); r5_.setZero();
+    guards_ = std::move(guards);
+    const auto m = static_cast<Eigen::Index>(guards_.directions.size());
+    g_.setZero(m);
+    g_work_.setZero(m);
+    ref_sign_.assign(static_cast<std::size_t>(m), 0);
+    ref_time_.assign(static_cast<std::size_t>(m), t);
+    if (m > 0) {
+      eval_guards(t, y_, g_);
+      for (Eigen::Index i = 0; i < m; ++i) ref_sign_[static_cast<std::size_t>(i)] = sign(g_[i]);
+    }
+    rhs(t_, y_, k1_);
+    if (!k1_.allFinite()) throw IntegrationError(IntegrationError::Kind::non_finite_state, t_, "at the initial state");
+    h_ = opt_.initial_step > 0 ? opt_.initial_step : initial_step();
+    fac_old_ = 1e-4;
+    last_rejected_ = false;
+    next_bp_ = std::upper_bound(breakpoints_.begin(), breakpoints_.end(), t_) - breakpoints_.begin();
+  }
+
+  void set_breakpoints(std::vector<double> times) override {
+    breakpoints_ = std::move(times);
+    std::sort(breakpoints_.begin(), breakpoints_.end());
+    next_bp_ = std::upper_bound(breakpoints_.begin(), breakpoints_.end(), t_) - breakpoints_.begin();
+  }
+
+  StepReport step(double t_limit) override {
+    if (t_ >= t_limit) return {Stop::limit, t_};
+    while (next_bp_ < breakpoints_.size() && breakpoints_[next_bp_] <= t_) ++next_bp_;
+    const bool bp_ahead = next_bp_ < breakpoints_.size() && breakpoints_[next_bp_] < t_limit;
+    const double bound = bp_ahead ? breakpoints_[next_bp_] : t_limit;
+    bool non_finite = false;
+    for (;;) {
+      if (stats_.steps + stats_.rejected >= opt_.max_steps)
+        throw IntegrationError(IntegrationError::Kind::max_steps, t_, std::to_string(opt_.max_steps) + " steps");
+      double h = std::min(h_, opt_.max_step);
+      const bool lands = t_ + h >= bound - 16 * eps * std::abs(bound);
+      if (lands) h = bound - t_;
+      if (h <= 16 * eps * std::max(std::abs(t_), 1.0))
+        throw IntegrationError(non_finite ? IntegrationError::Kind::non_finite_state
+                                          : IntegrationError::Kind::step_size_underflow, t_, "");
+      const double err = attempt(h);
+      if (!std::isfinite(err)) {  // the rhs blew up inside the step: retreat
+        non_finite = true;
+        h_ = 0.1 * h;
+        ++stats_.rejected;
+        last_rejected_ = true;
+        continue;
+      }
+      const double fac11 = std::pow(err, expo1);
+      if (err <= 1.0) {
+        accept(h, lands ? bound : t_ + h);
+        double fac = std::clamp(fac11 / std::pow(fac_old_, beta) / safety, 1.0 / fac_max, 1.0 / fac_min);
+        double h_next = h / fac;
+        if (last_rejected_) h_next = std::min(h_next, h);
+        if (!lands || h_next > h_) h_ = h_next;  // a short landing step does not shrink h
+        fac_old_ = std::max(err, 1e-4);
+        last_rejected_ = false;
+        if (const StepReport e = find_event(); e.reason == Stop::event) return e;
+        if (lands) return {bp_ahead ? Stop::breakpoint : Stop::limit, t_};
+        return {Stop::step, t_};
+      }
+      h_ = h / std::min(1.0 / fac_min, fac11 / safety);
+      ++stats_.rejected;
+      last_rejected_ = true;
+    }
+  }
+
+  double time() const override { return t_; }
+  const Eigen::VectorXd& state() const override { return y_; }
+  double previous_time() const override { return t_prev_; }
+  void dense(double t, Eigen::Ref<Eigen::VectorXd> y) override {
+    if (h_dense_ == 0) { y = r1_; return; }
+    const double s = (t - t_prev_) / h_dense_, s1 = 1.0 - s;
+    y = r1_ + s * (r2_ + s1 * (r3_ + s * (r4_ + s1 * r5_)));
+  }
+  Stats stats() const override { return stats_; }
+  std::string name() const override { return "rk45"; }
+
+ private:
+  void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& f) {
+    rhs_(t, y, f);
+    ++stats_.rhs;
+  }
+  void eval_guards(double t, const Eigen::VectorXd& y, Eigen::VectorXd& g) {
+    guards_.fn(t, y, g);
+    ++stats_.guards;
+  }
+
+  double weighted_rms(const Eigen::VectorXd& v, const Eigen::VectorXd& ya, const Eigen::VectorXd& yb) const {
+    const auto scale = opt_.atol + opt_.rtol * ya.cwiseAbs().cwiseMax(yb.cwiseAbs()).array();
+    return std::sqrt((v.array() / scale).square().mean());
+  }
+
+  // Hairer's starting step: h0 from |y|/|f|, refined with a second-derivative estimate.
+  double initial_step() {
+    const double d0 = weighted_rms(y_, y_, y_), d1 = weighted_rms(k1_, y_, y_);
+    double h0 = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
+    h0 = std::min(h0, opt_.max_step);
+    y_stage_ = y_ + h0 * k1_;
+    rhs(t_ + h0, y_stage_, k2_);
+    k3_ = (k2_ - k1_) / h0;
+    const double d2 = weighted_rms(k3_, y_, y_), dm = std::max(d1, d2);
+    const double h1 = dm <= 1e-15 ? std::max(1e-6, h0 * 1e-3) : std::pow(0.01 / dm, 0.2);
+    return std::min({100 * h0, h1, opt_.max_step});
+  }
+
+  // One trial step of size h from (t_, y_) with k1_ = f(t_, y_); returns the error norm.
+  double attempt(double h) {
+    y_stage_ = y_ + h * a21 * k1_;
+    rhs(t_ + c2 * h, y_stage_, k2_);
+    y_stage_ = y_ + h * (a31 * k1_ + a32 * k2_);
+    rhs(t_ + c3 * h, y_stage_, k3_);
+    y_stage_ = y_ + h * (a41 * k1_ + a42 * k2_ + a43 * k3_);
+    rhs(t_ + c4 * h, y_stage_, k4_);
+    y_stage_ = y_ + h * (a51 * k1_ + a52 * k2_ + a53 * k3_ + a54 * k4_);
+    rhs(t_ + c5 * h, y_stage_, k5_);
+    y_stage_ = y_ + h * (a61 * k1_ + a62 * k2_ + a63 * k3_ + a64 * k4_ + a65 * k5_);
+    rhs(t_ + h, y_stage_, k6_);
+    y_new_ = y_ + h * (a71 * k1_ + a73 * k3_ + a74 * k4_ + a75 * k5_ + a76 * k6_);
+    rhs(t_ + h, y_new_, k7_);
+    y_stage_ = h * (e1 * k1_ + e3 * k3_ + e4 * k4_ + e5 * k5_ + e6 * k6_ + e7 * k7_);
+    if (!y_new_.allFinite() || !k7_.allFinite()) return std::numeric_limits<double>::quiet_NaN();
+    return weighted_rms(y_stage_, y_, y_new_);
+  }
+
+  void accept(double h, double t_new) {
+    r1_ = y_;
+    r2_ = y_new_ - y_;
+    r3_ = h * k1_ - r2_;
+    r4_ = r2_ - h * k7_ - r3_;
+    r5_ = h * (d1 * k1_ + d3 * k3_ + d4 * k4_ + d5 * k5_ + d6 * k6_ + d7 * k7_);
+    t_prev_ = t_;
+    h_dense_ = h;
+    t_ = t_new;
+    y_.swap(y_new_);
+    k1_.swap(k7_);  // FSAL
+    ++stats_.steps;
+  }
+
+  // Scans the guards at samples_per_step points of the last step; locates the
+  // earliest wanted sign change and moves the state there.
+  StepReport find_event() {
+    const auto m = static_cast<Eigen::Index>(guards_.directions.size());
+    if (m == 0) return {Stop::step, t_};
+    for (int k = 1; k <= samples_per_step; ++k) {
+      const double tk = k == samples_per_step ? t_ : t_prev_ + (t_ - t_prev_) * k / samples_per_step;
+      dense(tk, y_dense_);
+      eval_guards(tk, y_dense_, g_);
+      double t_event = std::numeric_limits<double>::infinity();
+      int which = -1, to_sign = 0;
+      for (Eigen::Index i = 0; i < m; ++i) {
+        const auto u = static_cast<std::size_t>(i);
+        const int s = sign(g_[i]);
+        if (s == 0) continue;  // zero: keep the last definite sign
+        if (ref_sign_[u] != 0 && s != ref_sign_[u] && wanted(guards_.directions[u], ref_sign_[u], s)) {
+          const double te = locate(static_cast<int>(i), ref_time_[u], ref_sign_[u], tk);
+          // A crossing within round-off of the restart is the event that caused
+          // the restart, seen again (CVODE's ttol): not reported.
+          const bool at_restart = te - restart_t_ <= 100 * eps * (std::abs(restart_t_) + (t_ - t_prev_));
+          if (!at_restart && te < t_event) { t_event = te; which = static_cast<int>(i); to_sign = s; }
+        }
+        ref_sign_[u] = s;
+        ref_time_[u] = tk;
+      }
+      if (which >= 0) return stop_at_event(which, t_event, to_sign);
+    }
+    return {Stop::step, t_};
+  }
+
+  // Illinois on g_i along the dense output, bracket [a, b] with sign(g(a)) = sa;
+  // returns the end of the final bracket that is past the crossing.
+  double locate(int i, double a, int sa, double b) {
+    auto g_at = [&](double t) { dense(t, y_dense_); eval_guards(t, y_dense_, g_work_); return g_work_[i]; };
+    double ga = g_at(a), gb = g_at(b);
+    const double tol = 8 * eps * std::max(std::abs(b), b - t_prev_);
+    int side = 0;
+    for (int iter = 0; b - a > tol && iter < 200; ++iter) {
+      double t = (iter % 4 == 3 || ga == gb) ? 0.5 * (a + b) : b - gb * (b - a) / (gb - ga);
+      if (!(t > a && t < b)) t = 0.5 * (a + b);
+      const double gt = g_at(t);
+      if (sign(gt) == sa || gt == 0) {
+        a = t; ga = gt;
+        if (side == -1) gb *= 0.5;  // Illinois: halve the stale end
+        side = -1;
+      } else {
+        b = t; gb = gt;
+        if (side == 1) ga *= 0.5;
+        side = 1;
+      }
+    }
+    return b;
+  }
+
+  StepReport stop_at_event(int which, double t_event, int to_sign) {
+    dense(t_event, y_dense_);
+    t_ = restart_t_ = t_event;
+    y_ = y_dense_;
+    rhs(t_, y_, k1_);  // the FSAL derivative belongs to the discarded step end
+    eval_guards(t_, y_, g_);
+    for (std::size_t u = 0; u < ref_sign_.size(); ++u) {
+      const int s = sign(g_[static_cast<Eigen::Index>(u)]);
+      if (s != 0) ref_sign_[u] = s;
+      ref_time_[u] = t_;
+    }
+    ref_sign_[static_cast<std::size_t>(which)] = to_sign;
+    ++stats_.events;
+    return {Stop::event, t_, which, to_sign > 0 ? Direction::rising : Direction::falling};
+  }
+
+  Eigen::Index n_;
+  Rhs rhs_;
+  Options opt_;
+  Guards guards_;
+  double t_ = 0, t_prev_ = 0, restart_t_ = 0, h_ = 0, h_dense_ = 0, fac_old_ = 1e-4;
+  bool last_rejected_ = false;
+  Eigen::VectorXd y_, y_new_, y_stage_, y_dense_, k1_, k2_, k3_, k4_, k5_, k6_, k7_;
+  Eigen::VectorXd r1_, r2_, r3_, r4_, r5_, g_, g_work_;  // guards: samples, root search
+  std::vector<int> ref_sign_;
+  std::vector<double> ref_time_;
+  std::vector<double> breakpoints_;
+  std::size_t next_bp_ = 0;
+  Stats stats_;
+};
+
+}  // namespace
+
+std::unique_ptr<Integrator> make_rk45(Eigen::Index n, Rhs rhs, Options options) {
+  return std::make_unique<DormandPrince>(n, std::move(rhs), options);
+}
+
+}  // namespace rocking::ode
