@@ -2,7 +2,7 @@
 # CMake 4.3 lives in .tools/bin (installed by scripts/setup.sh).
 export PATH := $(CURDIR)/.tools/bin:$(PATH)
 
-.PHONY: all setup configure build test demo clean
+.PHONY: all setup configure build test demo bench clean
 all: build
 
 setup:
@@ -19,6 +19,12 @@ test: build
 
 demo: build
 	@build/bin/rocking modal
+
+# Machine, command and results: Google Benchmark prints the CPU and the load.
+bench: build
+	@echo "machine: $$(nproc) cores, $$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
+	@echo "command: build/bin/integrators_bench --benchmark_counters_tabular=true"
+	@build/bin/integrators_bench --benchmark_counters_tabular=true
 
 clean:
 	@rm -rf build
