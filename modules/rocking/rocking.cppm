@@ -7,5 +7,6 @@ export import rocking.beam;
 export import rocking.hysteresis;
 export import rocking.modal;
 export import rocking.scene;
+export import rocking.ground_motion;
 export import rocking.integrator;
 export import rocking.sundials;

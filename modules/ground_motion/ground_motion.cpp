@@ -1,0 +1,113 @@
+module;
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <string_view>
+#include <vector>
+#include <fmt/format.h>
+module rocking.ground_motion;
+import rocking.errors;
+
+namespace rocking {
+
+namespace {
+constexpr double standard_g = 9.81;  // as rocking.modal's gravity
+}
+
+AccelerationUnit parse_acceleration_unit(std::string_view text) {
+  if (text == "g") return AccelerationUnit::g;
+  if (text == "m/s2") return AccelerationUnit::m_per_s2;
+  if (text == "cm/s2") return AccelerationUnit::cm_per_s2;
+  throw InputError(fmt::format("unknown acceleration unit '{}' (choose g, m/s2 or cm/s2)", text));
+}
+
+double to_si(AccelerationUnit unit) {
+  switch (unit) {
+    case AccelerationUnit::g: return standard_g;
+    case AccelerationUnit::m_per_s2: return 1.0;
+    case AccelerationUnit::cm_per_s2: return 0.01;
+  }
+  return 1.0;
+}
+
+PulseShape parse_pulse_shape(std::string_view text) {
+  if (text == "one-sine") return PulseShape::one_sine;
+  if (text == "ricker") return PulseShape::ricker;
+  throw InputError(fmt::format("unknown pulse '{}' (choose one-sine or ricker)", text));
+}
+
+GroundMotion GroundMotion::from_samples(std::string name, std::vector<double> times,
+                                        std::vector<double> accelerations) {
+  if (times.size() != accelerations.size() || times.size() < 2)
+    throw InputError(fmt::format("{}: a record needs at least two samples", name));
+  GroundMotion g;
+  g.name_ = std::move(name);
+  for (std::size_t i = 1; i < times.size(); ++i)
+    if (!(times[i] > times[i - 1]))
+      throw InputError(fmt::format("{}: sample times must increase (t[{}] = {} after {})", g.name_, i, times[i], times[i - 1]));
+  const double dt = (times.back() - times.front()) / static_cast<double>(times.size() - 1);
+  const bool even = std::all_of(times.begin(), times.end(), [&, i = 0.0](double t) mutable {
+    return std::abs(t - (times.front() + dt * i++)) <= 1e-9 * dt;
+  });
+  g.dt_ = even && times.front() == 0.0 ? dt : 0.0;
+  g.times_ = std::move(times);
+  g.values_ = std::move(accelerations);
+  g.breakpoints_ = g.times_;
+  g.duration_ = g.times_.back();
+  return g;
+}
+
+GroundMotion GroundMotion::pulse(PulseShape shape, double amplitude, double period) {
+  if (!(period > 0) || !std::isfinite(period)) throw InputError(fmt::format("pulse period must be positive (got {})", period));
+  if (!std::isfinite(amplitude)) throw InputError("pulse amplitude must be finite");
+  GroundMotion g;
+  g.shape_ = shape;
+  g.amplitude_ = amplitude;
+  g.period_ = period;
+  if (shape == PulseShape::one_sine) {
+    g.name_ = fmt::format("one-sine pulse, {:.3g} m/s2, T = {:.3g} s", amplitude, period);
+    g.breakpoints_ = {period};  // the kink where the pulse ends
+    g.duration_ = period;
+  } else {
+    g.name_ = fmt::format("Ricker pulse, {:.3g} m/s2, f = {:.3g} Hz", amplitude, 1.0 / period);
+    g.duration_ = 3.0 * period;  // t0 = 1.5 T; |a| < 1e-5 A beyond 2 t0
+  }
+  return g;
+}
+
+double GroundMotion::acceleration(double t) const {
+  if (times_.empty()) {  // analytic pulse
+    const double A = amplitude_ * scale_;
+    if (shape_ == PulseShape::one_sine)
+      return t >= 0 && t <= period_ ? A * std::sin(2 * std::numbers::pi * t / period_) : 0.0;
+    const double u = std::pow(std::numbers::pi * (t - 1.5 * period_) / period_, 2);
+    return A * (1 - 2 * u) * std::exp(-u);
+  }
+  if (t < times_.front() || t > times_.back()) return 0.0;
+  std::size_t i;
+  if (dt_ > 0) {
+    i = std::min(static_cast<std::size_t>(t / dt_), times_.size() - 2);
+  } else {
+    i = static_cast<std::size_t>(std::upper_bound(times_.begin(), times_.end(), t) - times_.begin());
+    i = std::clamp<std::size_t>(i, 1, times_.size() - 1) - 1;
+  }
+  const double s = (t - times_[i]) / (times_[i + 1] - times_[i]);
+  return scale_ * ((1 - s) * values_[i] + s * values_[i + 1]);
+}
+
+double GroundMotion::peak() const {
+  if (times_.empty()) return std::abs(amplitude_ * scale_);
+  double m = 0;
+  for (double v : values_) m = std::max(m, std::abs(v));
+  return m * std::abs(scale_);
+}
+
+GroundMotion GroundMotion::scaled(double factor) const {
+  if (!std::isfinite(factor)) throw InputError(fmt::format("scale factor must be finite (got {})", factor));
+  GroundMotion g = *this;
+  g.scale_ *= factor;
+  return g;
+}
+
+}  // namespace rocking

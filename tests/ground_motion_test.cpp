@@ -1,0 +1,104 @@
+// rocking.ground_motion: the three AT2 header styles on the real records,
+// column files, units, pulses, interpolation, and one-line errors.
+#include <doctest/doctest.h>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <string>
+#include <initializer_list>
+#include <vector>
+#include "records.hpp"
+import rocking.ground_motion;
+import rocking.errors;
+
+using namespace rocking;
+
+namespace {
+
+std::string write_temp(const std::string& name, const std::string& text) {
+  const auto path = std::filesystem::temp_directory_path() / name;
+  std::ofstream(path, std::ios::binary) << text;
+  return path.string();
+}
+
+std::string error_of(const std::string& path, RecordOptions o = {}) {
+  try {
+    read_record(path, o);
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    CHECK(what.find('\n') == std::string::npos);
+    return what;
+  }
+  FAIL("expected an InputError for " << path);
+  return {};
+}
+
+}  // namespace
+
+TEST_CASE("the three AT2 header styles read with the NPTS, DT and PGA of SOURCES.md") {
+  const auto dir = records_dir();
+  if (!dir) return;
+  struct Expect { const char* file; int npts; double dt, pga_g, pga_time; };
+  for (const Expect& e : {Expect{"elcentro_1940_ns.at2", 1559, 0.02, 0.3188, 2.02},                 // F1, LF
+                          Expect{"elcentro_1940_ns_peer_ielc180.at2", 4000, 0.01, 0.3129, 2.15},    // F2, LF
+                          Expect{"christchurch2011_pphs_s57e.at2", 8401, 0.005, 0.1990, 10.54}}) {  // F3, CRLF
+    CAPTURE(e.file);
+    const GroundMotion g = read_record(*dir + "/" + e.file);
+    CHECK(g.breakpoints().size() == static_cast<std::size_t>(e.npts));
+    CHECK(g.duration() == doctest::Approx((e.npts - 1) * e.dt).epsilon(1e-12));
+    CHECK(g.peak() / 9.81 == doctest::Approx(e.pga_g).epsilon(5e-4));
+    CHECK(std::abs(g.acceleration(e.pga_time)) / 9.81 == doctest::Approx(e.pga_g).epsilon(5e-4));
+  }
+}
+
+TEST_CASE("the acceleration is linear between samples and zero outside the record") {
+  const GroundMotion g = GroundMotion::from_samples("ramp", {0.0, 1.0, 2.0}, {0.0, 2.0, -2.0});
+  CHECK(g.acceleration(0.25) == doctest::Approx(0.5));
+  CHECK(g.acceleration(1.5) == doctest::Approx(0.0));
+  CHECK(g.acceleration(2.0) == doctest::Approx(-2.0));
+  CHECK(g.acceleration(-0.1) == 0.0);
+  CHECK(g.acceleration(2.1) == 0.0);
+  CHECK(g.scaled(3.0).acceleration(0.25) == doctest::Approx(1.5));
+}
+
+TEST_CASE("two-column and one-column files, units and scale") {
+  const std::string two = write_temp("gm_two.txt", "# t a\n0.0 0.0\n0.5 100.0\n1.0 -50.0\n");
+  const GroundMotion g2 = read_record(two, {.unit = AccelerationUnit::cm_per_s2});
+  CHECK(g2.acceleration(0.5) == doctest::Approx(1.0));
+  const std::string one = write_temp("gm_one.txt", "0.0\r\n0.1\r\n-0.2\r\n");
+  const GroundMotion g1 = read_record(one, {.unit = AccelerationUnit::g, .dt = 0.01, .scale = 2.0});
+  CHECK(g1.duration() == doctest::Approx(0.02));
+  CHECK(g1.acceleration(0.01) == doctest::Approx(2.0 * 0.1 * 9.81));
+  CHECK(parse_acceleration_unit("m/s2") == AccelerationUnit::m_per_s2);
+}
+
+TEST_CASE("a one-sine pulse is A sin(2 pi t / T) on [0, T] with a breakpoint where it ends") {
+  const GroundMotion p = GroundMotion::pulse(PulseShape::one_sine, 3.0, 0.5);
+  CHECK(p.acceleration(0.125) == doctest::Approx(3.0));
+  CHECK(p.acceleration(0.6) == 0.0);
+  CHECK(p.breakpoints() == std::vector<double>{0.5});
+  const GroundMotion r = GroundMotion::pulse(PulseShape::ricker, 2.0, 1.0);
+  CHECK(r.acceleration(1.5) == doctest::Approx(2.0));  // peak at t0 = 1.5 T
+  const double u0 = std::pow(1.5 * std::numbers::pi, 2);  // starts from (nearly) rest
+  CHECK(r.acceleration(0.0) == doctest::Approx(2.0 * (1 - 2 * u0) * std::exp(-u0)).epsilon(1e-12));
+  CHECK(std::abs(r.acceleration(0.0)) < 1e-7 * 2.0);
+}
+
+TEST_CASE("bad records are one line naming the file and the line") {
+  const std::string header = "PEER NGA STRONG MOTION DATABASE RECORD\nX\nACCELERATION TIME SERIES IN UNITS OF G\n";
+  const std::string npts = write_temp("gm_npts.at2", header + "NPTS=   4  DT=   .0050 SEC\n 0.1 0.2 0.3\n");
+  CHECK(error_of(npts) == npts + ":4: NPTS = 4 but the file holds 3 values");
+  const std::string text = write_temp("gm_text.at2", header + "NPTS= 3, DT= .01 SEC\n 0.1 abc 0.3\n");
+  CHECK(error_of(text) == text + ":5: 'abc' is not a number");
+  const std::string nan = write_temp("gm_nan.at2", header + "NPTS= 3, DT= .01 SEC\n 0.1 nan 0.3\n");
+  CHECK(error_of(nan) == nan + ":5: 'nan' is not a finite number");
+  const std::string dt = write_temp("gm_dt.at2", header + "NPTS= 2, DT= 0.0 SEC\n 0.1 0.3\n");
+  CHECK(error_of(dt) == dt + ":4: DT must be positive (got 0)");
+  CHECK(error_of("/no/such/record.at2") == "/no/such/record.at2: record file not found");
+  const std::string one = write_temp("gm_one_nodt.txt", "0.0\n0.1\n");
+  CHECK(error_of(one).ends_with("a one-column record needs --dt > 0 (got 0)"));
+  const std::string back = write_temp("gm_back.txt", "0.0 0.0\n0.5 1.0\n0.4 2.0\n");
+  CHECK(error_of(back) == back + ":3: times must increase (0.4 after 0.5)");
+  CHECK_THROWS_WITH_AS(parse_acceleration_unit("ft/s2"), "unknown acceleration unit 'ft/s2' (choose g, m/s2 or cm/s2)", InputError);
+}
