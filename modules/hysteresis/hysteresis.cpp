@@ -24,4 +24,20 @@ double post_yield_rotational_stiffness(const Damper& d, double B) {
   return d.post_yield_ratio * pre_yield_rotational_stiffness(d, B);
 }
 
+double damper_elongation(double B, double theta) { return 4.0 * B * std::sin(0.5 * std::abs(theta)); }
+
+double damper_rate(double B, double theta, double theta_dot, int s) {
+  return 2.0 * B * std::cos(0.5 * theta) * s * theta_dot;
+}
+
+double damper_force(const Damper& d, double d_y, double elongation, double z) {
+  return d.stiffness * (d.post_yield_ratio * elongation + (1.0 - d.post_yield_ratio) * d_y * z);
+}
+
+double bouc_wen_rate(const Damper& d, double d_y, double v, double z) {
+  const double az = std::abs(z);
+  const double zn1 = d.n == 1.0 ? 1.0 : std::pow(az, d.n - 1.0);  // |z|^(n-1)
+  return (v - d.alpha * std::abs(v) * z * zn1 - d.beta * v * az * zn1) / d_y;
+}
+
 }  // namespace rocking

@@ -31,4 +31,17 @@ double yield_displacement(const Damper& d, double half_width);
 double pre_yield_rotational_stiffness(const Damper& d, double half_width);
 double post_yield_rotational_stiffness(const Damper& d, double half_width);
 
+// Kinematics of the damper of the lifted edge while rocking about pivot s
+// (theta > 0 about the right pivot, s = +1): elongation d = 4B sin(|theta|/2),
+// rate v = 2B cos(theta/2) s theta'.
+double damper_elongation(double half_width, double theta);
+double damper_rate(double half_width, double theta, double theta_dot, int s);
+
+// F_hd = k eps d + k (1 - eps) d_y z (Eq. 6) [N]
+double damper_force(const Damper& d, double d_y, double elongation, double z);
+
+// Bouc-Wen (Eq. 7 with its "= 0"): d_y z' = v - alpha |v| z |z|^(n-1) - beta v |z|^n.
+// Returns z' [1/s]; z stays in [-1, 1] for alpha + beta = 1 when it starts there.
+double bouc_wen_rate(const Damper& d, double d_y, double v, double z);
+
 }  // namespace rocking
