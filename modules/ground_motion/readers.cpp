@@ -111,7 +111,7 @@ GroundMotion read_columns(const std::string& path, const std::vector<Line>& line
 }  // namespace
 
 GroundMotion read_record(const std::string& path, const RecordOptions& o) {
-  if (!(o.scale == o.scale) || !std::isfinite(o.scale)) throw InputError(fmt::format("--scale must be finite (got {})", o.scale));
+  if (!std::isfinite(o.scale)) throw InputError(fmt::format("--scale must be finite (got {})", o.scale));
   const std::vector<Line> lines = read_lines(path);
   RecordFormat format = o.format;
   if (format == RecordFormat::automatic) {
