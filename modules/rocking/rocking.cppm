@@ -6,6 +6,7 @@ export import rocking.geometry;
 export import rocking.beam;
 export import rocking.hysteresis;
 export import rocking.modal;
+export import rocking.dynamics;
 export import rocking.scene;
 export import rocking.ground_motion;
 export import rocking.integrator;

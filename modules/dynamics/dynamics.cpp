@@ -1,0 +1,60 @@
+module;
+#include <rocking/eigen.hpp>
+#include <cmath>
+module rocking.dynamics;
+
+namespace rocking {
+
+RockingBody make_body(const Structure& s, double g) { return {s, assemble(s), g}; }
+
+void full_contact_acceleration(const RockingBody& b, double a_g, Eigen::Ref<const Eigen::VectorXd> u,
+                               Eigen::Ref<const Eigen::VectorXd> u_dot, Eigen::Ref<Eigen::VectorXd> u_ddot) {
+  const auto& sm = b.matrices;
+  u_ddot.noalias() = -sm.K * u;
+  u_ddot.noalias() -= sm.C * u_dot;
+  u_ddot.array() /= b.structure.masses.array();
+  u_ddot.array() -= a_g;
+}
+
+double rocking_acceleration(const RockingBody& b, int s, double a_g, double F_hd, const Coordinates& q,
+                            Eigen::Ref<Eigen::VectorXd> u_ddot, Eigen::Ref<Eigen::VectorXd> work) {
+  const Structure& st = b.structure;
+  const auto& m = st.masses.array();
+  const auto& H = st.heights;
+  const double B = st.half_width, g = b.g, th = q.theta, thd = q.theta_dot;
+  const double c = std::cos(th), sn = std::sin(th);
+  // work = w = B1 - s u (lever arms)
+  work = (B - s * q.u.array()).matrix();
+  const double Mw = (m * work.array()).sum();   // 1'M w
+  const double wMw = (m * work.array().square()).sum();
+  const double HM1 = H.dot(st.masses);           // H'M1
+  // rhs_u = -M1 a_g cos th - M (sB1 - u) th'^2 - C u' - K u + M1 g sin th, with sB1 - u = s w
+  u_ddot.noalias() = -b.matrices.K * q.u;
+  u_ddot.noalias() -= b.matrices.C * q.u_dot;
+  u_ddot.array() += m * (-a_g * c - s * work.array() * thd * thd + g * sn);
+  const double rhs_th = 2.0 * s * (m * q.u_dot.array() * work.array()).sum() * thd
+                        - s * F_hd * 2.0 * B * std::cos(0.5 * th)
+                        - a_g * (HM1 * c + s * Mw * sn + s * st.base_mass * B * sn)
+                        - g * (-HM1 * sn + s * Mw * c + s * st.base_mass * B * c);
+  // Schur complement of the diagonal M: J - H'MH = m0 B^2 + w'Mw > 0
+  const double th_ddot = (rhs_th - H.dot(u_ddot)) / (st.base_mass * B * B + wMw);
+  u_ddot.array() = u_ddot.array() / m - H.array() * th_ddot;
+  return th_ddot;
+}
+
+double mechanical_energy(const RockingBody& b, int s, const Coordinates& q) {
+  const Structure& st = b.structure;
+  const auto& m = st.masses.array();
+  const double B = st.half_width, th = q.theta, thd = q.theta_dot;
+  const Eigen::ArrayXd w = B - s * q.u.array();
+  const double J = st.base_mass * B * B + (m * (w.square() + st.heights.array().square())).sum();  // J(u)
+  const double kinetic = 0.5 * (m * q.u_dot.array().square()).sum() + 0.5 * J * thd * thd +
+                         thd * (m * st.heights.array() * q.u_dot.array()).sum();
+  // heights: Y = s w sin th + H cos th for the nodes, s B sin th for the foundation beam
+  const double gravity = b.g * ((m * (s * w * std::sin(th) + st.heights.array() * (std::cos(th) - 1.0))).sum() +
+                                st.base_mass * s * B * std::sin(th));
+  const double elastic = 0.5 * q.u.dot(b.matrices.K * q.u);
+  return kinetic + gravity + elastic;
+}
+
+}  // namespace rocking

@@ -1,0 +1,46 @@
+// rocking.dynamics: the equations of motion of MODEL.md 3 and 4 as free
+// functions of (model, pivot, ground acceleration, state).
+// Full contact (Eq. 1): M u'' + C u' + K u = -M 1 a_g.
+// Rocking about pivot s (Eqs. 4-5 from the Lagrangian, with the gravity sign
+// of MODEL.md 9.2): with w = B1 - s u and J(u) = J_p + u'Mu - 2sB 1'Mu,
+//   [M  MH; H'M  J(u)] [u''; th''] = [rhs_u; rhs_th]  (MODEL.md 4).
+// M is diagonal (lumped), so the system is solved in closed form:
+//   th'' = (rhs_th - H' rhs_u) / (m0 B^2 + w'Mw),  u'' = M^-1 rhs_u - H th''.
+// The damper force F_hd enters as a given number (rocking.hysteresis owns it).
+// mechanical_energy is kinetic + gravity (from rest) + elastic, for the
+// conservation checks of MODEL.md 7. SI units.
+module;
+#include <rocking/eigen.hpp>
+export module rocking.dynamics;
+export import rocking.geometry;
+export import rocking.beam;
+
+export namespace rocking {
+
+// Constant data the equations need, built once.
+struct RockingBody {
+  Structure structure;
+  StructuralMatrices matrices;
+  double g = 9.81;
+};
+RockingBody make_body(const Structure& s, double g = 9.81);
+
+// The elastic and rocking coordinates of a state, by reference.
+struct Coordinates {
+  Eigen::Ref<const Eigen::VectorXd> u, u_dot;
+  double theta, theta_dot;
+};
+
+// u'' under full contact (theta = 0). u_ddot must have N entries.
+void full_contact_acceleration(const RockingBody& b, double a_g, Eigen::Ref<const Eigen::VectorXd> u,
+                               Eigen::Ref<const Eigen::VectorXd> u_dot, Eigen::Ref<Eigen::VectorXd> u_ddot);
+
+// (u'', th'') while rocking about pivot s (+1 right, -1 left) with damper force F_hd.
+// work must have N entries (scratch, so that nothing is allocated).
+double rocking_acceleration(const RockingBody& b, int s, double a_g, double F_hd, const Coordinates& q,
+                            Eigen::Ref<Eigen::VectorXd> u_ddot, Eigen::Ref<Eigen::VectorXd> work);
+
+// Kinetic + gravity (zero at rest) + elastic energy [J]; s is the pivot (any when theta = 0).
+double mechanical_energy(const RockingBody& b, int s, const Coordinates& q);
+
+}  // namespace rocking
