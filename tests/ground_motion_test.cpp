@@ -8,6 +8,7 @@
 #include <string>
 #include <initializer_list>
 #include <vector>
+#include "one_line_error.hpp"
 #include "records.hpp"
 import rocking.ground_motion;
 import rocking.errors;
@@ -23,15 +24,7 @@ std::string write_temp(const std::string& name, const std::string& text) {
 }
 
 std::string error_of(const std::string& path, RecordOptions o = {}) {
-  try {
-    read_record(path, o);
-  } catch (const InputError& e) {
-    const std::string what = e.what();
-    CHECK(what.find('\n') == std::string::npos);
-    return what;
-  }
-  FAIL("expected an InputError for " << path);
-  return {};
+  return one_line_error<InputError>([&] { read_record(path, o); }, path);
 }
 
 }  // namespace

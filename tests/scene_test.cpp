@@ -6,6 +6,7 @@
 #include <fstream>
 #include <string>
 #include <vector>
+#include "one_line_error.hpp"
 import rocking.scene;
 import rocking.errors;
 
@@ -32,17 +33,8 @@ int line_of(const std::string& path, const std::string& needle) {
   return -1;
 }
 
-// The InputError message of a failing load (and that it is one line).
 std::string error_of(const std::string& path, const std::vector<std::string>& sets = {}) {
-  try {
-    load_scene(path, sets);
-  } catch (const InputError& e) {
-    const std::string what = e.what();
-    CHECK(what.find('\n') == std::string::npos);
-    return what;
-  }
-  FAIL("expected an InputError for " << path);
-  return {};
+  return one_line_error<InputError>([&] { load_scene(path, sets); }, path);
 }
 
 }  // namespace
