@@ -18,7 +18,7 @@ test: build
 	@ctest --preset default
 
 demo: build
-	@build/bin/rocking modal
+	@build/bin/rocking simulate
 
 # Machine, command and results: Google Benchmark prints the CPU and the load.
 bench: build

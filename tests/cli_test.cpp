@@ -2,44 +2,9 @@
 // tools can read, and bad input that ends in one line on stderr and exit code 2.
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
-#include <array>
-#include <cstdio>
 #include <string>
-#include <sys/wait.h>
+#include "run_program.hpp"
 
-namespace {
-
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
-
-// Runs the program with `args` (shell words), capturing stdout and stderr.
-Result run(const std::string& args) {
-  const std::string err_file = std::string(std::tmpnam(nullptr));
-  const std::string cmd = std::string(ROCKING_BIN) + " " + args + " 2>" + err_file;
-  Result r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  std::array<char, 4096> buf{};
-  while (std::fgets(buf.data(), buf.size(), pipe) != nullptr) r.out += buf.data();
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  if (FILE* f = std::fopen(err_file.c_str(), "r")) {
-    while (std::fgets(buf.data(), buf.size(), f) != nullptr) r.err += buf.data();
-    std::fclose(f);
-  }
-  std::remove(err_file.c_str());
-  return r;
-}
-
-int lines(const std::string& s) {
-  int n = 0;
-  for (char c : s) n += c == '\n';
-  return n;
-}
-
-}  // namespace
 
 TEST_CASE("rocking --help lists the subcommands and modal --help explains --set") {
   const Result top = run("--help");

@@ -2,10 +2,12 @@
 // and returns the function to run if it is chosen; main() dispatches and turns
 // errors into exit codes (rocking.errors).
 #pragma once
+#include <rocking/eigen.hpp>  // before any import (TOOLCHAIN.md, Eigen in modules)
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <string>
 #include <vector>
+import rocking;
 
 namespace rocking::app {
 
@@ -18,7 +20,32 @@ struct SceneOptions {
   std::vector<std::string> overrides;
 };
 void add_scene_options(CLI::App& cmd, SceneOptions& opts);
+// The scene the options name (the embedded chimney when no path is given).
+rocking::Scene load_scene(const SceneOptions& opts);
+
+// --record FILE [--units] [--dt] [--scale]: the ground motion of a run.
+struct MotionOptions {
+  std::string record;  // empty: the scene's [excitation]
+  std::string units;   // empty: the scene's, else g
+  double dt = 0;
+  double scale = 1;
+};
+void add_motion_options(CLI::App& cmd, MotionOptions& opts);
+rocking::GroundMotion load_motion(const rocking::Scene& scene, const MotionOptions& opts);
+
+// --integrator, --rtol, --atol, --duration: how a run is integrated.
+struct SolverOptions {
+  std::string integrator = "rk45";
+  double rtol = 1e-6, atol = 1e-9;
+  double duration = 0;
+  long max_events = 100000;
+  long max_steps = 10'000'000;
+};
+void add_solver_options(CLI::App& cmd, SolverOptions& opts);
+// scene_excitation: the run uses the scene's [excitation] (and its duration).
+rocking::RunOptions run_options(const rocking::Scene& scene, const SolverOptions& opts, bool scene_excitation);
 
 Command add_modal_command(CLI::App& app);
+Command add_simulate_command(CLI::App& app);
 
 }  // namespace rocking::app

@@ -7,7 +7,6 @@
 #include <fmt/format.h>
 #include <exception>
 #include "commands.hpp"
-import rocking.errors;
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -22,6 +21,7 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "Log only warnings and errors");
 
   rocking::app::Command modal = rocking::app::add_modal_command(app);
+  rocking::app::Command simulate = rocking::app::add_simulate_command(app);
 
   auto logger = spdlog::stderr_color_mt("rocking");
   spdlog::set_default_logger(logger);
@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
 
   try {
     if (app.got_subcommand("modal")) return modal();
+    if (app.got_subcommand("simulate")) return simulate();
   } catch (const rocking::InputError& e) {
     fmt::print(stderr, "rocking: error: {}\n", e.what());
     return rocking::exit_input_error;

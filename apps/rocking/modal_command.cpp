@@ -70,8 +70,9 @@ Command add_modal_command(CLI::App& app) {
   cmd->add_flag("--json", *json, "Print one JSON object (SI units) instead of a table");
   cmd->footer("Example: rocking modal --set structure.EI_scale=0.5 --json");
   return [opts, json]() {
-    const Scene scene = opts->path.empty() ? load_default_scene(opts->overrides)
-                                           : load_scene(opts->path, opts->overrides);
+    const Scene scene = load_scene(*opts);
+    if (scene.structure.rigid)
+      throw InputError(fmt::format("{}: a rigid block has no elastic modes (structure.rigid = true)", scene.source));
     spdlog::debug("modal analysis of '{}' from {}", scene.name, scene.source);
     const ModalSummary m = modal_analysis(scene.structure, scene.damper);
     if (*json) std::cout << to_json(m).dump(2) << '\n';

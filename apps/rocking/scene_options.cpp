@@ -1,4 +1,8 @@
+// Options shared by the commands that run a scene: which scene, which ground
+// motion, which integrator.
 #include "commands.hpp"
+#include <fmt/format.h>
+#include <cmath>
 
 namespace rocking::app {
 
@@ -11,6 +15,74 @@ void add_scene_options(CLI::App& cmd, SceneOptions& opts) {
                  "--set structure.EI_scale=0.5 --set damper.enabled=false")
       ->type_name("KEY=VALUE")
       ->allow_extra_args(false);
+}
+
+rocking::Scene load_scene(const SceneOptions& opts) {
+  return opts.path.empty() ? load_default_scene(opts.overrides) : rocking::load_scene(opts.path, opts.overrides);
+}
+
+void add_motion_options(CLI::App& cmd, MotionOptions& opts) {
+  cmd.add_option("--record", opts.record,
+                 "Ground-motion file: PEER .AT2, two columns (t, a) or one column\n"
+                 "(a, with --dt). Without it: the scene's [excitation] (a pulse).")
+      ->type_name("FILE");
+  cmd.add_option("--units", opts.units, "Acceleration unit of the record: g, m/s2 or cm/s2 (default g)")
+      ->type_name("UNIT");
+  cmd.add_option("--dt", opts.dt, "Sample interval of a one-column record [s]")->type_name("S");
+  cmd.add_option("--scale", opts.scale, "Scale factor on the ground acceleration (default 1)")->type_name("SF");
+}
+
+rocking::GroundMotion load_motion(const rocking::Scene& scene, const MotionOptions& opts) {
+  if (!std::isfinite(opts.scale)) throw InputError(fmt::format("--scale {}: must be a finite number", opts.scale));
+  if (opts.record.empty()) {
+    if (!opts.units.empty() || opts.dt != 0)
+      throw InputError("--units and --dt describe a --record file; none was given");
+    return default_ground_motion(scene).scaled(opts.scale);
+  }
+  RecordOptions ro;
+  ro.unit = opts.units.empty() ? AccelerationUnit::g : parse_acceleration_unit(opts.units);
+  if (opts.dt < 0 || !std::isfinite(opts.dt)) throw InputError(fmt::format("--dt {}: must be positive", opts.dt));
+  ro.dt = opts.dt;
+  ro.scale = opts.scale;
+  return read_record(opts.record, ro);
+}
+
+void add_solver_options(CLI::App& cmd, SolverOptions& opts) {
+  cmd.add_option("--integrator", opts.integrator,
+                 "rk45 (the project's Dormand-Prince, default), cvode (SUNDIALS BDF)\n"
+                 "or arkode (SUNDIALS explicit Dormand-Prince), the references")
+      ->type_name("NAME");
+  cmd.add_option("--rtol", opts.rtol, "Relative tolerance (default 1e-6)")->type_name("X");
+  cmd.add_option("--atol", opts.atol, "Absolute tolerance (default 1e-9)")->type_name("Y");
+  cmd.add_option("--duration", opts.duration,
+                 "Simulated time [s] (default: the length of --record, else the\n"
+                 "scene's excitation.duration)")
+      ->type_name("S");
+  cmd.add_option("--max-events", opts.max_events,
+                 "Stop with an error after this many phase changes (default 100000)")
+      ->type_name("N");
+  cmd.add_option("--max-steps", opts.max_steps,
+                 "Stop with an error after this many integrator steps (default 1e7)")
+      ->type_name("N");
+}
+
+rocking::RunOptions run_options(const rocking::Scene& scene, const SolverOptions& opts, bool scene_excitation) {
+  RunOptions ro;
+  ro.backend = ode::parse_backend(opts.integrator);
+  auto positive = [](double v) { return v > 0 && std::isfinite(v); };
+  if (!positive(opts.rtol) || opts.rtol >= 1)
+    throw InputError(fmt::format("--rtol {}: must be in (0, 1)", opts.rtol));
+  if (!positive(opts.atol)) throw InputError(fmt::format("--atol {}: must be positive", opts.atol));
+  if (opts.duration < 0 || !std::isfinite(opts.duration))
+    throw InputError(fmt::format("--duration {}: must be positive", opts.duration));
+  if (opts.max_events < 1) throw InputError(fmt::format("--max-events {}: must be at least 1", opts.max_events));
+  ro.tolerances.rtol = opts.rtol;
+  ro.tolerances.atol = opts.atol;
+  ro.duration = opts.duration > 0 ? opts.duration : scene_excitation ? scene.excitation.duration : 0.0;
+  if (opts.max_steps < 1) throw InputError(fmt::format("--max-steps {}: must be at least 1", opts.max_steps));
+  ro.max_events = opts.max_events;
+  ro.tolerances.max_steps = opts.max_steps;
+  return ro;
 }
 
 }  // namespace rocking::app

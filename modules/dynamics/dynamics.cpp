@@ -5,7 +5,12 @@ module rocking.dynamics;
 
 namespace rocking {
 
-RockingBody make_body(const Structure& s, double g) { return {s, assemble(s), g}; }
+RockingBody make_body(const Structure& s, double g) {
+  if (!s.rigid) return {s, assemble(s), g};
+  StructuralMatrices none;
+  none.M = s.masses.asDiagonal();
+  return {s, none, g};
+}
 
 void full_contact_acceleration(const RockingBody& b, double a_g, Eigen::Ref<const Eigen::VectorXd> u,
                                Eigen::Ref<const Eigen::VectorXd> u_dot, Eigen::Ref<Eigen::VectorXd> u_ddot) {
@@ -42,6 +47,27 @@ double rocking_acceleration(const RockingBody& b, int s, double a_g, double F_hd
   return th_ddot;
 }
 
+double rigid_rocking_acceleration(const RockingBody& b, int s, double a_g, double F_hd, double theta,
+                                  double theta_dot) {
+  (void)theta_dot;  // no Coriolis term without elastic motion
+  const Structure& st = b.structure;
+  const double B = st.half_width, c = std::cos(theta), sn = std::sin(theta);
+  const double HM1 = st.heights.dot(st.masses), BM = B * (st.masses.sum() + st.base_mass);
+  const double rhs_th = -s * F_hd * 2.0 * B * std::cos(0.5 * theta) - a_g * (HM1 * c + s * BM * sn) -
+                        b.g * (-HM1 * sn + s * BM * c);
+  return rhs_th / pivot_inertia(st);
+}
+
+double ground_input_power(const RockingBody& b, int s, double a_g, const Coordinates& q) {
+  const Structure& st = b.structure;
+  const auto& m = st.masses.array();
+  const double B = st.half_width, c = std::cos(q.theta), sn = std::sin(q.theta);
+  const double Mw = (m * (B - s * q.u.array())).sum();
+  const double on_u = -a_g * c * (m * q.u_dot.array()).sum();
+  const double on_theta = -a_g * (st.heights.dot(st.masses) * c + s * (Mw + st.base_mass * B) * sn);
+  return on_u + on_theta * q.theta_dot;
+}
+
 double mechanical_energy(const RockingBody& b, int s, const Coordinates& q) {
   const Structure& st = b.structure;
   const auto& m = st.masses.array();
@@ -53,7 +79,7 @@ double mechanical_energy(const RockingBody& b, int s, const Coordinates& q) {
   // heights: Y = s w sin th + H cos th for the nodes, s B sin th for the foundation beam
   const double gravity = b.g * ((m * (s * w * std::sin(th) + st.heights.array() * (std::cos(th) - 1.0))).sum() +
                                 st.base_mass * s * B * std::sin(th));
-  const double elastic = 0.5 * q.u.dot(b.matrices.K * q.u);
+  const double elastic = b.structure.rigid ? 0.0 : 0.5 * q.u.dot(b.matrices.K * q.u);
   return kinetic + gravity + elastic;
 }
 

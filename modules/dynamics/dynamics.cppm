@@ -7,8 +7,10 @@
 // M is diagonal (lumped), so the system is solved in closed form:
 //   th'' = (rhs_th - H' rhs_u) / (m0 B^2 + w'Mw),  u'' = M^-1 rhs_u - H th''.
 // The damper force F_hd enters as a given number (rocking.hysteresis owns it).
-// mechanical_energy is kinetic + gravity (from rest) + elastic, for the
-// conservation checks of MODEL.md 7. SI units.
+// A rigid block (Structure::rigid) has u = 0 throughout: J_p th'' = rhs_th(u = 0).
+// mechanical_energy is kinetic + gravity (from rest) + elastic, and
+// ground_input_power the power of the a_g terms on (u', th'), for the energy
+// bookkeeping of MODEL.md 7: dE/dt = P_ground - u'Cu' - F_hd v. SI units.
 module;
 #include <rocking/eigen.hpp>
 export module rocking.dynamics;
@@ -39,6 +41,14 @@ void full_contact_acceleration(const RockingBody& b, double a_g, Eigen::Ref<cons
 // work must have N entries (scratch, so that nothing is allocated).
 double rocking_acceleration(const RockingBody& b, int s, double a_g, double F_hd, const Coordinates& q,
                             Eigen::Ref<Eigen::VectorXd> u_ddot, Eigen::Ref<Eigen::VectorXd> work);
+
+// th'' of a rigid block rocking about pivot s (u = u' = 0).
+double rigid_rocking_acceleration(const RockingBody& b, int s, double a_g, double F_hd, double theta,
+                                  double theta_dot);
+
+// Power of the ground-acceleration terms of MODEL.md 4 on (u', th') [W]
+// (full contact: theta = theta' = 0 gives -a_g 1'M u').
+double ground_input_power(const RockingBody& b, int s, double a_g, const Coordinates& q);
 
 // Kinetic + gravity (zero at rest) + elastic energy [J]; s is the pivot (any when theta = 0).
 double mechanical_energy(const RockingBody& b, int s, const Coordinates& q);

@@ -13,7 +13,7 @@ void check(const Structure& s) {
   if (!(s.half_width > 0)) fail("half_width must be positive");
   if (n < 1) fail("heights must hold at least one node");
   if (s.masses.size() != n) fail("masses must have one entry per height");
-  if (s.EI.size() != n) fail("EI must have one entry per element (one per height)");
+  if (!s.rigid && s.EI.size() != n) fail("EI must have one entry per element (one per height)");
   if (!(s.base_mass >= 0)) fail("base_mass must be non-negative");
   if (!(s.EI_scale > 0)) fail("EI_scale must be positive");
   if (!(s.damping_ratio >= 0 && s.damping_ratio < 1)) fail("damping_ratio must be in [0, 1)");
@@ -21,7 +21,7 @@ void check(const Structure& s) {
     const double below = i == 0 ? 0.0 : s.heights[i - 1];
     if (!(s.heights[i] > below)) fail("heights must increase from above 0");
     if (!(s.masses[i] > 0)) fail("masses must be positive");
-    if (!(s.EI[i] > 0)) fail("EI must be positive");
+    if (!s.rigid && !(s.EI[i] > 0)) fail("EI must be positive");
   }
 }
 

@@ -18,10 +18,12 @@ struct Structure {
   Eigen::VectorXd EI;          // E*I_e of element e (node e-1 to e) [N m^2]
   double EI_scale = 1;         // multiplies every EI (parametric studies)
   double damping_ratio = 0;    // zeta on the first two fixed-base modes [-]
+  bool rigid = false;          // a rigid block: no elastic coordinates, EI unused
 };
 
 // Throws std::invalid_argument naming the first field that breaks an
-// invariant (sizes agree, masses and EI positive, heights increasing from > 0).
+// invariant (sizes agree, masses and EI positive, heights increasing from > 0;
+// EI is not looked at for a rigid structure).
 void check(const Structure& s);
 
 Eigen::Index node_count(const Structure& s);          // N

@@ -11,3 +11,5 @@ export import rocking.scene;
 export import rocking.ground_motion;
 export import rocking.integrator;
 export import rocking.sundials;
+export import rocking.contact;
+export import rocking.simulation;

@@ -24,8 +24,9 @@ namespace {
 const std::map<std::string, std::set<std::string, std::less<>>, std::less<>> schema = {
     {"scene", {"name", "description"}},
     {"structure", {"half_width", "heights", "masses", "base_mass", "second_moments",
-                   "youngs_modulus", "EI_scale", "damping_ratio"}},
-    {"contact", {"rocking", "restitution", "theta_dot_min"}},
+                   "youngs_modulus", "EI_scale", "damping_ratio", "rigid"}},
+    {"contact", {"rocking", "restitution", "theta_dot_min", "overturn_angle"}},
+    {"excitation", {"pulse", "amplitude_g", "period", "record", "units", "dt", "scale", "duration"}},
     {"damper", {"enabled", "stiffness", "post_yield_ratio", "theta_y", "alpha", "beta", "n",
                 "thickness"}},
 };
@@ -174,14 +175,18 @@ Structure read_structure(const toml::table& root, const std::string& file, const
   s.heights = t.numbers("heights", positive, "positive");
   s.masses = t.numbers("masses", positive, "positive");
   s.base_mass = t.number("base_mass", non_negative, "non-negative");
-  const Eigen::VectorXd I = t.numbers("second_moments", positive, "positive");
-  const double E = t.number("youngs_modulus", positive, "positive");
-  s.EI = E * I;
-  s.EI_scale = t.number_or("EI_scale", 1.0, positive, "positive");
-  s.damping_ratio = t.number("damping_ratio", [](double z) { return z >= 0 && z < 1; }, "in [0, 1)");
+  s.rigid = t.boolean_or("rigid", false);
   const auto n = s.heights.size();
   if (s.masses.size() != n) t.fail(&t.required("masses"), "masses", fmt::format("must have one entry per height ({})", n));
-  if (I.size() != n) t.fail(&t.required("second_moments"), "second_moments", fmt::format("must have one entry per element ({})", n));
+  s.EI_scale = t.number_or("EI_scale", 1.0, positive, "positive");
+  if (!s.rigid || t.has("second_moments")) {  // a rigid block needs no sections
+    const Eigen::VectorXd I = t.numbers("second_moments", positive, "positive");
+    if (I.size() != n) t.fail(&t.required("second_moments"), "second_moments", fmt::format("must have one entry per element ({})", n));
+    s.EI = t.number("youngs_modulus", positive, "positive") * I;
+  }
+  s.damping_ratio = s.rigid && !t.has("damping_ratio")
+                        ? 0.0
+                        : t.number("damping_ratio", [](double z) { return z >= 0 && z < 1; }, "in [0, 1)");
   const toml::array& h = *t.required("heights").as_array();
   for (Eigen::Index i = 1; i < n; ++i)
     if (!(s.heights[i] > s.heights[i - 1]))
@@ -196,6 +201,8 @@ Contact read_contact(const toml::table& root, const std::string& file, const Ori
   const TableReader t(root, "contact", file, origins);
   c.rocking = t.boolean_or("rocking", true);
   c.theta_dot_min = t.number_or("theta_dot_min", c.theta_dot_min, non_negative, "non-negative");
+  c.overturn_angle = t.number_or("overturn_angle", 0.0, [](double a) { return a > 0 && a < 1.5707963; },
+                                 "in (0, pi/2) [rad]");
   if (t.has("restitution")) {
     const toml::node& r = t.required("restitution");
     if (r.is_string()) {
@@ -230,6 +237,41 @@ Damper read_damper(const toml::table& root, const std::string& file, const Origi
   return d;
 }
 
+// [excitation]: either record = "file" (+ units, dt, scale) or a pulse.
+Excitation read_excitation(const toml::table& root, const std::string& file, const Origins& origins) {
+  Excitation e;
+  if (!root.contains("excitation")) return e;
+  const TableReader t(root, "excitation", file, origins);
+  e.duration = t.number_or("duration", 0.0, positive, "positive [s]");
+  if (t.has("record")) {
+    e.record = t.string_or("record", "");
+    const std::filesystem::path path(e.record);
+    const bool embedded = file.starts_with("embedded:");
+    if (path.is_relative() && !embedded)
+      e.record = (std::filesystem::path(file).parent_path() / path).string();
+    if (t.has("units")) {
+      const toml::node& u = t.required("units");
+      try {
+        e.record_options.unit = parse_acceleration_unit(t.string_or("units", ""));
+      } catch (const InputError& err) {
+        t.fail(&u, "units", err.what());
+      }
+    }
+    e.record_options.dt = t.number_or("dt", 0.0, positive, "positive [s]");
+    e.record_options.scale = t.number_or("scale", 1.0, [](double) { return true; }, "a number");
+    return e;
+  }
+  const toml::node& shape = t.required("pulse");
+  try {
+    e.pulse = parse_pulse_shape(t.string_or("pulse", ""));
+  } catch (const InputError& err) {
+    t.fail(&shape, "pulse", err.what());
+  }
+  e.amplitude = t.number("amplitude_g", [](double) { return true; }, "a number") * to_si(AccelerationUnit::g);
+  e.period = t.number("period", positive, "positive [s]");
+  return e;
+}
+
 Scene read_scene(toml::table root, const std::string& file, const std::vector<std::string>& overrides) {
   Origins origins;
   for (const std::string& o : overrides) apply_override(root, o, origins);
@@ -245,6 +287,10 @@ Scene read_scene(toml::table root, const std::string& file, const std::vector<st
   scene.structure = read_structure(root, file, origins);
   scene.contact = read_contact(root, file, origins);
   scene.damper = read_damper(root, file, origins);
+  scene.excitation = read_excitation(root, file, origins);
+  if (scene.structure.rigid && !scene.contact.rocking)
+    throw InputError(fmt::format("{}: structure.rigid = true with contact.rocking = false: a rigid "
+                                 "block on a fixed base has no motion to compute", file));
   return scene;
 }
 
@@ -272,6 +318,13 @@ Scene load_default_scene(const std::vector<std::string>& overrides) {
   } catch (const toml::parse_error& e) {
     throw InputError(parse_error_line(e, name));
   }
+}
+
+GroundMotion default_ground_motion(const Scene& scene) {
+  const Excitation& e = scene.excitation;
+  if (!e.record.empty()) return read_record(e.record, e.record_options);
+  if (e.period > 0) return GroundMotion::pulse(e.pulse, e.amplitude, e.period);
+  throw InputError(fmt::format("{}: the scene has no [excitation]; give a record with --record FILE", scene.source));
 }
 
 }  // namespace rocking

@@ -1,7 +1,8 @@
 // rocking.scene: what a scene file says, read from TOML (toml++) into the plain
 // constant data the physics modules take. A scene names the structure
 // ([structure]: geometry, masses, sections, damping), how it meets the ground
-// ([contact]) and its dampers ([damper]); see data/scenes/*.toml for the keys,
+// ([contact]), its dampers ([damper]) and its default excitation ([excitation]:
+// an analytic pulse or a record file); see data/scenes/*.toml for the keys,
 // which are SI throughout. Any key can be overridden with `--set table.key=value`
 // (the value is read as TOML, or as a bare string such as eq10).
 // Every error is an InputError of one line: where (file:line, or the --set
@@ -14,6 +15,7 @@ module;
 export module rocking.scene;
 export import rocking.geometry;
 export import rocking.hysteresis;
+export import rocking.ground_motion;
 
 export namespace rocking {
 
@@ -26,6 +28,18 @@ struct Contact {
   RestitutionRule restitution_rule = RestitutionRule::eq10;
   double restitution = 0;                    // r when the rule is constant
   double theta_dot_min = 0.0015;             // Eq. 8 threshold [rad/s]
+  double overturn_angle = 0;                 // |theta| that ends a run [rad]; 0: alpha_cg
+};
+
+// The ground motion a scene runs under when no record is given on the command
+// line: a record file (path relative to the scene file) or an analytic pulse.
+struct Excitation {
+  std::string record;                        // empty: the pulse
+  RecordOptions record_options;              // units, dt, scale of the record
+  PulseShape pulse = PulseShape::one_sine;
+  double amplitude = 0;                      // pulse amplitude [m/s^2]
+  double period = 0;                         // pulse period [s]; 0: no excitation
+  double duration = 0;                       // simulated time [s]; 0: the motion's length
 };
 
 struct Scene {
@@ -35,7 +49,12 @@ struct Scene {
   Structure structure;
   Contact contact;
   Damper damper;       // damper.enabled = false when the scene has none
+  Excitation excitation;
 };
+
+// The scene's excitation as a ground motion (reads the record if it names one).
+// InputError if the scene has none.
+GroundMotion default_ground_motion(const Scene& scene);
 
 // Reads a scene file and applies overrides ("table.key=value") in order.
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});

@@ -1,0 +1,92 @@
+#include "run_output.hpp"
+#include <fmt/format.h>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+
+namespace rocking::app {
+
+HistoryCsv::HistoryCsv(const std::filesystem::path& file) : path_(file.string()) {
+  file_ = std::fopen(path_.c_str(), "w");
+  if (file_ == nullptr) throw InputError(fmt::format("{}: cannot write: {}", path_, std::strerror(errno)));
+  std::fputs("t [s],phase,u_N [m],theta [rad],theta/alpha_cg [-],delta_t [-],delta_e [-],d [m],F_hd [N],"
+             "base_shear [V_ref],base_moment [M_ref],mid_shear [V_ref],mid_moment [M_ref]\n", file_);
+}
+
+HistoryCsv::~HistoryCsv() {
+  if (file_ != nullptr) std::fclose(file_);
+}
+
+void HistoryCsv::record(const Response& r) {
+  using Q = Quantity;
+  fmt::print(file_, "{:.9g},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", r.t,
+             r.pivot == 0 ? "contact" : r.pivot > 0 ? "rock+" : "rock-", r.u_top, r[Q::theta], r[Q::theta_over_alpha],
+             r[Q::delta_t], r[Q::delta_e], r[Q::damper_d], r[Q::damper_F], r[Q::base_shear], r[Q::base_moment],
+             r[Q::mid_shear], r[Q::mid_moment]);
+}
+
+void HistoryCsv::close() {
+  if (file_ == nullptr) return;
+  const bool bad = std::ferror(file_) != 0;
+  const bool closed = std::fclose(file_) == 0;
+  file_ = nullptr;
+  if (bad || !closed) throw RunError(fmt::format("{}: writing failed (disk full?)", path_));
+}
+
+void make_output_dir(const std::filesystem::path& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir))
+    throw InputError(fmt::format("{}: cannot create the output folder: {}", dir.string(),
+                                 ec ? ec.message() : "not a folder"));
+}
+
+nlohmann::json summary_json(const RunLabel& label, const RunResult& r) {
+  using nlohmann::json;
+  json peaks = json::object();
+  for (std::size_t i = 0; i < quantity_count; ++i) {
+    const auto q = static_cast<Quantity>(i);
+    const bool force = q == Quantity::base_shear || q == Quantity::base_moment || q == Quantity::mid_shear ||
+                       q == Quantity::mid_moment;
+    peaks[std::string(quantity_name(q))] = force && !r.has_forces ? json(nullptr) : json(r.peaks[i]);
+  }
+  auto time_or_null = [](double t) { return std::isfinite(t) ? json(t) : json(nullptr); };
+  json out = {
+      {"scene", label.scene},
+      {"scene_source", label.scene_source},
+      {"motion", label.motion},
+      {"record", label.record.empty() ? json(nullptr) : json(label.record)},
+      {"scale", label.scale},
+      {"integrator", r.integrator},
+      {"rtol", label.rtol},
+      {"atol", label.atol},
+      {"peaks", peaks},
+      {"top_total_mm", r.top_total_mm},
+      {"counts", {{"uplifts", r.counts.uplifts}, {"impacts", r.counts.impacts}}},
+      {"first_uplift_s", time_or_null(r.first_uplift)},
+      {"first_impact_s", time_or_null(r.first_impact)},
+      {"outcome", std::string(outcome_name(r.outcome))},
+      {"t_end", r.t_end},
+      {"stats", {{"rhs", r.stats.rhs}, {"steps", r.stats.steps}, {"rejected", r.stats.rejected},
+                 {"events", r.stats.events}}},
+      {"wall_s", r.wall_s},
+  };
+  if (r.outcome == Outcome::failed) out["failure"] = r.failure;
+  if (r.energy_tracked) {
+    const EnergyBalance& e = r.energy;
+    out["energy_J"] = {{"initial", e.initial}, {"final", e.final}, {"ground_input", e.ground},
+                       {"viscous", e.viscous}, {"damper", e.damper}, {"impacts", e.impacts},
+                       {"balance_residual", e.residual()}};
+  }
+  return out;
+}
+
+void write_text(const std::filesystem::path& file, const std::string& text) {
+  std::ofstream out(file);
+  out << text;
+  out.close();
+  if (!out) throw InputError(fmt::format("{}: cannot write", file.string()));
+}
+
+}  // namespace rocking::app

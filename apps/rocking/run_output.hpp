@@ -1,0 +1,42 @@
+// What a run writes: the history (CSV, streamed as the run goes) and the
+// summary (JSON). Shared by the commands that run scenes.
+#pragma once
+#include <rocking/eigen.hpp>
+#include <nlohmann/json.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+import rocking;
+
+namespace rocking::app {
+
+// Streams every Response to DIR/history.csv (header row with units).
+class HistoryCsv : public rocking::Observer {
+ public:
+  explicit HistoryCsv(const std::filesystem::path& file);
+  ~HistoryCsv() override;
+  HistoryCsv(const HistoryCsv&) = delete;
+  HistoryCsv& operator=(const HistoryCsv&) = delete;
+  void record(const rocking::Response& r) override;
+  void close();  // flushes; InputError-free, RunError if the disk refused
+
+ private:
+  std::FILE* file_ = nullptr;
+  std::string path_;
+};
+
+// Creates DIR (and parents) or fails with a one-line InputError.
+void make_output_dir(const std::filesystem::path& dir);
+
+// The run's summary, with the keys of `rocking simulate --json`.
+struct RunLabel {
+  std::string scene, scene_source, motion, record;
+  double scale = 1;
+  double rtol = 0, atol = 0;
+};
+nlohmann::json summary_json(const RunLabel& label, const rocking::RunResult& r);
+
+// Writes text to a file or fails with a one-line InputError naming it.
+void write_text(const std::filesystem::path& file, const std::string& text);
+
+}  // namespace rocking::app

@@ -1,0 +1,262 @@
+module;
+#include <rocking/eigen.hpp>
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+#include <fmt/format.h>
+module rocking.contact;
+import rocking.errors;
+
+namespace rocking {
+
+namespace {
+
+Layout make_layout(ModelKind kind, Eigen::Index n, bool damper, bool energy) {
+  Layout l;
+  Eigen::Index next = 0;
+  if (kind != ModelKind::rigid_block) {
+    l.n = n;
+    l.u = next;
+    l.u_dot = next + n;
+    next += 2 * n;
+  }
+  if (kind != ModelKind::fixed_base) {
+    l.theta = next++;
+    l.theta_dot = next++;
+    if (damper) l.z = next++;
+  }
+  if (energy) {
+    l.energy = next;
+    next += 3;
+  }
+  l.size = next;
+  return l;
+}
+
+double theta_of(const ContactModel& m, Eigen::Ref<const Eigen::VectorXd> y) {
+  return m.layout.theta < 0 ? 0.0 : y[m.layout.theta];
+}
+double theta_dot_of(const ContactModel& m, Eigen::Ref<const Eigen::VectorXd> y) {
+  return m.layout.theta_dot < 0 ? 0.0 : y[m.layout.theta_dot];
+}
+
+// H'M u' (momentum moment of the elastic velocities); 0 for a rigid block.
+double moment_of_velocities(const ContactModel& m, Eigen::Ref<const Eigen::VectorXd> y) {
+  if (m.layout.u < 0) return 0.0;
+  const Structure& st = m.body.structure;
+  return (st.heights.array() * st.masses.array() * y.segment(m.layout.u_dot, m.layout.n).array()).sum();
+}
+
+// Eq. 2 as the smooth moment guard g_s [N m] (MODEL.md 6). In full contact
+// the inertia forces equal K u + C u' (flexible) or -M1 a_g (rigid, u = 0).
+double moment_guard(const ContactModel& m, const Discrete& d, int s, double a_g,
+                    Eigen::Ref<const Eigen::VectorXd> y, Workspace& w) {
+  const Structure& st = m.body.structure;
+  const double B = st.half_width, g = m.body.g;
+  const double f_res = m.has_damper ? damper_force(m.damper, m.d_y, 0.0, damper_z(d, s)) : 0.0;
+  double overturning, restoring;
+  if (m.layout.u < 0) {
+    overturning = -s * a_g * st.heights.dot(st.masses);
+    restoring = g * B * (st.masses.sum() + st.base_mass);
+  } else {
+    const auto u = y.segment(m.layout.u, m.layout.n);
+    w.a.noalias() = m.body.matrices.K * u;
+    w.a.noalias() += m.body.matrices.C * y.segment(m.layout.u_dot, m.layout.n);
+    overturning = s * st.heights.dot(w.a);
+    restoring = g * (st.masses.array() * (B - s * u.array())).sum() + g * st.base_mass * B;
+  }
+  return overturning - (restoring + f_res * 2.0 * B);
+}
+
+// The uplift guard: min(g_s, L_s) crosses zero upwards when both become positive.
+// A rigid block has no elastic momentum, so only Eq. 2 applies.
+double uplift_guard(const ContactModel& m, const Discrete& d, int s, double a_g,
+                    Eigen::Ref<const Eigen::VectorXd> y, Workspace& w) {
+  const double gs = moment_guard(m, d, s, a_g, y, w);
+  if (m.layout.u < 0) return gs;
+  return std::min(gs, s * moment_of_velocities(m, y));
+}
+
+double restitution(const ContactModel& m, int s, Eigen::Ref<const Eigen::VectorXd> y, double l_new,
+                   double theta_dot) {
+  switch (m.contact.restitution_rule) {
+    case RestitutionRule::constant: return m.contact.restitution;
+    case RestitutionRule::eq10: return m.r_eq10;
+    case RestitutionRule::eq9: break;
+  }
+  // Eq. 9: r = L_new / L_old, L_old = J(u) th'- + H'M u' (momentum about the old pivot)
+  const Structure& st = m.body.structure;
+  double j = pivot_inertia(st), hmu = moment_of_velocities(m, y);
+  if (m.layout.u >= 0) {
+    const auto u = y.segment(m.layout.u, m.layout.n).array();
+    const auto mass = st.masses.array();
+    j += (mass * u * u).sum() - 2.0 * s * st.half_width * (mass * u).sum();
+  }
+  const double l_old = j * theta_dot + hmu;
+  const double scale = std::abs(j * theta_dot) + std::abs(hmu);
+  // Guard against a vanishing denominator: fall back to the geometric Eq. 10.
+  if (!(std::abs(l_old) > 1e-9 * scale)) return m.r_eq10;
+  return std::clamp(l_new / l_old, 0.0, 1.0);
+}
+
+}  // namespace
+
+ContactModel make_contact_model(const Scene& scene, bool track_energy) {
+  ContactModel m;
+  const Structure& st = scene.structure;
+  m.kind = st.rigid ? ModelKind::rigid_block : scene.contact.rocking ? ModelKind::flexible : ModelKind::fixed_base;
+  m.body = make_body(st);
+  m.has_damper = scene.damper.enabled && m.kind != ModelKind::fixed_base;
+  m.damper = scaled_for_thickness(scene.damper);
+  m.d_y = m.has_damper ? yield_displacement(m.damper, st.half_width) : 0.0;
+  m.contact = scene.contact;
+  m.r_eq10 = restitution_eq10(st);
+  m.overturn_angle = scene.contact.overturn_angle > 0 ? scene.contact.overturn_angle : slenderness(st);
+  m.layout = make_layout(m.kind, node_count(st), m.has_damper, track_energy);
+  return m;
+}
+
+double& damper_z(Discrete& d, int pivot) { return d.z[pivot > 0 ? 1 : 0]; }
+double damper_z(const Discrete& d, int pivot) { return d.z[pivot > 0 ? 1 : 0]; }
+
+std::string phase_name(int pivot) {
+  return pivot == 0 ? "full_contact" : pivot > 0 ? "rocking(+1)" : "rocking(-1)";
+}
+
+Workspace::Workspace(const ContactModel& m)
+    : a(node_count(m.body.structure)), b(node_count(m.body.structure)) {}
+
+DamperState active_damper(const ContactModel& m, const Discrete& d, Eigen::Ref<const Eigen::VectorXd> y) {
+  if (!m.has_damper || d.pivot == 0) return {};
+  const double e = damper_elongation(m.body.structure.half_width, y[m.layout.theta]);
+  return {e, damper_force(m.damper, m.d_y, e, y[m.layout.z])};
+}
+
+void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y,
+               Eigen::Ref<Eigen::VectorXd> dydt, Workspace& w) {
+  const Layout& l = m.layout;
+  const int s = d.pivot;
+  const double B = m.body.structure.half_width;
+  dydt.setZero();
+  const double th = theta_of(m, y), thd = theta_dot_of(m, y);
+  const DamperState damper = active_damper(m, d, y);
+  double damper_power = 0;
+  if (s != 0) {
+    dydt[l.theta] = thd;
+    if (l.u < 0) {
+      dydt[l.theta_dot] = rigid_rocking_acceleration(m.body, s, a_g, damper.force, th, thd);
+    } else {
+      const Coordinates q{y.segment(l.u, l.n), y.segment(l.u_dot, l.n), th, thd};
+      dydt.segment(l.u, l.n) = q.u_dot;
+      dydt[l.theta_dot] = rocking_acceleration(m.body, s, a_g, damper.force, q, dydt.segment(l.u_dot, l.n), w.a);
+    }
+    if (l.z >= 0) {
+      const double v = damper_rate(B, th, thd, s);
+      dydt[l.z] = bouc_wen_rate(m.damper, m.d_y, v, y[l.z]);
+      damper_power = damper.force * v;
+    }
+  } else if (l.u >= 0) {
+    dydt.segment(l.u, l.n) = y.segment(l.u_dot, l.n);
+    full_contact_acceleration(m.body, a_g, y.segment(l.u, l.n), y.segment(l.u_dot, l.n), dydt.segment(l.u_dot, l.n));
+  }
+  if (l.energy >= 0) {
+    double input = 0, viscous = 0;
+    if (l.u >= 0) {
+      const auto u_dot = y.segment(l.u_dot, l.n);
+      const Coordinates q{y.segment(l.u, l.n), u_dot, th, thd};
+      input = ground_input_power(m.body, s == 0 ? 1 : s, a_g, q);
+      w.b.noalias() = m.body.matrices.C * u_dot;
+      viscous = u_dot.dot(w.b);
+    } else if (s != 0) {
+      w.a.setZero();
+      const Coordinates q{w.a, w.a, th, thd};
+      input = ground_input_power(m.body, s, a_g, q);
+    }
+    dydt[l.energy] = input;
+    dydt[l.energy + 1] = viscous;
+    dydt[l.energy + 2] = damper_power;
+  }
+}
+
+std::vector<ode::Direction> guard_directions(const ContactModel& m, int pivot) {
+  using ode::Direction;
+  if (m.kind == ModelKind::fixed_base) return {};
+  if (pivot == 0) return {Direction::rising, Direction::rising};
+  return {Direction::falling, Direction::rising};
+}
+
+Guard guard_meaning(int pivot, int index) {
+  if (pivot == 0) return index == 0 ? Guard::uplift_right : Guard::uplift_left;
+  return index == 0 ? Guard::impact : Guard::overturn;
+}
+
+void guard_values(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y,
+                  Eigen::Ref<Eigen::VectorXd> g, Workspace& w) {
+  if (m.kind == ModelKind::fixed_base) return;
+  if (d.pivot == 0) {
+    g[0] = uplift_guard(m, d, +1, a_g, y, w);
+    g[1] = uplift_guard(m, d, -1, a_g, y, w);
+  } else {
+    const double st = d.pivot * y[m.layout.theta];
+    g[0] = st;
+    g[1] = st - m.overturn_angle;
+  }
+}
+
+int uplift_now(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y,
+               Workspace& w) {
+  if (m.kind == ModelKind::fixed_base) return 0;
+  for (int s : {+1, -1})
+    if (uplift_guard(m, d, s, a_g, y, w) > 0) return s;
+  return 0;
+}
+
+void begin_rocking(const ContactModel& m, Discrete& d, int s, Eigen::Ref<Eigen::VectorXd> y) {
+  d.pivot = d.last_pivot = s;
+  y[m.layout.theta] = 0.0;
+  y[m.layout.theta_dot] = 0.0;
+  if (m.layout.z >= 0) y[m.layout.z] = damper_z(d, s);
+}
+
+ImpactResult impact(const ContactModel& m, Discrete& d, Eigen::Ref<Eigen::VectorXd> y) {
+  const Layout& l = m.layout;
+  const Structure& st = m.body.structure;
+  const int s = d.pivot;
+  const double B = st.half_width, theta_dot = y[l.theta_dot];
+  if (l.z >= 0) damper_z(d, s) = y[l.z];  // the lifted damper keeps its z for its next cycle
+  y[l.theta] = 0.0;
+  // L_new = (J_p - 2 (1'M1 + m0) B^2 + u'Mu) th'- + H'M u' (momentum about the new pivot)
+  double uMu = 0;
+  if (l.u >= 0) uMu = (st.masses.array() * y.segment(l.u, l.n).array().square()).sum();
+  const double l_new = (pivot_inertia(st) - 2.0 * total_mass(st) * B * B + uMu) * theta_dot +
+                       moment_of_velocities(m, y);
+  ImpactResult out;
+  out.continues = -s * l_new >= 0 && std::abs(theta_dot) > m.contact.theta_dot_min;
+  if (out.continues) {
+    out.r = restitution(m, s, y, l_new, theta_dot);
+    y[l.theta_dot] = out.r * theta_dot;
+    d.pivot = d.last_pivot = -s;
+    if (l.z >= 0) y[l.z] = damper_z(d, -s);
+  } else {
+    if (l.u >= 0) y.segment(l.u_dot, l.n) += st.heights * theta_dot;
+    y[l.theta_dot] = 0.0;
+    d.pivot = 0;
+  }
+  return out;
+}
+
+void view(const ContactModel& m, Eigen::Ref<const Eigen::VectorXd> y, StateView& out) {
+  const Eigen::Index n = node_count(m.body.structure);
+  if (m.layout.u >= 0) {
+    out.u = y.segment(m.layout.u, n);
+    out.u_dot = y.segment(m.layout.u_dot, n);
+  } else {
+    out.u.setZero(n);
+    out.u_dot.setZero(n);
+  }
+  out.theta = theta_of(m, y);
+  out.theta_dot = theta_dot_of(m, y);
+}
+
+}  // namespace rocking

@@ -1,0 +1,109 @@
+// rocking.contact: the phases of a rocking structure and the changes between
+// them (MODEL.md 2 and 6; the paper's Eqs. 2-3 and 8-10), as pure functions of
+// (model, discrete state, continuous state).
+// A scene models one of: a rigid block (state theta, theta'), a fixed-base
+// flexible structure (u, u'; linear, no events), or a flexible rocking
+// structure (u, u', theta, theta'), plus z of the active damper when it has
+// dampers. The state holds only that; three energy accumulators (ground input,
+// viscous, damper work) may follow for the bookkeeping of MODEL.md 7.
+// Phases: full contact (pivot 0) or rocking about pivot s = +1 (right, theta > 0)
+// or -1. Guards: uplift about s (both Eq. 2 as the smooth moment guard g_s and
+// Eq. 3, L_s > 0: the guard is min(g_s, L_s), rising); impact (s theta falling
+// through 0); overturning (s theta rising through the overturn angle).
+// Resets: uplift (theta = theta' = 0, the lifted damper resumes its z);
+// impact, either continued rocking about -s (th'+ = r th'-, u'+ = u'-) when
+// -s L_new >= 0 and |th'-| > theta_dot_min, or full contact
+// (th'+ = 0, u'+ = u'- + H th'-). r: constant, Eq. 10, or Eq. 9 per impact.
+module;
+#include <rocking/eigen.hpp>
+#include <array>
+#include <string>
+#include <vector>
+export module rocking.contact;
+export import rocking.dynamics;
+export import rocking.hysteresis;
+export import rocking.scene;
+export import rocking.integrator;
+
+export namespace rocking {
+
+enum class ModelKind { rigid_block, fixed_base, flexible };
+
+// Where each coordinate sits in the ODE state; -1 when the model lacks it.
+struct Layout {
+  Eigen::Index n = 0;  // elastic coordinates (N, or 0 for a rigid block)
+  Eigen::Index u = -1, u_dot = -1, theta = -1, theta_dot = -1, z = -1;
+  Eigen::Index energy = -1;  // [ground input, viscous, damper work] [J]
+  Eigen::Index size = 0;
+};
+
+struct ContactModel {
+  ModelKind kind = ModelKind::flexible;
+  RockingBody body;
+  bool has_damper = false;
+  Damper damper;               // thickness scaling applied
+  double d_y = 0;              // yield elongation [m]
+  Contact contact;
+  double r_eq10 = 0;
+  double overturn_angle = 0;   // [rad]
+  Layout layout;
+};
+ContactModel make_contact_model(const Scene& scene, bool track_energy);
+
+// The discrete state kept beside the ODE state.
+struct Discrete {
+  int pivot = 0;                   // 0: full contact; +1 / -1: rocking about that pivot
+  std::array<double, 2> z{0, 0};   // z of the damper lifted by pivot -1 [0] and +1 [1]
+  int last_pivot = 1;              // the pivot of the last rocking phase
+};
+double& damper_z(Discrete& d, int pivot);
+double damper_z(const Discrete& d, int pivot);
+std::string phase_name(int pivot);  // "full_contact", "rocking(+1)", "rocking(-1)"
+
+// Scratch space so that the right-hand side allocates nothing.
+struct Workspace {
+  Eigen::VectorXd a, b;
+  explicit Workspace(const ContactModel& m);
+};
+
+// dy/dt in the current phase at ground acceleration a_g.
+void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y,
+               Eigen::Ref<Eigen::VectorXd> dydt, Workspace& w);
+
+// The damper force and elongation of the active damper (0 in full contact).
+struct DamperState {
+  double elongation = 0, force = 0;
+};
+DamperState active_damper(const ContactModel& m, const Discrete& d, Eigen::Ref<const Eigen::VectorXd> y);
+
+// Guards of the phase (see the top of this file) and their directions.
+enum class Guard { uplift_right, uplift_left, impact, overturn };
+std::vector<ode::Direction> guard_directions(const ContactModel& m, int pivot);
+Guard guard_meaning(int pivot, int index);
+void guard_values(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y,
+                  Eigen::Ref<Eigen::VectorXd> g, Workspace& w);
+
+// The pivot about which the structure in full contact lifts at this instant
+// (both conditions of MODEL.md 6 hold), or 0.
+int uplift_now(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y,
+               Workspace& w);
+
+// Uplift about pivot s: theta = theta' = 0, the damper lifted by s resumes its z.
+void begin_rocking(const ContactModel& m, Discrete& d, int s, Eigen::Ref<Eigen::VectorXd> y);
+
+// Impact while rocking: the reset of MODEL.md 6. Returns the r applied (0 when
+// full contact begins).
+struct ImpactResult {
+  bool continues = false;
+  double r = 0;
+};
+ImpactResult impact(const ContactModel& m, Discrete& d, Eigen::Ref<Eigen::VectorXd> y);
+
+// Coordinates (u, u', theta, theta') of a state, zeros where the model has none.
+struct StateView {
+  Eigen::VectorXd u, u_dot;
+  double theta = 0, theta_dot = 0;
+};
+void view(const ContactModel& m, Eigen::Ref<const Eigen::VectorXd> y, StateView& out);
+
+}  // namespace rocking

@@ -1,0 +1,90 @@
+module;
+#include <rocking/eigen.hpp>
+#include <cmath>
+#include <string_view>
+module rocking.simulation;
+import rocking.modal;
+
+namespace rocking {
+
+std::string_view quantity_name(Quantity q) {
+  switch (q) {
+    case Quantity::delta_t: return "delta_t";
+    case Quantity::delta_e: return "delta_e";
+    case Quantity::theta: return "theta";
+    case Quantity::theta_over_alpha: return "theta_over_alpha";
+    case Quantity::damper_d: return "damper_d";
+    case Quantity::damper_F: return "damper_F";
+    case Quantity::base_shear: return "base_shear";
+    case Quantity::base_moment: return "base_moment";
+    case Quantity::mid_shear: return "mid_shear";
+    case Quantity::mid_moment: return "mid_moment";
+  }
+  return "?";
+}
+
+std::string_view outcome_name(Outcome o) {
+  switch (o) {
+    case Outcome::completed: return "completed";
+    case Outcome::overturned: return "overturned";
+    case Outcome::failed: return "failed";
+  }
+  return "?";
+}
+
+OutputScales output_scales(const ContactModel& m) {
+  const Structure& st = m.body.structure;
+  OutputScales sc;
+  sc.H_N = st.heights[st.heights.size() - 1];
+  sc.alpha_cg = slenderness(st);
+  sc.has_forces = m.layout.u >= 0;
+  if (sc.has_forces) {
+    const ReferenceForces ref = reference_forces(st, m.body.matrices);
+    sc.V_ref = ref.base_shear;
+    sc.M_ref = ref.base_moment;
+  }
+  return sc;
+}
+
+Response evaluate(const ContactModel& m, const OutputScales& sc, const Discrete& d, double t,
+                  Eigen::Ref<const Eigen::VectorXd> y) {
+  const Layout& l = m.layout;
+  const Structure& st = m.body.structure;
+  Response r;
+  r.t = t;
+  r.pivot = d.pivot;
+  const double th = l.theta < 0 ? 0.0 : y[l.theta];
+  const double s = th > 0 ? 1.0 : th < 0 ? -1.0 : 0.0;
+  r.u_top = l.u < 0 ? 0.0 : y[l.u + l.n - 1];
+  const double c = std::cos(th), H = sc.H_N, B = st.half_width;
+  auto set = [&](Quantity k, double v) { r.q[static_cast<std::size_t>(k)] = v; };
+  set(Quantity::delta_t, (s * B * (1 - c) + r.u_top * c + H * std::sin(th)) / H);
+  set(Quantity::delta_e, r.u_top * c / H);
+  set(Quantity::theta, th);
+  set(Quantity::theta_over_alpha, th / sc.alpha_cg);
+  const DamperState damper = active_damper(m, d, y);
+  set(Quantity::damper_d, d.pivot * damper.elongation);
+  set(Quantity::damper_F, d.pivot * damper.force);
+  if (sc.has_forces) {
+    // Elastic nodal forces f = K u; shear above h = sum f_i, moment = sum f_i (H_i - h).
+    double base_shear = 0, base_moment = 0, mid_shear = 0, mid_moment = 0;
+    const double mid = 0.5 * H;
+    for (Eigen::Index i = 0; i < l.n; ++i) {
+      const double f = m.body.matrices.K.row(i).dot(y.segment(l.u, l.n));
+      const double h = st.heights[i];
+      base_shear += f;
+      base_moment += f * h;
+      if (h > mid) {
+        mid_shear += f;
+        mid_moment += f * (h - mid);
+      }
+    }
+    set(Quantity::base_shear, base_shear / sc.V_ref);
+    set(Quantity::base_moment, base_moment / sc.M_ref);
+    set(Quantity::mid_shear, mid_shear / sc.V_ref);
+    set(Quantity::mid_moment, mid_moment / sc.M_ref);
+  }
+  return r;
+}
+
+}  // namespace rocking

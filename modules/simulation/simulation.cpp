@@ -1,0 +1,241 @@
+module;
+#include <rocking/eigen.hpp>
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <string>
+#include <vector>
+#include <fmt/format.h>
+module rocking.simulation;
+import rocking.errors;
+
+namespace rocking {
+
+namespace {
+
+// Absolute peaks over samples of the continuous response; an interior local
+// maximum of |q| is refined by the parabola through its neighbours.
+class PeakTracker {
+ public:
+  void add(const Response& r) {
+    for (std::size_t i = 0; i < quantity_count; ++i) {
+      const double a = std::abs(r.q[i]);
+      peak_[i] = std::max(peak_[i], a);
+      if (count_ >= 2 && v1_[i] >= v2_[i] && v1_[i] >= a) peak_[i] = std::max(peak_[i], vertex(i, r.t, a));
+      v2_[i] = v1_[i];
+      v1_[i] = a;
+    }
+    t2_ = t1_;
+    t1_ = r.t;
+    ++count_;
+  }
+  // Velocities (and so the shape of the response) jump at an event.
+  void break_continuity() { count_ = 0; }
+  const std::array<double, quantity_count>& peaks() const { return peak_; }
+
+ private:
+  double vertex(std::size_t i, double t, double a) const {
+    if (!(t1_ > t2_ && t > t1_)) return 0.0;
+    const double f21 = (v1_[i] - v2_[i]) / (t1_ - t2_), f1 = (a - v1_[i]) / (t - t1_);
+    const double c = (f1 - f21) / (t - t2_);
+    if (!(c < 0)) return 0.0;
+    const double x = 0.5 * (t2_ + t1_) - f21 / (2 * c);
+    if (!(x >= t2_ && x <= t)) return 0.0;
+    return v2_[i] + f21 * (x - t2_) + c * (x - t2_) * (x - t1_);
+  }
+
+  std::array<double, quantity_count> peak_{}, v1_{}, v2_{};
+  double t1_ = 0, t2_ = 0;
+  long count_ = 0;
+};
+
+constexpr int samples_per_step = 4;
+
+class Driver {
+ public:
+  Driver(const ContactModel& m, const GroundMotion& ground, const RunOptions& o, Observer* observer)
+      : m_(m), ground_(ground), opt_(o), observer_(observer), scales_(output_scales(m)), work_(m),
+        y_(Eigen::VectorXd::Zero(m.layout.size)), dense_(m.layout.size) {
+    auto rhs = [this](double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> dydt) {
+      phase_rhs(m_, d_, ground_.acceleration(t), y, dydt, work_);
+    };
+    integrator_ = ode::make_integrator(o.backend, m.layout.size, rhs, o.tolerances);
+    t_end_ = o.duration > 0 ? o.duration : ground.duration();
+    std::vector<double> bps;
+    for (double t : ground.breakpoints())
+      if (t > 0 && t < t_end_) bps.push_back(t);
+    integrator_->set_breakpoints(std::move(bps));
+  }
+
+  RunResult run() {
+    const auto start = std::chrono::steady_clock::now();
+    result_.integrator = integrator_->name();
+    result_.has_forces = scales_.has_forces;
+    result_.energy_tracked = m_.layout.energy >= 0;
+    initial_state();
+    result_.energy.initial = mechanical();
+    next_output_ = opt_.output_interval;
+    outputs_ = 1;
+    try {
+      begin_contact_if_lifting(0.0);
+      restart(0.0);
+      loop();
+    } catch (const RunError& e) {
+      result_.outcome = Outcome::failed;
+      result_.failure = fmt::format("{} (phase {})", e.what(), phase_name(d_.pivot));
+    }
+    finish();
+    result_.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result_;
+  }
+
+ private:
+  void initial_state() {
+    const InitialState& init = opt_.initial;
+    if (init.theta == 0 && init.theta_dot == 0) return;
+    if (m_.kind == ModelKind::fixed_base)
+      throw InputError("an initial tilt needs a rocking scene (contact.rocking = true)");
+    const int s = init.theta > 0 ? 1 : init.theta < 0 ? -1 : (init.theta_dot > 0 ? 1 : -1);
+    begin_rocking(m_, d_, s, y_);
+    y_[m_.layout.theta] = init.theta;
+    y_[m_.layout.theta_dot] = init.theta_dot;
+  }
+
+  double mechanical() {
+    view(m_, y_, state_view_);
+    const Coordinates q{state_view_.u, state_view_.u_dot, state_view_.theta, state_view_.theta_dot};
+    return mechanical_energy(m_.body, d_.pivot == 0 ? 1 : d_.pivot, q);
+  }
+
+  // Full contact has begun at time t (start, or an impact): lift now if both
+  // uplift conditions already hold (MODEL.md 6).
+  void begin_contact_if_lifting(double t) {
+    if (d_.pivot != 0) return;
+    const int s = uplift_now(m_, d_, ground_.acceleration(t), y_, work_);
+    if (s != 0) lift(s, t);
+  }
+
+  void lift(int s, double t) {
+    begin_rocking(m_, d_, s, y_);
+    if (result_.counts.uplifts++ == 0) result_.first_uplift = t;
+  }
+
+  void restart(double t) {
+    ode::Guards guards;
+    guards.directions = guard_directions(m_, d_.pivot);
+    if (!guards.directions.empty())
+      guards.fn = [this](double tg, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> g) {
+        guard_values(m_, d_, ground_.acceleration(tg), y, g, work_);
+      };
+    integrator_->reset(t, y_, std::move(guards));
+    emit(t, y_, true);
+  }
+
+  void loop() {
+    while (integrator_->time() < t_end_) {
+      const ode::StepReport rep = integrator_->step(t_end_);
+      sample_step();
+      if (rep.reason == ode::Stop::event) {
+        if (!handle_event(guard_meaning(d_.pivot, rep.guard), rep.t)) return;
+      } else if (d_.pivot != 0 && d_.pivot * integrator_->state()[m_.layout.theta] < 0) {
+        // Only round-off right after an uplift can put theta on the wrong side
+        // without a crossing: treat it as the impact it is.
+        if (!handle_event(Guard::impact, integrator_->time())) return;
+      }
+    }
+  }
+
+  // Returns false when the run ends (overturning).
+  bool handle_event(Guard what, double t) {
+    y_ = integrator_->state();
+    if (++events_ > opt_.max_events)
+      throw RunError(fmt::format("phase change number {} at t = {:.9g} s exceeds the limit (chattering? raise "
+                                 "contact.theta_dot_min or the event limit)", events_, t));
+    switch (what) {
+      case Guard::uplift_right:
+      case Guard::uplift_left:
+        lift(what == Guard::uplift_right ? 1 : -1, t);
+        break;
+      case Guard::impact: {
+        const double before = mechanical();
+        impact(m_, d_, y_);
+        result_.energy.impacts += before - mechanical();
+        if (result_.counts.impacts++ == 0) result_.first_impact = t;
+        begin_contact_if_lifting(t);
+        break;
+      }
+      case Guard::overturn:
+        result_.outcome = Outcome::overturned;
+        return false;
+    }
+    peaks_.break_continuity();
+    restart(t);
+    return true;
+  }
+
+  // Peaks on samples of the last step's dense output; history rows on the grid.
+  void sample_step() {
+    const double t0 = integrator_->previous_time(), t1 = integrator_->time();
+    for (int k = 1; k <= samples_per_step; ++k) {
+      const double t = k == samples_per_step ? t1 : t0 + (t1 - t0) * k / samples_per_step;
+      if (k == samples_per_step) dense_ = integrator_->state();
+      else integrator_->dense(t, dense_);
+      peaks_.add(evaluate(m_, scales_, d_, t, dense_));
+    }
+    if (observer_ == nullptr || !(opt_.output_interval > 0)) return;
+    while (next_output_ <= t1) {
+      integrator_->dense(next_output_, dense_);
+      observer_->record(evaluate(m_, scales_, d_, next_output_, dense_));
+      next_output_ = opt_.output_interval * static_cast<double>(++outputs_);
+    }
+  }
+
+  void emit(double t, Eigen::Ref<const Eigen::VectorXd> y, bool also_history) {
+    const Response r = evaluate(m_, scales_, d_, t, y);
+    peaks_.add(r);
+    if (also_history && observer_ != nullptr) observer_->record(r);
+  }
+
+  void finish() {
+    y_ = integrator_->state();
+    result_.t_end = integrator_->time();
+    result_.final_pivot = d_.pivot;
+    result_.final_state = y_;
+    result_.peaks = peaks_.peaks();
+    result_.top_total_mm = result_.peak(Quantity::delta_t) * scales_.H_N * 1000.0;
+    result_.stats = integrator_->stats();
+    result_.energy.final = mechanical();
+    if (m_.layout.energy >= 0) {
+      result_.energy.ground = y_[m_.layout.energy];
+      result_.energy.viscous = y_[m_.layout.energy + 1];
+      result_.energy.damper = y_[m_.layout.energy + 2];
+    }
+  }
+
+  const ContactModel& m_;
+  const GroundMotion& ground_;
+  const RunOptions& opt_;
+  Observer* observer_;
+  OutputScales scales_;
+  Workspace work_;
+  Discrete d_;
+  Eigen::VectorXd y_, dense_;
+  StateView state_view_;
+  std::unique_ptr<ode::Integrator> integrator_;
+  double t_end_ = 0, next_output_ = 0;
+  long outputs_ = 0, events_ = 0;
+  PeakTracker peaks_;
+  RunResult result_;
+};
+
+}  // namespace
+
+RunResult simulate(const ContactModel& m, const GroundMotion& ground, const RunOptions& options,
+                   Observer* observer) {
+  Driver driver(m, ground, options, observer);
+  return driver.run();
+}
+
+}  // namespace rocking

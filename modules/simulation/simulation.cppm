@@ -1,0 +1,113 @@
+// rocking.simulation: the driver that runs a scene under a ground motion
+// (MODEL.md 6 and 7): it integrates the phase's equations with the chosen
+// backend, stops at the guards of rocking.contact, applies their resets and
+// restarts, and streams the response to observers.
+// Outputs (MODEL.md 7): delta_t (Eq. 11) and delta_e (Eq. 12) over H_N, theta
+// and theta / alpha_cg, the active damper's elongation and force (signed by
+// the pivot: + when rocking about the right pivot), and shear and moment of
+// the elastic nodal forces K u at the base and at mid-height over V_ref, M_ref.
+// Peaks are taken on the dense output (four samples per step) and refined at
+// local extrema by the parabola through three samples, so they do not depend
+// on where the integrator happened to step. The energy balance
+//   E(t) - E(0) = W_ground - W_viscous - W_damper - W_impacts
+// is carried along (W_damper is the work done on the dampers, stored plus
+// dissipated), and its residual measures the run's accuracy.
+module;
+#include <rocking/eigen.hpp>
+#include <array>
+#include <limits>
+#include <string>
+#include <string_view>
+export module rocking.simulation;
+export import rocking.contact;
+export import rocking.sundials;
+export import rocking.ground_motion;
+
+export namespace rocking {
+
+enum class Quantity {
+  delta_t, delta_e, theta, theta_over_alpha, damper_d, damper_F,
+  base_shear, base_moment, mid_shear, mid_moment
+};
+inline constexpr std::size_t quantity_count = 10;
+std::string_view quantity_name(Quantity q);  // the JSON key, e.g. "delta_t"
+
+// The response at one instant. Forces are normalised (V_ref, M_ref); a rigid
+// block has none (has_forces false, the force entries 0).
+struct Response {
+  double t = 0;
+  int pivot = 0;
+  double u_top = 0;  // u_N [m]
+  std::array<double, quantity_count> q{};
+  double operator[](Quantity k) const { return q[static_cast<std::size_t>(k)]; }
+};
+
+// Receives the response as it is computed (history files, plots, tests).
+class Observer {
+ public:
+  virtual ~Observer() = default;
+  virtual void record(const Response& r) = 0;
+};
+
+struct InitialState {
+  double theta = 0, theta_dot = 0;  // a release from a tilt: rocking about sign(theta)
+};
+
+struct RunOptions {
+  ode::Backend backend = ode::Backend::rk45;
+  ode::Options tolerances;
+  double duration = 0;           // simulated time [s]; 0: the motion's duration
+  double output_interval = 0.01; // history rows every this many s (and at every event)
+  bool track_energy = true;
+  long max_events = 100000;      // more phase changes than this: the run fails (chattering)
+  InitialState initial;
+};
+
+enum class Outcome { completed, overturned, failed };
+std::string_view outcome_name(Outcome o);
+
+struct Counts {
+  long uplifts = 0, impacts = 0;
+};
+
+struct EnergyBalance {
+  double initial = 0, final = 0;                 // mechanical: kinetic + gravity + elastic [J]
+  double ground = 0, viscous = 0, damper = 0, impacts = 0;  // [J]
+  double residual() const { return (final - initial) - (ground - viscous - damper - impacts); }
+};
+
+struct RunResult {
+  Outcome outcome = Outcome::completed;
+  std::string failure;             // what stopped a failed run, with time and phase
+  double t_end = 0;                // where the run ended [s]
+  int final_pivot = 0;
+  std::array<double, quantity_count> peaks{};  // absolute peaks
+  double top_total_mm = 0;         // peak |delta_t| H_N [mm]
+  bool has_forces = true;
+  Counts counts;
+  double first_uplift = std::numeric_limits<double>::quiet_NaN();
+  double first_impact = std::numeric_limits<double>::quiet_NaN();
+  EnergyBalance energy;
+  bool energy_tracked = false;
+  ode::Stats stats;
+  std::string integrator;
+  double wall_s = 0;
+  Eigen::VectorXd final_state;
+  double peak(Quantity k) const { return peaks[static_cast<std::size_t>(k)]; }
+};
+
+// The normalisation and geometry the outputs need, built once per model.
+struct OutputScales {
+  double H_N = 0, alpha_cg = 0, V_ref = 0, M_ref = 0;
+  bool has_forces = true;
+};
+OutputScales output_scales(const ContactModel& m);
+Response evaluate(const ContactModel& m, const OutputScales& sc, const Discrete& d, double t,
+                  Eigen::Ref<const Eigen::VectorXd> y);
+
+// Runs the model under the ground motion. Never throws for a run that cannot
+// finish: the result says failed, with the reason, and holds what was reached.
+RunResult simulate(const ContactModel& m, const GroundMotion& ground, const RunOptions& options,
+                   Observer* observer = nullptr);
+
+}  // namespace rocking

@@ -1,0 +1,130 @@
+// rocking.contact: the state holds only what a scene models, and the phase
+// changes of MODEL.md 6 do what the equations say, one reset at a time.
+#include <rocking/eigen.hpp>
+#include <doctest/doctest.h>
+#include <cmath>
+#include <string>
+#include <vector>
+import rocking.contact;
+import rocking.modal;
+
+using namespace rocking;
+
+namespace {
+Scene chimney(std::vector<std::string> overrides = {}) { return load_default_scene(overrides); }
+}  // namespace
+
+TEST_CASE("each scene's state holds only what it models") {
+  const Eigen::Index n = 4;
+  CHECK(make_contact_model(chimney(), false).layout.size == 2 * n + 3);  // u, u', theta, theta', z
+  CHECK(make_contact_model(chimney({"damper.enabled=false"}), false).layout.size == 2 * n + 2);
+  const ContactModel fixed = make_contact_model(chimney({"contact.rocking=false"}), false);
+  CHECK(fixed.kind == ModelKind::fixed_base);
+  CHECK(fixed.layout.size == 2 * n);  // u, u' only: linear, no events
+  CHECK(guard_directions(fixed, 0).empty());
+  const ContactModel rigid = make_contact_model(chimney({"structure.rigid=true"}), false);
+  CHECK(rigid.kind == ModelKind::rigid_block);
+  CHECK(rigid.layout.size == 3);  // theta, theta', z
+  CHECK(make_contact_model(chimney({"structure.rigid=true", "damper.enabled=false"}), true).layout.size == 2 + 3);
+}
+
+TEST_CASE("a rigid block lifts when the ground acceleration exceeds g tan(alpha) (Eq. 2 with u = 0)") {
+  // Lumped on the centre line with a base beam, the static uplift acceleration is
+  // g B (1'M1 + m0) / H'M1 = g tan(alpha_cg) exactly.
+  const ContactModel m = make_contact_model(chimney({"structure.rigid=true", "damper.enabled=false"}), false);
+  Workspace w(m);
+  Discrete d;
+  const Eigen::VectorXd y = Eigen::VectorXd::Zero(m.layout.size);
+  const double a_up = m.body.g * std::tan(slenderness(m.body.structure));
+  CHECK(uplift_now(m, d, -1.001 * a_up, y, w) == +1);  // ground pushed left: tips right
+  CHECK(uplift_now(m, d, +1.001 * a_up, y, w) == -1);
+  CHECK(uplift_now(m, d, 0.999 * a_up, y, w) == 0);
+  CHECK(uplift_now(m, d, -0.999 * a_up, y, w) == 0);
+}
+
+TEST_CASE("a damper's residual force enters the uplift condition of the edge it holds") {
+  const ContactModel m = make_contact_model(chimney({"structure.rigid=true"}), false);
+  Workspace w(m);
+  const Eigen::VectorXd y = Eigen::VectorXd::Zero(m.layout.size);
+  const double a_up = m.body.g * std::tan(slenderness(m.body.structure));
+  Discrete d;
+  CHECK(uplift_now(m, d, -1.001 * a_up, y, w) == +1);
+  damper_z(d, +1) = 1.0;  // the damper that rocking about +1 stretches is already in tension
+  CHECK(uplift_now(m, d, -1.001 * a_up, y, w) == 0);
+  damper_z(d, +1) = -1.0;  // ... or pushing the edge up: lifts below the rigid threshold
+  CHECK(uplift_now(m, d, -0.999 * a_up, y, w) == +1);
+}
+
+TEST_CASE("uplift of the flexible chimney needs both the moment (Eq. 2) and L_s > 0 (Eq. 3)") {
+  const ContactModel m = make_contact_model(chimney({"damper.enabled=false"}), false);
+  Workspace w(m);
+  Discrete d;
+  const Layout& l = m.layout;
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(l.size);
+  // Push the first mode 20 % past the static uplift point c of MODEL.md 7
+  // (M_ref = c H'K phi_1).
+  const Eigen::VectorXd phi = m.body.matrices.fixed_base.shapes.col(0);
+  const double c = reference_forces(m.body.structure, m.body.matrices).base_moment /
+                   m.body.structure.heights.dot(m.body.matrices.K * phi);
+  y.segment(l.u, l.n) = 1.2 * c * phi;
+  CHECK(uplift_now(m, d, 0.0, y, w) == 0);  // at rest: L_s = 0, not > 0
+  y.segment(l.u_dot, l.n) = 0.01 * phi;     // still moving right
+  CHECK(uplift_now(m, d, 0.0, y, w) == +1);
+  y.segment(l.u_dot, l.n) = -0.01 * phi;    // already coming back
+  CHECK(uplift_now(m, d, 0.0, y, w) == 0);
+}
+
+TEST_CASE("impact: continued rocking takes r and keeps u'; full contact keeps the momentum H th'") {
+  const ContactModel m = make_contact_model(chimney({"contact.restitution=0.9"}), false);
+  const Layout& l = m.layout;
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(l.size);
+  Discrete d;
+  begin_rocking(m, d, +1, y);
+  y[l.theta_dot] = -0.05;  // falling back onto the left pivot
+  y.segment(l.u_dot, l.n).setConstant(0.001);
+  y[l.z] = 0.4;
+  damper_z(d, -1) = -0.3;  // what the other damper kept from its last cycle
+  const ImpactResult r = impact(m, d, y);
+  CHECK(r.continues);
+  CHECK(d.pivot == -1);
+  CHECK(y[l.theta_dot] == doctest::Approx(0.9 * -0.05).epsilon(1e-15));
+  CHECK(y.segment(l.u_dot, l.n).isApproxToConstant(0.001));
+  CHECK(y[l.z] == -0.3);               // the left-pivot damper resumes its own z
+  CHECK(damper_z(d, +1) == 0.4);       // and the other keeps its z for later
+
+  // Below theta_dot_min the structure settles: th' = 0 and u' gains H th'-.
+  y[l.theta_dot] = 0.001;  // rocking about -1, falling back (s th' > 0 means -th decreasing)
+  const Eigen::VectorXd u_dot_before = y.segment(l.u_dot, l.n);
+  const ImpactResult settle = impact(m, d, y);
+  CHECK_FALSE(settle.continues);
+  CHECK(d.pivot == 0);
+  CHECK(y[l.theta_dot] == 0.0);
+  CHECK((y.segment(l.u_dot, l.n) - (u_dot_before + m.body.structure.heights * 0.001)).norm() < 1e-15);
+}
+
+TEST_CASE("Eq. 9 restitution equals Eq. 10 for an undeformed structure and stays in [0, 1]") {
+  const ContactModel eq9 = make_contact_model(chimney({"contact.restitution=eq9"}), false);
+  const Layout& l = eq9.layout;
+  Eigen::VectorXd y = Eigen::VectorXd::Zero(l.size);
+  Discrete d;
+  begin_rocking(eq9, d, +1, y);
+  y[l.theta_dot] = -0.05;
+  const ImpactResult r = impact(eq9, d, y);
+  CHECK(r.r == doctest::Approx(eq9.r_eq10).epsilon(1e-12));
+  // A deformed, moving structure: the ratio of the momenta about the new and
+  // the old pivot, computed here from Eq. 9 as printed (upper sign: s = +1).
+  begin_rocking(eq9, d, +1, y);
+  const double th_dot = -0.05, u = 0.02, u_dot = -0.01;
+  y[l.theta_dot] = th_dot;
+  y.segment(l.u, l.n).setConstant(u);
+  y.segment(l.u_dot, l.n).setConstant(u_dot);
+  const Structure& st = eq9.body.structure;
+  const double M1 = st.masses.sum(), uMu = M1 * u * u, HMu_dot = st.heights.dot(st.masses) * u_dot;
+  const double B = st.half_width, J_p = pivot_inertia(st);
+  const double l_new = (J_p - 2 * (M1 + st.base_mass) * B * B + uMu) * th_dot + HMu_dot;
+  const double l_old = (J_p - 2 * B * M1 * u + uMu) * th_dot + HMu_dot;
+  const ImpactResult r2 = impact(eq9, d, y);
+  CHECK(r2.continues);
+  CHECK(r2.r == doctest::Approx(l_new / l_old).epsilon(1e-12));
+  CHECK(std::abs(r2.r - eq9.r_eq10) > 1e-4);  // the deformation matters
+}

@@ -1,0 +1,115 @@
+// `rocking simulate` as a user meets it: the files and keys the issue names,
+// the scene variants reachable with --set, bad input in one line with exit 2,
+// and a run that cannot finish exiting 3 with what it had written kept.
+#include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include "run_program.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("rocking_simulate_test_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string read(const fs::path& file) {
+  std::ifstream in(file);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+void write(const fs::path& file, const std::string& text) { std::ofstream(file) << text; }
+
+const std::string at2_header =
+    "PEER STRONG MOTION DATABASE RECORD\nTEST RECORD\nACCELERATION TIME SERIES IN UNITS OF G\n";
+
+}  // namespace
+
+TEST_CASE("simulate runs the embedded chimney and writes history.csv and summary.json") {
+  const fs::path dir = scratch("default");
+  const Result r = run("simulate --json --out " + dir.string());
+  REQUIRE(r.code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j == nlohmann::json::parse(read(dir / "summary.json")));
+  for (const char* key : {"delta_t", "delta_e", "theta", "theta_over_alpha", "damper_d", "damper_F", "base_shear",
+                          "base_moment", "mid_shear", "mid_moment"})
+    CHECK_MESSAGE(j["peaks"][key].is_number(), key);
+  for (const char* key : {"top_total_mm", "counts", "outcome", "stats", "wall_s"}) CHECK_MESSAGE(j.contains(key), key);
+  for (const char* key : {"rhs", "steps", "rejected", "events"}) CHECK(j["stats"][key].get<long>() >= 0);
+  CHECK(j["outcome"] == "completed");
+  CHECK(j["counts"]["uplifts"].get<long>() > 0);  // the default pulse lifts the chimney
+  CHECK(j["top_total_mm"].get<double>() == doctest::Approx(j["peaks"]["delta_t"].get<double>() * 33.05e3));
+  const std::string history = read(dir / "history.csv");
+  CHECK(history.starts_with("t [s],phase,u_N [m],theta [rad]"));
+  CHECK(lines(history) > 800);  // 8 s every 0.01 s, and the events
+}
+
+TEST_CASE("the fixed-base, no-damper and rigid-block variants are reachable from the scene keys") {
+  const fs::path dir = scratch("variants");
+  const Result fixed = run("simulate --json --set contact.rocking=false --out " + dir.string());
+  REQUIRE(fixed.code == 0);
+  const auto f = nlohmann::json::parse(fixed.out);
+  CHECK(f["counts"]["uplifts"] == 0);
+  CHECK(f["peaks"]["theta"] == 0.0);
+  CHECK(f["peaks"]["base_moment"].get<double>() > 1.0);  // a fixed base carries more than M_ref
+  const Result free = run("simulate --json --set damper.enabled=false --out " + dir.string());
+  REQUIRE(free.code == 0);
+  CHECK(nlohmann::json::parse(free.out)["peaks"]["damper_F"] == 0.0);
+  const Result block = run("simulate " + std::string(ROCKING_SOURCE_DIR) + "/data/scenes/rigid_block.toml --json --out " +
+                           dir.string());
+  REQUIRE(block.code == 0);
+  const auto b = nlohmann::json::parse(block.out);
+  CHECK(b["peaks"]["base_shear"].is_null());  // a rigid block has no elastic forces
+  CHECK(b["peaks"]["theta"].get<double>() > 0.0);
+}
+
+TEST_CASE("simulate: bad input is one line on stderr, naming the file and line, and exit code 2") {
+  const fs::path dir = scratch("bad");
+  write(dir / "npts.at2", at2_header + "NPTS=    5, DT= .01000 SEC\n0.1 0.2 0.3 0.4\n");
+  write(dir / "text.at2", at2_header + "NPTS=    4, DT= .01000 SEC\n0.1 0.2\nabc 0.4\n");
+  write(dir / "nan.at2", at2_header + "NPTS=    4, DT= .01000 SEC\n0.1 nan 0.3 0.4\n");
+  write(dir / "dt.at2", at2_header + "NPTS=    4, DT= 0.0 SEC\n0.1 0.2 0.3 0.4\n");
+  const std::string out = " --out " + (dir / "out").string();
+  struct Case {
+    std::string args, expect;
+  };
+  for (const Case& c : {Case{"--record " + (dir / "missing.at2").string(), "missing.at2"},
+                        Case{"--record " + (dir / "npts.at2").string(), "npts.at2:"},
+                        Case{"--record " + (dir / "text.at2").string(), "text.at2:6"},
+                        Case{"--record " + (dir / "nan.at2").string(), "nan.at2:"},
+                        Case{"--record " + (dir / "dt.at2").string(), "dt.at2:"},
+                        Case{"--record " + (dir / "npts.at2").string() + " --units furlongs", "furlongs"},
+                        Case{"--integrator euler", "euler"},
+                        Case{"--rtol 0", "--rtol"},
+                        Case{"--set contact.restitution=1.5", "contact.restitution"}}) {
+    const Result r = run("simulate" + out + " " + c.args);
+    CAPTURE(c.args);
+    CHECK(r.code == 2);
+    CHECK(lines(r.err) == 1);
+    CHECK(r.err.find(c.expect) != std::string::npos);
+  }
+}
+
+TEST_CASE("a run that cannot finish exits 3 naming the time and phase, and keeps its files") {
+  const fs::path dir = scratch("stopped");
+  for (const std::string& limit : {std::string("--max-steps 300"), std::string("--max-events 3")}) {
+    CAPTURE(limit);
+    const Result r = run("simulate --out " + dir.string() + " " + limit);
+    CHECK(r.code == 3);
+    CHECK(r.err.find("at t = ") != std::string::npos);
+    CHECK(r.err.find("phase ") != std::string::npos);
+    const auto j = nlohmann::json::parse(read(dir / "summary.json"));
+    CHECK(j["outcome"] == "failed");
+    CHECK(j["t_end"].get<double>() > 0.0);
+    CHECK(lines(read(dir / "history.csv")) > 2);
+  }
+}
