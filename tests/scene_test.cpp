@@ -115,3 +115,35 @@ TEST_CASE("NaN and wrong types are refused") {
   CHECK(error_of(chimney_with("rocking = true", "rocking = 1")).ends_with("contact.rocking: must be true or false"));
   CHECK(error_of(chimney_with("restitution = 0.94", "restitution = 1.5")).ends_with("contact.restitution: must be in [0, 1], eq10 or eq9 (got 1.5)"));
 }
+
+TEST_CASE("a rigid block needs no sections, and the rigid_block scene loads") {
+  const Scene block = load_scene(std::string(ROCKING_SCENES) + "/rigid_block.toml");
+  CHECK(block.structure.rigid);
+  CHECK(block.structure.EI.size() == 0);
+  CHECK_FALSE(block.damper.enabled);
+  CHECK(block.contact.restitution_rule == RestitutionRule::eq10);
+  const std::string fixed = one_line_error<InputError>(
+      [&] { load_scene(std::string(ROCKING_SCENES) + "/rigid_block.toml", {"contact.rocking=false"}); }, "fixed");
+  CHECK(fixed.find("structure.rigid") != std::string::npos);
+}
+
+TEST_CASE("[excitation]: the chimney's pulse, a record path relative to the scene, and one-line errors") {
+  const Scene chimney = load_default_scene();
+  CHECK(chimney.excitation.record.empty());
+  CHECK(chimney.excitation.pulse == PulseShape::one_sine);
+  CHECK(chimney.excitation.amplitude == doctest::Approx(0.35 * 9.81));
+  const GroundMotion pulse = default_ground_motion(chimney);
+  CHECK(pulse.peak() == doctest::Approx(0.35 * 9.81));
+
+  const std::string with_record = chimney_with("pulse = \"one-sine\"", "record = \"motions/quake.txt\"\nunits = \"cm/s2\"\ndt = 0.01");
+  const Scene s = load_scene(with_record, {"excitation.period=0.6"});
+  CHECK(s.excitation.record == (std::filesystem::path(with_record).parent_path() / "motions/quake.txt").string());
+  CHECK(s.excitation.record_options.unit == AccelerationUnit::cm_per_s2);
+  CHECK(s.excitation.record_options.dt == 0.01);
+
+  const std::string bad = chimney_with("pulse = \"one-sine\"", "pulse = \"square\"");
+  const std::string e = error_of(bad);
+  CHECK(e.find(":" + std::to_string(line_of(bad, "pulse = \"square\"")) + ":") != std::string::npos);
+  CHECK(e.find("excitation.pulse") != std::string::npos);
+  CHECK(error_of(bad, {"excitation.pulse=ricker", "excitation.period=-1"}).find("excitation.period") != std::string::npos);
+}
