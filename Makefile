@@ -18,7 +18,7 @@ test: build
 	@ctest --preset default
 
 demo: build
-	@build/bin/rocking simulate
+	@build/bin/rocking plot response --out plots --name demo_response
 
 # Machine, command and results: Google Benchmark prints the CPU and the load.
 bench: build

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
 
   rocking::app::Command modal = rocking::app::add_modal_command(app);
   rocking::app::Command simulate = rocking::app::add_simulate_command(app);
+  rocking::app::Command plot = rocking::app::add_plot_command(app);
 
   auto logger = spdlog::stderr_color_mt("rocking");
   spdlog::set_default_logger(logger);
@@ -41,6 +42,7 @@ int main(int argc, char** argv) {
   try {
     if (app.got_subcommand("modal")) return modal();
     if (app.got_subcommand("simulate")) return simulate();
+    if (app.got_subcommand("plot")) return plot();
   } catch (const rocking::InputError& e) {
     fmt::print(stderr, "rocking: error: {}\n", e.what());
     return rocking::exit_input_error;

@@ -50,7 +50,7 @@ int run(const SimulateOptions& o) {
   spdlog::info("simulating '{}' under {} (x{}) with {}", scene.name, motion.name(), o.motion.scale, o.solver.integrator);
   const RunResult result = simulate(model, motion, ro, &history);
   history.close();
-  const RunLabel label{scene.name, scene.source, motion.name(), o.motion.record, o.motion.scale,
+  const RunLabel label{scene.name, scene.source, describe_motion(motion.name()), o.motion.record, o.motion.scale,
                        ro.tolerances.rtol, ro.tolerances.atol};
   const nlohmann::json summary = summary_json(label, result);
   write_text(dir / "summary.json", summary.dump(2) + "\n");

@@ -13,3 +13,4 @@ export import rocking.integrator;
 export import rocking.sundials;
 export import rocking.contact;
 export import rocking.simulation;
+export import rocking.plot;

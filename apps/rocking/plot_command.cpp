@@ -1,0 +1,225 @@
+// `rocking plot response` and `rocking plot modes`: the paper's Figs. 4 and 3
+// as PNG, PDF and SVG, with their data and gnuplot script kept beside them.
+#include "commands.hpp"
+#include "run_output.hpp"
+#include <spdlog/spdlog.h>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <cmath>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+namespace rocking::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct FigureArgs {
+  std::string out = "plots";
+  std::string name;
+  std::string formats = "png,pdf,svg";
+  std::string size;
+};
+
+void add_figure_options(CLI::App& cmd, FigureArgs& a, const std::string& default_name) {
+  a.name = default_name;
+  cmd.add_option("--out", a.out, "Folder for the figure, its script and data (default plots)")->type_name("DIR");
+  cmd.add_option("--name", a.name, fmt::format("File stem of the figure (default {})", default_name))->type_name("NAME");
+  cmd.add_option("--formats", a.formats, "Comma-separated: png, pdf, svg (default all three)")->type_name("LIST");
+  cmd.add_option("--size", a.size, "Width x height in pixels, e.g. 1000x1300 (PDF: 100 px per inch)")
+      ->type_name("WxH");
+}
+
+plot::Figure figure(const FigureArgs& a, std::string title, int width, int height) {
+  plot::Figure f;
+  f.dir = a.out;
+  f.name = a.name;
+  if (f.name.empty() || f.name.find('/') != std::string::npos)
+    throw InputError(fmt::format("--name '{}': a file stem without folders", a.name));
+  f.title = std::move(title);
+  f.formats = plot::parse_formats(a.formats);
+  f.width = width;
+  f.height = height;
+  if (!a.size.empty()) {
+    char x = 0;
+    std::istringstream in(a.size);
+    if (!(in >> f.width >> x >> f.height) || x != 'x' || !in.eof() || f.width < 200 || f.height < 200 ||
+        f.width > 10000 || f.height > 10000)
+      throw InputError(fmt::format("--size {}: expected WIDTHxHEIGHT in pixels, each 200 to 10000", a.size));
+  }
+  return f;
+}
+
+void report(const std::vector<fs::path>& files) {
+  for (const fs::path& f : files) fmt::print("wrote {}\n", f.string());
+}
+
+// --- response ---------------------------------------------------------------
+
+struct ResponseArgs {
+  SceneOptions scene;
+  MotionOptions motion;
+  SolverOptions solver;
+  FigureArgs figure;
+  std::vector<std::string> variants;
+  std::vector<std::string> from;
+};
+
+struct Variant {
+  std::string key, label;
+  std::vector<std::string> overrides;
+};
+
+Variant variant(const std::string& key) {
+  if (key == "scene") return {key, "as the scene says", {}};
+  if (key == "damper") return {key, "rocking, with dampers", {"damper.enabled=true"}};
+  if (key == "no-damper") return {key, "rocking, no damper", {"damper.enabled=false"}};
+  if (key == "fixed-base") return {key, "fixed base", {"contact.rocking=false"}};
+  throw InputError(fmt::format("--variants: unknown variant '{}' (choose from scene, damper, no-damper, fixed-base)", key));
+}
+
+int response(const ResponseArgs& a) {
+  std::vector<plot::ResponseSeries> series;
+  std::string title;
+  const fs::path data_dir = fs::path(a.figure.out) / (a.figure.name + ".data");
+  if (!a.from.empty()) {
+    make_output_dir(data_dir);
+    for (const std::string& run_dir : a.from) {
+      const fs::path history = fs::path(run_dir) / "history.csv";
+      plot::check_history(history);
+      const std::string label = fs::path(run_dir).filename().string();
+      fs::copy_file(history, data_dir / (label + ".csv"), fs::copy_options::overwrite_existing);
+      series.push_back({label, (fs::path(a.figure.name + ".data") / (label + ".csv")).string(), true});
+    }
+    title = fmt::format("Runs: {}", fmt::join(a.from, ", "));
+  } else {
+    const Scene base = load_scene(a.scene);
+    std::vector<std::string> keys = a.variants;
+    if (keys.empty()) keys = base.structure.rigid ? std::vector<std::string>{"scene"}
+                                                   : std::vector<std::string>{"damper", "no-damper", "fixed-base"};
+    make_output_dir(data_dir);
+    const GroundMotion motion = load_motion(base, a.motion);
+    title = fmt::format("{}\n{}, scale {}", base.name, describe_motion(motion.name()), a.motion.scale);
+    for (const std::string& key : keys) {
+      const Variant v = variant(key);
+      std::vector<std::string> overrides = a.scene.overrides;
+      overrides.insert(overrides.end(), v.overrides.begin(), v.overrides.end());
+      const Scene scene = load_scene(SceneOptions{a.scene.path, overrides});
+      RunOptions ro = run_options(scene, a.solver, a.motion.record.empty());
+      ro.output_interval = 0.005;
+      const ContactModel model = make_contact_model(scene, false);
+      const fs::path csv = data_dir / (key + ".csv");
+      HistoryCsv history(csv);
+      const RunResult r = simulate(model, motion, ro, &history);
+      history.close();
+      if (r.outcome == Outcome::failed) throw RunError(fmt::format("variant {}: {}", key, r.failure));
+      fmt::print("{:<22} top {:7.1f} mm, theta/alpha {:.4f}, M/M_ref {}, {} uplifts, {}\n", v.label, r.top_total_mm,
+                 r.peak(Quantity::theta_over_alpha),
+                 r.has_forces ? fmt::format("{:.3f}", r.peak(Quantity::base_moment)) : "-", r.counts.uplifts,
+                 outcome_name(r.outcome));
+      series.push_back({v.label, (fs::path(a.figure.name + ".data") / (key + ".csv")).string(), model.has_damper});
+    }
+  }
+  report(plot::render_response(figure(a.figure, title, 1000, 1300), series));
+  return 0;
+}
+
+// --- modes -------------------------------------------------------------------
+
+int modes(const SceneOptions& scene_opts, const FigureArgs& fa) {
+  const Scene scene = load_scene(scene_opts);
+  if (scene.structure.rigid)
+    throw InputError(fmt::format("{}: a rigid block has no elastic modes (structure.rigid = true)", scene.source));
+  const ModalSummary m = modal_analysis(scene.structure, scene.damper);
+  const Eigen::VectorXd& H = scene.structure.heights;
+  const Eigen::Index n = H.size();
+  // Columns: fixed-base shapes, then rocking-phase total displacements u + H theta.
+  Eigen::MatrixXd columns(n + 1, 2 * n + 1);
+  columns.setZero();
+  plot::ModePanel left{"fixed base", {}}, right{"rocking phase (free), about a pivot", {}};
+  for (Eigen::Index k = 0; k < n; ++k) {
+    columns.col(k).tail(n) = m.fixed_base.shapes.col(k);
+    left.labels.push_back(fmt::format("mode {}: {:.2f} Hz", k + 1, m.fixed_base_hz[static_cast<std::size_t>(k)]));
+  }
+  const RockingModes& rm = m.free_rocking;
+  for (Eigen::Index k = 0; k < rm.lambda.size(); ++k) {
+    const Eigen::VectorXd u = rm.shapes.col(k).head(n);
+    columns.col(n + k).tail(n) = u + H * rm.shapes(n, k);
+    const double lambda = rm.lambda[k];
+    right.labels.push_back(lambda < 0 ? fmt::format("R: p = {:.3f} rad/s", std::sqrt(-lambda))
+                                      : fmt::format("mode {}: {:.2f} Hz", right.labels.size(), std::sqrt(lambda) / (2 * M_PI)));
+  }
+  for (Eigen::Index c = 0; c < columns.cols(); ++c) {  // top = 1
+    const double top = columns(n, c);
+    const double scale = std::abs(top) > 1e-12 * columns.col(c).cwiseAbs().maxCoeff() ? top : columns.col(c).cwiseAbs().maxCoeff();
+    columns.col(c) /= scale;
+  }
+  const plot::Figure fig = figure(fa, fmt::format("{}: mode shapes (linearised, MODEL.md 8)", scene.name), 1200, 800);
+  make_output_dir(fig.dir);
+  const std::string data = fa.name + ".dat";
+  std::ofstream out(fig.dir / data);
+  out << "# height [m], fixed-base shapes 1.." << n << ", rocking-phase shapes (u + H theta), top = 1\n";
+  for (Eigen::Index i = 0; i <= n; ++i) {
+    out << (i == 0 ? 0.0 : H[i - 1]);
+    for (Eigen::Index c = 0; c < columns.cols(); ++c) out << ' ' << columns(i, c);
+    out << '\n';
+  }
+  out.close();
+  if (!out) throw InputError(fmt::format("{}: cannot write", (fig.dir / data).string()));
+  report(plot::render_modes(fig, data, left, right));
+  return 0;
+}
+
+}  // namespace
+
+std::string describe_motion(const std::string& name) {
+  if (name.find("pphs_s57e") != std::string::npos)
+    return name + " (Papanui, stand-in for the Canterbury Aero Club record)";
+  return name;
+}
+
+Command add_plot_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand("plot", "Figures, rendered headlessly with gnuplot (PNG, PDF, SVG)");
+  cmd->require_subcommand(1);
+  auto* resp = cmd->add_subcommand(
+      "response",
+      "Response figure in the style of the paper's Fig. 4: total and elastic top\n"
+      "drift, rocking angle over alpha_cg, and the damper's force-elongation loop,\n"
+      "one line per variant. Runs the variants itself, or plots earlier runs'\n"
+      "histories with --from. The figure's data (NAME.data/) and gnuplot script\n"
+      "(NAME.gp) are kept beside it: restyle and re-render with `gnuplot NAME.gp`.");
+  auto ra = std::make_shared<ResponseArgs>();
+  add_scene_options(*resp, ra->scene);
+  add_motion_options(*resp, ra->motion);
+  add_solver_options(*resp, ra->solver);
+  add_figure_options(*resp, ra->figure, "response");
+  resp->add_option("--variants", ra->variants,
+                   "Comma-separated runs to overlay: scene (as given), damper, no-damper,\n"
+                   "fixed-base (default damper,no-damper,fixed-base; scene for a rigid block)")
+      ->delimiter(',')
+      ->type_name("LIST");
+  resp->add_option("--from", ra->from, "Plot the history.csv of earlier `rocking simulate --out DIR` runs")
+      ->type_name("DIR")
+      ->excludes("--variants");
+  resp->footer(
+      "Examples:\n"
+      "  rocking plot response                          chimney, default pulse\n"
+      "  rocking plot response --record ../shared/data/records/elcentro_1940_ns.at2 --scale 3\n"
+      "  rocking plot response --from out/a --from out/b --name compare");
+  auto* mod = cmd->add_subcommand("modes",
+                                  "Mode shapes in the style of the paper's Fig. 3: fixed-base modes and the\n"
+                                  "modes of the rocking phase, with the rocking mode R and its p.");
+  auto ms = std::make_shared<SceneOptions>();
+  auto mf = std::make_shared<FigureArgs>();
+  add_scene_options(*mod, *ms);
+  add_figure_options(*mod, *mf, "modes");
+  return [resp, mod, ra, ms, mf]() {
+    if (resp->parsed()) return response(*ra);
+    if (mod->parsed()) return modes(*ms, *mf);
+    return 2;
+  };
+}
+
+}  // namespace rocking::app

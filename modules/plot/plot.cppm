@@ -1,0 +1,56 @@
+// rocking.plot: figures rendered headlessly by gnuplot 5.4 (pngcairo, pdfcairo,
+// svg; TOOLCHAIN.md, plotting). It knows no physics: it is given data files
+// and series descriptions, writes a gnuplot script beside them, and runs
+// gnuplot in that folder. The script renders every requested format in one
+// loop, so a user can restyle a figure and re-render it with `gnuplot NAME.gp`
+// without running any simulation again.
+// The response figure (the paper's Fig. 4 style) reads the history CSV that
+// `rocking simulate` writes (columns: 1 t [s], 5 theta/alpha_cg, 6 delta_t,
+// 7 delta_e, 8 d [m], 9 F_hd [N]).
+module;
+#include <filesystem>
+#include <string>
+#include <vector>
+export module rocking.plot;
+
+export namespace rocking::plot {
+
+struct Figure {
+  std::filesystem::path dir;   // where the figure, its script and data go
+  std::string name;            // file stem: NAME.png, NAME.pdf, NAME.svg, NAME.gp
+  std::string title;
+  std::vector<std::string> formats{"png", "pdf", "svg"};
+  int width = 1000, height = 1300;  // pixels (PNG, SVG); PDF at 100 px per inch
+};
+
+// "png,pdf" -> {"png", "pdf"}; InputError for anything else.
+std::vector<std::string> parse_formats(const std::string& list);
+
+// One run of the response figure: its legend and its history CSV (a path
+// relative to the figure's folder, or absolute).
+struct ResponseSeries {
+  std::string label;
+  std::string history;
+  bool has_damper = true;  // draw its hysteresis loop
+};
+
+// Checks that a history file has a header and at least two rows of numbers.
+void check_history(const std::filesystem::path& file);
+
+// Writes NAME.gp and renders it; returns the figure files written.
+std::vector<std::filesystem::path> render_response(const Figure& fig, const std::vector<ResponseSeries>& runs);
+
+// Mode shapes: data file with one row per node (height first, then one column
+// per shape), and one legend per shape column; two panels side by side.
+struct ModePanel {
+  std::string title;
+  std::vector<std::string> labels;  // one per shape column
+};
+std::vector<std::filesystem::path> render_modes(const Figure& fig, const std::string& data_file,
+                                                const ModePanel& left, const ModePanel& right);
+
+// The gnuplot program: $ROCKING_GNUPLOT, else `gnuplot` on PATH. InputError
+// with what to install when there is none.
+std::string find_gnuplot();
+
+}  // namespace rocking::plot

@@ -1,0 +1,166 @@
+// `rocking plot`: figures rendered headlessly by gnuplot are valid images of
+// the requested size (PNG header), well-formed PDF and SVG, re-renderable from
+// the script kept beside them; and the failures a user meets (no gnuplot, an
+// unwritable folder, an empty history) are one line and a non-zero exit.
+#include <doctest/doctest.h>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+#include "run_program.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("rocking_plot_test_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string bytes(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::uint32_t big_endian(const std::string& s, std::size_t at) {
+  std::uint32_t v = 0;
+  for (std::size_t i = 0; i < 4; ++i) v = (v << 8) | static_cast<unsigned char>(s[at + i]);
+  return v;
+}
+
+// PNG signature, then the IHDR chunk: width and height.
+void check_png(const fs::path& file, std::uint32_t width, std::uint32_t height) {
+  const std::string png = bytes(file);
+  REQUIRE(png.size() > 33);
+  CHECK(png.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0);
+  CHECK(png.compare(12, 4, "IHDR") == 0);
+  CHECK(big_endian(png, 16) == width);
+  CHECK(big_endian(png, 20) == height);
+  CHECK(png.find("IEND") != std::string::npos);
+}
+
+void check_pdf(const fs::path& file) {
+  const std::string pdf = bytes(file);
+  CHECK(pdf.starts_with("%PDF-"));
+  CHECK(pdf.find("%%EOF", pdf.size() > 64 ? pdf.size() - 64 : 0) != std::string::npos);
+}
+
+// Well-formed XML: every element closed in order, comments, CDATA, processing
+// instructions and the doctype skipped, quoted attribute values respected.
+bool well_formed_xml(const std::string& x, std::string& root) {
+  std::vector<std::string> open;
+  std::size_t i = 0;
+  while ((i = x.find('<', i)) != std::string::npos) {
+    auto skip_to = [&](const char* end) {
+      const std::size_t e = x.find(end, i);
+      if (e == std::string::npos) return false;
+      i = e + std::string(end).size();
+      return true;
+    };
+    if (x.compare(i, 4, "<!--") == 0) { if (!skip_to("-->")) return false; continue; }
+    if (x.compare(i, 9, "<![CDATA[") == 0) { if (!skip_to("]]>")) return false; continue; }
+    if (x.compare(i, 2, "<?") == 0) { if (!skip_to("?>")) return false; continue; }
+    if (x.compare(i, 2, "<!") == 0) { if (!skip_to(">")) return false; continue; }
+    std::size_t j = i + 1;
+    char quote = 0;
+    for (; j < x.size(); ++j) {
+      if (quote) { if (x[j] == quote) quote = 0; }
+      else if (x[j] == '"' || x[j] == '\'') quote = x[j];
+      else if (x[j] == '>') break;
+    }
+    if (j >= x.size()) return false;
+    const std::string tag = x.substr(i + 1, j - i - 1);
+    const bool closing = tag.starts_with("/"), self = tag.ends_with("/");
+    std::string name = tag.substr(closing ? 1 : 0);
+    name = name.substr(0, name.find_first_of(" \t\r\n/"));
+    if (closing) {
+      if (open.empty() || open.back() != name) return false;
+      open.pop_back();
+    } else if (!self) {
+      if (open.empty() && root.empty()) root = name;
+      open.push_back(name);
+    }
+    i = j + 1;
+  }
+  return open.empty() && !root.empty();
+}
+
+}  // namespace
+
+TEST_CASE("plot response writes a PNG of the requested size, well-formed PDF and SVG, and its script and data") {
+  const fs::path dir = scratch("response");
+  const Result r = run("plot response --variants damper,fixed-base --duration 3 --size 640x832 --out " +
+                       dir.string() + " --name small");
+  REQUIRE(r.code == 0);
+  for (const char* ext : {"png", "pdf", "svg"})
+    CHECK(r.out.find((dir / (std::string("small.") + ext)).string()) != std::string::npos);  // says where
+  check_png(dir / "small.png", 640, 832);
+  check_pdf(dir / "small.pdf");
+  std::string root;
+  CHECK(well_formed_xml(bytes(dir / "small.svg"), root));
+  CHECK(root == "svg");
+  CHECK(fs::is_regular_file(dir / "small.gp"));
+  CHECK(fs::is_regular_file(dir / "small.data" / "damper.csv"));
+  CHECK(fs::is_regular_file(dir / "small.data" / "fixed-base.csv"));
+  // The script alone re-renders the figure, with no simulation.
+  fs::remove(dir / "small.png");
+  const std::string again = "cd '" + dir.string() + "' && gnuplot small.gp";
+  REQUIRE(std::system(again.c_str()) == 0);
+  check_png(dir / "small.png", 640, 832);
+}
+
+TEST_CASE("plot modes writes the Fig. 3 figure with its data file") {
+  const fs::path dir = scratch("modes");
+  const Result r = run("plot modes --formats png --size 600x400 --out " + dir.string());
+  REQUIRE(r.code == 0);
+  check_png(dir / "modes.png", 600, 400);
+  const std::string data = bytes(dir / "modes.dat");
+  CHECK(lines(data) == 1 + 5);  // header, the foundation and four nodes
+  CHECK(bytes(dir / "modes.gp").find("R: p = 0.650 rad/s") != std::string::npos);
+}
+
+TEST_CASE("plot failures: no gnuplot, an unwritable folder, an empty history, a bad size") {
+  const fs::path dir = scratch("failures");
+  ::setenv("ROCKING_GNUPLOT", "/nonexistent/gnuplot", 1);
+  const Result no_gnuplot = run("plot modes --out " + dir.string());
+  ::unsetenv("ROCKING_GNUPLOT");
+  CHECK(no_gnuplot.code != 0);
+  CHECK(lines(no_gnuplot.err) == 1);
+  CHECK(no_gnuplot.err.find("gnuplot") != std::string::npos);
+
+  const Result unwritable = run("plot modes --out /proc/rocking_cannot_write_here");
+  CHECK(unwritable.code != 0);
+  CHECK(lines(unwritable.err) == 1);
+  CHECK(unwritable.err.find("/proc/rocking_cannot_write_here") != std::string::npos);
+
+  fs::create_directories(dir / "empty_run");
+  std::ofstream(dir / "empty_run" / "history.csv") << "t [s],phase,u_N [m]\n";
+  const Result empty = run("plot response --from " + (dir / "empty_run").string() + " --out " + dir.string());
+  CHECK(empty.code == 2);
+  CHECK(lines(empty.err) == 1);
+  CHECK(empty.err.find("empty history") != std::string::npos);
+
+  const Result size = run("plot modes --size 12 --out " + dir.string());
+  CHECK(size.code == 2);
+  CHECK(lines(size.err) == 1);
+}
+
+TEST_CASE("plot response --from plots earlier simulate runs without running them again") {
+  const fs::path dir = scratch("from");
+  REQUIRE(run("-q simulate --duration 2 --out " + (dir / "with").string()).code == 0);
+  REQUIRE(run("-q simulate --duration 2 --set damper.enabled=false --out " + (dir / "without").string()).code == 0);
+  const Result r = run("plot response --formats svg --from " + (dir / "with").string() + " --from " +
+                       (dir / "without").string() + " --out " + dir.string() + " --name compare");
+  REQUIRE(r.code == 0);
+  std::string root;
+  CHECK(well_formed_xml(bytes(dir / "compare.svg"), root));
+  CHECK(fs::is_regular_file(dir / "compare.data" / "with.csv"));
+}
