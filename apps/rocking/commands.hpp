@@ -48,6 +48,8 @@ rocking::RunOptions run_options(const rocking::Scene& scene, const SolverOptions
 Command add_modal_command(CLI::App& app);
 Command add_simulate_command(CLI::App& app);
 Command add_plot_command(CLI::App& app);
+Command add_ida_command(CLI::App& app);
+Command add_sweep_command(CLI::App& app);
 
 // A record's name for titles and summaries; the stand-in record says so.
 std::string describe_motion(const std::string& name);

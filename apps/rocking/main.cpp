@@ -23,6 +23,8 @@ int main(int argc, char** argv) {
   rocking::app::Command modal = rocking::app::add_modal_command(app);
   rocking::app::Command simulate = rocking::app::add_simulate_command(app);
   rocking::app::Command plot = rocking::app::add_plot_command(app);
+  rocking::app::Command ida = rocking::app::add_ida_command(app);
+  rocking::app::Command sweep = rocking::app::add_sweep_command(app);
 
   auto logger = spdlog::stderr_color_mt("rocking");
   spdlog::set_default_logger(logger);
@@ -43,6 +45,8 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("modal")) return modal();
     if (app.got_subcommand("simulate")) return simulate();
     if (app.got_subcommand("plot")) return plot();
+    if (app.got_subcommand("ida")) return ida();
+    if (app.got_subcommand("sweep")) return sweep();
   } catch (const rocking::InputError& e) {
     fmt::print(stderr, "rocking: error: {}\n", e.what());
     return rocking::exit_input_error;

@@ -67,17 +67,12 @@ struct ResponseArgs {
   std::vector<std::string> from;
 };
 
-struct Variant {
-  std::string key, label;
-  std::vector<std::string> overrides;
-};
-
-Variant variant(const std::string& key) {
-  if (key == "scene") return {key, "as the scene says", {}};
-  if (key == "damper") return {key, "rocking, with dampers", {"damper.enabled=true"}};
-  if (key == "no-damper") return {key, "rocking, no damper", {"damper.enabled=false"}};
-  if (key == "fixed-base") return {key, "fixed base", {"contact.rocking=false"}};
-  throw InputError(fmt::format("--variants: unknown variant '{}' (choose from scene, damper, no-damper, fixed-base)", key));
+// Legend of a named variant (rocking.study names them).
+std::string variant_label(const std::string& key) {
+  if (key == "damper") return "rocking, with dampers";
+  if (key == "no-damper") return "rocking, no damper";
+  if (key == "fixed-base") return "fixed base";
+  return "as the scene says";
 }
 
 int response(const ResponseArgs& a) {
@@ -103,7 +98,8 @@ int response(const ResponseArgs& a) {
     const GroundMotion motion = load_motion(base, a.motion);
     title = fmt::format("{}\n{}, scale {}", base.name, describe_motion(motion.name()), a.motion.scale);
     for (const std::string& key : keys) {
-      const Variant v = variant(key);
+      const Variant v = named_variant(key);
+      const std::string label = variant_label(key);
       std::vector<std::string> overrides = a.scene.overrides;
       overrides.insert(overrides.end(), v.overrides.begin(), v.overrides.end());
       const Scene scene = load_scene(SceneOptions{a.scene.path, overrides});
@@ -115,11 +111,11 @@ int response(const ResponseArgs& a) {
       const RunResult r = simulate(model, motion, ro, &history);
       history.close();
       if (r.outcome == Outcome::failed) throw RunError(fmt::format("variant {}: {}", key, r.failure));
-      fmt::print("{:<22} top {:7.1f} mm, theta/alpha {:.4f}, M/M_ref {}, {} uplifts, {}\n", v.label, r.top_total_mm,
+      fmt::print("{:<22} top {:7.1f} mm, theta/alpha {:.4f}, M/M_ref {}, {} uplifts, {}\n", label, r.top_total_mm,
                  r.peak(Quantity::theta_over_alpha),
                  r.has_forces ? fmt::format("{:.3f}", r.peak(Quantity::base_moment)) : "-", r.counts.uplifts,
                  outcome_name(r.outcome));
-      series.push_back({v.label, (fs::path(a.figure.name + ".data") / (key + ".csv")).string(), model.has_damper});
+      series.push_back({label, (fs::path(a.figure.name + ".data") / (key + ".csv")).string(), model.has_damper});
     }
   }
   report(plot::render_response(figure(a.figure, title, 1000, 1300), series));

@@ -189,6 +189,38 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
   return run_script(fig, script);
 }
 
+std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const std::string& xlabel,
+                                    const std::vector<Panel>& panels, const std::vector<Series>& series) {
+  if (series.empty()) throw InputError("figure: no series to plot");
+  std::string body = fmt::format(
+      "  set multiplot layout {},{} title {} noenhanced\n"
+      "  set grid\n"
+      "  set key top left box opaque\n"
+      "  set xlabel {}\n",
+      rows, cols, gp_string(fig.title), gp_string(xlabel));
+  for (const Panel& p : panels) {
+    body += fmt::format("  set ylabel {}\n", gp_string(p.ylabel));
+    for (std::size_t i = 0; i < series.size(); ++i)
+      body += fmt::format("{}{} skip 1 using {} with linespoints linestyle {} title {} noenhanced",
+                          i == 0 ? "  plot " : ", \\\n       ", gp_string(series[i].file), p.using_spec, i + 1,
+                          gp_string(series[i].label));
+    body += "\n";
+  }
+  const std::string script = fmt::format(
+      "# rocking: study figure (peaks against the scale factor or a parameter).\n"
+      "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
+      "set datafile separator \",\"\n"
+      "set style line 1 linecolor rgb \"#1f4e9c\" linewidth 1.5 pointtype 7 pointsize 0.6\n"
+      "set style line 2 linecolor rgb \"#c0392b\" linewidth 1.5 pointtype 5 pointsize 0.6\n"
+      "set style line 3 linecolor rgb \"#27864a\" linewidth 1.5 pointtype 9 pointsize 0.7\n"
+      "set style line 4 linecolor rgb \"#8e44ad\" linewidth 1.5 pointtype 11 pointsize 0.7\n"
+      "set style line 5 linecolor rgb \"#d35400\" linewidth 1.5 pointtype 13 pointsize 0.7\n"
+      "set style line 6 linecolor rgb \"#555555\" linewidth 1.5 pointtype 3 pointsize 0.7\n"
+      "{}",
+      fig.name, render_loop(fig, body, font_points(fig, 1000, 1200)));
+  return run_script(fig, script);
+}
+
 std::vector<fs::path> render_modes(const Figure& fig, const std::string& data_file, const ModePanel& left,
                                    const ModePanel& right) {
   auto panel = [&](const ModePanel& p, std::size_t first_column) {

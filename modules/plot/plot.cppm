@@ -49,6 +49,20 @@ struct ModePanel {
 std::vector<std::filesystem::path> render_modes(const Figure& fig, const std::string& data_file,
                                                 const ModePanel& left, const ModePanel& right);
 
+// A grid of panels sharing the x axis quantity, one line per series: for IDA
+// curves and parametric studies. Each series is a CSV file (header row
+// skipped); each panel says which columns it plots ("1:($2*100)").
+struct Panel {
+  std::string ylabel;
+  std::string using_spec;
+};
+struct Series {
+  std::string label;
+  std::string file;  // relative to the figure's folder, or absolute
+};
+std::vector<std::filesystem::path> render_panels(const Figure& fig, int rows, int cols, const std::string& xlabel,
+                                                 const std::vector<Panel>& panels, const std::vector<Series>& series);
+
 // The gnuplot program: $ROCKING_GNUPLOT, else `gnuplot` on PATH. InputError
 // with what to install when there is none.
 std::string find_gnuplot();

@@ -14,3 +14,4 @@ export import rocking.sundials;
 export import rocking.contact;
 export import rocking.simulation;
 export import rocking.plot;
+export import rocking.study;

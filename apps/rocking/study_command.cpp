@@ -1,0 +1,343 @@
+// `rocking ida` and `rocking sweep`: many runs at once (the paper's Figs. 5-8).
+// Jobs run on a thread pool (and across MPI ranks under mpirun); rows are
+// written in job order, so the CSV does not depend on how the work was split.
+// Wall times go to a separate timing.csv for that reason.
+#include "commands.hpp"
+#include "mpi_jobs.hpp"
+#include "run_output.hpp"
+#include <spdlog/spdlog.h>
+#include <fmt/format.h>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <thread>
+#include <unistd.h>
+
+namespace rocking::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct StudyArgs {
+  SceneOptions scene;
+  std::vector<std::string> records;
+  std::string units;
+  std::string scales = "1:20:1";
+  std::vector<std::string> variants;
+  int threads = 0;
+  std::string out;
+  SolverOptions solver;
+  bool hunt = false;
+  double hunt_step = 1, hunt_max = 50, precision = 0.05;
+  std::string formats = "png,pdf,svg";
+  bool no_plot = false;
+};
+
+const char* csv_header =
+    "record,scale,variant,delta_t,delta_e,theta_over_alpha,damper_d_m,base_shear,base_moment,mid_shear,"
+    "mid_moment,top_total_mm,outcome,uplifts,impacts,rhs,error\n";
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' ? ' ' : c);
+  return out + "\"";
+}
+
+std::string row(const Study& st, const Job& job, const JobResult& r) {
+  const std::string record = fs::path(st.records()[job.record]).filename().string();
+  std::string q;
+  const RunResult& run = r.run;
+  for (Quantity k : {Quantity::delta_t, Quantity::delta_e, Quantity::theta_over_alpha, Quantity::damper_d,
+                     Quantity::base_shear, Quantity::base_moment, Quantity::mid_shear, Quantity::mid_moment}) {
+    const bool force = k == Quantity::base_shear || k == Quantity::base_moment || k == Quantity::mid_shear ||
+                       k == Quantity::mid_moment;
+    q += r.error.empty() && (run.has_forces || !force) ? fmt::format("{:.9g},", run.peak(k)) : std::string(",");
+  }
+  return fmt::format("{},{:.6g},{},{}{},{},{},{},{}\n", csv_field(record), job.scale,
+                     csv_field(st.variants()[job.variant].name), q,
+                     r.error.empty() ? fmt::format("{:.6g}", run.top_total_mm) : "", outcome_name(run.outcome),
+                     run.counts.uplifts, fmt::format("{},{}", run.counts.impacts, run.stats.rhs), csv_field(r.error));
+}
+
+// A progress bar with an ETA on stderr, only when stderr is a terminal.
+class Progress {
+ public:
+  explicit Progress(bool enabled) : enabled_(enabled && ::isatty(2) != 0), start_(clock::now()) {}
+  void operator()(std::size_t done, std::size_t total) {
+    if (!enabled_) return;
+    const double elapsed = std::chrono::duration<double>(clock::now() - start_).count();
+    const double eta = done > 0 ? elapsed * static_cast<double>(total - done) / static_cast<double>(done) : 0;
+    const int width = 30, filled = static_cast<int>(width * done / std::max<std::size_t>(total, 1));
+    fmt::print(stderr, "\r[{}{}] {}/{} jobs, {:.1f} s, ETA {:.1f} s ", std::string(filled, '#'),
+               std::string(width - filled, ' '), done, total, elapsed, eta);
+    if (done == total) fmt::print(stderr, "\n");
+  }
+
+ private:
+  using clock = std::chrono::steady_clock;
+  bool enabled_;
+  clock::time_point start_;
+};
+
+int thread_count(int requested) {
+  if (requested < 0) throw InputError(fmt::format("--threads {}: must be at least 1 (0: every core)", requested));
+  return requested > 0 ? requested : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
+// One data file per (record, variant) and one figure per record: peaks against the scale.
+void study_figures(const StudyArgs& a, const Study& st, const std::vector<Job>& jobs,
+                   const std::vector<JobResult>& results, const std::string& kind, const std::string& scene_name) {
+  const fs::path dir(a.out);
+  for (std::size_t r = 0; r < st.records().size(); ++r) {
+    const std::string stem = fs::path(st.records()[r]).stem().string();
+    const std::string name = kind + "_" + stem;
+    make_output_dir(dir / (name + ".data"));
+    std::vector<plot::Series> series;
+    for (std::size_t v = 0; v < st.variants().size(); ++v) {
+      const std::string file = (fs::path(name + ".data") / (fmt::format("{}.csv", v))).string();
+      std::ofstream out(dir / file);
+      out << "scale,delta_t,delta_e,theta_over_alpha,damper_d,base_shear,base_moment,mid_shear,mid_moment\n";
+      int rows = 0;
+      for (std::size_t i = 0; i < jobs.size(); ++i) {
+        if (jobs[i].record != r || jobs[i].variant != v || !results[i].error.empty()) continue;
+        const RunResult& run = results[i].run;
+        out << fmt::format("{:.6g}", jobs[i].scale);
+        for (std::size_t k : {0, 1, 3, 4, 6, 7, 8, 9}) out << fmt::format(",{:.9g}", run.peaks[k]);
+        out << '\n';
+        ++rows;
+      }
+      if (rows > 0) series.push_back({st.variants()[v].name, file});
+    }
+    if (series.empty()) continue;
+    plot::Figure fig;
+    fig.dir = dir;
+    fig.name = name;
+    fig.formats = plot::parse_formats(a.formats);
+    fig.width = 1100;
+    fig.height = 1300;
+    fig.title = fmt::format("{}: {} (an overturned run is drawn at its values when it fell)\n{}", scene_name,
+                            kind == "ida" ? "incremental dynamic analysis" : "parametric study",
+                            describe_motion(fs::path(st.records()[r]).filename().string()));
+    const std::vector<plot::Panel> panels = {
+        {"peak total top drift {/Symbol d}_t [%]", "1:($2*100)"},
+        {"peak elastic top drift {/Symbol d}_e [%]", "1:($3*100)"},
+        {"peak rocking angle {/Symbol q}/{/Symbol a}_{cg} [-]", "1:4"},
+        {"peak damper elongation d [mm]", "1:($5*1000)"},
+        {"peak base shear V/V_{ref} [-]", "1:6"},
+        {"peak base moment M/M_{ref} [-]", "1:7"},
+        {"peak mid-height shear V/V_{ref} [-]", "1:8"},
+        {"peak mid-height moment M/M_{ref} [-]", "1:9"}};
+    for (const fs::path& f : plot::render_panels(fig, 4, 2, "scale factor on the record [-]", panels, series))
+      fmt::print("wrote {}\n", f.string());
+  }
+}
+
+int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, const std::string& scene_name,
+               const MpiWorld& world) {
+  const std::vector<Job> jobs = st.ladder(parse_scales(a.scales));
+  const int threads = thread_count(a.threads);
+  const fs::path dir(a.out);
+  if (world.rank == 0) make_output_dir(dir);
+  std::vector<std::size_t> mine;
+  for (std::size_t i = 0; i < jobs.size(); ++i)
+    if (static_cast<int>(i % static_cast<std::size_t>(world.size)) == world.rank) mine.push_back(i);
+  if (world.rank == 0)
+    spdlog::info("{}: {} jobs on {} thread(s){}", kind, jobs.size(), threads,
+                 world.size > 1 ? fmt::format(" x {} processes", world.size) : "");
+  std::vector<JobResult> results(jobs.size());
+  std::vector<std::pair<long, std::string>> rows, timings;
+  std::ofstream csv;
+  if (world.size == 1) {
+    csv.open(dir / (kind + ".csv"));
+    if (!csv) throw InputError(fmt::format("{}: cannot write", (dir / (kind + ".csv")).string()));
+    csv << csv_header << std::flush;
+  }
+  Progress progress(world.rank == 0 && spdlog::get_level() <= spdlog::level::info);
+  parallel_ordered<JobResult>(
+      mine.size(), threads, [&](std::size_t k) { return st.run(jobs[mine[k]]); },
+      [&](std::size_t k, const JobResult& r) {
+        const std::size_t i = mine[k];
+        results[i] = r;
+        const std::string text = row(st, jobs[i], r);
+        const std::string timing = fmt::format("{},{:.6g},{},{:.6f}\n", csv_field(fs::path(st.records()[jobs[i].record]).filename().string()),
+                                               jobs[i].scale, csv_field(st.variants()[jobs[i].variant].name), r.run.wall_s);
+        if (world.size == 1) {
+          csv << text << std::flush;  // streamed: a long study shows its rows as they come
+        } else {
+          rows.emplace_back(static_cast<long>(i), text);
+        }
+        timings.emplace_back(static_cast<long>(i), timing);
+      },
+      [&](std::size_t done, std::size_t total) { progress(done, total); });
+  if (world.size > 1) {
+    auto all = gather_rows(world, rows);
+    std::sort(all.begin(), all.end());
+    if (world.rank == 0) {
+      csv.open(dir / (kind + ".csv"));
+      csv << csv_header;
+      for (const auto& [i, text] : all) csv << text;
+    }
+  }
+  auto all_timings = gather_rows(world, timings);
+  std::sort(all_timings.begin(), all_timings.end());
+  if (world.rank != 0) return 0;
+  csv.close();
+  if (!csv) throw RunError(fmt::format("{}: writing failed", (dir / (kind + ".csv")).string()));
+  std::ofstream tf(dir / "timing.csv");
+  tf << "record,scale,variant,wall_s\n";
+  for (const auto& [i, text] : all_timings) tf << text;
+  long failed = 0;
+  for (const auto& [i, text] : all_timings) (void)i, (void)text;
+  for (std::size_t i = 0; i < jobs.size(); ++i) failed += world.size == 1 && !results[i].error.empty();
+  fmt::print("wrote {} ({} runs{})\n", (dir / (kind + ".csv")).string(), jobs.size(),
+             failed ? fmt::format(", {} failed: see the error column", failed) : "");
+  if (!a.no_plot && world.size == 1) study_figures(a, st, jobs, results, kind, scene_name);
+  return 0;
+}
+
+int run_hunt(const StudyArgs& a, const Study& st) {
+  const fs::path dir(a.out);
+  make_output_dir(dir);
+  if (!(a.hunt_step > 0) || !(a.precision > 0) || !(a.hunt_max > 0))
+    throw InputError("--hunt-step, --hunt-max and --precision must be positive");
+  const double first = parse_scales(a.scales).front();
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  for (std::size_t r = 0; r < st.records().size(); ++r)
+    for (std::size_t v = 0; v < st.variants().size(); ++v) pairs.emplace_back(r, v);
+  std::ofstream csv(dir / "hunt.csv");
+  if (!csv) throw InputError(fmt::format("{}: cannot write", (dir / "hunt.csv").string()));
+  csv << "record,variant,collapse_scale,survived_scale,runs,error\n";
+  Progress progress(spdlog::get_level() <= spdlog::level::info);
+  parallel_ordered<HuntResult>(
+      pairs.size(), thread_count(a.threads),
+      [&](std::size_t k) { return hunt_collapse(st, pairs[k].first, pairs[k].second, first, a.hunt_step, a.hunt_max, a.precision); },
+      [&](std::size_t k, const HuntResult& h) {
+        const std::string record = fs::path(st.records()[pairs[k].first]).filename().string();
+        const std::string variant = st.variants()[pairs[k].second].name;
+        csv << fmt::format("{},{},{},{:.6g},{},{}\n", csv_field(record), csv_field(variant),
+                           h.collapsed ? fmt::format("{:.6g}", h.collapse_scale) : "", h.survived_scale, h.runs,
+                           csv_field(h.fixed_base ? "fixed base: cannot overturn" : h.error));
+        fmt::print("{} / {}: {}\n", record, variant,
+                   !h.error.empty() ? "error: " + h.error
+                   : h.fixed_base   ? std::string("a fixed base cannot overturn (not run)")
+                   : h.collapsed    ? fmt::format("overturns at scale {:.4g} (survives {:.4g}; {} runs)", h.collapse_scale,
+                                                  h.survived_scale, h.runs)
+                                    : fmt::format("no overturning up to scale {:.4g} ({} runs)", h.survived_scale, h.runs));
+      },
+      [&](std::size_t done, std::size_t total) { progress(done, total); });
+  fmt::print("wrote {}\n", (dir / "hunt.csv").string());
+  return 0;
+}
+
+std::unique_ptr<Study> make_study(const StudyArgs& a, const std::vector<std::string>& overrides,
+                                  std::vector<Variant> variants, std::string& scene_name) {
+  if (a.records.empty()) throw InputError("--record: give at least one ground-motion file");
+  const Scene scene = load_scene(SceneOptions{a.scene.path, overrides});
+  scene_name = scene.name;
+  RecordOptions ro;
+  ro.unit = a.units.empty() ? AccelerationUnit::g : parse_acceleration_unit(a.units);
+  RunOptions run = run_options(scene, a.solver, false);
+  return std::make_unique<Study>(a.scene.path, overrides, a.records, ro, std::move(variants), run);
+}
+
+void add_study_options(CLI::App& cmd, StudyArgs& a, const std::string& default_out) {
+  a.out = default_out;
+  add_scene_options(cmd, a.scene);
+  cmd.add_option("--record", a.records, "Ground-motion files (PEER .AT2, or columns); repeat or list several")
+      ->type_name("FILE...")
+      ->required();
+  cmd.add_option("--units", a.units, "Acceleration unit of the records: g, m/s2 or cm/s2 (default g)")->type_name("UNIT");
+  cmd.add_option("--scales", a.scales, "Scale factors: FIRST:LAST:STEP or a list 0.5,1,2 (default 1:20:1)")
+      ->type_name("SPEC");
+  cmd.add_option("--threads", a.threads, "Worker threads (default: every core)")->type_name("N");
+  cmd.add_option("--out", a.out, fmt::format("Output folder (default {})", default_out))->type_name("DIR");
+  cmd.add_option("--formats", a.formats, "Figure formats: png,pdf,svg (default all)")->type_name("LIST");
+  cmd.add_flag("--no-plot", a.no_plot, "Write the CSV only");
+  add_solver_options(cmd, a.solver);
+}
+
+}  // namespace
+
+Command add_ida_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "ida",
+      "Incremental dynamic analysis (the paper's Figs. 5-6): every (record, scale,\n"
+      "variant) job, in parallel on all cores, one CSV row per job in a fixed order\n"
+      "(DIR/ida.csv; wall times in DIR/timing.csv), and per record a figure of each\n"
+      "peak quantity against the scale factor, one line per variant.\n"
+      "Under `mpirun -np N` the jobs are split across the N processes and rank 0\n"
+      "writes the same CSV. Overturning is an outcome (the collapse point), not an\n"
+      "error; a job that fails is reported in its row and the others go on.");
+  auto a = std::make_shared<StudyArgs>();
+  add_study_options(*cmd, *a, "out/ida");
+  cmd->add_option("--variants", a->variants, "damper, no-damper, fixed-base, scene (default the first three)")
+      ->delimiter(',')
+      ->type_name("LIST");
+  cmd->add_flag("--hunt", a->hunt,
+                "Find the scale at which each record and variant overturns: step up from\n"
+                "the first scale by --hunt-step to --hunt-max, then bisect to --precision");
+  cmd->add_option("--hunt-step", a->hunt_step, "Step of the hunt (default 1)")->type_name("X");
+  cmd->add_option("--hunt-max", a->hunt_max, "Largest scale tried (default 50)")->type_name("X");
+  cmd->add_option("--precision", a->precision, "Width of the final bracket (default 0.05)")->type_name("X");
+  cmd->footer(
+      "Examples:\n"
+      "  rocking ida --record ../shared/data/records/christchurch2011_pphs_s57e.at2 --scales 1:20:1\n"
+      "  rocking ida --record A.at2 B.at2 --variants damper,no-damper --hunt\n"
+      "  mpirun -np 4 build/bin/rocking ida --record A.at2 --threads 1");
+  return [a]() {
+    MpiSession mpi;
+    std::vector<Variant> variants;
+    for (const std::string& v : a->variants.empty() ? std::vector<std::string>{"damper", "no-damper", "fixed-base"}
+                                                    : a->variants)
+      variants.push_back(named_variant(v));
+    std::string scene_name;
+    const auto study = make_study(*a, a->scene.overrides, std::move(variants), scene_name);
+    if (a->hunt) return mpi.world().rank == 0 ? run_hunt(*a, *study) : 0;
+    return run_ladder(*a, *study, "ida", scene_name, mpi.world());
+  };
+}
+
+Command add_sweep_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "sweep",
+      "Parametric study (the paper's Figs. 7-8): like `ida`, with one line per value\n"
+      "of one scene key, given as --set KEY=V1,V2,... (e.g. damper.thickness=1,1.5,2,3\n"
+      "or structure.EI_scale=0.25,0.5,1,2). Other --set values apply to every run.");
+  auto a = std::make_shared<StudyArgs>();
+  add_study_options(*cmd, *a, "out/sweep");
+  cmd->footer(
+      "Examples:\n"
+      "  rocking sweep --record ../shared/data/records/elcentro_1940_ns.at2 --scales 1:5:1 \\\n"
+      "                --set damper.thickness=1,1.5,2,3\n"
+      "  rocking sweep --record FILE --set structure.EI_scale=0.25,0.5,1,2 --set damper.enabled=false");
+  return [a]() {
+    MpiSession mpi;
+    std::vector<std::string> common;
+    std::vector<Variant> variants;
+    for (const std::string& s : a->scene.overrides) {
+      const auto eq = s.find('=');
+      const std::string value = eq == std::string::npos ? "" : s.substr(eq + 1);
+      if (value.find(',') == std::string::npos || value.starts_with("[")) {
+        common.push_back(s);
+        continue;
+      }
+      if (!variants.empty()) throw InputError(fmt::format("--set {}: sweep one key at a time", s));
+      std::stringstream ss(value);
+      for (std::string v; std::getline(ss, v, ',');) {
+        const std::string one = s.substr(0, eq) + "=" + v;
+        variants.push_back({one, {one}});
+      }
+    }
+    if (variants.empty()) throw InputError("sweep: give the swept key as --set KEY=V1,V2,... (e.g. damper.thickness=1,2,3)");
+    std::string scene_name;
+    const auto study = make_study(*a, common, std::move(variants), scene_name);
+    return run_ladder(*a, *study, "sweep", scene_name, mpi.world());
+  };
+}
+
+}  // namespace rocking::app

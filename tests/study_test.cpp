@@ -1,0 +1,93 @@
+// rocking.study: the thread pool hands results back in job order whatever the
+// number of threads; a bad record fails its own jobs only; the collapse hunt
+// brackets the overturning scale to the asked precision.
+#include <rocking/eigen.hpp>
+#include <doctest/doctest.h>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <numbers>
+#include <string>
+#include <vector>
+#include "one_line_error.hpp"
+import rocking.study;
+import rocking.errors;
+
+using namespace rocking;
+namespace fs = std::filesystem;
+
+namespace {
+
+// A one-sine pulse, 0.4 g and 0.5 s, sampled every 5 ms, then 3.5 s of rest:
+// a two-column record (t [s], a [g]).
+std::string pulse_record() {
+  const fs::path file = fs::temp_directory_path() / "rocking_study_pulse.txt";
+  std::ofstream out(file);
+  for (int i = 0; i <= 800; ++i) {
+    const double t = 0.005 * i;
+    out << t << ' ' << (t <= 0.5 ? 0.4 * std::sin(2 * std::numbers::pi * t / 0.5) : 0.0) << '\n';
+  }
+  return file.string();
+}
+
+std::string rigid_block() { return std::string(ROCKING_SOURCE_DIR) + "/data/scenes/rigid_block.toml"; }
+
+}  // namespace
+
+TEST_CASE("parallel_ordered emits every result once, in job order, for any number of threads") {
+  for (int threads : {1, 2, 4, 7}) {
+    std::vector<std::size_t> order;
+    std::vector<long> values;
+    parallel_ordered<long>(
+        100, threads, [](std::size_t i) { return static_cast<long>(i * i); },
+        [&](std::size_t i, const long& v) {
+          order.push_back(i);
+          values.push_back(v);
+        });
+    REQUIRE(order.size() == 100);
+    for (std::size_t i = 0; i < 100; ++i) {
+      CHECK(order[i] == i);
+      CHECK(values[i] == static_cast<long>(i * i));
+    }
+  }
+}
+
+TEST_CASE("scales: ladders and lists; anything else is a one-line error") {
+  CHECK(parse_scales("1:5:1") == std::vector<double>{1, 2, 3, 4, 5});
+  CHECK(parse_scales("0.5:1.5:0.5") == std::vector<double>{0.5, 1.0, 1.5});
+  CHECK(parse_scales("0.5,2,3") == std::vector<double>{0.5, 2, 3});
+  for (const char* bad : {"1:5", "5:1:1", "1:5:0", "a,b", "1;2", ""})
+    CHECK(one_line_error<InputError>([&] { parse_scales(bad); }, bad).find("--scales") != std::string::npos);
+}
+
+TEST_CASE("a bad record fails its own jobs and the others run") {
+  const Study study(rigid_block(), {}, {pulse_record(), "/nonexistent/record.at2"}, RecordOptions{},
+                    {named_variant("scene")}, RunOptions{});
+  const std::vector<Job> jobs = study.ladder({1.0, 2.0});
+  REQUIRE(jobs.size() == 4);
+  const JobResult good = study.run(jobs[0]);
+  CHECK(good.error.empty());
+  CHECK(good.run.counts.uplifts > 0);  // 0.4 g > g tan(alpha) = 0.26 g
+  const JobResult bad = study.run(jobs[2]);
+  CHECK(bad.run.outcome == Outcome::failed);
+  CHECK(bad.error.find("/nonexistent/record.at2") != std::string::npos);
+}
+
+TEST_CASE("the collapse hunt brackets the overturning scale to the asked precision") {
+  const Study study(rigid_block(), {}, {pulse_record()}, RecordOptions{}, {named_variant("scene")}, RunOptions{});
+  const HuntResult h = hunt_collapse(study, 0, 0, 1.0, 1.0, 20.0, 0.01);
+  REQUIRE(h.collapsed);
+  CHECK(h.collapse_scale - h.survived_scale <= 0.01);
+  CHECK(h.collapse_scale > 1.0);
+  // The bracket is real: one side overturns, the other does not.
+  CHECK(study.run({0, h.collapse_scale, 0}).run.outcome == Outcome::overturned);
+  CHECK(study.run({0, h.survived_scale, 0}).run.outcome == Outcome::completed);
+}
+
+TEST_CASE("a fixed base cannot overturn: the hunt says so without running") {
+  const Study study("", {}, {pulse_record()}, RecordOptions{}, {named_variant("fixed-base")}, RunOptions{});
+  const HuntResult h = hunt_collapse(study, 0, 0, 1.0, 1.0, 20.0, 0.01);
+  CHECK(h.fixed_base);
+  CHECK(h.runs == 0);
+}
