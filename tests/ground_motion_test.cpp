@@ -1,6 +1,7 @@
 // rocking.ground_motion: the three AT2 header styles on the real records,
 // column files, units, pulses, interpolation, and one-line errors.
 #include <doctest/doctest.h>
+#include "temp_path.hpp"
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -18,7 +19,7 @@ using namespace rocking;
 namespace {
 
 std::string write_temp(const std::string& name, const std::string& text) {
-  const auto path = std::filesystem::temp_directory_path() / name;
+  const auto path = temp_path(name);
   std::ofstream(path, std::ios::binary) << text;
   return path.string();
 }

@@ -3,6 +3,7 @@
 // the script kept beside them; and the failures a user meets (no gnuplot, an
 // unwritable folder, an empty history) are one line and a non-zero exit.
 #include <doctest/doctest.h>
+#include "temp_path.hpp"
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
@@ -17,7 +18,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("rocking_plot_test_" + name);
+  const fs::path dir = temp_path("plot_test_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

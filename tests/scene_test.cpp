@@ -2,6 +2,7 @@
 // name the file, the line and the key.
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
+#include "temp_path.hpp"
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -20,7 +21,7 @@ std::string chimney_with(const std::string& from, const std::string& to) {
   const auto at = text.find(from);
   REQUIRE_MESSAGE(at != std::string::npos, "test setup: '" << from << "' not in the scene");
   text.replace(at, from.size(), to);
-  const auto path = std::filesystem::temp_directory_path() / "rocking_scene_test.toml";
+  const auto path = temp_path("scene_test.toml");
   std::ofstream(path) << text;
   return path.string();
 }

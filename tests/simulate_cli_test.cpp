@@ -2,6 +2,7 @@
 // the scene variants reachable with --set, bad input in one line with exit 2,
 // and a run that cannot finish exiting 3 with what it had written kept.
 #include <doctest/doctest.h>
+#include "temp_path.hpp"
 #include <nlohmann/json.hpp>
 #include <filesystem>
 #include <fstream>
@@ -14,7 +15,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("rocking_simulate_test_" + name);
+  const fs::path dir = temp_path("simulate_test_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

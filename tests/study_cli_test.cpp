@@ -3,6 +3,7 @@
 // among good ones is reported in its rows and the rest finish; a sweep gives
 // one line per parameter value.
 #include <doctest/doctest.h>
+#include "temp_path.hpp"
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -18,7 +19,7 @@ namespace fs = std::filesystem;
 namespace {
 
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("rocking_study_cli_" + name);
+  const fs::path dir = temp_path("study_cli_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

@@ -3,6 +3,7 @@
 // brackets the overturning scale to the asked precision.
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
+#include "temp_path.hpp"
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -22,7 +23,7 @@ namespace {
 // A one-sine pulse, 0.4 g and 0.5 s, sampled every 5 ms, then 3.5 s of rest:
 // a two-column record (t [s], a [g]).
 std::string pulse_record() {
-  const fs::path file = fs::temp_directory_path() / "rocking_study_pulse.txt";
+  const fs::path file = temp_path("study_pulse.txt");
   std::ofstream out(file);
   for (int i = 0; i <= 800; ++i) {
     const double t = 0.005 * i;
