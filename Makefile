@@ -25,6 +25,8 @@ bench: build
 	@echo "machine: $$(nproc) cores, $$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
 	@echo "command: build/bin/integrators_bench --benchmark_counters_tabular=true"
 	@build/bin/integrators_bench --benchmark_counters_tabular=true
+	@echo "command: build/bin/run_bench"
+	@build/bin/run_bench
 	@echo "command: build/bin/study_bench"
 	@build/bin/study_bench
 

@@ -114,3 +114,28 @@ TEST_CASE("a run that cannot finish exits 3 naming the time and phase, and keeps
     CHECK(lines(read(dir / "history.csv")) > 2);
   }
 }
+
+TEST_CASE("tradeoff measures each backend against the reference and draws the work-precision figure") {
+  const fs::path dir = scratch("tradeoff");
+  const Result r = run("-q tradeoff --duration 2 --rtols 1e-3,1e-6 --backends rk45,cvode --repeats 1 --formats png --out " +
+                       dir.string());
+  REQUIRE(r.code == 0);
+  CHECK(r.out.find("reference: rk45 at rtol 1e-12") != std::string::npos);
+  const std::string csv = read(dir / "tradeoff.csv");
+  CHECK(lines(csv) == 1 + 2 * 2);
+  std::istringstream rows(csv);
+  std::string line;
+  std::getline(rows, line);  // header
+  std::vector<double> rk45_errors;
+  while (std::getline(rows, line)) {
+    if (!line.starts_with("rk45,")) continue;
+    std::vector<std::string> f;
+    std::istringstream cells(line);
+    for (std::string c; std::getline(cells, c, ',');) f.push_back(c);
+    rk45_errors.push_back(std::stod(f[6]));  // err_delta_t
+  }
+  REQUIRE(rk45_errors.size() == 2);
+  CHECK(rk45_errors[1] < rk45_errors[0]);  // a tighter tolerance is more accurate
+  CHECK(rk45_errors[0] < 1e-2);
+  CHECK(fs::is_regular_file(dir / "work_precision.png"));
+}

@@ -36,7 +36,7 @@ rocking::GroundMotion load_motion(const rocking::Scene& scene, const MotionOptio
 // --integrator, --rtol, --atol, --duration: how a run is integrated.
 struct SolverOptions {
   std::string integrator = "rk45";
-  double rtol = 1e-6, atol = 1e-9;
+  double rtol = 1e-4, atol = 1e-7;  // RunOptions' defaults: the measured knee
   double duration = 0;
   long max_events = 100000;
   long max_steps = 10'000'000;
@@ -50,6 +50,7 @@ Command add_simulate_command(CLI::App& app);
 Command add_plot_command(CLI::App& app);
 Command add_ida_command(CLI::App& app);
 Command add_sweep_command(CLI::App& app);
+Command add_tradeoff_command(CLI::App& app);
 
 // A record's name for titles and summaries; the stand-in record says so.
 std::string describe_motion(const std::string& name);

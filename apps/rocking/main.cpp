@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   rocking::app::Command plot = rocking::app::add_plot_command(app);
   rocking::app::Command ida = rocking::app::add_ida_command(app);
   rocking::app::Command sweep = rocking::app::add_sweep_command(app);
+  rocking::app::Command tradeoff = rocking::app::add_tradeoff_command(app);
 
   auto logger = spdlog::stderr_color_mt("rocking");
   spdlog::set_default_logger(logger);
@@ -47,6 +48,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("plot")) return plot();
     if (app.got_subcommand("ida")) return ida();
     if (app.got_subcommand("sweep")) return sweep();
+    if (app.got_subcommand("tradeoff")) return tradeoff();
   } catch (const rocking::InputError& e) {
     fmt::print(stderr, "rocking: error: {}\n", e.what());
     return rocking::exit_input_error;

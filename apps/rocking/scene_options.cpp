@@ -52,8 +52,8 @@ void add_solver_options(CLI::App& cmd, SolverOptions& opts) {
                  "rk45 (the project's Dormand-Prince, default), cvode (SUNDIALS BDF)\n"
                  "or arkode (SUNDIALS explicit Dormand-Prince), the references")
       ->type_name("NAME");
-  cmd.add_option("--rtol", opts.rtol, "Relative tolerance (default 1e-6)")->type_name("X");
-  cmd.add_option("--atol", opts.atol, "Absolute tolerance (default 1e-9)")->type_name("Y");
+  cmd.add_option("--rtol", opts.rtol, "Relative tolerance (default 1e-4: the knee of `rocking tradeoff`)")->type_name("X");
+  cmd.add_option("--atol", opts.atol, "Absolute tolerance (default 1e-7)")->type_name("Y");
   cmd.add_option("--duration", opts.duration,
                  "Simulated time [s] (default: the length of --record, else the\n"
                  "scene's excitation.duration)")

@@ -190,14 +190,15 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
 }
 
 std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const std::string& xlabel,
-                                    const std::vector<Panel>& panels, const std::vector<Series>& series) {
+                                    const std::vector<Panel>& panels, const std::vector<Series>& series, bool loglog) {
   if (series.empty()) throw InputError("figure: no series to plot");
   std::string body = fmt::format(
       "  set multiplot layout {},{} title {} noenhanced\n"
       "  set grid\n"
       "  set key top left box opaque\n"
-      "  set xlabel {}\n",
-      rows, cols, gp_string(fig.title), gp_string(xlabel));
+      "  set xlabel {}\n{}",
+      rows, cols, gp_string(fig.title), gp_string(xlabel),
+      loglog ? "  set logscale xy\n  set format x \"10^{%T}\"\n  set format y \"10^{%T}\"\n" : "");
   for (const Panel& p : panels) {
     body += fmt::format("  set ylabel {}\n", gp_string(p.ylabel));
     for (std::size_t i = 0; i < series.size(); ++i)

@@ -60,8 +60,10 @@ struct Series {
   std::string label;
   std::string file;  // relative to the figure's folder, or absolute
 };
+// loglog: both axes logarithmic (work-precision diagrams).
 std::vector<std::filesystem::path> render_panels(const Figure& fig, int rows, int cols, const std::string& xlabel,
-                                                 const std::vector<Panel>& panels, const std::vector<Series>& series);
+                                                 const std::vector<Panel>& panels, const std::vector<Series>& series,
+                                                 bool loglog = false);
 
 // The gnuplot program: $ROCKING_GNUPLOT, else `gnuplot` on PATH. InputError
 // with what to install when there is none.
