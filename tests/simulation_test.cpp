@@ -189,3 +189,16 @@ TEST_CASE("a zero ground motion moves nothing and fires no event") {
   CHECK(r.counts.uplifts == 0);
   for (double p : r.peaks) CHECK(p == 0.0);
 }
+
+TEST_CASE("a rigid block at rest still sees a smooth pulse: the step never jumps over it") {
+  // At rest in full contact a rigid block's right-hand side is zero, so the
+  // step-size control alone would grow the step past a whole Ricker pulse and
+  // its uplift guard, which depends on a_g(t) only, would never be sampled.
+  const Scene scene = rigid_block();
+  const ContactModel m = make_contact_model(scene, false);
+  RunOptions o;
+  o.duration = 8.0;
+  const RunResult r = simulate(m, GroundMotion::pulse(PulseShape::ricker, 2.0 * m.body.g, 1.3), o);
+  CHECK(r.counts.uplifts == 1);
+  CHECK(r.outcome == Outcome::overturned);
+}

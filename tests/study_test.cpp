@@ -4,6 +4,7 @@
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
 #include "temp_path.hpp"
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -91,4 +92,56 @@ TEST_CASE("a fixed base cannot overturn: the hunt says so without running") {
   const HuntResult h = hunt_collapse(study, 0, 0, 1.0, 1.0, 20.0, 0.01);
   CHECK(h.fixed_base);
   CHECK(h.runs == 0);
+}
+
+TEST_CASE("overturning spectrum: no uplift below g tan(alpha), a boundary that rises with frequency") {
+  const Scene block = load_scene(rigid_block());
+  std::vector<double> freqs{2, 4, 8}, amps;
+  for (double a = 0.5; a <= 12.01; a += 0.1) amps.push_back(a);
+  for (PulseShape shape : {PulseShape::one_sine, PulseShape::ricker}) {
+    const BlockSpectrum s = overturning_spectrum(block, 1.0, shape, freqs, amps, 2);
+    std::vector<double> threshold(freqs.size(), 1e9);
+    for (const SpectrumPoint& pt : s.points) {
+      if (pt.amplitude_ratio < 1.0) {
+        CHECK_FALSE(pt.uplift);
+      }
+      const auto k = static_cast<std::size_t>(std::find(freqs.begin(), freqs.end(), pt.frequency_ratio) - freqs.begin());
+      if (pt.overturned) threshold[k] = std::min(threshold[k], pt.amplitude_ratio);
+    }
+    CAPTURE(static_cast<int>(shape));
+    CHECK(threshold[0] < 1e9);  // the strongest low-frequency pulses do overturn it
+    CHECK(threshold[0] < threshold[1]);
+    CHECK(threshold[1] < threshold[2]);
+  }
+}
+
+TEST_CASE("size effect: one curve in normalised axes, and in seconds the larger block survives more") {
+  const Scene block = load_scene(rigid_block());
+  std::vector<double> freqs, amps;
+  for (double f = 1.0; f <= 8.01; f += 1.0) freqs.push_back(f);
+  for (double a = 1.0; a <= 8.01; a += 0.5) amps.push_back(a);
+  const BlockSpectrum small = overturning_spectrum(block, 1.0, PulseShape::one_sine, freqs, amps, 2);
+  const BlockSpectrum large = overturning_spectrum(block, 4.0, PulseShape::one_sine, freqs, amps, 2);
+  CHECK(large.p == doctest::Approx(small.p / 2.0));  // p ~ 1 / sqrt(size)
+  CHECK(large.alpha == doctest::Approx(small.alpha));
+  std::size_t same = 0, overturned = 0;
+  for (std::size_t i = 0; i < small.points.size(); ++i) {
+    same += small.points[i].overturned == large.points[i].overturned;
+    overturned += small.points[i].overturned;
+  }
+  CHECK(overturned > 10);
+  CHECK(same == small.points.size());  // similarity: the same outcome at every normalised point
+  // In seconds: the same pulse periods for both blocks.
+  std::vector<double> periods{0.3, 0.5, 0.8, 1.2};
+  auto overturn_count = [&](double size, double p) {
+    std::vector<double> f;
+    for (double T : periods) f.push_back(2 * std::numbers::pi / (T * p));
+    const BlockSpectrum s = overturning_spectrum(block, size, PulseShape::one_sine, f, amps, 2);
+    long n = 0;
+    for (const SpectrumPoint& pt : s.points) n += pt.overturned;
+    return n;
+  };
+  const long small_count = overturn_count(1.0, small.p), large_count = overturn_count(4.0, large.p);
+  CHECK(small_count > 0);
+  CHECK(large_count < small_count);
 }

@@ -1,6 +1,7 @@
 module;
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <string_view>
@@ -94,6 +95,10 @@ double GroundMotion::acceleration(double t) const {
   }
   const double s = (t - times_[i]) / (times_[i + 1] - times_[i]);
   return scale_ * ((1 - s) * values_[i] + s * values_[i + 1]);
+}
+
+double GroundMotion::max_step() const {
+  return times_.empty() ? period_ / 40.0 : std::numeric_limits<double>::infinity();
 }
 
 double GroundMotion::peak() const {

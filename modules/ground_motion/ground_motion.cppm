@@ -38,6 +38,11 @@ class GroundMotion {
   const std::vector<double>& breakpoints() const { return breakpoints_; }
   double duration() const { return duration_; }
   double peak() const;                       // max |a_g| [m/s^2]
+  // Largest integrator step that still resolves a_g(t) between breakpoints:
+  // period / 40 for a pulse (events that depend on a_g alone, such as a rigid
+  // block's uplift, are otherwise invisible to the step-size control);
+  // infinity for a record, whose samples are breakpoints.
+  double max_step() const;
   const std::string& name() const { return name_; }
   GroundMotion scaled(double factor) const;  // a_g x factor
 

@@ -61,7 +61,9 @@ class Driver {
     auto rhs = [this](double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> dydt) {
       phase_rhs(m_, d_, ground_.acceleration(t), y, dydt, work_);
     };
-    integrator_ = ode::make_integrator(o.backend, m.layout.size, rhs, o.tolerances);
+    ode::Options tolerances = o.tolerances;
+    tolerances.max_step = std::min(tolerances.max_step, ground.max_step());
+    integrator_ = ode::make_integrator(o.backend, m.layout.size, rhs, tolerances);
     t_end_ = o.duration > 0 ? o.duration : ground.duration();
     std::vector<double> bps;
     for (double t : ground.breakpoints())

@@ -1,6 +1,8 @@
 module;
 #include <rocking/eigen.hpp>
 #include <cmath>
+#include <functional>
+#include <numbers>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -147,6 +149,50 @@ HuntResult hunt_collapse(const Study& study, std::size_t record, std::size_t var
   h.collapse_scale = high;
   h.survived_scale = low;
   return h;
+}
+
+BlockSpectrum overturning_spectrum(const Scene& rigid_block, double size, PulseShape pulse,
+                                   const std::vector<double>& frequency_ratios,
+                                   const std::vector<double>& amplitude_ratios, int threads,
+                                   const std::function<void(std::size_t, std::size_t)>& progress) {
+  if (!rigid_block.structure.rigid)
+    throw InputError(fmt::format("{}: the overturning spectrum needs a rigid block (structure.rigid = true)",
+                                 rigid_block.source));
+  if (!(size > 0)) throw InputError(fmt::format("block size factor {}: must be positive", size));
+  Scene scene = rigid_block;
+  scene.structure.half_width *= size;
+  scene.structure.heights *= size;
+  scene.damper.enabled = false;
+  const ContactModel model = make_contact_model(scene, false);
+  const Structure& st = model.body.structure;
+  BlockSpectrum out;
+  out.size = size;
+  out.alpha = slenderness(st);
+  out.p = std::sqrt(model.body.g * st.heights.dot(st.masses) / pivot_inertia(st));
+  const double a_uplift = model.body.g * std::tan(out.alpha);
+  for (double f : frequency_ratios)
+    for (double a : amplitude_ratios) {
+      SpectrumPoint pt;
+      pt.frequency_ratio = f;
+      pt.amplitude_ratio = a;
+      pt.period_s = 2 * std::numbers::pi / (f * out.p);
+      pt.amplitude_g = a * a_uplift / model.body.g;
+      out.points.push_back(pt);
+    }
+  parallel_ordered<SpectrumPoint>(
+      out.points.size(), threads,
+      [&](std::size_t i) {
+        SpectrumPoint pt = out.points[i];
+        const GroundMotion g = GroundMotion::pulse(pulse, pt.amplitude_g * model.body.g, pt.period_s);
+        RunOptions o;
+        o.duration = g.duration() + 20.0 / out.p;  // time enough to fall after the pulse
+        const RunResult r = simulate(model, g, o);
+        pt.uplift = r.counts.uplifts > 0;
+        pt.overturned = r.outcome == Outcome::overturned;
+        return pt;
+      },
+      [&](std::size_t i, const SpectrumPoint& pt) { out.points[i] = pt; }, progress);
+  return out;
 }
 
 }  // namespace rocking

@@ -116,4 +116,26 @@ struct HuntResult {
 HuntResult hunt_collapse(const Study& study, std::size_t record, std::size_t variant, double first, double step,
                          double max_scale, double precision);
 
+// The overturning spectrum of a rigid block under pulses (Housner 1963;
+// Makris & Roussos 2000; Zhang & Makris 2001), the classic teaching figure:
+// on a grid of pulse frequency over p and amplitude over g tan(alpha), does
+// the block lift, and does it overturn? p^2 = g H'M1 / J_p is the block's
+// frequency parameter. The block's lengths are scaled by `size` (the same
+// slenderness, p ~ 1/sqrt(size)): by similarity, outcomes in the normalised
+// axes do not depend on size, while in seconds the larger block survives more.
+struct SpectrumPoint {
+  double frequency_ratio = 0, amplitude_ratio = 0;  // omega_p / p, a_p / (g tan alpha)
+  double period_s = 0, amplitude_g = 0;             // T = 2 pi / omega_p, a_p / g
+  bool uplift = false, overturned = false;
+};
+struct BlockSpectrum {
+  double size = 1, p = 0, alpha = 0;
+  std::vector<SpectrumPoint> points;  // frequency-major
+};
+// rigid_block must be a rigid scene. Runs on `threads` threads; progress(done, total).
+BlockSpectrum overturning_spectrum(const Scene& rigid_block, double size, PulseShape pulse,
+                                   const std::vector<double>& frequency_ratios,
+                                   const std::vector<double>& amplitude_ratios, int threads,
+                                   const std::function<void(std::size_t, std::size_t)>& progress = {});
+
 }  // namespace rocking
