@@ -165,3 +165,16 @@ TEST_CASE("plot response --from plots earlier simulate runs without running them
   CHECK(well_formed_xml(bytes(dir / "compare.svg"), root));
   CHECK(fs::is_regular_file(dir / "compare.data" / "with.csv"));
 }
+
+TEST_CASE("spectrum writes the overturning figure and one data file per block size") {
+  const fs::path dir = scratch("spectrum");
+  const Result r = run("-q spectrum --sizes 1,2 --frequencies 1:5:1 --amplitudes 0.5:4:0.5 --formats png --out " +
+                       dir.string());
+  REQUIRE(r.code == 0);
+  check_png(dir / "spectrum.png", 1200, 600);
+  CHECK(lines(bytes(dir / "spectrum.data" / "size_1.csv")) == 1 + 5 * 8);
+  CHECK(r.out.find("block x2") != std::string::npos);
+  const Result bad = run("spectrum --pulse square --out " + dir.string());
+  CHECK(bad.code == 2);
+  CHECK(lines(bad.err) == 1);
+}

@@ -222,6 +222,35 @@ std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const
   return run_script(fig, script);
 }
 
+std::vector<fs::path> render_spectrum(const Figure& fig, const std::vector<Series>& series,
+                                      const std::string& normalised_x, const std::string& normalised_y) {
+  if (series.empty()) throw InputError("spectrum figure: no series to plot");
+  static const char* colours[] = {"#601f4e9c", "#60c0392b", "#6027864a", "#608e44ad"};
+  auto panel = [&](const std::string& using_spec) {
+    std::string cmd;
+    for (std::size_t i = 0; i < series.size(); ++i)
+      cmd += fmt::format("{}{} skip 1 using {} with points pointtype 5 pointsize 0.9 linecolor rgb \"{}\" title {} noenhanced",
+                         i == 0 ? "  plot " : ", \\\n       ", gp_string(series[i].file), using_spec,
+                         colours[i % 4], gp_string(series[i].label));
+    return cmd + "\n";
+  };
+  std::string body = fmt::format(
+      "  set multiplot layout 1,2 title {} noenhanced\n"
+      "  set grid\n"
+      "  set key top left box opaque\n"
+      "  set xlabel {}\n  set ylabel {}\n",
+      gp_string(fig.title), gp_string(normalised_x), gp_string(normalised_y));
+  body += panel("1:($5 > 0 ? $2 : NaN)");
+  body += "  set xlabel \"pulse period T [s]\"\n  set ylabel \"pulse amplitude a_p / g [-]\"\n";
+  body += panel("3:($5 > 0 ? $4 : NaN)");
+  const std::string script = fmt::format(
+      "# rocking: overturning spectrum (shaded: the block overturns).\n"
+      "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
+      "set datafile separator \",\"\n{}",
+      fig.name, render_loop(fig, body, font_points(fig, 1200, 600)));
+  return run_script(fig, script);
+}
+
 std::vector<fs::path> render_modes(const Figure& fig, const std::string& data_file, const ModePanel& left,
                                    const ModePanel& right) {
   auto panel = [&](const ModePanel& p, std::size_t first_column) {

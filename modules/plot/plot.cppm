@@ -65,6 +65,12 @@ std::vector<std::filesystem::path> render_panels(const Figure& fig, int rows, in
                                                  const std::vector<Panel>& panels, const std::vector<Series>& series,
                                                  bool loglog = false);
 
+// Overturning spectra: each series file has columns frequency_ratio,
+// amplitude_ratio, period_s, amplitude_g, overturned (0/1); the overturned
+// points are shaded, normalised axes on the left, seconds and g on the right.
+std::vector<std::filesystem::path> render_spectrum(const Figure& fig, const std::vector<Series>& series,
+                                                   const std::string& normalised_x, const std::string& normalised_y);
+
 // The gnuplot program: $ROCKING_GNUPLOT, else `gnuplot` on PATH. InputError
 // with what to install when there is none.
 std::string find_gnuplot();
