@@ -178,3 +178,62 @@ TEST_CASE("spectrum writes the overturning figure and one data file per block si
   CHECK(bad.code == 2);
   CHECK(lines(bad.err) == 1);
 }
+
+namespace {
+
+// Counts the images of a GIF by walking its blocks (GIF89a specification):
+// header, logical screen, global colour table, then extensions (0x21),
+// images (0x2C, each with optional local colour table and LZW sub-blocks)
+// and the trailer (0x3B). Returns -1 if the file is not a well-formed GIF.
+long gif_frames(const std::string& g, std::uint32_t& width, std::uint32_t& height) {
+  if (g.size() < 13 || (g.compare(0, 6, "GIF89a") != 0 && g.compare(0, 6, "GIF87a") != 0)) return -1;
+  auto u8 = [&](std::size_t i) { return static_cast<unsigned char>(g[i]); };
+  width = u8(6) | (u8(7) << 8);
+  height = u8(8) | (u8(9) << 8);
+  std::size_t at = 13;
+  if (u8(10) & 0x80) at += 3u * (1u << ((u8(10) & 0x07) + 1));
+  auto skip_sub_blocks = [&] {
+    while (at < g.size() && u8(at) != 0) at += 1 + u8(at);
+    ++at;
+  };
+  long frames = 0;
+  while (at < g.size()) {
+    const unsigned char kind = u8(at);
+    if (kind == 0x3B) return frames;
+    if (kind == 0x21) {
+      at += 2;
+      skip_sub_blocks();
+    } else if (kind == 0x2C) {
+      if (at + 10 > g.size()) return -1;
+      const unsigned char packed = u8(at + 9);
+      at += 10;
+      if (packed & 0x80) at += 3u * (1u << ((packed & 0x07) + 1));
+      ++at;  // LZW minimum code size
+      skip_sub_blocks();
+      ++frames;
+    } else {
+      return -1;
+    }
+  }
+  return -1;  // no trailer
+}
+
+}  // namespace
+
+TEST_CASE("animate writes a valid animated GIF with one image per frame, both structures and the cursors") {
+  const fs::path dir = scratch("animate");
+  const Result r = run("-q animate --duration 2 --frames 12 --size 500x350 --out " + (dir / "a.gif").string());
+  REQUIRE(r.code == 0);
+  CHECK(r.out.find("12 frames") != std::string::npos);
+  std::uint32_t w = 0, h = 0;
+  CHECK(gif_frames(bytes(dir / "a.gif"), w, h) == 12);
+  CHECK(w == 500);
+  CHECK(h == 350);
+  const std::string gp = bytes(dir / "a.gp");
+  CHECK(gp.find("main.dat") != std::string::npos);
+  CHECK(gp.find("twin.dat") != std::string::npos);
+  CHECK(gp.find("set arrow 1 from t") != std::string::npos);  // the time cursor
+  const Result bad = run("animate --out " + (dir / "a.mp4").string());
+  CHECK(bad.code == 2);
+  CHECK(lines(bad.err) == 1);
+}

@@ -52,6 +52,7 @@ Command add_ida_command(CLI::App& app);
 Command add_sweep_command(CLI::App& app);
 Command add_tradeoff_command(CLI::App& app);
 Command add_spectrum_command(CLI::App& app);
+Command add_animate_command(CLI::App& app);
 
 // A record's name for titles and summaries; the stand-in record says so.
 std::string describe_motion(const std::string& name);

@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   rocking::app::Command sweep = rocking::app::add_sweep_command(app);
   rocking::app::Command tradeoff = rocking::app::add_tradeoff_command(app);
   rocking::app::Command spectrum = rocking::app::add_spectrum_command(app);
+  rocking::app::Command animate = rocking::app::add_animate_command(app);
 
   auto logger = spdlog::stderr_color_mt("rocking");
   spdlog::set_default_logger(logger);
@@ -51,6 +52,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("sweep")) return sweep();
     if (app.got_subcommand("tradeoff")) return tradeoff();
     if (app.got_subcommand("spectrum")) return spectrum();
+    if (app.got_subcommand("animate")) return animate();
   } catch (const rocking::InputError& e) {
     fmt::print(stderr, "rocking: error: {}\n", e.what());
     return rocking::exit_input_error;

@@ -15,3 +15,4 @@ export import rocking.contact;
 export import rocking.simulation;
 export import rocking.plot;
 export import rocking.study;
+export import rocking.drawing;

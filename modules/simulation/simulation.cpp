@@ -190,6 +190,7 @@ class Driver {
     while (next_output_ <= t1) {
       integrator_->dense(next_output_, dense_);
       observer_->record(evaluate(m_, scales_, d_, next_output_, dense_));
+      pass_displacements(dense_);
       next_output_ = opt_.output_interval * static_cast<double>(++outputs_);
     }
   }
@@ -197,7 +198,15 @@ class Driver {
   void emit(double t, Eigen::Ref<const Eigen::VectorXd> y, bool also_history) {
     const Response r = evaluate(m_, scales_, d_, t, y);
     peaks_.add(r);
-    if (also_history && observer_ != nullptr) observer_->record(r);
+    if (also_history && observer_ != nullptr) {
+      observer_->record(r);
+      pass_displacements(y);
+    }
+  }
+
+  void pass_displacements(Eigen::Ref<const Eigen::VectorXd> y) {
+    if (m_.layout.u >= 0) observer_->displacements(y.segment(m_.layout.u, m_.layout.n));
+    else observer_->displacements(y.head(0));
   }
 
   void finish() {

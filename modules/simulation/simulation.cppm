@@ -47,6 +47,9 @@ class Observer {
  public:
   virtual ~Observer() = default;
   virtual void record(const Response& r) = 0;
+  // The elastic displacements u (nodes 1..N; empty for a rigid block) at the
+  // instant of the last record(), for observers that draw the structure.
+  virtual void displacements(Eigen::Ref<const Eigen::VectorXd> u) { (void)u; }
 };
 
 struct InitialState {

@@ -1,0 +1,191 @@
+// `rocking animate`: an animated GIF (gnuplot's gif animate terminal) of the
+// structure drawn to scale, rocking about its pivots with its lifted edge and
+// stretched damper, beside its twin (fixed base or no damper) under the same
+// record, with a moving cursor on the ground-motion and base-moment traces.
+#include "commands.hpp"
+#include "run_output.hpp"
+#include <spdlog/spdlog.h>
+#include <fmt/format.h>
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <memory>
+
+namespace rocking::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct AnimateArgs {
+  SceneOptions scene;
+  MotionOptions motion;
+  SolverOptions solver;
+  std::string compare = "fixed-base";
+  std::string out = "out/animation.gif";
+  double speed = 1.0;
+  int max_frames = 240;
+  int fps = 20;
+  double exaggeration = 0;  // 0: automatic
+  std::string size = "1000x700";
+};
+
+// Keeps the frames: the response and the elastic displacements at each.
+struct FrameRecorder : Observer {
+  double interval;
+  std::vector<Response> rows;
+  std::vector<Eigen::VectorXd> u;
+  bool take = false;
+  explicit FrameRecorder(double dt) : interval(dt) {}
+  void record(const Response& r) override {
+    // Keep the grid rows only (event rows fall between them).
+    const double k = r.t / interval;
+    take = std::abs(k - std::round(k)) < 1e-6 && (rows.empty() || r.t > rows.back().t);
+    if (take) rows.push_back(r);
+  }
+  void displacements(Eigen::Ref<const Eigen::VectorXd> v) override {
+    if (take) u.emplace_back(v);
+  }
+};
+
+double nice(double x) {  // 1, 2 or 5 x 10^k, not above x
+  const double p = std::pow(10.0, std::floor(std::log10(x)));
+  for (double m : {5.0, 2.0, 1.0})
+    if (m * p <= x) return m * p;
+  return p;
+}
+
+void write_frames(const fs::path& file, const Structure& s, const FrameRecorder& rec, double k) {
+  std::ofstream out(file);
+  out << "# one block per frame (index i): the axis, the base, the damper\n";
+  for (std::size_t i = 0; i < rec.rows.size(); ++i) {
+    const Response& r = rec.rows[i];
+    const Eigen::VectorXd u = i < rec.u.size() ? rec.u[i] : Eigen::VectorXd();
+    const Outline o = outline(s, r.pivot, r[Quantity::theta], u, k);
+    for (const Point& p : o.axis) out << p.first << ' ' << p.second << '\n';
+    out << '\n' << o.left_corner.first << ' ' << o.left_corner.second << '\n'
+        << o.right_corner.first << ' ' << o.right_corner.second << "\n\n"
+        << o.damper_anchor.first << ' ' << o.damper_anchor.second << '\n'
+        << o.damper_end.first << ' ' << o.damper_end.second << "\n\n\n";
+  }
+}
+
+int animate(const AnimateArgs& a) {
+  const fs::path gif(a.out);
+  if (gif.extension() != ".gif")
+    throw InputError(fmt::format("--out {}: only animated GIF is written (.gif); MP4/WebM need ffmpeg, not installed", a.out));
+  if (!(a.speed > 0)) throw InputError(fmt::format("--speed {}: must be positive", a.speed));
+  if (a.max_frames < 2 || a.max_frames > 2000) throw InputError(fmt::format("--frames {}: must be 2 to 2000", a.max_frames));
+  int width = 0, height = 0;
+  char x = 0;
+  std::istringstream sz(a.size);
+  if (!(sz >> width >> x >> height) || x != 'x' || width < 300 || height < 200 || width > 4000 || height > 4000)
+    throw InputError(fmt::format("--size {}: expected WIDTHxHEIGHT, 300x200 to 4000x4000", a.size));
+  const Scene scene = load_scene(a.scene);
+  const GroundMotion motion = load_motion(scene, a.motion);
+  const Variant twin_variant = named_variant(a.compare);
+  if (a.compare != "fixed-base" && a.compare != "no-damper")
+    throw InputError(fmt::format("--compare {}: choose fixed-base or no-damper", a.compare));
+  std::vector<std::string> twin_overrides = a.scene.overrides;
+  twin_overrides.insert(twin_overrides.end(), twin_variant.overrides.begin(), twin_variant.overrides.end());
+  const Scene twin = load_scene(SceneOptions{a.scene.path, twin_overrides});
+  RunOptions ro = run_options(scene, a.solver, a.motion.record.empty());
+  const double duration = ro.duration > 0 ? ro.duration : motion.duration();
+  // Frame times: real time / speed at fps, at most max_frames.
+  double frame_dt = a.speed / a.fps;
+  if (duration / frame_dt + 1 > a.max_frames) frame_dt = duration / (a.max_frames - 1);
+  ro.output_interval = frame_dt;
+  FrameRecorder main_rec(frame_dt), twin_rec(frame_dt);
+  const RunResult r1 = simulate(make_contact_model(scene, false), motion, ro, &main_rec);
+  const RunResult r2 = simulate(make_contact_model(twin, false), motion, ro, &twin_rec);
+  for (const RunResult* r : {&r1, &r2})
+    if (r->outcome == Outcome::failed) throw RunError(r->failure);
+  const std::size_t frames = std::min(main_rec.rows.size(), twin_rec.rows.size());
+  if (frames < 2) throw InputError("animation: the run is too short for two frames");
+  const double H = scene.structure.heights.maxCoeff(), B = scene.structure.half_width;
+  double top = 1e-12;
+  for (const Response& r : main_rec.rows) top = std::max(top, std::abs(r.u_top));
+  for (const Response& r : twin_rec.rows) top = std::max(top, std::abs(r.u_top));
+  const double k = a.exaggeration > 0 ? a.exaggeration : scene.structure.rigid ? 1.0 : std::max(1.0, nice(0.08 * H / top));
+  const fs::path dir = gif.has_parent_path() ? gif.parent_path() : fs::path(".");
+  const std::string stem = gif.stem().string();
+  make_output_dir(dir / (stem + ".data"));
+  write_frames(dir / (stem + ".data") / "main.dat", scene.structure, main_rec, k);
+  write_frames(dir / (stem + ".data") / "twin.dat", twin.structure, twin_rec, k);
+  {
+    std::ofstream tr(dir / (stem + ".data") / "traces.dat");
+    tr << "# t [s], a_g [g], M/M_ref main, M/M_ref twin\n";
+    for (std::size_t i = 0; i < frames; ++i)
+      tr << fmt::format("{:.6g} {:.6g} {:.6g} {:.6g}\n", main_rec.rows[i].t, motion.acceleration(main_rec.rows[i].t) / 9.81,
+                        main_rec.rows[i][Quantity::base_moment], twin_rec.rows[i][Quantity::base_moment]);
+  }
+  const std::string twin_label = a.compare == "fixed-base" ? "fixed base" : "no damper";
+  const double span = std::max(3 * B, 0.5 * H);
+  std::string script = fmt::format(
+      "# rocking: animation ({} frames, {:.3g} s of simulation per frame). Re-render: gnuplot {}.gp\n"
+      "set terminal gif animate delay {} size {},{} optimize font \"DejaVu Sans,11\"\n"
+      "set output \"{}.gif\"\n"
+      "d = \"{}.data/\"\n"
+      "unset key\n"
+      "do for [i=0:{}] {{\n"
+      "  t = {} * i\n"
+      "  set multiplot title sprintf(\"{} - {}, x{}   t = %5.2f s   (elastic deformation x{})\", t) noenhanced\n"
+      "  set size ratio -1\n  set xrange [{}:{}]\n  set yrange [-0.05*{}:1.1*{}]\n  unset xtics\n  set ytics\n  set ylabel \"height [m]\"\n"
+      "  set origin 0,0.38\n  set size 0.5,0.57\n  set title \"{}\" noenhanced\n"
+      "  plot d.\"main.dat\" index i using 1:2 with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#1f4e9c\", "
+      "0 with lines lc rgb \"#555555\" lw 2\n"
+      "  set origin 0.5,0.38\n  set size 0.5,0.57\n  set title \"{}\"\n"
+      "  plot d.\"twin.dat\" index i using 1:2 with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#27864a\", "
+      "0 with lines lc rgb \"#555555\" lw 2\n"
+      "  set size noratio\n  set autoscale xy\n  set xtics\n  set xlabel \"t [s]\"\n  unset title\n"
+      "  set arrow 1 from t, graph 0 to t, graph 1 nohead lc rgb \"#c0392b\" lw 2\n"
+      "  set origin 0,0\n  set size 0.5,0.38\n  set ylabel \"a_g [g]\"\n"
+      "  plot d.\"traces.dat\" using 1:2 with lines lc rgb \"#555555\"\n"
+      "  set origin 0.5,0\n  set size 0.5,0.38\n  set ylabel \"base moment M/M_{{ref}}\"\n  set key top right\n"
+      "  plot d.\"traces.dat\" using 1:3 with lines lc rgb \"#1f4e9c\" title \"rocking\", "
+      "'' using 1:4 with lines lc rgb \"#27864a\" title \"{}\"\n"
+      "  unset key\n  unset arrow 1\n  unset xlabel\n"
+      "  unset multiplot\n"
+      "}}\n",
+      frames, frame_dt, stem, std::max(2, 100 / a.fps), width, height, stem, stem, frames - 1, frame_dt, scene.name,
+      describe_motion(motion.name()), a.motion.scale, k, -span, span, H, H, scene.name, twin_label, twin_label);
+  plot::Figure fig;  // for running gnuplot the same way as the other figures
+  const fs::path gp = dir / (stem + ".gp");
+  write_text(gp, script);
+  const std::string gnuplot = plot::find_gnuplot();
+  const std::string cmd = fmt::format("cd '{}' && '{}' '{}.gp' >'{}.gnuplot.log' 2>&1", dir.string(), gnuplot, stem, stem);
+  if (std::system(cmd.c_str()) != 0 || !fs::is_regular_file(gif))
+    throw RunError(fmt::format("gnuplot failed on {} (see {}.gnuplot.log)", gp.string(), (dir / stem).string()));
+  fs::remove(dir / (stem + ".gnuplot.log"));
+  fmt::print("wrote {} ({} frames at {} fps, {:.2f} s of simulation per frame, deformation x{})\n", gif.string(), frames,
+             a.fps, frame_dt, k);
+  return 0;
+}
+
+}  // namespace
+
+Command add_animate_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "animate",
+      "Animated GIF of the structure drawn to scale (elastic deformation exaggerated\n"
+      "by a stated factor) rocking about its pivots, the lifted edge and the stretched\n"
+      "damper visible, beside its twin (--compare fixed-base or no-damper) under the\n"
+      "same motion, with a moving cursor on the ground-motion and base-moment traces.\n"
+      "The frames' data and the gnuplot script are kept beside the GIF.");
+  auto a = std::make_shared<AnimateArgs>();
+  add_scene_options(*cmd, a->scene);
+  add_motion_options(*cmd, a->motion);
+  add_solver_options(*cmd, a->solver);
+  cmd->add_option("--compare", a->compare, "The twin: fixed-base (default) or no-damper")->type_name("VARIANT");
+  cmd->add_option("--out", a->out, "The GIF to write (default out/animation.gif)")->type_name("FILE.gif");
+  cmd->add_option("--speed", a->speed, "Simulated seconds per second of animation (default 1)")->type_name("X");
+  cmd->add_option("--frames", a->max_frames, "At most this many frames (default 240)")->type_name("N");
+  cmd->add_option("--fps", a->fps, "Frames per second (default 20)")->type_name("N");
+  cmd->add_option("--exaggerate", a->exaggeration, "Elastic deformation factor (default: top drawn at ~8 % of H)")
+      ->type_name("K");
+  cmd->add_option("--size", a->size, "GIF size in pixels (default 1000x700)")->type_name("WxH");
+  cmd->footer("Example: rocking animate --record ../shared/data/records/elcentro_1940_ns.at2 --scale 3 --out plots/elcentro.gif");
+  return [a]() { return animate(*a); };
+}
+
+}  // namespace rocking::app
