@@ -233,7 +233,30 @@ TEST_CASE("animate writes a valid animated GIF with one image per frame, both st
   CHECK(gp.find("main.dat") != std::string::npos);
   CHECK(gp.find("twin.dat") != std::string::npos);
   CHECK(gp.find("set arrow 1 from t") != std::string::npos);  // the time cursor
-  const Result bad = run("animate --out " + (dir / "a.mp4").string());
+  const Result bad = run("animate --out " + (dir / "a.avi").string());
   CHECK(bad.code == 2);
   CHECK(lines(bad.err) == 1);
+}
+
+TEST_CASE("animate to MP4 when ffmpeg is installed, and a one-line error naming ffmpeg when it is not") {
+  const fs::path dir = scratch("video");
+  const char* saved = std::getenv("PATH");
+  const std::string path = saved ? saved : "";
+  ::setenv("PATH", "/nonexistent", 1);
+  const Result missing = run("animate --out " + (dir / "v.mp4").string());
+  ::setenv("PATH", path.c_str(), 1);
+  CHECK(missing.code == 2);
+  CHECK(lines(missing.err) == 1);
+  CHECK(missing.err.find("ffmpeg") != std::string::npos);
+  if (std::system("command -v ffmpeg >/dev/null 2>&1 && command -v ffprobe >/dev/null 2>&1") != 0) {
+    WARN_MESSAGE(false, "SKIPPED: ffmpeg is not installed (optional: MP4/WebM animations)");
+    return;
+  }
+  REQUIRE(run("-q animate --duration 2 --frames 10 --size 400x300 --out " + (dir / "v.mp4").string()).code == 0);
+  const std::string probe = "ffprobe -v error -count_frames -select_streams v:0 -show_entries "
+                            "stream=nb_read_frames,width,height -of csv=p=0 '" + (dir / "v.mp4").string() + "' > '" +
+                            (dir / "probe.txt").string() + "'";
+  REQUIRE(std::system(probe.c_str()) == 0);
+  CHECK(bytes(dir / "probe.txt").starts_with("400,300,10"));
+  CHECK_FALSE(fs::exists(dir / "v.frames"));  // the PNG frames are cleaned up
 }

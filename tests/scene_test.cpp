@@ -148,3 +148,10 @@ TEST_CASE("[excitation]: the chimney's pulse, a record path relative to the scen
   CHECK(e.find("excitation.pulse") != std::string::npos);
   CHECK(error_of(bad, {"excitation.pulse=ricker", "excitation.period=-1"}).find("excitation.period") != std::string::npos);
 }
+
+TEST_CASE("--set damper.enabled=false works on a scene without a [damper] table") {
+  const Scene block = load_scene(std::string(ROCKING_SCENES) + "/rigid_block.toml", {"damper.enabled=false"});
+  CHECK_FALSE(block.damper.enabled);
+  const Scene chimney = load_default_scene({"damper.enabled=false", "damper.stiffness=-1"});
+  CHECK_FALSE(chimney.damper.enabled);  // a disabled damper's properties are not read
+}

@@ -10,6 +10,8 @@
 #include <cmath>
 #include <fstream>
 #include <memory>
+#include <sstream>
+#include <unistd.h>
 
 namespace rocking::app {
 
@@ -48,6 +50,15 @@ struct FrameRecorder : Observer {
   }
 };
 
+// A program on PATH, or empty.
+std::string find_program(const std::string& name) {
+  const char* path = std::getenv("PATH");
+  std::stringstream ss(path ? path : "");
+  for (std::string d; std::getline(ss, d, ':');)
+    if (!d.empty() && ::access((fs::path(d) / name).c_str(), X_OK) == 0) return (fs::path(d) / name).string();
+  return {};
+}
+
 double nice(double x) {  // 1, 2 or 5 x 10^k, not above x
   const double p = std::pow(10.0, std::floor(std::log10(x)));
   for (double m : {5.0, 2.0, 1.0})
@@ -55,25 +66,35 @@ double nice(double x) {  // 1, 2 or 5 x 10^k, not above x
   return p;
 }
 
-void write_frames(const fs::path& file, const Structure& s, const FrameRecorder& rec, double k) {
+// Every m-th recorded row is a frame.
+void write_frames(const fs::path& file, const Structure& s, const FrameRecorder& rec, double k, int m,
+                  std::size_t frames, bool has_damper) {
+  const char* damper = has_damper ? " 1\n" : " 2\n";  // 2: not drawn
   std::ofstream out(file);
-  out << "# one block per frame (index i): the axis, the base, the damper\n";
-  for (std::size_t i = 0; i < rec.rows.size(); ++i) {
+  out << "# one block per frame (index i): the axis, the base, the damper; column 3: 1 for the damper\n";
+  for (std::size_t f = 0; f < frames; ++f) {
+    const std::size_t i = f * static_cast<std::size_t>(m);
     const Response& r = rec.rows[i];
     const Eigen::VectorXd u = i < rec.u.size() ? rec.u[i] : Eigen::VectorXd();
     const Outline o = outline(s, r.pivot, r[Quantity::theta], u, k);
-    for (const Point& p : o.axis) out << p.first << ' ' << p.second << '\n';
-    out << '\n' << o.left_corner.first << ' ' << o.left_corner.second << '\n'
-        << o.right_corner.first << ' ' << o.right_corner.second << "\n\n"
-        << o.damper_anchor.first << ' ' << o.damper_anchor.second << '\n'
-        << o.damper_end.first << ' ' << o.damper_end.second << "\n\n\n";
+    for (const Point& p : o.axis) out << p.first << ' ' << p.second << " 0\n";
+    out << '\n' << o.left_corner.first << ' ' << o.left_corner.second << " 0\n"
+        << o.right_corner.first << ' ' << o.right_corner.second << " 0\n\n"
+        << o.damper_anchor.first << ' ' << o.damper_anchor.second << damper
+        << o.damper_end.first << ' ' << o.damper_end.second << damper << "\n\n";
   }
 }
 
 int animate(const AnimateArgs& a) {
   const fs::path gif(a.out);
-  if (gif.extension() != ".gif")
-    throw InputError(fmt::format("--out {}: only animated GIF is written (.gif); MP4/WebM need ffmpeg, not installed", a.out));
+  const std::string ext = gif.extension().string();
+  if (ext != ".gif" && ext != ".mp4" && ext != ".webm")
+    throw InputError(fmt::format("--out {}: write .gif, or .mp4 / .webm (with ffmpeg)", a.out));
+  const bool video = ext != ".gif";
+  const std::string ffmpeg = video ? find_program("ffmpeg") : "";
+  if (video && ffmpeg.empty())
+    throw InputError(fmt::format("--out {}: MP4 and WebM need ffmpeg, which is not installed (apt install ffmpeg); "
+                                 "write a .gif instead", a.out));
   if (!(a.speed > 0)) throw InputError(fmt::format("--speed {}: must be positive", a.speed));
   if (a.max_frames < 2 || a.max_frames > 2000) throw InputError(fmt::format("--frames {}: must be 2 to 2000", a.max_frames));
   int width = 0, height = 0;
@@ -94,13 +115,16 @@ int animate(const AnimateArgs& a) {
   // Frame times: real time / speed at fps, at most max_frames.
   double frame_dt = a.speed / a.fps;
   if (duration / frame_dt + 1 > a.max_frames) frame_dt = duration / (a.max_frames - 1);
-  ro.output_interval = frame_dt;
-  FrameRecorder main_rec(frame_dt), twin_rec(frame_dt);
+  // The traces are sampled more finely than the frames: every frame is every m-th row.
+  const int m = std::max(1, static_cast<int>(std::ceil(frame_dt / 0.01 - 1e-9)));
+  ro.output_interval = frame_dt / m;
+  FrameRecorder main_rec(ro.output_interval), twin_rec(ro.output_interval);
   const RunResult r1 = simulate(make_contact_model(scene, false), motion, ro, &main_rec);
   const RunResult r2 = simulate(make_contact_model(twin, false), motion, ro, &twin_rec);
   for (const RunResult* r : {&r1, &r2})
     if (r->outcome == Outcome::failed) throw RunError(r->failure);
-  const std::size_t frames = std::min(main_rec.rows.size(), twin_rec.rows.size());
+  const std::size_t rows = std::min(main_rec.rows.size(), twin_rec.rows.size());
+  const std::size_t frames = (rows + static_cast<std::size_t>(m) - 1) / static_cast<std::size_t>(m);
   if (frames < 2) throw InputError("animation: the run is too short for two frames");
   const double H = scene.structure.heights.maxCoeff(), B = scene.structure.half_width;
   double top = 1e-12;
@@ -110,12 +134,13 @@ int animate(const AnimateArgs& a) {
   const fs::path dir = gif.has_parent_path() ? gif.parent_path() : fs::path(".");
   const std::string stem = gif.stem().string();
   make_output_dir(dir / (stem + ".data"));
-  write_frames(dir / (stem + ".data") / "main.dat", scene.structure, main_rec, k);
-  write_frames(dir / (stem + ".data") / "twin.dat", twin.structure, twin_rec, k);
+  const ContactModel main_model = make_contact_model(scene, false), twin_model = make_contact_model(twin, false);
+  write_frames(dir / (stem + ".data") / "main.dat", scene.structure, main_rec, k, m, frames, main_model.has_damper);
+  write_frames(dir / (stem + ".data") / "twin.dat", twin.structure, twin_rec, k, m, frames, twin_model.has_damper);
   {
     std::ofstream tr(dir / (stem + ".data") / "traces.dat");
     tr << "# t [s], a_g [g], M/M_ref main, M/M_ref twin\n";
-    for (std::size_t i = 0; i < frames; ++i)
+    for (std::size_t i = 0; i < rows; ++i)
       tr << fmt::format("{:.6g} {:.6g} {:.6g} {:.6g}\n", main_rec.rows[i].t, motion.acceleration(main_rec.rows[i].t) / 9.81,
                         main_rec.rows[i][Quantity::base_moment], twin_rec.rows[i][Quantity::base_moment]);
   }
@@ -123,19 +148,21 @@ int animate(const AnimateArgs& a) {
   const double span = std::max(3 * B, 0.5 * H);
   std::string script = fmt::format(
       "# rocking: animation ({} frames, {:.3g} s of simulation per frame). Re-render: gnuplot {}.gp\n"
-      "set terminal gif animate delay {} size {},{} optimize font \"DejaVu Sans,11\"\n"
-      "set output \"{}.gif\"\n"
+      "{}"
       "d = \"{}.data/\"\n"
       "unset key\n"
       "do for [i=0:{}] {{\n"
       "  t = {} * i\n"
+      "{}"
       "  set multiplot title sprintf(\"{} - {}, x{}   t = %5.2f s   (elastic deformation x{})\", t) noenhanced\n"
       "  set size ratio -1\n  set xrange [{}:{}]\n  set yrange [-0.05*{}:1.1*{}]\n  unset xtics\n  set ytics\n  set ylabel \"height [m]\"\n"
       "  set origin 0,0.38\n  set size 0.5,0.57\n  set title \"{}\" noenhanced\n"
-      "  plot d.\"main.dat\" index i using 1:2 with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#1f4e9c\", "
+      "  plot d.\"main.dat\" index i using 1:($3 == 0 ? $2 : NaN) with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#1f4e9c\", "
+      "d.\"main.dat\" index i using 1:($3 == 1 ? $2 : NaN) with lines lw 4 lc rgb \"#d35400\", "
       "0 with lines lc rgb \"#555555\" lw 2\n"
       "  set origin 0.5,0.38\n  set size 0.5,0.57\n  set title \"{}\"\n"
-      "  plot d.\"twin.dat\" index i using 1:2 with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#27864a\", "
+      "  plot d.\"twin.dat\" index i using 1:($3 == 0 ? $2 : NaN) with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#27864a\", "
+      "d.\"twin.dat\" index i using 1:($3 == 1 ? $2 : NaN) with lines lw 4 lc rgb \"#d35400\", "
       "0 with lines lc rgb \"#555555\" lw 2\n"
       "  set size noratio\n  set autoscale xy\n  set xtics\n  set xlabel \"t [s]\"\n  unset title\n"
       "  set arrow 1 from t, graph 0 to t, graph 1 nohead lc rgb \"#c0392b\" lw 2\n"
@@ -147,15 +174,30 @@ int animate(const AnimateArgs& a) {
       "  unset key\n  unset arrow 1\n  unset xlabel\n"
       "  unset multiplot\n"
       "}}\n",
-      frames, frame_dt, stem, std::max(2, 100 / a.fps), width, height, stem, stem, frames - 1, frame_dt, scene.name,
+      frames, frame_dt, stem,
+      video ? fmt::format("set terminal pngcairo size {},{} font \"DejaVu Sans,11\"\n", width, height)
+            : fmt::format("set terminal gif animate delay {} size {},{} optimize font \"DejaVu Sans,11\"\n"
+                          "set output \"{}.gif\"\n", std::max(2, 100 / a.fps), width, height, stem),
+      stem, frames - 1, frame_dt,
+      video ? fmt::format("  set output sprintf(\"{}.frames/%05d.png\", i)\n", stem) : std::string(), scene.name,
       describe_motion(motion.name()), a.motion.scale, k, -span, span, H, H, scene.name, twin_label, twin_label);
   plot::Figure fig;  // for running gnuplot the same way as the other figures
   const fs::path gp = dir / (stem + ".gp");
   write_text(gp, script);
   const std::string gnuplot = plot::find_gnuplot();
+  if (video) make_output_dir(dir / (stem + ".frames"));
   const std::string cmd = fmt::format("cd '{}' && '{}' '{}.gp' >'{}.gnuplot.log' 2>&1", dir.string(), gnuplot, stem, stem);
-  if (std::system(cmd.c_str()) != 0 || !fs::is_regular_file(gif))
+  if (std::system(cmd.c_str()) != 0 || (!video && !fs::is_regular_file(gif)))
     throw RunError(fmt::format("gnuplot failed on {} (see {}.gnuplot.log)", gp.string(), (dir / stem).string()));
+  if (video) {
+    const std::string codec = ext == ".mp4" ? "-c:v libx264 -pix_fmt yuv420p" : "-c:v libvpx-vp9 -b:v 0 -crf 40";
+    const std::string encode = fmt::format("'{}' -y -loglevel error -framerate {} -i '{}/%05d.png' {} '{}' 2>>'{}.gnuplot.log'",
+                                           ffmpeg, a.fps, (dir / (stem + ".frames")).string(), codec, gif.string(),
+                                           (dir / stem).string());
+    if (std::system(encode.c_str()) != 0 || !fs::is_regular_file(gif))
+      throw RunError(fmt::format("ffmpeg failed on the frames of {} (see {}.gnuplot.log)", gif.string(), (dir / stem).string()));
+    fs::remove_all(dir / (stem + ".frames"));
+  }
   fs::remove(dir / (stem + ".gnuplot.log"));
   fmt::print("wrote {} ({} frames at {} fps, {:.2f} s of simulation per frame, deformation x{})\n", gif.string(), frames,
              a.fps, frame_dt, k);
@@ -177,7 +219,8 @@ Command add_animate_command(CLI::App& app) {
   add_motion_options(*cmd, a->motion);
   add_solver_options(*cmd, a->solver);
   cmd->add_option("--compare", a->compare, "The twin: fixed-base (default) or no-damper")->type_name("VARIANT");
-  cmd->add_option("--out", a->out, "The GIF to write (default out/animation.gif)")->type_name("FILE.gif");
+  cmd->add_option("--out", a->out, "The animation: .gif (default out/animation.gif), or .mp4 / .webm when ffmpeg is installed")
+      ->type_name("FILE");
   cmd->add_option("--speed", a->speed, "Simulated seconds per second of animation (default 1)")->type_name("X");
   cmd->add_option("--frames", a->max_frames, "At most this many frames (default 240)")->type_name("N");
   cmd->add_option("--fps", a->fps, "Frames per second (default 20)")->type_name("N");

@@ -226,6 +226,7 @@ Damper read_damper(const toml::table& root, const std::string& file, const Origi
   }
   const TableReader t(root, "damper", file, origins);
   d.enabled = t.boolean_or("enabled", true);
+  if (!d.enabled) return d;  // a disabled damper needs no properties (e.g. --set damper.enabled=false on a scene without one)
   d.stiffness = t.number("stiffness", positive, "positive");
   d.post_yield_ratio = t.number("post_yield_ratio", [](double e) { return e >= 0 && e < 1; }, "in [0, 1)");
   d.theta_y = t.number("theta_y", positive, "positive");
