@@ -17,20 +17,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path scratch(const std::string& name) {
-  const fs::path dir = temp_path("plot_test_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string bytes(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 std::uint32_t big_endian(const std::string& s, std::size_t at) {
   std::uint32_t v = 0;
   for (std::size_t i = 0; i < 4; ++i) v = (v << 8) | static_cast<unsigned char>(s[at + i]);
@@ -39,7 +25,7 @@ std::uint32_t big_endian(const std::string& s, std::size_t at) {
 
 // PNG signature, then the IHDR chunk: width and height.
 void check_png(const fs::path& file, std::uint32_t width, std::uint32_t height) {
-  const std::string png = bytes(file);
+  const std::string png = file_text(file);
   REQUIRE(png.size() > 33);
   CHECK(png.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0);
   CHECK(png.compare(12, 4, "IHDR") == 0);
@@ -49,7 +35,7 @@ void check_png(const fs::path& file, std::uint32_t width, std::uint32_t height) 
 }
 
 void check_pdf(const fs::path& file) {
-  const std::string pdf = bytes(file);
+  const std::string pdf = file_text(file);
   CHECK(pdf.starts_with("%PDF-"));
   CHECK(pdf.find("%%EOF", pdf.size() > 64 ? pdf.size() - 64 : 0) != std::string::npos);
 }
@@ -97,7 +83,7 @@ bool well_formed_xml(const std::string& x, std::string& root) {
 }  // namespace
 
 TEST_CASE("plot response writes a PNG of the requested size, well-formed PDF and SVG, and its script and data") {
-  const fs::path dir = scratch("response");
+  const fs::path dir = scratch_dir("plot_test_response");
   const Result r = run("plot response --variants damper,fixed-base --duration 3 --size 640x832 --out " +
                        dir.string() + " --name small");
   REQUIRE(r.code == 0);
@@ -106,7 +92,7 @@ TEST_CASE("plot response writes a PNG of the requested size, well-formed PDF and
   check_png(dir / "small.png", 640, 832);
   check_pdf(dir / "small.pdf");
   std::string root;
-  CHECK(well_formed_xml(bytes(dir / "small.svg"), root));
+  CHECK(well_formed_xml(file_text(dir / "small.svg"), root));
   CHECK(root == "svg");
   CHECK(fs::is_regular_file(dir / "small.gp"));
   CHECK(fs::is_regular_file(dir / "small.data" / "damper.csv"));
@@ -119,17 +105,17 @@ TEST_CASE("plot response writes a PNG of the requested size, well-formed PDF and
 }
 
 TEST_CASE("plot modes writes the Fig. 3 figure with its data file") {
-  const fs::path dir = scratch("modes");
+  const fs::path dir = scratch_dir("plot_test_modes");
   const Result r = run("plot modes --formats png --size 600x400 --out " + dir.string());
   REQUIRE(r.code == 0);
   check_png(dir / "modes.png", 600, 400);
-  const std::string data = bytes(dir / "modes.dat");
+  const std::string data = file_text(dir / "modes.dat");
   CHECK(lines(data) == 1 + 5);  // header, the foundation and four nodes
-  CHECK(bytes(dir / "modes.gp").find("R: p = 0.650 rad/s") != std::string::npos);
+  CHECK(file_text(dir / "modes.gp").find("R: p = 0.650 rad/s") != std::string::npos);
 }
 
 TEST_CASE("plot failures: no gnuplot, an unwritable folder, an empty history, a bad size") {
-  const fs::path dir = scratch("failures");
+  const fs::path dir = scratch_dir("plot_test_failures");
   ::setenv("ROCKING_GNUPLOT", "/nonexistent/gnuplot", 1);
   const Result no_gnuplot = run("plot modes --out " + dir.string());
   ::unsetenv("ROCKING_GNUPLOT");
@@ -155,24 +141,24 @@ TEST_CASE("plot failures: no gnuplot, an unwritable folder, an empty history, a 
 }
 
 TEST_CASE("plot response --from plots earlier simulate runs without running them again") {
-  const fs::path dir = scratch("from");
+  const fs::path dir = scratch_dir("plot_test_from");
   REQUIRE(run("-q simulate --duration 2 --out " + (dir / "with").string()).code == 0);
   REQUIRE(run("-q simulate --duration 2 --set damper.enabled=false --out " + (dir / "without").string()).code == 0);
   const Result r = run("plot response --formats svg --from " + (dir / "with").string() + " --from " +
                        (dir / "without").string() + " --out " + dir.string() + " --name compare");
   REQUIRE(r.code == 0);
   std::string root;
-  CHECK(well_formed_xml(bytes(dir / "compare.svg"), root));
+  CHECK(well_formed_xml(file_text(dir / "compare.svg"), root));
   CHECK(fs::is_regular_file(dir / "compare.data" / "with.csv"));
 }
 
 TEST_CASE("spectrum writes the overturning figure and one data file per block size") {
-  const fs::path dir = scratch("spectrum");
+  const fs::path dir = scratch_dir("plot_test_spectrum");
   const Result r = run("-q spectrum --sizes 1,2 --frequencies 1:5:1 --amplitudes 0.5:4:0.5 --formats png --out " +
                        dir.string());
   REQUIRE(r.code == 0);
   check_png(dir / "spectrum.png", 1200, 600);
-  CHECK(lines(bytes(dir / "spectrum.data" / "size_1.csv")) == 1 + 5 * 8);
+  CHECK(lines(file_text(dir / "spectrum.data" / "size_1.csv")) == 1 + 5 * 8);
   CHECK(r.out.find("block x2") != std::string::npos);
   const Result bad = run("spectrum --pulse square --out " + dir.string());
   CHECK(bad.code == 2);
@@ -221,15 +207,15 @@ long gif_frames(const std::string& g, std::uint32_t& width, std::uint32_t& heigh
 }  // namespace
 
 TEST_CASE("animate writes a valid animated GIF with one image per frame, both structures and the cursors") {
-  const fs::path dir = scratch("animate");
+  const fs::path dir = scratch_dir("plot_test_animate");
   const Result r = run("-q animate --duration 2 --frames 12 --size 500x350 --out " + (dir / "a.gif").string());
   REQUIRE(r.code == 0);
   CHECK(r.out.find("12 frames") != std::string::npos);
   std::uint32_t w = 0, h = 0;
-  CHECK(gif_frames(bytes(dir / "a.gif"), w, h) == 12);
+  CHECK(gif_frames(file_text(dir / "a.gif"), w, h) == 12);
   CHECK(w == 500);
   CHECK(h == 350);
-  const std::string gp = bytes(dir / "a.gp");
+  const std::string gp = file_text(dir / "a.gp");
   CHECK(gp.find("main.dat") != std::string::npos);
   CHECK(gp.find("twin.dat") != std::string::npos);
   CHECK(gp.find("set arrow 1 from t") != std::string::npos);  // the time cursor
@@ -239,7 +225,7 @@ TEST_CASE("animate writes a valid animated GIF with one image per frame, both st
 }
 
 TEST_CASE("animate to MP4 when ffmpeg is installed, and a one-line error naming ffmpeg when it is not") {
-  const fs::path dir = scratch("video");
+  const fs::path dir = scratch_dir("plot_test_video");
   const char* saved = std::getenv("PATH");
   const std::string path = saved ? saved : "";
   ::setenv("PATH", "/nonexistent", 1);
@@ -257,6 +243,6 @@ TEST_CASE("animate to MP4 when ffmpeg is installed, and a one-line error naming 
                             "stream=nb_read_frames,width,height -of csv=p=0 '" + (dir / "v.mp4").string() + "' > '" +
                             (dir / "probe.txt").string() + "'";
   REQUIRE(std::system(probe.c_str()) == 0);
-  CHECK(bytes(dir / "probe.txt").starts_with("400,300,10"));
+  CHECK(file_text(dir / "probe.txt").starts_with("400,300,10"));
   CHECK_FALSE(fs::exists(dir / "v.frames"));  // the PNG frames are cleaned up
 }

@@ -14,20 +14,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path scratch(const std::string& name) {
-  const fs::path dir = temp_path("simulate_test_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string read(const fs::path& file) {
-  std::ifstream in(file);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 void write(const fs::path& file, const std::string& text) { std::ofstream(file) << text; }
 
 const std::string at2_header =
@@ -36,11 +22,11 @@ const std::string at2_header =
 }  // namespace
 
 TEST_CASE("simulate runs the embedded chimney and writes history.csv and summary.json") {
-  const fs::path dir = scratch("default");
+  const fs::path dir = scratch_dir("simulate_test_default");
   const Result r = run("simulate --json --out " + dir.string());
   REQUIRE(r.code == 0);
   const auto j = nlohmann::json::parse(r.out);
-  CHECK(j == nlohmann::json::parse(read(dir / "summary.json")));
+  CHECK(j == nlohmann::json::parse(file_text(dir / "summary.json")));
   for (const char* key : {"delta_t", "delta_e", "theta", "theta_over_alpha", "damper_d", "damper_F", "base_shear",
                           "base_moment", "mid_shear", "mid_moment"})
     CHECK_MESSAGE(j["peaks"][key].is_number(), key);
@@ -49,13 +35,13 @@ TEST_CASE("simulate runs the embedded chimney and writes history.csv and summary
   CHECK(j["outcome"] == "completed");
   CHECK(j["counts"]["uplifts"].get<long>() > 0);  // the default pulse lifts the chimney
   CHECK(j["top_total_mm"].get<double>() == doctest::Approx(j["peaks"]["delta_t"].get<double>() * 33.05e3));
-  const std::string history = read(dir / "history.csv");
+  const std::string history = file_text(dir / "history.csv");
   CHECK(history.starts_with("t [s],phase,u_N [m],theta [rad]"));
   CHECK(lines(history) > 800);  // 8 s every 0.01 s, and the events
 }
 
 TEST_CASE("the fixed-base, no-damper and rigid-block variants are reachable from the scene keys") {
-  const fs::path dir = scratch("variants");
+  const fs::path dir = scratch_dir("simulate_test_variants");
   const Result fixed = run("simulate --json --set contact.rocking=false --out " + dir.string());
   REQUIRE(fixed.code == 0);
   const auto f = nlohmann::json::parse(fixed.out);
@@ -74,7 +60,7 @@ TEST_CASE("the fixed-base, no-damper and rigid-block variants are reachable from
 }
 
 TEST_CASE("simulate: bad input is one line on stderr, naming the file and line, and exit code 2") {
-  const fs::path dir = scratch("bad");
+  const fs::path dir = scratch_dir("simulate_test_bad");
   write(dir / "npts.at2", at2_header + "NPTS=    5, DT= .01000 SEC\n0.1 0.2 0.3 0.4\n");
   write(dir / "text.at2", at2_header + "NPTS=    4, DT= .01000 SEC\n0.1 0.2\nabc 0.4\n");
   write(dir / "nan.at2", at2_header + "NPTS=    4, DT= .01000 SEC\n0.1 nan 0.3 0.4\n");
@@ -101,27 +87,27 @@ TEST_CASE("simulate: bad input is one line on stderr, naming the file and line, 
 }
 
 TEST_CASE("a run that cannot finish exits 3 naming the time and phase, and keeps its files") {
-  const fs::path dir = scratch("stopped");
+  const fs::path dir = scratch_dir("simulate_test_stopped");
   for (const std::string& limit : {std::string("--max-steps 300"), std::string("--max-events 3")}) {
     CAPTURE(limit);
     const Result r = run("simulate --out " + dir.string() + " " + limit);
     CHECK(r.code == 3);
     CHECK(r.err.find("at t = ") != std::string::npos);
     CHECK(r.err.find("phase ") != std::string::npos);
-    const auto j = nlohmann::json::parse(read(dir / "summary.json"));
+    const auto j = nlohmann::json::parse(file_text(dir / "summary.json"));
     CHECK(j["outcome"] == "failed");
     CHECK(j["t_end"].get<double>() > 0.0);
-    CHECK(lines(read(dir / "history.csv")) > 2);
+    CHECK(lines(file_text(dir / "history.csv")) > 2);
   }
 }
 
 TEST_CASE("tradeoff measures each backend against the reference and draws the work-precision figure") {
-  const fs::path dir = scratch("tradeoff");
+  const fs::path dir = scratch_dir("simulate_test_tradeoff");
   const Result r = run("-q tradeoff --duration 2 --rtols 1e-3,1e-6 --backends rk45,cvode --repeats 1 --formats png --out " +
                        dir.string());
   REQUIRE(r.code == 0);
   CHECK(r.out.find("reference: rk45 at rtol 1e-12") != std::string::npos);
-  const std::string csv = read(dir / "tradeoff.csv");
+  const std::string csv = file_text(dir / "tradeoff.csv");
   CHECK(lines(csv) == 1 + 2 * 2);
   std::istringstream rows(csv);
   std::string line;

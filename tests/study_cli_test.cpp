@@ -18,20 +18,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path scratch(const std::string& name) {
-  const fs::path dir = temp_path("study_cli_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string read(const fs::path& file) {
-  std::ifstream in(file);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 // A one-sine pulse, 0.15 g and 0.6 s, then rest, to 4 s: t [s], a [g].
 std::string pulse_record(const fs::path& dir) {
   const fs::path file = dir / "pulse.txt";
@@ -43,26 +29,18 @@ std::string pulse_record(const fs::path& dir) {
   return file.string();
 }
 
-bool on_path(const std::string& program) {
-  const char* path = std::getenv("PATH");
-  std::stringstream ss(path ? path : "");
-  for (std::string dir; std::getline(ss, dir, ':');)
-    if (!dir.empty() && ::access((fs::path(dir) / program).c_str(), X_OK) == 0) return true;
-  return false;
-}
-
 }  // namespace
 
 TEST_CASE("an IDA's CSV is byte-identical with 1 thread, 2 threads and mpirun -np 2") {
-  const fs::path dir = scratch("identical");
+  const fs::path dir = scratch_dir("study_cli_identical");
   const std::string study = "-q ida --record " + pulse_record(dir) + " --scales 1:4:1 --no-plot --out ";
   REQUIRE(run(study + (dir / "one").string() + " --threads 1").code == 0);
   REQUIRE(run(study + (dir / "two").string() + " --threads 2").code == 0);
-  const std::string one = read(dir / "one" / "ida.csv");
+  const std::string one = file_text(dir / "one" / "ida.csv");
   CHECK(lines(one) == 1 + 4 * 3);  // header, 4 scales x 3 variants
   CHECK(one.find("overturned") == std::string::npos);
-  CHECK(one == read(dir / "two" / "ida.csv"));
-  if (!on_path("mpirun")) {
+  CHECK(one == file_text(dir / "two" / "ida.csv"));
+  if (std::system("command -v mpirun >/dev/null 2>&1") != 0) {
     const char* ci = std::getenv("CI");
     if (ci != nullptr && std::string(ci) == "true") FAIL("mpirun not found (scripts/setup.sh installs openmpi-bin)");
     WARN_MESSAGE(false, "SKIPPED: mpirun not found");
@@ -72,17 +50,17 @@ TEST_CASE("an IDA's CSV is byte-identical with 1 thread, 2 threads and mpirun -n
   const std::string mpi = "mpirun" + root + " --oversubscribe -np 2 " + std::string(ROCKING_BIN) + " " + study +
                           (dir / "mpi").string() + " --threads 1";
   REQUIRE(std::system(mpi.c_str()) == 0);
-  CHECK(one == read(dir / "mpi" / "ida.csv"));
-  CHECK(lines(read(dir / "mpi" / "timing.csv")) == 1 + 12);
+  CHECK(one == file_text(dir / "mpi" / "ida.csv"));
+  CHECK(lines(file_text(dir / "mpi" / "timing.csv")) == 1 + 12);
 }
 
 TEST_CASE("a bad record among good ones is reported in its rows and the study finishes") {
-  const fs::path dir = scratch("bad_record");
+  const fs::path dir = scratch_dir("study_cli_bad_record");
   std::ofstream(dir / "broken.txt") << "0 0.1\n0.01 abc\n";
   const Result r = run("-q ida --record " + pulse_record(dir) + " " + (dir / "broken.txt").string() +
                        " --scales 1:2:1 --variants damper --out " + dir.string() + " --formats png");
   CHECK(r.code == 0);
-  const std::string csv = read(dir / "ida.csv");
+  const std::string csv = file_text(dir / "ida.csv");
   CHECK(lines(csv) == 1 + 4);
   CHECK(csv.find("pulse.txt,1,damper,") != std::string::npos);
   CHECK(csv.find("broken.txt:2") != std::string::npos);  // the reader's error, with its line
@@ -91,11 +69,11 @@ TEST_CASE("a bad record among good ones is reported in its rows and the study fi
 }
 
 TEST_CASE("a sweep writes one line per value of the swept key") {
-  const fs::path dir = scratch("sweep");
+  const fs::path dir = scratch_dir("study_cli_sweep");
   const Result r = run("-q sweep --record " + pulse_record(dir) + " --scales 1,2 --no-plot --out " + dir.string() +
                        " --set damper.thickness=1,2,3 --set structure.damping_ratio=0.05");
   REQUIRE(r.code == 0);
-  const std::string csv = read(dir / "sweep.csv");
+  const std::string csv = file_text(dir / "sweep.csv");
   CHECK(lines(csv) == 1 + 2 * 3);
   for (const char* v : {",damper.thickness=1,", ",damper.thickness=2,", ",damper.thickness=3,"})
     CHECK(csv.find(v) != std::string::npos);

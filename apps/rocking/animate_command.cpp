@@ -10,8 +10,6 @@
 #include <cmath>
 #include <fstream>
 #include <memory>
-#include <sstream>
-#include <unistd.h>
 
 namespace rocking::app {
 
@@ -50,15 +48,6 @@ struct FrameRecorder : Observer {
   }
 };
 
-// A program on PATH, or empty.
-std::string find_program(const std::string& name) {
-  const char* path = std::getenv("PATH");
-  std::stringstream ss(path ? path : "");
-  for (std::string d; std::getline(ss, d, ':');)
-    if (!d.empty() && ::access((fs::path(d) / name).c_str(), X_OK) == 0) return (fs::path(d) / name).string();
-  return {};
-}
-
 double nice(double x) {  // 1, 2 or 5 x 10^k, not above x
   const double p = std::pow(10.0, std::floor(std::log10(x)));
   for (double m : {5.0, 2.0, 1.0})
@@ -91,17 +80,13 @@ int animate(const AnimateArgs& a) {
   if (ext != ".gif" && ext != ".mp4" && ext != ".webm")
     throw InputError(fmt::format("--out {}: write .gif, or .mp4 / .webm (with ffmpeg)", a.out));
   const bool video = ext != ".gif";
-  const std::string ffmpeg = video ? find_program("ffmpeg") : "";
+  const std::string ffmpeg = video ? plot::find_program("ffmpeg") : "";
   if (video && ffmpeg.empty())
     throw InputError(fmt::format("--out {}: MP4 and WebM need ffmpeg, which is not installed (apt install ffmpeg); "
                                  "write a .gif instead", a.out));
   if (!(a.speed > 0)) throw InputError(fmt::format("--speed {}: must be positive", a.speed));
   if (a.max_frames < 2 || a.max_frames > 2000) throw InputError(fmt::format("--frames {}: must be 2 to 2000", a.max_frames));
-  int width = 0, height = 0;
-  char x = 0;
-  std::istringstream sz(a.size);
-  if (!(sz >> width >> x >> height) || x != 'x' || width < 300 || height < 200 || width > 4000 || height > 4000)
-    throw InputError(fmt::format("--size {}: expected WIDTHxHEIGHT, 300x200 to 4000x4000", a.size));
+  const auto [width, height] = plot::parse_size(a.size, 300, 200, 4000);
   const Scene scene = load_scene(a.scene);
   const GroundMotion motion = load_motion(scene, a.motion);
   const Variant twin_variant = named_variant(a.compare);
@@ -119,8 +104,9 @@ int animate(const AnimateArgs& a) {
   const int m = std::max(1, static_cast<int>(std::ceil(frame_dt / 0.01 - 1e-9)));
   ro.output_interval = frame_dt / m;
   FrameRecorder main_rec(ro.output_interval), twin_rec(ro.output_interval);
-  const RunResult r1 = simulate(make_contact_model(scene, false), motion, ro, &main_rec);
-  const RunResult r2 = simulate(make_contact_model(twin, false), motion, ro, &twin_rec);
+  const ContactModel main_model = make_contact_model(scene, false), twin_model = make_contact_model(twin, false);
+  const RunResult r1 = simulate(main_model, motion, ro, &main_rec);
+  const RunResult r2 = simulate(twin_model, motion, ro, &twin_rec);
   for (const RunResult* r : {&r1, &r2})
     if (r->outcome == Outcome::failed) throw RunError(r->failure);
   const std::size_t rows = std::min(main_rec.rows.size(), twin_rec.rows.size());
@@ -134,7 +120,6 @@ int animate(const AnimateArgs& a) {
   const fs::path dir = gif.has_parent_path() ? gif.parent_path() : fs::path(".");
   const std::string stem = gif.stem().string();
   make_output_dir(dir / (stem + ".data"));
-  const ContactModel main_model = make_contact_model(scene, false), twin_model = make_contact_model(twin, false);
   write_frames(dir / (stem + ".data") / "main.dat", scene.structure, main_rec, k, m, frames, main_model.has_damper);
   write_frames(dir / (stem + ".data") / "twin.dat", twin.structure, twin_rec, k, m, frames, twin_model.has_damper);
   {
@@ -181,24 +166,23 @@ int animate(const AnimateArgs& a) {
       stem, frames - 1, frame_dt,
       video ? fmt::format("  set output sprintf(\"{}.frames/%05d.png\", i)\n", stem) : std::string(), scene.name,
       describe_motion(motion.name()), a.motion.scale, k, -span, span, H, H, scene.name, twin_label, twin_label);
-  plot::Figure fig;  // for running gnuplot the same way as the other figures
-  const fs::path gp = dir / (stem + ".gp");
-  write_text(gp, script);
-  const std::string gnuplot = plot::find_gnuplot();
+  plot::Figure fig;
+  fig.dir = dir;
+  fig.name = stem;
+  fig.formats = video ? std::vector<std::string>{} : std::vector<std::string>{"gif"};  // video: PNG frames first
   if (video) make_output_dir(dir / (stem + ".frames"));
-  const std::string cmd = fmt::format("cd '{}' && '{}' '{}.gp' >'{}.gnuplot.log' 2>&1", dir.string(), gnuplot, stem, stem);
-  if (std::system(cmd.c_str()) != 0 || (!video && !fs::is_regular_file(gif)))
-    throw RunError(fmt::format("gnuplot failed on {} (see {}.gnuplot.log)", gp.string(), (dir / stem).string()));
+  plot::render_script(fig, script);
   if (video) {
     const std::string codec = ext == ".mp4" ? "-c:v libx264 -pix_fmt yuv420p" : "-c:v libvpx-vp9 -b:v 0 -crf 40";
-    const std::string encode = fmt::format("'{}' -y -loglevel error -framerate {} -i '{}/%05d.png' {} '{}' 2>>'{}.gnuplot.log'",
+    const fs::path log = dir / (stem + ".ffmpeg.log");
+    const std::string encode = fmt::format("'{}' -y -loglevel error -framerate {} -i '{}/%05d.png' {} '{}' 2>'{}'",
                                            ffmpeg, a.fps, (dir / (stem + ".frames")).string(), codec, gif.string(),
-                                           (dir / stem).string());
+                                           log.string());
     if (std::system(encode.c_str()) != 0 || !fs::is_regular_file(gif))
-      throw RunError(fmt::format("ffmpeg failed on the frames of {} (see {}.gnuplot.log)", gif.string(), (dir / stem).string()));
+      throw RunError(fmt::format("ffmpeg failed on the frames of {} (see {})", gif.string(), log.string()));
     fs::remove_all(dir / (stem + ".frames"));
+    fs::remove(log);
   }
-  fs::remove(dir / (stem + ".gnuplot.log"));
   fmt::print("wrote {} ({} frames at {} fps, {:.2f} s of simulation per frame, deformation x{})\n", gif.string(), frames,
              a.fps, frame_dt, k);
   return 0;

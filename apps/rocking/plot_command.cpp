@@ -8,7 +8,7 @@
 #include <cmath>
 #include <fstream>
 #include <memory>
-#include <sstream>
+#include <tuple>
 
 namespace rocking::app {
 
@@ -42,13 +42,7 @@ plot::Figure figure(const FigureArgs& a, std::string title, int width, int heigh
   f.formats = plot::parse_formats(a.formats);
   f.width = width;
   f.height = height;
-  if (!a.size.empty()) {
-    char x = 0;
-    std::istringstream in(a.size);
-    if (!(in >> f.width >> x >> f.height) || x != 'x' || !in.eof() || f.width < 200 || f.height < 200 ||
-        f.width > 10000 || f.height > 10000)
-      throw InputError(fmt::format("--size {}: expected WIDTHxHEIGHT in pixels, each 200 to 10000", a.size));
-  }
+  if (!a.size.empty()) std::tie(f.width, f.height) = plot::parse_size(a.size, 200, 200, 10000);
   return f;
 }
 

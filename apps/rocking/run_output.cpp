@@ -3,7 +3,10 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <algorithm>
 #include <fstream>
+#include <thread>
+#include <unistd.h>
 
 namespace rocking::app {
 
@@ -87,6 +90,23 @@ void write_text(const std::filesystem::path& file, const std::string& text) {
   out << text;
   out.close();
   if (!out) throw InputError(fmt::format("{}: cannot write", file.string()));
+}
+
+Progress::Progress(bool enabled) : enabled_(enabled && ::isatty(2) != 0), start_(std::chrono::steady_clock::now()) {}
+
+void Progress::operator()(std::size_t done, std::size_t total) {
+  if (!enabled_) return;
+  const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const double eta = done > 0 ? elapsed * static_cast<double>(total - done) / static_cast<double>(done) : 0;
+  const int width = 30, filled = static_cast<int>(width * done / std::max<std::size_t>(total, 1));
+  fmt::print(stderr, "\r[{}{}] {}/{} jobs, {:.1f} s, ETA {:.1f} s ", std::string(filled, '#'),
+             std::string(width - filled, ' '), done, total, elapsed, eta);
+  if (done == total) fmt::print(stderr, "\n");
+}
+
+int thread_count(int requested) {
+  if (requested < 0) throw InputError(fmt::format("--threads {}: must be at least 1 (0: every core)", requested));
+  return requested > 0 ? requested : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
 
 }  // namespace rocking::app

@@ -3,6 +3,8 @@
 #pragma once
 #include <rocking/eigen.hpp>
 #include <nlohmann/json.hpp>
+#include <chrono>
+#include <cstddef>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -38,5 +40,21 @@ nlohmann::json summary_json(const RunLabel& label, const rocking::RunResult& r);
 
 // Writes text to a file or fails with a one-line InputError naming it.
 void write_text(const std::filesystem::path& file, const std::string& text);
+
+// --- shared by the commands that run many jobs --------------------------------
+
+// A progress bar with an ETA on stderr, only when enabled and stderr is a terminal.
+class Progress {
+ public:
+  explicit Progress(bool enabled);
+  void operator()(std::size_t done, std::size_t total);
+
+ private:
+  bool enabled_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+// --threads N: N, or every core for 0; InputError below 0.
+int thread_count(int requested);
 
 }  // namespace rocking::app

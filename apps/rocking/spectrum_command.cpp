@@ -6,8 +6,6 @@
 #include <fmt/format.h>
 #include <fstream>
 #include <memory>
-#include <thread>
-#include <unistd.h>
 
 namespace rocking::app {
 
@@ -38,19 +36,14 @@ int spectrum(const SpectrumArgs& a) {
   const PulseShape shape = parse_pulse_shape(a.pulse);
   const std::vector<double> freqs = parse_scales(a.frequencies), amps = parse_scales(a.amplitudes);
   const std::vector<double> sizes = parse_scales(a.sizes);
-  if (a.threads < 0) throw InputError("--threads: must be at least 1 (0: every core)");
-  const int threads = a.threads > 0 ? a.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = thread_count(a.threads);
   const fs::path dir(a.out);
   make_output_dir(dir / "spectrum.data");
   std::vector<plot::Series> series;
-  const bool tty = ::isatty(2) != 0 && spdlog::get_level() <= spdlog::level::info;
   for (double size : sizes) {
+    Progress progress(spdlog::get_level() <= spdlog::level::info);
     const BlockSpectrum s = overturning_spectrum(scene, size, shape, freqs, amps, threads,
-                                                 [&](std::size_t done, std::size_t total) {
-                                                   if (tty && (done % 200 == 0 || done == total))
-                                                     fmt::print(stderr, "\rsize x{}: {}/{} runs{}", size, done, total,
-                                                                done == total ? "\n" : "");
-                                                 });
+                                                 [&](std::size_t done, std::size_t total) { progress(done, total); });
     const std::string file = (fs::path("spectrum.data") / fmt::format("size_{}.csv", size)).string();
     std::ofstream out(dir / file);
     out << "frequency_ratio,amplitude_ratio,period_s,amplitude_g,overturned,uplift\n";

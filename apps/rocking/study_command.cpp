@@ -8,13 +8,9 @@
 #include <spdlog/spdlog.h>
 #include <fmt/format.h>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <fstream>
-#include <map>
 #include <memory>
-#include <thread>
-#include <unistd.h>
 
 namespace rocking::app {
 
@@ -62,31 +58,6 @@ std::string row(const Study& st, const Job& job, const JobResult& r) {
                      csv_field(st.variants()[job.variant].name), q,
                      r.error.empty() ? fmt::format("{:.6g}", run.top_total_mm) : "", outcome_name(run.outcome),
                      run.counts.uplifts, fmt::format("{},{}", run.counts.impacts, run.stats.rhs), csv_field(r.error));
-}
-
-// A progress bar with an ETA on stderr, only when stderr is a terminal.
-class Progress {
- public:
-  explicit Progress(bool enabled) : enabled_(enabled && ::isatty(2) != 0), start_(clock::now()) {}
-  void operator()(std::size_t done, std::size_t total) {
-    if (!enabled_) return;
-    const double elapsed = std::chrono::duration<double>(clock::now() - start_).count();
-    const double eta = done > 0 ? elapsed * static_cast<double>(total - done) / static_cast<double>(done) : 0;
-    const int width = 30, filled = static_cast<int>(width * done / std::max<std::size_t>(total, 1));
-    fmt::print(stderr, "\r[{}{}] {}/{} jobs, {:.1f} s, ETA {:.1f} s ", std::string(filled, '#'),
-               std::string(width - filled, ' '), done, total, elapsed, eta);
-    if (done == total) fmt::print(stderr, "\n");
-  }
-
- private:
-  using clock = std::chrono::steady_clock;
-  bool enabled_;
-  clock::time_point start_;
-};
-
-int thread_count(int requested) {
-  if (requested < 0) throw InputError(fmt::format("--threads {}: must be at least 1 (0: every core)", requested));
-  return requested > 0 ? requested : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
 
 // One data file per (record, variant) and one figure per record: peaks against the scale.
@@ -192,7 +163,6 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
   tf << "record,scale,variant,wall_s\n";
   for (const auto& [i, text] : all_timings) tf << text;
   long failed = 0;
-  for (const auto& [i, text] : all_timings) (void)i, (void)text;
   for (std::size_t i = 0; i < jobs.size(); ++i) failed += world.size == 1 && !results[i].error.empty();
   fmt::print("wrote {} ({} runs{})\n", (dir / (kind + ".csv")).string(), jobs.size(),
              failed ? fmt::format(", {} failed: see the error column", failed) : "");

@@ -40,6 +40,27 @@ int font_points(const Figure& fig, int reference_width, int reference_height) {
   return std::clamp(static_cast<int>(std::lround(12 * ratio)), 7, 16);
 }
 
+// The figures' colours, in series order, and the point shapes that go with them.
+constexpr const char* palette[] = {"1f4e9c", "c0392b", "27864a", "8e44ad", "d35400", "555555"};
+constexpr int point_types[] = {7, 5, 9, 11, 13, 3};
+constexpr std::size_t palette_size = std::size(palette);
+
+// "set style line i ..." for every colour of the palette.
+std::string style_lines(double width, double point_size) {
+  std::string out;
+  for (std::size_t i = 0; i < palette_size; ++i)
+    out += fmt::format("set style line {} linecolor rgb \"#{}\" linewidth {} pointtype {} pointsize {}\n", i + 1,
+                       palette[i], width, point_types[i], point_size);
+  return out;
+}
+
+// One gnuplot plot command over several items (each "file using ... title ...").
+std::string plot_command(const std::vector<std::string>& items) {
+  std::string cmd;
+  for (const std::string& item : items) cmd += (cmd.empty() ? "  plot " : ", \\\n       ") + item;
+  return cmd + "\n";
+}
+
 // The loop over formats with their terminals, around a figure body.
 std::string render_loop(const Figure& fig, const std::string& body, int points) {
   std::string formats;
@@ -69,7 +90,9 @@ void write_script(const fs::path& file, const std::string& text) {
 
 bool executable(const fs::path& p) { return ::access(p.c_str(), X_OK) == 0 && fs::is_regular_file(p); }
 
-std::vector<fs::path> run_script(const Figure& fig, const std::string& script) {
+}  // namespace
+
+std::vector<fs::path> render_script(const Figure& fig, const std::string& script) {
   std::error_code ec;
   fs::create_directories(fig.dir, ec);
   if (ec || !fs::is_directory(fig.dir))
@@ -99,8 +122,6 @@ std::vector<fs::path> run_script(const Figure& fig, const std::string& script) {
   return written;
 }
 
-}  // namespace
-
 std::vector<std::string> parse_formats(const std::string& list) {
   std::vector<std::string> out;
   std::stringstream ss(list);
@@ -114,19 +135,35 @@ std::vector<std::string> parse_formats(const std::string& list) {
   return out;
 }
 
+std::pair<int, int> parse_size(const std::string& text, int min_width, int min_height, int max_side) {
+  int width = 0, height = 0;
+  char x = 0;
+  std::istringstream in(text);
+  if (!(in >> width >> x >> height) || x != 'x' || !in.eof() || width < min_width || height < min_height ||
+      width > max_side || height > max_side)
+    throw InputError(fmt::format("--size {}: expected WIDTHxHEIGHT in pixels, {}x{} to {}x{}", text, min_width,
+                                 min_height, max_side, max_side));
+  return {width, height};
+}
+
+std::string find_program(const std::string& name) {
+  const char* path = std::getenv("PATH");
+  std::stringstream ss(path != nullptr ? path : "");
+  for (std::string dir; std::getline(ss, dir, ':');)
+    if (!dir.empty() && executable(fs::path(dir) / name)) return (fs::path(dir) / name).string();
+  return {};
+}
+
 std::string find_gnuplot() {
   if (const char* env = std::getenv("ROCKING_GNUPLOT"); env != nullptr && *env != 0) {
     if (!executable(env))
       throw RunError(fmt::format("ROCKING_GNUPLOT={}: not an executable program", env));
     return env;
   }
-  if (const char* path = std::getenv("PATH")) {
-    std::stringstream ss(path);
-    std::string dir;
-    while (std::getline(ss, dir, ':'))
-      if (!dir.empty() && executable(fs::path(dir) / "gnuplot")) return (fs::path(dir) / "gnuplot").string();
-  }
-  throw RunError("gnuplot not found on PATH: install gnuplot-nox (scripts/setup.sh does) or set ROCKING_GNUPLOT");
+  std::string found = find_program("gnuplot");
+  if (found.empty())
+    throw RunError("gnuplot not found on PATH: install gnuplot-nox (scripts/setup.sh does) or set ROCKING_GNUPLOT");
+  return found;
 }
 
 void check_history(const fs::path& file) {
@@ -147,14 +184,13 @@ void check_history(const fs::path& file) {
 std::vector<fs::path> render_response(const Figure& fig, const std::vector<ResponseSeries>& runs) {
   if (runs.empty()) throw InputError("response figure: no runs to plot");
   for (const ResponseSeries& r : runs) check_history(fs::path(r.history).is_absolute() ? fs::path(r.history) : fig.dir / r.history);
-  auto plot_command = [&](const std::string& using_spec, bool dampers_only) {
-    std::string cmd;
-    for (std::size_t i = 0; i < runs.size(); ++i) {
-      if (dampers_only && !runs[i].has_damper) continue;
-      cmd += fmt::format("{}{} skip 1 using {} with lines linestyle {} title {} noenhanced", cmd.empty() ? "  plot " : ", \\\n       ",
-                         gp_string(runs[i].history), using_spec, i + 1, gp_string(runs[i].label));
-    }
-    return cmd.empty() ? std::string("  plot NaN title \"(no damper)\"\n") : cmd + "\n";
+  auto curves = [&](const std::string& using_spec, bool dampers_only) {
+    std::vector<std::string> items;
+    for (std::size_t i = 0; i < runs.size(); ++i)
+      if (!dampers_only || runs[i].has_damper)
+        items.push_back(fmt::format("{} skip 1 using {} with lines linestyle {} title {} noenhanced",
+                                    gp_string(runs[i].history), using_spec, i + 1, gp_string(runs[i].label)));
+    return items.empty() ? std::string("  plot NaN title \"(no damper)\"\n") : plot_command(items);
   };
   std::string body = fmt::format(
       "  set multiplot layout 4,1 title {} noenhanced\n"
@@ -163,30 +199,25 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
       "  set xlabel \"time t [s]\"\n"
       "  set ylabel \"total top drift {{/Symbol d}}_t [%]\"\n",
       gp_string(fig.title));
-  body += plot_command("1:($6*100)", false);
+  body += curves("1:($6*100)", false);
   body += "  set ylabel \"elastic top drift {/Symbol d}_e [%]\"\n";
-  body += plot_command("1:($7*100)", false);
+  body += curves("1:($7*100)", false);
   body += "  set ylabel \"rocking angle {/Symbol q}/{/Symbol a}_{cg} [-]\"\n";
-  body += plot_command("1:5", false);
+  body += curves("1:5", false);
   body += "  set xlabel \"damper elongation d [mm] (signed by the pivot)\"\n"
           "  set ylabel \"damper force F_{hd} [kN]\"\n";
   // Break the loop where no damper is stretched (d = 0: full contact, and the
   // impacts where one edge's damper hands over to the other's).
-  body += plot_command("($8 == 0 ? NaN : $8*1000):($9/1000)", true);
+  body += curves("($8 == 0 ? NaN : $8*1000):($9/1000)", true);
   const std::string script = fmt::format(
       "# rocking: response figure in the style of the paper's Fig. 4.\n"
       "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
       "# Data: rocking simulate history CSV (t, phase, u_N, theta, theta/alpha_cg,\n"
       "# delta_t, delta_e, d, F_hd, base/mid shear and moment).\n"
       "set datafile separator \",\"\n"
-      "set linetype 1 linecolor rgb \"#1f4e9c\" linewidth 1.5\n"
-      "set linetype 2 linecolor rgb \"#c0392b\" linewidth 1.5\n"
-      "set linetype 3 linecolor rgb \"#27864a\" linewidth 1.5\n"
-      "set linetype 4 linecolor rgb \"#8e44ad\" linewidth 1.5\n"
-      "set style line 1 linetype 1\nset style line 2 linetype 2\nset style line 3 linetype 3\nset style line 4 linetype 4\n"
-      "{}",
-      fig.name, render_loop(fig, body, font_points(fig, 1000, 1300)));
-  return run_script(fig, script);
+      "{}{}",
+      fig.name, style_lines(1.5, 0.6), render_loop(fig, body, font_points(fig, 1000, 1300)));
+  return render_script(fig, script);
 }
 
 std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const std::string& xlabel,
@@ -201,38 +232,32 @@ std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const
       loglog ? "  set logscale xy\n  set format x \"10^{%T}\"\n  set format y \"10^{%T}\"\n" : "");
   for (const Panel& p : panels) {
     body += fmt::format("  set ylabel {}\n", gp_string(p.ylabel));
+    std::vector<std::string> items;
     for (std::size_t i = 0; i < series.size(); ++i)
-      body += fmt::format("{}{} skip 1 using {} with linespoints linestyle {} title {} noenhanced",
-                          i == 0 ? "  plot " : ", \\\n       ", gp_string(series[i].file), p.using_spec, i + 1,
-                          gp_string(series[i].label));
-    body += "\n";
+      items.push_back(fmt::format("{} skip 1 using {} with linespoints linestyle {} title {} noenhanced",
+                                  gp_string(series[i].file), p.using_spec, i + 1, gp_string(series[i].label)));
+    body += plot_command(items);
   }
   const std::string script = fmt::format(
       "# rocking: study figure (peaks against the scale factor or a parameter).\n"
       "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
       "set datafile separator \",\"\n"
-      "set style line 1 linecolor rgb \"#1f4e9c\" linewidth 1.5 pointtype 7 pointsize 0.6\n"
-      "set style line 2 linecolor rgb \"#c0392b\" linewidth 1.5 pointtype 5 pointsize 0.6\n"
-      "set style line 3 linecolor rgb \"#27864a\" linewidth 1.5 pointtype 9 pointsize 0.7\n"
-      "set style line 4 linecolor rgb \"#8e44ad\" linewidth 1.5 pointtype 11 pointsize 0.7\n"
-      "set style line 5 linecolor rgb \"#d35400\" linewidth 1.5 pointtype 13 pointsize 0.7\n"
-      "set style line 6 linecolor rgb \"#555555\" linewidth 1.5 pointtype 3 pointsize 0.7\n"
-      "{}",
-      fig.name, render_loop(fig, body, font_points(fig, 1000, 1200)));
-  return run_script(fig, script);
+      "{}{}",
+      fig.name, style_lines(1.5, 0.7), render_loop(fig, body, font_points(fig, 1000, 1200)));
+  return render_script(fig, script);
 }
 
 std::vector<fs::path> render_spectrum(const Figure& fig, const std::vector<Series>& series,
                                       const std::string& normalised_x, const std::string& normalised_y) {
   if (series.empty()) throw InputError("spectrum figure: no series to plot");
-  static const char* colours[] = {"#601f4e9c", "#60c0392b", "#6027864a", "#608e44ad"};
   auto panel = [&](const std::string& using_spec) {
-    std::string cmd;
-    for (std::size_t i = 0; i < series.size(); ++i)
-      cmd += fmt::format("{}{} skip 1 using {} with points pointtype 5 pointsize 0.9 linecolor rgb \"{}\" title {} noenhanced",
-                         i == 0 ? "  plot " : ", \\\n       ", gp_string(series[i].file), using_spec,
-                         colours[i % 4], gp_string(series[i].label));
-    return cmd + "\n";
+    std::vector<std::string> items;
+    for (std::size_t i = 0; i < series.size(); ++i)  // the palette, 60 % transparent ("#AARRGGBB")
+      items.push_back(fmt::format("{} skip 1 using {} with points pointtype 5 pointsize 0.9 linecolor rgb \"#60{}\" "
+                                  "title {} noenhanced",
+                                  gp_string(series[i].file), using_spec, palette[i % palette_size],
+                                  gp_string(series[i].label)));
+    return plot_command(items);
   };
   std::string body = fmt::format(
       "  set multiplot layout 1,2 title {} noenhanced\n"
@@ -248,17 +273,17 @@ std::vector<fs::path> render_spectrum(const Figure& fig, const std::vector<Serie
       "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
       "set datafile separator \",\"\n{}",
       fig.name, render_loop(fig, body, font_points(fig, 1200, 600)));
-  return run_script(fig, script);
+  return render_script(fig, script);
 }
 
 std::vector<fs::path> render_modes(const Figure& fig, const std::string& data_file, const ModePanel& left,
                                    const ModePanel& right) {
   auto panel = [&](const ModePanel& p, std::size_t first_column) {
-    std::string cmd = fmt::format("  set title {} noenhanced\n", gp_string(p.title));
+    std::vector<std::string> items;
     for (std::size_t i = 0; i < p.labels.size(); ++i)
-      cmd += fmt::format("{}{} using {}:1 with linespoints linestyle {} title {} noenhanced", i == 0 ? "  plot " : ", \\\n       ",
-                         gp_string(data_file), first_column + i, i + 1, gp_string(p.labels[i]));
-    return cmd + "\n";
+      items.push_back(fmt::format("{} using {}:1 with linespoints linestyle {} title {} noenhanced", gp_string(data_file),
+                                  first_column + i, i + 1, gp_string(p.labels[i])));
+    return fmt::format("  set title {} noenhanced\n", gp_string(p.title)) + plot_command(items);
   };
   std::string body = fmt::format(
       "  set multiplot layout 1,2 title {} noenhanced\n"
@@ -274,14 +299,9 @@ std::vector<fs::path> render_modes(const Figure& fig, const std::string& data_fi
       "# rocking: mode shapes in the style of the paper's Fig. 3.\n"
       "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
       "# Data: {} (height, then one column per shape).\n"
-      "set style line 1 linecolor rgb \"#1f4e9c\" linewidth 2 pointtype 7\n"
-      "set style line 2 linecolor rgb \"#c0392b\" linewidth 2 pointtype 5\n"
-      "set style line 3 linecolor rgb \"#27864a\" linewidth 2 pointtype 9\n"
-      "set style line 4 linecolor rgb \"#8e44ad\" linewidth 2 pointtype 11\n"
-      "set style line 5 linecolor rgb \"#d35400\" linewidth 2 pointtype 13\n"
-      "{}",
-      fig.name, data_file, render_loop(fig, body, font_points(fig, 1200, 800)));
-  return run_script(fig, script);
+      "{}{}",
+      fig.name, data_file, style_lines(2, 1), render_loop(fig, body, font_points(fig, 1200, 800)));
+  return render_script(fig, script);
 }
 
 }  // namespace rocking::plot

@@ -10,6 +10,7 @@
 module;
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 export module rocking.plot;
 
@@ -71,7 +72,19 @@ std::vector<std::filesystem::path> render_panels(const Figure& fig, int rows, in
 std::vector<std::filesystem::path> render_spectrum(const Figure& fig, const std::vector<Series>& series,
                                                    const std::string& normalised_x, const std::string& normalised_y);
 
-// The gnuplot program: $ROCKING_GNUPLOT, else `gnuplot` on PATH. InputError
+// Writes DIR/NAME.gp and runs gnuplot on it in DIR; returns the files
+// NAME.<format> it made, one per fig.formats entry (RunError if any is missing).
+// For scripts that set their own terminal (animations).
+std::vector<std::filesystem::path> render_script(const Figure& fig, const std::string& script);
+
+// "WIDTHxHEIGHT" in pixels, at least min_width x min_height and at most max_side
+// each; InputError naming --size otherwise.
+std::pair<int, int> parse_size(const std::string& text, int min_width, int min_height, int max_side);
+
+// A program on PATH, or empty.
+std::string find_program(const std::string& name);
+
+// The gnuplot program: $ROCKING_GNUPLOT, else `gnuplot` on PATH. RunError
 // with what to install when there is none.
 std::string find_gnuplot();
 
