@@ -22,6 +22,8 @@ struct SceneOptions {
 void add_scene_options(CLI::App& cmd, SceneOptions& opts);
 // The scene the options name (the embedded chimney when no path is given).
 rocking::Scene load_scene(const SceneOptions& opts);
+// The same, refusing a rigid block (it has no elastic modes) in one line.
+rocking::Scene load_elastic_scene(const SceneOptions& opts);
 
 // --record FILE [--units] [--dt] [--scale]: the ground motion of a run.
 struct MotionOptions {

@@ -70,9 +70,7 @@ Command add_modal_command(CLI::App& app) {
   cmd->add_flag("--json", *json, "Print one JSON object (SI units) instead of a table");
   cmd->footer("Example: rocking modal --set structure.EI_scale=0.5 --json");
   return [opts, json]() {
-    const Scene scene = load_scene(*opts);
-    if (scene.structure.rigid)
-      throw InputError(fmt::format("{}: a rigid block has no elastic modes (structure.rigid = true)", scene.source));
+    const Scene scene = load_elastic_scene(*opts);
     spdlog::debug("modal analysis of '{}' from {}", scene.name, scene.source);
     const ModalSummary m = modal_analysis(scene.structure, scene.damper);
     if (*json) std::cout << to_json(m).dump(2) << '\n';

@@ -119,9 +119,7 @@ int response(const ResponseArgs& a) {
 // --- modes -------------------------------------------------------------------
 
 int modes(const SceneOptions& scene_opts, const FigureArgs& fa) {
-  const Scene scene = load_scene(scene_opts);
-  if (scene.structure.rigid)
-    throw InputError(fmt::format("{}: a rigid block has no elastic modes (structure.rigid = true)", scene.source));
+  const Scene scene = load_elastic_scene(scene_opts);
   const ModalSummary m = modal_analysis(scene.structure, scene.damper);
   const Eigen::VectorXd& H = scene.structure.heights;
   const Eigen::Index n = H.size();

@@ -50,9 +50,7 @@ nlohmann::json summary_json(const RunLabel& label, const RunResult& r) {
   json peaks = json::object();
   for (std::size_t i = 0; i < quantity_count; ++i) {
     const auto q = static_cast<Quantity>(i);
-    const bool force = q == Quantity::base_shear || q == Quantity::base_moment || q == Quantity::mid_shear ||
-                       q == Quantity::mid_moment;
-    peaks[std::string(quantity_name(q))] = force && !r.has_forces ? json(nullptr) : json(r.peaks[i]);
+    peaks[std::string(quantity_name(q))] = is_force(q) && !r.has_forces ? json(nullptr) : json(r.peaks[i]);
   }
   auto time_or_null = [](double t) { return std::isfinite(t) ? json(t) : json(nullptr); };
   json out = {

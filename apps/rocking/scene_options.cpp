@@ -21,6 +21,13 @@ rocking::Scene load_scene(const SceneOptions& opts) {
   return opts.path.empty() ? load_default_scene(opts.overrides) : rocking::load_scene(opts.path, opts.overrides);
 }
 
+rocking::Scene load_elastic_scene(const SceneOptions& opts) {
+  rocking::Scene scene = load_scene(opts);
+  if (scene.structure.rigid)
+    throw InputError(fmt::format("{}: a rigid block has no elastic modes (structure.rigid = true)", scene.source));
+  return scene;
+}
+
 void add_motion_options(CLI::App& cmd, MotionOptions& opts) {
   cmd.add_option("--record", opts.record,
                  "Ground-motion file: PEER .AT2, two columns (t, a) or one column\n"

@@ -50,9 +50,7 @@ std::string row(const Study& st, const Job& job, const JobResult& r) {
   const RunResult& run = r.run;
   for (Quantity k : {Quantity::delta_t, Quantity::delta_e, Quantity::theta_over_alpha, Quantity::damper_d,
                      Quantity::base_shear, Quantity::base_moment, Quantity::mid_shear, Quantity::mid_moment}) {
-    const bool force = k == Quantity::base_shear || k == Quantity::base_moment || k == Quantity::mid_shear ||
-                       k == Quantity::mid_moment;
-    q += r.error.empty() && (run.has_forces || !force) ? fmt::format("{:.9g},", run.peak(k)) : std::string(",");
+    q += r.error.empty() && (run.has_forces || !is_force(k)) ? fmt::format("{:.9g},", run.peak(k)) : std::string(",");
   }
   return fmt::format("{},{:.6g},{},{}{},{},{},{},{}\n", csv_field(record), job.scale,
                      csv_field(st.variants()[job.variant].name), q,

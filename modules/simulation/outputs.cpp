@@ -23,6 +23,11 @@ std::string_view quantity_name(Quantity q) {
   return "?";
 }
 
+bool is_force(Quantity q) {
+  return q == Quantity::base_shear || q == Quantity::base_moment || q == Quantity::mid_shear ||
+         q == Quantity::mid_moment;
+}
+
 std::string_view outcome_name(Outcome o) {
   switch (o) {
     case Outcome::completed: return "completed";

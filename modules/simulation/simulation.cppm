@@ -31,6 +31,7 @@ enum class Quantity {
 };
 inline constexpr std::size_t quantity_count = 10;
 std::string_view quantity_name(Quantity q);  // the JSON key, e.g. "delta_t"
+bool is_force(Quantity q);                   // a section force (none for a rigid block)
 
 // The response at one instant. Forces are normalised (V_ref, M_ref); a rigid
 // block has none (has_forces false, the force entries 0).
