@@ -44,8 +44,13 @@ std::string csv_field(const std::string& s) {
   return out + "\"";
 }
 
+// A record as rows and titles name it: its file name.
+std::string record_name(const Study& st, std::size_t record) {
+  return fs::path(st.records()[record]).filename().string();
+}
+
 std::string row(const Study& st, const Job& job, const JobResult& r) {
-  const std::string record = fs::path(st.records()[job.record]).filename().string();
+  const std::string record = record_name(st, job.record);
   std::string q;
   const RunResult& run = r.run;
   for (Quantity k : {Quantity::delta_t, Quantity::delta_e, Quantity::theta_over_alpha, Quantity::damper_d,
@@ -91,7 +96,7 @@ void study_figures(const StudyArgs& a, const Study& st, const std::vector<Job>& 
     fig.height = 1300;
     fig.title = fmt::format("{}: {} (an overturned run is drawn at its values when it fell)\n{}", scene_name,
                             kind == "ida" ? "incremental dynamic analysis" : "parametric study",
-                            describe_motion(fs::path(st.records()[r]).filename().string()));
+                            describe_motion(record_name(st, r)));
     const std::vector<plot::Panel> panels = {
         {"peak total top drift {/Symbol d}_t [%]", "1:($2*100)"},
         {"peak elastic top drift {/Symbol d}_e [%]", "1:($3*100)"},
@@ -133,7 +138,7 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
         const std::size_t i = mine[k];
         results[i] = r;
         const std::string text = row(st, jobs[i], r);
-        const std::string timing = fmt::format("{},{:.6g},{},{:.6f}\n", csv_field(fs::path(st.records()[jobs[i].record]).filename().string()),
+        const std::string timing = fmt::format("{},{:.6g},{},{:.6f}\n", csv_field(record_name(st, jobs[i].record)),
                                                jobs[i].scale, csv_field(st.variants()[jobs[i].variant].name), r.run.wall_s);
         if (world.size == 1) {
           csv << text << std::flush;  // streamed: a long study shows its rows as they come
@@ -185,7 +190,7 @@ int run_hunt(const StudyArgs& a, const Study& st) {
       pairs.size(), thread_count(a.threads),
       [&](std::size_t k) { return hunt_collapse(st, pairs[k].first, pairs[k].second, first, a.hunt_step, a.hunt_max, a.precision); },
       [&](std::size_t k, const HuntResult& h) {
-        const std::string record = fs::path(st.records()[pairs[k].first]).filename().string();
+        const std::string record = record_name(st, pairs[k].first);
         const std::string variant = st.variants()[pairs[k].second].name;
         csv << fmt::format("{},{},{},{:.6g},{},{}\n", csv_field(record), csv_field(variant),
                            h.collapsed ? fmt::format("{:.6g}", h.collapse_scale) : "", h.survived_scale, h.runs,
