@@ -32,32 +32,29 @@ TEST_CASE("a rigid block lifts when the ground acceleration exceeds g tan(alpha)
   // Lumped on the centre line with a base beam, the static uplift acceleration is
   // g B (1'M1 + m0) / H'M1 = g tan(alpha_cg) exactly.
   const ContactModel m = make_contact_model(chimney({"structure.rigid=true", "damper.enabled=false"}), false);
-  Workspace w(m);
   Discrete d;
   const Eigen::VectorXd y = Eigen::VectorXd::Zero(m.layout.size);
   const double a_up = m.body.g * std::tan(slenderness(m.body.structure));
-  CHECK(uplift_now(m, d, -1.001 * a_up, y, w) == +1);  // ground pushed left: tips right
-  CHECK(uplift_now(m, d, +1.001 * a_up, y, w) == -1);
-  CHECK(uplift_now(m, d, 0.999 * a_up, y, w) == 0);
-  CHECK(uplift_now(m, d, -0.999 * a_up, y, w) == 0);
+  CHECK(uplift_now(m, d, -1.001 * a_up, y) == +1);  // ground pushed left: tips right
+  CHECK(uplift_now(m, d, +1.001 * a_up, y) == -1);
+  CHECK(uplift_now(m, d, 0.999 * a_up, y) == 0);
+  CHECK(uplift_now(m, d, -0.999 * a_up, y) == 0);
 }
 
 TEST_CASE("a damper's residual force enters the uplift condition of the edge it holds") {
   const ContactModel m = make_contact_model(chimney({"structure.rigid=true"}), false);
-  Workspace w(m);
   const Eigen::VectorXd y = Eigen::VectorXd::Zero(m.layout.size);
   const double a_up = m.body.g * std::tan(slenderness(m.body.structure));
   Discrete d;
-  CHECK(uplift_now(m, d, -1.001 * a_up, y, w) == +1);
+  CHECK(uplift_now(m, d, -1.001 * a_up, y) == +1);
   damper_z(d, +1) = 1.0;  // the damper that rocking about +1 stretches is already in tension
-  CHECK(uplift_now(m, d, -1.001 * a_up, y, w) == 0);
+  CHECK(uplift_now(m, d, -1.001 * a_up, y) == 0);
   damper_z(d, +1) = -1.0;  // ... or pushing the edge up: lifts below the rigid threshold
-  CHECK(uplift_now(m, d, -0.999 * a_up, y, w) == +1);
+  CHECK(uplift_now(m, d, -0.999 * a_up, y) == +1);
 }
 
 TEST_CASE("uplift of the flexible chimney needs both the moment (Eq. 2) and L_s > 0 (Eq. 3)") {
   const ContactModel m = make_contact_model(chimney({"damper.enabled=false"}), false);
-  Workspace w(m);
   Discrete d;
   const Layout& l = m.layout;
   Eigen::VectorXd y = Eigen::VectorXd::Zero(l.size);
@@ -67,11 +64,11 @@ TEST_CASE("uplift of the flexible chimney needs both the moment (Eq. 2) and L_s 
   const double c = reference_forces(m.body.structure, m.body.matrices).base_moment /
                    m.body.structure.heights.dot(m.body.matrices.K * phi);
   y.segment(l.u, l.n) = 1.2 * c * phi;
-  CHECK(uplift_now(m, d, 0.0, y, w) == 0);  // at rest: L_s = 0, not > 0
+  CHECK(uplift_now(m, d, 0.0, y) == 0);  // at rest: L_s = 0, not > 0
   y.segment(l.u_dot, l.n) = 0.01 * phi;     // still moving right
-  CHECK(uplift_now(m, d, 0.0, y, w) == +1);
+  CHECK(uplift_now(m, d, 0.0, y) == +1);
   y.segment(l.u_dot, l.n) = -0.01 * phi;    // already coming back
-  CHECK(uplift_now(m, d, 0.0, y, w) == 0);
+  CHECK(uplift_now(m, d, 0.0, y) == 0);
 }
 
 TEST_CASE("impact: continued rocking takes r and keeps u'; full contact keeps the momentum H th'") {

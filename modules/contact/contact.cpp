@@ -51,7 +51,7 @@ double moment_of_velocities(const ContactModel& m, Eigen::Ref<const Eigen::Vecto
 // Eq. 2 as the smooth moment guard g_s [N m] (MODEL.md 6). In full contact
 // the inertia forces equal K u + C u' (flexible) or -M1 a_g (rigid, u = 0).
 double moment_guard(const ContactModel& m, const Discrete& d, int s, double a_g,
-                    Eigen::Ref<const Eigen::VectorXd> y, Workspace& w) {
+                    Eigen::Ref<const Eigen::VectorXd> y) {
   const Structure& st = m.body.structure;
   const double B = st.half_width, g = m.body.g;
   const double f_res = m.has_damper ? damper_force(m.damper, m.d_y, 0.0, damper_z(d, s)) : 0.0;
@@ -60,11 +60,10 @@ double moment_guard(const ContactModel& m, const Discrete& d, int s, double a_g,
     overturning = -s * a_g * st.heights.dot(st.masses);
     restoring = g * B * (st.masses.sum() + st.base_mass);
   } else {
-    const auto u = y.segment(m.layout.u, m.layout.n);
-    w.a.noalias() = m.body.matrices.K * u;
-    w.a.noalias() += m.body.matrices.C * y.segment(m.layout.u_dot, m.layout.n);
-    overturning = s * st.heights.dot(w.a);
-    restoring = g * (st.masses.array() * (B - s * u.array())).sum() + g * st.base_mass * B;
+    // u and u' are adjacent in the layout (u_dot = u + n).
+    overturning = s * m.moment_row.dot(y.segment(m.layout.u, 2 * m.layout.n));
+    const double Mu = st.masses.dot(y.segment(m.layout.u, m.layout.n));
+    restoring = g * (B * (st.masses.sum() + st.base_mass) - s * Mu);
   }
   return overturning - (restoring + f_res * 2.0 * B);
 }
@@ -72,8 +71,8 @@ double moment_guard(const ContactModel& m, const Discrete& d, int s, double a_g,
 // The uplift guard: min(g_s, L_s) crosses zero upwards when both become positive.
 // A rigid block has no elastic momentum, so only Eq. 2 applies.
 double uplift_guard(const ContactModel& m, const Discrete& d, int s, double a_g,
-                    Eigen::Ref<const Eigen::VectorXd> y, Workspace& w) {
-  const double gs = moment_guard(m, d, s, a_g, y, w);
+                    Eigen::Ref<const Eigen::VectorXd> y) {
+  const double gs = moment_guard(m, d, s, a_g, y);
   if (m.layout.u < 0) return gs;
   return std::min(gs, s * moment_of_velocities(m, y));
 }
@@ -114,6 +113,11 @@ ContactModel make_contact_model(const Scene& scene, bool track_energy) {
   m.r_eq10 = restitution_eq10(st);
   m.overturn_angle = scene.contact.overturn_angle > 0 ? scene.contact.overturn_angle : slenderness(st);
   m.layout = make_layout(m.kind, node_count(st), m.has_damper, track_energy);
+  if (m.layout.u >= 0) {
+    const StructuralMatrices& sm = m.body.matrices;
+    m.moment_row.resize(2 * m.layout.n);
+    m.moment_row << sm.K.transpose() * st.heights, sm.C.transpose() * st.heights;
+  }
   return m;
 }
 
@@ -192,11 +196,11 @@ Guard guard_meaning(int pivot, int index) {
 }
 
 void guard_values(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y,
-                  Eigen::Ref<Eigen::VectorXd> g, Workspace& w) {
+                  Eigen::Ref<Eigen::VectorXd> g) {
   if (m.kind == ModelKind::fixed_base) return;
   if (d.pivot == 0) {
-    g[0] = uplift_guard(m, d, +1, a_g, y, w);
-    g[1] = uplift_guard(m, d, -1, a_g, y, w);
+    g[0] = uplift_guard(m, d, +1, a_g, y);
+    g[1] = uplift_guard(m, d, -1, a_g, y);
   } else {
     const double st = d.pivot * y[m.layout.theta];
     g[0] = st;
@@ -204,11 +208,10 @@ void guard_values(const ContactModel& m, const Discrete& d, double a_g, Eigen::R
   }
 }
 
-int uplift_now(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y,
-               Workspace& w) {
+int uplift_now(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y) {
   if (m.kind == ModelKind::fixed_base) return 0;
   for (int s : {+1, -1})
-    if (uplift_guard(m, d, s, a_g, y, w) > 0) return s;
+    if (uplift_guard(m, d, s, a_g, y) > 0) return s;
   return 0;
 }
 

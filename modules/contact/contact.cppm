@@ -47,6 +47,9 @@ struct ContactModel {
   double r_eq10 = 0;
   double overturn_angle = 0;   // [rad]
   Layout layout;
+  // [K'H; C'H] (2N): H'(K u + C u') as one dot product with the contiguous
+  // [u; u'], for the uplift guard, which is sampled several times a step.
+  Eigen::VectorXd moment_row;
 };
 ContactModel make_contact_model(const Scene& scene, bool track_energy);
 
@@ -81,12 +84,11 @@ enum class Guard { uplift_right, uplift_left, impact, overturn };
 std::vector<ode::Direction> guard_directions(const ContactModel& m, int pivot);
 Guard guard_meaning(int pivot, int index);
 void guard_values(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y,
-                  Eigen::Ref<Eigen::VectorXd> g, Workspace& w);
+                  Eigen::Ref<Eigen::VectorXd> g);
 
 // The pivot about which the structure in full contact lifts at this instant
 // (both conditions of MODEL.md 6 hold), or 0.
-int uplift_now(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y,
-               Workspace& w);
+int uplift_now(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y);
 
 // Uplift about pivot s: theta = theta' = 0, the damper lifted by s resumes its z.
 void begin_rocking(const ContactModel& m, Discrete& d, int s, Eigen::Ref<Eigen::VectorXd> y);

@@ -5,6 +5,26 @@ module rocking.dynamics;
 
 namespace rocking {
 
+namespace {
+
+// out = -(K u + C u'), column by column: with a handful of nodes a general
+// matrix-vector kernel costs more in dispatch than in arithmetic, and this
+// runs in every right-hand side.
+void restoring_force(const StructuralMatrices& sm, Eigen::Ref<const Eigen::VectorXd> u,
+                     Eigen::Ref<const Eigen::VectorXd> u_dot, Eigen::Ref<Eigen::VectorXd> out) {
+  const Eigen::Index n = u.size();
+  const double* K = sm.K.data();  // column-major, n x n
+  const double* C = sm.C.data();
+  double* f = out.data();
+  for (Eigen::Index i = 0; i < n; ++i) f[i] = 0.0;
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const double uj = u[j], vj = u_dot[j];
+    for (Eigen::Index i = 0; i < n; ++i) f[i] -= K[j * n + i] * uj + C[j * n + i] * vj;
+  }
+}
+
+}  // namespace
+
 RockingBody make_body(const Structure& s, double g) {
   if (!s.rigid) return {s, assemble(s), g};
   StructuralMatrices none;
@@ -14,9 +34,7 @@ RockingBody make_body(const Structure& s, double g) {
 
 void full_contact_acceleration(const RockingBody& b, double a_g, Eigen::Ref<const Eigen::VectorXd> u,
                                Eigen::Ref<const Eigen::VectorXd> u_dot, Eigen::Ref<Eigen::VectorXd> u_ddot) {
-  const auto& sm = b.matrices;
-  u_ddot.noalias() = -sm.K * u;
-  u_ddot.noalias() -= sm.C * u_dot;
+  restoring_force(b.matrices, u, u_dot, u_ddot);
   u_ddot.array() /= b.structure.masses.array();
   u_ddot.array() -= a_g;
 }
@@ -34,8 +52,7 @@ double rocking_acceleration(const RockingBody& b, int s, double a_g, double F_hd
   const double wMw = (m * work.array().square()).sum();
   const double HM1 = H.dot(st.masses);           // H'M1
   // rhs_u = -M1 a_g cos th - M (sB1 - u) th'^2 - C u' - K u + M1 g sin th, with sB1 - u = s w
-  u_ddot.noalias() = -b.matrices.K * q.u;
-  u_ddot.noalias() -= b.matrices.C * q.u_dot;
+  restoring_force(b.matrices, q.u, q.u_dot, u_ddot);
   u_ddot.array() += m * (-a_g * c - s * work.array() * thd * thd + g * sn);
   const double rhs_th = 2.0 * s * (m * q.u_dot.array() * work.array()).sum() * thd
                         - s * F_hd * 2.0 * B * std::cos(0.5 * th)

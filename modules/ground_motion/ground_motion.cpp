@@ -52,6 +52,7 @@ GroundMotion GroundMotion::from_samples(std::string name, std::vector<double> ti
     return std::abs(t - (times.front() + dt * i++)) <= 1e-9 * dt;
   });
   g.dt_ = even && times.front() == 0.0 ? dt : 0.0;
+  g.inv_dt_ = g.dt_ > 0 ? 1.0 / g.dt_ : 0.0;
   g.times_ = std::move(times);
   g.values_ = std::move(accelerations);
   g.breakpoints_ = g.times_;
@@ -87,13 +88,16 @@ double GroundMotion::acceleration(double t) const {
   }
   if (t < times_.front() || t > times_.back()) return 0.0;
   std::size_t i;
-  if (dt_ > 0) {
-    i = std::min(static_cast<std::size_t>(t / dt_), times_.size() - 2);
+  double s;
+  if (dt_ > 0) {  // even samples from t = 0: no search, no division (called ~10 times a step)
+    const double x = t * inv_dt_;
+    i = std::min(static_cast<std::size_t>(x), times_.size() - 2);
+    s = x - static_cast<double>(i);
   } else {
     i = static_cast<std::size_t>(std::upper_bound(times_.begin(), times_.end(), t) - times_.begin());
     i = std::clamp<std::size_t>(i, 1, times_.size() - 1) - 1;
+    s = (t - times_[i]) / (times_[i + 1] - times_[i]);
   }
-  const double s = (t - times_[i]) / (times_[i + 1] - times_[i]);
   return scale_ * ((1 - s) * values_[i] + s * values_[i + 1]);
 }
 

@@ -50,6 +50,7 @@ class GroundMotion {
   std::string name_;
   std::vector<double> times_, values_;  // samples (empty for a pulse)
   double dt_ = 0;                        // > 0 when the samples are evenly spaced
+  double inv_dt_ = 0;                    // 1 / dt_
   std::vector<double> breakpoints_;
   double duration_ = 0;
   PulseShape shape_ = PulseShape::one_sine;

@@ -44,7 +44,7 @@ bool wanted(Direction d, int from, int to) {
 
 class DormandPrince final : public Integrator {
  public:
-  DormandPrince(Eigen::Index n, Rhs rhs, Options o) : n_(n), rhs_(std::move(rhs)), opt_(o) {
+  DormandPrince(Eigen::Index n, Rhs rhs, Options o) : rhs_(std::move(rhs)), opt_(o) {
     for (auto* v : {&y_, &y_new_, &y_stage_, &y_dense_, &k1_, &k2_, &k3_, &k4_, &k5_, &k6_, &k7_,
                     &r1_, &r2_, &r3_, &r4_, &r5_})
       v->setZero(n);
@@ -263,7 +263,6 @@ class DormandPrince final : public Integrator {
     return {Stop::event, t_, which, to_sign > 0 ? Direction::rising : Direction::falling};
   }
 
-  Eigen::Index n_;
   Rhs rhs_;
   Options opt_;
   Guards guards_;

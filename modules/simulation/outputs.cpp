@@ -47,6 +47,16 @@ OutputScales output_scales(const ContactModel& m) {
     const ReferenceForces ref = reference_forces(st, m.body.matrices);
     sc.V_ref = ref.base_shear;
     sc.M_ref = ref.base_moment;
+    // Shear above h = sum f_i, moment = sum f_i (H_i - h), f = K u (K symmetric).
+    const Eigen::Index n = m.layout.n;
+    const double mid = 0.5 * sc.H_N;
+    const Eigen::ArrayXd above = (st.heights.array() > mid).cast<double>();
+    Eigen::Matrix<double, 4, Eigen::Dynamic> w(4, n);
+    w.row(0).setConstant(1.0 / sc.V_ref);
+    w.row(1) = st.heights.transpose() / sc.M_ref;
+    w.row(2) = above.matrix().transpose() / sc.V_ref;
+    w.row(3) = (above * (st.heights.array() - mid)).matrix().transpose() / sc.M_ref;
+    sc.force_rows = w * m.body.matrices.K;
   }
   return sc;
 }
@@ -71,23 +81,11 @@ Response evaluate(const ContactModel& m, const OutputScales& sc, const Discrete&
   set(Quantity::damper_d, d.pivot * damper.elongation);
   set(Quantity::damper_F, d.pivot * damper.force);
   if (sc.has_forces) {
-    // Elastic nodal forces f = K u; shear above h = sum f_i, moment = sum f_i (H_i - h).
-    double base_shear = 0, base_moment = 0, mid_shear = 0, mid_moment = 0;
-    const double mid = 0.5 * H;
-    for (Eigen::Index i = 0; i < l.n; ++i) {
-      const double f = m.body.matrices.K.row(i).dot(y.segment(l.u, l.n));
-      const double h = st.heights[i];
-      base_shear += f;
-      base_moment += f * h;
-      if (h > mid) {
-        mid_shear += f;
-        mid_moment += f * (h - mid);
-      }
-    }
-    set(Quantity::base_shear, base_shear / sc.V_ref);
-    set(Quantity::base_moment, base_moment / sc.M_ref);
-    set(Quantity::mid_shear, mid_shear / sc.V_ref);
-    set(Quantity::mid_moment, mid_moment / sc.M_ref);
+    const Eigen::Vector4d f = sc.force_rows * y.segment(l.u, l.n);
+    set(Quantity::base_shear, f[0]);
+    set(Quantity::base_moment, f[1]);
+    set(Quantity::mid_shear, f[2]);
+    set(Quantity::mid_moment, f[3]);
   }
   return r;
 }

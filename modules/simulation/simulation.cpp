@@ -115,7 +115,7 @@ class Driver {
   // uplift conditions already hold (MODEL.md 6).
   void begin_contact_if_lifting(double t) {
     if (d_.pivot != 0) return;
-    const int s = uplift_now(m_, d_, ground_.acceleration(t), y_, work_);
+    const int s = uplift_now(m_, d_, ground_.acceleration(t), y_);
     if (s != 0) lift(s, t);
   }
 
@@ -129,7 +129,7 @@ class Driver {
     guards.directions = guard_directions(m_, d_.pivot);
     if (!guards.directions.empty())
       guards.fn = [this](double tg, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> g) {
-        guard_values(m_, d_, ground_.acceleration(tg), y, g, work_);
+        guard_values(m_, d_, ground_.acceleration(tg), y, g);
       };
     integrator_->reset(t, y_, std::move(guards));
     emit(t, y_, true);

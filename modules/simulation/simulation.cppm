@@ -107,6 +107,9 @@ struct RunResult {
 struct OutputScales {
   double H_N = 0, alpha_cg = 0, V_ref = 0, M_ref = 0;
   bool has_forces = true;
+  // Rows giving (base shear / V_ref, base moment / M_ref, mid shear / V_ref,
+  // mid moment / M_ref) from u: sums of the elastic nodal forces K u.
+  Eigen::Matrix<double, 4, Eigen::Dynamic> force_rows;
 };
 OutputScales output_scales(const ContactModel& m);
 Response evaluate(const ContactModel& m, const OutputScales& sc, const Discrete& d, double t,
