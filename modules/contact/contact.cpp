@@ -2,6 +2,7 @@ module;
 #include <rocking/eigen.hpp>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <string>
 #include <vector>
 #include <fmt/format.h>
@@ -130,6 +131,24 @@ std::string phase_name(int pivot) {
 
 Workspace::Workspace(const ContactModel& m)
     : a(node_count(m.body.structure)), b(node_count(m.body.structure)) {}
+
+ode::LinearSystem full_contact_system(const ContactModel& m, std::function<double(double)> a_g) {
+  const Eigen::Index n = m.layout.n;
+  if (m.layout.u < 0) throw InputError("full_contact_system: a rigid block has no elastic coordinates");
+  const StructuralMatrices& sm = m.body.matrices;
+  const Eigen::VectorXd minus_inverse_mass = -m.body.structure.masses.cwiseInverse();
+  ode::LinearSystem sys;
+  sys.size = m.layout.size;
+  sys.first = m.layout.u;  // u_dot follows u
+  sys.A = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+  sys.A.topRightCorner(n, n).setIdentity();
+  sys.A.bottomLeftCorner(n, n) = minus_inverse_mass.asDiagonal() * sm.K;   // u'' = -M^-1 (K u + C u') - 1 a_g
+  sys.A.bottomRightCorner(n, n) = minus_inverse_mass.asDiagonal() * sm.C;
+  sys.b = Eigen::VectorXd::Zero(2 * n);
+  sys.b.tail(n).setConstant(-1.0);
+  sys.forcing = std::move(a_g);
+  return sys;
+}
 
 DamperState active_damper(const ContactModel& m, const Discrete& d, Eigen::Ref<const Eigen::VectorXd> y) {
   if (!m.has_damper || d.pivot == 0) return {};

@@ -17,6 +17,7 @@
 module;
 #include <rocking/eigen.hpp>
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 export module rocking.contact;
@@ -72,6 +73,11 @@ struct Workspace {
 // dy/dt in the current phase at ground acceleration a_g.
 void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y,
                Eigen::Ref<Eigen::VectorXd> dydt, Workspace& w);
+
+// Full contact of a flexible structure (Eq. 1) as z' = A z + b a_g(t) on the
+// block z = [u; u'] of the state (the rest is constant in full contact), for
+// exact integration under a piecewise-linear record.
+ode::LinearSystem full_contact_system(const ContactModel& m, std::function<double(double)> a_g);
 
 // The damper force and elongation of the active damper (0 in full contact).
 struct DamperState {

@@ -36,6 +36,8 @@ class GroundMotion {
 
   double acceleration(double t) const;       // a_g(t) [m/s^2]
   const std::vector<double>& breakpoints() const { return breakpoints_; }
+  // A record: a_g is linear between consecutive breakpoints (a pulse is not).
+  bool piecewise_linear() const { return !times_.empty(); }
   double duration() const { return duration_; }
   double peak() const;                       // max |a_g| [m/s^2]
   // Largest integrator step that still resolves a_g(t) between breakpoints:

@@ -94,11 +94,68 @@ class Integrator {
   // Dense output: the state at any t in [previous_time(), time()].
   virtual double previous_time() const = 0;
   virtual void dense(double t, Eigen::Ref<Eigen::VectorXd> y) = 0;
+  // The state at sample k of `count` evenly spaced over the last step
+  // (k = count is its end): dense output at sample_time(k, count), which an
+  // integrator may serve from what it computed for its own guard samples.
+  virtual void sample(int k, int count, Eigen::Ref<Eigen::VectorXd> y);
+  double sample_time(int k, int count) const;
   virtual Stats stats() const = 0;
   virtual std::string name() const = 0;
 };
 
 std::unique_ptr<Integrator> make_rk45(Eigen::Index n, Rhs rhs, Options options);
+
+// y' = f(t, y) where, on the block z = y[first, first + m), f = A z + b a(t),
+// and every other component of y is constant; a(t) is linear between
+// breakpoints (the caller lists every kink of a as a breakpoint). A must be
+// diagonalisable and invertible (a damped structure on a fixed base is).
+struct LinearSystem {
+  Eigen::Index size = 0, first = 0;
+  Eigen::MatrixXd A;
+  Eigen::VectorXd b;
+  std::function<double(double)> forcing;
+};
+// Exact steps of y' = A z + b a(t) (see linear.cpp); a step ends at a
+// breakpoint or after Options::max_step, which sets how densely the guards are
+// sampled. Tolerances are not used: there is no truncation error to control.
+std::unique_ptr<Integrator> make_exact_linear(LinearSystem system, Options options);
+
+// For Integrator implementations: the guards' signs at the last sample, the
+// scan of a step's samples for wanted sign changes, and their location on the
+// dense output by the Illinois method with bisection fallback.
+class GuardScanner {
+ public:
+  struct Crossing {
+    double t;
+    int guard;
+    int to_sign;
+  };
+  using Sampler = std::function<void(int k, Eigen::Ref<Eigen::VectorXd> y)>;
+  using Dense = std::function<void(double t, Eigen::Ref<Eigen::VectorXd> y)>;
+
+  // New guards at (t, y); a guard exactly zero there is silent until it leaves zero.
+  void reset(Guards guards, double t, Eigen::Ref<const Eigen::VectorXd> y);
+  bool active() const { return !guards_.directions.empty(); }
+  // Samples k = 1..count of the step [t0, t1] (sample(k) fills the state at
+  // t0 + k (t1 - t0) / count): the earliest wanted crossing, located to
+  // round-off on dense(t); a crossing within round-off of the last restart
+  // (the event that caused it, seen again) is not reported.
+  bool scan(double t0, double t1, int count, const Sampler& sample, const Dense& dense, Crossing& found);
+  // The state was moved to crossing c at time c.t: signs are taken there.
+  void restart_at(const Crossing& c, Eigen::Ref<const Eigen::VectorXd> y);
+  long evaluations() const { return evaluations_; }
+
+ private:
+  void evaluate(double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::VectorXd& g);
+  double locate(int i, double a, int sa, double b, double t0, const Dense& dense);
+
+  Guards guards_;
+  Eigen::VectorXd g_, g_work_, y_work_;
+  std::vector<int> ref_sign_;
+  std::vector<double> ref_time_;
+  double restart_t_ = 0;
+  long evaluations_ = 0;
+};
 
 // Steps until t_end or the first event; returns the final report.
 StepReport advance(Integrator& integrator, double t_end);

@@ -36,12 +36,6 @@ constexpr double beta = 0.04, expo1 = 0.2 - 0.75 * beta, safety = 0.9, fac_min =
 constexpr double eps = std::numeric_limits<double>::epsilon();
 constexpr int samples_per_step = 4;  // guard samples inside each step (incl. its end)
 
-int sign(double v) { return (v > 0) - (v < 0); }
-
-bool wanted(Direction d, int from, int to) {
-  return (d != Direction::falling && from < 0 && to > 0) || (d != Direction::rising && from > 0 && to < 0);
-}
-
 class DormandPrince final : public Integrator {
  public:
   DormandPrince(Eigen::Index n, Rhs rhs, Options o) : rhs_(std::move(rhs)), opt_(o) {
@@ -51,20 +45,11 @@ class DormandPrince final : public Integrator {
   }
 
   void reset(double t, const Eigen::VectorXd& y, Guards guards) override {
-    t_ = t_prev_ = restart_t_ = t;
+    t_ = t_prev_ = t;
     y_ = y;
     r1_ = y;
     r2_.setZero(); r3_.setZero(); r4_.setZero(); r5_.setZero();
-    guards_ = std::move(guards);
-    const auto m = static_cast<Eigen::Index>(guards_.directions.size());
-    g_.setZero(m);
-    g_work_.setZero(m);
-    ref_sign_.assign(static_cast<std::size_t>(m), 0);
-    ref_time_.assign(static_cast<std::size_t>(m), t);
-    if (m > 0) {
-      eval_guards(t, y_, g_);
-      for (Eigen::Index i = 0; i < m; ++i) ref_sign_[static_cast<std::size_t>(i)] = sign(g_[i]);
-    }
+    scanner_.reset(std::move(guards), t, y_);
     rhs(t_, y_, k1_);
     if (!k1_.allFinite()) throw IntegrationError(IntegrationError::Kind::non_finite_state, t_, "at the initial state");
     h_ = opt_.initial_step > 0 ? opt_.initial_step : initial_step();
@@ -129,17 +114,17 @@ class DormandPrince final : public Integrator {
     const double s = (t - t_prev_) / h_dense_, s1 = 1.0 - s;
     y = r1_ + s * (r2_ + s1 * (r3_ + s * (r4_ + s1 * r5_)));
   }
-  Stats stats() const override { return stats_; }
+  Stats stats() const override {
+    Stats out = stats_;
+    out.guards = scanner_.evaluations();
+    return out;
+  }
   std::string name() const override { return "rk45"; }
 
  private:
   void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& f) {
     rhs_(t, y, f);
     ++stats_.rhs;
-  }
-  void eval_guards(double t, const Eigen::VectorXd& y, Eigen::VectorXd& g) {
-    guards_.fn(t, y, g);
-    ++stats_.guards;
   }
 
   double weighted_rms(const Eigen::VectorXd& v, const Eigen::VectorXd& ya, const Eigen::VectorXd& yb) const {
@@ -193,85 +178,31 @@ class DormandPrince final : public Integrator {
     ++stats_.steps;
   }
 
-  // Scans the guards at samples_per_step points of the last step; locates the
-  // earliest wanted sign change and moves the state there.
+  // Scans the guards at samples_per_step points of the last step; moves the
+  // state to the earliest wanted crossing.
   StepReport find_event() {
-    const auto m = static_cast<Eigen::Index>(guards_.directions.size());
-    if (m == 0) return {Stop::step, t_};
-    for (int k = 1; k <= samples_per_step; ++k) {
-      const double tk = k == samples_per_step ? t_ : t_prev_ + (t_ - t_prev_) * k / samples_per_step;
-      dense(tk, y_dense_);
-      eval_guards(tk, y_dense_, g_);
-      double t_event = std::numeric_limits<double>::infinity();
-      int which = -1, to_sign = 0;
-      for (Eigen::Index i = 0; i < m; ++i) {
-        const auto u = static_cast<std::size_t>(i);
-        const int s = sign(g_[i]);
-        if (s == 0) continue;  // zero: keep the last definite sign
-        if (ref_sign_[u] != 0 && s != ref_sign_[u] && wanted(guards_.directions[u], ref_sign_[u], s)) {
-          const double te = locate(static_cast<int>(i), ref_time_[u], ref_sign_[u], tk);
-          // A crossing within round-off of the restart is the event that caused
-          // the restart, seen again (CVODE's ttol): not reported.
-          const bool at_restart = te - restart_t_ <= 100 * eps * (std::abs(restart_t_) + (t_ - t_prev_));
-          if (!at_restart && te < t_event) { t_event = te; which = static_cast<int>(i); to_sign = s; }
-        }
-        ref_sign_[u] = s;
-        ref_time_[u] = tk;
-      }
-      if (which >= 0) return stop_at_event(which, t_event, to_sign);
-    }
-    return {Stop::step, t_};
-  }
-
-  // Illinois on g_i along the dense output, bracket [a, b] with sign(g(a)) = sa;
-  // returns the end of the final bracket that is past the crossing.
-  double locate(int i, double a, int sa, double b) {
-    auto g_at = [&](double t) { dense(t, y_dense_); eval_guards(t, y_dense_, g_work_); return g_work_[i]; };
-    double ga = g_at(a), gb = g_at(b);
-    const double tol = 8 * eps * std::max(std::abs(b), b - t_prev_);
-    int side = 0;
-    for (int iter = 0; b - a > tol && iter < 200; ++iter) {
-      double t = (iter % 4 == 3 || ga == gb) ? 0.5 * (a + b) : b - gb * (b - a) / (gb - ga);
-      if (!(t > a && t < b)) t = 0.5 * (a + b);
-      const double gt = g_at(t);
-      if (sign(gt) == sa || gt == 0) {
-        a = t; ga = gt;
-        if (side == -1) gb *= 0.5;  // Illinois: halve the stale end
-        side = -1;
-      } else {
-        b = t; gb = gt;
-        if (side == 1) ga *= 0.5;
-        side = 1;
-      }
-    }
-    return b;
-  }
-
-  StepReport stop_at_event(int which, double t_event, int to_sign) {
-    dense(t_event, y_dense_);
-    t_ = restart_t_ = t_event;
+    if (!scanner_.active()) return {Stop::step, t_};
+    GuardScanner::Crossing c{};
+    const bool hit = scanner_.scan(
+        t_prev_, t_, samples_per_step, [this](int k, Eigen::Ref<Eigen::VectorXd> y) { sample(k, samples_per_step, y); },
+        [this](double t, Eigen::Ref<Eigen::VectorXd> y) { dense(t, y); }, c);
+    if (!hit) return {Stop::step, t_};
+    dense(c.t, y_dense_);
+    t_ = c.t;
     y_ = y_dense_;
     rhs(t_, y_, k1_);  // the FSAL derivative belongs to the discarded step end
-    eval_guards(t_, y_, g_);
-    for (std::size_t u = 0; u < ref_sign_.size(); ++u) {
-      const int s = sign(g_[static_cast<Eigen::Index>(u)]);
-      if (s != 0) ref_sign_[u] = s;
-      ref_time_[u] = t_;
-    }
-    ref_sign_[static_cast<std::size_t>(which)] = to_sign;
+    scanner_.restart_at(c, y_);
     ++stats_.events;
-    return {Stop::event, t_, which, to_sign > 0 ? Direction::rising : Direction::falling};
+    return {Stop::event, t_, c.guard, c.to_sign > 0 ? Direction::rising : Direction::falling};
   }
 
   Rhs rhs_;
   Options opt_;
-  Guards guards_;
-  double t_ = 0, t_prev_ = 0, restart_t_ = 0, h_ = 0, h_dense_ = 0, fac_old_ = 1e-4;
+  GuardScanner scanner_;
+  double t_ = 0, t_prev_ = 0, h_ = 0, h_dense_ = 0, fac_old_ = 1e-4;
   bool last_rejected_ = false;
   Eigen::VectorXd y_, y_new_, y_stage_, y_dense_, k1_, k2_, k3_, k4_, k5_, k6_, k7_;
-  Eigen::VectorXd r1_, r2_, r3_, r4_, r5_, g_, g_work_;  // guards: samples, root search
-  std::vector<int> ref_sign_;
-  std::vector<double> ref_time_;
+  Eigen::VectorXd r1_, r2_, r3_, r4_, r5_;
   std::vector<double> breakpoints_;
   std::size_t next_bp_ = 0;
   Stats stats_;

@@ -1,0 +1,126 @@
+// GuardScanner: the event search both built-in integrators share (see the
+// module interface): guards sampled at evenly spaced points of each step, a
+// wanted sign change located by Illinois (regula falsi with the stale end's
+// value halved) falling back to bisection, to a bracket of a few ulps.
+module;
+#include <rocking/eigen.hpp>
+#include <cmath>
+#include <limits>
+#include <vector>
+module rocking.integrator;
+
+namespace rocking::ode {
+
+namespace {
+
+constexpr double eps = std::numeric_limits<double>::epsilon();
+
+int sign(double v) { return (v > 0) - (v < 0); }
+
+bool wanted(Direction d, int from, int to) {
+  return (d != Direction::falling && from < 0 && to > 0) || (d != Direction::rising && from > 0 && to < 0);
+}
+
+}  // namespace
+
+void Integrator::sample(int k, int count, Eigen::Ref<Eigen::VectorXd> y) {
+  if (k == count) y = state();
+  else dense(sample_time(k, count), y);
+}
+
+double Integrator::sample_time(int k, int count) const {
+  const double t0 = previous_time(), t1 = time();
+  return k == count ? t1 : t0 + (t1 - t0) * k / count;
+}
+
+void GuardScanner::reset(Guards guards, double t, Eigen::Ref<const Eigen::VectorXd> y) {
+  guards_ = std::move(guards);
+  restart_t_ = t;
+  const auto m = static_cast<Eigen::Index>(guards_.directions.size());
+  g_.setZero(m);
+  g_work_.setZero(m);
+  y_work_.setZero(y.size());
+  ref_sign_.assign(static_cast<std::size_t>(m), 0);
+  ref_time_.assign(static_cast<std::size_t>(m), t);
+  if (m == 0) return;
+  evaluate(t, y, g_);
+  for (Eigen::Index i = 0; i < m; ++i) ref_sign_[static_cast<std::size_t>(i)] = sign(g_[i]);
+}
+
+void GuardScanner::evaluate(double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::VectorXd& g) {
+  guards_.fn(t, y, g);
+  ++evaluations_;
+}
+
+bool GuardScanner::scan(double t0, double t1, int count, const Sampler& sample, const Dense& dense,
+                        Crossing& found) {
+  const auto m = static_cast<Eigen::Index>(guards_.directions.size());
+  if (m == 0) return false;
+  for (int k = 1; k <= count; ++k) {
+    const double tk = k == count ? t1 : t0 + (t1 - t0) * k / count;
+    sample(k, y_work_);
+    evaluate(tk, y_work_, g_);
+    double t_event = std::numeric_limits<double>::infinity();
+    int which = -1, to_sign = 0;
+    for (Eigen::Index i = 0; i < m; ++i) {
+      const auto u = static_cast<std::size_t>(i);
+      const int s = sign(g_[i]);
+      if (s == 0) continue;  // zero: keep the last definite sign
+      if (ref_sign_[u] != 0 && s != ref_sign_[u] && wanted(guards_.directions[u], ref_sign_[u], s)) {
+        const double te = locate(static_cast<int>(i), ref_time_[u], ref_sign_[u], tk, t0, dense);
+        // A crossing within round-off of the restart is the event that caused
+        // the restart, seen again (CVODE's ttol): not reported.
+        const bool at_restart = te - restart_t_ <= 100 * eps * (std::abs(restart_t_) + (t1 - t0));
+        if (!at_restart && te < t_event) { t_event = te; which = static_cast<int>(i); to_sign = s; }
+      }
+      ref_sign_[u] = s;
+      ref_time_[u] = tk;
+    }
+    if (which >= 0) {
+      found = {t_event, which, to_sign};
+      return true;
+    }
+  }
+  return false;
+}
+
+// Bracket [a, b] with sign(g_i(a)) = sa; returns the end of the final bracket
+// that is past the crossing.
+double GuardScanner::locate(int i, double a, int sa, double b, double t0, const Dense& dense) {
+  auto g_at = [&](double t) {
+    dense(t, y_work_);
+    evaluate(t, y_work_, g_work_);
+    return g_work_[i];
+  };
+  double ga = g_at(a), gb = g_at(b);
+  const double tol = 8 * eps * std::max(std::abs(b), b - t0);
+  int side = 0;
+  for (int iter = 0; b - a > tol && iter < 200; ++iter) {
+    double t = (iter % 4 == 3 || ga == gb) ? 0.5 * (a + b) : b - gb * (b - a) / (gb - ga);
+    if (!(t > a && t < b)) t = 0.5 * (a + b);
+    const double gt = g_at(t);
+    if (sign(gt) == sa || gt == 0) {
+      a = t; ga = gt;
+      if (side == -1) gb *= 0.5;  // Illinois: halve the stale end
+      side = -1;
+    } else {
+      b = t; gb = gt;
+      if (side == 1) ga *= 0.5;
+      side = 1;
+    }
+  }
+  return b;
+}
+
+void GuardScanner::restart_at(const Crossing& c, Eigen::Ref<const Eigen::VectorXd> y) {
+  restart_t_ = c.t;
+  evaluate(c.t, y, g_);
+  for (std::size_t u = 0; u < ref_sign_.size(); ++u) {
+    const int s = sign(g_[static_cast<Eigen::Index>(u)]);
+    if (s != 0) ref_sign_[u] = s;
+    ref_time_[u] = c.t;
+  }
+  ref_sign_[static_cast<std::size_t>(c.guard)] = c.to_sign;
+}
+
+}  // namespace rocking::ode
