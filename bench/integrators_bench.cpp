@@ -42,7 +42,7 @@ void solve(benchmark::State& state, ode::Backend backend) {
   for (auto _ : state) {
     auto in = ode::make_integrator(backend, 2 * model.n,
                                    [&](double t, CRef y, Ref f) { model.rhs(t, y, f); }, options);
-    in->set_breakpoints(samples);
+    in->set_breakpoints(ode::breakpoint_list(samples));
     in->reset(0.0, Eigen::VectorXd::Zero(2 * model.n), {});
     ode::advance(*in, 10.0);
     stats = in->stats();

@@ -26,7 +26,7 @@ TEST_CASE("rk45 makes no heap allocation while stepping, with guards, events and
   auto rk = make_rk45(2, [](double, CRef y, Ref f) { f[0] = y[1]; f[1] = -y[0]; }, {.rtol = 1e-9, .atol = 1e-9});
   std::vector<double> bps;
   for (int k = 1; k < 200; ++k) bps.push_back(0.1 * k);
-  rk->set_breakpoints(bps);
+  rk->set_breakpoints(breakpoint_list(bps));
   Eigen::VectorXd y0(2);
   y0 << 0.0, 1.0;
   rk->reset(0.0, y0, {[](double, CRef y, Ref g) { g[0] = y[0]; }, {Direction::either}});

@@ -55,7 +55,7 @@ TEST_CASE("exact steps match the closed form of an oscillator under a constant, 
   Options o;
   o.max_step = 0.1;
   auto integ = make_exact_linear(oscillator(), o);
-  integ->set_breakpoints({1.0});
+  integ->set_breakpoints(breakpoint_list({1.0}));
   integ->reset(0, start(), {});
   Eigen::VectorXd y(3);
   while (integ->time() < 3.0) {

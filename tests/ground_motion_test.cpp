@@ -39,7 +39,17 @@ TEST_CASE("the three AT2 header styles read with the NPTS, DT and PGA of SOURCES
                           Expect{"christchurch2011_pphs_s57e.at2", 8401, 0.005, 0.1990, 10.54}}) {  // F3, CRLF
     CAPTURE(e.file);
     const GroundMotion g = read_record(*dir + "/" + e.file);
-    CHECK(g.breakpoints().size() == static_cast<std::size_t>(e.npts));
+    CHECK(g.sample_count() == static_cast<std::size_t>(e.npts));
+    // Every sample is a breakpoint, found one after another from before the start.
+    long found = 0;
+    double last = -1.0;
+    for (double t = g.next_breakpoint(-1.0); std::isfinite(t); t = g.next_breakpoint(t)) {
+      CHECK(t > last);
+      CHECK(t == doctest::Approx(found * e.dt).epsilon(1e-12));
+      last = t;
+      ++found;
+    }
+    CHECK(found == e.npts);
     CHECK(g.duration() == doctest::Approx((e.npts - 1) * e.dt).epsilon(1e-12));
     CHECK(g.peak() / 9.81 == doctest::Approx(e.pga_g).epsilon(5e-4));
     CHECK(std::abs(g.acceleration(e.pga_time)) / 9.81 == doctest::Approx(e.pga_g).epsilon(5e-4));
@@ -54,6 +64,13 @@ TEST_CASE("the acceleration is linear between samples and zero outside the recor
   CHECK(g.acceleration(-0.1) == 0.0);
   CHECK(g.acceleration(2.1) == 0.0);
   CHECK(g.scaled(3.0).acceleration(0.25) == doctest::Approx(1.5));
+  CHECK(g.next_breakpoint(0.0) == 1.0);  // strictly after
+  CHECK(g.next_breakpoint(0.999) == 1.0);
+  CHECK(std::isinf(g.next_breakpoint(2.0)));
+  // Uneven samples keep their own times.
+  const GroundMotion u = GroundMotion::from_samples("uneven", {0.0, 0.1, 0.3}, {1.0, 3.0, 1.0});
+  CHECK(u.acceleration(0.2) == doctest::Approx(2.0));
+  CHECK(u.next_breakpoint(0.1) == 0.3);
 }
 
 TEST_CASE("two-column and one-column files, units and scale") {
@@ -71,7 +88,8 @@ TEST_CASE("a one-sine pulse is A sin(2 pi t / T) on [0, T] with a breakpoint whe
   const GroundMotion p = GroundMotion::pulse(PulseShape::one_sine, 3.0, 0.5);
   CHECK(p.acceleration(0.125) == doctest::Approx(3.0));
   CHECK(p.acceleration(0.6) == 0.0);
-  CHECK(p.breakpoints() == std::vector<double>{0.5});
+  CHECK(p.next_breakpoint(0.0) == 0.5);
+  CHECK(std::isinf(p.next_breakpoint(0.5)));
   const GroundMotion r = GroundMotion::pulse(PulseShape::ricker, 2.0, 1.0);
   CHECK(r.acceleration(1.5) == doctest::Approx(2.0));  // peak at t0 = 1.5 T
   const double u0 = std::pow(1.5 * std::numbers::pi, 2);  // starts from (nearly) rest

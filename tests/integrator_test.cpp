@@ -178,7 +178,7 @@ TEST_CASE("breakpoints are landed on exactly and never stepped across") {
   for (Backend b : all_backends) {
     CAPTURE(backend_name(b));
     auto in = make_integrator(b, 1, decay, {.rtol = 1e-6, .atol = 1e-9});
-    in->set_breakpoints(bps);
+    in->set_breakpoints(breakpoint_list(bps));
     in->reset(0.0, vec({1.0}), {});
     std::vector<double> landed;
     while (in->time() < 1.0) {

@@ -42,6 +42,7 @@ struct SolverOptions {
   double duration = 0;
   long max_events = 100000;
   long max_steps = 10'000'000;
+  bool integrate_contact = false;  // full contact by the backend, not exact steps
 };
 void add_solver_options(CLI::App& cmd, SolverOptions& opts);
 // scene_excitation: the run uses the scene's [excitation] (and its duration).

@@ -71,6 +71,11 @@ void add_solver_options(CLI::App& cmd, SolverOptions& opts) {
   cmd.add_option("--max-steps", opts.max_steps,
                  "Stop with an error after this many integrator steps (default 1e7)")
       ->type_name("N");
+  cmd.add_flag("--integrate-contact", opts.integrate_contact,
+               "Integrate full contact with the chosen integrator too. By default a\n"
+               "flexible structure in full contact under a record is stepped exactly\n"
+               "(the phase is linear and the record piecewise linear; runs that track\n"
+               "energy, and pulses, are always integrated)");
 }
 
 rocking::RunOptions run_options(const rocking::Scene& scene, const SolverOptions& opts, bool scene_excitation) {
@@ -89,6 +94,7 @@ rocking::RunOptions run_options(const rocking::Scene& scene, const SolverOptions
   if (opts.max_steps < 1) throw InputError(fmt::format("--max-steps {}: must be at least 1", opts.max_steps));
   ro.max_events = opts.max_events;
   ro.tolerances.max_steps = opts.max_steps;
+  ro.exact_full_contact = !opts.integrate_contact;
   return ro;
 }
 

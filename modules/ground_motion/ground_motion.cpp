@@ -2,6 +2,7 @@ module;
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <string>
 #include <string_view>
@@ -51,12 +52,17 @@ GroundMotion GroundMotion::from_samples(std::string name, std::vector<double> ti
   const bool even = std::all_of(times.begin(), times.end(), [&, i = 0.0](double t) mutable {
     return std::abs(t - (times.front() + dt * i++)) <= 1e-9 * dt;
   });
-  g.dt_ = even && times.front() == 0.0 ? dt : 0.0;
-  g.inv_dt_ = g.dt_ > 0 ? 1.0 / g.dt_ : 0.0;
-  g.times_ = std::move(times);
-  g.values_ = std::move(accelerations);
-  g.breakpoints_ = g.times_;
-  g.duration_ = g.times_.back();
+  auto samples = std::make_shared<Samples>();
+  g.duration_ = times.back();
+  if (even && times.front() == 0.0) {
+    samples->dt = dt;
+    samples->inv_dt = 1.0 / dt;
+    g.duration_ = dt * static_cast<double>(times.size() - 1);
+  } else {
+    samples->times = std::move(times);
+  }
+  samples->values = std::move(accelerations);
+  g.samples_ = std::move(samples);
   return g;
 }
 
@@ -69,7 +75,6 @@ GroundMotion GroundMotion::pulse(PulseShape shape, double amplitude, double peri
   g.period_ = period;
   if (shape == PulseShape::one_sine) {
     g.name_ = fmt::format("one-sine pulse, {:.3g} m/s2, T = {:.3g} s", amplitude, period);
-    g.breakpoints_ = {period};  // the kink where the pulse ends
     g.duration_ = period;
   } else {
     g.name_ = fmt::format("Ricker pulse, {:.3g} m/s2, f = {:.3g} Hz", amplitude, 1.0 / period);
@@ -78,37 +83,62 @@ GroundMotion GroundMotion::pulse(PulseShape shape, double amplitude, double peri
   return g;
 }
 
+double GroundMotion::time_of(std::size_t i) const {
+  return samples_->dt > 0 ? samples_->dt * static_cast<double>(i) : samples_->times[i];
+}
+
+std::size_t GroundMotion::sample_count() const { return samples_ ? samples_->values.size() : 0; }
+
 double GroundMotion::acceleration(double t) const {
-  if (times_.empty()) {  // analytic pulse
+  if (!samples_) {  // analytic pulse
     const double A = amplitude_ * scale_;
     if (shape_ == PulseShape::one_sine)
       return t >= 0 && t <= period_ ? A * std::sin(2 * std::numbers::pi * t / period_) : 0.0;
     const double u = std::pow(std::numbers::pi * (t - 1.5 * period_) / period_, 2);
     return A * (1 - 2 * u) * std::exp(-u);
   }
-  if (t < times_.front() || t > times_.back()) return 0.0;
+  const Samples& sm = *samples_;
+  const std::size_t n = sm.values.size();
+  if (t < time_of(0) || t > duration_) return 0.0;
   std::size_t i;
   double s;
-  if (dt_ > 0) {  // even samples from t = 0: no search, no division (called ~10 times a step)
-    const double x = t * inv_dt_;
-    i = std::min(static_cast<std::size_t>(x), times_.size() - 2);
+  if (sm.dt > 0) {  // no search, no division (called ~10 times a step)
+    const double x = t * sm.inv_dt;
+    i = std::min(static_cast<std::size_t>(x), n - 2);
     s = x - static_cast<double>(i);
   } else {
-    i = static_cast<std::size_t>(std::upper_bound(times_.begin(), times_.end(), t) - times_.begin());
-    i = std::clamp<std::size_t>(i, 1, times_.size() - 1) - 1;
-    s = (t - times_[i]) / (times_[i + 1] - times_[i]);
+    i = static_cast<std::size_t>(std::upper_bound(sm.times.begin(), sm.times.end(), t) - sm.times.begin());
+    i = std::clamp<std::size_t>(i, 1, n - 1) - 1;
+    s = (t - sm.times[i]) / (sm.times[i + 1] - sm.times[i]);
   }
-  return scale_ * ((1 - s) * values_[i] + s * values_[i + 1]);
+  return scale_ * ((1 - s) * sm.values[i] + s * sm.values[i + 1]);
+}
+
+double GroundMotion::next_breakpoint(double t) const {
+  constexpr double none = std::numeric_limits<double>::infinity();
+  if (!samples_) return shape_ == PulseShape::one_sine && t < period_ ? period_ : none;
+  const Samples& sm = *samples_;
+  const std::size_t n = sm.values.size();
+  std::size_t i;
+  if (sm.dt > 0) {
+    const double x = std::floor(t * sm.inv_dt);
+    i = x < 0 ? 0 : static_cast<std::size_t>(std::min(x, static_cast<double>(n)));
+    while (i > 0 && time_of(i - 1) > t) --i;  // round-off in t / dt, either way
+    while (i < n && time_of(i) <= t) ++i;
+  } else {
+    i = static_cast<std::size_t>(std::upper_bound(sm.times.begin(), sm.times.end(), t) - sm.times.begin());
+  }
+  return i < n ? time_of(i) : none;
 }
 
 double GroundMotion::max_step() const {
-  return times_.empty() ? period_ / 40.0 : std::numeric_limits<double>::infinity();
+  return samples_ ? std::numeric_limits<double>::infinity() : period_ / 40.0;
 }
 
 double GroundMotion::peak() const {
-  if (times_.empty()) return std::abs(amplitude_ * scale_);
+  if (!samples_) return std::abs(amplitude_ * scale_);
   double m = 0;
-  for (double v : values_) m = std::max(m, std::abs(v));
+  for (double v : samples_->values) m = std::max(m, std::abs(v));
   return m * std::abs(scale_);
 }
 

@@ -11,6 +11,7 @@
 //   Ricker:   a(t) = A (1 - 2 u) exp(-u), u = (pi f (t - t0))^2, t0 = 1.5 / f.
 // Every reader error is an InputError of one line: file:line and what is wrong.
 module;
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -35,9 +36,12 @@ class GroundMotion {
   static GroundMotion pulse(PulseShape shape, double amplitude, double period);
 
   double acceleration(double t) const;       // a_g(t) [m/s^2]
-  const std::vector<double>& breakpoints() const { return breakpoints_; }
+  // The first breakpoint (a record's sample, a pulse's end) strictly after t,
+  // or +infinity: computed, not listed, so that a run holds no copy of them.
+  double next_breakpoint(double t) const;
+  std::size_t sample_count() const;          // 0 for a pulse
   // A record: a_g is linear between consecutive breakpoints (a pulse is not).
-  bool piecewise_linear() const { return !times_.empty(); }
+  bool piecewise_linear() const { return samples_ != nullptr; }
   double duration() const { return duration_; }
   double peak() const;                       // max |a_g| [m/s^2]
   // Largest integrator step that still resolves a_g(t) between breakpoints:
@@ -46,14 +50,20 @@ class GroundMotion {
   // infinity for a record, whose samples are breakpoints.
   double max_step() const;
   const std::string& name() const { return name_; }
-  GroundMotion scaled(double factor) const;  // a_g x factor
+  GroundMotion scaled(double factor) const;  // a_g x factor; shares the samples
 
  private:
+  // A record's samples, shared by its scaled copies (a study runs many).
+  // Evenly spaced from t = 0 (as records are), times are i dt and not stored.
+  struct Samples {
+    std::vector<double> times;   // empty when evenly spaced
+    std::vector<double> values;  // [m/s^2]
+    double dt = 0, inv_dt = 0;   // > 0 when evenly spaced
+  };
+  double time_of(std::size_t i) const;
+
   std::string name_;
-  std::vector<double> times_, values_;  // samples (empty for a pulse)
-  double dt_ = 0;                        // > 0 when the samples are evenly spaced
-  double inv_dt_ = 0;                    // 1 / dt_
-  std::vector<double> breakpoints_;
+  std::shared_ptr<const Samples> samples_;  // null for a pulse
   double duration_ = 0;
   PulseShape shape_ = PulseShape::one_sine;
   double amplitude_ = 0, period_ = 0, scale_ = 1;

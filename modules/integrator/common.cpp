@@ -1,6 +1,9 @@
 module;
 #include <rocking/eigen.hpp>
+#include <algorithm>
+#include <limits>
 #include <string>
+#include <vector>
 #include <fmt/format.h>
 module rocking.integrator;
 
@@ -22,6 +25,14 @@ IntegrationError::IntegrationError(Kind kind, double t, const std::string& detai
     : RunError(fmt::format("{} at t = {:.9g} s{}{}", describe(kind), t, detail.empty() ? "" : ": ", detail)),
       kind_(kind),
       time_(t) {}
+
+NextBreakpoint breakpoint_list(std::vector<double> times) {
+  std::sort(times.begin(), times.end());
+  return [times = std::move(times)](double t) {
+    const auto it = std::upper_bound(times.begin(), times.end(), t);
+    return it == times.end() ? std::numeric_limits<double>::infinity() : *it;
+  };
+}
 
 StepReport advance(Integrator& integrator, double t_end) {
   StepReport report{Stop::limit, integrator.time()};

@@ -29,6 +29,12 @@ using Rhs = std::function<void(double t, Eigen::Ref<const Eigen::VectorXd> y,
 using GuardValues = std::function<void(double t, Eigen::Ref<const Eigen::VectorXd> y,
                                        Eigen::Ref<Eigen::VectorXd> g)>;
 
+// The first breakpoint strictly after t, or +infinity. A function rather than
+// a list, so that a long record's samples are not copied into the integrator.
+using NextBreakpoint = std::function<double(double t)>;
+// The next-breakpoint function of a list of times (any order).
+NextBreakpoint breakpoint_list(std::vector<double> times);
+
 // Which sign changes of a guard are events.
 enum class Direction { rising, falling, either };
 
@@ -83,8 +89,8 @@ class Integrator {
   // (Re)start at (t, y) with these guards, e.g. after the caller changed the
   // state at an event. A guard exactly zero at t is silent until it leaves zero.
   virtual void reset(double t, const Eigen::VectorXd& y, Guards guards) = 0;
-  // Sorted times to land on exactly and never step across.
-  virtual void set_breakpoints(std::vector<double> times) = 0;
+  // Times to land on exactly and never step across, asked for one at a time.
+  virtual void set_breakpoints(NextBreakpoint next) = 0;
   // One step towards t_limit (never past it): returns at the end of an
   // internal step, at an event (state interpolated there), at a breakpoint,
   // or on reaching t_limit. Throws IntegrationError.

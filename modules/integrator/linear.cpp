@@ -60,22 +60,17 @@ class ExactLinear final : public Integrator {
     h_ = 0;
     samples_valid_ = false;
     scanner_.reset(std::move(guards), t, y_);
-    next_bp_ = std::upper_bound(breakpoints_.begin(), breakpoints_.end(), t_) - breakpoints_.begin();
   }
 
-  void set_breakpoints(std::vector<double> times) override {
-    breakpoints_ = std::move(times);
-    std::sort(breakpoints_.begin(), breakpoints_.end());
-    next_bp_ = std::upper_bound(breakpoints_.begin(), breakpoints_.end(), t_) - breakpoints_.begin();
-  }
+  void set_breakpoints(NextBreakpoint next) override { next_breakpoint_ = std::move(next); }
 
   StepReport step(double t_limit) override {
     if (t_ >= t_limit) return {Stop::limit, t_};
     if (stats_.steps >= opt_.max_steps)
       throw IntegrationError(IntegrationError::Kind::max_steps, t_, std::to_string(opt_.max_steps) + " steps");
-    while (next_bp_ < breakpoints_.size() && breakpoints_[next_bp_] <= t_) ++next_bp_;
-    const bool bp_ahead = next_bp_ < breakpoints_.size() && breakpoints_[next_bp_] < t_limit;
-    const double bound = bp_ahead ? breakpoints_[next_bp_] : t_limit;
+    const double bp = next_breakpoint_ ? next_breakpoint_(t_) : std::numeric_limits<double>::infinity();
+    const bool bp_ahead = bp < t_limit;
+    const double bound = bp_ahead ? bp : t_limit;
     // Equal steps up to the bound, none longer than max_step.
     const double span = bound - t_;
     const double pieces = std::isfinite(opt_.max_step) ? std::max(1.0, std::ceil(span / opt_.max_step - 1e-9)) : 1.0;
@@ -209,8 +204,7 @@ class ExactLinear final : public Integrator {
   double cached_h_ = std::numeric_limits<double>::quiet_NaN(), candidate_h_ = std::numeric_limits<double>::quiet_NaN();
   double t_ = 0, t_prev_ = 0, h_ = 0, a0_ = 0, slope_ = 0;
   bool have_w0_ = false, samples_valid_ = false;
-  std::vector<double> breakpoints_;
-  std::size_t next_bp_ = 0;
+  NextBreakpoint next_breakpoint_;
   Stats stats_;
 };
 

@@ -55,20 +55,15 @@ class DormandPrince final : public Integrator {
     h_ = opt_.initial_step > 0 ? opt_.initial_step : initial_step();
     fac_old_ = 1e-4;
     last_rejected_ = false;
-    next_bp_ = std::upper_bound(breakpoints_.begin(), breakpoints_.end(), t_) - breakpoints_.begin();
   }
 
-  void set_breakpoints(std::vector<double> times) override {
-    breakpoints_ = std::move(times);
-    std::sort(breakpoints_.begin(), breakpoints_.end());
-    next_bp_ = std::upper_bound(breakpoints_.begin(), breakpoints_.end(), t_) - breakpoints_.begin();
-  }
+  void set_breakpoints(NextBreakpoint next) override { next_breakpoint_ = std::move(next); }
 
   StepReport step(double t_limit) override {
     if (t_ >= t_limit) return {Stop::limit, t_};
-    while (next_bp_ < breakpoints_.size() && breakpoints_[next_bp_] <= t_) ++next_bp_;
-    const bool bp_ahead = next_bp_ < breakpoints_.size() && breakpoints_[next_bp_] < t_limit;
-    const double bound = bp_ahead ? breakpoints_[next_bp_] : t_limit;
+    const double bp = next_breakpoint_ ? next_breakpoint_(t_) : std::numeric_limits<double>::infinity();
+    const bool bp_ahead = bp < t_limit;
+    const double bound = bp_ahead ? bp : t_limit;
     bool non_finite = false;
     for (;;) {
       if (stats_.steps + stats_.rejected >= opt_.max_steps)
@@ -203,8 +198,7 @@ class DormandPrince final : public Integrator {
   bool last_rejected_ = false;
   Eigen::VectorXd y_, y_new_, y_stage_, y_dense_, k1_, k2_, k3_, k4_, k5_, k6_, k7_;
   Eigen::VectorXd r1_, r2_, r3_, r4_, r5_;
-  std::vector<double> breakpoints_;
-  std::size_t next_bp_ = 0;
+  NextBreakpoint next_breakpoint_;
   Stats stats_;
 };
 

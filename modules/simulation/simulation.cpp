@@ -66,9 +66,8 @@ class Driver {
     tolerances.max_step = std::min(tolerances.max_step, ground.max_step());
     integrator_ = ode::make_integrator(o.backend, m.layout.size, rhs, tolerances);
     t_end_ = o.duration > 0 ? o.duration : ground.duration();
-    std::vector<double> bps;
-    for (double t : ground.breakpoints())
-      if (t > 0 && t < t_end_) bps.push_back(t);
+    // The record's samples, computed when asked: a run holds no list of them.
+    const ode::NextBreakpoint next_sample = [this](double t) { return ground_.next_breakpoint(t); };
     if (o.exact_full_contact && m.layout.u >= 0 && m.layout.energy < 0 && ground.piecewise_linear()) {
       ode::Options exact;
       // Guards and peaks are sampled four times a step: 8 samples in the
@@ -76,9 +75,9 @@ class Driver {
       exact.max_step = 2 * std::numbers::pi / m.body.matrices.fixed_base.omega.maxCoeff() / 2;
       exact.max_steps = tolerances.max_steps;
       exact_ = ode::make_exact_linear(full_contact_system(m, [this](double t) { return ground_.acceleration(t); }), exact);
-      exact_->set_breakpoints(bps);
+      exact_->set_breakpoints(next_sample);
     }
-    integrator_->set_breakpoints(std::move(bps));
+    integrator_->set_breakpoints(next_sample);
     active_ = integrator_.get();
   }
 

@@ -61,19 +61,16 @@ class SundialsIntegrator : public Integrator {
     y_ = y;
   }
 
-  void set_breakpoints(std::vector<double> times) override {
-    breakpoints_ = std::move(times);
-    std::sort(breakpoints_.begin(), breakpoints_.end());
-  }
+  void set_breakpoints(NextBreakpoint next) override { next_breakpoint_ = std::move(next); }
 
   StepReport step(double t_limit) override {
     if (t_ >= t_limit) return {Stop::limit, t_};
     const Stats s = stats();
     if (s.steps + s.rejected >= opt_.max_steps)
       throw IntegrationError(IntegrationError::Kind::max_steps, t_, std::to_string(opt_.max_steps) + " steps");
-    const auto bp = std::upper_bound(breakpoints_.begin(), breakpoints_.end(), t_);
-    const bool bp_ahead = bp != breakpoints_.end() && *bp < t_limit;
-    const double bound = bp_ahead ? *bp : t_limit;
+    const double bp = next_breakpoint_ ? next_breakpoint_(t_) : std::numeric_limits<double>::infinity();
+    const bool bp_ahead = bp < t_limit;
+    const double bound = bp_ahead ? bp : t_limit;
     check(backend_stop_time(bound), t_, "stop time");
     double t_ret = t_;
     int flag = backend_one_step(bound, &t_ret);
@@ -166,7 +163,7 @@ class SundialsIntegrator : public Integrator {
  private:
   Guards guards_;
   std::vector<int> directions_, roots_;
-  std::vector<double> breakpoints_;
+  NextBreakpoint next_breakpoint_;
   Eigen::VectorXd y_;
   double t_ = 0, t_prev_ = 0, restart_t_ = 0;
   bool initialised_ = false;
