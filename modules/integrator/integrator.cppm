@@ -9,9 +9,12 @@
 // Events are scalar guards g_i(t, y), each with a direction; a sign change is
 // looked for on the dense output at interior points of every step (so a
 // crossing and back inside one step is not missed when the samples see it) and
-// located by the Illinois method with bisection fallback. Breakpoints are
-// times the integrator lands on exactly and never steps across. The SUNDIALS
-// backends (module rocking.sundials) implement the same interface.
+// located by the Illinois method with bisection fallback (GuardScanner, shared
+// with the exact integrator below). Breakpoints are times the integrator lands
+// on exactly and never steps across, asked for one at a time. Beside it,
+// make_exact_linear steps z' = A z + b a(t), a(t) piecewise linear, exactly
+// (linear.cpp). The SUNDIALS backends (module rocking.sundials) implement the
+// same interface.
 module;
 #include <rocking/eigen.hpp>
 #include <functional>

@@ -1,7 +1,9 @@
 // rocking.simulation: the driver that runs a scene under a ground motion
 // (MODEL.md 6 and 7): it integrates the phase's equations with the chosen
 // backend, stops at the guards of rocking.contact, applies their resets and
-// restarts, and streams the response to observers.
+// restarts, and streams the response to observers. Full contact of a flexible
+// structure under a record is linear with a piecewise-linear input and is
+// stepped exactly instead (RunOptions::exact_full_contact).
 // Outputs (MODEL.md 7): delta_t (Eq. 11) and delta_e (Eq. 12) over H_N, theta
 // and theta / alpha_cg, the active damper's elongation and force (signed by
 // the pivot: + when rocking about the right pivot), and shear and moment of
