@@ -51,6 +51,7 @@ class ExactLinear final : public Integrator {
     z0_.setZero(m);
     w0_.setZero(m);
     w_.setZero(m);
+    vw_.setZero(m);
     samples_.setZero(m, samples_per_step);
   }
 
@@ -160,7 +161,7 @@ class ExactLinear final : public Integrator {
   // z(t_prev_ + tau) from the eigen form.
   void state_at(double tau, Eigen::Ref<Eigen::VectorXd> z) {
     if (!have_w0_) {
-      w0_ = V_inv_ * z0_.cast<Complex>();
+      w0_.noalias() = V_inv_ * z0_.cast<Complex>();
       have_w0_ = true;
     }
     for (Eigen::Index j = 0; j < w_.size(); ++j) {
@@ -168,7 +169,8 @@ class ExactLinear final : public Integrator {
       response_terms(j, tau, e, f0, f1);
       w_[j] = e * w0_[j] + f0 * a0_ + f1 * slope_;
     }
-    z = (V_ * w_).real();
+    vw_.noalias() = V_ * w_;
+    z = vw_.real();
   }
 
   // Mode j over tau: e^x, beta (e^x - 1) / lambda, beta (e^x - 1 - x) / lambda^2.
@@ -195,7 +197,7 @@ class ExactLinear final : public Integrator {
   LinearSystem sys_;
   Options opt_;
   GuardScanner scanner_;
-  Eigen::VectorXcd lambda_, inv_lambda_, beta_, w0_, w_;
+  Eigen::VectorXcd lambda_, inv_lambda_, beta_, w0_, w_, vw_;
   Eigen::MatrixXcd V_, V_inv_;
   Eigen::VectorXd y_, z0_;
   Eigen::MatrixXd samples_;  // the block at the step's guard samples, one column each
