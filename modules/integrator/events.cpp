@@ -33,6 +33,11 @@ double Integrator::sample_time(int k, int count) const {
   return k == count ? t1 : t0 + (t1 - t0) * k / count;
 }
 
+StepBound step_bound(const NextBreakpoint& next, double t, double t_limit) {
+  const double bp = next ? next(t) : std::numeric_limits<double>::infinity();
+  return bp < t_limit ? StepBound{bp, true} : StepBound{t_limit, false};
+}
+
 void GuardScanner::reset(Guards guards, double t, Eigen::Ref<const Eigen::VectorXd> y) {
   guards_ = std::move(guards);
   restart_t_ = t;
@@ -52,13 +57,13 @@ void GuardScanner::evaluate(double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen
   ++evaluations_;
 }
 
-bool GuardScanner::scan(double t0, double t1, int count, const Sampler& sample, const Dense& dense,
-                        Crossing& found) {
+bool GuardScanner::scan(Integrator& stepped, int count, Crossing& found) {
   const auto m = static_cast<Eigen::Index>(guards_.directions.size());
   if (m == 0) return false;
+  const double t0 = stepped.previous_time(), t1 = stepped.time();
   for (int k = 1; k <= count; ++k) {
-    const double tk = k == count ? t1 : t0 + (t1 - t0) * k / count;
-    sample(k, y_work_);
+    const double tk = stepped.sample_time(k, count);
+    stepped.sample(k, count, y_work_);
     evaluate(tk, y_work_, g_);
     double t_event = std::numeric_limits<double>::infinity();
     int which = -1, to_sign = 0;
@@ -67,7 +72,7 @@ bool GuardScanner::scan(double t0, double t1, int count, const Sampler& sample, 
       const int s = sign(g_[i]);
       if (s == 0) continue;  // zero: keep the last definite sign
       if (ref_sign_[u] != 0 && s != ref_sign_[u] && wanted(guards_.directions[u], ref_sign_[u], s)) {
-        const double te = locate(static_cast<int>(i), ref_time_[u], ref_sign_[u], tk, t0, dense);
+        const double te = locate(stepped, static_cast<int>(i), ref_time_[u], ref_sign_[u], tk);
         // A crossing within round-off of the restart is the event that caused
         // the restart, seen again (CVODE's ttol): not reported.
         const bool at_restart = te - restart_t_ <= 100 * eps * (std::abs(restart_t_) + (t1 - t0));
@@ -86,9 +91,10 @@ bool GuardScanner::scan(double t0, double t1, int count, const Sampler& sample, 
 
 // Bracket [a, b] with sign(g_i(a)) = sa; returns the end of the final bracket
 // that is past the crossing.
-double GuardScanner::locate(int i, double a, int sa, double b, double t0, const Dense& dense) {
+double GuardScanner::locate(Integrator& stepped, int i, double a, int sa, double b) {
+  const double t0 = stepped.previous_time();
   auto g_at = [&](double t) {
-    dense(t, y_work_);
+    stepped.dense(t, y_work_);
     evaluate(t, y_work_, g_work_);
     return g_work_[i];
   };

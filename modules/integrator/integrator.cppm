@@ -38,6 +38,14 @@ using NextBreakpoint = std::function<double(double t)>;
 // The next-breakpoint function of a list of times (any order).
 NextBreakpoint breakpoint_list(std::vector<double> times);
 
+// Where a step from t towards t_limit must end at the latest: the next
+// breakpoint when it comes before t_limit, else t_limit.
+struct StepBound {
+  double t;
+  bool breakpoint;
+};
+StepBound step_bound(const NextBreakpoint& next, double t, double t_limit);
+
 // Which sign changes of a guard are events.
 enum class Direction { rising, falling, either };
 
@@ -138,25 +146,25 @@ class GuardScanner {
     double t;
     int guard;
     int to_sign;
+    StepReport report() const {
+      return {Stop::event, t, guard, to_sign > 0 ? Direction::rising : Direction::falling};
+    }
   };
-  using Sampler = std::function<void(int k, Eigen::Ref<Eigen::VectorXd> y)>;
-  using Dense = std::function<void(double t, Eigen::Ref<Eigen::VectorXd> y)>;
 
   // New guards at (t, y); a guard exactly zero there is silent until it leaves zero.
   void reset(Guards guards, double t, Eigen::Ref<const Eigen::VectorXd> y);
-  bool active() const { return !guards_.directions.empty(); }
-  // Samples k = 1..count of the step [t0, t1] (sample(k) fills the state at
-  // t0 + k (t1 - t0) / count): the earliest wanted crossing, located to
-  // round-off on dense(t); a crossing within round-off of the last restart
-  // (the event that caused it, seen again) is not reported.
-  bool scan(double t0, double t1, int count, const Sampler& sample, const Dense& dense, Crossing& found);
+  // Samples k = 1..count of the step the integrator just took (its sample()):
+  // the earliest wanted crossing, located to round-off on its dense output; a
+  // crossing within round-off of the last restart (the event that caused it,
+  // seen again) is not reported.
+  bool scan(Integrator& stepped, int count, Crossing& found);
   // The state was moved to crossing c at time c.t: signs are taken there.
   void restart_at(const Crossing& c, Eigen::Ref<const Eigen::VectorXd> y);
   long evaluations() const { return evaluations_; }
 
  private:
   void evaluate(double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::VectorXd& g);
-  double locate(int i, double a, int sa, double b, double t0, const Dense& dense);
+  double locate(Integrator& stepped, int i, double a, int sa, double b);
 
   Guards guards_;
   Eigen::VectorXd g_, g_work_, y_work_;

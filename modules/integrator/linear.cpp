@@ -69,9 +69,7 @@ class ExactLinear final : public Integrator {
     if (t_ >= t_limit) return {Stop::limit, t_};
     if (stats_.steps >= opt_.max_steps)
       throw IntegrationError(IntegrationError::Kind::max_steps, t_, std::to_string(opt_.max_steps) + " steps");
-    const double bp = next_breakpoint_ ? next_breakpoint_(t_) : std::numeric_limits<double>::infinity();
-    const bool bp_ahead = bp < t_limit;
-    const double bound = bp_ahead ? bp : t_limit;
+    const auto [bound, bp_ahead] = step_bound(next_breakpoint_, t_, t_limit);
     // Equal steps up to the bound, none longer than max_step.
     const double span = bound - t_;
     const double pieces = std::isfinite(opt_.max_step) ? std::max(1.0, std::ceil(span / opt_.max_step - 1e-9)) : 1.0;
@@ -79,19 +77,13 @@ class ExactLinear final : public Integrator {
     const double t_new = lands ? bound : t_ + span / pieces;
     advance_to(t_new);
     if (!y_.allFinite()) throw IntegrationError(IntegrationError::Kind::non_finite_state, t_, "");
-    if (scanner_.active()) {
-      GuardScanner::Crossing c{};
-      const bool hit = scanner_.scan(
-          t_prev_, t_, samples_per_step, [this](int k, Eigen::Ref<Eigen::VectorXd> y) { sample(k, samples_per_step, y); },
-          [this](double t, Eigen::Ref<Eigen::VectorXd> y) { dense(t, y); }, c);
-      if (hit) {
-        dense(c.t, y_);
-        t_ = c.t;
-        samples_valid_ = false;  // the step now ends at the event
-        scanner_.restart_at(c, y_);
-        ++stats_.events;
-        return {Stop::event, t_, c.guard, c.to_sign > 0 ? Direction::rising : Direction::falling};
-      }
+    if (GuardScanner::Crossing c{}; scanner_.scan(*this, samples_per_step, c)) {
+      dense(c.t, y_);
+      t_ = c.t;
+      samples_valid_ = false;  // the step now ends at the event
+      scanner_.restart_at(c, y_);
+      ++stats_.events;
+      return c.report();
     }
     if (lands) return {bp_ahead ? Stop::breakpoint : Stop::limit, t_};
     return {Stop::step, t_};

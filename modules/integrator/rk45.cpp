@@ -61,9 +61,7 @@ class DormandPrince final : public Integrator {
 
   StepReport step(double t_limit) override {
     if (t_ >= t_limit) return {Stop::limit, t_};
-    const double bp = next_breakpoint_ ? next_breakpoint_(t_) : std::numeric_limits<double>::infinity();
-    const bool bp_ahead = bp < t_limit;
-    const double bound = bp_ahead ? bp : t_limit;
+    const auto [bound, bp_ahead] = step_bound(next_breakpoint_, t_, t_limit);
     bool non_finite = false;
     for (;;) {
       if (stats_.steps + stats_.rejected >= opt_.max_steps)
@@ -176,19 +174,15 @@ class DormandPrince final : public Integrator {
   // Scans the guards at samples_per_step points of the last step; moves the
   // state to the earliest wanted crossing.
   StepReport find_event() {
-    if (!scanner_.active()) return {Stop::step, t_};
     GuardScanner::Crossing c{};
-    const bool hit = scanner_.scan(
-        t_prev_, t_, samples_per_step, [this](int k, Eigen::Ref<Eigen::VectorXd> y) { sample(k, samples_per_step, y); },
-        [this](double t, Eigen::Ref<Eigen::VectorXd> y) { dense(t, y); }, c);
-    if (!hit) return {Stop::step, t_};
+    if (!scanner_.scan(*this, samples_per_step, c)) return {Stop::step, t_};
     dense(c.t, y_dense_);
     t_ = c.t;
     y_ = y_dense_;
     rhs(t_, y_, k1_);  // the FSAL derivative belongs to the discarded step end
     scanner_.restart_at(c, y_);
     ++stats_.events;
-    return {Stop::event, t_, c.guard, c.to_sign > 0 ? Direction::rising : Direction::falling};
+    return c.report();
   }
 
   Rhs rhs_;

@@ -68,9 +68,7 @@ class SundialsIntegrator : public Integrator {
     const Stats s = stats();
     if (s.steps + s.rejected >= opt_.max_steps)
       throw IntegrationError(IntegrationError::Kind::max_steps, t_, std::to_string(opt_.max_steps) + " steps");
-    const double bp = next_breakpoint_ ? next_breakpoint_(t_) : std::numeric_limits<double>::infinity();
-    const bool bp_ahead = bp < t_limit;
-    const double bound = bp_ahead ? bp : t_limit;
+    const auto [bound, bp_ahead] = step_bound(next_breakpoint_, t_, t_limit);
     check(backend_stop_time(bound), t_, "stop time");
     double t_ret = t_;
     int flag = backend_one_step(bound, &t_ret);
