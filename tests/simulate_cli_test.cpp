@@ -125,3 +125,11 @@ TEST_CASE("tradeoff measures each backend against the reference and draws the wo
   CHECK(rk45_errors[0] < 1e-2);
   CHECK(fs::is_regular_file(dir / "work_precision.png"));
 }
+
+TEST_CASE("tradeoff refuses an unknown backend in one line, before any run") {
+  const Result r = run("-q tradeoff --backends rk45,euler+exact --out " + scratch_dir("simulate_test_bad_backend").string());
+  CHECK(r.code == 2);
+  CHECK(lines(r.err) == 1);
+  CHECK(r.err.find("--backends euler+exact") != std::string::npos);
+  CHECK(r.out.find("reference") == std::string::npos);  // no reference run was made
+}
