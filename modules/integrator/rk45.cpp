@@ -42,6 +42,7 @@ class DormandPrince final : public Integrator {
     for (auto* v : {&y_, &y_new_, &y_stage_, &y_dense_, &k1_, &k2_, &k3_, &k4_, &k5_, &k6_, &k7_,
                     &r1_, &r2_, &r3_, &r4_, &r5_})
       v->setZero(n);
+    samples_.setZero(n, samples_per_step - 1);
   }
 
   void reset(double t, const Eigen::VectorXd& y, Guards guards) override {
@@ -55,6 +56,7 @@ class DormandPrince final : public Integrator {
     h_ = opt_.initial_step > 0 ? opt_.initial_step : initial_step();
     fac_old_ = 1e-4;
     last_rejected_ = false;
+    samples_valid_ = false;
   }
 
   void set_breakpoints(NextBreakpoint next) override { next_breakpoint_ = std::move(next); }
@@ -67,6 +69,7 @@ class DormandPrince final : public Integrator {
       if (stats_.steps + stats_.rejected >= opt_.max_steps)
         throw IntegrationError(IntegrationError::Kind::max_steps, t_, std::to_string(opt_.max_steps) + " steps");
       double h = std::min(h_, opt_.max_step);
+      if (t_ + h < bound && t_ + 2 * h > bound) h = 0.5 * (bound - t_);  // two equal steps, not one and a stub
       const bool lands = t_ + h >= bound - 16 * eps * std::abs(bound);
       if (lands) h = bound - t_;
       if (h <= 16 * eps * std::max(std::abs(t_), 1.0))
@@ -106,6 +109,15 @@ class DormandPrince final : public Integrator {
     if (h_dense_ == 0) { y = r1_; return; }
     const double s = (t - t_prev_) / h_dense_, s1 = 1.0 - s;
     y = r1_ + s * (r2_ + s1 * (r3_ + s * (r4_ + s1 * r5_)));
+  }
+  // The step's interior samples, computed once for the guards and the caller.
+  void sample(int k, int count, Eigen::Ref<Eigen::VectorXd> y) override {
+    if (count != samples_per_step || k == count) return Integrator::sample(k, count, y);
+    if (!samples_valid_) {
+      for (int j = 1; j < count; ++j) dense(sample_time(j, count), samples_.col(j - 1));
+      samples_valid_ = true;
+    }
+    y = samples_.col(k - 1);
   }
   Stats stats() const override {
     Stats out = stats_;
@@ -168,6 +180,7 @@ class DormandPrince final : public Integrator {
     t_ = t_new;
     y_.swap(y_new_);
     k1_.swap(k7_);  // FSAL
+    samples_valid_ = false;
     ++stats_.steps;
   }
 
@@ -179,6 +192,7 @@ class DormandPrince final : public Integrator {
     dense(c.t, y_dense_);
     t_ = c.t;
     y_ = y_dense_;
+    samples_valid_ = false;  // the step now ends at the event
     rhs(t_, y_, k1_);  // the FSAL derivative belongs to the discarded step end
     scanner_.restart_at(c, y_);
     ++stats_.events;
@@ -189,7 +203,8 @@ class DormandPrince final : public Integrator {
   Options opt_;
   GuardScanner scanner_;
   double t_ = 0, t_prev_ = 0, h_ = 0, h_dense_ = 0, fac_old_ = 1e-4;
-  bool last_rejected_ = false;
+  bool last_rejected_ = false, samples_valid_ = false;
+  Eigen::MatrixXd samples_;  // the last step's interior samples, one column each
   Eigen::VectorXd y_, y_new_, y_stage_, y_dense_, k1_, k2_, k3_, k4_, k5_, k6_, k7_;
   Eigen::VectorXd r1_, r2_, r3_, r4_, r5_;
   NextBreakpoint next_breakpoint_;
