@@ -3,10 +3,10 @@
 // memory of a run over a 1-minute and a 10-minute record with only peaks
 // requested (each in a child process: the process's peak, ru_maxrss from
 // wait4, and what the run itself adds, VmHWM after it less VmRSS before it).
-// Usage: run_bench [RECORDS_DIR] [--backend NAME] [--repeats N]
+// Usage: run_bench [RECORDS_DIR] [--backend NAME] [--contact exact|integrated] [--repeats N]
 //   RECORDS_DIR: default ../shared/data/records or $ROCKING_RECORDS.
-//   --backend: time only this backend (e.g. under perf); --repeats: runs per
-//   backend, best kept (default 20).
+//   --backend, --contact: time only this backend or full-contact treatment
+//   (e.g. under perf); --repeats: runs per case, best kept (default 20).
 #include <rocking/eigen.hpp>
 #include <fmt/format.h>
 #include <sys/resource.h>
@@ -90,14 +90,19 @@ int main(int argc, char** argv) {
   const char* env = std::getenv("ROCKING_RECORDS");
   std::string dir = env ? env : std::string(ROCKING_SOURCE_DIR) + "/../shared/data/records";
   std::vector<ode::Backend> backends{ode::Backend::rk45, ode::Backend::arkode, ode::Backend::cvode};
+  std::vector<bool> contacts{false, true};  // exact full contact?
   int repeats = 20;
+  const char* usage = "usage: run_bench [RECORDS_DIR] [--backend NAME] [--contact exact|integrated] [--repeats N]";
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--backend" && i + 1 < argc) backends = {ode::parse_backend(argv[++i])};
     else if (a == "--repeats" && i + 1 < argc) repeats = std::max(1, std::atoi(argv[++i]));
+    else if (a == "--contact" && i + 1 < argc && (argv[i + 1] == std::string("exact") ||
+                                                   argv[i + 1] == std::string("integrated")))
+      contacts = {argv[++i] == std::string("exact")};
     else if (!a.starts_with("--")) dir = a;
     else {
-      fmt::print(stderr, "run_bench: unknown option '{}' (usage: run_bench [RECORDS_DIR] [--backend NAME] [--repeats N])\n", a);
+      fmt::print(stderr, "run_bench: bad option '{}' ({})\n", a, usage);
       return 2;
     }
   }
@@ -109,7 +114,7 @@ int main(int argc, char** argv) {
   fmt::print("{:<8} {:<11} {:>10} {:>9} {:>8} {:>10} {:>12}\n", "backend", "contact", "wall [ms]", "rhs", "steps",
              "ns / rhs", "top [mm]");
   for (ode::Backend b : backends) {
-    for (bool exact : {false, true}) {
+    for (bool exact : contacts) {
       RunOptions o;
       o.backend = b;
       o.exact_full_contact = exact;
@@ -123,7 +128,7 @@ int main(int argc, char** argv) {
                  1e9 * best.wall_s / static_cast<double>(best.stats.rhs), best.top_total_mm);
     }
   }
-  if (backends.size() == 1) return 0;  // a profiling run
+  if (backends.size() == 1 || contacts.size() == 1) return 0;  // a profiling run
   fmt::print("memory with peaks only (record at 0.01 s): process peak, the record's samples, what the run adds\n");
   for (double seconds : {60.0, 600.0}) {
     const Memory mem = peak_memory(seconds, model);

@@ -71,6 +71,26 @@ TEST_CASE("uplift of the flexible chimney needs both the moment (Eq. 2) and L_s 
   CHECK(uplift_now(m, d, 0.0, y) == 0);
 }
 
+TEST_CASE("guards say truly whether they read a_g (callers skip the record lookup when not)") {
+  // Every scene kind and phase: the guard values at a_g = 0 and at a_g = 3 m/s^2
+  // are equal exactly when guards_use_ground_acceleration says they do not use it.
+  for (const auto& overrides : std::vector<std::vector<std::string>>{
+           {}, {"structure.rigid=true"}, {"damper.enabled=false"}, {"structure.rigid=true", "damper.enabled=false"}}) {
+    const ContactModel m = make_contact_model(chimney(overrides), false);
+    for (int pivot : {0, +1, -1}) {
+      Discrete d;
+      Eigen::VectorXd y = Eigen::VectorXd::Constant(m.layout.size, 0.01);
+      if (pivot != 0) begin_rocking(m, d, pivot, y), y[m.layout.theta] = 0.01 * pivot;
+      Eigen::VectorXd g0(2), g3(2);
+      guard_values(m, d, 0.0, y, g0);
+      guard_values(m, d, 3.0, y, g3);
+      CAPTURE(pivot);
+      CAPTURE(m.layout.size);
+      CHECK(guards_use_ground_acceleration(m, pivot) == (g0 != g3));
+    }
+  }
+}
+
 TEST_CASE("impact: continued rocking takes r and keeps u'; full contact keeps the momentum H th'") {
   const ContactModel m = make_contact_model(chimney({"contact.restitution=0.9"}), false);
   const Layout& l = m.layout;

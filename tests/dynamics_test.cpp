@@ -28,13 +28,12 @@ RockingBody undamped_chimney() {
 double energy_drift_over_one_phase(bool paper_sign, double* phase_duration) {
   const RockingBody body = undamped_chimney();
   const Eigen::Index n = body.structure.heights.size();
-  Eigen::VectorXd work(n);
   auto rhs = [&](double, CRef y, Ref f) {
     const Coordinates q{y.head(n), y.segment(n, n), y[2 * n], y[2 * n + 1]};
     f.head(n) = y.segment(n, n);
     f[2 * n] = y[2 * n + 1];
     Eigen::Ref<Eigen::VectorXd> u_ddot = f.segment(n, n);
-    double th_ddot = rocking_acceleration(body, +1, 0.0, 0.0, q, u_ddot, work);
+    double th_ddot = rocking_acceleration(body, +1, 0.0, 0.0, q, u_ddot);
     if (paper_sign) {
       // rhs_u loses 2 M1 g sin(th); propagate through the closed-form solve
       const auto& st = body.structure;

@@ -150,9 +150,10 @@ ode::LinearSystem full_contact_system(const ContactModel& m, std::function<doubl
   return sys;
 }
 
-DamperState active_damper(const ContactModel& m, const Discrete& d, Eigen::Ref<const Eigen::VectorXd> y) {
+DamperState active_damper(const ContactModel& m, const Discrete& d, const Tilt& tilt,
+                          Eigen::Ref<const Eigen::VectorXd> y) {
   if (!m.has_damper || d.pivot == 0) return {};
-  const double e = damper_elongation(m.body.structure.half_width, y[m.layout.theta]);
+  const double e = damper_elongation(m.body.structure.half_width, tilt);
   return {e, damper_force(m.damper, m.d_y, e, y[m.layout.z])};
 }
 
@@ -161,39 +162,43 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<
   const Layout& l = m.layout;
   const int s = d.pivot;
   const double B = m.body.structure.half_width;
-  dydt.setZero();
-  const double th = theta_of(m, y), thd = theta_dot_of(m, y);
-  const DamperState damper = active_damper(m, d, y);
+  const Tilt tilt(theta_of(m, y));  // the only trig of the evaluation
+  const double thd = theta_dot_of(m, y);
+  const DamperState damper = active_damper(m, d, tilt, y);
   double damper_power = 0;
   if (s != 0) {
     dydt[l.theta] = thd;
     if (l.u < 0) {
-      dydt[l.theta_dot] = rigid_rocking_acceleration(m.body, s, a_g, damper.force, th, thd);
+      dydt[l.theta_dot] = rigid_rocking_acceleration(m.body, s, a_g, damper.force, tilt);
     } else {
-      const Coordinates q{y.segment(l.u, l.n), y.segment(l.u_dot, l.n), th, thd};
+      const Coordinates q{y.segment(l.u, l.n), y.segment(l.u_dot, l.n), tilt, thd};
       dydt.segment(l.u, l.n) = q.u_dot;
-      dydt[l.theta_dot] = rocking_acceleration(m.body, s, a_g, damper.force, q, dydt.segment(l.u_dot, l.n), w.a);
+      dydt[l.theta_dot] = rocking_acceleration(m.body, s, a_g, damper.force, q, dydt.segment(l.u_dot, l.n));
     }
     if (l.z >= 0) {
-      const double v = damper_rate(B, th, thd, s);
+      const double v = damper_rate(B, tilt, thd, s);
       dydt[l.z] = bouc_wen_rate(m.damper, m.d_y, v, y[l.z]);
       damper_power = damper.force * v;
     }
-  } else if (l.u >= 0) {
-    dydt.segment(l.u, l.n) = y.segment(l.u_dot, l.n);
-    full_contact_acceleration(m.body, a_g, y.segment(l.u, l.n), y.segment(l.u_dot, l.n), dydt.segment(l.u_dot, l.n));
+  } else {
+    if (l.theta >= 0) dydt.segment(l.theta, l.size - l.theta).setZero();  // theta, theta', z rest
+    if (l.u >= 0) {
+      dydt.segment(l.u, l.n) = y.segment(l.u_dot, l.n);
+      full_contact_acceleration(m.body, a_g, y.segment(l.u, l.n), y.segment(l.u_dot, l.n),
+                                dydt.segment(l.u_dot, l.n));
+    }
   }
   if (l.energy >= 0) {
     double input = 0, viscous = 0;
     if (l.u >= 0) {
       const auto u_dot = y.segment(l.u_dot, l.n);
-      const Coordinates q{y.segment(l.u, l.n), u_dot, th, thd};
+      const Coordinates q{y.segment(l.u, l.n), u_dot, tilt, thd};
       input = ground_input_power(m.body, s == 0 ? 1 : s, a_g, q);
       w.b.noalias() = m.body.matrices.C * u_dot;
       viscous = u_dot.dot(w.b);
     } else if (s != 0) {
       w.a.setZero();
-      const Coordinates q{w.a, w.a, th, thd};
+      const Coordinates q{w.a, w.a, tilt, thd};
       input = ground_input_power(m.body, s, a_g, q);
     }
     dydt[l.energy] = input;
@@ -225,6 +230,10 @@ void guard_values(const ContactModel& m, const Discrete& d, double a_g, Eigen::R
     g[0] = st;
     g[1] = st - m.overturn_angle;
   }
+}
+
+bool guards_use_ground_acceleration(const ContactModel& m, int pivot) {
+  return pivot == 0 && m.kind == ModelKind::rigid_block;
 }
 
 int uplift_now(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y) {

@@ -83,7 +83,8 @@ ode::LinearSystem full_contact_system(const ContactModel& m, std::function<doubl
 struct DamperState {
   double elongation = 0, force = 0;
 };
-DamperState active_damper(const ContactModel& m, const Discrete& d, Eigen::Ref<const Eigen::VectorXd> y);
+DamperState active_damper(const ContactModel& m, const Discrete& d, const Tilt& tilt,
+                          Eigen::Ref<const Eigen::VectorXd> y);
 
 // Guards of the phase (see the top of this file) and their directions.
 enum class Guard { uplift_right, uplift_left, impact, overturn };
@@ -91,6 +92,10 @@ std::vector<ode::Direction> guard_directions(const ContactModel& m, int pivot);
 Guard guard_meaning(int pivot, int index);
 void guard_values(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y,
                   Eigen::Ref<Eigen::VectorXd> g);
+// Whether the guards of this phase depend on a_g (only a rigid block's uplift
+// does: a flexible structure's inertia forces are K u + C u'), so that a
+// caller may pass 0 without looking a_g up.
+bool guards_use_ground_acceleration(const ContactModel& m, int pivot);
 
 // The pivot about which the structure in full contact lifts at this instant
 // (both conditions of MODEL.md 6 hold), or 0.

@@ -26,76 +26,91 @@ void restoring_force(const StructuralMatrices& sm, Eigen::Ref<const Eigen::Vecto
 }  // namespace
 
 RockingBody make_body(const Structure& s, double g) {
-  if (!s.rigid) return {s, assemble(s), g};
-  StructuralMatrices none;
-  none.M = s.masses.asDiagonal();
-  return {s, none, g};
+  RockingBody b;
+  b.structure = s;
+  b.g = g;
+  if (s.rigid) b.matrices.M = s.masses.asDiagonal();
+  else b.matrices = assemble(s);
+  b.HM1 = s.heights.dot(s.masses);
+  b.inverse_masses = s.masses.cwiseInverse();
+  b.base_moment = s.base_mass * s.half_width;
+  b.base_inertia = b.base_moment * s.half_width;
+  return b;
 }
 
 void full_contact_acceleration(const RockingBody& b, double a_g, Eigen::Ref<const Eigen::VectorXd> u,
                                Eigen::Ref<const Eigen::VectorXd> u_dot, Eigen::Ref<Eigen::VectorXd> u_ddot) {
   restoring_force(b.matrices, u, u_dot, u_ddot);
-  u_ddot.array() /= b.structure.masses.array();
-  u_ddot.array() -= a_g;
+  u_ddot.array() = u_ddot.array() * b.inverse_masses.array() - a_g;
 }
 
+// One pass over the nodes per quantity, in plain loops over N (a handful):
+// this is the right-hand side of every rocking step.
 double rocking_acceleration(const RockingBody& b, int s, double a_g, double F_hd, const Coordinates& q,
-                            Eigen::Ref<Eigen::VectorXd> u_ddot, Eigen::Ref<Eigen::VectorXd> work) {
+                            Eigen::Ref<Eigen::VectorXd> u_ddot) {
   const Structure& st = b.structure;
-  const auto& m = st.masses.array();
-  const auto& H = st.heights;
-  const double B = st.half_width, g = b.g, th = q.theta, thd = q.theta_dot;
-  const double c = std::cos(th), sn = std::sin(th);
-  // work = w = B1 - s u (lever arms)
-  work = (B - s * q.u.array()).matrix();
-  const double Mw = (m * work.array()).sum();   // 1'M w
-  const double wMw = (m * work.array().square()).sum();
-  const double HM1 = H.dot(st.masses);           // H'M1
-  // rhs_u = -M1 a_g cos th - M (sB1 - u) th'^2 - C u' - K u + M1 g sin th, with sB1 - u = s w
+  const Eigen::Index n = q.u.size();
+  const double* m = st.masses.data();
+  const double* H = st.heights.data();
+  const double* inv_m = b.inverse_masses.data();
+  const double* u = q.u.data();
+  const double* u_dot = q.u_dot.data();
+  double* acc = u_ddot.data();
+  const double B = st.half_width, g = b.g, thd = q.theta_dot;
+  const double c = q.tilt.cos(), sn = q.tilt.sin();
+  // rhs_u = -M1 a_g cos th - M (sB1 - u) th'^2 - C u' - K u + M1 g sin th, with
+  // w = B1 - s u the lever arms (sB1 - u = s w)
   restoring_force(b.matrices, q.u, q.u_dot, u_ddot);
-  u_ddot.array() += m * (-a_g * c - s * work.array() * thd * thd + g * sn);
-  const double rhs_th = 2.0 * s * (m * q.u_dot.array() * work.array()).sum() * thd
-                        - s * F_hd * 2.0 * B * std::cos(0.5 * th)
-                        - a_g * (HM1 * c + s * Mw * sn + s * st.base_mass * B * sn)
-                        - g * (-HM1 * sn + s * Mw * c + s * st.base_mass * B * c);
+  const double per_mass = -a_g * c + g * sn, spin = s * thd * thd;
+  double Mw = 0, wMw = 0, wMu_dot = 0;  // 1'M w, w'M w, w'M u'
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double w = B - s * u[i], mw = m[i] * w;
+    Mw += mw;
+    wMw += mw * w;
+    wMu_dot += mw * u_dot[i];
+    acc[i] += m[i] * per_mass - spin * mw;
+  }
+  const double rhs_th = 2.0 * s * wMu_dot * thd - s * F_hd * 2.0 * B * q.tilt.cos_half
+                        - a_g * (b.HM1 * c + s * (Mw + b.base_moment) * sn)
+                        - g * (-b.HM1 * sn + s * (Mw + b.base_moment) * c);
   // Schur complement of the diagonal M: J - H'MH = m0 B^2 + w'Mw > 0
-  const double th_ddot = (rhs_th - H.dot(u_ddot)) / (st.base_mass * B * B + wMw);
-  u_ddot.array() = u_ddot.array() / m - H.array() * th_ddot;
+  double H_rhs_u = 0;  // H' rhs_u
+  for (Eigen::Index i = 0; i < n; ++i) H_rhs_u += H[i] * acc[i];
+  const double th_ddot = (rhs_th - H_rhs_u) / (b.base_inertia + wMw);
+  for (Eigen::Index i = 0; i < n; ++i) acc[i] = acc[i] * inv_m[i] - H[i] * th_ddot;
   return th_ddot;
 }
 
-double rigid_rocking_acceleration(const RockingBody& b, int s, double a_g, double F_hd, double theta,
-                                  double theta_dot) {
-  (void)theta_dot;  // no Coriolis term without elastic motion
+double rigid_rocking_acceleration(const RockingBody& b, int s, double a_g, double F_hd, const Tilt& tilt) {
   const Structure& st = b.structure;
-  const double B = st.half_width, c = std::cos(theta), sn = std::sin(theta);
-  const double HM1 = st.heights.dot(st.masses), BM = B * (st.masses.sum() + st.base_mass);
-  const double rhs_th = -s * F_hd * 2.0 * B * std::cos(0.5 * theta) - a_g * (HM1 * c + s * BM * sn) -
-                        b.g * (-HM1 * sn + s * BM * c);
+  const double B = st.half_width, c = tilt.cos(), sn = tilt.sin();
+  const double BM = B * (st.masses.sum() + st.base_mass);
+  const double rhs_th = -s * F_hd * 2.0 * B * tilt.cos_half - a_g * (b.HM1 * c + s * BM * sn) -
+                        b.g * (-b.HM1 * sn + s * BM * c);
   return rhs_th / pivot_inertia(st);
 }
 
 double ground_input_power(const RockingBody& b, int s, double a_g, const Coordinates& q) {
   const Structure& st = b.structure;
   const auto& m = st.masses.array();
-  const double B = st.half_width, c = std::cos(q.theta), sn = std::sin(q.theta);
+  const double B = st.half_width, c = q.tilt.cos(), sn = q.tilt.sin();
   const double Mw = (m * (B - s * q.u.array())).sum();
   const double on_u = -a_g * c * (m * q.u_dot.array()).sum();
-  const double on_theta = -a_g * (st.heights.dot(st.masses) * c + s * (Mw + st.base_mass * B) * sn);
+  const double on_theta = -a_g * (b.HM1 * c + s * (Mw + st.base_mass * B) * sn);
   return on_u + on_theta * q.theta_dot;
 }
 
 double mechanical_energy(const RockingBody& b, int s, const Coordinates& q) {
   const Structure& st = b.structure;
   const auto& m = st.masses.array();
-  const double B = st.half_width, th = q.theta, thd = q.theta_dot;
+  const double B = st.half_width, thd = q.theta_dot;
+  const double c = q.tilt.cos(), sn = q.tilt.sin();
   const Eigen::ArrayXd w = B - s * q.u.array();
   const double J = st.base_mass * B * B + (m * (w.square() + st.heights.array().square())).sum();  // J(u)
   const double kinetic = 0.5 * (m * q.u_dot.array().square()).sum() + 0.5 * J * thd * thd +
                          thd * (m * st.heights.array() * q.u_dot.array()).sum();
   // heights: Y = s w sin th + H cos th for the nodes, s B sin th for the foundation beam
-  const double gravity = b.g * ((m * (s * w * std::sin(th) + st.heights.array() * (std::cos(th) - 1.0))).sum() +
-                                st.base_mass * s * B * std::sin(th));
+  const double gravity = b.g * ((m * (s * w * sn + st.heights.array() * (c - 1.0))).sum() + st.base_mass * s * B * sn);
   const double elastic = b.structure.rigid ? 0.0 : 0.5 * q.u.dot(b.matrices.K * q.u);
   return kinetic + gravity + elastic;
 }

@@ -24,13 +24,19 @@ struct RockingBody {
   Structure structure;
   StructuralMatrices matrices;
   double g = 9.81;
+  // Derived once: H'M1 [kg m], 1/m per node, m0 B^2 [kg m^2], m0 B [kg m].
+  double HM1 = 0;
+  Eigen::VectorXd inverse_masses;
+  double base_inertia = 0, base_moment = 0;
 };
 RockingBody make_body(const Structure& s, double g = 9.81);
 
-// The elastic and rocking coordinates of a state, by reference.
+// The elastic and rocking coordinates of a state, by reference (the tilt
+// carries theta with its half-angle sine and cosine).
 struct Coordinates {
   Eigen::Ref<const Eigen::VectorXd> u, u_dot;
-  double theta, theta_dot;
+  Tilt tilt;
+  double theta_dot;
 };
 
 // u'' under full contact (theta = 0). u_ddot must have N entries.
@@ -38,13 +44,12 @@ void full_contact_acceleration(const RockingBody& b, double a_g, Eigen::Ref<cons
                                Eigen::Ref<const Eigen::VectorXd> u_dot, Eigen::Ref<Eigen::VectorXd> u_ddot);
 
 // (u'', th'') while rocking about pivot s (+1 right, -1 left) with damper force F_hd.
-// work must have N entries (scratch, so that nothing is allocated).
+// Allocates nothing (it runs in every right-hand side).
 double rocking_acceleration(const RockingBody& b, int s, double a_g, double F_hd, const Coordinates& q,
-                            Eigen::Ref<Eigen::VectorXd> u_ddot, Eigen::Ref<Eigen::VectorXd> work);
+                            Eigen::Ref<Eigen::VectorXd> u_ddot);
 
 // th'' of a rigid block rocking about pivot s (u = u' = 0).
-double rigid_rocking_acceleration(const RockingBody& b, int s, double a_g, double F_hd, double theta,
-                                  double theta_dot);
+double rigid_rocking_acceleration(const RockingBody& b, int s, double a_g, double F_hd, const Tilt& tilt);
 
 // Power of the ground-acceleration terms of MODEL.md 4 on (u', th') [W]
 // (full contact: theta = theta' = 0 gives -a_g 1'M u').

@@ -7,6 +7,13 @@ module rocking.geometry;
 
 namespace rocking {
 
+Tilt::Tilt(double th) : theta(th) {
+  if (th != 0) {  // full contact (theta = 0) needs no trig
+    sin_half = std::sin(0.5 * th);
+    cos_half = std::cos(0.5 * th);
+  }
+}
+
 void check(const Structure& s) {
   const auto n = s.heights.size();
   auto fail = [](const std::string& what) { throw std::invalid_argument(what); };

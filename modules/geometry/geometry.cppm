@@ -21,6 +21,17 @@ struct Structure {
   bool rigid = false;          // a rigid block: no elastic coordinates, EI unused
 };
 
+// The base rotation theta with the sine and cosine of theta / 2, from one
+// sincos: sin theta, cos theta and the damper's chord 4B sin(|theta|/2) all
+// follow from them, so an evaluation of the equations needs no other trig.
+// Converts implicitly from theta.
+struct Tilt {
+  double theta = 0, sin_half = 0, cos_half = 1;
+  Tilt(double th = 0);  // NOLINT(google-explicit-constructor): theta is a tilt
+  double sin() const { return 2.0 * sin_half * cos_half; }
+  double cos() const { return 1.0 - 2.0 * sin_half * sin_half; }
+};
+
 // Throws std::invalid_argument naming the first field that breaks an
 // invariant (sizes agree, masses and EI positive, heights increasing from > 0;
 // EI is not looked at for a rigid structure).

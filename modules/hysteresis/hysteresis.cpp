@@ -24,10 +24,10 @@ double post_yield_rotational_stiffness(const Damper& d, double B) {
   return d.post_yield_ratio * pre_yield_rotational_stiffness(d, B);
 }
 
-double damper_elongation(double B, double theta) { return 4.0 * B * std::sin(0.5 * std::abs(theta)); }
+double damper_elongation(double B, const Tilt& tilt) { return 4.0 * B * std::abs(tilt.sin_half); }
 
-double damper_rate(double B, double theta, double theta_dot, int s) {
-  return 2.0 * B * std::cos(0.5 * theta) * s * theta_dot;
+double damper_rate(double B, const Tilt& tilt, double theta_dot, int s) {
+  return 2.0 * B * tilt.cos_half * s * theta_dot;
 }
 
 double damper_force(const Damper& d, double d_y, double elongation, double z) {

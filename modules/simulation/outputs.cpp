@@ -68,16 +68,16 @@ Response evaluate(const ContactModel& m, const OutputScales& sc, const Discrete&
   Response r;
   r.t = t;
   r.pivot = d.pivot;
-  const double th = l.theta < 0 ? 0.0 : y[l.theta];
-  const double s = th > 0 ? 1.0 : th < 0 ? -1.0 : 0.0;
+  const Tilt tilt(l.theta < 0 ? 0.0 : y[l.theta]);
+  const double th = tilt.theta, s = th > 0 ? 1.0 : th < 0 ? -1.0 : 0.0;
   r.u_top = l.u < 0 ? 0.0 : y[l.u + l.n - 1];
-  const double c = std::cos(th), H = sc.H_N, B = st.half_width;
+  const double c = tilt.cos(), H = sc.H_N, B = st.half_width;
   auto set = [&](Quantity k, double v) { r.q[static_cast<std::size_t>(k)] = v; };
-  set(Quantity::delta_t, (s * B * (1 - c) + r.u_top * c + H * std::sin(th)) / H);
+  set(Quantity::delta_t, (s * B * (1 - c) + r.u_top * c + H * tilt.sin()) / H);
   set(Quantity::delta_e, r.u_top * c / H);
   set(Quantity::theta, th);
   set(Quantity::theta_over_alpha, th / sc.alpha_cg);
-  const DamperState damper = active_damper(m, d, y);
+  const DamperState damper = active_damper(m, d, tilt, y);
   set(Quantity::damper_d, d.pivot * damper.elongation);
   set(Quantity::damper_F, d.pivot * damper.force);
   if (sc.has_forces) {

@@ -139,8 +139,9 @@ class Driver {
     ode::Guards guards;
     guards.directions = guard_directions(m_, d_.pivot);
     if (!guards.directions.empty())
-      guards.fn = [this](double tg, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> g) {
-        guard_values(m_, d_, ground_.acceleration(tg), y, g);
+      guards.fn = [this, with_a_g = guards_use_ground_acceleration(m_, d_.pivot)](
+                      double tg, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> g) {
+        guard_values(m_, d_, with_a_g ? ground_.acceleration(tg) : 0.0, y, g);
       };
     active_ = d_.pivot == 0 && exact_ ? exact_.get() : integrator_.get();
     active_->reset(t, y_, std::move(guards));
