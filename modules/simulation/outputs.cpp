@@ -81,7 +81,8 @@ Response evaluate(const ContactModel& m, const OutputScales& sc, const Discrete&
   set(Quantity::damper_d, d.pivot * damper.elongation);
   set(Quantity::damper_F, d.pivot * damper.force);
   if (sc.has_forces) {
-    const Eigen::Vector4d f = sc.force_rows * y.segment(l.u, l.n);
+    Eigen::Vector4d f = Eigen::Vector4d::Zero();  // a column at a time: N is a handful
+    for (Eigen::Index j = 0; j < l.n; ++j) f += sc.force_rows.col(j) * y[l.u + j];
     set(Quantity::base_shear, f[0]);
     set(Quantity::base_moment, f[1]);
     set(Quantity::mid_shear, f[2]);

@@ -17,19 +17,30 @@ namespace rocking {
 namespace {
 
 // Absolute peaks over samples of the continuous response; an interior local
-// maximum of |q| is refined by the parabola through its neighbours.
+// maximum of |q| is refined by the parabola through its neighbours. Every
+// quantity is treated alike, without branches (the condition selects), so
+// that the loop vectorises: it runs at every sample of every step.
 class PeakTracker {
  public:
   void add(const Response& r) {
+    const double t = r.t;
+    const bool spaced = count_ >= 2 && t1_ > t2_ && t > t1_;
+    // Reciprocal spacings shared by all quantities (0 when the three samples
+    // cannot carry a parabola: every candidate is then rejected below).
+    const double i21 = spaced ? 1.0 / (t1_ - t2_) : 0.0, i10 = spaced ? 1.0 / (t - t1_) : 0.0,
+                 i20 = spaced ? 1.0 / (t - t2_) : 0.0, mid = 0.5 * (t2_ + t1_);
     for (std::size_t i = 0; i < quantity_count; ++i) {
-      const double a = std::abs(r.q[i]);
-      peak_[i] = std::max(peak_[i], a);
-      if (count_ >= 2 && v1_[i] >= v2_[i] && v1_[i] >= a) peak_[i] = std::max(peak_[i], vertex(i, r.t, a));
-      v2_[i] = v1_[i];
+      const double a = std::abs(r.q[i]), v1 = v1_[i], v2 = v2_[i];
+      const double f21 = (v1 - v2) * i21, c = ((a - v1) * i10 - f21) * i20;
+      const double x = mid - 0.5 * f21 / c;  // the vertex (inf or NaN when c = 0: rejected)
+      const double top = v2 + f21 * (x - t2_) + c * (x - t2_) * (x - t1_);
+      const bool vertex = spaced && v1 >= v2 && v1 >= a && c < 0 && x >= t2_ && x <= t;
+      peak_[i] = std::max(peak_[i], vertex ? std::max(a, top) : a);
+      v2_[i] = v1;
       v1_[i] = a;
     }
     t2_ = t1_;
-    t1_ = r.t;
+    t1_ = t;
     ++count_;
   }
   // Velocities (and so the shape of the response) jump at an event.
@@ -37,16 +48,6 @@ class PeakTracker {
   const std::array<double, quantity_count>& peaks() const { return peak_; }
 
  private:
-  double vertex(std::size_t i, double t, double a) const {
-    if (!(t1_ > t2_ && t > t1_)) return 0.0;
-    const double f21 = (v1_[i] - v2_[i]) / (t1_ - t2_), f1 = (a - v1_[i]) / (t - t1_);
-    const double c = (f1 - f21) / (t - t2_);
-    if (!(c < 0)) return 0.0;
-    const double x = 0.5 * (t2_ + t1_) - f21 / (2 * c);
-    if (!(x >= t2_ && x <= t)) return 0.0;
-    return v2_[i] + f21 * (x - t2_) + c * (x - t2_) * (x - t1_);
-  }
-
   std::array<double, quantity_count> peak_{}, v1_{}, v2_{};
   double t1_ = 0, t2_ = 0;
   long count_ = 0;
