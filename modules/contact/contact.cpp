@@ -49,33 +49,33 @@ double moment_of_velocities(const ContactModel& m, Eigen::Ref<const Eigen::Vecto
   return (st.heights.array() * st.masses.array() * y.segment(m.layout.u_dot, m.layout.n).array()).sum();
 }
 
-// Eq. 2 as the smooth moment guard g_s [N m] (MODEL.md 6). In full contact
-// the inertia forces equal K u + C u' (flexible) or -M1 a_g (rigid, u = 0).
-double moment_guard(const ContactModel& m, const Discrete& d, int s, double a_g,
-                    Eigen::Ref<const Eigen::VectorXd> y) {
+// The parts of both uplift guards that do not depend on the pivot, from one
+// pass over the state. In full contact the inertia forces equal K u + C u'
+// (flexible) or -M1 a_g (rigid, u = 0).
+struct UpliftTerms {
+  double moment = 0;    // H'(K u + C u') (flexible) or -a_g H'M1 (rigid) [N m]
+  double Mu = 0;        // 1'M u [kg m]
+  double momentum = 0;  // H'M u' [kg m^2/s]
+};
+UpliftTerms uplift_terms(const ContactModel& m, double a_g, Eigen::Ref<const Eigen::VectorXd> y) {
+  if (m.layout.u < 0) return {-a_g * m.body.HM1, 0.0, 0.0};
   const Structure& st = m.body.structure;
-  const double B = st.half_width, g = m.body.g;
-  const double f_res = m.has_damper ? damper_force(m.damper, m.d_y, 0.0, damper_z(d, s)) : 0.0;
-  double overturning, restoring;
-  if (m.layout.u < 0) {
-    overturning = -s * a_g * st.heights.dot(st.masses);
-    restoring = g * B * (st.masses.sum() + st.base_mass);
-  } else {
-    // u and u' are adjacent in the layout (u_dot = u + n).
-    overturning = s * m.moment_row.dot(y.segment(m.layout.u, 2 * m.layout.n));
-    const double Mu = st.masses.dot(y.segment(m.layout.u, m.layout.n));
-    restoring = g * (B * (st.masses.sum() + st.base_mass) - s * Mu);
-  }
-  return overturning - (restoring + f_res * 2.0 * B);
+  // u and u' are adjacent in the layout (u_dot = u + n).
+  return {m.moment_row.dot(y.segment(m.layout.u, 2 * m.layout.n)), st.masses.dot(y.segment(m.layout.u, m.layout.n)),
+          moment_of_velocities(m, y)};
 }
 
-// The uplift guard: min(g_s, L_s) crosses zero upwards when both become positive.
-// A rigid block has no elastic momentum, so only Eq. 2 applies.
-double uplift_guard(const ContactModel& m, const Discrete& d, int s, double a_g,
-                    Eigen::Ref<const Eigen::VectorXd> y) {
-  const double gs = moment_guard(m, d, s, a_g, y);
+// The uplift guard about s: min(g_s, L_s) crosses zero upwards when both
+// become positive, g_s being Eq. 2 as a smooth moment guard [N m] (MODEL.md 6)
+// and L_s = s H'M u' Eq. 3. A rigid block has no elastic momentum: g_s alone.
+double uplift_guard(const ContactModel& m, const Discrete& d, int s, const UpliftTerms& t) {
+  const Structure& st = m.body.structure;
+  const double B = st.half_width;
+  const double f_res = m.has_damper ? damper_force(m.damper, m.d_y, 0.0, damper_z(d, s)) : 0.0;
+  const double restoring = m.body.g * (B * total_mass(st) - s * t.Mu);
+  const double gs = s * t.moment - (restoring + f_res * 2.0 * B);
   if (m.layout.u < 0) return gs;
-  return std::min(gs, s * moment_of_velocities(m, y));
+  return std::min(gs, s * t.momentum);
 }
 
 double restitution(const ContactModel& m, int s, Eigen::Ref<const Eigen::VectorXd> y, double l_new,
@@ -223,8 +223,9 @@ void guard_values(const ContactModel& m, const Discrete& d, double a_g, Eigen::R
                   Eigen::Ref<Eigen::VectorXd> g) {
   if (m.kind == ModelKind::fixed_base) return;
   if (d.pivot == 0) {
-    g[0] = uplift_guard(m, d, +1, a_g, y);
-    g[1] = uplift_guard(m, d, -1, a_g, y);
+    const UpliftTerms t = uplift_terms(m, a_g, y);
+    g[0] = uplift_guard(m, d, +1, t);
+    g[1] = uplift_guard(m, d, -1, t);
   } else {
     const double st = d.pivot * y[m.layout.theta];
     g[0] = st;
@@ -238,8 +239,9 @@ bool guards_use_ground_acceleration(const ContactModel& m, int pivot) {
 
 int uplift_now(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y) {
   if (m.kind == ModelKind::fixed_base) return 0;
+  const UpliftTerms t = uplift_terms(m, a_g, y);
   for (int s : {+1, -1})
-    if (uplift_guard(m, d, s, a_g, y) > 0) return s;
+    if (uplift_guard(m, d, s, t) > 0) return s;
   return 0;
 }
 

@@ -54,7 +54,7 @@ class DormandPrince final : public Integrator {
     rhs(t_, y_, k1_);
     if (!k1_.allFinite()) throw IntegrationError(IntegrationError::Kind::non_finite_state, t_, "at the initial state");
     h_ = opt_.initial_step > 0 ? opt_.initial_step : initial_step();
-    fac_old_ = 1e-4;
+    log_fac_old_ = std::log(1e-4);
     last_rejected_ = false;
     samples_valid_ = false;
   }
@@ -83,20 +83,22 @@ class DormandPrince final : public Integrator {
         last_rejected_ = true;
         continue;
       }
-      const double fac11 = std::pow(err, expo1);
+      // err^expo1 and the PI term err^expo1 / err_old^beta from one log and one exp
+      const double log_err = std::log(err);
       if (err <= 1.0) {
         accept(h, lands ? bound : t_ + h);
-        double fac = std::clamp(fac11 / std::pow(fac_old_, beta) / safety, 1.0 / fac_max, 1.0 / fac_min);
+        const double pi = std::exp(expo1 * log_err - beta * log_fac_old_);
+        double fac = std::clamp(pi / safety, 1.0 / fac_max, 1.0 / fac_min);
         double h_next = h / fac;
         if (last_rejected_) h_next = std::min(h_next, h);
         if (!lands || h_next > h_) h_ = h_next;  // a short landing step does not shrink h
-        fac_old_ = std::max(err, 1e-4);
+        log_fac_old_ = std::max(log_err, std::log(1e-4));
         last_rejected_ = false;
         if (const StepReport e = find_event(); e.reason == Stop::event) return e;
         if (lands) return {bp_ahead ? Stop::breakpoint : Stop::limit, t_};
         return {Stop::step, t_};
       }
-      h_ = h / std::min(1.0 / fac_min, fac11 / safety);
+      h_ = h / std::min(1.0 / fac_min, std::exp(expo1 * log_err) / safety);
       ++stats_.rejected;
       last_rejected_ = true;
     }
@@ -202,7 +204,7 @@ class DormandPrince final : public Integrator {
   Rhs rhs_;
   Options opt_;
   GuardScanner scanner_;
-  double t_ = 0, t_prev_ = 0, h_ = 0, h_dense_ = 0, fac_old_ = 1e-4;
+  double t_ = 0, t_prev_ = 0, h_ = 0, h_dense_ = 0, log_fac_old_ = 0;  // log of Hairer's facold
   bool last_rejected_ = false, samples_valid_ = false;
   Eigen::MatrixXd samples_;  // the last step's interior samples, one column each
   Eigen::VectorXd y_, y_new_, y_stage_, y_dense_, k1_, k2_, k3_, k4_, k5_, k6_, k7_;
