@@ -74,6 +74,38 @@ TEST_CASE("exact steps match the closed form of an oscillator under a constant, 
   CHECK(integ->stats().steps == 30);  // ten steps of 0.1 before the breakpoint, twenty after
 }
 
+TEST_CASE("a block of 9 oscillators (beyond the unrolled sizes) is stepped as exactly as one") {
+  // Block size 18 > max_static_size: the general loops of the cached steps.
+  const int copies = 9;
+  const LinearSystem one = oscillator();
+  LinearSystem many;
+  many.size = 2 * copies + 1;
+  many.first = 0;
+  many.A = Eigen::MatrixXd::Zero(2 * copies, 2 * copies);
+  many.b.resize(2 * copies);
+  for (int c = 0; c < copies; ++c) {
+    many.A.block(2 * c, 2 * c, 2, 2) = one.A;
+    many.b.segment(2 * c, 2) = one.b;
+  }
+  many.forcing = one.forcing;
+  Options o;
+  o.max_step = 0.1;
+  auto integ = make_exact_linear(many, o);
+  integ->set_breakpoints(breakpoint_list({1.0}));
+  Eigen::VectorXd y0(many.size), y(many.size);
+  for (int c = 0; c < copies; ++c) y0.segment(2 * c, 2) = Eigen::Vector2d(1, 0);
+  y0[2 * copies] = 42;
+  integ->reset(0, y0, {});
+  while (integ->time() < 3.0) {
+    integ->step(3.0);
+    for (int k = 1; k <= 4; ++k) {
+      integ->sample(k, 4, y);
+      for (int c = 0; c < copies; ++c) CHECK((y.segment(2 * c, 2) - exact(integ->sample_time(k, 4))).norm() <= 1e-12);
+      CHECK(y[2 * copies] == 42);
+    }
+  }
+}
+
 TEST_CASE("an event is located to round-off on the exact solution") {
   // Free oscillation (a = 0) from x = 1: x falls through 0 at t = pi / (2 omega).
   LinearSystem s = oscillator();

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <initializer_list>
 #include <numbers>
+#include <utility>
 #include <vector>
 import rocking.sundials;
 
@@ -52,6 +53,29 @@ double fixed_step_error(double h) {
 TEST_CASE("rk45 is 5th order: halving a fixed step divides the error by about 32") {
   const double ratio = fixed_step_error(0.1) / fixed_step_error(0.05);
   CHECK(std::log2(ratio) == doctest::Approx(5.0).epsilon(0.06));
+}
+
+TEST_CASE("rk45 steps alike at every state size, unrolled (up to 16) or not") {
+  // k stacked copies of the oscillator have the RMS error of one copy, so the
+  // same steps: state sizes 2 and 16 use the unrolled kernels, 18 the general.
+  auto run = [](int copies) {
+    auto rk = make_rk45(2 * copies, [](double, CRef y, Ref f) {
+      for (Eigen::Index i = 0; i < y.size(); i += 2) { f[i] = y[i + 1]; f[i + 1] = -y[i]; }
+    }, {.rtol = 1e-8, .atol = 1e-10});
+    Vec y0(2 * copies);
+    for (int c = 0; c < copies; ++c) y0.segment(2 * c, 2) << 1.0, 0.0;
+    rk->reset(0.0, y0, {});
+    advance(*rk, 10.0);
+    return std::pair{Vec(rk->state()), rk->stats().steps};
+  };
+  const auto [one, steps] = run(1);
+  CHECK(std::abs(one[0] - std::cos(10.0)) < 1e-6);
+  for (int copies : {8, 9}) {
+    CAPTURE(copies);
+    const auto [many, many_steps] = run(copies);
+    CHECK(many_steps == steps);
+    for (int c = 0; c < copies; ++c) CHECK((many.segment(2 * c, 2) - one).norm() < 1e-12);
+  }
 }
 
 TEST_CASE("global error falls in proportion to the tolerance (harmonic oscillator, 10 periods)") {

@@ -1,5 +1,6 @@
 module;
 #include <rocking/eigen.hpp>
+#include <rocking/static_size.hpp>
 #include <cmath>
 module rocking.dynamics;
 
@@ -7,20 +8,63 @@ namespace rocking {
 
 namespace {
 
-// out = -(K u + C u'), column by column: with a handful of nodes a general
-// matrix-vector kernel costs more in dispatch than in arithmetic, and this
-// runs in every right-hand side.
-void restoring_force(const StructuralMatrices& sm, Eigen::Ref<const Eigen::VectorXd> u,
-                     Eigen::Ref<const Eigen::VectorXd> u_dot, Eigen::Ref<Eigen::VectorXd> out) {
-  const Eigen::Index n = u.size();
+// f = -(K u + C u') for N nodes (N static when S > 0, see static_size.hpp):
+// this runs in every right-hand side, at sizes where loop control would cost
+// more than the arithmetic.
+template <int S>
+void restoring_force(const StructuralMatrices& sm, const double* u, const double* u_dot, double* f, long n_runtime) {
+  const long n = static_or<S>(n_runtime);
   const double* K = sm.K.data();  // column-major, n x n
   const double* C = sm.C.data();
-  double* f = out.data();
-  for (Eigen::Index i = 0; i < n; ++i) f[i] = 0.0;
-  for (Eigen::Index j = 0; j < n; ++j) {
+  double local[S > 0 ? S : 1];  // see rocking_acceleration_n
+  double* r = S > 0 ? local : f;
+  for (long i = 0; i < n; ++i) r[i] = 0.0;
+  for (long j = 0; j < n; ++j) {
     const double uj = u[j], vj = u_dot[j];
-    for (Eigen::Index i = 0; i < n; ++i) f[i] -= K[j * n + i] * uj + C[j * n + i] * vj;
+    for (long i = 0; i < n; ++i) r[i] -= K[j * n + i] * uj + C[j * n + i] * vj;
   }
+  if (S > 0)
+    for (long i = 0; i < n; ++i) f[i] = r[i];
+}
+
+// The body of rocking_acceleration (below) for static size S.
+template <int S>
+double rocking_acceleration_n(const RockingBody& b, int s, double a_g, double F_hd, const Coordinates& q,
+                              double* acc) {
+  const Structure& st = b.structure;
+  const long n = static_or<S>(q.u.size());
+  const double* m = st.masses.data();
+  const double* H = st.heights.data();
+  const double* inv_m = b.inverse_masses.data();
+  const double* u = q.u.data();
+  const double* u_dot = q.u_dot.data();
+  const double B = st.half_width, g = b.g, thd = q.theta_dot;
+  const double c = q.tilt.cos(), sn = q.tilt.sin();
+  // At a static size the work is done in a local array, which the compiler
+  // knows aliases nothing (the output may, for all it can tell, be the input).
+  double local[S > 0 ? S : 1];
+  double* r = S > 0 ? local : acc;
+  // rhs_u = -M1 a_g cos th - M (sB1 - u) th'^2 - C u' - K u + M1 g sin th, with
+  // w = B1 - s u the lever arms (sB1 - u = s w)
+  restoring_force<S>(b.matrices, u, u_dot, r, n);
+  const double per_mass = -a_g * c + g * sn, spin = s * thd * thd;
+  double Mw = 0, wMw = 0, wMu_dot = 0;  // 1'M w, w'M w, w'M u'
+  for (long i = 0; i < n; ++i) {
+    const double w = B - s * u[i], mw = m[i] * w;
+    Mw += mw;
+    wMw += mw * w;
+    wMu_dot += mw * u_dot[i];
+    r[i] += m[i] * per_mass - spin * mw;
+  }
+  const double rhs_th = 2.0 * s * wMu_dot * thd - s * F_hd * 2.0 * B * q.tilt.cos_half
+                        - a_g * (b.HM1 * c + s * (Mw + b.base_moment) * sn)
+                        - g * (-b.HM1 * sn + s * (Mw + b.base_moment) * c);
+  // Schur complement of the diagonal M: J - H'MH = m0 B^2 + w'Mw > 0
+  double H_rhs_u = 0;  // H' rhs_u
+  for (long i = 0; i < n; ++i) H_rhs_u += H[i] * r[i];
+  const double th_ddot = (rhs_th - H_rhs_u) / (b.base_inertia + wMw);
+  for (long i = 0; i < n; ++i) acc[i] = r[i] * inv_m[i] - H[i] * th_ddot;
+  return th_ddot;
 }
 
 }  // namespace
@@ -40,44 +84,24 @@ RockingBody make_body(const Structure& s, double g) {
 
 void full_contact_acceleration(const RockingBody& b, double a_g, Eigen::Ref<const Eigen::VectorXd> u,
                                Eigen::Ref<const Eigen::VectorXd> u_dot, Eigen::Ref<Eigen::VectorXd> u_ddot) {
-  restoring_force(b.matrices, u, u_dot, u_ddot);
-  u_ddot.array() = u_ddot.array() * b.inverse_masses.array() - a_g;
+  with_static_size(u.size(), [&](auto size) {
+    constexpr int S = decltype(size)::value;
+    const long n = static_or<S>(u.size());
+    double* acc = u_ddot.data();
+    const double* inv_m = b.inverse_masses.data();
+    restoring_force<S>(b.matrices, u.data(), u_dot.data(), acc, n);
+    for (long i = 0; i < n; ++i) acc[i] = acc[i] * inv_m[i] - a_g;
+  });
 }
 
-// One pass over the nodes per quantity, in plain loops over N (a handful):
-// this is the right-hand side of every rocking step.
+// Unrolled for the node count (static_size.hpp): the right-hand side of
+// every rocking step.
 double rocking_acceleration(const RockingBody& b, int s, double a_g, double F_hd, const Coordinates& q,
                             Eigen::Ref<Eigen::VectorXd> u_ddot) {
-  const Structure& st = b.structure;
-  const Eigen::Index n = q.u.size();
-  const double* m = st.masses.data();
-  const double* H = st.heights.data();
-  const double* inv_m = b.inverse_masses.data();
-  const double* u = q.u.data();
-  const double* u_dot = q.u_dot.data();
-  double* acc = u_ddot.data();
-  const double B = st.half_width, g = b.g, thd = q.theta_dot;
-  const double c = q.tilt.cos(), sn = q.tilt.sin();
-  // rhs_u = -M1 a_g cos th - M (sB1 - u) th'^2 - C u' - K u + M1 g sin th, with
-  // w = B1 - s u the lever arms (sB1 - u = s w)
-  restoring_force(b.matrices, q.u, q.u_dot, u_ddot);
-  const double per_mass = -a_g * c + g * sn, spin = s * thd * thd;
-  double Mw = 0, wMw = 0, wMu_dot = 0;  // 1'M w, w'M w, w'M u'
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double w = B - s * u[i], mw = m[i] * w;
-    Mw += mw;
-    wMw += mw * w;
-    wMu_dot += mw * u_dot[i];
-    acc[i] += m[i] * per_mass - spin * mw;
-  }
-  const double rhs_th = 2.0 * s * wMu_dot * thd - s * F_hd * 2.0 * B * q.tilt.cos_half
-                        - a_g * (b.HM1 * c + s * (Mw + b.base_moment) * sn)
-                        - g * (-b.HM1 * sn + s * (Mw + b.base_moment) * c);
-  // Schur complement of the diagonal M: J - H'MH = m0 B^2 + w'Mw > 0
-  double H_rhs_u = 0;  // H' rhs_u
-  for (Eigen::Index i = 0; i < n; ++i) H_rhs_u += H[i] * acc[i];
-  const double th_ddot = (rhs_th - H_rhs_u) / (b.base_inertia + wMw);
-  for (Eigen::Index i = 0; i < n; ++i) acc[i] = acc[i] * inv_m[i] - H[i] * th_ddot;
+  double th_ddot = 0;
+  with_static_size(q.u.size(), [&](auto size) {
+    th_ddot = rocking_acceleration_n<decltype(size)::value>(b, s, a_g, F_hd, q, u_ddot.data());
+  });
   return th_ddot;
 }
 

@@ -13,6 +13,7 @@
 // matrix-vector products; other lengths use the eigen form.
 module;
 #include <rocking/eigen.hpp>
+#include <rocking/static_size.hpp>
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -101,8 +102,10 @@ class ExactLinear final : public Integrator {
 
   void sample(int k, int count, Eigen::Ref<Eigen::VectorXd> y) override {
     if (!samples_valid_ || count != samples_per_step) return Integrator::sample(k, count, y);
-    y = y_;
-    y.segment(sys_.first, z0_.size()) = samples_.col(k - 1);
+    // y_ with the block replaced: plain copies (this runs twice per sample)
+    const double* block = samples_.col(k - 1).data();
+    std::copy_n(y_.data(), y_.size(), y.data());
+    std::copy_n(block, z0_.size(), y.data() + sys_.first);
   }
 
   Stats stats() const override {
@@ -125,7 +128,9 @@ class ExactLinear final : public Integrator {
     if (std::abs(h_ - cached_h_) <= 1e-10 * cached_h_) {
       // The usual step: within 1e-10 of the cached length (consecutive sample
       // times differ by round-off), a shift far below the state's accuracy.
-      for (int k = 0; k < samples_per_step; ++k) cached_sample(k);
+      with_static_size(z0_.size(), [this](auto size) {
+        for (int k = 0; k < samples_per_step; ++k) cached_sample<decltype(size)::value>(k);
+      });
     } else {
       if (std::abs(h_ - candidate_h_) <= 1e-10 * candidate_h_) build_cache(h_);  // seen twice: cache it
       else candidate_h_ = h_;
@@ -138,16 +143,23 @@ class ExactLinear final : public Integrator {
     ++stats_.steps;
   }
 
-  // samples_ column k from the cached matrices, in plain loops (m is small).
+  // samples_ column k from the cached matrices, unrolled for the block size
+  // (static_size.hpp), in a local array that aliases nothing.
+  template <int S>
   void cached_sample(int k) {
-    const Eigen::Index m = z0_.size();
+    const long m = static_or<S>(z0_.size());
     const double* P = phi_[k].data();  // column-major
+    const double *g0 = g0_[k].data(), *g1 = g1_[k].data(), *z0 = z0_.data();
     double* z = samples_.col(k).data();
-    for (Eigen::Index i = 0; i < m; ++i) z[i] = g0_[k][i] * a0_ + g1_[k][i] * slope_;
-    for (Eigen::Index j = 0; j < m; ++j) {
-      const double zj = z0_[j];
-      for (Eigen::Index i = 0; i < m; ++i) z[i] += P[j * m + i] * zj;
+    double local[S > 0 ? S : 1];
+    double* r = S > 0 ? local : z;
+    for (long i = 0; i < m; ++i) r[i] = g0[i] * a0_ + g1[i] * slope_;
+    for (long j = 0; j < m; ++j) {
+      const double zj = z0[j];
+      for (long i = 0; i < m; ++i) r[i] += P[j * m + i] * zj;
     }
+    if (S > 0)
+      for (long i = 0; i < m; ++i) z[i] = r[i];
   }
 
   // z(t_prev_ + tau) from the eigen form.

@@ -3,6 +3,7 @@
 // interface for the references).
 module;
 #include <rocking/eigen.hpp>
+#include <rocking/static_size.hpp>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -110,7 +111,9 @@ class DormandPrince final : public Integrator {
   void dense(double t, Eigen::Ref<Eigen::VectorXd> y) override {
     if (h_dense_ == 0) { y = r1_; return; }
     const double s = (t - t_prev_) / h_dense_, s1 = 1.0 - s;
-    y = r1_ + s * (r2_ + s1 * (r3_ + s * (r4_ + s1 * r5_)));
+    const double *r1 = r1_.data(), *r2 = r2_.data(), *r3 = r3_.data(), *r4 = r4_.data(), *r5 = r5_.data();
+    double* out = y.data();
+    for (long i = 0, n = y_.size(); i < n; ++i) out[i] = r1[i] + s * (r2[i] + s1 * (r3[i] + s * (r4[i] + s1 * r5[i])));
   }
   // The step's interior samples, computed once for the guards and the caller.
   void sample(int k, int count, Eigen::Ref<Eigen::VectorXd> y) override {
@@ -119,7 +122,7 @@ class DormandPrince final : public Integrator {
       for (int j = 1; j < count; ++j) dense(sample_time(j, count), samples_.col(j - 1));
       samples_valid_ = true;
     }
-    y = samples_.col(k - 1);
+    std::copy_n(samples_.col(k - 1).data(), y_.size(), y.data());
   }
   Stats stats() const override {
     Stats out = stats_;
@@ -152,31 +155,61 @@ class DormandPrince final : public Integrator {
     return std::min({100 * h0, h1, opt_.max_step});
   }
 
-  // One trial step of size h from (t_, y_) with k1_ = f(t_, y_); returns the error norm.
+  // One trial step of size h from (t_, y_) with k1_ = f(t_, y_); returns the
+  // error norm (NaN when the step produced a non-finite value).
   double attempt(double h) {
-    y_stage_ = y_ + h * a21 * k1_;
+    double err = 0;
+    with_static_size(y_.size(), [&](auto size) { err = attempt_n<decltype(size)::value>(h); });
+    return err;
+  }
+
+  // The stages and the error estimate in plain loops, unrolled for the state
+  // size (static_size.hpp): a state has a dozen components, where general
+  // vector expressions cost more in control than in arithmetic.
+  template <int S>
+  double attempt_n(double h) {
+    const long n = static_or<S>(y_.size());
+    const double *y = y_.data(), *k1 = k1_.data(), *k2 = k2_.data(), *k3 = k3_.data(), *k4 = k4_.data(),
+                 *k5 = k5_.data(), *k6 = k6_.data(), *k7 = k7_.data();
+    double *ys = y_stage_.data(), *yn = y_new_.data();
+    for (long i = 0; i < n; ++i) ys[i] = y[i] + h * a21 * k1[i];
     rhs(t_ + c2 * h, y_stage_, k2_);
-    y_stage_ = y_ + h * (a31 * k1_ + a32 * k2_);
+    for (long i = 0; i < n; ++i) ys[i] = y[i] + h * (a31 * k1[i] + a32 * k2[i]);
     rhs(t_ + c3 * h, y_stage_, k3_);
-    y_stage_ = y_ + h * (a41 * k1_ + a42 * k2_ + a43 * k3_);
+    for (long i = 0; i < n; ++i) ys[i] = y[i] + h * (a41 * k1[i] + a42 * k2[i] + a43 * k3[i]);
     rhs(t_ + c4 * h, y_stage_, k4_);
-    y_stage_ = y_ + h * (a51 * k1_ + a52 * k2_ + a53 * k3_ + a54 * k4_);
+    for (long i = 0; i < n; ++i) ys[i] = y[i] + h * (a51 * k1[i] + a52 * k2[i] + a53 * k3[i] + a54 * k4[i]);
     rhs(t_ + c5 * h, y_stage_, k5_);
-    y_stage_ = y_ + h * (a61 * k1_ + a62 * k2_ + a63 * k3_ + a64 * k4_ + a65 * k5_);
+    for (long i = 0; i < n; ++i)
+      ys[i] = y[i] + h * (a61 * k1[i] + a62 * k2[i] + a63 * k3[i] + a64 * k4[i] + a65 * k5[i]);
     rhs(t_ + h, y_stage_, k6_);
-    y_new_ = y_ + h * (a71 * k1_ + a73 * k3_ + a74 * k4_ + a75 * k5_ + a76 * k6_);
+    for (long i = 0; i < n; ++i)
+      yn[i] = y[i] + h * (a71 * k1[i] + a73 * k3[i] + a74 * k4[i] + a75 * k5[i] + a76 * k6[i]);
     rhs(t_ + h, y_new_, k7_);
-    y_stage_ = h * (e1 * k1_ + e3 * k3_ + e4 * k4_ + e5 * k5_ + e6 * k6_ + e7 * k7_);
-    if (!y_new_.allFinite() || !k7_.allFinite()) return std::numeric_limits<double>::quiet_NaN();
-    return weighted_rms(y_stage_, y_, y_new_);
+    double sum = 0;
+    bool finite = true;
+    for (long i = 0; i < n; ++i) {
+      const double e = h * (e1 * k1[i] + e3 * k3[i] + e4 * k4[i] + e5 * k5[i] + e6 * k6[i] + e7 * k7[i]);
+      const double scale = opt_.atol + opt_.rtol * std::max(std::abs(y[i]), std::abs(yn[i]));
+      sum += (e / scale) * (e / scale);
+      finite = finite && std::isfinite(yn[i]) && std::isfinite(k7[i]);
+    }
+    if (!finite) return std::numeric_limits<double>::quiet_NaN();
+    return std::sqrt(sum / static_cast<double>(n));
   }
 
   void accept(double h, double t_new) {
-    r1_ = y_;
-    r2_ = y_new_ - y_;
-    r3_ = h * k1_ - r2_;
-    r4_ = r2_ - h * k7_ - r3_;
-    r5_ = h * (d1 * k1_ + d3 * k3_ + d4 * k4_ + d5 * k5_ + d6 * k6_ + d7 * k7_);
+    const long n = y_.size();
+    const double *y = y_.data(), *yn = y_new_.data(), *k1 = k1_.data(), *k3 = k3_.data(), *k4 = k4_.data(),
+                 *k5 = k5_.data(), *k6 = k6_.data(), *k7 = k7_.data();
+    double *r1 = r1_.data(), *r2 = r2_.data(), *r3 = r3_.data(), *r4 = r4_.data(), *r5 = r5_.data();
+    for (long i = 0; i < n; ++i) {
+      r1[i] = y[i];
+      r2[i] = yn[i] - y[i];
+      r3[i] = h * k1[i] - r2[i];
+      r4[i] = r2[i] - h * k7[i] - r3[i];
+      r5[i] = h * (d1 * k1[i] + d3 * k3[i] + d4 * k4[i] + d5 * k5[i] + d6 * k6[i] + d7 * k7[i]);
+    }
     t_prev_ = t_;
     h_dense_ = h;
     t_ = t_new;
