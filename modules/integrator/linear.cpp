@@ -48,11 +48,10 @@ class ExactLinear final : public Integrator {
     V_inv_ = lu.inverse();
     beta_ = V_inv_ * sys_.b.cast<Complex>();
     inv_lambda_ = lambda_.cwiseInverse();
+    choose_modes();
     y_.setZero(sys_.size);
     z0_.setZero(m);
     w0_.setZero(m);
-    w_.setZero(m);
-    vw_.setZero(m);
     samples_.setZero(m, samples_per_step);
   }
 
@@ -132,8 +131,15 @@ class ExactLinear final : public Integrator {
         for (int k = 0; k < samples_per_step; ++k) cached_sample<decltype(size)::value>(k);
       });
     } else {
-      if (std::abs(h_ - candidate_h_) <= 1e-10 * candidate_h_) build_cache(h_);  // seen twice: cache it
-      else candidate_h_ = h_;
+      // A length that recurs is cached: three steps in a row. The equal parts
+      // of the span from an event to the next sample (at most two) do not
+      // displace the usual length.
+      if (std::abs(h_ - candidate_h_) <= 1e-10 * candidate_h_) {
+        if (++candidate_repeats_ >= 3) build_cache(h_);
+      } else {
+        candidate_h_ = h_;
+        candidate_repeats_ = 1;
+      }
       for (int k = 0; k < samples_per_step; ++k)
         state_at(h_ * (k + 1) / samples_per_step, samples_.col(k));
     }
@@ -162,19 +168,41 @@ class ExactLinear final : public Integrator {
       for (long i = 0; i < m; ++i) z[i] = r[i];
   }
 
-  // z(t_prev_ + tau) from the eigen form.
+  // The modes state_at sums: a real eigenvalue with weight 1, and one of each
+  // conjugate pair (Im > 0) with weight 2, since z and the input are real and
+  // the partner's term is the conjugate (Re(v w) + Re(conj(v w)) = 2 Re(v w)).
+  void choose_modes() {
+    long above = 0, below = 0;
+    for (Eigen::Index j = 0; j < lambda_.size(); ++j) {
+      above += lambda_[j].imag() > 0;
+      below += lambda_[j].imag() < 0;
+    }
+    const bool paired = above == below;  // else (never seen) sum every mode
+    modes_.clear();
+    for (Eigen::Index j = 0; j < lambda_.size(); ++j) {
+      const double im = lambda_[j].imag();
+      if (!paired) modes_.push_back({j, 1.0});
+      else if (im > 0) modes_.push_back({j, 2.0});
+      else if (im == 0) modes_.push_back({j, 1.0});
+    }
+    Vr_ = V_.real();
+    Vi_ = V_.imag();
+  }
+
+  // z(t_prev_ + tau) from the eigen form, in real arithmetic over the chosen modes.
   void state_at(double tau, Eigen::Ref<Eigen::VectorXd> z) {
     if (!have_w0_) {
-      w0_.noalias() = V_inv_ * z0_.cast<Complex>();
+      // (dot() would conjugate V^-1's row)
+      for (const Mode& q : modes_) w0_[q.j] = (V_inv_.row(q.j).transpose().array() * z0_.array()).sum();
       have_w0_ = true;
     }
-    for (Eigen::Index j = 0; j < w_.size(); ++j) {
+    z.setZero();
+    for (const Mode& q : modes_) {
       Complex e, f0, f1;
-      response_terms(j, tau, e, f0, f1);
-      w_[j] = e * w0_[j] + f0 * a0_ + f1 * slope_;
+      response_terms(q.j, tau, e, f0, f1);
+      const Complex w = q.weight * (e * w0_[q.j] + f0 * a0_ + f1 * slope_);
+      z += Vr_.col(q.j) * w.real() - Vi_.col(q.j) * w.imag();
     }
-    vw_.noalias() = V_ * w_;
-    z = vw_.real();
   }
 
   // Mode j over tau: e^x, beta (e^x - 1) / lambda, beta (e^x - 1 - x) / lambda^2.
@@ -201,13 +229,20 @@ class ExactLinear final : public Integrator {
   LinearSystem sys_;
   Options opt_;
   GuardScanner scanner_;
-  Eigen::VectorXcd lambda_, inv_lambda_, beta_, w0_, w_, vw_;
+  struct Mode {
+    Eigen::Index j;
+    double weight;
+  };
+  Eigen::VectorXcd lambda_, inv_lambda_, beta_, w0_;
   Eigen::MatrixXcd V_, V_inv_;
+  Eigen::MatrixXd Vr_, Vi_;  // V's real and imaginary parts
+  std::vector<Mode> modes_;
   Eigen::VectorXd y_, z0_;
   Eigen::MatrixXd samples_;  // the block at the step's guard samples, one column each
   Eigen::MatrixXd phi_[samples_per_step];
   Eigen::VectorXd g0_[samples_per_step], g1_[samples_per_step];
   double cached_h_ = std::numeric_limits<double>::quiet_NaN(), candidate_h_ = std::numeric_limits<double>::quiet_NaN();
+  int candidate_repeats_ = 0;
   double t_ = 0, t_prev_ = 0, h_ = 0, a0_ = 0, slope_ = 0;
   bool have_w0_ = false, samples_valid_ = false;
   NextBreakpoint next_breakpoint_;
