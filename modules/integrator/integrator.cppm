@@ -59,6 +59,11 @@ struct Options {
   double rtol = 1e-6;
   double atol = 1e-9;
   double max_step = std::numeric_limits<double>::infinity();
+  // rk45's guard samples per step: ceil(h / sample_spacing), at least 2 and
+  // at most 4 (infinity: always 4). A caller that knows the fastest time
+  // scale of its guards sets it to a fraction of it, so that short steps are
+  // not sampled more densely than long ones need.
+  double sample_spacing = std::numeric_limits<double>::infinity();
   double initial_step = 0;        // 0: chosen automatically
   long max_steps = 10'000'000;    // accepted + rejected, over the integrator's life
 };
@@ -116,6 +121,9 @@ class Integrator {
   // integrator may serve from what it computed for its own guard samples.
   virtual void sample(int k, int count, Eigen::Ref<Eigen::VectorXd> y);
   double sample_time(int k, int count) const;
+  // How many samples of the last step its guards were scanned at (and a
+  // caller's own sampling, e.g. of peaks, may take the same ones).
+  virtual int sample_count() const { return 4; }
   virtual Stats stats() const = 0;
   virtual std::string name() const = 0;
 };

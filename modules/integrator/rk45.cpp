@@ -35,7 +35,7 @@ constexpr double d1 = -12715105075.0 / 11282082432, d3 = 87487479700.0 / 3270041
 // PI controller (Hairer: beta = 0.04, safety 0.9, step ratio in [0.2, 10])
 constexpr double beta = 0.04, expo1 = 0.2 - 0.75 * beta, safety = 0.9, fac_min = 0.2, fac_max = 10.0;
 constexpr double eps = std::numeric_limits<double>::epsilon();
-constexpr int samples_per_step = 4;  // guard samples inside each step (incl. its end)
+constexpr int max_samples_per_step = 4;  // guard samples inside each step (incl. its end)
 
 class DormandPrince final : public Integrator {
  public:
@@ -43,7 +43,7 @@ class DormandPrince final : public Integrator {
     for (auto* v : {&y_, &y_new_, &y_stage_, &y_dense_, &k1_, &k2_, &k3_, &k4_, &k5_, &k6_, &k7_,
                     &r1_, &r2_, &r3_, &r4_, &r5_})
       v->setZero(n);
-    samples_.setZero(n, samples_per_step - 1);
+    samples_.setZero(n, max_samples_per_step - 1);
   }
 
   void reset(double t, const Eigen::VectorXd& y, Guards guards) override {
@@ -117,7 +117,7 @@ class DormandPrince final : public Integrator {
   }
   // The step's interior samples, computed once for the guards and the caller.
   void sample(int k, int count, Eigen::Ref<Eigen::VectorXd> y) override {
-    if (count != samples_per_step || k == count) return Integrator::sample(k, count, y);
+    if (count != sample_count_ || k == count) return Integrator::sample(k, count, y);
     if (!samples_valid_) {
       for (int j = 1; j < count; ++j) dense(sample_time(j, count), samples_.col(j - 1));
       samples_valid_ = true;
@@ -219,11 +219,17 @@ class DormandPrince final : public Integrator {
     ++stats_.steps;
   }
 
-  // Scans the guards at samples_per_step points of the last step; moves the
+  int sample_count() const override { return sample_count_; }
+
+  // Scans the guards at sample_count_ points of the last step; moves the
   // state to the earliest wanted crossing.
   StepReport find_event() {
+    sample_count_ = max_samples_per_step;
+    if (std::isfinite(opt_.sample_spacing))
+      sample_count_ = static_cast<int>(std::clamp(std::ceil((t_ - t_prev_) / opt_.sample_spacing), 2.0,
+                                                  static_cast<double>(max_samples_per_step)));
     GuardScanner::Crossing c{};
-    if (!scanner_.scan(*this, samples_per_step, c)) return {Stop::step, t_};
+    if (!scanner_.scan(*this, sample_count_, c)) return {Stop::step, t_};
     dense(c.t, y_dense_);
     t_ = c.t;
     y_ = y_dense_;
@@ -239,6 +245,7 @@ class DormandPrince final : public Integrator {
   GuardScanner scanner_;
   double t_ = 0, t_prev_ = 0, h_ = 0, h_dense_ = 0, log_fac_old_ = 0;  // log of Hairer's facold
   bool last_rejected_ = false, samples_valid_ = false;
+  int sample_count_ = max_samples_per_step;  // of the last step
   Eigen::MatrixXd samples_;  // the last step's interior samples, one column each
   Eigen::VectorXd y_, y_new_, y_stage_, y_dense_, k1_, k2_, k3_, k4_, k5_, k6_, k7_;
   Eigen::VectorXd r1_, r2_, r3_, r4_, r5_;

@@ -53,7 +53,10 @@ class PeakTracker {
   long count_ = 0;
 };
 
-constexpr int samples_per_step = 4;
+// The shortest fixed-base natural period of a flexible structure [s].
+double shortest_period(const ContactModel& m) {
+  return 2 * std::numbers::pi / m.body.matrices.fixed_base.omega.maxCoeff();
+}
 
 class Driver {
  public:
@@ -65,6 +68,9 @@ class Driver {
     };
     ode::Options tolerances = o.tolerances;
     tolerances.max_step = std::min(tolerances.max_step, ground.max_step());
+    // Guards and peaks sampled 8 times in the shortest natural period (the
+    // exact steps below do the same), not more densely when steps are short.
+    if (m.layout.u >= 0) tolerances.sample_spacing = shortest_period(m) / 8;
     integrator_ = ode::make_integrator(o.backend, m.layout.size, rhs, tolerances);
     t_end_ = o.duration > 0 ? o.duration : ground.duration();
     // The record's samples, computed when asked: a run holds no list of them.
@@ -73,7 +79,7 @@ class Driver {
       ode::Options exact;
       // Guards and peaks are sampled four times a step: 8 samples in the
       // shortest natural period.
-      exact.max_step = 2 * std::numbers::pi / m.body.matrices.fixed_base.omega.maxCoeff() / 2;
+      exact.max_step = shortest_period(m) / 2;
       exact.max_steps = tolerances.max_steps;
       exact_ = ode::make_exact_linear(full_contact_system(m, [this](double t) { return ground_.acceleration(t); }), exact);
       exact_->set_breakpoints(next_sample);
@@ -193,9 +199,10 @@ class Driver {
 
   // Peaks on samples of the last step's dense output; history rows on the grid.
   void sample_step() {
-    for (int k = 1; k <= samples_per_step; ++k) {
-      active_->sample(k, samples_per_step, dense_);
-      peaks_.add(evaluate(m_, scales_, d_, active_->sample_time(k, samples_per_step), dense_));
+    const int count = active_->sample_count();  // the integrator's guard samples
+    for (int k = 1; k <= count; ++k) {
+      active_->sample(k, count, dense_);
+      peaks_.add(evaluate(m_, scales_, d_, active_->sample_time(k, count), dense_));
     }
     if (observer_ == nullptr || !(opt_.output_interval > 0)) return;
     while (next_output_ <= active_->time()) {
