@@ -1,5 +1,6 @@
 module;
 #include <rocking/eigen.hpp>
+#include <rocking/static_size.hpp>
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -59,10 +60,18 @@ struct UpliftTerms {
 };
 UpliftTerms uplift_terms(const ContactModel& m, double a_g, Eigen::Ref<const Eigen::VectorXd> y) {
   if (m.layout.u < 0) return {-a_g * m.body.HM1, 0.0, 0.0};
-  const Structure& st = m.body.structure;
-  // u and u' are adjacent in the layout (u_dot = u + n).
-  return {m.moment_row.dot(y.segment(m.layout.u, 2 * m.layout.n)), st.masses.dot(y.segment(m.layout.u, m.layout.n)),
-          moment_of_velocities(m, y)};
+  UpliftTerms t;
+  const double* x = y.data() + m.layout.u;  // [u; u'], adjacent in the layout
+  const double *r0 = m.moment_row.data(), *r1 = m.mass_row.data(), *r2 = m.momentum_row.data();
+  with_static_size(2 * m.layout.n, [&](auto size) {  // one unrolled pass
+    const long n2 = static_or<decltype(size)::value>(2 * m.layout.n);
+    for (long i = 0; i < n2; ++i) {
+      t.moment += r0[i] * x[i];
+      t.Mu += r1[i] * x[i];
+      t.momentum += r2[i] * x[i];
+    }
+  });
+  return t;
 }
 
 // The uplift guard about s: min(g_s, L_s) crosses zero upwards when both
@@ -72,7 +81,7 @@ double uplift_guard(const ContactModel& m, const Discrete& d, int s, const Uplif
   const Structure& st = m.body.structure;
   const double B = st.half_width;
   const double f_res = m.has_damper ? damper_force(m.damper, m.d_y, 0.0, damper_z(d, s)) : 0.0;
-  const double restoring = m.body.g * (B * total_mass(st) - s * t.Mu);
+  const double restoring = m.body.g * (B * m.body.total_mass - s * t.Mu);
   const double gs = s * t.moment - (restoring + f_res * 2.0 * B);
   if (m.layout.u < 0) return gs;
   return std::min(gs, s * t.momentum);
@@ -116,8 +125,13 @@ ContactModel make_contact_model(const Scene& scene, bool track_energy) {
   m.layout = make_layout(m.kind, node_count(st), m.has_damper, track_energy);
   if (m.layout.u >= 0) {
     const StructuralMatrices& sm = m.body.matrices;
-    m.moment_row.resize(2 * m.layout.n);
+    const Eigen::Index n = m.layout.n;
+    m.moment_row.resize(2 * n);
     m.moment_row << sm.K.transpose() * st.heights, sm.C.transpose() * st.heights;
+    m.mass_row.setZero(2 * n);
+    m.mass_row.head(n) = st.masses;
+    m.momentum_row.setZero(2 * n);
+    m.momentum_row.tail(n) = st.heights.cwiseProduct(st.masses);
   }
   return m;
 }

@@ -76,6 +76,7 @@ RockingBody make_body(const Structure& s, double g) {
   if (s.rigid) b.matrices.M = s.masses.asDiagonal();
   else b.matrices = assemble(s);
   b.HM1 = s.heights.dot(s.masses);
+  b.total_mass = total_mass(s);
   b.inverse_masses = s.masses.cwiseInverse();
   b.base_moment = s.base_mass * s.half_width;
   b.base_inertia = b.base_moment * s.half_width;

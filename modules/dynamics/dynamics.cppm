@@ -24,8 +24,9 @@ struct RockingBody {
   Structure structure;
   StructuralMatrices matrices;
   double g = 9.81;
-  // Derived once: H'M1 [kg m], 1/m per node, m0 B^2 [kg m^2], m0 B [kg m].
-  double HM1 = 0;
+  // Derived once: H'M1 [kg m], 1/m per node, m0 B^2 [kg m^2], m0 B [kg m],
+  // m0 + 1'M1 [kg].
+  double HM1 = 0, total_mass = 0;
   Eigen::VectorXd inverse_masses;
   double base_inertia = 0, base_moment = 0;
 };
