@@ -42,6 +42,8 @@ OutputScales output_scales(const ContactModel& m) {
   OutputScales sc;
   sc.H_N = st.heights[st.heights.size() - 1];
   sc.alpha_cg = slenderness(st);
+  sc.inverse_H_N = 1.0 / sc.H_N;
+  sc.inverse_alpha_cg = 1.0 / sc.alpha_cg;
   sc.has_forces = m.layout.u >= 0;
   if (sc.has_forces) {
     const ReferenceForces ref = reference_forces(st, m.body.matrices);
@@ -72,11 +74,12 @@ Response evaluate(const ContactModel& m, const OutputScales& sc, const Discrete&
   const double th = tilt.theta, s = th > 0 ? 1.0 : th < 0 ? -1.0 : 0.0;
   r.u_top = l.u < 0 ? 0.0 : y[l.u + l.n - 1];
   const double c = tilt.cos(), H = sc.H_N, B = st.half_width;
+  const double one_minus_c = 2.0 * tilt.sin_half * tilt.sin_half;  // 1 - cos theta without cancellation
   auto set = [&](Quantity k, double v) { r.q[static_cast<std::size_t>(k)] = v; };
-  set(Quantity::delta_t, (s * B * (1 - c) + r.u_top * c + H * tilt.sin()) / H);
-  set(Quantity::delta_e, r.u_top * c / H);
+  set(Quantity::delta_t, (s * B * one_minus_c + r.u_top * c + H * tilt.sin()) * sc.inverse_H_N);
+  set(Quantity::delta_e, r.u_top * c * sc.inverse_H_N);
   set(Quantity::theta, th);
-  set(Quantity::theta_over_alpha, th / sc.alpha_cg);
+  set(Quantity::theta_over_alpha, th * sc.inverse_alpha_cg);
   const DamperState damper = active_damper(m, d, tilt, y);
   set(Quantity::damper_d, d.pivot * damper.elongation);
   set(Quantity::damper_F, d.pivot * damper.force);

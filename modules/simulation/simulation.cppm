@@ -115,6 +115,7 @@ struct RunResult {
 // The normalisation and geometry the outputs need, built once per model.
 struct OutputScales {
   double H_N = 0, alpha_cg = 0, V_ref = 0, M_ref = 0;
+  double inverse_H_N = 0, inverse_alpha_cg = 0;  // multiplied, not divided, at every sample
   bool has_forces = true;
   // Rows giving (base shear / V_ref, base moment / M_ref, mid shear / V_ref,
   // mid moment / M_ref) from u: sums of the elastic nodal forces K u.
