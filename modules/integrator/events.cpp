@@ -1,9 +1,11 @@
 // GuardScanner: the event search both built-in integrators share (see the
 // module interface): guards sampled at evenly spaced points of each step, a
 // wanted sign change located by Illinois (regula falsi with the stale end's
-// value halved) falling back to bisection, to a bracket of a few ulps.
+// value halved) falling back to bisection, to a bracket of a few ulps; a
+// secant point that has converged onto one end closes the bracket from there.
 module;
 #include <rocking/eigen.hpp>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -103,7 +105,12 @@ double GuardScanner::locate(Integrator& stepped, int i, double a, int sa, double
   int side = 0;
   for (int iter = 0; b - a > tol && iter < 200; ++iter) {
     double t = (iter % 4 == 3 || ga == gb) ? 0.5 * (a + b) : b - gb * (b - a) / (gb - ga);
-    if (!(t > a && t < b)) t = 0.5 * (a + b);
+    if (!(t >= a && t <= b)) t = 0.5 * (a + b);  // NaN, or outside
+    // A secant point within half the tolerance of an end (it has converged
+    // there, often to within an ulp of it) is moved to half the tolerance
+    // inside, so that the bracket closes from that side in one evaluation
+    // instead of creeping in by bisection.
+    t = std::clamp(t, a + 0.5 * tol, b - 0.5 * tol);
     const double gt = g_at(t);
     if (sign(gt) == sa || gt == 0) {
       a = t; ga = gt;
