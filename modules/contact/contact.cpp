@@ -62,7 +62,7 @@ UpliftTerms uplift_terms(const ContactModel& m, double a_g, Eigen::Ref<const Eig
   if (m.layout.u < 0) return {-a_g * m.body.HM1, 0.0, 0.0};
   UpliftTerms t;
   const double* x = y.data() + m.layout.u;  // [u; u'], adjacent in the layout
-  const double *r0 = m.moment_row.data(), *r1 = m.mass_row.data(), *r2 = m.momentum_row.data();
+  const double *r0 = m.body.moment_row.data(), *r1 = m.mass_row.data(), *r2 = m.momentum_row.data();
   with_static_size(2 * m.layout.n, [&](auto size) {  // one unrolled pass
     const long n2 = static_or<decltype(size)::value>(2 * m.layout.n);
     for (long i = 0; i < n2; ++i) {
@@ -124,10 +124,7 @@ ContactModel make_contact_model(const Scene& scene, bool track_energy) {
   m.overturn_angle = scene.contact.overturn_angle > 0 ? scene.contact.overturn_angle : slenderness(st);
   m.layout = make_layout(m.kind, node_count(st), m.has_damper, track_energy);
   if (m.layout.u >= 0) {
-    const StructuralMatrices& sm = m.body.matrices;
     const Eigen::Index n = m.layout.n;
-    m.moment_row.resize(2 * n);
-    m.moment_row << sm.K.transpose() * st.heights, sm.C.transpose() * st.heights;
     m.mass_row.setZero(2 * n);
     m.mass_row.head(n) = st.masses;
     m.momentum_row.setZero(2 * n);

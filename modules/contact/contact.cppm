@@ -48,10 +48,10 @@ struct ContactModel {
   double r_eq10 = 0;
   double overturn_angle = 0;   // [rad]
   Layout layout;
-  // Rows on the contiguous [u; u'] (2N) giving H'(K u + C u'), 1'M u and
-  // H'M u', the terms of both uplift guards, which are sampled several times
-  // a step: [K'H; C'H], [M1; 0], [0; MH].
-  Eigen::VectorXd moment_row, mass_row, momentum_row;
+  // Rows on the contiguous [u; u'] (2N) giving 1'M u and H'M u', with
+  // body.moment_row the terms of both uplift guards, which are sampled
+  // several times a step: [M1; 0], [0; MH].
+  Eigen::VectorXd mass_row, momentum_row;
 };
 ContactModel make_contact_model(const Scene& scene, bool track_energy);
 

@@ -48,20 +48,24 @@ double rocking_acceleration_n(const RockingBody& b, int s, double a_g, double F_
   // w = B1 - s u the lever arms (sB1 - u = s w)
   restoring_force<S>(b.matrices, u, u_dot, r, n);
   const double per_mass = -a_g * c + g * sn, spin = s * thd * thd;
-  double Mw = 0, wMw = 0, wMu_dot = 0;  // 1'M w, w'M w, w'M u'
+  const double* KH = b.moment_row.data();  // [K'H; C'H]
+  double Mw = 0, wMw = 0, wMu_dot = 0, HMw = 0, moment = 0;  // 1'Mw, w'Mw, w'Mu', H'Mw, H'(Ku + Cu')
   for (long i = 0; i < n; ++i) {
     const double w = B - s * u[i], mw = m[i] * w;
     Mw += mw;
     wMw += mw * w;
     wMu_dot += mw * u_dot[i];
+    HMw += H[i] * mw;
+    moment += KH[i] * u[i] + KH[n + i] * u_dot[i];
     r[i] += m[i] * per_mass - spin * mw;
   }
   const double rhs_th = 2.0 * s * wMu_dot * thd - s * F_hd * 2.0 * B * q.tilt.cos_half
                         - a_g * (b.HM1 * c + s * (Mw + b.base_moment) * sn)
                         - g * (-b.HM1 * sn + s * (Mw + b.base_moment) * c);
-  // Schur complement of the diagonal M: J - H'MH = m0 B^2 + w'Mw > 0
-  double H_rhs_u = 0;  // H' rhs_u
-  for (long i = 0; i < n; ++i) H_rhs_u += H[i] * r[i];
+  // Schur complement of the diagonal M: J - H'MH = m0 B^2 + w'Mw > 0. H'rhs_u
+  // from dot products of its parts, not from rhs_u itself, so that th'' need
+  // not wait for the restoring forces.
+  const double H_rhs_u = -moment + b.HM1 * per_mass - spin * HMw;
   const double th_ddot = (rhs_th - H_rhs_u) / (b.base_inertia + wMw);
   for (long i = 0; i < n; ++i) acc[i] = r[i] * inv_m[i] - H[i] * th_ddot;
   return th_ddot;
@@ -76,6 +80,10 @@ RockingBody make_body(const Structure& s, double g) {
   if (s.rigid) b.matrices.M = s.masses.asDiagonal();
   else b.matrices = assemble(s);
   b.HM1 = s.heights.dot(s.masses);
+  if (!s.rigid) {
+    b.moment_row.resize(2 * s.heights.size());
+    b.moment_row << b.matrices.K.transpose() * s.heights, b.matrices.C.transpose() * s.heights;
+  }
   b.total_mass = total_mass(s);
   b.inverse_masses = s.masses.cwiseInverse();
   b.base_moment = s.base_mass * s.half_width;
