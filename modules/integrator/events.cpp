@@ -25,9 +25,11 @@ bool wanted(Direction d, int from, int to) {
 
 }  // namespace
 
-void Integrator::sample(int k, int count, Eigen::Ref<Eigen::VectorXd> y) {
-  if (k == count) y = state();
-  else dense(sample_time(k, count), y);
+const Eigen::VectorXd& Integrator::sample(int k, int count) {
+  if (k == count) return state();
+  sample_buffer_.resize(state().size());
+  dense(sample_time(k, count), sample_buffer_);
+  return sample_buffer_;
 }
 
 double Integrator::sample_time(int k, int count) const {
@@ -65,8 +67,7 @@ bool GuardScanner::scan(Integrator& stepped, int count, Crossing& found) {
   const double t0 = stepped.previous_time(), t1 = stepped.time();
   for (int k = 1; k <= count; ++k) {
     const double tk = stepped.sample_time(k, count);
-    stepped.sample(k, count, y_work_);
-    evaluate(tk, y_work_, g_);
+    evaluate(tk, stepped.sample(k, count), g_);
     double t_event = std::numeric_limits<double>::infinity();
     int which = -1, to_sign = 0;
     for (Eigen::Index i = 0; i < m; ++i) {

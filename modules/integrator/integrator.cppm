@@ -119,13 +119,18 @@ class Integrator {
   // The state at sample k of `count` evenly spaced over the last step
   // (k = count is its end): dense output at sample_time(k, count), which an
   // integrator may serve from what it computed for its own guard samples.
-  virtual void sample(int k, int count, Eigen::Ref<Eigen::VectorXd> y);
+  // Valid until the integrator is stepped or reset, or (by default) asked for
+  // another sample: read it, do not keep it.
+  virtual const Eigen::VectorXd& sample(int k, int count);
   double sample_time(int k, int count) const;
   // How many samples of the last step its guards were scanned at (and a
   // caller's own sampling, e.g. of peaks, may take the same ones).
   virtual int sample_count() const { return 4; }
   virtual Stats stats() const = 0;
   virtual std::string name() const = 0;
+
+ protected:
+  Eigen::VectorXd sample_buffer_;  // what the default sample() returns
 };
 
 std::unique_ptr<Integrator> make_rk45(Eigen::Index n, Rhs rhs, Options options);

@@ -15,6 +15,7 @@ module;
 #include <rocking/eigen.hpp>
 #include <rocking/static_size.hpp>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <limits>
@@ -52,7 +53,7 @@ class ExactLinear final : public Integrator {
     y_.setZero(sys_.size);
     z0_.setZero(m);
     w0_.setZero(m);
-    samples_.setZero(m, samples_per_step);
+    for (auto& s : samples_) s.setZero(sys_.size);
   }
 
   void reset(double t, const Eigen::VectorXd& y, Guards guards) override {
@@ -60,6 +61,7 @@ class ExactLinear final : public Integrator {
     y_ = y;
     h_ = 0;
     samples_valid_ = false;
+    for (auto& s : samples_) s = y;  // outside the block the state is constant
     scanner_.reset(std::move(guards), t, y_);
   }
 
@@ -99,12 +101,9 @@ class ExactLinear final : public Integrator {
     state_at(t - t_prev_, y.segment(sys_.first, z0_.size()));
   }
 
-  void sample(int k, int count, Eigen::Ref<Eigen::VectorXd> y) override {
-    if (!samples_valid_ || count != samples_per_step) return Integrator::sample(k, count, y);
-    // y_ with the block replaced: plain copies (this runs twice per sample)
-    const double* block = samples_.col(k - 1).data();
-    std::copy_n(y_.data(), y_.size(), y.data());
-    std::copy_n(block, z0_.size(), y.data() + sys_.first);
+  const Eigen::VectorXd& sample(int k, int count) override {
+    if (!samples_valid_ || count != samples_per_step) return Integrator::sample(k, count);
+    return samples_[k - 1];
   }
 
   Stats stats() const override {
@@ -141,22 +140,22 @@ class ExactLinear final : public Integrator {
         candidate_repeats_ = 1;
       }
       for (int k = 0; k < samples_per_step; ++k)
-        state_at(h_ * (k + 1) / samples_per_step, samples_.col(k));
+        state_at(h_ * (k + 1) / samples_per_step, samples_[k].segment(sys_.first, m));
     }
     samples_valid_ = true;
     t_ = t_new;
-    y_.segment(sys_.first, m) = samples_.col(samples_per_step - 1);
+    y_.segment(sys_.first, m) = samples_[samples_per_step - 1].segment(sys_.first, m);
     ++stats_.steps;
   }
 
-  // samples_ column k from the cached matrices, unrolled for the block size
+  // The block of samples_[k] from the cached matrices, unrolled for its size
   // (static_size.hpp), in a local array that aliases nothing.
   template <int S>
   void cached_sample(int k) {
     const long m = static_or<S>(z0_.size());
     const double* P = phi_[k].data();  // column-major
     const double *g0 = g0_[k].data(), *g1 = g1_[k].data(), *z0 = z0_.data();
-    double* z = samples_.col(k).data();
+    double* z = samples_[k].data() + sys_.first;
     double local[S > 0 ? S : 1];
     double* r = S > 0 ? local : z;
     for (long i = 0; i < m; ++i) r[i] = g0[i] * a0_ + g1[i] * slope_;
@@ -238,7 +237,8 @@ class ExactLinear final : public Integrator {
   Eigen::MatrixXd Vr_, Vi_;  // V's real and imaginary parts
   std::vector<Mode> modes_;
   Eigen::VectorXd y_, z0_;
-  Eigen::MatrixXd samples_;  // the block at the step's guard samples, one column each
+  // The state at the step's guard samples (only the block changes in a step).
+  std::array<Eigen::VectorXd, samples_per_step> samples_;
   Eigen::MatrixXd phi_[samples_per_step];
   Eigen::VectorXd g0_[samples_per_step], g1_[samples_per_step];
   double cached_h_ = std::numeric_limits<double>::quiet_NaN(), candidate_h_ = std::numeric_limits<double>::quiet_NaN();

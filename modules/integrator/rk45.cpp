@@ -5,6 +5,7 @@ module;
 #include <rocking/eigen.hpp>
 #include <rocking/static_size.hpp>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -43,7 +44,7 @@ class DormandPrince final : public Integrator {
     for (auto* v : {&y_, &y_new_, &y_stage_, &y_dense_, &k1_, &k2_, &k3_, &k4_, &k5_, &k6_, &k7_,
                     &r1_, &r2_, &r3_, &r4_, &r5_})
       v->setZero(n);
-    samples_.setZero(n, max_samples_per_step - 1);
+    for (auto& s : samples_) s.setZero(n);
   }
 
   void reset(double t, const Eigen::VectorXd& y, Guards guards) override {
@@ -116,13 +117,13 @@ class DormandPrince final : public Integrator {
     for (long i = 0, n = y_.size(); i < n; ++i) out[i] = r1[i] + s * (r2[i] + s1 * (r3[i] + s * (r4[i] + s1 * r5[i])));
   }
   // The step's interior samples, computed once for the guards and the caller.
-  void sample(int k, int count, Eigen::Ref<Eigen::VectorXd> y) override {
-    if (count != sample_count_ || k == count) return Integrator::sample(k, count, y);
+  const Eigen::VectorXd& sample(int k, int count) override {
+    if (count != sample_count_ || k == count) return Integrator::sample(k, count);
     if (!samples_valid_) {
-      for (int j = 1; j < count; ++j) dense(sample_time(j, count), samples_.col(j - 1));
+      for (int j = 1; j < count; ++j) dense(sample_time(j, count), samples_[j - 1]);
       samples_valid_ = true;
     }
-    std::copy_n(samples_.col(k - 1).data(), y_.size(), y.data());
+    return samples_[k - 1];
   }
   Stats stats() const override {
     Stats out = stats_;
@@ -246,7 +247,7 @@ class DormandPrince final : public Integrator {
   double t_ = 0, t_prev_ = 0, h_ = 0, h_dense_ = 0, log_fac_old_ = 0;  // log of Hairer's facold
   bool last_rejected_ = false, samples_valid_ = false;
   int sample_count_ = max_samples_per_step;  // of the last step
-  Eigen::MatrixXd samples_;  // the last step's interior samples, one column each
+  std::array<Eigen::VectorXd, max_samples_per_step - 1> samples_;  // the last step's interior samples
   Eigen::VectorXd y_, y_new_, y_stage_, y_dense_, k1_, k2_, k3_, k4_, k5_, k6_, k7_;
   Eigen::VectorXd r1_, r2_, r3_, r4_, r5_;
   NextBreakpoint next_breakpoint_;

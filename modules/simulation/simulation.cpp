@@ -201,8 +201,7 @@ class Driver {
   void sample_step() {
     const int count = active_->sample_count();  // the integrator's guard samples
     for (int k = 1; k <= count; ++k) {
-      active_->sample(k, count, dense_);
-      peaks_.add(evaluate(m_, scales_, d_, active_->sample_time(k, count), dense_));
+      peaks_.add(evaluate(m_, scales_, d_, active_->sample_time(k, count), active_->sample(k, count)));
     }
     if (observer_ == nullptr || !(opt_.output_interval > 0)) return;
     while (next_output_ <= active_->time()) {
