@@ -4,10 +4,11 @@
 // requested (each in a child process: the process's peak, ru_maxrss from
 // wait4, and what the run itself adds, VmHWM after it less VmRSS before it).
 // And the rocking phase's right-hand side alone (ns per evaluation).
-// Usage: run_bench [RECORDS_DIR] [--backend NAME] [--contact exact|integrated] [--repeats N]
+// Usage: run_bench [RECORDS_DIR] [--backend NAME] [--contact exact|integrated] [--repeats N] [--rhs]
 //   RECORDS_DIR: default ../shared/data/records or $ROCKING_RECORDS.
 //   --backend, --contact: time only this backend or full-contact treatment
-//   (e.g. under perf); --repeats: runs per case, best kept (default 20).
+//   (e.g. under perf); --repeats: runs per case, best kept (default 20);
+//   --rhs: time only the rocking right-hand side.
 #include <rocking/eigen.hpp>
 #include <fmt/format.h>
 #include <sys/resource.h>
@@ -120,11 +121,13 @@ int main(int argc, char** argv) {
   std::vector<ode::Backend> backends{ode::Backend::rk45, ode::Backend::arkode, ode::Backend::cvode};
   std::vector<bool> contacts{false, true};  // exact full contact?
   int repeats = 20;
-  const char* usage = "usage: run_bench [RECORDS_DIR] [--backend NAME] [--contact exact|integrated] [--repeats N]";
+  bool rhs_only = false;
+  const char* usage = "usage: run_bench [RECORDS_DIR] [--backend NAME] [--contact exact|integrated] [--repeats N] [--rhs]";
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--backend" && i + 1 < argc) backends = {ode::parse_backend(argv[++i])};
     else if (a == "--repeats" && i + 1 < argc) repeats = std::max(1, std::atoi(argv[++i]));
+    else if (a == "--rhs") rhs_only = true;
     else if (a == "--contact" && i + 1 < argc && (argv[i + 1] == std::string("exact") ||
                                                    argv[i + 1] == std::string("integrated")))
       contacts = {argv[++i] == std::string("exact")};
@@ -136,6 +139,11 @@ int main(int argc, char** argv) {
   }
   const GroundMotion elcentro = read_record(dir + "/elcentro_1940_ns.at2");
   const ContactModel model = make_contact_model(load_default_scene(), false);
+  if (rhs_only) {
+    fmt::print("the rocking right-hand side alone (chimney, 4 nodes, damper): {:.1f} ns per evaluation\n",
+               rocking_rhs_ns(model, elcentro));
+    return 0;
+  }
   fmt::print("El Centro N-S, chimney with dampers, default tolerance (rtol 1e-4, atol 1e-7), best of {}\n", repeats);
   fmt::print("full contact: 'integrated' by the backend, or 'exact' steps (the default under a record);\n"
              "ns / rhs: wall time over the backend's rhs evaluations (all work included)\n");

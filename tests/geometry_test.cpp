@@ -1,7 +1,9 @@
 // rocking.geometry: derived quantities against hand-computed closed forms.
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 import rocking.geometry;
 
@@ -48,6 +50,27 @@ TEST_CASE("a rigid block of one mass at its centre reproduces Housner's r for a 
   s.EI = Eigen::VectorXd::Constant(1, 1.0);
   const double alpha = std::atan(1.0 / 4.0);
   CHECK(restitution_eq10(s) == doctest::Approx(std::cos(2 * alpha)).epsilon(1e-14));
+}
+
+TEST_CASE("a tilt's half-angle sine and cosine agree with the library to a few ulps, inside and beyond the polynomial range") {
+  // Tilt evaluates Taylor polynomials for |theta/2| <= 0.8 and calls std::sin
+  // and std::cos beyond; both must agree with the library to round-off.
+  double worst = 0;
+  for (double th = -3.0; th <= 3.0; th += 1.0 / 4096) {
+    const Tilt t(th);
+    worst = std::max({worst, std::abs(t.sin_half - std::sin(0.5 * th)), std::abs(t.cos_half - std::cos(0.5 * th))});
+    // the full angle's from the half angle's: absolute round-off (cos theta crosses 0)
+    CHECK(std::abs(t.sin() - std::sin(th)) <= 8 * std::numeric_limits<double>::epsilon());
+    CHECK(std::abs(t.cos() - std::cos(th)) <= 8 * std::numeric_limits<double>::epsilon());
+  }
+  CHECK(worst <= 4 * std::numeric_limits<double>::epsilon());
+  for (double th : {1.6, -1.6, 1.6 * (1 - 1e-15), 1.6 * (1 + 1e-15)}) {  // either side of the switch
+    const Tilt t(th);
+    CHECK(std::abs(t.sin_half - std::sin(0.5 * th)) <= 2 * std::numeric_limits<double>::epsilon());
+    CHECK(std::abs(t.cos_half - std::cos(0.5 * th)) <= 2 * std::numeric_limits<double>::epsilon());
+  }
+  const Tilt zero(0.0);
+  CHECK((zero.sin_half == 0.0 && zero.cos_half == 1.0 && zero.sin() == 0.0 && zero.cos() == 1.0));
 }
 
 TEST_CASE("check names the field that breaks an invariant") {

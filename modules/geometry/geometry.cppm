@@ -21,10 +21,13 @@ struct Structure {
   bool rigid = false;          // a rigid block: no elastic coordinates, EI unused
 };
 
-// The base rotation theta with the sine and cosine of theta / 2, from one
-// sincos: sin theta, cos theta and the damper's chord 4B sin(|theta|/2) all
+// The base rotation theta with the sine and cosine of theta / 2, computed
+// once: sin theta, cos theta and the damper's chord 4B sin(|theta|/2) all
 // follow from them, so an evaluation of the equations needs no other trig.
-// Converts implicitly from theta.
+// For |theta| <= 1.6 rad (every rocking angle short of overturning a squat
+// block) they come from Taylor polynomials accurate to round-off, whose short
+// dependency chain starts each rocking right-hand side sooner than a library
+// call; beyond, from std::sin and std::cos. Converts implicitly from theta.
 struct Tilt {
   double theta = 0, sin_half = 0, cos_half = 1;
   Tilt(double th = 0);  // NOLINT(google-explicit-constructor): theta is a tilt
