@@ -234,6 +234,20 @@ TEST_CASE("breakpoints are landed on exactly and never stepped across") {
   }
 }
 
+TEST_CASE("Breakpoints asks again only when t leaves the last answer's interval, and answers as the list does") {
+  const std::vector<double> times{0.5, 1.0, 2.0};
+  const NextBreakpoint list = breakpoint_list(times);
+  int asked = 0;
+  Breakpoints bps;
+  bps.set([&](double t) { ++asked; return list(t); });
+  for (double t : {0.0, 0.1, 0.49, 0.5, 0.7, 0.99, 1.0, 0.2, 2.5, 3.0}) {  // back in time too
+    CAPTURE(t);
+    CHECK(bps.after(t) == list(t));
+  }
+  // asked at 0.0 (0.5 holds to 0.49), 0.5, 1.0, 0.2 (went back), 2.5 (infinity holds on)
+  CHECK(asked == 5);
+}
+
 TEST_CASE("failures are typed and carry the time: blow-up and max steps") {
   // y' = y^2, y(0) = 1 blows up at t = 1
   for (Backend b : all_backends) {

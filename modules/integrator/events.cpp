@@ -37,8 +37,24 @@ double Integrator::sample_time(int k, int count) const {
   return k == count ? t1 : t0 + (t1 - t0) * k / count;
 }
 
-StepBound step_bound(const NextBreakpoint& next, double t, double t_limit) {
-  const double bp = next ? next(t) : std::numeric_limits<double>::infinity();
+void Breakpoints::set(NextBreakpoint next) {
+  next_ = std::move(next);
+  asked_ = std::numeric_limits<double>::infinity();
+  answer_ = -std::numeric_limits<double>::infinity();
+}
+
+double Breakpoints::after(double t) {
+  // next(asked) = answer means no breakpoint in (asked, answer): for t in
+  // [asked, answer) the answer stands.
+  if (!(t >= asked_ && t < answer_)) {
+    answer_ = next_ ? next_(t) : std::numeric_limits<double>::infinity();
+    asked_ = t;
+  }
+  return answer_;
+}
+
+StepBound step_bound(Breakpoints& breakpoints, double t, double t_limit) {
+  const double bp = breakpoints.after(t);
   return bp < t_limit ? StepBound{bp, true} : StepBound{t_limit, false};
 }
 

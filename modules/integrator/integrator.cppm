@@ -38,13 +38,26 @@ using NextBreakpoint = std::function<double(double t)>;
 // The next-breakpoint function of a list of times (any order).
 NextBreakpoint breakpoint_list(std::vector<double> times);
 
+// An integrator's breakpoints: the function is asked again only when t has
+// left the interval [t asked, breakpoint given) of the last answer (most
+// steps end inside it, and a record's next sample costs a search).
+class Breakpoints {
+ public:
+  void set(NextBreakpoint next);  // and forget the last answer
+  double after(double t);         // the first breakpoint strictly after t
+ private:
+  NextBreakpoint next_;
+  double asked_ = std::numeric_limits<double>::infinity();
+  double answer_ = -std::numeric_limits<double>::infinity();
+};
+
 // Where a step from t towards t_limit must end at the latest: the next
 // breakpoint when it comes before t_limit, else t_limit.
 struct StepBound {
   double t;
   bool breakpoint;
 };
-StepBound step_bound(const NextBreakpoint& next, double t, double t_limit);
+StepBound step_bound(Breakpoints& breakpoints, double t, double t_limit);
 
 // Which sign changes of a guard are events.
 enum class Direction { rising, falling, either };

@@ -65,13 +65,13 @@ class ExactLinear final : public Integrator {
     scanner_.reset(std::move(guards), t, y_);
   }
 
-  void set_breakpoints(NextBreakpoint next) override { next_breakpoint_ = std::move(next); }
+  void set_breakpoints(NextBreakpoint next) override { breakpoints_.set(std::move(next)); }
 
   StepReport step(double t_limit) override {
     if (t_ >= t_limit) return {Stop::limit, t_};
     if (stats_.steps >= opt_.max_steps)
       throw IntegrationError(IntegrationError::Kind::max_steps, t_, std::to_string(opt_.max_steps) + " steps");
-    const auto [bound, bp_ahead] = step_bound(next_breakpoint_, t_, t_limit);
+    const auto [bound, bp_ahead] = step_bound(breakpoints_, t_, t_limit);
     // Equal steps up to the bound, none longer than max_step.
     const double span = bound - t_;
     const double pieces = std::isfinite(opt_.max_step) ? std::max(1.0, std::ceil(span / opt_.max_step - 1e-9)) : 1.0;
@@ -245,7 +245,7 @@ class ExactLinear final : public Integrator {
   int candidate_repeats_ = 0;
   double t_ = 0, t_prev_ = 0, h_ = 0, a0_ = 0, slope_ = 0;
   bool have_w0_ = false, samples_valid_ = false;
-  NextBreakpoint next_breakpoint_;
+  Breakpoints breakpoints_;
   Stats stats_;
 };
 

@@ -61,11 +61,11 @@ class DormandPrince final : public Integrator {
     samples_valid_ = false;
   }
 
-  void set_breakpoints(NextBreakpoint next) override { next_breakpoint_ = std::move(next); }
+  void set_breakpoints(NextBreakpoint next) override { breakpoints_.set(std::move(next)); }
 
   StepReport step(double t_limit) override {
     if (t_ >= t_limit) return {Stop::limit, t_};
-    const auto [bound, bp_ahead] = step_bound(next_breakpoint_, t_, t_limit);
+    const auto [bound, bp_ahead] = step_bound(breakpoints_, t_, t_limit);
     bool non_finite = false;
     for (;;) {
       if (stats_.steps + stats_.rejected >= opt_.max_steps)
@@ -250,7 +250,7 @@ class DormandPrince final : public Integrator {
   std::array<Eigen::VectorXd, max_samples_per_step - 1> samples_;  // the last step's interior samples
   Eigen::VectorXd y_, y_new_, y_stage_, y_dense_, k1_, k2_, k3_, k4_, k5_, k6_, k7_;
   Eigen::VectorXd r1_, r2_, r3_, r4_, r5_;
-  NextBreakpoint next_breakpoint_;
+  Breakpoints breakpoints_;
   Stats stats_;
 };
 

@@ -61,14 +61,14 @@ class SundialsIntegrator : public Integrator {
     y_ = y;
   }
 
-  void set_breakpoints(NextBreakpoint next) override { next_breakpoint_ = std::move(next); }
+  void set_breakpoints(NextBreakpoint next) override { breakpoints_.set(std::move(next)); }
 
   StepReport step(double t_limit) override {
     if (t_ >= t_limit) return {Stop::limit, t_};
     const Stats s = stats();
     if (s.steps + s.rejected >= opt_.max_steps)
       throw IntegrationError(IntegrationError::Kind::max_steps, t_, std::to_string(opt_.max_steps) + " steps");
-    const auto [bound, bp_ahead] = step_bound(next_breakpoint_, t_, t_limit);
+    const auto [bound, bp_ahead] = step_bound(breakpoints_, t_, t_limit);
     check(backend_stop_time(bound), t_, "stop time");
     double t_ret = t_;
     int flag = backend_one_step(bound, &t_ret);
@@ -161,7 +161,7 @@ class SundialsIntegrator : public Integrator {
  private:
   Guards guards_;
   std::vector<int> directions_, roots_;
-  NextBreakpoint next_breakpoint_;
+  Breakpoints breakpoints_;
   Eigen::VectorXd y_;
   double t_ = 0, t_prev_ = 0, restart_t_ = 0;
   bool initialised_ = false;
