@@ -2,6 +2,7 @@
 // changes of MODEL.md 6 do what the equations say, one reset at a time.
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -87,6 +88,42 @@ TEST_CASE("guards say truly whether they read a_g (callers skip the record looku
       CAPTURE(pivot);
       CAPTURE(m.layout.size);
       CHECK(guards_use_ground_acceleration(m, pivot) == (g0 != g3));
+    }
+  }
+}
+
+TEST_CASE("uplift guards equal Eq. 2 and Eq. 3 written out, at 4 nodes (unrolled) and 20 (general loops)") {
+  for (Eigen::Index nodes : {4, 20}) {
+    Scene scene = chimney();
+    if (nodes != 4) {  // the chimney's mass and stiffness spread over 20 nodes
+      Structure& st = scene.structure;
+      const double height = st.heights[st.heights.size() - 1], mass = st.masses.sum(), EI = st.EI.mean();
+      st.heights = Eigen::VectorXd::LinSpaced(nodes, height / nodes, height);
+      st.masses = Eigen::VectorXd::Constant(nodes, mass / nodes);
+      st.EI = Eigen::VectorXd::Constant(nodes, EI);
+    }
+    const ContactModel m = make_contact_model(scene, false);
+    const Layout& l = m.layout;
+    const Structure& st = m.body.structure;
+    Discrete d;
+    damper_z(d, +1) = 0.3;
+    damper_z(d, -1) = -0.2;
+    Eigen::VectorXd y = Eigen::VectorXd::Zero(l.size);
+    y.segment(l.u, l.n) = Eigen::VectorXd::LinSpaced(l.n, 1e-3, 2e-2);
+    y.segment(l.u_dot, l.n) = Eigen::VectorXd::LinSpaced(l.n, -0.05, 0.1);
+    const auto u = y.segment(l.u, l.n), u_dot = y.segment(l.u_dot, l.n);
+    const double moment = st.heights.dot(m.body.matrices.K * u + m.body.matrices.C * u_dot);
+    const double momentum = st.heights.dot(st.masses.asDiagonal() * u_dot);
+    Eigen::VectorXd g(2);
+    guard_values(m, d, 0.0, y, g);
+    for (int s : {+1, -1}) {
+      const double f_res = damper_force(m.damper, m.d_y, 0.0, damper_z(d, s));
+      const double eq2 = s * moment - (m.body.g * (st.half_width * total_mass(st) - s * st.masses.dot(u)) +
+                                       f_res * 2 * st.half_width);
+      const double expected = std::min(eq2, s * momentum);
+      CAPTURE(nodes);
+      CAPTURE(s);
+      CHECK(g[s > 0 ? 0 : 1] == doctest::Approx(expected).epsilon(1e-12).scale(1.0));
     }
   }
 }

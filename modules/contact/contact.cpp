@@ -63,12 +63,20 @@ UpliftTerms uplift_terms(const ContactModel& m, double a_g, Eigen::Ref<const Eig
   UpliftTerms t;
   const double* x = y.data() + m.layout.u;  // [u; u'], adjacent in the layout
   const double *r0 = m.body.moment_row.data(), *r1 = m.mass_row.data(), *r2 = m.momentum_row.data();
-  with_static_size(2 * m.layout.n, [&](auto size) {  // one unrolled pass
-    const long n2 = static_or<decltype(size)::value>(2 * m.layout.n);
-    for (long i = 0; i < n2; ++i) {
-      t.moment += r0[i] * x[i];
-      t.Mu += r1[i] * x[i];
-      t.momentum += r2[i] * x[i];
+  with_static_size(2 * m.layout.n, [&](auto size) {
+    constexpr int S = decltype(size)::value;
+    if constexpr (S > 0) {  // Eigen's fixed-size dot products: vectorised, with short chains
+      using Row = Eigen::Matrix<double, S, 1>;
+      const Eigen::Map<const Row> state(x);
+      t.moment = Eigen::Map<const Row>(r0).dot(state);
+      t.Mu = Eigen::Map<const Row>(r1).dot(state);
+      t.momentum = Eigen::Map<const Row>(r2).dot(state);
+    } else {
+      for (long i = 0; i < 2 * m.layout.n; ++i) {
+        t.moment += r0[i] * x[i];
+        t.Mu += r1[i] * x[i];
+        t.momentum += r2[i] * x[i];
+      }
     }
   });
   return t;
