@@ -74,6 +74,28 @@ TEST_CASE("exact steps match the closed form of an oscillator under a constant, 
   CHECK(integ->stats().steps == 30);  // ten steps of 0.1 before the breakpoint, twenty after
 }
 
+TEST_CASE("with a sample spacing, exact steps span up to 16 spacings and are sampled ceil(h / spacing) times") {
+  Options o;
+  o.sample_spacing = 0.03;  // steps of at most 0.48
+  auto integ = make_exact_linear(oscillator(), o);
+  integ->set_breakpoints(breakpoint_list({1.0}));
+  integ->reset(0, start(), {});
+  Eigen::VectorXd y(3);
+  while (integ->time() < 3.0) {
+    integ->step(3.0);
+    const double h = integ->time() - integ->previous_time();
+    CHECK(h <= 16 * 0.03 + 1e-12);
+    const int count = integ->sample_count();
+    CHECK(count == static_cast<int>(std::ceil(h / 0.03 - 1e-9)));
+    for (int k = 1; k <= count; ++k) {
+      y = integ->sample(k, count);
+      CHECK((y.head(2) - exact(integ->sample_time(k, count))).norm() <= 1e-12);
+    }
+  }
+  // [0, 1] in three steps of 1/3 (12 samples each), [1, 3] in five of 0.4 (14 each)
+  CHECK(integ->stats().steps == 8);
+}
+
 TEST_CASE("a block of 9 oscillators (beyond the unrolled sizes) is stepped as exactly as one") {
   // Block size 18 > max_static_size: the general loops of the cached steps.
   const int copies = 9;

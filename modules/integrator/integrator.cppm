@@ -72,10 +72,11 @@ struct Options {
   double rtol = 1e-6;
   double atol = 1e-9;
   double max_step = std::numeric_limits<double>::infinity();
-  // rk45's guard samples per step: ceil(h / sample_spacing), at least 2 and
-  // at most 4 (infinity: always 4). A caller that knows the fastest time
-  // scale of its guards sets it to a fraction of it, so that short steps are
-  // not sampled more densely than long ones need.
+  // Guard samples per step: ceil(h / sample_spacing), for rk45 at least 2
+  // and at most 4, for the exact steps at least 1 and at most 16 (which then
+  // are no longer than 16 spacings); infinity: always 4. A caller that knows
+  // the fastest time scale of its guards sets it to a fraction of it, so that
+  // steps are sampled as densely as that needs, no more.
   double sample_spacing = std::numeric_limits<double>::infinity();
   double initial_step = 0;        // 0: chosen automatically
   long max_steps = 10'000'000;    // accepted + rejected, over the integrator's life

@@ -29,7 +29,9 @@ namespace rocking::ode {
 namespace {
 
 using Complex = std::complex<double>;
-constexpr int samples_per_step = 4;  // guard samples inside each step (incl. its end)
+// Guard samples inside each step (incl. its end): 4, or with a sample spacing
+// ceil(h / spacing), at most 16 (steps are cut to fit).
+constexpr int default_samples_per_step = 4, max_samples_per_step = 16;
 
 class ExactLinear final : public Integrator {
  public:
@@ -72,14 +74,21 @@ class ExactLinear final : public Integrator {
     if (stats_.steps >= opt_.max_steps)
       throw IntegrationError(IntegrationError::Kind::max_steps, t_, std::to_string(opt_.max_steps) + " steps");
     const auto [bound, bp_ahead] = step_bound(breakpoints_, t_, t_limit);
-    // Equal steps up to the bound, none longer than max_step.
+    // Equal steps up to the bound, none longer than max_step or than
+    // max_samples_per_step sample spacings.
     const double span = bound - t_;
-    const double pieces = std::isfinite(opt_.max_step) ? std::max(1.0, std::ceil(span / opt_.max_step - 1e-9)) : 1.0;
+    const bool spaced = std::isfinite(opt_.sample_spacing);
+    const double longest = std::min(opt_.max_step, spaced ? max_samples_per_step * opt_.sample_spacing
+                                                          : std::numeric_limits<double>::infinity());
+    const double pieces = std::isfinite(longest) ? std::max(1.0, std::ceil(span / longest - 1e-9)) : 1.0;
     const bool lands = pieces == 1.0;
     const double t_new = lands ? bound : t_ + span / pieces;
+    count_ = spaced ? static_cast<int>(std::clamp(std::ceil((t_new - t_) / opt_.sample_spacing - 1e-9), 1.0,
+                                                  static_cast<double>(max_samples_per_step)))
+                    : default_samples_per_step;
     advance_to(t_new);
     if (!y_.allFinite()) throw IntegrationError(IntegrationError::Kind::non_finite_state, t_, "");
-    if (GuardScanner::Crossing c{}; scanner_.scan(*this, samples_per_step, c)) {
+    if (GuardScanner::Crossing c{}; scanner_.scan(*this, count_, c)) {
       dense(c.t, y_);
       t_ = c.t;
       samples_valid_ = false;  // the step now ends at the event
@@ -102,9 +111,10 @@ class ExactLinear final : public Integrator {
   }
 
   const Eigen::VectorXd& sample(int k, int count) override {
-    if (!samples_valid_ || count != samples_per_step) return Integrator::sample(k, count);
+    if (!samples_valid_ || count != count_) return Integrator::sample(k, count);
     return samples_[k - 1];
   }
+  int sample_count() const override { return count_; }
 
   Stats stats() const override {
     Stats out = stats_;
@@ -123,11 +133,11 @@ class ExactLinear final : public Integrator {
     a0_ = sys_.forcing(t_prev_);
     slope_ = (sys_.forcing(t_new) - a0_) / h_;
     have_w0_ = false;
-    if (std::abs(h_ - cached_h_) <= 1e-10 * cached_h_) {
+    if (std::abs(h_ - cached_h_) <= 1e-10 * cached_h_ && count_ == cached_count_) {
       // The usual step: within 1e-10 of the cached length (consecutive sample
       // times differ by round-off), a shift far below the state's accuracy.
       with_static_size(z0_.size(), [this](auto size) {
-        for (int k = 0; k < samples_per_step; ++k) cached_sample<decltype(size)::value>(k);
+        for (int k = 0; k < count_; ++k) cached_sample<decltype(size)::value>(k);
       });
     } else {
       // A length that recurs is cached: three steps in a row. The equal parts
@@ -139,12 +149,11 @@ class ExactLinear final : public Integrator {
         candidate_h_ = h_;
         candidate_repeats_ = 1;
       }
-      for (int k = 0; k < samples_per_step; ++k)
-        state_at(h_ * (k + 1) / samples_per_step, samples_[k].segment(sys_.first, m));
+      for (int k = 0; k < count_; ++k) state_at(h_ * (k + 1) / count_, samples_[k].segment(sys_.first, m));
     }
     samples_valid_ = true;
     t_ = t_new;
-    y_.segment(sys_.first, m) = samples_[samples_per_step - 1].segment(sys_.first, m);
+    y_.segment(sys_.first, m) = samples_[count_ - 1].segment(sys_.first, m);
     ++stats_.steps;
   }
 
@@ -215,14 +224,15 @@ class ExactLinear final : public Integrator {
   void build_cache(double h) {
     const Eigen::Index m = z0_.size();
     Eigen::VectorXcd e(m), f0(m), f1(m);
-    for (int k = 0; k < samples_per_step; ++k) {
-      const double tau = h * (k + 1) / samples_per_step;
+    for (int k = 0; k < count_; ++k) {
+      const double tau = h * (k + 1) / count_;
       for (Eigen::Index j = 0; j < m; ++j) response_terms(j, tau, e[j], f0[j], f1[j]);
       phi_[k] = (V_ * e.asDiagonal() * V_inv_).real();
       g0_[k] = (V_ * f0).real();
       g1_[k] = (V_ * f1).real();
     }
     cached_h_ = h;
+    cached_count_ = count_;
   }
 
   LinearSystem sys_;
@@ -238,9 +248,10 @@ class ExactLinear final : public Integrator {
   std::vector<Mode> modes_;
   Eigen::VectorXd y_, z0_;
   // The state at the step's guard samples (only the block changes in a step).
-  std::array<Eigen::VectorXd, samples_per_step> samples_;
-  Eigen::MatrixXd phi_[samples_per_step];
-  Eigen::VectorXd g0_[samples_per_step], g1_[samples_per_step];
+  std::array<Eigen::VectorXd, max_samples_per_step> samples_;
+  Eigen::MatrixXd phi_[max_samples_per_step];
+  Eigen::VectorXd g0_[max_samples_per_step], g1_[max_samples_per_step];
+  int count_ = default_samples_per_step, cached_count_ = 0;  // samples of the last step, of the cached length
   double cached_h_ = std::numeric_limits<double>::quiet_NaN(), candidate_h_ = std::numeric_limits<double>::quiet_NaN();
   int candidate_repeats_ = 0;
   double t_ = 0, t_prev_ = 0, h_ = 0, a0_ = 0, slope_ = 0;

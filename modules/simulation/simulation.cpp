@@ -77,9 +77,9 @@ class Driver {
     const ode::NextBreakpoint next_sample = [this](double t) { return ground_.next_breakpoint(t); };
     if (o.exact_full_contact && m.layout.u >= 0 && m.layout.energy < 0 && ground.piecewise_linear()) {
       ode::Options exact;
-      // Guards and peaks are sampled four times a step: 8 samples in the
-      // shortest natural period.
-      exact.max_step = shortest_period(m) / 2;
+      // Steps from sample to sample of the record (up to 16 spacings), with
+      // guards and peaks sampled 8 times in the shortest natural period.
+      exact.sample_spacing = tolerances.sample_spacing;
       exact.max_steps = tolerances.max_steps;
       exact_ = ode::make_exact_linear(full_contact_system(m, [this](double t) { return ground_.acceleration(t); }), exact);
       exact_->set_breakpoints(next_sample);
