@@ -67,9 +67,13 @@ void GuardScanner::reset(Guards guards, double t, Eigen::Ref<const Eigen::Vector
   y_work_.setZero(y.size());
   ref_sign_.assign(static_cast<std::size_t>(m), 0);
   ref_time_.assign(static_cast<std::size_t>(m), t);
+  ref_value_.assign(static_cast<std::size_t>(m), 0.0);
   if (m == 0) return;
   evaluate(t, y, g_);
-  for (Eigen::Index i = 0; i < m; ++i) ref_sign_[static_cast<std::size_t>(i)] = sign(g_[i]);
+  for (Eigen::Index i = 0; i < m; ++i) {
+    ref_sign_[static_cast<std::size_t>(i)] = sign(g_[i]);
+    ref_value_[static_cast<std::size_t>(i)] = g_[i];
+  }
 }
 
 void GuardScanner::evaluate(double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::VectorXd& g) {
@@ -82,7 +86,7 @@ bool GuardScanner::scan(Integrator& stepped, int count, Crossing& found) {
   if (m == 0) return false;
   const double t0 = stepped.previous_time(), t1 = stepped.time();
   for (int k = 1; k <= count; ++k) {
-    const double tk = stepped.sample_time(k, count);
+    const double tk = k == count ? t1 : t0 + (t1 - t0) * k / count;  // sample_time(k, count)
     evaluate(tk, stepped.sample(k, count), g_);
     double t_event = std::numeric_limits<double>::infinity();
     int which = -1, to_sign = 0;
@@ -91,7 +95,7 @@ bool GuardScanner::scan(Integrator& stepped, int count, Crossing& found) {
       const int s = sign(g_[i]);
       if (s == 0) continue;  // zero: keep the last definite sign
       if (ref_sign_[u] != 0 && s != ref_sign_[u] && wanted(guards_.directions[u], ref_sign_[u], s)) {
-        const double te = locate(stepped, static_cast<int>(i), ref_time_[u], ref_sign_[u], tk);
+        const double te = locate(stepped, static_cast<int>(i), ref_time_[u], ref_sign_[u], ref_value_[u], tk, g_[i]);
         // A crossing within round-off of the restart is the event that caused
         // the restart, seen again (CVODE's ttol): not reported.
         const bool at_restart = te - restart_t_ <= 100 * eps * (std::abs(restart_t_) + (t1 - t0));
@@ -99,6 +103,7 @@ bool GuardScanner::scan(Integrator& stepped, int count, Crossing& found) {
       }
       ref_sign_[u] = s;
       ref_time_[u] = tk;
+      ref_value_[u] = g_[i];
     }
     if (which >= 0) {
       found = {t_event, which, to_sign};
@@ -108,16 +113,15 @@ bool GuardScanner::scan(Integrator& stepped, int count, Crossing& found) {
   return false;
 }
 
-// Bracket [a, b] with sign(g_i(a)) = sa; returns the end of the final bracket
-// that is past the crossing.
-double GuardScanner::locate(Integrator& stepped, int i, double a, int sa, double b) {
+// Bracket [a, b] of guard i, with sign sa at a and its values at both ends as
+// the scan saw them; returns the end of the final bracket past the crossing.
+double GuardScanner::locate(Integrator& stepped, int i, double a, int sa, double ga, double b, double gb) {
   const double t0 = stepped.previous_time();
   auto g_at = [&](double t) {
     stepped.dense(t, y_work_);
     evaluate(t, y_work_, g_work_);
     return g_work_[i];
   };
-  double ga = g_at(a), gb = g_at(b);
   const double tol = 8 * eps * std::max(std::abs(b), b - t0);
   int side = 0;
   for (int iter = 0; b - a > tol && iter < 200; ++iter) {
@@ -149,6 +153,7 @@ void GuardScanner::restart_at(const Crossing& c, Eigen::Ref<const Eigen::VectorX
     const int s = sign(g_[static_cast<Eigen::Index>(u)]);
     if (s != 0) ref_sign_[u] = s;
     ref_time_[u] = c.t;
+    ref_value_[u] = g_[static_cast<Eigen::Index>(u)];
   }
   ref_sign_[static_cast<std::size_t>(c.guard)] = c.to_sign;
 }

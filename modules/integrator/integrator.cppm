@@ -191,12 +191,12 @@ class GuardScanner {
 
  private:
   void evaluate(double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::VectorXd& g);
-  double locate(Integrator& stepped, int i, double a, int sa, double b);
+  double locate(Integrator& stepped, int i, double a, int sa, double ga, double b, double gb);
 
   Guards guards_;
   Eigen::VectorXd g_, g_work_, y_work_;
   std::vector<int> ref_sign_;
-  std::vector<double> ref_time_;
+  std::vector<double> ref_time_, ref_value_;  // the last sample with a definite sign, and the value there
   double restart_t_ = 0;
   long evaluations_ = 0;
 };
