@@ -8,6 +8,7 @@
 #include <vector>
 import rocking.contact;
 import rocking.modal;
+#include "spread_nodes.hpp"
 
 using namespace rocking;
 
@@ -95,13 +96,7 @@ TEST_CASE("guards say truly whether they read a_g (callers skip the record looku
 TEST_CASE("uplift guards equal Eq. 2 and Eq. 3 written out, at 4 nodes (unrolled) and 20 (general loops)") {
   for (Eigen::Index nodes : {4, 20}) {
     Scene scene = chimney();
-    if (nodes != 4) {  // the chimney's mass and stiffness spread over 20 nodes
-      Structure& st = scene.structure;
-      const double height = st.heights[st.heights.size() - 1], mass = st.masses.sum(), EI = st.EI.mean();
-      st.heights = Eigen::VectorXd::LinSpaced(nodes, height / nodes, height);
-      st.masses = Eigen::VectorXd::Constant(nodes, mass / nodes);
-      st.EI = Eigen::VectorXd::Constant(nodes, EI);
-    }
+    if (nodes != 4) spread_over_nodes(scene.structure, nodes);
     const ContactModel m = make_contact_model(scene, false);
     const Layout& l = m.layout;
     const Structure& st = m.body.structure;

@@ -9,6 +9,7 @@
 import rocking.dynamics;
 import rocking.scene;
 import rocking.integrator;
+#include "spread_nodes.hpp"
 
 using namespace rocking;
 using CRef = Eigen::Ref<const Eigen::VectorXd>;
@@ -26,11 +27,7 @@ RockingBody undamped_chimney() {
 // the kernels are unrolled for (static_size.hpp), so the general loops run.
 RockingBody undamped_tower_of_20() {
   Structure s = load_default_scene({"structure.damping_ratio=0.0"}).structure;
-  const Eigen::Index n = 20;
-  const double height = s.heights[s.heights.size() - 1], mass = s.masses.sum(), EI = s.EI.mean();
-  s.heights = Eigen::VectorXd::LinSpaced(n, height / n, height);
-  s.masses = Eigen::VectorXd::Constant(n, mass / n);
-  s.EI = Eigen::VectorXd::Constant(n, EI);
+  spread_over_nodes(s, 20);
   return make_body(s);
 }
 

@@ -5,6 +5,7 @@
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
 #include <cmath>
+#include <memory>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -49,14 +50,21 @@ Eigen::Vector2d exact(double t) {
 
 Eigen::VectorXd start() { return Eigen::Vector3d(1, 0, 42); }
 
+// The oscillator's exact integrator, with the input's kink at t = 1 as a
+// breakpoint, started from start().
+std::unique_ptr<Integrator> started(const Options& o) {
+  auto integ = make_exact_linear(oscillator(), o);
+  integ->set_breakpoints(breakpoint_list({1.0}));
+  integ->reset(0, start(), {});
+  return integ;
+}
+
 }  // namespace
 
 TEST_CASE("exact steps match the closed form of an oscillator under a constant, then a ramp, to 1e-12") {
   Options o;
   o.max_step = 0.1;
-  auto integ = make_exact_linear(oscillator(), o);
-  integ->set_breakpoints(breakpoint_list({1.0}));
-  integ->reset(0, start(), {});
+  auto integ = started(o);
   Eigen::VectorXd y(3);
   while (integ->time() < 3.0) {
     integ->step(3.0);
@@ -77,9 +85,7 @@ TEST_CASE("exact steps match the closed form of an oscillator under a constant, 
 TEST_CASE("with a sample spacing, exact steps span up to 16 spacings and are sampled ceil(h / spacing) times") {
   Options o;
   o.sample_spacing = 0.03;  // steps of at most 0.48
-  auto integ = make_exact_linear(oscillator(), o);
-  integ->set_breakpoints(breakpoint_list({1.0}));
-  integ->reset(0, start(), {});
+  auto integ = started(o);
   Eigen::VectorXd y(3);
   while (integ->time() < 3.0) {
     integ->step(3.0);
