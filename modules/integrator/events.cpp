@@ -33,8 +33,7 @@ const Eigen::VectorXd& Integrator::sample(int k, int count) {
 }
 
 double Integrator::sample_time(int k, int count) const {
-  const double t0 = previous_time(), t1 = time();
-  return k == count ? t1 : t0 + (t1 - t0) * k / count;
+  return sample_time(previous_time(), time(), k, count);
 }
 
 void Breakpoints::set(NextBreakpoint next) {
@@ -86,7 +85,7 @@ bool GuardScanner::scan(Integrator& stepped, int count, Crossing& found) {
   if (m == 0) return false;
   const double t0 = stepped.previous_time(), t1 = stepped.time();
   for (int k = 1; k <= count; ++k) {
-    const double tk = k == count ? t1 : t0 + (t1 - t0) * k / count;  // sample_time(k, count)
+    const double tk = Integrator::sample_time(t0, t1, k, count);
     evaluate(tk, stepped.sample(k, count), g_);
     double t_event = std::numeric_limits<double>::infinity();
     int which = -1, to_sign = 0;

@@ -137,6 +137,10 @@ class Integrator {
   // another sample: read it, do not keep it.
   virtual const Eigen::VectorXd& sample(int k, int count);
   double sample_time(int k, int count) const;
+  // The same for a step from t0 to t1 (the one formula every caller uses).
+  static double sample_time(double t0, double t1, int k, int count) {
+    return k == count ? t1 : t0 + (t1 - t0) * k / count;
+  }
   // How many samples of the last step its guards were scanned at (and a
   // caller's own sampling, e.g. of peaks, may take the same ones).
   virtual int sample_count() const { return 4; }

@@ -130,8 +130,11 @@ class ExactLinear final : public Integrator {
     z0_ = y_.segment(sys_.first, m);
     t_prev_ = t_;
     h_ = t_new - t_;
-    a0_ = sys_.forcing(t_prev_);
-    slope_ = (sys_.forcing(t_new) - a0_) / h_;
+    // a(t) at the step's start is the last step's end value when it ends there
+    a0_ = t_prev_ == forcing_time_ ? forcing_value_ : sys_.forcing(t_prev_);
+    forcing_time_ = t_new;
+    forcing_value_ = sys_.forcing(t_new);
+    slope_ = (forcing_value_ - a0_) / h_;
     have_w0_ = false;
     if (std::abs(h_ - cached_h_) <= 1e-10 * cached_h_ && count_ == cached_count_) {
       // The usual step: within 1e-10 of the cached length (consecutive sample
@@ -255,6 +258,7 @@ class ExactLinear final : public Integrator {
   double cached_h_ = std::numeric_limits<double>::quiet_NaN(), candidate_h_ = std::numeric_limits<double>::quiet_NaN();
   int candidate_repeats_ = 0;
   double t_ = 0, t_prev_ = 0, h_ = 0, a0_ = 0, slope_ = 0;
+  double forcing_time_ = std::numeric_limits<double>::quiet_NaN(), forcing_value_ = 0;  // a(t) at the last step's end
   bool have_w0_ = false, samples_valid_ = false;
   Breakpoints breakpoints_;
   Stats stats_;

@@ -200,8 +200,9 @@ class Driver {
   // Peaks on samples of the last step's dense output; history rows on the grid.
   void sample_step() {
     const int count = active_->sample_count();  // the integrator's guard samples
+    const double t0 = active_->previous_time(), t1 = active_->time();
     for (int k = 1; k <= count; ++k) {
-      peaks_.add(evaluate(m_, scales_, d_, active_->sample_time(k, count), active_->sample(k, count)));
+      peaks_.add(evaluate(m_, scales_, d_, ode::Integrator::sample_time(t0, t1, k, count), active_->sample(k, count)));
     }
     if (observer_ == nullptr || !(opt_.output_interval > 0)) return;
     while (next_output_ <= active_->time()) {
