@@ -117,7 +117,7 @@ double rocking_acceleration(const RockingBody& b, int s, double a_g, double F_hd
 double rigid_rocking_acceleration(const RockingBody& b, int s, double a_g, double F_hd, const Tilt& tilt) {
   const Structure& st = b.structure;
   const double B = st.half_width, c = tilt.cos(), sn = tilt.sin();
-  const double BM = B * (st.masses.sum() + st.base_mass);
+  const double BM = B * b.total_mass;
   const double rhs_th = -s * F_hd * 2.0 * B * tilt.cos_half - a_g * (b.HM1 * c + s * BM * sn) -
                         b.g * (-b.HM1 * sn + s * BM * c);
   return rhs_th / pivot_inertia(st);
@@ -129,7 +129,7 @@ double ground_input_power(const RockingBody& b, int s, double a_g, const Coordin
   const double B = st.half_width, c = q.tilt.cos(), sn = q.tilt.sin();
   const double Mw = (m * (B - s * q.u.array())).sum();
   const double on_u = -a_g * c * (m * q.u_dot.array()).sum();
-  const double on_theta = -a_g * (b.HM1 * c + s * (Mw + st.base_mass * B) * sn);
+  const double on_theta = -a_g * (b.HM1 * c + s * (Mw + b.base_moment) * sn);
   return on_u + on_theta * q.theta_dot;
 }
 

@@ -1,6 +1,7 @@
 module;
 #include <rocking/eigen.hpp>
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
@@ -32,6 +33,12 @@ NextBreakpoint breakpoint_list(std::vector<double> times) {
     const auto it = std::upper_bound(times.begin(), times.end(), t);
     return it == times.end() ? std::numeric_limits<double>::infinity() : *it;
   };
+}
+
+int guard_samples(double h, double sample_spacing, int fewest, int most) {
+  if (!std::isfinite(sample_spacing)) return 4;
+  return static_cast<int>(std::clamp(std::ceil(h / sample_spacing - 1e-9), static_cast<double>(fewest),
+                                     static_cast<double>(most)));
 }
 
 StepReport advance(Integrator& integrator, double t_end) {

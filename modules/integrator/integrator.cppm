@@ -82,6 +82,11 @@ struct Options {
   long max_steps = 10'000'000;    // accepted + rejected, over the integrator's life
 };
 
+// Guard samples in a step of length h (Options::sample_spacing): 4 without a
+// spacing, else ceil(h / spacing) between fewest and most (a step that is a
+// whole number of spacings up to round-off takes that number).
+int guard_samples(double h, double sample_spacing, int fewest, int most);
+
 enum class Stop { step, event, breakpoint, limit };
 
 // Why step() returned. For an event: which guard, and which way it crossed.

@@ -29,9 +29,9 @@ namespace rocking::ode {
 namespace {
 
 using Complex = std::complex<double>;
-// Guard samples inside each step (incl. its end): 4, or with a sample spacing
-// ceil(h / spacing), at most 16 (steps are cut to fit).
-constexpr int default_samples_per_step = 4, max_samples_per_step = 16;
+// Guard samples inside each step (incl. its end): with a sample spacing at
+// most 16 (steps are cut to fit); see guard_samples.
+constexpr int max_samples_per_step = 16;
 
 class ExactLinear final : public Integrator {
  public:
@@ -83,9 +83,7 @@ class ExactLinear final : public Integrator {
     const double pieces = std::isfinite(longest) ? std::max(1.0, std::ceil(span / longest - 1e-9)) : 1.0;
     const bool lands = pieces == 1.0;
     const double t_new = lands ? bound : t_ + span / pieces;
-    count_ = spaced ? static_cast<int>(std::clamp(std::ceil((t_new - t_) / opt_.sample_spacing - 1e-9), 1.0,
-                                                  static_cast<double>(max_samples_per_step)))
-                    : default_samples_per_step;
+    count_ = guard_samples(t_new - t_, opt_.sample_spacing, 1, max_samples_per_step);
     advance_to(t_new);
     if (!y_.allFinite()) throw IntegrationError(IntegrationError::Kind::non_finite_state, t_, "");
     if (GuardScanner::Crossing c{}; scanner_.scan(*this, count_, c)) {
@@ -254,7 +252,8 @@ class ExactLinear final : public Integrator {
   std::array<Eigen::VectorXd, max_samples_per_step> samples_;
   Eigen::MatrixXd phi_[max_samples_per_step];
   Eigen::VectorXd g0_[max_samples_per_step], g1_[max_samples_per_step];
-  int count_ = default_samples_per_step, cached_count_ = 0;  // samples of the last step, of the cached length
+  int count_ = guard_samples(0, std::numeric_limits<double>::infinity(), 1, max_samples_per_step),
+      cached_count_ = 0;  // samples of the last step, of the cached length
   double cached_h_ = std::numeric_limits<double>::quiet_NaN(), candidate_h_ = std::numeric_limits<double>::quiet_NaN();
   int candidate_repeats_ = 0;
   double t_ = 0, t_prev_ = 0, h_ = 0, a0_ = 0, slope_ = 0;

@@ -138,9 +138,17 @@ class DormandPrince final : public Integrator {
     ++stats_.rhs;
   }
 
+  // v over the mixed tolerance of a component that is ya and yb at the step's ends.
+  double scaled(double v, double ya, double yb) const {
+    return v / (opt_.atol + opt_.rtol * std::max(std::abs(ya), std::abs(yb)));
+  }
   double weighted_rms(const Eigen::VectorXd& v, const Eigen::VectorXd& ya, const Eigen::VectorXd& yb) const {
-    const auto scale = opt_.atol + opt_.rtol * ya.cwiseAbs().cwiseMax(yb.cwiseAbs()).array();
-    return std::sqrt((v.array() / scale).square().mean());
+    double sum = 0;
+    for (Eigen::Index i = 0; i < v.size(); ++i) {
+      const double r = scaled(v[i], ya[i], yb[i]);
+      sum += r * r;
+    }
+    return std::sqrt(sum / static_cast<double>(v.size()));
   }
 
   // Hairer's starting step: h0 from |y|/|f|, refined with a second-derivative estimate.
@@ -191,8 +199,8 @@ class DormandPrince final : public Integrator {
     bool finite = true;
     for (long i = 0; i < n; ++i) {
       const double e = h * (e1 * k1[i] + e3 * k3[i] + e4 * k4[i] + e5 * k5[i] + e6 * k6[i] + e7 * k7[i]);
-      const double scale = opt_.atol + opt_.rtol * std::max(std::abs(y[i]), std::abs(yn[i]));
-      sum += (e / scale) * (e / scale);
+      const double r = scaled(e, y[i], yn[i]);
+      sum += r * r;
       finite = finite && std::isfinite(yn[i]) && std::isfinite(k7[i]);
     }
     if (!finite) return std::numeric_limits<double>::quiet_NaN();
@@ -225,10 +233,7 @@ class DormandPrince final : public Integrator {
   // Scans the guards at sample_count_ points of the last step; moves the
   // state to the earliest wanted crossing.
   StepReport find_event() {
-    sample_count_ = max_samples_per_step;
-    if (std::isfinite(opt_.sample_spacing))
-      sample_count_ = static_cast<int>(std::clamp(std::ceil((t_ - t_prev_) / opt_.sample_spacing), 2.0,
-                                                  static_cast<double>(max_samples_per_step)));
+    sample_count_ = guard_samples(t_ - t_prev_, opt_.sample_spacing, 2, max_samples_per_step);
     GuardScanner::Crossing c{};
     if (!scanner_.scan(*this, sample_count_, c)) return {Stop::step, t_};
     dense(c.t, y_dense_);
