@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
   RunOptions options;  // rk45 at the default tolerance (rtol 1e-4, atol 1e-7), as the command line
   const Study study("", {}, {record}, RecordOptions{},
                     {named_variant("damper"), named_variant("no-damper"), named_variant("fixed-base")}, options);
-  const std::vector<Job> jobs = study.ladder(parse_scales("1:20:1"));
+  const std::vector<Job> jobs = study.ladder(parse_number_list("1:20:1"));
   auto wall = [&](int threads) {
     double best = 1e30;
     long failed = 0;

@@ -54,17 +54,18 @@ TEST_CASE("an IDA's CSV is byte-identical with 1 thread, 2 threads and mpirun -n
   CHECK(lines(file_text(dir / "mpi" / "timing.csv")) == 1 + 12);
 }
 
-TEST_CASE("a bad record among good ones is reported in its rows and the study finishes") {
+TEST_CASE("a bad record among good ones is reported in its rows, the study finishes, and exits 4 with the count") {
   const fs::path dir = scratch_dir("study_cli_bad_record");
   std::ofstream(dir / "broken.txt") << "0 0.1\n0.01 abc\n";
   const Result r = run("-q ida --record " + pulse_record(dir) + " " + (dir / "broken.txt").string() +
                        " --scales 1:2:1 --variants damper --out " + dir.string() + " --formats png");
-  CHECK(r.code == 0);
+  CHECK(r.code == 4);
   const std::string csv = file_text(dir / "ida.csv");
   CHECK(lines(csv) == 1 + 4);
   CHECK(csv.find("pulse.txt,1,damper,") != std::string::npos);
   CHECK(csv.find("broken.txt:2") != std::string::npos);  // the reader's error, with its line
-  CHECK(r.out.find("2 failed") != std::string::npos);
+  CHECK(r.err.find("2 of 4 runs failed") != std::string::npos);
+  CHECK(lines(r.err) == 1);
   CHECK(fs::is_regular_file(dir / "ida_pulse.png"));  // the good record still gets its figure
 }
 

@@ -55,12 +55,15 @@ TEST_CASE("parallel_ordered emits every result once, in job order, for any numbe
   }
 }
 
-TEST_CASE("scales: ladders and lists; anything else is a one-line error") {
-  CHECK(parse_scales("1:5:1") == std::vector<double>{1, 2, 3, 4, 5});
-  CHECK(parse_scales("0.5:1.5:0.5") == std::vector<double>{0.5, 1.0, 1.5});
-  CHECK(parse_scales("0.5,2,3") == std::vector<double>{0.5, 2, 3});
-  for (const char* bad : {"1:5", "5:1:1", "1:5:0", "a,b", "1;2", ""})
-    CHECK(one_line_error<InputError>([&] { parse_scales(bad); }, bad).find("--scales") != std::string::npos);
+TEST_CASE("number lists: ladders and lists; anything else is a one-line error quoting the text, naming no flag") {
+  CHECK(parse_number_list("1:5:1") == std::vector<double>{1, 2, 3, 4, 5});
+  CHECK(parse_number_list("0.5:1.5:0.5") == std::vector<double>{0.5, 1.0, 1.5});
+  CHECK(parse_number_list("0.5,2,3") == std::vector<double>{0.5, 2, 3});
+  for (const char* bad : {"1:5", "5:1:1", "1:5:0", "a,b", "1;2", "", "1,2,"}) {
+    const std::string message = one_line_error<InputError>([&] { parse_number_list(bad); }, bad);
+    CHECK(message.find("'" + std::string(bad) + "'") != std::string::npos);
+    CHECK(message.find("--") == std::string::npos);
+  }
 }
 
 TEST_CASE("a bad record fails its own jobs and the others run") {

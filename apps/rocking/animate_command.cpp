@@ -165,7 +165,7 @@ int animate(const AnimateArgs& a) {
                           "set output \"{}.gif\"\n", std::max(2, 100 / a.fps), width, height, stem),
       stem, frames - 1, frame_dt,
       video ? fmt::format("  set output sprintf(\"{}.frames/%05d.png\", i)\n", stem) : std::string(), scene.name,
-      describe_motion(motion.name()), a.motion.scale, k, -span, span, H, H, scene.name, twin_label, twin_label);
+      describe_motion(motion), a.motion.scale, k, -span, span, H, H, scene.name, twin_label, twin_label);
   plot::Figure fig;
   fig.dir = dir;
   fig.name = stem;

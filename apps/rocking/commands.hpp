@@ -33,6 +33,14 @@ struct MotionOptions {
   double scale = 1;
 };
 void add_motion_options(CLI::App& cmd, MotionOptions& opts);
+// The factors a run's ground motion is scaled by: the scene's [excitation]
+// scale (its own record only) times --scale.
+struct ScaleFactors {
+  double scene = 1, option = 1;
+  double total() const { return scene * option; }
+  std::string describe() const;  // "x3", or "x6 (scene 2 x --scale 3)"
+};
+ScaleFactors motion_scale(const rocking::Scene& scene, const MotionOptions& opts);
 rocking::GroundMotion load_motion(const rocking::Scene& scene, const MotionOptions& opts);
 
 // --integrator, --rtol, --atol, --duration: how a run is integrated.
@@ -57,7 +65,16 @@ Command add_tradeoff_command(CLI::App& app);
 Command add_spectrum_command(CLI::App& app);
 Command add_animate_command(CLI::App& app);
 
+// The numbers of a FIRST:LAST:STEP or comma-list option; errors name the flag.
+std::vector<double> number_list(const std::string& flag, const std::string& text);
+
+// A variant in words, for legends: a named variant ("no-damper": "rocking,
+// no damper") or a swept key ("damper.thickness=1.5": "damper thickness x1.5").
+std::string variant_label(const std::string& name);
+
 // A record's name for titles and summaries; the stand-in record says so.
 std::string describe_motion(const std::string& name);
+// The same, with what the record's header says it is (event, station, PGA).
+std::string describe_motion(const rocking::GroundMotion& motion);
 
 }  // namespace rocking::app

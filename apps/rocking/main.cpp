@@ -5,8 +5,54 @@
 #include <spdlog/spdlog.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <fmt/format.h>
+#include <algorithm>
+#include <cstring>
 #include <exception>
+#include <string>
+#include <vector>
 #include "commands.hpp"
+
+namespace {
+
+// Levenshtein distance, for "did you mean" on a mistyped subcommand.
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// The first word that is not an option must be a subcommand: an error naming
+// it, with the nearest subcommand when one is close, or empty.
+std::string unknown_subcommand(const CLI::App& app, int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (argv[i][0] == '-') continue;
+    const std::string word = argv[i];
+    std::string best;
+    std::size_t best_distance = 3;  // suggest only a near miss
+    for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
+      if (sub->get_name() == word) return {};
+      const std::size_t d = edit_distance(word, sub->get_name());
+      if (d < best_distance || (sub->get_name().starts_with(word) && best.empty())) {
+        best_distance = std::min(d, best_distance);
+        best = sub->get_name();
+      }
+    }
+    return best.empty() ? fmt::format("unknown subcommand '{}' (`rocking --help` lists them)", word)
+                        : fmt::format("unknown subcommand '{}'; did you mean '{}'?", word, best);
+  }
+  return {};
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -15,6 +61,9 @@ int main(int argc, char** argv) {
       "Christchurch chimney (data/scenes/christchurch_chimney.toml, built in).\n",
       "rocking"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", "rocking " ROCKING_VERSION);
+  // -v and -q belong to the program, and are taken before or after the subcommand.
+  app.fallthrough();
   app.footer("Run `rocking SUBCOMMAND --help` for what each one does and its options.");
   bool verbose = false, quiet = false;
   app.add_flag("-v,--verbose", verbose, "Log what is being done (debug level)");
@@ -32,11 +81,17 @@ int main(int argc, char** argv) {
   auto logger = spdlog::stderr_color_mt("rocking");
   spdlog::set_default_logger(logger);
   spdlog::set_pattern("%^%l%$: %v");
+  if (const std::string unknown = unknown_subcommand(app, argc, argv); !unknown.empty()) {
+    fmt::print(stderr, "rocking: error: {}\n", unknown);
+    return rocking::exit_input_error;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     fmt::print(stderr, "rocking: error: {}\n", e.what());

@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <cmath>
 #include <iostream>
 #include "commands.hpp"
 import rocking;
@@ -56,6 +57,33 @@ void print_table(const Scene& scene, const ModalSummary& m) {
   fmt::print("  V_ref     {:<12.4g} N       base shear\n", m.reference.base_shear);
 }
 
+// A rigid block has no elastic modes: what it has is its geometry, its
+// frequency parameter p = sqrt(m g R / J_p) (Housner 1963; the linearised
+// rocking motion grows as e^(pt)) and the restitution of Eq. 10.
+int rigid_block(const Scene& scene, bool json) {
+  const Structure& s = scene.structure;
+  const double J_p = pivot_inertia(s), H_cg = centre_of_gravity_height(s), alpha = slenderness(s);
+  const double R = std::hypot(s.half_width, H_cg), m = total_mass(s);
+  const double p = std::sqrt(m * gravity * R / J_p), r = restitution_eq10(s);
+  if (json) {
+    std::cout << nlohmann::json{{"rigid", true}, {"mass", m},  {"J_p", J_p}, {"H_cg", H_cg}, {"alpha_cg", alpha},
+                                {"R", R},        {"p", p},     {"r_eq10", r}}
+                     .dump(2)
+              << '\n';
+    return 0;
+  }
+  fmt::print("{} ({}): a rigid block, no elastic modes\n\n", scene.name, scene.source);
+  fmt::print("  mass      {:<12.5g} kg      total, base included\n", m);
+  fmt::print("  J_p       {:<12.5g} kg m^2  moment of inertia about a pivot\n", J_p);
+  fmt::print("  H_cg      {:<12.4f} m       height of the centre of gravity\n", H_cg);
+  fmt::print("  alpha_cg  {:<12.4f} rad     slenderness, atan(B / H_cg); uplift at a_g = g tan(alpha) = {:.3f} g\n",
+             alpha, std::tan(alpha));
+  fmt::print("  R         {:<12.4f} m       pivot to centre of gravity\n", R);
+  fmt::print("  p         {:<12.4f} rad/s   frequency parameter sqrt(m g R / J_p) (Housner 1963)\n", p);
+  fmt::print("  r         {:<12.4f} -       restitution from the geometry (Eq. 10)\n", r);
+  return 0;
+}
+
 }  // namespace
 
 Command add_modal_command(CLI::App& app) {
@@ -63,14 +91,16 @@ Command add_modal_command(CLI::App& app) {
       "modal",
       "Linearised modal analysis: fixed-base modes, the rocking phase about\n"
       "theta = 0 (free, with the damper elastic, with it yielded), the geometric\n"
-      "restitution r of Eq. 10, and the reference forces M_ref, V_ref.");
+      "restitution r of Eq. 10, and the reference forces M_ref, V_ref. For a rigid\n"
+      "block (structure.rigid = true): its geometry, p and r.");
   auto opts = std::make_shared<SceneOptions>();
   auto json = std::make_shared<bool>(false);
   add_scene_options(*cmd, *opts);
   cmd->add_flag("--json", *json, "Print one JSON object (SI units) instead of a table");
   cmd->footer("Example: rocking modal --set structure.EI_scale=0.5 --json");
   return [opts, json]() {
-    const Scene scene = load_elastic_scene(*opts);
+    const Scene scene = load_scene(*opts);
+    if (scene.structure.rigid) return rigid_block(scene, *json);
     spdlog::debug("modal analysis of '{}' from {}", scene.name, scene.source);
     const ModalSummary m = modal_analysis(scene.structure, scene.damper);
     if (*json) std::cout << to_json(m).dump(2) << '\n';

@@ -61,15 +61,9 @@ struct ResponseArgs {
   std::vector<std::string> from;
 };
 
-// Legend of a named variant (rocking.study names them).
-std::string variant_label(const std::string& key) {
-  if (key == "damper") return "rocking, with dampers";
-  if (key == "no-damper") return "rocking, no damper";
-  if (key == "fixed-base") return "fixed base";
-  return "as the scene says";
-}
-
 int response(const ResponseArgs& a) {
+  // Every option is checked before the first run.
+  plot::Figure fig = figure(a.figure, "", 1000, 1300);
   std::vector<plot::ResponseSeries> series;
   std::string title;
   const fs::path data_dir = fs::path(a.figure.out) / (a.figure.name + ".data");
@@ -77,10 +71,11 @@ int response(const ResponseArgs& a) {
     make_output_dir(data_dir);
     for (const std::string& run_dir : a.from) {
       const fs::path history = fs::path(run_dir) / "history.csv";
-      plot::check_history(history);
       const std::string label = fs::path(run_dir).filename().string();
+      const plot::HistoryContent content = plot::check_history(history);
       fs::copy_file(history, data_dir / (label + ".csv"), fs::copy_options::overwrite_existing);
-      series.push_back({label, (fs::path(a.figure.name + ".data") / (label + ".csv")).string(), true});
+      series.push_back({label, (fs::path(a.figure.name + ".data") / (label + ".csv")).string(), content.has_damper,
+                        content.rocks});
     }
     title = fmt::format("Runs: {}", fmt::join(a.from, ", "));
   } else {
@@ -88,11 +83,14 @@ int response(const ResponseArgs& a) {
     std::vector<std::string> keys = a.variants;
     if (keys.empty()) keys = base.structure.rigid ? std::vector<std::string>{"scene"}
                                                    : std::vector<std::string>{"damper", "no-damper", "fixed-base"};
-    make_output_dir(data_dir);
+    std::vector<Variant> variants;
+    for (const std::string& key : keys) variants.push_back(named_variant(key));
     const GroundMotion motion = load_motion(base, a.motion);
-    title = fmt::format("{}\n{}, scale {}", base.name, describe_motion(motion.name()), a.motion.scale);
-    for (const std::string& key : keys) {
-      const Variant v = named_variant(key);
+    make_output_dir(data_dir);
+    title = fmt::format("{}\n{}, {}", base.name, describe_motion(motion), motion_scale(base, a.motion).describe());
+    for (std::size_t k = 0; k < keys.size(); ++k) {
+      const std::string& key = keys[k];
+      const Variant& v = variants[k];
       const std::string label = variant_label(key);
       std::vector<std::string> overrides = a.scene.overrides;
       overrides.insert(overrides.end(), v.overrides.begin(), v.overrides.end());
@@ -101,7 +99,7 @@ int response(const ResponseArgs& a) {
       ro.output_interval = 0.005;
       const ContactModel model = make_contact_model(scene, false);
       const fs::path csv = data_dir / (key + ".csv");
-      HistoryCsv history(csv);
+      HistoryCsv history(csv, motion);
       const RunResult r = simulate(model, motion, ro, &history);
       history.close();
       if (r.outcome == Outcome::failed) throw RunError(fmt::format("variant {}: {}", key, r.failure));
@@ -109,10 +107,12 @@ int response(const ResponseArgs& a) {
                  r.peak(Quantity::theta_over_alpha),
                  r.has_forces ? fmt::format("{:.3f}", r.peak(Quantity::base_moment)) : "-", r.counts.uplifts,
                  outcome_name(r.outcome));
-      series.push_back({label, (fs::path(a.figure.name + ".data") / (key + ".csv")).string(), model.has_damper});
+      series.push_back({label, (fs::path(a.figure.name + ".data") / (key + ".csv")).string(), model.has_damper,
+                        model.kind != ModelKind::fixed_base});
     }
   }
-  report(plot::render_response(figure(a.figure, title, 1000, 1300), series));
+  fig.title = title;
+  report(plot::render_response(fig, series));
   return 0;
 }
 
@@ -126,25 +126,34 @@ int modes(const SceneOptions& scene_opts, const FigureArgs& fa) {
   // Columns: fixed-base shapes, then rocking-phase total displacements u + H theta.
   Eigen::MatrixXd columns(n + 1, 2 * n + 1);
   columns.setZero();
-  plot::ModePanel left{"fixed base", {}}, right{"rocking phase (free), about a pivot", {}};
+  plot::ModePanel left{"fixed base", {}, {}}, right{"rocking phase (free), about a pivot", {}, {}};
   for (Eigen::Index k = 0; k < n; ++k) {
     columns.col(k).tail(n) = m.fixed_base.shapes.col(k);
     left.labels.push_back(fmt::format("mode {}: {:.2f} Hz", k + 1, m.fixed_base_hz[static_cast<std::size_t>(k)]));
+    left.colours.push_back(static_cast<int>(k));
   }
+  // Mode k of the rocking phase takes the colour of fixed-base mode k; the
+  // rocking mode R the last colour of the palette (grey).
   const RockingModes& rm = m.free_rocking;
+  int elastic = 0;
   for (Eigen::Index k = 0; k < rm.lambda.size(); ++k) {
     const Eigen::VectorXd u = rm.shapes.col(k).head(n);
     columns.col(n + k).tail(n) = u + H * rm.shapes(n, k);
     const double lambda = rm.lambda[k];
-    right.labels.push_back(lambda < 0 ? fmt::format("R: p = {:.3f} rad/s", std::sqrt(-lambda))
-                                      : fmt::format("mode {}: {:.2f} Hz", right.labels.size(), std::sqrt(lambda) / (2 * M_PI)));
+    if (lambda < 0) {
+      right.labels.push_back(fmt::format("R: p = {:.3f} rad/s", std::sqrt(-lambda)));
+      right.colours.push_back(5);
+    } else {
+      right.labels.push_back(fmt::format("mode {}: {:.2f} Hz", elastic + 1, std::sqrt(lambda) / (2 * M_PI)));
+      right.colours.push_back(elastic++);
+    }
   }
   for (Eigen::Index c = 0; c < columns.cols(); ++c) {  // top = 1
     const double top = columns(n, c);
     const double scale = std::abs(top) > 1e-12 * columns.col(c).cwiseAbs().maxCoeff() ? top : columns.col(c).cwiseAbs().maxCoeff();
     columns.col(c) /= scale;
   }
-  const plot::Figure fig = figure(fa, fmt::format("{}: mode shapes (linearised, MODEL.md 8)", scene.name), 1200, 800);
+  const plot::Figure fig = figure(fa, fmt::format("{}: mode shapes of the linearised structure", scene.name), 1200, 800);
   make_output_dir(fig.dir);
   const std::string data = fa.name + ".dat";
   std::ofstream out(fig.dir / data);
@@ -166,6 +175,11 @@ std::string describe_motion(const std::string& name) {
   if (name.find("pphs_s57e") != std::string::npos)
     return name + " (Papanui, stand-in for the Canterbury Aero Club record)";
   return name;
+}
+
+std::string describe_motion(const GroundMotion& motion) {
+  const std::string name = describe_motion(motion.name());
+  return motion.description().empty() ? name : fmt::format("{}: {}", name, motion.description());
 }
 
 Command add_plot_command(CLI::App& app) {

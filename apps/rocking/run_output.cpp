@@ -10,11 +10,12 @@
 
 namespace rocking::app {
 
-HistoryCsv::HistoryCsv(const std::filesystem::path& file) : path_(file.string()) {
+HistoryCsv::HistoryCsv(const std::filesystem::path& file, const GroundMotion& motion)
+    : path_(file.string()), motion_(motion) {
   file_ = std::fopen(path_.c_str(), "w");
   if (file_ == nullptr) throw InputError(fmt::format("{}: cannot write: {}", path_, std::strerror(errno)));
   std::fputs("t [s],phase,u_N [m],theta [rad],theta/alpha_cg [-],delta_t [-],delta_e [-],d [m],F_hd [N],"
-             "base_shear [V_ref],base_moment [M_ref],mid_shear [V_ref],mid_moment [M_ref]\n", file_);
+             "base_shear [V_ref],base_moment [M_ref],mid_shear [V_ref],mid_moment [M_ref],a_g [m/s2]\n", file_);
 }
 
 HistoryCsv::~HistoryCsv() {
@@ -23,10 +24,10 @@ HistoryCsv::~HistoryCsv() {
 
 void HistoryCsv::record(const Response& r) {
   using Q = Quantity;
-  fmt::print(file_, "{:.9g},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", r.t,
+  fmt::print(file_, "{:.9g},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", r.t,
              r.pivot == 0 ? "contact" : r.pivot > 0 ? "rock+" : "rock-", r.u_top, r[Q::theta], r[Q::theta_over_alpha],
              r[Q::delta_t], r[Q::delta_e], r[Q::damper_d], r[Q::damper_F], r[Q::base_shear], r[Q::base_moment],
-             r[Q::mid_shear], r[Q::mid_moment]);
+             r[Q::mid_shear], r[Q::mid_moment], motion_.acceleration(r.t));
 }
 
 void HistoryCsv::close() {
@@ -50,7 +51,9 @@ nlohmann::json summary_json(const RunLabel& label, const RunResult& r) {
   json peaks = json::object();
   for (std::size_t i = 0; i < quantity_count; ++i) {
     const auto q = static_cast<Quantity>(i);
-    peaks[std::string(quantity_name(q))] = is_force(q) && !r.has_forces ? json(nullptr) : json(r.peaks[i]);
+    const bool absent = (is_force(q) && !r.has_forces) ||
+                        ((q == Quantity::damper_d || q == Quantity::damper_F) && !r.has_damper);
+    peaks[std::string(quantity_name(q))] = absent ? json(nullptr) : json(r.peaks[i]);
   }
   auto time_or_null = [](double t) { return std::isfinite(t) ? json(t) : json(nullptr); };
   json out = {
@@ -59,6 +62,7 @@ nlohmann::json summary_json(const RunLabel& label, const RunResult& r) {
       {"motion", label.motion},
       {"record", label.record.empty() ? json(nullptr) : json(label.record)},
       {"scale", label.scale},
+      {"scale_factors", {{"scene", label.scene_scale}, {"option", label.option_scale}}},
       {"integrator", r.integrator},
       {"rtol", label.rtol},
       {"atol", label.atol},

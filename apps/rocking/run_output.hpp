@@ -12,10 +12,11 @@ import rocking;
 
 namespace rocking::app {
 
-// Streams every Response to DIR/history.csv (header row with units).
+// Streams every Response to DIR/history.csv (header row with units), with the
+// ground acceleration it answers in the last column.
 class HistoryCsv : public rocking::Observer {
  public:
-  explicit HistoryCsv(const std::filesystem::path& file);
+  HistoryCsv(const std::filesystem::path& file, const rocking::GroundMotion& motion);
   ~HistoryCsv() override;
   HistoryCsv(const HistoryCsv&) = delete;
   HistoryCsv& operator=(const HistoryCsv&) = delete;
@@ -25,6 +26,7 @@ class HistoryCsv : public rocking::Observer {
  private:
   std::FILE* file_ = nullptr;
   std::string path_;
+  const rocking::GroundMotion& motion_;
 };
 
 // Creates DIR (and parents) or fails with a one-line InputError.
@@ -33,7 +35,7 @@ void make_output_dir(const std::filesystem::path& dir);
 // The run's summary, with the keys of `rocking simulate --json`.
 struct RunLabel {
   std::string scene, scene_source, motion, record;
-  double scale = 1;
+  double scale = 1, scene_scale = 1, option_scale = 1;  // scale = scene_scale x option_scale
   double rtol = 0, atol = 0;
 };
 nlohmann::json summary_json(const RunLabel& label, const rocking::RunResult& r);

@@ -17,6 +17,34 @@ void add_scene_options(CLI::App& cmd, SceneOptions& opts) {
       ->allow_extra_args(false);
 }
 
+std::string variant_label(const std::string& name) {
+  if (name == "damper") return "rocking, with dampers";
+  if (name == "no-damper") return "rocking, no damper";
+  if (name == "fixed-base") return "fixed base";
+  if (name == "scene") return "as the scene says";
+  const auto eq = name.find('=');
+  if (eq == std::string::npos) return name;
+  const std::string key = name.substr(0, eq), value = name.substr(eq + 1);
+  if (key == "damper.thickness") return "damper thickness x" + value;
+  if (key == "structure.EI_scale") return "EI x" + value;
+  if (key == "damper.stiffness") return "damper stiffness " + value + " N/m";
+  if (key == "damper.enabled") return value == "false" ? "no damper" : "with dampers";
+  if (key == "contact.restitution") return "restitution " + value;
+  if (key == "contact.rocking") return value == "false" ? "fixed base" : "rocking";
+  std::string words = key.substr(key.find('.') + 1);
+  for (char& c : words)
+    if (c == '_') c = ' ';
+  return words + " " + value;
+}
+
+std::vector<double> number_list(const std::string& flag, const std::string& text) {
+  try {
+    return parse_number_list(text);
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{} {}", flag, e.what()));
+  }
+}
+
 rocking::Scene load_scene(const SceneOptions& opts) {
   return opts.path.empty() ? load_default_scene(opts.overrides) : rocking::load_scene(opts.path, opts.overrides);
 }
@@ -37,6 +65,16 @@ void add_motion_options(CLI::App& cmd, MotionOptions& opts) {
       ->type_name("UNIT");
   cmd.add_option("--dt", opts.dt, "Sample interval of a one-column record [s]")->type_name("S");
   cmd.add_option("--scale", opts.scale, "Scale factor on the ground acceleration (default 1)")->type_name("SF");
+}
+
+std::string ScaleFactors::describe() const {
+  if (scene == 1) return fmt::format("x{:g}", total());
+  return fmt::format("x{:g} (scene {:g} x --scale {:g})", total(), scene, option);
+}
+
+ScaleFactors motion_scale(const rocking::Scene& scene, const MotionOptions& opts) {
+  return {opts.record.empty() && !scene.excitation.record.empty() ? scene.excitation.record_options.scale : 1.0,
+          opts.scale};
 }
 
 rocking::GroundMotion load_motion(const rocking::Scene& scene, const MotionOptions& opts) {
@@ -95,6 +133,7 @@ rocking::RunOptions run_options(const rocking::Scene& scene, const SolverOptions
   ro.max_events = opts.max_events;
   ro.tolerances.max_steps = opts.max_steps;
   ro.exact_full_contact = !opts.integrate_contact;
+  ro.initial = {scene.initial.theta, scene.initial.theta_dot, scene.initial.u, scene.initial.u_dot};
   return ro;
 }
 

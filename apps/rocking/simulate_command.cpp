@@ -22,17 +22,19 @@ struct SimulateOptions {
 void print_text(const nlohmann::json& s) {
   const auto& p = s["peaks"];
   auto num = [](const nlohmann::json& v) { return v.is_null() ? std::string("-") : fmt::format("{:.4g}", v.get<double>()); };
-  fmt::print("{} under {} (x{})\n", s["scene"].get<std::string>(), s["motion"].get<std::string>(),
-             s["scale"].get<double>());
+  auto count = [](long n, const char* one) { return fmt::format("{} {}{}", n, one, n == 1 ? "" : "s"); };
+  const ScaleFactors scale{s["scale_factors"]["scene"].get<double>(), s["scale_factors"]["option"].get<double>()};
+  fmt::print("{} under {} ({})\n", s["scene"].get<std::string>(), s["motion"].get<std::string>(), scale.describe());
   fmt::print("  outcome       {} at t = {:.3f} s\n", s["outcome"].get<std::string>(), s["t_end"].get<double>());
   fmt::print("  top total     {:.1f} mm (delta_t {})\n", s["top_total_mm"].get<double>(), num(p["delta_t"]));
   fmt::print("  top elastic   delta_e {}\n", num(p["delta_e"]));
   fmt::print("  rocking angle {} rad = {} alpha_cg\n", num(p["theta"]), num(p["theta_over_alpha"]));
-  fmt::print("  damper        d {} m, F {} N\n", num(p["damper_d"]), num(p["damper_F"]));
+  if (p["damper_d"].is_null()) fmt::print("  damper        -\n");
+  else fmt::print("  damper        d {} m, F {} N\n", num(p["damper_d"]), num(p["damper_F"]));
   fmt::print("  base          V/V_ref {}, M/M_ref {}\n", num(p["base_shear"]), num(p["base_moment"]));
   fmt::print("  mid-height    V/V_ref {}, M/M_ref {}\n", num(p["mid_shear"]), num(p["mid_moment"]));
-  fmt::print("  contacts      {} uplifts, {} impacts\n", s["counts"]["uplifts"].get<long>(),
-             s["counts"]["impacts"].get<long>());
+  fmt::print("  contacts      {}, {}\n", count(s["counts"]["uplifts"].get<long>(), "uplift"),
+             count(s["counts"]["impacts"].get<long>(), "impact"));
   fmt::print("  cost          {} ({} rhs, {} steps, {:.3g} s)\n", s["integrator"].get<std::string>(),
              s["stats"]["rhs"].get<long>(), s["stats"]["steps"].get<long>(), s["wall_s"].get<double>());
 }
@@ -46,12 +48,14 @@ int run(const SimulateOptions& o) {
   const ContactModel model = make_contact_model(scene, true);
   const std::filesystem::path dir(o.out);
   make_output_dir(dir);
-  HistoryCsv history(dir / "history.csv");
-  spdlog::info("simulating '{}' under {} (x{}) with {}", scene.name, motion.name(), o.motion.scale, o.solver.integrator);
+  HistoryCsv history(dir / "history.csv", motion);
+  const ScaleFactors scale = motion_scale(scene, o.motion);
+  spdlog::info("simulating '{}' under {} ({}) with {}", scene.name, motion.name(), scale.describe(), o.solver.integrator);
   const RunResult result = simulate(model, motion, ro, &history);
   history.close();
-  const RunLabel label{scene.name, scene.source, describe_motion(motion.name()), o.motion.record, o.motion.scale,
-                       ro.tolerances.rtol, ro.tolerances.atol};
+  const RunLabel label{scene.name,    scene.source,       describe_motion(motion), o.motion.record,
+                       scale.total(), scale.scene,         scale.option,                   ro.tolerances.rtol,
+                       ro.tolerances.atol};
   const nlohmann::json summary = summary_json(label, result);
   write_text(dir / "summary.json", summary.dump(2) + "\n");
   if (o.json) std::cout << summary.dump(2) << '\n';

@@ -34,8 +34,9 @@ int spectrum(const SpectrumArgs& a) {
     scene = load_scene(opts);
   }
   const PulseShape shape = parse_pulse_shape(a.pulse);
-  const std::vector<double> freqs = parse_scales(a.frequencies), amps = parse_scales(a.amplitudes);
-  const std::vector<double> sizes = parse_scales(a.sizes);
+  const std::vector<double> freqs = number_list("--frequencies", a.frequencies),
+                            amps = number_list("--amplitudes", a.amplitudes);
+  const std::vector<double> sizes = number_list("--sizes", a.sizes);
   const int threads = thread_count(a.threads);
   const fs::path dir(a.out);
   make_output_dir(dir / "spectrum.data");
@@ -46,17 +47,32 @@ int spectrum(const SpectrumArgs& a) {
                                                  [&](std::size_t done, std::size_t total) { progress(done, total); });
     const std::string file = (fs::path("spectrum.data") / fmt::format("size_{}.csv", size)).string();
     std::ofstream out(dir / file);
-    out << "frequency_ratio,amplitude_ratio,period_s,amplitude_g,overturned,uplift\n";
+    out << "frequency_ratio,amplitude_ratio,period_s,amplitude_g,overturned,uplift,frequency_ratio_low,"
+           "frequency_ratio_high,amplitude_ratio_low,amplitude_ratio_high,period_low_s,period_high_s,amplitude_low_g,"
+           "amplitude_high_g\n";
     long overturned = 0;
-    for (const SpectrumPoint& pt : s.points) {
-      out << fmt::format("{:.6g},{:.6g},{:.6g},{:.6g},{},{}\n", pt.frequency_ratio, pt.amplitude_ratio, pt.period_s,
-                         pt.amplitude_g, pt.overturned ? 1 : 0, pt.uplift ? 1 : 0);
+    // Each grid point's cell reaches halfway to its neighbours (as far on the
+    // outside), in the normalised axes; in seconds and g through the same map.
+    auto cell = [](const std::vector<double>& grid, std::size_t i) {
+      const double below = i > 0 ? grid[i] - grid[i - 1] : grid.size() > 1 ? grid[1] - grid[0] : 0.1 * grid[0];
+      const double above = i + 1 < grid.size() ? grid[i + 1] - grid[i] : below;
+      return std::pair{grid[i] - below / 2, grid[i] + above / 2};
+    };
+    for (std::size_t k = 0; k < s.points.size(); ++k) {
+      const SpectrumPoint& pt = s.points[k];
+      const auto [f_lo, f_hi] = cell(freqs, k / amps.size());
+      const auto [a_lo, a_hi] = cell(amps, k % amps.size());
+      const double to_period = pt.period_s * pt.frequency_ratio, to_g = pt.amplitude_g / pt.amplitude_ratio;
+      out << fmt::format("{:.6g},{:.6g},{:.6g},{:.6g},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n",
+                         pt.frequency_ratio, pt.amplitude_ratio, pt.period_s, pt.amplitude_g, pt.overturned ? 1 : 0,
+                         pt.uplift ? 1 : 0, f_lo, f_hi, a_lo, a_hi, to_period / f_hi, to_period / f_lo, a_lo * to_g,
+                         a_hi * to_g);
       overturned += pt.overturned;
     }
     const double width = 2 * scene.structure.half_width * size, height = scene.structure.heights.maxCoeff() * size;
     fmt::print("block x{}: {:.2f} m wide, top node at {:.2f} m, p = {:.3f} rad/s, alpha = {:.4f} rad: {} of {} pulses overturn it\n",
                size, width, height, s.p, s.alpha, overturned, s.points.size());
-    series.push_back({fmt::format("block x{} (p = {:.2f} rad/s)", size, s.p), file});
+    series.push_back({fmt::format("block x{} (p = {:.2f} rad/s)", size, s.p), file, {}, 0});
   }
   plot::Figure fig;
   fig.dir = dir;

@@ -44,48 +44,99 @@ std::string csv_field(const std::string& s) {
   return out + "\"";
 }
 
-// A record as rows and titles name it: its file name.
-std::string record_name(const Study& st, std::size_t record) {
-  return fs::path(st.records()[record]).filename().string();
+// A record as rows and figures name it: its file name, or as many of its
+// last path components as make it unique among the study's records (two
+// "a.at2" in folders x/ and y/ become "x/a.at2" and "y/a.at2"); the same file
+// given twice becomes "a.at2" and "a.at2#2".
+std::vector<std::string> record_ids(const std::vector<std::string>& paths) {
+  const std::size_t n = paths.size();
+  std::vector<std::vector<std::string>> parts(n);
+  for (std::size_t i = 0; i < n; ++i)
+    for (const fs::path& p : fs::path(paths[i]).lexically_normal()) parts[i].insert(parts[i].begin(), p.string());
+  std::vector<std::size_t> depth(n, 1);
+  auto id = [&](std::size_t i) {
+    std::string out;
+    for (std::size_t k = std::min(depth[i], parts[i].size()); k-- > 0;) out += (out.empty() ? "" : "/") + parts[i][k];
+    return out;
+  };
+  for (bool changed = true; changed;) {
+    changed = false;
+    std::vector<std::size_t> deeper;
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = 0; j < n; ++j)
+        if (i != j && id(i) == id(j) && depth[i] < parts[i].size() && parts[i] != parts[j]) {
+          deeper.push_back(i);
+          break;
+        }
+    for (std::size_t i : deeper) ++depth[i];
+    changed = !deeper.empty();
+  }
+  std::vector<std::string> ids(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    ids[i] = id(i);
+    const auto same = std::count_if(ids.begin(), ids.begin() + static_cast<long>(i), [&](const std::string& s) {
+      return s == ids[i] || s.starts_with(ids[i] + "#");
+    });
+    if (same > 0) ids[i] += fmt::format("#{}", same + 1);
+  }
+  return ids;
 }
 
-std::string row(const Study& st, const Job& job, const JobResult& r) {
-  const std::string record = record_name(st, job.record);
+std::string row(const Study& st, const std::vector<std::string>& ids, const Job& job, const JobResult& r) {
   std::string q;
   const RunResult& run = r.run;
   for (Quantity k : {Quantity::delta_t, Quantity::delta_e, Quantity::theta_over_alpha, Quantity::damper_d,
                      Quantity::base_shear, Quantity::base_moment, Quantity::mid_shear, Quantity::mid_moment}) {
     q += r.error.empty() && (run.has_forces || !is_force(k)) ? fmt::format("{:.9g},", run.peak(k)) : std::string(",");
   }
-  return fmt::format("{},{:.6g},{},{}{},{},{},{},{}\n", csv_field(record), job.scale,
+  return fmt::format("{},{:.6g},{},{}{},{},{},{},{}\n", csv_field(ids[job.record]), job.scale,
                      csv_field(st.variants()[job.variant].name), q,
                      r.error.empty() ? fmt::format("{:.6g}", run.top_total_mm) : "", outcome_name(run.outcome),
                      run.counts.uplifts, fmt::format("{},{}", run.counts.impacts, run.stats.rhs), csv_field(r.error));
 }
 
-// One data file per (record, variant) and one figure per record: peaks against the scale.
-void study_figures(const StudyArgs& a, const Study& st, const std::vector<Job>& jobs,
-                   const std::vector<JobResult>& results, const std::string& kind, const std::string& scene_name) {
+// A job's line of figure data: the scale, the eight peaks, 1 if it
+// overturned; empty for a job that failed.
+std::string figure_line(const Job& job, const JobResult& r) {
+  if (!r.error.empty()) return {};
+  std::string out = fmt::format("{:.6g}", job.scale);
+  for (std::size_t k : {0, 1, 3, 4, 6, 7, 8, 9}) out += fmt::format(",{:.9g}", r.run.peaks[k]);
+  return out + (r.run.outcome == Outcome::overturned ? ",1" : ",0");
+}
+
+// One data file per (record, variant) and one figure per record: peaks
+// against the scale, with each variant's first overturning drawn as collapse.
+void study_figures(const StudyArgs& a, const Study& st, const std::vector<std::string>& ids,
+                   const std::vector<Job>& jobs, const std::vector<std::string>& lines, const std::string& kind,
+                   const std::string& scene_name) {
   const fs::path dir(a.out);
   for (std::size_t r = 0; r < st.records().size(); ++r) {
-    const std::string stem = fs::path(st.records()[r]).stem().string();
+    std::string stem = ids[r];
+    for (char& c : stem)
+      if (c == '/' || c == '#') c = '_';
+    stem = fs::path(stem).replace_extension().string();
     const std::string name = kind + "_" + stem;
     make_output_dir(dir / (name + ".data"));
     std::vector<plot::Series> series;
     for (std::size_t v = 0; v < st.variants().size(); ++v) {
       const std::string file = (fs::path(name + ".data") / (fmt::format("{}.csv", v))).string();
       std::ofstream out(dir / file);
-      out << "scale,delta_t,delta_e,theta_over_alpha,damper_d,base_shear,base_moment,mid_shear,mid_moment\n";
+      out << "scale,delta_t,delta_e,theta_over_alpha,damper_d,base_shear,base_moment,mid_shear,mid_moment,collapse\n";
       int rows = 0;
+      bool fallen = false;
       for (std::size_t i = 0; i < jobs.size(); ++i) {
-        if (jobs[i].record != r || jobs[i].variant != v || !results[i].error.empty()) continue;
-        const RunResult& run = results[i].run;
-        out << fmt::format("{:.6g}", jobs[i].scale);
-        for (std::size_t k : {0, 1, 3, 4, 6, 7, 8, 9}) out << fmt::format(",{:.9g}", run.peaks[k]);
-        out << '\n';
+        if (jobs[i].record != r || jobs[i].variant != v || lines[i].empty()) continue;
+        const bool down = lines[i].ends_with(",1");
+        const int code = down ? (fallen ? 2 : 1) : (fallen ? 3 : 0);
+        fallen = fallen || down;
+        out << lines[i].substr(0, lines[i].size() - 1) << code << '\n';
         ++rows;
       }
-      if (rows > 0) series.push_back({st.variants()[v].name, file});
+      if (rows == 0) continue;
+      plot::Series s{variant_label(st.variants()[v].name), file, {}, 10};
+      if (!st.can_overturn(v)) s.absent.push_back(2);    // a fixed base does not rock
+      if (!st.has_damper(v)) s.absent.push_back(3);      // nor stretch a damper it has not
+      series.push_back(std::move(s));
     }
     if (series.empty()) continue;
     plot::Figure fig;
@@ -94,18 +145,19 @@ void study_figures(const StudyArgs& a, const Study& st, const std::vector<Job>& 
     fig.formats = plot::parse_formats(a.formats);
     fig.width = 1100;
     fig.height = 1300;
-    fig.title = fmt::format("{}: {} (an overturned run is drawn at its values when it fell)\n{}", scene_name,
+    const GroundMotion* motion = st.motion(r);
+    fig.title = fmt::format("{}: {}\n{}", scene_name,
                             kind == "ida" ? "incremental dynamic analysis" : "parametric study",
-                            describe_motion(record_name(st, r)));
+                            motion != nullptr ? describe_motion(*motion) : ids[r]);
     const std::vector<plot::Panel> panels = {
-        {"peak total top drift {/Symbol d}_t [%]", "1:($2*100)"},
-        {"peak elastic top drift {/Symbol d}_e [%]", "1:($3*100)"},
-        {"peak rocking angle {/Symbol q}/{/Symbol a}_{cg} [-]", "1:4"},
-        {"peak damper elongation d [mm]", "1:($5*1000)"},
-        {"peak base shear V/V_{ref} [-]", "1:6"},
-        {"peak base moment M/M_{ref} [-]", "1:7"},
-        {"peak mid-height shear V/V_{ref} [-]", "1:8"},
-        {"peak mid-height moment M/M_{ref} [-]", "1:9"}};
+        {"peak total top drift {/Symbol d}_t [%]", "$1", "$2*100", true, ""},
+        {"peak elastic top drift {/Symbol d}_e [%]", "$1", "$3*100", true, ""},
+        {"peak rocking angle {/Symbol q}/{/Symbol a}_{cg} [-]", "$1", "$4", true, ""},
+        {"peak damper elongation d [mm]", "$1", "$5*1000", true, ""},
+        {"peak base shear V/V_{ref} [-]", "$1", "$6", true, ""},
+        {"peak base moment M/M_{ref} [-]", "$1", "$7", true, ""},
+        {"peak mid-height shear V/V_{ref} [-]", "$1", "$8", true, ""},
+        {"peak mid-height moment M/M_{ref} [-]", "$1", "$9", true, ""}};
     for (const fs::path& f : plot::render_panels(fig, 4, 2, "scale factor on the record [-]", panels, series))
       fmt::print("wrote {}\n", f.string());
   }
@@ -113,8 +165,10 @@ void study_figures(const StudyArgs& a, const Study& st, const std::vector<Job>& 
 
 int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, const std::string& scene_name,
                const MpiWorld& world) {
-  const std::vector<Job> jobs = st.ladder(parse_scales(a.scales));
+  const std::vector<Job> jobs = st.ladder(number_list("--scales", a.scales));
+  const std::vector<std::string> ids = record_ids(st.records());
   const int threads = thread_count(a.threads);
+  if (!a.no_plot) plot::parse_formats(a.formats);  // refused before any run
   const fs::path dir(a.out);
   if (world.rank == 0) make_output_dir(dir);
   std::vector<std::size_t> mine;
@@ -123,8 +177,7 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
   if (world.rank == 0)
     spdlog::info("{}: {} jobs on {} thread(s){}", kind, jobs.size(), threads,
                  world.size > 1 ? fmt::format(" x {} processes", world.size) : "");
-  std::vector<JobResult> results(jobs.size());
-  std::vector<std::pair<long, std::string>> rows, timings;
+  std::vector<std::pair<long, std::string>> rows, timings, lines;
   std::ofstream csv;
   if (world.size == 1) {
     csv.open(dir / (kind + ".csv"));
@@ -136,9 +189,8 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
       mine.size(), threads, [&](std::size_t k) { return st.run(jobs[mine[k]]); },
       [&](std::size_t k, const JobResult& r) {
         const std::size_t i = mine[k];
-        results[i] = r;
-        const std::string text = row(st, jobs[i], r);
-        const std::string timing = fmt::format("{},{:.6g},{},{:.6f}\n", csv_field(record_name(st, jobs[i].record)),
+        const std::string text = row(st, ids, jobs[i], r);
+        const std::string timing = fmt::format("{},{:.6g},{},{:.6f}\n", csv_field(ids[jobs[i].record]),
                                                jobs[i].scale, csv_field(st.variants()[jobs[i].variant].name), r.run.wall_s);
         if (world.size == 1) {
           csv << text << std::flush;  // streamed: a long study shows its rows as they come
@@ -146,6 +198,7 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
           rows.emplace_back(static_cast<long>(i), text);
         }
         timings.emplace_back(static_cast<long>(i), timing);
+        lines.emplace_back(static_cast<long>(i), figure_line(jobs[i], r));
       },
       [&](std::size_t done, std::size_t total) { progress(done, total); });
   if (world.size > 1) {
@@ -158,18 +211,25 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
     }
   }
   auto all_timings = gather_rows(world, timings);
+  auto all_lines = gather_rows(world, lines);
   std::sort(all_timings.begin(), all_timings.end());
+  std::sort(all_lines.begin(), all_lines.end());
   if (world.rank != 0) return 0;
   csv.close();
   if (!csv) throw RunError(fmt::format("{}: writing failed", (dir / (kind + ".csv")).string()));
   std::ofstream tf(dir / "timing.csv");
   tf << "record,scale,variant,wall_s\n";
   for (const auto& [i, text] : all_timings) tf << text;
-  long failed = 0;
-  for (std::size_t i = 0; i < jobs.size(); ++i) failed += world.size == 1 && !results[i].error.empty();
-  fmt::print("wrote {} ({} runs{})\n", (dir / (kind + ".csv")).string(), jobs.size(),
-             failed ? fmt::format(", {} failed: see the error column", failed) : "");
-  if (!a.no_plot && world.size == 1) study_figures(a, st, jobs, results, kind, scene_name);
+  std::vector<std::string> figure_lines(jobs.size());
+  for (auto& [i, text] : all_lines) figure_lines[static_cast<std::size_t>(i)] = std::move(text);
+  const auto failed = std::count(figure_lines.begin(), figure_lines.end(), std::string());
+  fmt::print("wrote {} ({} runs)\n", (dir / (kind + ".csv")).string(), jobs.size());
+  if (!a.no_plot) study_figures(a, st, ids, jobs, figure_lines, kind, scene_name);
+  if (failed > 0) {
+    fmt::print(stderr, "rocking: {} of {} runs failed: see the error column of {}\n", failed, jobs.size(),
+               (dir / (kind + ".csv")).string());
+    return exit_jobs_failed;
+  }
   return 0;
 }
 
@@ -178,10 +238,11 @@ int run_hunt(const StudyArgs& a, const Study& st) {
   make_output_dir(dir);
   if (!(a.hunt_step > 0) || !(a.precision > 0) || !(a.hunt_max > 0))
     throw InputError("--hunt-step, --hunt-max and --precision must be positive");
-  const double first = parse_scales(a.scales).front();
+  const double first = number_list("--scales", a.scales).front();
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
   for (std::size_t r = 0; r < st.records().size(); ++r)
     for (std::size_t v = 0; v < st.variants().size(); ++v) pairs.emplace_back(r, v);
+  const std::vector<std::string> ids = record_ids(st.records());
   std::ofstream csv(dir / "hunt.csv");
   if (!csv) throw InputError(fmt::format("{}: cannot write", (dir / "hunt.csv").string()));
   csv << "record,variant,collapse_scale,survived_scale,runs,error\n";
@@ -190,7 +251,7 @@ int run_hunt(const StudyArgs& a, const Study& st) {
       pairs.size(), thread_count(a.threads),
       [&](std::size_t k) { return hunt_collapse(st, pairs[k].first, pairs[k].second, first, a.hunt_step, a.hunt_max, a.precision); },
       [&](std::size_t k, const HuntResult& h) {
-        const std::string record = record_name(st, pairs[k].first);
+        const std::string& record = ids[pairs[k].first];
         const std::string variant = st.variants()[pairs[k].second].name;
         csv << fmt::format("{},{},{},{:.6g},{},{}\n", csv_field(record), csv_field(variant),
                            h.collapsed ? fmt::format("{:.6g}", h.collapse_scale) : "", h.survived_scale, h.runs,
@@ -203,6 +264,9 @@ int run_hunt(const StudyArgs& a, const Study& st) {
                                     : fmt::format("no overturning up to scale {:.4g} ({} runs)", h.survived_scale, h.runs));
       },
       [&](std::size_t done, std::size_t total) { progress(done, total); });
+  fmt::print("note: overturning is not monotonic in the scale factor; the hunt reports the first overturning it\n"
+             "      meets stepping by {:g}, and can step over a narrower window below it (see `rocking ida --help`)\n",
+             a.hunt_step);
   fmt::print("wrote {}\n", (dir / "hunt.csv").string());
   return 0;
 }
@@ -245,7 +309,9 @@ Command add_ida_command(CLI::App& app) {
       "peak quantity against the scale factor, one line per variant.\n"
       "Under `mpirun -np N` the jobs are split across the N processes and rank 0\n"
       "writes the same CSV. Overturning is an outcome (the collapse point), not an\n"
-      "error; a job that fails is reported in its row and the others go on.");
+      "error; a job that fails is reported in its row and the others go on.\n"
+      "Exit codes: 0 every run done, 2 bad input, 4 some runs failed (their rows\n"
+      "say why; the count is printed on stderr).");
   auto a = std::make_shared<StudyArgs>();
   add_study_options(*cmd, *a, "out/ida");
   cmd->add_option("--variants", a->variants, "damper, no-damper, fixed-base, scene (default the first three)")
@@ -253,7 +319,14 @@ Command add_ida_command(CLI::App& app) {
       ->type_name("LIST");
   cmd->add_flag("--hunt", a->hunt,
                 "Find the scale at which each record and variant overturns: step up from\n"
-                "the first scale by --hunt-step to --hunt-max, then bisect to --precision");
+                "the first scale by --hunt-step to --hunt-max, then bisect to --precision.\n"
+                "Overturning is not monotonic in the scale factor: a structure that\n"
+                "overturns at one scale can survive a larger one (El Centro, with dampers:\n"
+                "overturns at 10.45, survives 10.75 to 13.0, overturns from 13.05). The\n"
+                "hunt finds the first overturning on its steps, and misses a window\n"
+                "narrower than --hunt-step below it: its answer bounds the lowest\n"
+                "overturning scale from above. For the lowest, run a fine ladder\n"
+                "(--scales 1:20:0.05) and read the first 'overturned' row.");
   cmd->add_option("--hunt-step", a->hunt_step, "Step of the hunt (default 1)")->type_name("X");
   cmd->add_option("--hunt-max", a->hunt_max, "Largest scale tried (default 50)")->type_name("X");
   cmd->add_option("--precision", a->precision, "Width of the final bracket (default 0.05)")->type_name("X");
@@ -280,7 +353,8 @@ Command add_sweep_command(CLI::App& app) {
       "sweep",
       "Parametric study (the paper's Figs. 7-8): like `ida`, with one line per value\n"
       "of one scene key, given as --set KEY=V1,V2,... (e.g. damper.thickness=1,1.5,2,3\n"
-      "or structure.EI_scale=0.25,0.5,1,2). Other --set values apply to every run.");
+      "or structure.EI_scale=0.25,0.5,1,2). Other --set values apply to every run.\n"
+      "Exit codes: 0 every run done, 2 bad input, 4 some runs failed.");
   auto a = std::make_shared<StudyArgs>();
   add_study_options(*cmd, *a, "out/sweep");
   cmd->footer(

@@ -84,7 +84,7 @@ int tradeoff(const TradeoffArgs& a) {
   const ContactModel model = make_contact_model(scene, false);
   if (a.repeats < 1) throw InputError(fmt::format("--repeats {}: must be at least 1", a.repeats));
   std::vector<double> rtols;
-  for (double r : parse_scales(a.rtols)) {
+  for (double r : number_list("--rtols", a.rtols)) {
     if (!(r > 0 && r < 1)) throw InputError(fmt::format("--rtols: {} is not in (0, 1)", r));
     rtols.push_back(r);
   }
@@ -111,7 +111,7 @@ int tradeoff(const TradeoffArgs& a) {
     const Method b = methods[i];
     const std::string file = (fs::path("tradeoff.data") / (name + ".csv")).string();
     std::ofstream data(dir / file);
-    data << "wall_s,err_delta_t,err_theta\n";
+    data << "wall_s,err_delta_t,err_theta,rtol\n";
     for (double rtol : rtols) {
       const RunOptions o = options_at(base, b, rtol);
       const RunResult r = best_of(model, motion, o, a.repeats);
@@ -124,11 +124,11 @@ int tradeoff(const TradeoffArgs& a) {
                          o.tolerances.atol, r.wall_s, r.stats.rhs, r.stats.steps, e_dt, e_th,
                          time_error(r.first_uplift, ref.first_uplift), time_error(r.first_impact, ref.first_impact),
                          r.counts.impacts, ref.counts.impacts, e_final, outcome_name(r.outcome));
-      data << fmt::format("{:.6e},{:.3e},{:.3e}\n", r.wall_s, std::max(e_dt, 1e-16), std::max(e_th, 1e-16));
+      data << fmt::format("{:.6e},{:.3e},{:.3e},{:.0e}\n", r.wall_s, std::max(e_dt, 1e-16), std::max(e_th, 1e-16), rtol);
       fmt::print("{:<10} {:>7.0e} {:>10.2f} {:>9} {:>10.2e} {:>10.2e} {:>5}/{}\n", name, rtol, 1e3 * r.wall_s,
                  r.stats.rhs, e_dt, e_th, r.counts.impacts, ref.counts.impacts);
     }
-    series.push_back({name, file});
+    series.push_back({name, file, {}, 0});
   }
   csv.close();
   fmt::print("wrote {}\n", (dir / "tradeoff.csv").string());
@@ -136,13 +136,16 @@ int tradeoff(const TradeoffArgs& a) {
   fig.dir = dir;
   fig.name = "work_precision";
   fig.formats = plot::parse_formats(a.formats);
-  fig.width = 1200;
-  fig.height = 600;
-  fig.title = fmt::format("{}: work-precision, {} x{} (rtol {} ; reference rk45 at 1e-12)", scene.name,
-                          describe_motion(motion.name()), a.motion.scale, a.rtols);
-  const std::vector<plot::Panel> panels = {{"relative error of peak total drift {/Symbol d}_t", "1:2"},
-                                           {"relative error of peak rocking angle {/Symbol q}", "1:3"}};
-  for (const fs::path& f : plot::render_panels(fig, 1, 2, "wall time per run [s]", panels, series, true))
+  fig.width = 1400;
+  fig.height = 750;
+  fig.title = fmt::format("{}: work-precision, {} {}\n(rtol {}; reference: rk45 at rtol 1e-12)", scene.name,
+                          describe_motion(motion), motion_scale(scene, a.motion).describe(), a.rtols);
+  // Each point is labelled with its rtol (the exponent: "-4" for 1e-4).
+  const std::string rtol_label = "sprintf('%d', floor(log10($4) + 0.5))";
+  const std::vector<plot::Panel> panels = {
+      {"relative error of peak total drift {/Symbol d}_t", "$1", "$2", false, rtol_label},
+      {"relative error of peak rocking angle {/Symbol q}", "$1", "$3", false, rtol_label}};
+  for (const fs::path& f : plot::render_panels(fig, 1, 2, "wall time per run [s]   (labels: log_{10} rtol)", panels, series, true))
     fmt::print("wrote {}\n", f.string());
   return 0;
 }

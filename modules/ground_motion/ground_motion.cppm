@@ -50,6 +50,11 @@ class GroundMotion {
   // infinity for a record, whose samples are breakpoints.
   double max_step() const;
   const std::string& name() const { return name_; }
+  // What the record's own header says it is, with its PGA before scaling
+  // ("El Centro 1940 North South Component, PGA 0.32 g"); empty when the file
+  // has no header.
+  const std::string& description() const { return description_; }
+  void set_description(std::string text) { description_ = std::move(text); }
   GroundMotion scaled(double factor) const;  // a_g x factor; shares the samples
 
  private:
@@ -62,7 +67,7 @@ class GroundMotion {
   };
   double time_of(std::size_t i) const;
 
-  std::string name_;
+  std::string name_, description_;
   std::shared_ptr<const Samples> samples_;  // null for a pulse
   double duration_ = 0;
   PulseShape shape_ = PulseShape::one_sine;

@@ -86,7 +86,17 @@ GroundMotion read_at2(const std::string& path, const std::vector<Line>& lines, c
     fail(path, lines[h].number, fmt::format("NPTS = {} but the file holds {} values", npts, values.size()));
   std::vector<double> times(values.size());
   for (std::size_t i = 0; i < times.size(); ++i) times[i] = static_cast<double>(i) * dt;
-  return GroundMotion::from_samples(std::filesystem::path(path).filename().string(), std::move(times), std::move(values));
+  GroundMotion g =
+      GroundMotion::from_samples(std::filesystem::path(path).filename().string(), std::move(times), std::move(values));
+  // The header's description: PEER NGA files name the database on line 1 and
+  // the event, date, station and component on line 2; older files describe
+  // the record on line 1 ("Data for El Centro 1940 ...").
+  std::string what = h > 0 ? lines[0].text : "";
+  if (what.starts_with("PEER") && h > 1) what = lines[1].text;
+  if (what.starts_with("Data for ")) what = what.substr(9);
+  while (!what.empty() && (what.back() == ' ' || what.back() == ',')) what.pop_back();
+  if (!what.empty()) g.set_description(fmt::format("{}, PGA {:.2f} g", what, g.peak() / to_si(AccelerationUnit::g)));
+  return g;
 }
 
 GroundMotion read_columns(const std::string& path, const std::vector<Line>& lines, const RecordOptions& o,

@@ -81,6 +81,64 @@ std::string render_loop(const Figure& fig, const std::string& body, int points) 
       fmt::arg("pt", points));
 }
 
+// Pixels of one line of text at `points` (cairo terminals: about 1.33 px per
+// point, and line spacing 1.25).
+double line_px(int points) { return 1.7 * points; }
+
+// A multiplot of rows x cols panels placed by their margins, with room above
+// them for the title and for a key shared by every panel. The key is a plot
+// of its own spanning the figure's width (a key placed inside one panel of a
+// grid wraps to that panel's width), drawn last.
+struct Grid {
+  std::string begin;               // starts the multiplot, with the title
+  std::vector<std::string> panels; // places panel k (row-major)
+  double key_bottom = 0, key_top = 0;
+  int key_columns = 1;
+};
+Grid shared_key_grid(const Figure& fig, int rows, int cols, int points, const std::vector<std::string>& labels) {
+  const double W = fig.width, H = fig.height, line = line_px(points);
+  // gnuplot gives every column of a key the width of its longest entry.
+  std::size_t longest = 0;
+  for (const std::string& l : labels) longest = std::max(longest, l.size());
+  const double column_px = (static_cast<double>(longest) * 0.62 + 8) * points;
+  const int columns = std::clamp(static_cast<int>(0.96 * W / column_px), 1, std::max<int>(1, static_cast<int>(labels.size())));
+  const int key_rows = labels.empty() ? 0 : (static_cast<int>(labels.size()) + columns - 1) / columns;
+  const int title_lines = 1 + static_cast<int>(std::count(fig.title.begin(), fig.title.end(), '\n'));
+  const double title_px = 0.8 * line + title_lines * line;
+  const double left = 8.5 * points / W, right = 1 - 1.5 * points / W;
+  const double bottom = 3.4 * line / H, top = 1 - (title_px + key_rows * line + 0.8 * line) / H;
+  const double xgap = 9.0 * points / W, ygap = 3.6 * line / H;
+  const double width = (right - left - (cols - 1) * xgap) / cols, height = (top - bottom - (rows - 1) * ygap) / rows;
+  Grid g;
+  g.begin = fmt::format("  set multiplot title {} noenhanced\n", gp_string(fig.title));
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const double x0 = left + c * (width + xgap), y1 = top - r * (height + ygap);
+      g.panels.push_back(fmt::format("  set lmargin at screen {:.4f}\n  set rmargin at screen {:.4f}\n"
+                                     "  set tmargin at screen {:.4f}\n  set bmargin at screen {:.4f}\n",
+                                     x0, x0 + width, y1, y1 - height));
+    }
+  g.key_top = 1 - title_px / H;
+  g.key_bottom = top + 0.3 * line / H;
+  g.key_columns = columns;
+  return g;
+}
+
+// The shared key: a plot of nothing but the key's entries ("NaN with lines
+// linestyle 1 title ..."), in the band above the panels; restores what it unset.
+std::string key_plot(const Grid& g, const std::vector<std::string>& entries) {
+  if (entries.empty()) return {};
+  return fmt::format(
+             "  set lmargin at screen 0.02\n  set rmargin at screen 0.98\n"
+             "  set tmargin at screen {:.4f}\n  set bmargin at screen {:.4f}\n"
+             "  unset border\n  unset tics\n  unset xlabel\n  unset ylabel\n  unset grid\n  unset logscale\n"
+             "  set xrange [0:1]\n  set yrange [0:1]\n"
+             "  set key center center horizontal maxcols {} nobox noopaque samplen 2.5\n",
+             g.key_top, g.key_bottom, g.key_columns) +
+         plot_command(entries) +
+         "  set border\n  set tics\n  set xrange [*:*]\n  set yrange [*:*]\n  unset key\n";
+}
+
 void write_script(const fs::path& file, const std::string& text) {
   std::ofstream out(file);
   out << text;
@@ -166,113 +224,204 @@ std::string find_gnuplot() {
   return found;
 }
 
-void check_history(const fs::path& file) {
+HistoryContent check_history(const fs::path& file) {
   std::ifstream in(file);
   if (!in) throw InputError(fmt::format("{}: history file not found", file.string()));
   std::string line;
   int rows = 0;
+  HistoryContent content;
+  // The value of a column (1-based) of a CSV row, 0 when absent or not a number.
+  auto column = [](const std::string& row, int k) {
+    std::size_t start = 0;
+    for (int c = 1; c < k; ++c) {
+      start = row.find(',', start);
+      if (start == std::string::npos) return 0.0;
+      ++start;
+    }
+    const double v = std::strtod(row.c_str() + start, nullptr);
+    return std::isfinite(v) ? v : 0.0;
+  };
   for (int n = 1; std::getline(in, line); ++n) {
     if (n == 1) {
       if (!line.starts_with("t [s]")) throw InputError(fmt::format("{}:1: not a rocking history (header 't [s],...')", file.string()));
+      content.ground = line.find("a_g [m/s2]") != std::string::npos;
       continue;
     }
-    if (!line.empty()) ++rows;
+    if (line.empty()) continue;
+    ++rows;
+    content.rocks = content.rocks || column(line, 4) != 0;
+    content.has_damper = content.has_damper || column(line, 8) != 0;
   }
   if (rows < 2) throw InputError(fmt::format("{}: empty history ({} rows): nothing to plot", file.string(), rows));
+  return content;
 }
 
 std::vector<fs::path> render_response(const Figure& fig, const std::vector<ResponseSeries>& runs) {
   if (runs.empty()) throw InputError("response figure: no runs to plot");
-  for (const ResponseSeries& r : runs) check_history(fs::path(r.history).is_absolute() ? fs::path(r.history) : fig.dir / r.history);
-  auto curves = [&](const std::string& using_spec, bool dampers_only) {
+  bool ground = true, any_rocks = false, any_damper = false;
+  for (const ResponseSeries& r : runs) {
+    const HistoryContent c = check_history(fs::path(r.history).is_absolute() ? fs::path(r.history) : fig.dir / r.history);
+    ground = ground && c.ground;
+    any_rocks = any_rocks || r.rocks;
+    any_damper = any_damper || r.has_damper;
+  }
+  auto curves = [&](const std::string& using_spec, auto&& keep) {
     std::vector<std::string> items;
     for (std::size_t i = 0; i < runs.size(); ++i)
-      if (!dampers_only || runs[i].has_damper)
+      if (keep(runs[i]))
         items.push_back(fmt::format("{} skip 1 using {} with lines linestyle {} title {} noenhanced",
                                     gp_string(runs[i].history), using_spec, i + 1, gp_string(runs[i].label)));
-    return items.empty() ? std::string("  plot NaN title \"(no damper)\"\n") : plot_command(items);
+    return plot_command(items);
   };
-  std::string body = fmt::format(
-      "  set multiplot layout 4,1 title {} noenhanced\n"
-      "  set grid\n"
-      "  set key top right box opaque\n"
-      "  set xlabel \"time t [s]\"\n"
-      "  set ylabel \"total top drift {{/Symbol d}}_t [%]\"\n",
-      gp_string(fig.title));
-  body += curves("1:($6*100)", false);
-  body += "  set ylabel \"elastic top drift {/Symbol d}_e [%]\"\n";
-  body += curves("1:($7*100)", false);
-  body += "  set ylabel \"rocking angle {/Symbol q}/{/Symbol a}_{cg} [-]\"\n";
-  body += curves("1:5", false);
-  body += "  set xlabel \"damper elongation d [mm] (signed by the pivot)\"\n"
-          "  set ylabel \"damper force F_{hd} [kN]\"\n";
-  // Break the loop where no damper is stretched (d = 0: full contact, and the
-  // impacts where one edge's damper hands over to the other's).
-  body += curves("($8 == 0 ? NaN : $8*1000):($9/1000)", true);
+  auto every = [](const ResponseSeries&) { return true; };
+  const int panels = 2 + (ground ? 1 : 0) + (any_rocks ? 1 : 0) + (any_damper ? 1 : 0);
+  std::vector<std::string> labels;
+  for (const ResponseSeries& r : runs) labels.push_back(r.label);
+  const int points = font_points(fig, 1000, 1300);
+  const Grid grid = shared_key_grid(fig, panels, 1, points, labels);
+  std::string body = grid.begin + "  set grid\n  set autoscale xfix\n  set xlabel \"time t [s]\"\n  unset key\n";
+  std::size_t next = 0;
+  if (ground) {  // the excitation the response answers, in g
+    body += grid.panels[next++];
+    body += fmt::format("  set ylabel \"ground acceleration a_g [g]\"\n"
+                        "  plot {} skip 1 using 1:($14/9.81) with lines linecolor rgb \"#555555\" notitle\n",
+                        gp_string(runs.front().history));
+  }
+  body += grid.panels[next++] + "  set ylabel \"total top drift {/Symbol d}_t [%]\"\n";
+  body += curves("1:($6*100)", every);
+  body += grid.panels[next++] + "  set ylabel \"elastic top drift {/Symbol d}_e [%]\"\n";
+  body += curves("1:($7*100)", every);
+  if (any_rocks) {
+    body += grid.panels[next++] + "  set ylabel \"rocking angle {/Symbol q}/{/Symbol a}_{cg} [-]\"\n";
+    body += curves("1:5", [](const ResponseSeries& r) { return r.rocks; });
+  }
+  if (any_damper) {
+    body += grid.panels[next++] + "  set autoscale x\n  set xlabel \"damper elongation d [mm] (signed by the pivot)\"\n"
+            "  set ylabel \"damper force F_{hd} [kN]\"\n";
+    // Break the loop where no damper is stretched (d = 0: full contact, and the
+    // impacts where one edge's damper hands over to the other's).
+    body += curves("($8 == 0 ? NaN : $8*1000):($9/1000)", [](const ResponseSeries& r) { return r.has_damper; });
+  }
+  std::vector<std::string> entries;
+  for (std::size_t i = 0; i < runs.size(); ++i)
+    entries.push_back(fmt::format("NaN with lines linestyle {} title {} noenhanced", i + 1, gp_string(runs[i].label)));
+  body += key_plot(grid, entries);
   const std::string script = fmt::format(
       "# rocking: response figure in the style of the paper's Fig. 4.\n"
       "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
       "# Data: rocking simulate history CSV (t, phase, u_N, theta, theta/alpha_cg,\n"
-      "# delta_t, delta_e, d, F_hd, base/mid shear and moment).\n"
+      "# delta_t, delta_e, d, F_hd, base/mid shear and moment, a_g).\n"
       "set datafile separator \",\"\n"
       "{}{}",
-      fig.name, style_lines(1.5, 0.6), render_loop(fig, body, font_points(fig, 1000, 1300)));
+      fig.name, style_lines(1.5, 0.6), render_loop(fig, body, points));
   return render_script(fig, script);
 }
 
 std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const std::string& xlabel,
                                     const std::vector<Panel>& panels, const std::vector<Series>& series, bool loglog) {
   if (series.empty()) throw InputError("figure: no series to plot");
-  std::string body = fmt::format(
-      "  set multiplot layout {},{} title {} noenhanced\n"
-      "  set grid\n"
-      "  set key top left box opaque\n"
-      "  set xlabel {}\n{}",
-      rows, cols, gp_string(fig.title), gp_string(xlabel),
-      loglog ? "  set logscale xy\n  set format x \"10^{%T}\"\n  set format y \"10^{%T}\"\n" : "");
-  for (const Panel& p : panels) {
-    body += fmt::format("  set ylabel {}\n", gp_string(p.ylabel));
+  std::vector<std::string> labels;
+  bool collapses = false;
+  for (const Series& s : series) {
+    labels.push_back(s.label);
+    collapses = collapses || s.collapse_column > 0;
+  }
+  if (collapses) labels.push_back("overturns (x: first; o: survives above it)");
+  const int points = font_points(fig, 1000, 1200);
+  const Grid grid = shared_key_grid(fig, rows, cols, points, labels);
+  std::string body = grid.begin + fmt::format("  set grid\n  set autoscale xfix\n  set offsets 0, 0, graph 0.05, 0\n"
+                                               "  set xlabel {}\n{}",
+                                               gp_string(xlabel),
+                                               loglog ? "  set logscale xy\n  set format x \"10^{%T}\"\n"
+                                                        "  set format y \"10^{%T}\"\n  set autoscale x\n  set offsets 0, 0, 0, 0\n"
+                                                      : "");
+  for (std::size_t p = 0; p < panels.size(); ++p) {
+    const Panel& panel = panels[p];
+    body += grid.panels[p] + "  unset key\n";
+    body += fmt::format("  set ylabel {}\n  set yrange [{}:*]\n", gp_string(panel.ylabel), panel.from_zero ? "0" : "*");
     std::vector<std::string> items;
-    for (std::size_t i = 0; i < series.size(); ++i)
-      items.push_back(fmt::format("{} skip 1 using {} with linespoints linestyle {} title {} noenhanced",
-                                  gp_string(series[i].file), p.using_spec, i + 1, gp_string(series[i].label)));
+    for (std::size_t i = 0; i < series.size(); ++i) {
+      const Series& s = series[i];
+      if (std::find(s.absent.begin(), s.absent.end(), p) != s.absent.end()) continue;
+      const std::string file = gp_string(s.file);
+      const std::string title = fmt::format("title {} noenhanced", gp_string(s.label));
+      if (s.collapse_column == 0) {
+        items.push_back(fmt::format("{} skip 1 using ({}):({}) with linespoints linestyle {} {}", file, panel.x,
+                                    panel.y, i + 1, title));
+      } else {
+        const std::string code = fmt::format("${}", s.collapse_column);
+        items.push_back(fmt::format("{} skip 1 using ({}):({} == 0 ? {} : NaN) with linespoints linestyle {} {}", file,
+                                    panel.x, code, panel.y, i + 1, title));
+        items.push_back(fmt::format("{} skip 1 using ({}):({} == 1 ? {} : NaN) with points linestyle {} pointtype 2 "
+                                    "pointsize 2.6 linewidth 3 notitle",
+                                    file, panel.x, code, panel.y, i + 1));
+        items.push_back(fmt::format("{} skip 1 using ({}):({} == 2 ? {} : NaN) with points linestyle {} pointtype 2 "
+                                    "pointsize 1.2 notitle",
+                                    file, panel.x, code, panel.y, i + 1));
+        items.push_back(fmt::format("{} skip 1 using ({}):({} == 3 ? {} : NaN) with points linestyle {} pointtype 6 "
+                                    "pointsize 1.2 notitle",
+                                    file, panel.x, code, panel.y, i + 1));
+      }
+      if (!panel.point_label.empty())
+        items.push_back(fmt::format("{} skip 1 using ({}):({}):({}) with labels offset char 0,0.9 font \",{}\" "
+                                    "textcolor rgb \"#{}\" notitle",
+                                    file, panel.x, panel.y, panel.point_label, std::max(7, points - 3),
+                                    palette[i % palette_size]));
+    }
+    if (items.empty()) items.push_back("NaN notitle");
     body += plot_command(items);
   }
+  std::vector<std::string> entries;
+  for (std::size_t i = 0; i < series.size(); ++i)
+    entries.push_back(fmt::format("NaN with linespoints linestyle {} title {} noenhanced", i + 1,
+                                  gp_string(series[i].label)));
+  if (collapses)
+    entries.push_back("NaN with points pointtype 2 pointsize 2.6 linewidth 3 linecolor rgb \"#222222\" "
+                      "title \"overturns (x: first; o: survives above it)\"");
+  body += key_plot(grid, entries);
   const std::string script = fmt::format(
       "# rocking: study figure (peaks against the scale factor or a parameter).\n"
       "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
       "set datafile separator \",\"\n"
       "{}{}",
-      fig.name, style_lines(1.5, 0.7), render_loop(fig, body, font_points(fig, 1000, 1200)));
+      fig.name, style_lines(1.5, 0.7), render_loop(fig, body, points));
   return render_script(fig, script);
 }
 
 std::vector<fs::path> render_spectrum(const Figure& fig, const std::vector<Series>& series,
                                       const std::string& normalised_x, const std::string& normalised_y) {
   if (series.empty()) throw InputError("spectrum figure: no series to plot");
-  auto panel = [&](const std::string& using_spec) {
+  // Each overturning grid point fills its cell: a shaded region per series,
+  // translucent ("#AARRGGBB") so that overlapping regions show both colours,
+  // with the region's edge points outlined in the series' colour.
+  auto panel = [&](int x, int y, int cell) {
     std::vector<std::string> items;
-    for (std::size_t i = 0; i < series.size(); ++i)  // the palette, 60 % transparent ("#AARRGGBB")
-      items.push_back(fmt::format("{} skip 1 using {} with points pointtype 5 pointsize 0.9 linecolor rgb \"#60{}\" "
-                                  "title {} noenhanced",
-                                  gp_string(series[i].file), using_spec, palette[i % palette_size],
-                                  gp_string(series[i].label)));
+    for (std::size_t i = 0; i < series.size(); ++i)
+      items.push_back(fmt::format("{} skip 1 using {}:($5 > 0 ? ${} : NaN):{}:{}:{}:{} with boxxyerror "
+                                  "fillstyle solid 1.0 noborder linecolor rgb \"#{}{}\" title {} noenhanced",
+                                  gp_string(series[i].file), x, y, cell, cell + 1, cell + 2, cell + 3,
+                                  i == 0 ? "70" : "90", palette[i % palette_size], gp_string(series[i].label)));
     return plot_command(items);
   };
-  std::string body = fmt::format(
-      "  set multiplot layout 1,2 title {} noenhanced\n"
-      "  set grid\n"
-      "  set key top left box opaque\n"
-      "  set xlabel {}\n  set ylabel {}\n",
-      gp_string(fig.title), gp_string(normalised_x), gp_string(normalised_y));
-  body += panel("1:($5 > 0 ? $2 : NaN)");
-  body += "  set xlabel \"pulse period T [s]\"\n  set ylabel \"pulse amplitude a_p / g [-]\"\n";
-  body += panel("3:($5 > 0 ? $4 : NaN)");
+  std::vector<std::string> labels;
+  for (const Series& s : series) labels.push_back(s.label);
+  const int points = font_points(fig, 1200, 600);
+  const Grid grid = shared_key_grid(fig, 1, 2, points, labels);
+  std::string body = grid.begin + grid.panels[0] + "  unset key\n  set grid front\n  set autoscale xfix\n  set autoscale yfix\n" +
+                     fmt::format("  set xlabel {}\n  set ylabel {}\n", gp_string(normalised_x), gp_string(normalised_y));
+  body += panel(1, 2, 7);
+  body += grid.panels[1] + "  set xlabel \"pulse period T [s]\"\n  set ylabel \"pulse amplitude a_p / g [-]\"\n";
+  body += panel(3, 4, 11);
+  std::vector<std::string> entries;
+  for (std::size_t i = 0; i < series.size(); ++i)
+    entries.push_back(fmt::format("NaN with boxes fillstyle solid 1.0 noborder linecolor rgb \"#{}{}\" title {} noenhanced",
+                                  i == 0 ? "70" : "90", palette[i % palette_size], gp_string(series[i].label)));
+  body += key_plot(grid, entries);
   const std::string script = fmt::format(
-      "# rocking: overturning spectrum (shaded: the block overturns).\n"
+      "# rocking: overturning spectrum (filled: the block overturns).\n"
       "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
       "set datafile separator \",\"\n{}",
-      fig.name, render_loop(fig, body, font_points(fig, 1200, 600)));
+      fig.name, render_loop(fig, body, points));
   return render_script(fig, script);
 }
 
@@ -280,15 +429,17 @@ std::vector<fs::path> render_modes(const Figure& fig, const std::string& data_fi
                                    const ModePanel& right) {
   auto panel = [&](const ModePanel& p, std::size_t first_column) {
     std::vector<std::string> items;
-    for (std::size_t i = 0; i < p.labels.size(); ++i)
+    for (std::size_t i = 0; i < p.labels.size(); ++i) {
+      const int colour = i < p.colours.size() ? p.colours[i] : static_cast<int>(i);
       items.push_back(fmt::format("{} using {}:1 with linespoints linestyle {} title {} noenhanced", gp_string(data_file),
-                                  first_column + i, i + 1, gp_string(p.labels[i])));
+                                  first_column + i, colour % static_cast<int>(palette_size) + 1, gp_string(p.labels[i])));
+    }
     return fmt::format("  set title {} noenhanced\n", gp_string(p.title)) + plot_command(items);
   };
   std::string body = fmt::format(
       "  set multiplot layout 1,2 title {} noenhanced\n"
       "  set grid\n"
-      "  set key bottom left box opaque\n"
+      "  set key outside below center vertical maxrows 3 nobox\n"
       "  set xlabel \"lateral displacement (normalised, top = 1) [-]\"\n"
       "  set ylabel \"height [m]\"\n"
       "  set xzeroaxis\n",

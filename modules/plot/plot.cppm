@@ -6,7 +6,9 @@
 // without running any simulation again.
 // The response figure (the paper's Fig. 4 style) reads the history CSV that
 // `rocking simulate` writes (columns: 1 t [s], 5 theta/alpha_cg, 6 delta_t,
-// 7 delta_e, 8 d [m], 9 F_hd [N]).
+// 7 delta_e, 8 d [m], 9 F_hd [N], 14 a_g [m/s2]).
+// Keys never cover data: figures whose panels share their series carry one
+// key above the panels; figures whose panels differ carry theirs below each.
 module;
 #include <filesystem>
 #include <string>
@@ -33,10 +35,16 @@ struct ResponseSeries {
   std::string label;
   std::string history;
   bool has_damper = true;  // draw its hysteresis loop
+  bool rocks = true;       // draw its rocking angle
 };
 
-// Checks that a history file has a header and at least two rows of numbers.
-void check_history(const std::filesystem::path& file);
+// What a history file holds: InputError unless it has the header and at least
+// two rows. rocks / has_damper: some row has theta / a damper elongation other
+// than zero; ground: it has the a_g column.
+struct HistoryContent {
+  bool rocks = false, has_damper = false, ground = false;
+};
+HistoryContent check_history(const std::filesystem::path& file);
 
 // Writes NAME.gp and renders it; returns the figure files written.
 std::vector<std::filesystem::path> render_response(const Figure& fig, const std::vector<ResponseSeries>& runs);
@@ -46,20 +54,32 @@ std::vector<std::filesystem::path> render_response(const Figure& fig, const std:
 struct ModePanel {
   std::string title;
   std::vector<std::string> labels;  // one per shape column
+  std::vector<int> colours;         // palette index per shape column (the same mode, the same colour)
 };
 std::vector<std::filesystem::path> render_modes(const Figure& fig, const std::string& data_file,
                                                 const ModePanel& left, const ModePanel& right);
 
 // A grid of panels sharing the x axis quantity, one line per series: for IDA
 // curves and parametric studies. Each series is a CSV file (header row
-// skipped); each panel says which columns it plots ("1:($2*100)").
+// skipped); each panel says which columns it plots, as gnuplot expressions
+// ("$1", "$2*100").
 struct Panel {
   std::string ylabel;
-  std::string using_spec;
+  std::string x, y;
+  bool from_zero = false;   // the y axis starts at zero (peaks of magnitudes)
+  std::string point_label;  // non-empty: a text at every point (e.g. "sprintf('%.0e', $4)")
 };
 struct Series {
   std::string label;
   std::string file;  // relative to the figure's folder, or absolute
+  // Panels (indices) whose quantity this series does not have (a fixed base's
+  // rocking angle): nothing is drawn there, no zero line, no key entry.
+  std::vector<std::size_t> absent;
+  // > 0: the column coding collapse, as IDA curves draw it: 0 a survivor below
+  // the first collapse (joined by the line), 1 the first collapse (a large
+  // cross, the line ends before it), 2 a later collapse (a small cross),
+  // 3 a survivor above a collapse (an open point, not joined).
+  int collapse_column = 0;
 };
 // loglog: both axes logarithmic (work-precision diagrams).
 std::vector<std::filesystem::path> render_panels(const Figure& fig, int rows, int cols, const std::string& xlabel,
@@ -67,8 +87,11 @@ std::vector<std::filesystem::path> render_panels(const Figure& fig, int rows, in
                                                  bool loglog = false);
 
 // Overturning spectra: each series file has columns frequency_ratio,
-// amplitude_ratio, period_s, amplitude_g, overturned (0/1); the overturned
-// points are shaded, normalised axes on the left, seconds and g on the right.
+// amplitude_ratio, period_s, amplitude_g, overturned (0/1), then the cell of
+// each grid point: its low and high frequency ratio, amplitude ratio, period
+// and amplitude (columns 7-14). The cells where the block overturns are
+// filled, one translucent colour per series, normalised axes on the left,
+// seconds and g on the right.
 std::vector<std::filesystem::path> render_spectrum(const Figure& fig, const std::vector<Series>& series,
                                                    const std::string& normalised_x, const std::string& normalised_y);
 

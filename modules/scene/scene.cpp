@@ -26,7 +26,8 @@ const std::map<std::string, std::set<std::string, std::less<>>, std::less<>> sch
     {"structure", {"half_width", "heights", "masses", "base_mass", "second_moments",
                    "youngs_modulus", "EI_scale", "damping_ratio", "rigid"}},
     {"contact", {"rocking", "restitution", "theta_dot_min", "overturn_angle"}},
-    {"excitation", {"pulse", "amplitude_g", "period", "record", "units", "dt", "scale", "duration"}},
+    {"excitation", {"kind", "pulse", "amplitude_g", "period", "record", "units", "dt", "scale", "duration"}},
+    {"initial", {"theta", "theta_dot", "u", "u_dot"}},
     {"damper", {"enabled", "stiffness", "post_yield_ratio", "theta_y", "alpha", "beta", "n",
                 "thickness"}},
 };
@@ -244,6 +245,17 @@ Excitation read_excitation(const toml::table& root, const std::string& file, con
   if (!root.contains("excitation")) return e;
   const TableReader t(root, "excitation", file, origins);
   e.duration = t.number_or("duration", 0.0, positive, "positive [s]");
+  const std::string kind = t.string_or("kind", t.has("record") ? "record" : "pulse");
+  if (kind != "none" && kind != "record" && kind != "pulse")
+    t.fail(&t.required("kind"), "kind", fmt::format("must be pulse, record or none (got '{}')", kind));
+  if (kind == "none") {
+    for (const char* key : {"record", "pulse", "amplitude_g", "period"})
+      if (t.has(key)) t.fail(&t.required(key), key, "a scene with kind = \"none\" has no ground motion to describe");
+    if (!t.has("duration")) t.fail(nullptr, "duration", "kind = \"none\" needs the simulated time, duration [s]");
+    e.none = true;
+    return e;
+  }
+  if (kind == "record" && !t.has("record")) t.fail(nullptr, "record", "missing key (kind = \"record\")");
   if (t.has("record")) {
     e.record = t.string_or("record", "");
     const std::filesystem::path path(e.record);
@@ -273,6 +285,30 @@ Excitation read_excitation(const toml::table& root, const std::string& file, con
   return e;
 }
 
+// [initial]: a release from a tilt and initial velocities; u and u_dot have
+// one entry per node.
+Initial read_initial(const toml::table& root, const std::string& file, const Origins& origins, const Structure& s,
+                     const Contact& c) {
+  Initial init;
+  if (!root.contains("initial")) return init;
+  const TableReader t(root, "initial", file, origins);
+  const auto any = [](double) { return true; };
+  init.theta = t.number_or("theta", 0.0, [](double v) { return std::abs(v) < 1.5707963; }, "in (-pi/2, pi/2) [rad]");
+  init.theta_dot = t.number_or("theta_dot", 0.0, any, "a number [rad/s]");
+  if ((init.theta != 0 || init.theta_dot != 0) && !c.rocking)
+    t.fail(&t.required(t.has("theta") ? "theta" : "theta_dot"), t.has("theta") ? "theta" : "theta_dot",
+           "a fixed base (contact.rocking = false) cannot tilt");
+  for (const char* key : {"u", "u_dot"}) {
+    if (!t.has(key)) continue;
+    if (s.rigid) t.fail(&t.required(key), key, "a rigid block has no elastic displacements");
+    Eigen::VectorXd v = t.numbers(key, any, "a number");
+    if (v.size() != s.heights.size())
+      t.fail(&t.required(key), key, fmt::format("must have one entry per node ({})", s.heights.size()));
+    (std::string_view(key) == "u" ? init.u : init.u_dot) = std::move(v);
+  }
+  return init;
+}
+
 Scene read_scene(toml::table root, const std::string& file, const std::vector<std::string>& overrides) {
   Origins origins;
   for (const std::string& o : overrides) apply_override(root, o, origins);
@@ -289,6 +325,7 @@ Scene read_scene(toml::table root, const std::string& file, const std::vector<st
   scene.contact = read_contact(root, file, origins);
   scene.damper = read_damper(root, file, origins);
   scene.excitation = read_excitation(root, file, origins);
+  scene.initial = read_initial(root, file, origins, scene.structure, scene.contact);
   if (scene.structure.rigid && !scene.contact.rocking)
     throw InputError(fmt::format("{}: structure.rigid = true with contact.rocking = false: a rigid "
                                  "block on a fixed base has no motion to compute", file));
@@ -323,6 +360,7 @@ Scene load_default_scene(const std::vector<std::string>& overrides) {
 
 GroundMotion default_ground_motion(const Scene& scene) {
   const Excitation& e = scene.excitation;
+  if (e.none) return GroundMotion::from_samples("no ground motion", {0.0, e.duration}, {0.0, 0.0});
   if (!e.record.empty()) return read_record(e.record, e.record_options);
   if (e.period > 0) return GroundMotion::pulse(e.pulse, e.amplitude, e.period);
   throw InputError(fmt::format("{}: the scene has no [excitation]; give a record with --record FILE", scene.source));

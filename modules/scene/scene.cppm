@@ -2,7 +2,9 @@
 // constant data the physics modules take. A scene names the structure
 // ([structure]: geometry, masses, sections, damping), how it meets the ground
 // ([contact]), its dampers ([damper]) and its default excitation ([excitation]:
-// an analytic pulse or a record file); see data/scenes/*.toml for the keys,
+// an analytic pulse, a record file, or none) and its initial state
+// ([initial]: a release from a tilt, initial velocities and displacements);
+// see data/scenes/*.toml for the keys,
 // which are SI throughout. Any key can be overridden with `--set table.key=value`
 // (the value is read as TOML, or as a bare string such as eq10).
 // Every error is an InputError of one line: where (file:line, or the --set
@@ -32,14 +34,25 @@ struct Contact {
 };
 
 // The ground motion a scene runs under when no record is given on the command
-// line: a record file (path relative to the scene file) or an analytic pulse.
+// line: a record file (path relative to the scene file), an analytic pulse,
+// or none (kind = "none": the ground stays still for `duration`, for free
+// vibration and free rocking from the [initial] state).
 struct Excitation {
+  bool none = false;                         // no ground motion
   std::string record;                        // empty: the pulse
   RecordOptions record_options;              // units, dt, scale of the record
   PulseShape pulse = PulseShape::one_sine;
   double amplitude = 0;                      // pulse amplitude [m/s^2]
   double period = 0;                         // pulse period [s]; 0: no excitation
   double duration = 0;                       // simulated time [s]; 0: the motion's length
+};
+
+// The state at t = 0 ([initial]): a tilt theta about the pivot on its side
+// (theta != 0 starts the run rocking), the rocking velocity, and the elastic
+// displacements and velocities of nodes 1..N (empty: zero).
+struct Initial {
+  double theta = 0, theta_dot = 0;           // [rad], [rad/s]
+  Eigen::VectorXd u, u_dot;                  // [m], [m/s]
 };
 
 struct Scene {
@@ -50,6 +63,7 @@ struct Scene {
   Contact contact;
   Damper damper;       // damper.enabled = false when the scene has none
   Excitation excitation;
+  Initial initial;
 };
 
 // The scene's excitation as a ground motion (reads the record if it names one).

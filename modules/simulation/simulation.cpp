@@ -7,6 +7,7 @@ module;
 #include <memory>
 #include <numbers>
 #include <string>
+#include <tuple>
 #include <vector>
 #include <fmt/format.h>
 module rocking.simulation;
@@ -93,6 +94,8 @@ class Driver {
     result_.integrator = integrator_->name();
     result_.exact_full_contact = exact_ != nullptr;
     result_.has_forces = scales_.has_forces;
+    result_.has_damper = m_.has_damper;
+    result_.rocks = m_.kind != ModelKind::fixed_base;
     result_.energy_tracked = m_.layout.energy >= 0;
     initial_state();
     result_.energy.initial = mechanical();
@@ -114,13 +117,20 @@ class Driver {
  private:
   void initial_state() {
     const InitialState& init = opt_.initial;
+    const Layout& l = m_.layout;
+    for (const auto& [v, at, what] : {std::tuple{&init.u, l.u, "u"}, std::tuple{&init.u_dot, l.u_dot, "u_dot"}}) {
+      if (v->size() == 0) continue;
+      if (at < 0 || v->size() != l.n)
+        throw InputError(fmt::format("initial {}: {} entries for a model with {} elastic coordinates", what, v->size(), l.n));
+      y_.segment(at, l.n) = *v;
+    }
     if (init.theta == 0 && init.theta_dot == 0) return;
     if (m_.kind == ModelKind::fixed_base)
       throw InputError("an initial tilt needs a rocking scene (contact.rocking = true)");
     const int s = init.theta > 0 ? 1 : init.theta < 0 ? -1 : (init.theta_dot > 0 ? 1 : -1);
     begin_rocking(m_, d_, s, y_);
-    y_[m_.layout.theta] = init.theta;
-    y_[m_.layout.theta_dot] = init.theta_dot;
+    y_[l.theta] = init.theta;
+    y_[l.theta_dot] = init.theta_dot;
   }
 
   double mechanical() {

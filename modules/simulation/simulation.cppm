@@ -59,6 +59,7 @@ class Observer {
 
 struct InitialState {
   double theta = 0, theta_dot = 0;  // a release from a tilt: rocking about sign(theta)
+  Eigen::VectorXd u, u_dot;         // elastic displacements and velocities (empty: zero)
 };
 
 struct RunOptions {
@@ -101,6 +102,8 @@ struct RunResult {
   std::array<double, quantity_count> peaks{};  // absolute peaks
   double top_total_mm = 0;         // peak |delta_t| H_N [mm]
   bool has_forces = true;
+  bool has_damper = false;         // damper peaks mean something
+  bool rocks = true;               // the model can rock (theta peaks mean something)
   Counts counts;
   double first_uplift = std::numeric_limits<double>::quiet_NaN();
   double first_impact = std::numeric_limits<double>::quiet_NaN();

@@ -74,9 +74,11 @@ bool Study::can_overturn(std::size_t variant) const {
   return !models_[variant] || models_[variant]->kind != ModelKind::fixed_base;
 }
 
-std::vector<double> parse_scales(const std::string& text) {
+bool Study::has_damper(std::size_t variant) const { return models_[variant] && models_[variant]->has_damper; }
+
+std::vector<double> parse_number_list(const std::string& text) {
   auto fail = [&] {
-    throw InputError(fmt::format("--scales {}: expected FIRST:LAST:STEP (e.g. 1:20:1) or a list (0.5,1,2)", text));
+    throw InputError(fmt::format("'{}': expected FIRST:LAST:STEP (e.g. 1:20:1) or a list (0.5,1,2)", text));
   };
   std::vector<double> out;
   auto number = [&](const std::string& s) {
@@ -100,6 +102,7 @@ std::vector<double> parse_scales(const std::string& text) {
     const auto n = static_cast<long>(std::floor((last - first) / step + 1e-9));
     for (long i = 0; i <= n; ++i) out.push_back(first + static_cast<double>(i) * step);
   } else {
+    if (text.ends_with(",")) fail();
     std::stringstream ss(text);
     for (std::string p; std::getline(ss, p, ',');) out.push_back(number(p));
   }

@@ -89,6 +89,11 @@ class Study {
   std::vector<Job> ladder(const std::vector<double>& scales) const;  // record-major, then scale, then variant
   JobResult run(const Job& job) const;
   bool can_overturn(std::size_t variant) const;  // false for a fixed base
+  bool has_damper(std::size_t variant) const;
+  // The record as read (unscaled), or null when it could not be read.
+  const GroundMotion* motion(std::size_t record) const {
+    return motions_[record] ? &*motions_[record] : nullptr;
+  }
 
  private:
   std::vector<std::string> records_;
@@ -100,8 +105,9 @@ class Study {
   RunOptions options_;
 };
 
-// "1:20:1" (first:last:step) or "0.5,1,2" -> scales; InputError otherwise.
-std::vector<double> parse_scales(const std::string& text);
+// "1:20:1" (first:last:step) or "0.5,1,2" -> numbers; otherwise an InputError
+// quoting the text (the caller names the option it came from).
+std::vector<double> parse_number_list(const std::string& text);
 
 // The collapse hunt for one record and variant: scales first, first + step, ...
 // up to max_scale until a run overturns, then bisection to `precision`.
