@@ -1,16 +1,31 @@
-// Files for the tests: a path in the temporary folder that no other test
+// Files for the tests: a path in a temporary folder that no other test
 // process uses (CTest runs test cases in parallel processes, and two checkouts
-// may test at once), a fresh folder there, and a file's whole content.
+// may test at once) and that is removed when the process exits, a fresh folder
+// there, and a file's whole content.
 #pragma once
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <system_error>
 #include <unistd.h>
 
-inline std::filesystem::path temp_path(const std::string& name) {
-  return std::filesystem::temp_directory_path() / ("rocking_" + std::to_string(::getpid()) + "_" + name);
+// This process's folder, TMPDIR/rocking_PID, removed with everything in it at exit.
+inline const std::filesystem::path& test_process_dir() {
+  struct Owned {
+    std::filesystem::path dir = std::filesystem::temp_directory_path() / ("rocking_" + std::to_string(::getpid()));
+    pid_t owner = ::getpid();
+    ~Owned() {
+      std::error_code ec;
+      if (::getpid() == owner) std::filesystem::remove_all(dir, ec);  // not from a forked child
+    }
+  };
+  static const Owned owned;
+  std::filesystem::create_directories(owned.dir);
+  return owned.dir;
 }
+
+inline std::filesystem::path temp_path(const std::string& name) { return test_process_dir() / name; }
 
 // An empty folder of its own for one test.
 inline std::filesystem::path scratch_dir(const std::string& name) {

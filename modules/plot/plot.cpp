@@ -368,7 +368,11 @@ std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const
                                     file, panel.x, panel.y, panel.point_label, std::max(7, points - 3),
                                     palette[i % palette_size]));
     }
-    if (items.empty()) items.push_back("NaN notitle");
+    if (items.empty()) {  // an empty panel that says so
+      body += "  set label 1 \"(none of these runs has this quantity)\" at graph 0.5,0.5 center\n"
+              "  plot [0:1] [0:1] NaN notitle\n  unset label 1\n";
+      continue;
+    }
     body += plot_command(items);
   }
   std::vector<std::string> entries;

@@ -1,0 +1,203 @@
+// What a new user meets first, each a defect once reported (issue 14): figures
+// without dampers, the scale a run reports, errors that name the right flag,
+// options checked before work, unique record ids, exit codes of studies,
+// --version and mistyped subcommands, and tests that clean up after themselves.
+#include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
+#include "temp_path.hpp"
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+#include <sys/wait.h>
+#include <unistd.h>
+#include "run_program.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string scenes = std::string(ROCKING_SOURCE_DIR) + "/data/scenes/";
+
+// A short record of two columns (t [s], a [g]): a one-sine pulse of the
+// period, then rest, `length` seconds in all.
+std::string short_record(const fs::path& file, double amplitude_g = 0.3, double period = 0.6, double length = 3) {
+  std::ofstream out(file);
+  for (int i = 0; 0.01 * i <= length + 1e-9; ++i) {
+    const double t = 0.01 * i;
+    out << t << ' ' << (t < period ? amplitude_g * std::sin(2 * 3.141592653589793 * t / period) : 0.0) << '\n';
+  }
+  return file.string();
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+}  // namespace
+
+TEST_CASE("a response figure without any damper renders, and draws no damper panel") {
+  const fs::path dir = scratch_dir("first_use_no_damper");
+  const Result block = run("-q plot response " + scenes + "rigid_block.toml --formats png --out " + dir.string() +
+                           " --name block");
+  CHECK_MESSAGE(block.code == 0, block.err);
+  CHECK(fs::file_size(dir / "block.png") > 0);
+  CHECK_FALSE(contains(file_text(dir / "block.gp"), "damper force"));
+  const Result none = run("-q plot response --set damper.enabled=false --variants scene --formats png --out " +
+                          dir.string() + " --name none");
+  CHECK_MESSAGE(none.code == 0, none.err);
+  CHECK(fs::is_regular_file(dir / "none.png"));
+  REQUIRE(run("-q simulate --set damper.enabled=false --out " + (dir / "free").string()).code == 0);
+  const Result from = run("-q plot response --from " + (dir / "free").string() + " --formats png --out " +
+                          dir.string() + " --name from");
+  CHECK_MESSAGE(from.code == 0, from.err);
+  CHECK(fs::is_regular_file(dir / "from.png"));
+  // The figure opens with the ground acceleration, and its key hides no data.
+  const std::string gp = file_text(dir / "from.gp");
+  CHECK(contains(gp, "ground acceleration"));
+  CHECK_FALSE(contains(gp, "opaque\n"));
+  CHECK_FALSE(contains(gp, "box opaque"));
+}
+
+TEST_CASE("a scene's own scale and --scale multiply, and the run reports the product and its factors") {
+  const fs::path dir = scratch_dir("first_use_scale");
+  short_record(dir / "pulse.txt", 0.1);
+  std::string scene = file_text(scenes + "christchurch_chimney.toml");
+  const auto at = scene.find("[excitation]");
+  REQUIRE(at != std::string::npos);
+  scene = scene.substr(0, at) + "[excitation]\nrecord = \"pulse.txt\"\nscale = 2\n";
+  std::ofstream(dir / "scaled.toml") << scene;
+  const Result r = run("simulate " + (dir / "scaled.toml").string() + " --scale 3 --out " + (dir / "out").string());
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  CHECK(contains(r.out, "(x6 (scene 2 x --scale 3))"));
+  const auto summary = nlohmann::json::parse(file_text(dir / "out" / "summary.json"));
+  CHECK(summary["scale"].get<double>() == 6.0);
+  CHECK(summary["scale_factors"]["scene"].get<double>() == 2.0);
+  CHECK(summary["scale_factors"]["option"].get<double>() == 3.0);
+  // The x6 run is what --scale 6 on the bare record gives.
+  const Result direct = run("simulate --json --record " + (dir / "pulse.txt").string() + " --scale 6 --out " +
+                            (dir / "direct").string());
+  REQUIRE(direct.code == 0);
+  CHECK(nlohmann::json::parse(direct.out)["peaks"] == summary["peaks"]);
+}
+
+TEST_CASE("a list option's error names that option, not another") {
+  const Result sizes = run("spectrum --sizes foo");
+  CHECK(sizes.code == 2);
+  CHECK(contains(sizes.err, "--sizes 'foo'"));
+  CHECK_FALSE(contains(sizes.err, "--scales"));
+  const Result rtols = run("tradeoff --rtols 1e-3:x");
+  CHECK(rtols.code == 2);
+  CHECK(contains(rtols.err, "--rtols '1e-3:x'"));
+  CHECK_FALSE(contains(rtols.err, "--scales"));
+}
+
+TEST_CASE("every option is checked before the first run: a bad --formats does no work") {
+  const fs::path dir = scratch_dir("first_use_formats");
+  const Result r = run("plot response --formats jpg --out " + (dir / "out").string());
+  CHECK(r.code == 2);
+  CHECK(lines(r.err) == 1);
+  CHECK(contains(r.err, "jpg"));
+  CHECK(r.out.empty());                         // no variant was run (each prints a line)
+  CHECK_FALSE(fs::exists(dir / "out"));          // nor any folder made
+  const Result ida = run("ida --record " + short_record(dir / "p.txt") + " --formats jpg --out " + (dir / "ida").string());
+  CHECK(ida.code == 2);
+  CHECK_FALSE(fs::exists(dir / "ida" / "ida.csv"));
+}
+
+TEST_CASE("two records of the same file name in different folders keep apart in rows and figures") {
+  const fs::path dir = scratch_dir("first_use_ids");
+  fs::create_directories(dir / "x");
+  fs::create_directories(dir / "y");
+  const std::string a = short_record(dir / "x" / "rec.txt", 0.2), b = short_record(dir / "y" / "rec.txt", 0.4);
+  const Result r = run("-q ida --record " + a + " " + b + " --scales 1 --variants no-damper --formats png --out " +
+                       (dir / "out").string());
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const std::string csv = file_text(dir / "out" / "ida.csv");
+  CHECK(contains(csv, "\nx/rec.txt,1,no-damper,"));
+  CHECK(contains(csv, "\ny/rec.txt,1,no-damper,"));
+  CHECK(fs::is_regular_file(dir / "out" / "ida_x_rec.png"));
+  CHECK(fs::is_regular_file(dir / "out" / "ida_y_rec.png"));
+}
+
+TEST_CASE("IDA figures draw collapse as collapse, start peaks at zero, and name variants in words") {
+  const fs::path dir = scratch_dir("first_use_collapse");
+  // 0.3 g for 2.5 s: the chimney without damper survives it, and overturns at x3.
+  const std::string rec = short_record(dir / "p.txt", 0.3, 2.5, 8);
+  const Result r = run("-q ida --record " + rec + " --scales 1,3,6 --formats png --out " + (dir / "ida").string());
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const std::string csv = file_text(dir / "ida" / "ida.csv");
+  REQUIRE(contains(csv, "p.txt,1,no-damper,"));
+  REQUIRE(contains(csv, "overturned"));
+  // The variant without a damper: the survivor at x1 coded 0, its first
+  // overturning (x3) 1, the later one (x6) 2.
+  std::ifstream data(dir / "ida" / "ida_p.data" / "1.csv");
+  std::vector<std::string> rows;
+  for (std::string line; std::getline(data, line);) rows.push_back(line);
+  REQUIRE(rows.size() == 4);
+  CHECK(rows[0].ends_with(",collapse"));
+  CHECK((rows[1].starts_with("1,") && rows[1].ends_with(",0")));
+  CHECK((rows[2].starts_with("3,") && rows[2].ends_with(",1")));
+  CHECK((rows[3].starts_with("6,") && rows[3].ends_with(",2")));
+  const std::string gp = file_text(dir / "ida" / "ida_p.gp");
+  CHECK(contains(gp, "$10 == 1"));         // the first overturning has a marker of its own
+  CHECK(contains(gp, "set yrange [0:*]"));  // peaks from zero
+  CHECK(contains(gp, "\"rocking, no damper\""));
+  const Result sweep = run("-q sweep --record " + rec + " --scales 1 --set structure.EI_scale=0.25,1 --formats png "
+                           "--out " + (dir / "sweep").string());
+  REQUIRE_MESSAGE(sweep.code == 0, sweep.err);
+  CHECK(contains(file_text(dir / "sweep" / "sweep_p.gp"), "\"EI x0.25\""));
+}
+
+TEST_CASE("mode shapes: one colour per mode in both panels, and no internal document in the title") {
+  const fs::path dir = scratch_dir("first_use_modes");
+  REQUIRE(run("-q plot modes --formats png --out " + dir.string()).code == 0);
+  const std::string gp = file_text(dir / "modes.gp");
+  CHECK_FALSE(contains(gp, "MODEL.md 8"));
+  // Mode 1 is line style 1 in the fixed-base panel (column 2) and in the
+  // rocking panel, where it follows the rocking mode R (column 7).
+  CHECK(contains(gp, "using 2:1 with linespoints linestyle 1 title \"mode 1:"));
+  CHECK(contains(gp, "using 7:1 with linespoints linestyle 1 title \"mode 1:"));
+  CHECK(contains(gp, "using 6:1 with linespoints linestyle 6 title \"R:"));
+}
+
+TEST_CASE("the program's own words: --version, a mistyped subcommand, -q after it, singulars, absent dampers") {
+  const Result version = run("--version");
+  CHECK(version.code == 0);
+  CHECK(contains(version.out, "rocking 0."));
+  const Result typo = run("simulat");
+  CHECK(typo.code == 2);
+  CHECK(lines(typo.err) == 1);
+  CHECK(contains(typo.err, "unknown subcommand 'simulat'; did you mean 'simulate'?"));
+  const fs::path dir = scratch_dir("first_use_words");
+  const Result quiet = run("modal -q");
+  CHECK(quiet.code == 0);
+  const Result block = run("simulate " + scenes + "rigid_block.toml -q --out " + dir.string());
+  REQUIRE(block.code == 0);
+  CHECK(block.err.empty());  // -q after the subcommand silences the info lines
+  CHECK(contains(block.out, "1 uplift,"));
+  CHECK(contains(block.out, "  damper        -\n"));
+}
+
+TEST_CASE("modal on a rigid block prints what a block has") {
+  const Result r = run("modal " + scenes + "rigid_block.toml --json");
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const auto j = nlohmann::json::parse(r.out);
+  const double m = j["mass"], J = j["J_p"], R = j["R"], p = j["p"];
+  CHECK(p == doctest::Approx(std::sqrt(m * 9.81 * R / J)).epsilon(1e-12));
+  CHECK(j["alpha_cg"].get<double>() == doctest::Approx(std::atan(0.2 / j["H_cg"].get<double>())).epsilon(1e-12));
+  CHECK(j["r_eq10"].get<double>() > 0);
+  CHECK(contains(run("modal " + scenes + "rigid_block.toml").out, "frequency parameter"));
+}
+
+TEST_CASE("the tests' temporary folders are removed when a test process exits") {
+  const pid_t child = ::fork();
+  REQUIRE(child >= 0);
+  if (child == 0) {  // a test process that makes files and exits normally
+    std::ofstream(scratch_dir("left_behind") / "file.txt") << "x";
+    std::exit(0);
+  }
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  REQUIRE(WIFEXITED(status));
+  CHECK_FALSE(fs::exists(fs::temp_directory_path() / ("rocking_" + std::to_string(child))));
+}
