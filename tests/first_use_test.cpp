@@ -2,6 +2,7 @@
 // without dampers, the scale a run reports, errors that name the right flag,
 // options checked before work, unique record ids, exit codes of studies,
 // --version and mistyped subcommands, and tests that clean up after themselves.
+#include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
 #include "temp_path.hpp"
@@ -13,6 +14,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include "run_program.hpp"
+#include "housner.hpp"
+import rocking.scene;
 
 namespace fs = std::filesystem;
 
@@ -32,6 +35,14 @@ std::string short_record(const fs::path& file, double amplitude_g = 0.3, double 
 }
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// Shell words joined by spaces.
+template <class... Words>
+std::string fmt_args(const Words&... words) {
+  std::string out;
+  ((out += (out.empty() ? "" : " ") + std::string(words)), ...);
+  return out;
+}
 
 }  // namespace
 
@@ -200,4 +211,32 @@ TEST_CASE("the tests' temporary folders are removed when a test process exits") 
   ::waitpid(child, &status, 0);
   REQUIRE(WIFEXITED(status));
   CHECK_FALSE(fs::exists(fs::temp_directory_path() / ("rocking_" + std::to_string(child))));
+}
+
+TEST_CASE("a teacher's free rocking: --set initial.theta with no excitation, first impact at Housner's time") {
+  const fs::path dir = scratch_dir("first_use_initial");
+  const rocking::Scene scene = rocking::load_scene(scenes + "rigid_block.toml");
+  const double theta0 = 0.5 * rocking::slenderness(scene.structure);
+  const Result r = run(fmt_args("simulate", scenes + "rigid_block.toml", "--set excitation.kind=none",
+                                "--set excitation.duration=3", "--set initial.theta=" + std::to_string(theta0),
+                                "--rtol 1e-12 --atol 1e-14 --json --out", dir.string()));
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["motion"] == "no ground motion");
+  const double expected = housner_quarter_period(scene.structure, 9.81, std::stod(std::to_string(theta0)));
+  CHECK(std::abs(j["first_impact_s"].get<double>() - expected) < 1e-8);
+  // A bad initial state is refused with its key.
+  const Result bad = run("simulate --set initial.u=[1,2] --out " + dir.string());
+  CHECK(bad.code == 2);
+  CHECK(contains(bad.err, "initial.u: must have one entry per node (4)"));
+  const Result fixed = run("simulate --set contact.rocking=false --set initial.theta=0.1 --out " + dir.string());
+  CHECK(fixed.code == 2);
+  CHECK(contains(fixed.err, "initial.theta: a fixed base"));
+}
+
+TEST_CASE("ida --help says honestly that the hunt can step over a collapse window") {
+  const Result r = run("ida --help");
+  CHECK(r.code == 0);
+  CHECK(contains(r.out, "not monotonic"));
+  CHECK(contains(r.out, "bounds the lowest"));
 }

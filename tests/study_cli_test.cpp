@@ -52,6 +52,15 @@ TEST_CASE("an IDA's CSV is byte-identical with 1 thread, 2 threads and mpirun -n
   REQUIRE(std::system(mpi.c_str()) == 0);
   CHECK(one == file_text(dir / "mpi" / "ida.csv"));
   CHECK(lines(file_text(dir / "mpi" / "timing.csv")) == 1 + 12);
+  // Under mpirun, rank 0 draws the figure a single process draws, from the same data.
+  const std::string drawn = "-q ida --record " + pulse_record(dir) + " --scales 1:4:1 --formats png --threads 1 --out ";
+  REQUIRE(run(drawn + (dir / "one_fig").string()).code == 0);
+  const std::string mpi_fig = "mpirun" + root + " --oversubscribe -np 2 " + std::string(ROCKING_BIN) + " " + drawn +
+                              (dir / "mpi_fig").string();
+  REQUIRE(std::system(mpi_fig.c_str()) == 0);
+  CHECK(fs::is_regular_file(dir / "mpi_fig" / "ida_pulse.png"));
+  for (const char* data : {"ida_pulse.data/0.csv", "ida_pulse.data/1.csv", "ida_pulse.data/2.csv", "ida_pulse.gp"})
+    CHECK_MESSAGE(file_text(dir / "one_fig" / data) == file_text(dir / "mpi_fig" / data), data);
 }
 
 TEST_CASE("a bad record among good ones is reported in its rows, the study finishes, and exits 4 with the count") {

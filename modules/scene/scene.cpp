@@ -248,9 +248,7 @@ Excitation read_excitation(const toml::table& root, const std::string& file, con
   const std::string kind = t.string_or("kind", t.has("record") ? "record" : "pulse");
   if (kind != "none" && kind != "record" && kind != "pulse")
     t.fail(&t.required("kind"), "kind", fmt::format("must be pulse, record or none (got '{}')", kind));
-  if (kind == "none") {
-    for (const char* key : {"record", "pulse", "amplitude_g", "period"})
-      if (t.has(key)) t.fail(&t.required(key), key, "a scene with kind = \"none\" has no ground motion to describe");
+  if (kind == "none") {  // the other keys may stay (--set excitation.kind=none on a scene with a pulse)
     if (!t.has("duration")) t.fail(nullptr, "duration", "kind = \"none\" needs the simulated time, duration [s]");
     e.none = true;
     return e;

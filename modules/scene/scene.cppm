@@ -36,7 +36,8 @@ struct Contact {
 // The ground motion a scene runs under when no record is given on the command
 // line: a record file (path relative to the scene file), an analytic pulse,
 // or none (kind = "none": the ground stays still for `duration`, for free
-// vibration and free rocking from the [initial] state).
+// vibration and free rocking from the [initial] state; any pulse or record
+// keys beside it are not used).
 struct Excitation {
   bool none = false;                         // no ground motion
   std::string record;                        // empty: the pulse
