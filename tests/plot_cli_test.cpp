@@ -224,6 +224,29 @@ TEST_CASE("animate writes a valid animated GIF with one image per frame, both st
   CHECK(lines(bad.err) == 1);
 }
 
+TEST_CASE("animate: a rigid block by default drawn alone, rocking exaggerated as asked and said on every frame") {
+  const fs::path dir = scratch_dir("plot_test_animate_block");
+  const std::string block = std::string(ROCKING_SOURCE_DIR) + "/data/scenes/rigid_block.toml";
+  const Result r = run("-q animate " + block + " --frames 6 --size 400x300 --out " + (dir / "b.gif").string());
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  std::uint32_t w = 0, h = 0;
+  CHECK(gif_frames(file_text(dir / "b.gif"), w, h) == 6);
+  CHECK(file_text(dir / "b.gp").find("twin.dat") == std::string::npos);  // no twin
+  // The chimney's rocking is drawn x5 when asked, and the frame says so; the
+  // frame data hold the drawn (exaggerated) tilt.
+  const Result tall = run("-q animate --duration 2 --frames 6 --size 400x300 --exaggerate-rotation 5 --out " +
+                          (dir / "c.gif").string());
+  REQUIRE_MESSAGE(tall.code == 0, tall.err);
+  CHECK(file_text(dir / "c.gp").find("rotation x5,") != std::string::npos);
+  CHECK(tall.out.find("rotation x5,") != std::string::npos);
+  for (const char* bad : {"--exaggerate inf", "--exaggerate nan", "--exaggerate -5", "--exaggerate-rotation -1",
+                          "--fps 0"}) {
+    const Result refused = run(std::string("animate ") + bad + " --out " + (dir / "x.gif").string());
+    CHECK_MESSAGE(refused.code == 2, bad);
+    CHECK_MESSAGE(lines(refused.err) == 1, bad);
+  }
+}
+
 TEST_CASE("animate to MP4 when ffmpeg is installed, and a one-line error naming ffmpeg when it is not") {
   const fs::path dir = scratch_dir("plot_test_video");
   const char* saved = std::getenv("PATH");

@@ -21,12 +21,13 @@ struct AnimateArgs {
   SceneOptions scene;
   MotionOptions motion;
   SolverOptions solver;
-  std::string compare = "fixed-base";
+  std::string compare;  // empty: fixed-base, or none for a rigid block
   std::string out = "out/animation.gif";
   double speed = 1.0;
   int max_frames = 240;
   int fps = 20;
   double exaggeration = 0;  // 0: automatic
+  double rotation = 0;      // rocking angle drawn x this; 0: automatic
   std::string size = "1000x700";
 };
 
@@ -56,7 +57,7 @@ double nice(double x) {  // 1, 2 or 5 x 10^k, not above x
 }
 
 // Every m-th recorded row is a frame.
-void write_frames(const fs::path& file, const Structure& s, const FrameRecorder& rec, double k, int m,
+void write_frames(const fs::path& file, const Structure& s, const FrameRecorder& rec, double k, double kr, int m,
                   std::size_t frames, bool has_damper) {
   const char* damper = has_damper ? " 1\n" : " 2\n";  // 2: not drawn
   std::ofstream out(file);
@@ -65,7 +66,7 @@ void write_frames(const fs::path& file, const Structure& s, const FrameRecorder&
     const std::size_t i = f * static_cast<std::size_t>(m);
     const Response& r = rec.rows[i];
     const Eigen::VectorXd u = i < rec.u.size() ? rec.u[i] : Eigen::VectorXd();
-    const Outline o = outline(s, r.pivot, r[Quantity::theta], u, k);
+    const Outline o = outline(s, r.pivot, kr * r[Quantity::theta], u, k);
     for (const Point& p : o.axis) out << p.first << ' ' << p.second << " 0\n";
     out << '\n' << o.left_corner.first << ' ' << o.left_corner.second << " 0\n"
         << o.right_corner.first << ' ' << o.right_corner.second << " 0\n\n"
@@ -87,13 +88,22 @@ int animate(const AnimateArgs& a) {
   if (!(a.speed > 0)) throw InputError(fmt::format("--speed {}: must be positive", a.speed));
   if (a.max_frames < 2 || a.max_frames > 2000) throw InputError(fmt::format("--frames {}: must be 2 to 2000", a.max_frames));
   const auto [width, height] = plot::parse_size(a.size, 300, 200, 4000);
+  for (const auto& [value, flag] : {std::pair{a.exaggeration, "--exaggerate"}, std::pair{a.rotation, "--exaggerate-rotation"}})
+    if (!std::isfinite(value) || value < 0)
+      throw InputError(fmt::format("{} {}: must be a positive number (0: automatic)", flag, value));
+  if (a.fps < 1 || a.fps > 100) throw InputError(fmt::format("--fps {}: must be 1 to 100", a.fps));
   const Scene scene = load_scene(a.scene);
   const GroundMotion motion = load_motion(scene, a.motion);
-  const Variant twin_variant = named_variant(a.compare);
-  if (a.compare != "fixed-base" && a.compare != "no-damper")
-    throw InputError(fmt::format("--compare {}: choose fixed-base or no-damper", a.compare));
+  // A rigid block has no fixed-base twin worth drawing: by default it is drawn alone.
+  const std::string compare = !a.compare.empty() ? a.compare : scene.structure.rigid ? "none" : "fixed-base";
+  if (compare != "fixed-base" && compare != "no-damper" && compare != "none")
+    throw InputError(fmt::format("--compare {}: choose fixed-base, no-damper or none", compare));
+  const bool alone = compare == "none";
   std::vector<std::string> twin_overrides = a.scene.overrides;
-  twin_overrides.insert(twin_overrides.end(), twin_variant.overrides.begin(), twin_variant.overrides.end());
+  if (!alone) {
+    const Variant twin_variant = named_variant(compare);
+    twin_overrides.insert(twin_overrides.end(), twin_variant.overrides.begin(), twin_variant.overrides.end());
+  }
   const Scene twin = load_scene(SceneOptions{a.scene.path, twin_overrides});
   RunOptions ro = run_options(scene, a.solver, a.motion.record.empty());
   const double duration = ro.duration > 0 ? ro.duration : motion.duration();
@@ -117,19 +127,54 @@ int animate(const AnimateArgs& a) {
   for (const Response& r : main_rec.rows) top = std::max(top, std::abs(r.u_top));
   for (const Response& r : twin_rec.rows) top = std::max(top, std::abs(r.u_top));
   const double k = a.exaggeration > 0 ? a.exaggeration : scene.structure.rigid ? 1.0 : std::max(1.0, nice(0.08 * H / top));
+  // The rocking of a tall structure is invisible at true scale: by default its
+  // peak angle is drawn at about 0.1 rad (a block's, which is seen, at x1).
+  double peak_theta = 1e-12;
+  for (const Response& r : main_rec.rows) peak_theta = std::max(peak_theta, std::abs(r[Quantity::theta]));
+  const double kr = a.rotation > 0                                   ? a.rotation
+                    : scene.structure.rigid || peak_theta < 1e-9      ? 1.0
+                                                                     : std::max(1.0, nice(0.1 / peak_theta));
   const fs::path dir = gif.has_parent_path() ? gif.parent_path() : fs::path(".");
   const std::string stem = gif.stem().string();
   make_output_dir(dir / (stem + ".data"));
-  write_frames(dir / (stem + ".data") / "main.dat", scene.structure, main_rec, k, m, frames, main_model.has_damper);
-  write_frames(dir / (stem + ".data") / "twin.dat", twin.structure, twin_rec, k, m, frames, twin_model.has_damper);
+  write_frames(dir / (stem + ".data") / "main.dat", scene.structure, main_rec, k, kr, m, frames, main_model.has_damper);
+  write_frames(dir / (stem + ".data") / "twin.dat", twin.structure, twin_rec, k, kr, m, frames, twin_model.has_damper);
   {
     std::ofstream tr(dir / (stem + ".data") / "traces.dat");
-    tr << "# t [s], a_g [g], M/M_ref main, M/M_ref twin\n";
+    tr << "# t [s], a_g [g], M/M_ref main, M/M_ref twin, theta/alpha_cg main\n";
     for (std::size_t i = 0; i < rows; ++i)
-      tr << fmt::format("{:.6g} {:.6g} {:.6g} {:.6g}\n", main_rec.rows[i].t, motion.acceleration(main_rec.rows[i].t) / 9.81,
-                        main_rec.rows[i][Quantity::base_moment], twin_rec.rows[i][Quantity::base_moment]);
+      tr << fmt::format("{:.6g} {:.6g} {:.6g} {:.6g} {:.6g}\n", main_rec.rows[i].t,
+                        motion.acceleration(main_rec.rows[i].t) / 9.81, main_rec.rows[i][Quantity::base_moment],
+                        twin_rec.rows[i][Quantity::base_moment], main_rec.rows[i][Quantity::theta_over_alpha]);
   }
-  const std::string twin_label = a.compare == "fixed-base" ? "fixed base" : "no damper";
+  const std::string twin_label = compare == "fixed-base" ? "fixed base" : "no damper";
+  // Alone: the structure spans the width, and the right trace is its rocking
+  // angle (a block has no section forces); else the two side by side and the
+  // base moments of both.
+  const std::string panels =
+      alone ? fmt::format(
+                  "  set origin 0.25,0.38\n  set size 0.5,0.57\n  set title \"{}\" noenhanced\n"
+                  "  plot d.\"main.dat\" index i using 1:($3 == 0 ? $2 : NaN) with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#1f4e9c\", "
+                  "d.\"main.dat\" index i using 1:($3 == 1 ? $2 : NaN) with lines lw 4 lc rgb \"#d35400\", "
+                  "0 with lines lc rgb \"#555555\" lw 2\n",
+                  scene.name)
+            : fmt::format(
+                  "  set origin 0,0.38\n  set size 0.5,0.57\n  set title \"{}\" noenhanced\n"
+                  "  plot d.\"main.dat\" index i using 1:($3 == 0 ? $2 : NaN) with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#1f4e9c\", "
+                  "d.\"main.dat\" index i using 1:($3 == 1 ? $2 : NaN) with lines lw 4 lc rgb \"#d35400\", "
+                  "0 with lines lc rgb \"#555555\" lw 2\n"
+                  "  set origin 0.5,0.38\n  set size 0.5,0.57\n  set title \"{}\"\n"
+                  "  plot d.\"twin.dat\" index i using 1:($3 == 0 ? $2 : NaN) with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#27864a\", "
+                  "d.\"twin.dat\" index i using 1:($3 == 1 ? $2 : NaN) with lines lw 4 lc rgb \"#d35400\", "
+                  "0 with lines lc rgb \"#555555\" lw 2\n",
+                  scene.name, twin_label);
+  const std::string right_trace =
+      alone ? std::string("  set ylabel \"rocking angle {/Symbol q}/{/Symbol a}_{cg}\"\n"
+                          "  plot d.\"traces.dat\" using 1:5 with lines lc rgb \"#1f4e9c\" notitle\n")
+            : fmt::format("  set ylabel \"base moment M/M_{{ref}}\"\n  set key top right\n"
+                          "  plot d.\"traces.dat\" using 1:3 with lines lc rgb \"#1f4e9c\" title \"rocking\", "
+                          "'' using 1:4 with lines lc rgb \"#27864a\" title \"{}\"\n",
+                          twin_label);
   const double span = std::max(3 * B, 0.5 * H);
   std::string script = fmt::format(
       "# rocking: animation ({} frames, {:.3g} s of simulation per frame). Re-render: gnuplot {}.gp\n"
@@ -139,23 +184,15 @@ int animate(const AnimateArgs& a) {
       "do for [i=0:{}] {{\n"
       "  t = {} * i\n"
       "{}"
-      "  set multiplot title sprintf(\"{} - {}, x{}   t = %5.2f s   (elastic deformation x{})\", t) noenhanced\n"
+      "  set multiplot title sprintf(\"{} - {}, {}   t = %5.2f s\\n(drawn with rotation x{:g}, elastic deformation x{:g})\", t) noenhanced\n"
       "  set size ratio -1\n  set xrange [{}:{}]\n  set yrange [-0.05*{}:1.1*{}]\n  unset xtics\n  set ytics\n  set ylabel \"height [m]\"\n"
-      "  set origin 0,0.38\n  set size 0.5,0.57\n  set title \"{}\" noenhanced\n"
-      "  plot d.\"main.dat\" index i using 1:($3 == 0 ? $2 : NaN) with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#1f4e9c\", "
-      "d.\"main.dat\" index i using 1:($3 == 1 ? $2 : NaN) with lines lw 4 lc rgb \"#d35400\", "
-      "0 with lines lc rgb \"#555555\" lw 2\n"
-      "  set origin 0.5,0.38\n  set size 0.5,0.57\n  set title \"{}\"\n"
-      "  plot d.\"twin.dat\" index i using 1:($3 == 0 ? $2 : NaN) with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#27864a\", "
-      "d.\"twin.dat\" index i using 1:($3 == 1 ? $2 : NaN) with lines lw 4 lc rgb \"#d35400\", "
-      "0 with lines lc rgb \"#555555\" lw 2\n"
+      "{}"
       "  set size noratio\n  set autoscale xy\n  set xtics\n  set xlabel \"t [s]\"\n  unset title\n"
       "  set arrow 1 from t, graph 0 to t, graph 1 nohead lc rgb \"#c0392b\" lw 2\n"
       "  set origin 0,0\n  set size 0.5,0.38\n  set ylabel \"a_g [g]\"\n"
       "  plot d.\"traces.dat\" using 1:2 with lines lc rgb \"#555555\"\n"
-      "  set origin 0.5,0\n  set size 0.5,0.38\n  set ylabel \"base moment M/M_{{ref}}\"\n  set key top right\n"
-      "  plot d.\"traces.dat\" using 1:3 with lines lc rgb \"#1f4e9c\" title \"rocking\", "
-      "'' using 1:4 with lines lc rgb \"#27864a\" title \"{}\"\n"
+      "  set origin 0.5,0\n  set size 0.5,0.38\n"
+      "{}"
       "  unset key\n  unset arrow 1\n  unset xlabel\n"
       "  unset multiplot\n"
       "}}\n",
@@ -165,7 +202,7 @@ int animate(const AnimateArgs& a) {
                           "set output \"{}.gif\"\n", std::max(2, 100 / a.fps), width, height, stem),
       stem, frames - 1, frame_dt,
       video ? fmt::format("  set output sprintf(\"{}.frames/%05d.png\", i)\n", stem) : std::string(), scene.name,
-      describe_motion(motion), a.motion.scale, k, -span, span, H, H, scene.name, twin_label, twin_label);
+      describe_motion(motion), motion_scale(scene, a.motion).describe(), kr, k, -span, span, H, H, panels, right_trace);
   plot::Figure fig;
   fig.dir = dir;
   fig.name = stem;
@@ -183,8 +220,8 @@ int animate(const AnimateArgs& a) {
     fs::remove_all(dir / (stem + ".frames"));
     fs::remove(log);
   }
-  fmt::print("wrote {} ({} frames at {} fps, {:.2f} s of simulation per frame, deformation x{})\n", gif.string(), frames,
-             a.fps, frame_dt, k);
+  fmt::print("wrote {} ({} frames at {} fps, {:.2f} s of simulation per frame, rotation x{:g}, deformation x{:g})\n",
+             gif.string(), frames, a.fps, frame_dt, kr, k);
   return 0;
 }
 
@@ -202,13 +239,20 @@ Command add_animate_command(CLI::App& app) {
   add_scene_options(*cmd, a->scene);
   add_motion_options(*cmd, a->motion);
   add_solver_options(*cmd, a->solver);
-  cmd->add_option("--compare", a->compare, "The twin: fixed-base (default) or no-damper")->type_name("VARIANT");
+  cmd->add_option("--compare", a->compare,
+                  "The twin: fixed-base (default), no-damper, or none (the default for a\n"
+                  "rigid block, drawn alone)")
+      ->type_name("VARIANT");
   cmd->add_option("--out", a->out, "The animation: .gif (default out/animation.gif), or .mp4 / .webm when ffmpeg is installed")
       ->type_name("FILE");
   cmd->add_option("--speed", a->speed, "Simulated seconds per second of animation (default 1)")->type_name("X");
   cmd->add_option("--frames", a->max_frames, "At most this many frames (default 240)")->type_name("N");
   cmd->add_option("--fps", a->fps, "Frames per second (default 20)")->type_name("N");
   cmd->add_option("--exaggerate", a->exaggeration, "Elastic deformation factor (default: top drawn at ~8 % of H)")
+      ->type_name("K");
+  cmd->add_option("--exaggerate-rotation", a->rotation,
+                  "Rocking angle drawn x this, printed on every frame (default: the peak\n"
+                  "drawn at about 0.1 rad, x1 for a rigid block)")
       ->type_name("K");
   cmd->add_option("--size", a->size, "GIF size in pixels (default 1000x700)")->type_name("WxH");
   cmd->footer("Example: rocking animate --record ../shared/data/records/elcentro_1940_ns.at2 --scale 3 --out plots/elcentro.gif");

@@ -298,8 +298,11 @@ Initial read_initial(const toml::table& root, const std::string& file, const Ori
            "a fixed base (contact.rocking = false) cannot tilt");
   for (const char* key : {"u", "u_dot"}) {
     if (!t.has(key)) continue;
-    if (s.rigid) t.fail(&t.required(key), key, "a rigid block has no elastic displacements");
     Eigen::VectorXd v = t.numbers(key, any, "a number");
+    if (s.rigid) {  // zeros say nothing (a flexible scene made rigid with --set)
+      if (!v.isZero(0.0)) t.fail(&t.required(key), key, "a rigid block has no elastic displacements");
+      continue;
+    }
     if (v.size() != s.heights.size())
       t.fail(&t.required(key), key, fmt::format("must have one entry per node ({})", s.heights.size()));
     (std::string_view(key) == "u" ? init.u : init.u_dot) = std::move(v);
