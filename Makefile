@@ -2,7 +2,7 @@
 # CMake 4.3 lives in .tools/bin (installed by scripts/setup.sh).
 export PATH := $(CURDIR)/.tools/bin:$(PATH)
 
-.PHONY: all setup configure build test demo bench clean
+.PHONY: all setup configure build test demo bench golden clean
 all: build
 
 setup:
@@ -19,6 +19,11 @@ test: build
 
 demo: build
 	@build/bin/rocking plot response --out plots --name demo_response
+
+# Reruns the paper's checks, rewrites tests/golden/paper_checks.tsv and prints
+# the README's table: only after a change that moves the numbers on purpose.
+golden: build
+	@ROCKING_WRITE_GOLDEN=1 build/bin/golden_test -tc="the paper's checks*" -s 2>&1 | sed -n '/^| case/,/^$$/p'
 
 # Machine, command and results: Google Benchmark prints the CPU and the load.
 bench: build
