@@ -240,3 +240,33 @@ TEST_CASE("ida --help says honestly that the hunt can step over a collapse windo
   CHECK(contains(r.out, "not monotonic"));
   CHECK(contains(r.out, "bounds the lowest"));
 }
+
+TEST_CASE("figure scripts: time axes end at the run's end, fixed bases draw no rocking line, spectra fill regions") {
+  const fs::path dir = scratch_dir("first_use_scripts");
+  REQUIRE(run("-q plot response --formats png --out " + dir.string() + " --name r").code == 0);
+  CHECK(contains(file_text(dir / "r.gp"), "set autoscale xfix"));  // no axis past the end of the run
+  const std::string rec = short_record(dir / "p.txt");
+  REQUIRE(run("-q ida --record " + rec + " --scales 1,2 --formats png --out " + (dir / "ida").string()).code == 0);
+  // The panels in order; the fixed base (series file 2.csv) appears in none
+  // of the rocking-angle and damper panels, the rocking variants in all.
+  const std::string gp = file_text(dir / "ida" / "ida_p.gp");
+  std::vector<std::string> panels;
+  for (std::size_t at = gp.find("set ylabel"); at != std::string::npos;) {
+    const std::size_t next = gp.find("set ylabel", at + 1);
+    panels.push_back(gp.substr(at, next == std::string::npos ? std::string::npos : next - at));
+    at = next;
+  }
+  REQUIRE(panels.size() >= 8);
+  CHECK(contains(panels[2], "rocking angle"));
+  CHECK_FALSE(contains(panels[2], "2.csv"));
+  CHECK_FALSE(contains(panels[3], "2.csv"));
+  CHECK_FALSE(contains(panels[3], "1.csv"));  // nor the variant without a damper
+  CHECK(contains(panels[3], "0.csv"));
+  CHECK(contains(panels[5], "2.csv"));
+  REQUIRE(run("-q spectrum --sizes 1,2 --frequencies 1:3:1 --amplitudes 1:3:1 --formats png --out " +
+              (dir / "sp").string()).code == 0);
+  const std::string sp = file_text(dir / "sp" / "spectrum.gp");
+  CHECK(contains(sp, "with boxxyerror fillstyle solid"));  // cells filled, not points
+  CHECK(contains(sp, "#701f4e9c"));                         // one translucent colour per size
+  CHECK(contains(sp, "#90c0392b"));
+}

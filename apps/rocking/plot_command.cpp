@@ -69,15 +69,22 @@ int response(const ResponseArgs& a) {
   const fs::path data_dir = fs::path(a.figure.out) / (a.figure.name + ".data");
   if (!a.from.empty()) {
     make_output_dir(data_dir);
+    std::vector<std::string> what;
     for (const std::string& run_dir : a.from) {
       const fs::path history = fs::path(run_dir) / "history.csv";
       const std::string label = fs::path(run_dir).filename().string();
       const plot::HistoryContent content = plot::check_history(history);
       fs::copy_file(history, data_dir / (label + ".csv"), fs::copy_options::overwrite_existing);
       series.push_back({label, (fs::path(a.figure.name + ".data") / (label + ".csv")).string(), content.has_damper,
-                        content.rocks});
+                        content.rocks, content.elastic});
+      // The run's own summary says what it was.
+      std::ifstream summary(fs::path(run_dir) / "summary.json");
+      const auto s = nlohmann::json::parse(summary, nullptr, false);
+      if (!s.is_discarded() && s.contains("scene") && s.contains("motion") && s["scene"].is_string() && s["motion"].is_string())
+        what.push_back(fmt::format("{}: {} under {}", label, s["scene"].get<std::string>(), s["motion"].get<std::string>()));
     }
-    title = fmt::format("Runs: {}", fmt::join(a.from, ", "));
+    title = what.size() == a.from.size() ? fmt::format("{}", fmt::join(what, "\n"))
+                                         : fmt::format("Runs: {}", fmt::join(a.from, ", "));
   } else {
     const Scene base = load_scene(a.scene);
     std::vector<std::string> keys = a.variants;
@@ -108,7 +115,7 @@ int response(const ResponseArgs& a) {
                  r.has_forces ? fmt::format("{:.3f}", r.peak(Quantity::base_moment)) : "-", r.counts.uplifts,
                  outcome_name(r.outcome));
       series.push_back({label, (fs::path(a.figure.name + ".data") / (key + ".csv")).string(), model.has_damper,
-                        model.kind != ModelKind::fixed_base});
+                        model.kind != ModelKind::fixed_base, model.kind != ModelKind::rigid_block});
     }
   }
   fig.title = title;

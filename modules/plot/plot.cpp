@@ -250,6 +250,8 @@ HistoryContent check_history(const fs::path& file) {
     if (line.empty()) continue;
     ++rows;
     content.rocks = content.rocks || column(line, 4) != 0;
+    content.elastic = content.elastic || column(line, 7) != 0;
+    content.ground_moves = content.ground_moves || column(line, 14) != 0;
     content.has_damper = content.has_damper || column(line, 8) != 0;
   }
   if (rows < 2) throw InputError(fmt::format("{}: empty history ({} rows): nothing to plot", file.string(), rows));
@@ -258,13 +260,16 @@ HistoryContent check_history(const fs::path& file) {
 
 std::vector<fs::path> render_response(const Figure& fig, const std::vector<ResponseSeries>& runs) {
   if (runs.empty()) throw InputError("response figure: no runs to plot");
-  bool ground = true, any_rocks = false, any_damper = false;
+  bool ground = true, ground_moves = false, any_rocks = false, any_elastic = false, any_damper = false;
   for (const ResponseSeries& r : runs) {
     const HistoryContent c = check_history(fs::path(r.history).is_absolute() ? fs::path(r.history) : fig.dir / r.history);
     ground = ground && c.ground;
+    ground_moves = ground_moves || c.ground_moves;
     any_rocks = any_rocks || r.rocks;
+    any_elastic = any_elastic || r.elastic;
     any_damper = any_damper || r.has_damper;
   }
+  ground = ground && ground_moves;  // no panel for a ground that stays still
   auto curves = [&](const std::string& using_spec, auto&& keep) {
     std::vector<std::string> items;
     for (std::size_t i = 0; i < runs.size(); ++i)
@@ -274,7 +279,7 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
     return plot_command(items);
   };
   auto every = [](const ResponseSeries&) { return true; };
-  const int panels = 2 + (ground ? 1 : 0) + (any_rocks ? 1 : 0) + (any_damper ? 1 : 0);
+  const int panels = 1 + (ground ? 1 : 0) + (any_elastic ? 1 : 0) + (any_rocks ? 1 : 0) + (any_damper ? 1 : 0);
   std::vector<std::string> labels;
   for (const ResponseSeries& r : runs) labels.push_back(r.label);
   const int points = font_points(fig, 1000, 1300);
@@ -289,8 +294,10 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
   }
   body += grid.panels[next++] + "  set ylabel \"total top drift {/Symbol d}_t [%]\"\n";
   body += curves("1:($6*100)", every);
-  body += grid.panels[next++] + "  set ylabel \"elastic top drift {/Symbol d}_e [%]\"\n";
-  body += curves("1:($7*100)", every);
+  if (any_elastic) {
+    body += grid.panels[next++] + "  set ylabel \"elastic top drift {/Symbol d}_e [%]\"\n";
+    body += curves("1:($7*100)", [](const ResponseSeries& r) { return r.elastic; });
+  }
   if (any_rocks) {
     body += grid.panels[next++] + "  set ylabel \"rocking angle {/Symbol q}/{/Symbol a}_{cg} [-]\"\n";
     body += curves("1:5", [](const ResponseSeries& r) { return r.rocks; });

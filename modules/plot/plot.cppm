@@ -36,13 +36,15 @@ struct ResponseSeries {
   std::string history;
   bool has_damper = true;  // draw its hysteresis loop
   bool rocks = true;       // draw its rocking angle
+  bool elastic = true;     // draw its elastic drift (a rigid block has none)
 };
 
 // What a history file holds: InputError unless it has the header and at least
-// two rows. rocks / has_damper: some row has theta / a damper elongation other
-// than zero; ground: it has the a_g column.
+// two rows. rocks / elastic / has_damper: some row has theta / delta_e / a
+// damper elongation other than zero; ground: it has the a_g column, and
+// ground_moves: some a_g is not zero.
 struct HistoryContent {
-  bool rocks = false, has_damper = false, ground = false;
+  bool rocks = false, elastic = false, has_damper = false, ground = false, ground_moves = false;
 };
 HistoryContent check_history(const std::filesystem::path& file);
 
