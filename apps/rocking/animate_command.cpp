@@ -202,7 +202,7 @@ int animate(const AnimateArgs& a) {
                           "set output \"{}.gif\"\n", std::max(2, 100 / a.fps), width, height, stem),
       stem, frames - 1, frame_dt,
       video ? fmt::format("  set output sprintf(\"{}.frames/%05d.png\", i)\n", stem) : std::string(), scene.name,
-      describe_motion(motion), motion_scale(scene, a.motion).describe(), kr, k, -span, span, H, H, panels, right_trace);
+      describe_motion(motion.name()), motion_scale(scene, a.motion).describe(), kr, k, -span, span, H, H, panels, right_trace);
   plot::Figure fig;
   fig.dir = dir;
   fig.name = stem;

@@ -76,5 +76,7 @@ std::string variant_label(const std::string& name);
 std::string describe_motion(const std::string& name);
 // The same, with what the record's header says it is (event, station, PGA).
 std::string describe_motion(const rocking::GroundMotion& motion);
+// The same on two lines, for figure titles.
+std::string motion_title(const rocking::GroundMotion& motion);
 
 }  // namespace rocking::app

@@ -94,7 +94,7 @@ int response(const ResponseArgs& a) {
     for (const std::string& key : keys) variants.push_back(named_variant(key));
     const GroundMotion motion = load_motion(base, a.motion);
     make_output_dir(data_dir);
-    title = fmt::format("{}\n{}, {}", base.name, describe_motion(motion), motion_scale(base, a.motion).describe());
+    title = fmt::format("{}, {}\n{}", base.name, motion_scale(base, a.motion).describe(), motion_title(motion));
     for (std::size_t k = 0; k < keys.size(); ++k) {
       const std::string& key = keys[k];
       const Variant& v = variants[k];
@@ -187,6 +187,11 @@ std::string describe_motion(const std::string& name) {
 std::string describe_motion(const GroundMotion& motion) {
   const std::string name = describe_motion(motion.name());
   return motion.description().empty() ? name : fmt::format("{}: {}", name, motion.description());
+}
+
+std::string motion_title(const GroundMotion& motion) {
+  const std::string name = describe_motion(motion.name());
+  return motion.description().empty() ? name : fmt::format("{}\n{}", motion.description(), name);
 }
 
 Command add_plot_command(CLI::App& app) {

@@ -148,7 +148,7 @@ void study_figures(const StudyArgs& a, const Study& st, const std::vector<std::s
     const GroundMotion* motion = st.motion(r);
     fig.title = fmt::format("{}: {}\n{}", scene_name,
                             kind == "ida" ? "incremental dynamic analysis" : "parametric study",
-                            motion != nullptr ? describe_motion(*motion) : ids[r]);
+                            motion != nullptr ? motion_title(*motion) : ids[r]);
     const std::vector<plot::Panel> panels = {
         {"peak total top drift {/Symbol d}_t [%]", "$1", "$2*100", true, ""},
         {"peak elastic top drift {/Symbol d}_e [%]", "$1", "$3*100", true, ""},

@@ -138,8 +138,8 @@ int tradeoff(const TradeoffArgs& a) {
   fig.formats = plot::parse_formats(a.formats);
   fig.width = 1400;
   fig.height = 750;
-  fig.title = fmt::format("{}: work-precision, {} {}\n(rtol {}; reference: rk45 at rtol 1e-12)", scene.name,
-                          describe_motion(motion), motion_scale(scene, a.motion).describe(), a.rtols);
+  fig.title = fmt::format("{}: work-precision, {}, rtol {} (reference: rk45 at rtol 1e-12)\n{}", scene.name,
+                          motion_scale(scene, a.motion).describe(), a.rtols, motion_title(motion));
   // Each point is labelled with its rtol (the exponent: "-4" for 1e-4).
   const std::string rtol_label = "sprintf('%d', floor(log10($4) + 0.5))";
   const std::vector<plot::Panel> panels = {

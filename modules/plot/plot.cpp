@@ -334,7 +334,7 @@ std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const
     collapses = collapses || s.collapse_column > 0;
   }
   if (collapses) labels.push_back("overturns (x: first; o: survives above it)");
-  const int points = font_points(fig, 1000, 1200);
+  const int points = font_points(fig, 550 * cols, 320 * rows);
   const Grid grid = shared_key_grid(fig, rows, cols, points, labels);
   std::string body = grid.begin + fmt::format("  set grid\n  set autoscale xfix\n  set offsets 0, 0, graph 0.05, 0\n"
                                                "  set xlabel {}\n{}",
