@@ -133,7 +133,7 @@ void study_figures(const StudyArgs& a, const Study& st, const std::vector<std::s
         ++rows;
       }
       if (rows == 0) continue;
-      plot::Series s{variant_label(st.variants()[v].name), file, {}, 10};
+      plot::Series s{variant_label(st.variants()[v].name), file, {}, fallen ? 10 : 0};
       if (!st.can_overturn(v)) s.absent.push_back(2);    // a fixed base does not rock
       if (!st.has_damper(v)) s.absent.push_back(3);      // nor stretch a damper it has not
       series.push_back(std::move(s));
