@@ -75,7 +75,7 @@ TEST_CASE("an unknown key is an error, not silently ignored") {
 TEST_CASE("a negative mass names the element and its line") {
   const std::string path = chimney_with("53800.0", "-53800.0");
   CHECK(error_of(path) == path + ":" + std::to_string(line_of(path, "masses =")) +
-                              ": structure.masses[2]: must be positive (got -53800)");
+                              ": structure.masses[2]: must be positive and at most 1e+12 kg (got -53800)");
 }
 
 TEST_CASE("non-increasing heights are refused") {
@@ -86,7 +86,7 @@ TEST_CASE("non-increasing heights are refused") {
 
 TEST_CASE("a zero section is refused") {
   const std::string path = chimney_with("[9.84, 4.03,", "[9.84, 0.0,");
-  CHECK(error_of(path).ends_with("structure.second_moments[1]: must be positive (got 0)"));
+  CHECK(error_of(path).ends_with("structure.second_moments[1]: must be positive and at most 10000 m^4 (got 0)"));
 }
 
 TEST_CASE("malformed and unknown --set are one-line errors naming the --set") {
@@ -96,7 +96,7 @@ TEST_CASE("malformed and unknown --set are one-line errors naming the --set") {
   CHECK(error_of(path, {"EI_scale=3"}).starts_with("--set EI_scale=3: expected"));
   CHECK(error_of(path, {"structure.EI_scal=3"}) == "--set structure.EI_scal=3: unknown key 'structure.EI_scal'");
   CHECK(error_of(path, {"structure.EI_scale=-1"}) ==
-        "--set structure.EI_scale=-1: structure.EI_scale: must be positive (got -1)");
+        "--set structure.EI_scale=-1: structure.EI_scale: must be in [1e-6, 1e6] (got -1)");
   CHECK(error_of(path, {"structure.EI_scale=soft"}) ==
         "--set structure.EI_scale=soft: structure.EI_scale: must be a number");
 }

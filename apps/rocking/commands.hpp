@@ -47,7 +47,8 @@ rocking::GroundMotion load_motion(const rocking::Scene& scene, const MotionOptio
 struct SolverOptions {
   std::string integrator = "rk45";
   double rtol = 1e-4, atol = 1e-7;  // RunOptions' defaults: the measured knee
-  double duration = 0;
+  double duration = 0;           // with duration_given: --duration
+  bool duration_given = false;
   long max_events = 100000;
   long max_steps = 10'000'000;
   bool integrate_contact = false;  // full contact by the backend, not exact steps

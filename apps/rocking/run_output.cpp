@@ -1,6 +1,8 @@
 #include "run_output.hpp"
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 #include <cerrno>
+#include <system_error>
 #include <cmath>
 #include <cstring>
 #include <algorithm>
@@ -24,6 +26,18 @@ HistoryCsv::~HistoryCsv() {
 
 void HistoryCsv::record(const Response& r) {
   using Q = Quantity;
+  // A full disk ends the run (RunError, exit 3) naming the file; the rows
+  // written before stay.
+  if (std::ferror(file_) != 0) throw RunError(fmt::format("{}: cannot write: {}", path_, std::strerror(errno)));
+  try {
+    print_row(r);
+  } catch (const std::system_error& e) {
+    throw RunError(fmt::format("{}: cannot write: {}", path_, e.code().message()));
+  }
+}
+
+void HistoryCsv::print_row(const Response& r) {
+  using Q = Quantity;
   fmt::print(file_, "{:.9g},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", r.t,
              r.pivot == 0 ? "contact" : r.pivot > 0 ? "rock+" : "rock-", r.u_top, r[Q::theta], r[Q::theta_over_alpha],
              r[Q::delta_t], r[Q::delta_e], r[Q::damper_d], r[Q::damper_F], r[Q::base_shear], r[Q::base_moment],
@@ -35,7 +49,7 @@ void HistoryCsv::close() {
   const bool bad = std::ferror(file_) != 0;
   const bool closed = std::fclose(file_) == 0;
   file_ = nullptr;
-  if (bad || !closed) throw RunError(fmt::format("{}: writing failed (disk full?)", path_));
+  if (bad || !closed) throw RunError(fmt::format("{}: cannot write: {}", path_, std::strerror(errno)));
 }
 
 void make_output_dir(const std::filesystem::path& dir) {
@@ -108,7 +122,13 @@ void Progress::operator()(std::size_t done, std::size_t total) {
 
 int thread_count(int requested) {
   if (requested < 0) throw InputError(fmt::format("--threads {}: must be at least 1 (0: every core)", requested));
-  return requested > 0 ? requested : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int most = 4 * cores;  // beyond this, threads only wait for each other
+  if (requested > most) {
+    spdlog::warn("--threads {}: this machine has {} cores; running {} threads", requested, cores, most);
+    return most;
+  }
+  return requested > 0 ? requested : cores;
 }
 
 }  // namespace rocking::app

@@ -24,6 +24,7 @@ class HistoryCsv : public rocking::Observer {
   void close();  // flushes; InputError-free, RunError if the disk refused
 
  private:
+  void print_row(const rocking::Response& r);
   std::FILE* file_ = nullptr;
   std::string path_;
   const rocking::GroundMotion& motion_;
@@ -56,7 +57,8 @@ class Progress {
   std::chrono::steady_clock::time_point start_;
 };
 
-// --threads N: N, or every core for 0; InputError below 0.
+// --threads N: N, or every core for 0; InputError below 0; above four
+// threads a core, that many, with a warning.
 int thread_count(int requested);
 
 }  // namespace rocking::app

@@ -99,7 +99,12 @@ void add_solver_options(CLI::App& cmd, SolverOptions& opts) {
       ->type_name("NAME");
   cmd.add_option("--rtol", opts.rtol, "Relative tolerance (default 1e-4: the knee of `rocking tradeoff`)")->type_name("X");
   cmd.add_option("--atol", opts.atol, "Absolute tolerance (default 1e-7)")->type_name("Y");
-  cmd.add_option("--duration", opts.duration,
+  cmd.add_option_function<double>(
+         "--duration",
+         [&opts](double v) {
+           opts.duration = v;
+           opts.duration_given = true;
+         },
                  "Simulated time [s] (default: the length of --record, else the\n"
                  "scene's excitation.duration)")
       ->type_name("S");
@@ -123,12 +128,13 @@ rocking::RunOptions run_options(const rocking::Scene& scene, const SolverOptions
   if (!positive(opts.rtol) || opts.rtol >= 1)
     throw InputError(fmt::format("--rtol {}: must be in (0, 1)", opts.rtol));
   if (!positive(opts.atol)) throw InputError(fmt::format("--atol {}: must be positive", opts.atol));
-  if (opts.duration < 0 || !std::isfinite(opts.duration))
-    throw InputError(fmt::format("--duration {}: must be positive", opts.duration));
+  if (opts.duration_given && !(opts.duration > 0 && opts.duration <= 1e5))
+    throw InputError(fmt::format("--duration {}: must be positive and at most 1e5 s (omit it for the whole motion)",
+                                 opts.duration));
   if (opts.max_events < 1) throw InputError(fmt::format("--max-events {}: must be at least 1", opts.max_events));
   ro.tolerances.rtol = opts.rtol;
   ro.tolerances.atol = opts.atol;
-  ro.duration = opts.duration > 0 ? opts.duration : scene_excitation ? scene.excitation.duration : 0.0;
+  ro.duration = opts.duration_given ? opts.duration : scene_excitation ? scene.excitation.duration : 0.0;
   if (opts.max_steps < 1) throw InputError(fmt::format("--max-steps {}: must be at least 1", opts.max_steps));
   ro.max_events = opts.max_events;
   ro.tolerances.max_steps = opts.max_steps;

@@ -10,6 +10,9 @@ namespace rocking::app {
 
 namespace {
 
+// About 1.5 GB of history.csv: more is a mistake, not a study.
+constexpr double max_history_rows = 1e7;
+
 struct SimulateOptions {
   SceneOptions scene;
   MotionOptions motion;
@@ -43,7 +46,13 @@ int run(const SimulateOptions& o) {
   const Scene scene = load_scene(o.scene);
   const GroundMotion motion = load_motion(scene, o.motion);
   RunOptions ro = run_options(scene, o.solver, o.motion.record.empty());
-  if (!(o.output_interval > 0)) throw InputError(fmt::format("--every {}: must be positive", o.output_interval));
+  if (!(o.output_interval > 0) || !std::isfinite(o.output_interval))
+    throw InputError(fmt::format("--every {}: must be positive", o.output_interval));
+  const double duration = ro.duration > 0 ? ro.duration : motion.duration();
+  if (duration / o.output_interval > max_history_rows)
+    throw InputError(fmt::format("--every {:g}: {:.3g} rows of history for {:g} s (at most {:g}); choose a larger "
+                                 "interval",
+                                 o.output_interval, duration / o.output_interval, duration, max_history_rows));
   ro.output_interval = o.output_interval;
   const ContactModel model = make_contact_model(scene, true);
   const std::filesystem::path dir(o.out);
@@ -52,7 +61,14 @@ int run(const SimulateOptions& o) {
   const ScaleFactors scale = motion_scale(scene, o.motion);
   spdlog::info("simulating '{}' under {} ({}) with {}", scene.name, motion.name(), scale.describe(), o.solver.integrator);
   const RunResult result = simulate(model, motion, ro, &history);
-  history.close();
+  if (result.outcome == Outcome::failed) {  // the history may be what failed: keep what it holds, say why
+    try {
+      history.close();
+    } catch (const RunError&) {
+    }
+  } else {
+    history.close();
+  }
   const RunLabel label{scene.name,    scene.source,       describe_motion(motion), o.motion.record,
                        scale.total(), scale.scene,         scale.option,                   ro.tolerances.rtol,
                        ro.tolerances.atol};

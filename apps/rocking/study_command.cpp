@@ -236,9 +236,17 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
 int run_hunt(const StudyArgs& a, const Study& st) {
   const fs::path dir(a.out);
   make_output_dir(dir);
-  if (!(a.hunt_step > 0) || !(a.precision > 0) || !(a.hunt_max > 0))
+  if (!(a.hunt_step > 0) || !(a.precision > 0) || !(a.hunt_max > 0) || !std::isfinite(a.hunt_max))
     throw InputError("--hunt-step, --hunt-max and --precision must be positive");
   const double first = number_list("--scales", a.scales).front();
+  if (a.hunt_max < first)
+    throw InputError(fmt::format("--hunt-max {:g}: below the first scale {:g}, the hunt would run nothing", a.hunt_max, first));
+  // Runs per record and variant: the steps up, then the bisection.
+  const double runs = (a.hunt_max - first) / a.hunt_step + std::log2(std::max(1.0, a.hunt_step / a.precision)) + 1;
+  if (runs > 1e5)
+    throw InputError(fmt::format("--hunt-step {:g}: up to {:.3g} runs per record and variant (at most 1e5); take a "
+                                 "larger step",
+                                 a.hunt_step, runs));
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
   for (std::size_t r = 0; r < st.records().size(); ++r)
     for (std::size_t v = 0; v < st.variants().size(); ++v) pairs.emplace_back(r, v);

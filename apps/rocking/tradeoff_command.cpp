@@ -79,6 +79,7 @@ int tradeoff(const TradeoffArgs& a) {
   const GroundMotion motion = load_motion(scene, a.motion);
   SolverOptions solver;
   solver.duration = a.duration;
+  solver.duration_given = a.duration != 0;
   RunOptions base = run_options(scene, solver, a.motion.record.empty());
   base.track_energy = false;
   const ContactModel model = make_contact_model(scene, false);

@@ -24,8 +24,15 @@ struct Line {
   std::string text;  // without the line end (CR stripped)
 };
 
+// Records beyond these are not records: refused with their line rather than
+// run into a non-finite state or an absurd amount of work.
+constexpr double max_acceleration_g = 100;  // |a| [g]
+constexpr double max_record_duration = 1e5; // [s], about 28 hours
+constexpr double min_record_dt = 1e-6;      // [s]
+
 std::vector<Line> read_lines(const std::string& path) {
   std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError(fmt::format("{}: is a folder, not a record file", path));
   if (!std::filesystem::is_regular_file(path, ec)) throw InputError(fmt::format("{}: record file not found", path));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(fmt::format("{}: cannot read the record file", path));
@@ -63,27 +70,66 @@ std::vector<double> numbers_of(const std::string& path, const Line& line) {
   return out;
 }
 
+// A number that is all of `text` (no trailing letters: "1e" is not 1).
+std::optional<double> whole_number(std::string_view text) {
+  double v = 0;
+  const char* first = text.data() + (text.starts_with('+') ? 1 : 0);
+  const auto [ptr, ec] = std::from_chars(first, text.data() + text.size(), v);
+  if (ec != std::errc() || ptr != text.data() + text.size() || text.empty()) return std::nullopt;
+  return v;
+}
+
+// Each acceleration (m/s^2) within max_acceleration_g, or an error at its line.
+void check_acceleration(const std::string& path, int line, double a_si) {
+  if (std::abs(a_si) > max_acceleration_g * to_si(AccelerationUnit::g))
+    fail(path, line, fmt::format("acceleration {:g} m/s2 is beyond {} g: not a ground motion (wrong units?)", a_si,
+                                 max_acceleration_g));
+}
+
 bool blank_or_comment(const Line& l) {
   const auto first = l.text.find_first_not_of(" \t");
   return first == std::string::npos || l.text[first] == '#';
 }
 
 GroundMotion read_at2(const std::string& path, const std::vector<Line>& lines, const RecordOptions& o) {
-  static const std::regex header(R"(NPTS\s*=\s*(\d+)\s*,?\s*DT\s*=\s*([0-9.Ee+-]+))", std::regex::icase);
+  // The header line is the first that names NPTS; its NPTS and DT are read
+  // from there, and every error about them names that line.
+  static const std::regex npts_field(R"(NPTS\s*=\s*([^\s,]*))", std::regex::icase);
+  static const std::regex dt_field(R"(DT\s*=\s*([^\s,]*))", std::regex::icase);
+  static const std::regex npts_word("NPTS", std::regex::icase);
   std::size_t h = 0;
-  std::smatch m;
-  while (h < lines.size() && !std::regex_search(lines[h].text, m, header)) ++h;
+  while (h < lines.size() && !std::regex_search(lines[h].text, npts_word)) ++h;
   if (h == lines.size()) fail(path, 1, "no line with NPTS= and DT= (not a PEER .AT2 file?)");
-  const long npts = std::stol(m[1].str());
-  double dt = 0;
-  try { dt = std::stod(m[2].str()); } catch (...) { fail(path, lines[h].number, "DT is not a number"); }
-  if (!(dt > 0)) fail(path, lines[h].number, fmt::format("DT must be positive (got {})", dt));
+  const int at = lines[h].number;
+  std::smatch m;
+  if (!std::regex_search(lines[h].text, m, npts_field)) fail(path, at, "NPTS has no value (NPTS= count)");
+  const std::string npts_text = m[1].str();
+  long npts = -1;
+  const auto [end, ec] = std::from_chars(npts_text.data(), npts_text.data() + npts_text.size(), npts);
+  if (ec == std::errc::result_out_of_range || (ec == std::errc() && end == npts_text.data() + npts_text.size() && npts < 0))
+    fail(path, at, fmt::format("NPTS = {} is not a count of samples", npts_text));
+  if (ec != std::errc() || end != npts_text.data() + npts_text.size())
+    fail(path, at, fmt::format("NPTS = '{}' is not a whole number", npts_text));
+  if (!std::regex_search(lines[h].text, m, dt_field)) fail(path, at, "no DT= on the NPTS line");
+  const std::optional<double> dt_read = whole_number(m[1].str());
+  if (!dt_read || !std::isfinite(*dt_read)) fail(path, at, fmt::format("DT = '{}' is not a number", m[1].str()));
+  const double dt = *dt_read;
+  if (!(dt > 0)) fail(path, at, fmt::format("DT must be positive (got {})", dt));
+  if (dt < min_record_dt) fail(path, at, fmt::format("DT = {:g} s is below {:g} s: not a record's time step", dt, min_record_dt));
+  if (o.dt > 0) fail(path, at, fmt::format("--dt {:g}: the file states its own time step (DT = {:g} s)", o.dt, dt));
+  // The values, counted before anything is reserved: a header may claim more
+  // than the file holds.
   std::vector<double> values;
-  values.reserve(static_cast<std::size_t>(npts));
   for (std::size_t i = h + 1; i < lines.size(); ++i)
-    for (double v : numbers_of(path, lines[i])) values.push_back(v * to_si(o.unit));
+    for (double v : numbers_of(path, lines[i])) {
+      values.push_back(v * to_si(o.unit));
+      check_acceleration(path, lines[i].number, values.back());
+    }
   if (static_cast<long>(values.size()) != npts)
-    fail(path, lines[h].number, fmt::format("NPTS = {} but the file holds {} values", npts, values.size()));
+    fail(path, at, fmt::format("NPTS = {} but the file holds {} values", npts, values.size()));
+  if (dt * static_cast<double>(npts) > max_record_duration)
+    fail(path, at, fmt::format("DT x NPTS = {:g} s is beyond {:g} s: not a record's duration", dt * static_cast<double>(npts),
+                               max_record_duration));
   std::vector<double> times(values.size());
   for (std::size_t i = 0; i < times.size(); ++i) times[i] = static_cast<double>(i) * dt;
   GroundMotion g =
@@ -102,6 +148,7 @@ GroundMotion read_at2(const std::string& path, const std::vector<Line>& lines, c
 GroundMotion read_columns(const std::string& path, const std::vector<Line>& lines, const RecordOptions& o,
                           std::size_t columns) {
   if (columns == 1 && !(o.dt > 0)) fail(path, 1, fmt::format("a one-column record needs --dt > 0 (got {})", o.dt));
+  if (columns == 2 && o.dt > 0) fail(path, 1, fmt::format("--dt {:g}: a two-column record gives its own times", o.dt));
   std::vector<double> times, values;
   for (const Line& l : lines) {
     if (blank_or_comment(l)) continue;
@@ -109,10 +156,16 @@ GroundMotion read_columns(const std::string& path, const std::vector<Line>& line
     if (row.size() != columns)
       fail(path, l.number, fmt::format("expected {} column{}, found {}", columns, columns == 1 ? "" : "s", row.size()));
     const double t = columns == 1 ? static_cast<double>(values.size()) * o.dt : row[0];
+    if (times.empty() && t < 0)
+      fail(path, l.number, fmt::format("the record starts at t = {:g} s: a run starts at 0, and would lose what "
+                                       "comes before it (shift the times)", t));
     if (!times.empty() && !(t > times.back()))
       fail(path, l.number, fmt::format("times must increase ({} after {})", t, times.back()));
+    if (t > max_record_duration)
+      fail(path, l.number, fmt::format("t = {:g} s is beyond {:g} s: not a record's duration", t, max_record_duration));
     times.push_back(t);
     values.push_back(row.back() * to_si(o.unit));
+    check_acceleration(path, l.number, values.back());
   }
   if (values.size() < 2) fail(path, lines.empty() ? 1 : lines.back().number, "a record needs at least two samples");
   return GroundMotion::from_samples(std::filesystem::path(path).filename().string(), std::move(times), std::move(values));
@@ -133,7 +186,10 @@ GroundMotion read_record(const std::string& path, const RecordOptions& o) {
     else {
       const auto first = std::find_if(lines.begin(), lines.end(), [](const Line& l) { return !blank_or_comment(l); });
       if (first == lines.end()) fail(path, 1, "the record is empty");
-      format = numbers_of(path, *first).size() == 2 ? RecordFormat::two_column : RecordFormat::one_column;
+      const std::size_t columns = numbers_of(path, *first).size();
+      if (columns > 2)
+        fail(path, first->number, fmt::format("{} columns: a record has one (a, with --dt) or two (t, a)", columns));
+      format = columns == 2 ? RecordFormat::two_column : RecordFormat::one_column;
     }
   }
   GroundMotion g = format == RecordFormat::at2          ? read_at2(path, lines, o)

@@ -123,6 +123,14 @@ class TableReader {
 };
 
 const auto positive = [](double v) { return v > 0; };
+// (low, high] or [low, high]: bounds beyond which a value is a typo, not a structure.
+auto in_range(double low, double high, bool low_included) {
+  return [=](double v) { return (low_included ? v >= low : v > low) && v <= high; };
+}
+constexpr double max_mass = 1e12;      // [kg], a mountain
+constexpr double max_length = 1e4;     // [m] (and m^4 for second moments)
+constexpr double max_modulus = 1e13;   // [Pa], ten times diamond
+constexpr double max_duration = 1e5;   // [s], about 28 hours
 const auto non_negative = [](double v) { return v >= 0; };
 
 void check_known_keys(const toml::table& root, const std::string& file) {
@@ -172,18 +180,21 @@ void apply_override(toml::table& root, const std::string& text, Origins& origins
 Structure read_structure(const toml::table& root, const std::string& file, const Origins& origins) {
   const TableReader t(root, "structure", file, origins);
   Structure s;
-  s.half_width = t.number("half_width", positive, "positive");
-  s.heights = t.numbers("heights", positive, "positive");
-  s.masses = t.numbers("masses", positive, "positive");
-  s.base_mass = t.number("base_mass", non_negative, "non-negative");
+  s.half_width = t.number("half_width", in_range(0, max_length, false), fmt::format("positive and at most {:g} m", max_length));
+  s.heights = t.numbers("heights", in_range(0, max_length, false), fmt::format("positive and at most {:g} m", max_length));
+  s.masses = t.numbers("masses", in_range(0, max_mass, false), fmt::format("positive and at most {:g} kg", max_mass));
+  s.base_mass = t.number("base_mass", in_range(0, max_mass, true), fmt::format("non-negative and at most {:g} kg", max_mass));
   s.rigid = t.boolean_or("rigid", false);
   const auto n = s.heights.size();
   if (s.masses.size() != n) t.fail(&t.required("masses"), "masses", fmt::format("must have one entry per height ({})", n));
-  s.EI_scale = t.number_or("EI_scale", 1.0, positive, "positive");
+  s.EI_scale = t.number_or("EI_scale", 1.0, [](double v) { return v >= 1e-6 && v <= 1e6; }, "in [1e-6, 1e6]");
   if (!s.rigid || t.has("second_moments")) {  // a rigid block needs no sections
-    const Eigen::VectorXd I = t.numbers("second_moments", positive, "positive");
+    const Eigen::VectorXd I = t.numbers("second_moments", in_range(0, max_length, false),
+                                        fmt::format("positive and at most {:g} m^4", max_length));
     if (I.size() != n) t.fail(&t.required("second_moments"), "second_moments", fmt::format("must have one entry per element ({})", n));
-    s.EI = t.number("youngs_modulus", positive, "positive") * I;
+    s.EI = t.number("youngs_modulus", in_range(0, max_modulus, false),
+                    fmt::format("positive and at most {:g} Pa", max_modulus)) *
+           I;
   }
   s.damping_ratio = s.rigid && !t.has("damping_ratio")
                         ? 0.0
@@ -244,7 +255,8 @@ Excitation read_excitation(const toml::table& root, const std::string& file, con
   Excitation e;
   if (!root.contains("excitation")) return e;
   const TableReader t(root, "excitation", file, origins);
-  e.duration = t.number_or("duration", 0.0, positive, "positive [s]");
+  e.duration = t.number_or("duration", 0.0, in_range(0, max_duration, false),
+                           fmt::format("positive and at most {:g} [s]", max_duration));
   const std::string kind = t.string_or("kind", t.has("record") ? "record" : "pulse");
   if (kind != "none" && kind != "record" && kind != "pulse")
     t.fail(&t.required("kind"), "kind", fmt::format("must be pulse, record or none (got '{}')", kind));
@@ -341,6 +353,7 @@ std::string parse_error_line(const toml::parse_error& e, const std::string& file
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
   std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError(fmt::format("{}: is a folder, not a scene file", path));
   if (!std::filesystem::is_regular_file(path, ec))
     throw InputError(fmt::format("{}: scene file not found", path));
   try {
