@@ -2,7 +2,7 @@
 # CMake 4.3 lives in .tools/bin (installed by scripts/setup.sh).
 export PATH := $(CURDIR)/.tools/bin:$(PATH)
 
-.PHONY: all setup configure build test demo bench golden clean
+.PHONY: all setup configure build test demo bench golden sanitize fuzz clean
 all: build
 
 setup:
@@ -20,6 +20,26 @@ test: build
 demo: build
 	@build/bin/rocking plot response --out plots --name demo_response
 
+# The whole suite under AddressSanitizer + UndefinedBehaviorSanitizer, in its
+# own build folder (build-sanitize); the allocation test, which replaces the
+# allocator, is not built there. OpenMPI's own leaks are suppressed
+# (tests/sanitizer/lsan.supp), never the project's.
+sanitize: setup
+	@cmake --preset sanitize >/dev/null
+	@cmake --build --preset sanitize
+	@ctest --preset sanitize
+
+# Each fuzz target (tests/fuzz) for FUZZ_SECONDS under the sanitizers, from
+# the committed corpus and the shared records and scenes as seeds; new inputs
+# that reach new code go to build-sanitize/fuzz-corpus. A crash stops with the
+# input saved as build-sanitize/crash-*: fix it, and commit the input under
+# tests/fuzz/regressions/TARGET, which make test replays.
+FUZZ_SECONDS ?= 60
+fuzz: setup
+	@cmake --preset sanitize >/dev/null
+	@cmake --build --preset sanitize --target record_fuzz scene_fuzz set_override_fuzz number_list_fuzz
+	@bash scripts/fuzz.sh $(FUZZ_SECONDS)
+
 # Reruns the paper's checks, rewrites tests/golden/paper_checks.tsv and prints
 # the README's table: only after a change that moves the numbers on purpose.
 golden: build
@@ -36,4 +56,4 @@ bench: build
 	@build/bin/study_bench
 
 clean:
-	@rm -rf build
+	@rm -rf build build-sanitize

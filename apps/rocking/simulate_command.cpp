@@ -1,8 +1,10 @@
 // `rocking simulate`: one run of a scene under a ground motion (MODEL.md 2-7).
 #include "commands.hpp"
 #include "run_output.hpp"
+#include "stop_signals.hpp"
 #include <spdlog/spdlog.h>
 #include <fmt/format.h>
+#include <csignal>
 #include <iostream>
 #include <memory>
 
@@ -55,6 +57,8 @@ int run(const SimulateOptions& o) {
                                  o.output_interval, duration / o.output_interval, duration, max_history_rows));
   ro.output_interval = o.output_interval;
   const ContactModel model = make_contact_model(scene, true);
+  catch_stop_signals();
+  ro.stop = [] { return stop_signal() != 0; };
   const std::filesystem::path dir(o.out);
   make_output_dir(dir);
   HistoryCsv history(dir / "history.csv", motion);
@@ -72,11 +76,21 @@ int run(const SimulateOptions& o) {
   const RunLabel label{scene.name,    scene.source,       describe_motion(motion), o.motion.record,
                        scale.total(), scale.scene,         scale.option,                   ro.tolerances.rtol,
                        ro.tolerances.atol};
-  const nlohmann::json summary = summary_json(label, result);
+  nlohmann::json summary = summary_json(label, result);
+  if (stop_signal() != 0) {
+    summary["interrupted"] = true;
+    summary["outcome"] = "interrupted";
+  }
   write_text(dir / "summary.json", summary.dump(2) + "\n");
   if (o.json) std::cout << summary.dump(2) << '\n';
   else print_text(summary);
   spdlog::info("wrote {} and {}", (dir / "history.csv").string(), (dir / "summary.json").string());
+  if (const int signal = stop_signal(); signal != 0) {
+    fmt::print(stderr, "rocking: stopped by {} at t = {:.6g} s; {} holds the history up to there, summary.json says "
+                       "interrupted\n",
+               signal == SIGTERM ? "SIGTERM" : "SIGINT", result.t_end, (dir / "history.csv").string());
+    return stop_exit_code(signal);
+  }
   if (result.outcome == Outcome::failed) throw RunError(result.failure);
   return 0;
 }

@@ -5,10 +5,13 @@
 #include "commands.hpp"
 #include "mpi_jobs.hpp"
 #include "run_output.hpp"
+#include "stop_signals.hpp"
 #include <spdlog/spdlog.h>
 #include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
+#include <csignal>
+#include <sstream>
 #include <fstream>
 #include <memory>
 
@@ -31,6 +34,7 @@ struct StudyArgs {
   double hunt_step = 1, hunt_max = 50, precision = 0.05;
   std::string formats = "png,pdf,svg";
   bool no_plot = false;
+  bool resume = false;
 };
 
 const char* csv_header =
@@ -163,29 +167,96 @@ void study_figures(const StudyArgs& a, const Study& st, const std::vector<std::s
   }
 }
 
+// A study's CSV fields (no field of a row holds a quoted comma but the error,
+// which is last).
+std::vector<std::string> csv_fields(const std::string& row) {
+  std::vector<std::string> out;
+  std::stringstream ss(row);
+  for (std::string f; std::getline(ss, f, ',');) out.push_back(f);
+  if (row.ends_with(",")) out.emplace_back();  // the last field, empty
+  return out;
+}
+
+// What an earlier, interrupted run of the same study left in DIR: its rows are
+// the first jobs in order (rows are written in job order), each checked
+// against the job it must be; their figure data follow from the rows.
+struct Resumed {
+  std::vector<std::string> rows, lines, timings;
+};
+Resumed read_resumed(const fs::path& csv_file, const fs::path& timing_file, const std::vector<Job>& jobs,
+                     const std::vector<std::string>& ids, const Study& st) {
+  Resumed r;
+  std::ifstream in(csv_file);
+  if (!in) throw InputError(fmt::format("--resume: {} not found: nothing to resume", csv_file.string()));
+  std::string line;
+  if (!std::getline(in, line) || line + "\n" != csv_header)
+    throw InputError(fmt::format("--resume: {}:1: not a study CSV of this version (header differs)", csv_file.string()));
+  for (int n = 2; std::getline(in, line); ++n) {
+    if (in.eof()) break;  // a last line without its newline was cut: run that job again
+    const std::size_t k = r.rows.size();
+    const std::vector<std::string> f = csv_fields(line);
+    const std::string expected = k < jobs.size() ? fmt::format("{},{:.6g},{}", csv_field(ids[jobs[k].record]), jobs[k].scale,
+                                                               csv_field(st.variants()[jobs[k].variant].name))
+                                                 : std::string("(no more jobs)");
+    if (k >= jobs.size() || f.size() < 17 || !line.starts_with(expected + ","))
+      throw InputError(fmt::format("--resume: {}:{}: this row is not job {} of this study ({}): give the same scene, "
+                                   "--record, --scales and --variants as the interrupted run",
+                                   csv_file.string(), n, k + 1, expected));
+    r.rows.push_back(line + "\n");
+    std::string data = f[1];
+    for (std::size_t c = 3; c <= 10; ++c) data += "," + (f[c].empty() ? std::string("0") : f[c]);
+    r.lines.push_back(f[16].empty() ? data + (f[12] == "overturned" ? ",1" : ",0") : std::string());
+  }
+  std::ifstream timing(timing_file);
+  if (timing && std::getline(timing, line))
+    while (r.timings.size() < r.rows.size() && std::getline(timing, line)) r.timings.push_back(line + "\n");
+  return r;
+}
+
+// Writes `text` to `file` through a temporary name: the file is whole or absent.
+void write_whole(const fs::path& file, const std::string& text) {
+  const fs::path tmp = file.string() + ".tmp";
+  write_text(tmp, text);
+  fs::rename(tmp, file);
+}
+
 int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, const std::string& scene_name,
                const MpiWorld& world) {
   const std::vector<Job> jobs = st.ladder(number_list("--scales", a.scales));
   const std::vector<std::string> ids = record_ids(st.records());
   const int threads = thread_count(a.threads);
   if (!a.no_plot) plot::parse_formats(a.formats);  // refused before any run
-  const fs::path dir(a.out);
+  if (a.resume && world.size > 1) throw InputError("--resume: run it as one process (not under mpirun)");
+  const fs::path dir(a.out), csv_file = dir / (kind + ".csv"), timing_file = dir / "timing.csv";
+  const Resumed resumed = a.resume ? read_resumed(csv_file, timing_file, jobs, ids, st) : Resumed{};
+  const std::size_t first = resumed.rows.size();
   if (world.rank == 0) make_output_dir(dir);
+  if (world.size == 1) catch_stop_signals();
   std::vector<std::size_t> mine;
-  for (std::size_t i = 0; i < jobs.size(); ++i)
+  for (std::size_t i = first; i < jobs.size(); ++i)
     if (static_cast<int>(i % static_cast<std::size_t>(world.size)) == world.rank) mine.push_back(i);
   if (world.rank == 0)
-    spdlog::info("{}: {} jobs on {} thread(s){}", kind, jobs.size(), threads,
-                 world.size > 1 ? fmt::format(" x {} processes", world.size) : "");
+    spdlog::info("{}: {} jobs on {} thread(s){}{}", kind, jobs.size() - first, threads,
+                 world.size > 1 ? fmt::format(" x {} processes", world.size) : "",
+                 first > 0 ? fmt::format(" ({} done before, resumed)", first) : "");
   std::vector<std::pair<long, std::string>> rows, timings, lines;
+  for (std::size_t i = 0; i < first; ++i) {
+    timings.emplace_back(static_cast<long>(i), i < resumed.timings.size() ? resumed.timings[i] : std::string());
+    lines.emplace_back(static_cast<long>(i), resumed.lines[i]);
+  }
+  // A single process streams its rows (a long study shows them as they come)
+  // into a temporary file, renamed when the study ends or stops.
+  const fs::path partial = csv_file.string() + ".partial";
   std::ofstream csv;
   if (world.size == 1) {
-    csv.open(dir / (kind + ".csv"));
-    if (!csv) throw InputError(fmt::format("{}: cannot write", (dir / (kind + ".csv")).string()));
-    csv << csv_header << std::flush;
+    csv.open(partial);
+    if (!csv) throw InputError(fmt::format("{}: cannot write", partial.string()));
+    csv << csv_header;
+    for (const std::string& r : resumed.rows) csv << r;
+    csv << std::flush;
   }
   Progress progress(world.rank == 0 && spdlog::get_level() <= spdlog::level::info);
-  parallel_ordered<JobResult>(
+  const std::size_t emitted = parallel_ordered<JobResult>(
       mine.size(), threads, [&](std::size_t k) { return st.run(jobs[mine[k]]); },
       [&](std::size_t k, const JobResult& r) {
         const std::size_t i = mine[k];
@@ -193,19 +264,19 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
         const std::string timing = fmt::format("{},{:.6g},{},{:.6f}\n", csv_field(ids[jobs[i].record]),
                                                jobs[i].scale, csv_field(st.variants()[jobs[i].variant].name), r.run.wall_s);
         if (world.size == 1) {
-          csv << text << std::flush;  // streamed: a long study shows its rows as they come
+          csv << text << std::flush;
         } else {
           rows.emplace_back(static_cast<long>(i), text);
         }
         timings.emplace_back(static_cast<long>(i), timing);
         lines.emplace_back(static_cast<long>(i), figure_line(jobs[i], r));
       },
-      [&](std::size_t done, std::size_t total) { progress(done, total); });
+      [&](std::size_t done, std::size_t total) { progress(done, total); }, [] { return stop_signal() != 0; });
   if (world.size > 1) {
     auto all = gather_rows(world, rows);
     std::sort(all.begin(), all.end());
     if (world.rank == 0) {
-      csv.open(dir / (kind + ".csv"));
+      csv.open(partial);
       csv << csv_header;
       for (const auto& [i, text] : all) csv << text;
     }
@@ -216,18 +287,27 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
   std::sort(all_lines.begin(), all_lines.end());
   if (world.rank != 0) return 0;
   csv.close();
-  if (!csv) throw RunError(fmt::format("{}: writing failed", (dir / (kind + ".csv")).string()));
-  std::ofstream tf(dir / "timing.csv");
-  tf << "record,scale,variant,wall_s\n";
-  for (const auto& [i, text] : all_timings) tf << text;
+  if (!csv) throw RunError(fmt::format("{}: cannot write", partial.string()));
+  fs::rename(partial, csv_file);
+  std::string timing_text = "record,scale,variant,wall_s\n";
+  for (const auto& [i, text] : all_timings) timing_text += text;
+  write_whole(timing_file, timing_text);
+  if (emitted < mine.size()) {  // stopped by a signal (one process: mine is every job left)
+    const std::size_t done = first + emitted;
+    const int signal = stop_signal();
+    fmt::print(stderr, "rocking: stopped by {} after {} of {} runs; {} holds them; continue with the same command and "
+                       "--resume\n",
+               signal == SIGTERM ? "SIGTERM" : "SIGINT", done, jobs.size(), csv_file.string());
+    return stop_exit_code(signal);
+  }
   std::vector<std::string> figure_lines(jobs.size());
   for (auto& [i, text] : all_lines) figure_lines[static_cast<std::size_t>(i)] = std::move(text);
   const auto failed = std::count(figure_lines.begin(), figure_lines.end(), std::string());
-  fmt::print("wrote {} ({} runs)\n", (dir / (kind + ".csv")).string(), jobs.size());
+  fmt::print("wrote {} ({} runs)\n", csv_file.string(), jobs.size());
   if (!a.no_plot) study_figures(a, st, ids, jobs, figure_lines, kind, scene_name);
   if (failed > 0) {
     fmt::print(stderr, "rocking: {} of {} runs failed: see the error column of {}\n", failed, jobs.size(),
-               (dir / (kind + ".csv")).string());
+               csv_file.string());
     return exit_jobs_failed;
   }
   return 0;
@@ -303,6 +383,10 @@ void add_study_options(CLI::App& cmd, StudyArgs& a, const std::string& default_o
   cmd.add_option("--out", a.out, fmt::format("Output folder (default {})", default_out))->type_name("DIR");
   cmd.add_option("--formats", a.formats, "Figure formats: png,pdf,svg (default all)")->type_name("LIST");
   cmd.add_flag("--no-plot", a.no_plot, "Write the CSV only");
+  cmd.add_flag("--resume", a.resume,
+               "Continue a study stopped by Ctrl-C or SIGTERM: the rows already in\n"
+               "DIR/ida.csv (DIR/sweep.csv) are kept, the other jobs run; the CSV ends as\n"
+               "an uninterrupted run writes it. Give the same arguments as the first run.");
   add_solver_options(cmd, a.solver);
 }
 
@@ -319,7 +403,8 @@ Command add_ida_command(CLI::App& app) {
       "writes the same CSV. Overturning is an outcome (the collapse point), not an\n"
       "error; a job that fails is reported in its row and the others go on.\n"
       "Exit codes: 0 every run done, 2 bad input, 4 some runs failed (their rows\n"
-      "say why; the count is printed on stderr).");
+      "say why; the count is printed on stderr), 130 / 143 stopped by Ctrl-C /\n"
+      "SIGTERM (the runs done are kept in the CSV; --resume continues).");
   auto a = std::make_shared<StudyArgs>();
   add_study_options(*cmd, *a, "out/ida");
   cmd->add_option("--variants", a->variants, "damper, no-damper, fixed-base, scene (default the first three)")
@@ -362,7 +447,8 @@ Command add_sweep_command(CLI::App& app) {
       "Parametric study (the paper's Figs. 7-8): like `ida`, with one line per value\n"
       "of one scene key, given as --set KEY=V1,V2,... (e.g. damper.thickness=1,1.5,2,3\n"
       "or structure.EI_scale=0.25,0.5,1,2). Other --set values apply to every run.\n"
-      "Exit codes: 0 every run done, 2 bad input, 4 some runs failed.");
+      "Exit codes: 0 every run done, 2 bad input, 4 some runs failed, 130 / 143\n"
+      "stopped by Ctrl-C / SIGTERM (--resume continues).");
   auto a = std::make_shared<StudyArgs>();
   add_study_options(*cmd, *a, "out/sweep");
   cmd->footer(

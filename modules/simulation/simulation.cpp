@@ -167,6 +167,8 @@ class Driver {
 
   void loop() {
     while (active_->time() < t_end_) {
+      if (opt_.stop && opt_.stop())
+        throw RunError(fmt::format("stopped at t = {:.6g} s on request", active_->time()));
       const ode::StepReport rep = active_->step(t_end_);
       sample_step();
       if (rep.reason == ode::Stop::event) {

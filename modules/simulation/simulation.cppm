@@ -19,6 +19,7 @@
 module;
 #include <rocking/eigen.hpp>
 #include <array>
+#include <functional>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -78,6 +79,9 @@ struct RunOptions {
   // the state) or under an analytic pulse.
   bool exact_full_contact = true;
   long max_events = 100000;      // more phase changes than this: the run fails (chattering)
+  // Polled between steps: true ends the run as failed ("stopped at t = ..."),
+  // with everything reached so far kept (a Ctrl-C on a long run).
+  std::function<bool()> stop;
   InitialState initial;
 };
 

@@ -9,6 +9,7 @@
 module;
 #include <rocking/eigen.hpp>
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstddef>
 #include <functional>
@@ -25,17 +26,22 @@ export namespace rocking {
 
 // Calls work(i) for i in [0, n) on `threads` threads and emit(i, result) on the
 // calling thread in the order 0, 1, 2, ... as results become available.
-// progress(done, n) is called from the calling thread after each emit.
+// progress(done, n) is called from the calling thread after each emit. When
+// stop() turns true (polled; a signal handler may set what it reads), no new
+// work starts, the work in flight finishes, and the results are emitted up to
+// the first that was never started. Returns how many were emitted.
 template <class T>
-void parallel_ordered(std::size_t n, int threads, const std::function<T(std::size_t)>& work,
-                      const std::function<void(std::size_t, const T&)>& emit,
-                      const std::function<void(std::size_t, std::size_t)>& progress = {}) {
+std::size_t parallel_ordered(std::size_t n, int threads, const std::function<T(std::size_t)>& work,
+                             const std::function<void(std::size_t, const T&)>& emit,
+                             const std::function<void(std::size_t, std::size_t)>& progress = {},
+                             const std::function<bool()>& stop = {}) {
   std::vector<std::optional<T>> results(n);
   std::mutex m;
   std::condition_variable ready;
   std::atomic<std::size_t> next{0};
+  auto stopped = [&] { return stop && stop(); };
   auto worker = [&] {
-    for (std::size_t i; (i = next.fetch_add(1)) < n;) {
+    for (std::size_t i; !stopped() && (i = next.fetch_add(1)) < n;) {
       T r = work(i);
       {
         std::lock_guard lock(m);
@@ -46,15 +52,23 @@ void parallel_ordered(std::size_t n, int threads, const std::function<T(std::siz
   };
   std::vector<std::jthread> pool;
   for (int k = 0; k < std::max(1, threads); ++k) pool.emplace_back(worker);
-  for (std::size_t i = 0; i < n; ++i) {
+  std::size_t i = 0;
+  for (; i < n; ++i) {
     std::unique_lock lock(m);
-    ready.wait(lock, [&] { return results[i].has_value(); });
+    // Index i is computed by whoever took it; none took it if next <= i.
+    while (!results[i].has_value()) {
+      if (stopped() && next.load() <= i) break;
+      ready.wait_for(lock, std::chrono::milliseconds(20));
+    }
+    if (!results[i].has_value()) break;
     T r = std::move(*results[i]);
     results[i].reset();
     lock.unlock();
     emit(i, r);
     if (progress) progress(i + 1, n);
   }
+  pool.clear();  // joins
+  return i;
 }
 
 // One variant of the scene: a name and the --set overrides that make it.

@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Runs every fuzz target of the sanitizer build for $1 seconds (default 60),
+# from the committed corpus (tests/fuzz/corpus/TARGET) and seeds (the shared
+# records, the project's scenes); stops at the first crash, leak or timeout.
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+seconds="${1:-60}"
+bin="$here/build-sanitize/bin"
+records="${ROCKING_RECORDS:-$here/../shared/data/records}"
+export ASAN_OPTIONS="detect_leaks=1:halt_on_error=1"
+export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
+declare -A seeds=(
+  [record]="$records $records/formats"
+  [scene]="$here/data/scenes"
+  [set_override]=""
+  [number_list]=""
+)
+for target in record scene set_override number_list; do
+  work="$here/build-sanitize/fuzz-corpus/$target"
+  mkdir -p "$work"
+  dirs=("$work" "$here/tests/fuzz/corpus/$target" "$here/tests/fuzz/regressions/$target")
+  for s in ${seeds[$target]}; do [ -d "$s" ] && dirs+=("$s"); done
+  echo "fuzz: $target for ${seconds} s"
+  if ! (cd "$here/build-sanitize" && "$bin/${target}_fuzz" -max_total_time="$seconds" -timeout=10 \
+        -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 "${dirs[@]}" 2>&1 | tail -n 25); then
+    echo "fuzz: $target failed (the input is build-sanitize/crash-* or leak-* or timeout-*)" >&2
+    exit 1
+  fi
+done
+echo "fuzz: every target ran ${seconds} s with no crash, leak or timeout"

@@ -1,0 +1,119 @@
+// Clean stops (issue 21): SIGINT and SIGTERM on a running study keep every
+// completed row, whole, write the timings and a one-line note, exit 130 / 143,
+// and `--resume` ends with the byte-identical CSV of an uninterrupted run; on a
+// running simulation they keep the history and mark the summary interrupted.
+#include <doctest/doctest.h>
+#include "temp_path.hpp"
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+#include <sys/wait.h>
+#include <unistd.h>
+#include "run_program.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// A 30 s two-column record (t [s], a [g]) that makes the chimney rock.
+std::string long_record(const fs::path& file, double seconds = 30) {
+  std::ofstream out(file);
+  for (int i = 0; 0.01 * i <= seconds + 1e-9; ++i) {
+    const double t = 0.01 * i;
+    out << t << ' ' << 0.25 * std::sin(2 * M_PI * t / 1.7) * std::sin(M_PI * t / seconds) << '\n';
+  }
+  return file.string();
+}
+
+int lines_of(const fs::path& file) {
+  std::ifstream in(file);
+  int n = 0;
+  for (std::string line; std::getline(in, line);) ++n;
+  return n;
+}
+
+// Starts the program with `args`, waits until `file` has `rows` lines (or the
+// program has ended), sends `signal`; returns the exit status (-1: killed).
+int run_and_stop(const std::vector<std::string>& args, const fs::path& file, int rows, int signal) {
+  const pid_t pid = ::fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    std::vector<char*> argv{const_cast<char*>(ROCKING_BIN)};
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    ::freopen("/dev/null", "w", stdout);
+    ::execv(ROCKING_BIN, argv.data());
+    std::_Exit(127);
+  }
+  int status = 0;
+  for (int i = 0; i < 60000; ++i) {  // at most 60 s
+    if (::waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    if (fs::exists(file) && lines_of(file) >= rows) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  ::kill(pid, signal);
+  ::waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace
+
+TEST_CASE("SIGINT and SIGTERM stop a study cleanly, and --resume ends with the CSV of an uninterrupted run") {
+  const fs::path dir = scratch_dir("stop_ida");
+  const std::string record = long_record(dir / "long.txt");
+  const std::vector<std::string> study = {"-q", "ida", "--record", record, "--scales", "1:8:0.02", "--no-plot"};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = study;
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+  };
+  std::string whole;
+  {
+    std::string cmd = "-q ida --record " + record + " --scales 1:8:0.02 --no-plot --out " + (dir / "whole").string();
+    REQUIRE(run(cmd).code == 0);
+    whole = file_text(dir / "whole" / "ida.csv");
+    REQUIRE(lines(whole) == 1 + 351 * 3);
+  }
+  for (const int signal : {SIGINT, SIGTERM}) {
+    CAPTURE(signal);
+    const fs::path out = dir / (signal == SIGINT ? "int" : "term");
+    const int code = run_and_stop(with({"--out", out.string()}), out / "ida.csv.partial", 20, signal);
+    CHECK(code == 128 + signal);
+    const std::string part = file_text(out / "ida.csv");
+    CHECK(lines(part) >= 20);
+    CHECK(lines(part) < lines(whole));
+    CHECK(whole.starts_with(part));  // every row kept is whole and as an uninterrupted run writes it
+    CHECK(lines(file_text(out / "timing.csv")) == lines(part));
+    CHECK_FALSE(fs::exists(out / "ida.csv.partial"));
+    const Result resumed = run("-q ida --record " + record + " --scales 1:8:0.02 --no-plot --out " + out.string() +
+                               " --resume");
+    CHECK(resumed.code == 0);
+    CHECK(file_text(out / "ida.csv") == whole);
+    CHECK(lines(file_text(out / "timing.csv")) == lines(whole));
+  }
+  // A resume of another study is refused, naming the row.
+  const Result other = run("-q ida --record " + record + " --scales 2:8:0.02 --no-plot --out " + (dir / "int").string() +
+                           " --resume");
+  CHECK(other.code == 2);
+  CHECK(other.err.find("ida.csv:2: this row is not job 1 of this study") != std::string::npos);
+}
+
+TEST_CASE("SIGINT stops a simulation with its history up to there and a summary marked interrupted") {
+  const fs::path dir = scratch_dir("stop_simulate");
+  const std::string record = long_record(dir / "long.txt", 600);
+  const int code = run_and_stop({"-q", "simulate", "--record", record, "--rtol", "1e-10", "--integrate-contact", "--out",
+                                 dir.string()},
+                                dir / "history.csv", 2000, SIGINT);
+  CHECK(code == 130);
+  const std::string summary = file_text(dir / "summary.json");
+  CHECK(summary.find("\"interrupted\": true") != std::string::npos);
+  const std::string history = file_text(dir / "history.csv");
+  CHECK(history.ends_with("\n"));  // no cut row
+  CHECK(lines(history) >= 2000);
+  CHECK(lines(history) < 60000);
+}
