@@ -47,7 +47,12 @@ TEST_CASE("an IDA's CSV is byte-identical with 1 thread, 2 threads and mpirun -n
     return;
   }
   const std::string root = ::geteuid() == 0 ? " --allow-run-as-root" : "";
-  const std::string mpi = "mpirun" + root + " --oversubscribe -np 2 " + std::string(ROCKING_BIN) + " " + study +
+  // Under `make sanitize` the ranks run without leak detection: OpenMPI
+  // unloads its components before the check, so its own leaks come without
+  // names that a suppression could match. Every single-process test checks
+  // the same code for leaks.
+  const std::string mpirun = "ASAN_OPTIONS=detect_leaks=0:halt_on_error=1 mpirun";
+  const std::string mpi = mpirun + root + " --oversubscribe -np 2 " + std::string(ROCKING_BIN) + " " + study +
                           (dir / "mpi").string() + " --threads 1";
   REQUIRE(std::system(mpi.c_str()) == 0);
   CHECK(one == file_text(dir / "mpi" / "ida.csv"));
@@ -55,7 +60,7 @@ TEST_CASE("an IDA's CSV is byte-identical with 1 thread, 2 threads and mpirun -n
   // Under mpirun, rank 0 draws the figure a single process draws, from the same data.
   const std::string drawn = "-q ida --record " + pulse_record(dir) + " --scales 1:4:1 --formats png --threads 1 --out ";
   REQUIRE(run(drawn + (dir / "one_fig").string()).code == 0);
-  const std::string mpi_fig = "mpirun" + root + " --oversubscribe -np 2 " + std::string(ROCKING_BIN) + " " + drawn +
+  const std::string mpi_fig = mpirun + root + " --oversubscribe -np 2 " + std::string(ROCKING_BIN) + " " + drawn +
                               (dir / "mpi_fig").string();
   REQUIRE(std::system(mpi_fig.c_str()) == 0);
   CHECK(fs::is_regular_file(dir / "mpi_fig" / "ida_pulse.png"));
