@@ -25,7 +25,6 @@ HistoryCsv::~HistoryCsv() {
 }
 
 void HistoryCsv::record(const Response& r) {
-  using Q = Quantity;
   // A full disk ends the run (RunError, exit 3) naming the file; the rows
   // written before stay.
   if (std::ferror(file_) != 0) throw RunError(fmt::format("{}: cannot write: {}", path_, std::strerror(errno)));
