@@ -7,7 +7,6 @@ module;
 #include <filesystem>
 #include <fstream>
 #include <optional>
-#include <regex>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -91,28 +90,53 @@ bool blank_or_comment(const Line& l) {
   return first == std::string::npos || l.text[first] == '#';
 }
 
+// Where `key` (any case) stands in `text`, from `from`, or npos.
+std::size_t find_word(std::string_view text, std::string_view key, std::size_t from = 0) {
+  for (std::size_t i = from; i + key.size() <= text.size(); ++i) {
+    bool same = true;
+    for (std::size_t k = 0; k < key.size() && same; ++k)
+      same = std::toupper(static_cast<unsigned char>(text[i + k])) == key[k];
+    if (same) return i;
+  }
+  return std::string_view::npos;
+}
+
+// The value of "KEY = value" in a header line: the text after the '=' up to
+// a space or comma; nullopt when no KEY is followed by '='. Scanned by hand:
+// a regular expression recurses once per character of a long value.
+std::optional<std::string> header_field(std::string_view text, std::string_view key) {
+  for (std::size_t at = find_word(text, key); at != std::string_view::npos; at = find_word(text, key, at + 1)) {
+    std::size_t i = at + key.size();
+    while (i < text.size() && (text[i] == ' ' || text[i] == '\t')) ++i;
+    if (i == text.size() || text[i] != '=') continue;
+    ++i;
+    while (i < text.size() && (text[i] == ' ' || text[i] == '\t')) ++i;
+    const std::size_t end = text.find_first_of(" \t,", i);
+    return std::string(text.substr(i, end == std::string_view::npos ? std::string_view::npos : end - i));
+  }
+  return std::nullopt;
+}
+
 GroundMotion read_at2(const std::string& path, const std::vector<Line>& lines, const RecordOptions& o) {
   // The header line is the first that names NPTS; its NPTS and DT are read
   // from there, and every error about them names that line.
-  static const std::regex npts_field(R"(NPTS\s*=\s*([^\s,]*))", std::regex::icase);
-  static const std::regex dt_field(R"(DT\s*=\s*([^\s,]*))", std::regex::icase);
-  static const std::regex npts_word("NPTS", std::regex::icase);
   std::size_t h = 0;
-  while (h < lines.size() && !std::regex_search(lines[h].text, npts_word)) ++h;
+  while (h < lines.size() && find_word(lines[h].text, "NPTS") == std::string::npos) ++h;
   if (h == lines.size()) fail(path, 1, "no line with NPTS= and DT= (not a PEER .AT2 file?)");
   const int at = lines[h].number;
-  std::smatch m;
-  if (!std::regex_search(lines[h].text, m, npts_field)) fail(path, at, "NPTS has no value (NPTS= count)");
-  const std::string npts_text = m[1].str();
+  const std::optional<std::string> npts_field = header_field(lines[h].text, "NPTS");
+  if (!npts_field) fail(path, at, "NPTS has no value (NPTS= count)");
+  const std::string& npts_text = *npts_field;
   long npts = -1;
   const auto [end, ec] = std::from_chars(npts_text.data(), npts_text.data() + npts_text.size(), npts);
   if (ec == std::errc::result_out_of_range || (ec == std::errc() && end == npts_text.data() + npts_text.size() && npts < 0))
-    fail(path, at, fmt::format("NPTS = {} is not a count of samples", npts_text));
-  if (ec != std::errc() || end != npts_text.data() + npts_text.size())
-    fail(path, at, fmt::format("NPTS = '{}' is not a whole number", npts_text));
-  if (!std::regex_search(lines[h].text, m, dt_field)) fail(path, at, "no DT= on the NPTS line");
-  const std::optional<double> dt_read = whole_number(m[1].str());
-  if (!dt_read || !std::isfinite(*dt_read)) fail(path, at, fmt::format("DT = '{}' is not a number", m[1].str()));
+    fail(path, at, fmt::format("NPTS = {:.40} is not a count of samples", npts_text));
+  if (ec != std::errc() || end != npts_text.data() + npts_text.size() || npts_text.empty())
+    fail(path, at, fmt::format("NPTS = '{:.40}' is not a whole number", npts_text));
+  const std::optional<std::string> dt_field = header_field(lines[h].text, "DT");
+  if (!dt_field) fail(path, at, "no DT= on the NPTS line");
+  const std::optional<double> dt_read = whole_number(*dt_field);
+  if (!dt_read || !std::isfinite(*dt_read)) fail(path, at, fmt::format("DT = '{:.40}' is not a number", *dt_field));
   const double dt = *dt_read;
   if (!(dt > 0)) fail(path, at, fmt::format("DT must be positive (got {})", dt));
   if (dt < min_record_dt) fail(path, at, fmt::format("DT = {:g} s is below {:g} s: not a record's time step", dt, min_record_dt));
