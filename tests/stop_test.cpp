@@ -47,6 +47,7 @@ int run_and_stop(const std::vector<std::string>& args, const fs::path& file, int
     for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
     ::freopen("/dev/null", "w", stdout);
+    ::freopen((file.parent_path().string() + ".stderr.txt").c_str(), "w", stderr);  // beside the output folder
     ::execv(ROCKING_BIN, argv.data());
     std::_Exit(127);
   }
@@ -84,6 +85,10 @@ TEST_CASE("SIGINT and SIGTERM stop a study cleanly, and --resume ends with the C
     const fs::path out = dir / (signal == SIGINT ? "int" : "term");
     const int code = run_and_stop(with({"--out", out.string()}), out / "ida.csv.partial", 20, signal);
     CHECK(code == 128 + signal);
+    const std::string note = file_text(out.string() + ".stderr.txt");
+    CHECK(lines(note) == 1);  // one line: how far it got, and how to go on
+    CHECK(note.find(signal == SIGINT ? "stopped by SIGINT after " : "stopped by SIGTERM after ") != std::string::npos);
+    CHECK(note.find("--resume") != std::string::npos);
     const std::string part = file_text(out / "ida.csv");
     CHECK(lines(part) >= 20);
     CHECK(lines(part) < lines(whole));

@@ -101,10 +101,16 @@ nlohmann::json summary_json(const RunLabel& label, const RunResult& r) {
 }
 
 void write_text(const std::filesystem::path& file, const std::string& text) {
-  std::ofstream out(file);
+  const std::filesystem::path tmp = file.string() + ".tmp";
+  std::ofstream out(tmp);
   out << text;
   out.close();
-  if (!out) throw InputError(fmt::format("{}: cannot write", file.string()));
+  std::error_code ec;
+  if (out) std::filesystem::rename(tmp, file, ec);
+  if (!out || ec) {
+    std::filesystem::remove(tmp, ec);
+    throw InputError(fmt::format("{}: cannot write", file.string()));
+  }
 }
 
 Progress::Progress(bool enabled) : enabled_(enabled && ::isatty(2) != 0), start_(std::chrono::steady_clock::now()) {}

@@ -41,7 +41,8 @@ struct RunLabel {
 };
 nlohmann::json summary_json(const RunLabel& label, const rocking::RunResult& r);
 
-// Writes text to a file or fails with a one-line InputError naming it.
+// Writes text to a file through a temporary name (the file is whole or not
+// there) or fails with a one-line InputError naming it.
 void write_text(const std::filesystem::path& file, const std::string& text);
 
 // --- shared by the commands that run many jobs --------------------------------

@@ -213,13 +213,6 @@ Resumed read_resumed(const fs::path& csv_file, const fs::path& timing_file, cons
   return r;
 }
 
-// Writes `text` to `file` through a temporary name: the file is whole or absent.
-void write_whole(const fs::path& file, const std::string& text) {
-  const fs::path tmp = file.string() + ".tmp";
-  write_text(tmp, text);
-  fs::rename(tmp, file);
-}
-
 int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, const std::string& scene_name,
                const MpiWorld& world) {
   const std::vector<Job> jobs = st.ladder(number_list("--scales", a.scales));
@@ -291,7 +284,7 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
   fs::rename(partial, csv_file);
   std::string timing_text = "record,scale,variant,wall_s\n";
   for (const auto& [i, text] : all_timings) timing_text += text;
-  write_whole(timing_file, timing_text);
+  write_text(timing_file, timing_text);
   if (emitted < mine.size()) {  // stopped by a signal (one process: mine is every job left)
     const std::size_t done = first + emitted;
     const int signal = stop_signal();
