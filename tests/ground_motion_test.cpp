@@ -112,5 +112,5 @@ TEST_CASE("bad records are one line naming the file and the line") {
   CHECK(error_of(one).ends_with("a one-column record needs --dt > 0 (got 0)"));
   const std::string back = write_temp("gm_back.txt", "0.0 0.0\n0.5 1.0\n0.4 2.0\n");
   CHECK(error_of(back) == back + ":3: times must increase (0.4 after 0.5)");
-  CHECK_THROWS_WITH_AS(parse_acceleration_unit("ft/s2"), "unknown acceleration unit 'ft/s2' (choose g, m/s2 or cm/s2)", InputError);
+  CHECK_THROWS_WITH_AS(parse_acceleration_unit("ft/s2"), "unknown acceleration unit 'ft/s2' (choose g, m/s2, cm/s2 (gal) or mm/s2)", InputError);
 }

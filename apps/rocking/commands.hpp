@@ -25,11 +25,24 @@ rocking::Scene load_scene(const SceneOptions& opts);
 // The same, refusing a rigid block (it has no elastic modes) in one line.
 rocking::Scene load_elastic_scene(const SceneOptions& opts);
 
-// --record FILE [--units] [--dt] [--scale]: the ground motion of a run.
+// --format, --component, --units, --dt: how record files are read.
+struct RecordFileOptions {
+  std::string format = "auto";
+  std::string component;
+  std::string units;  // empty: the file's own (g where a file states none)
+  double dt = 0;
+  bool given() const { return format != "auto" || !component.empty() || !units.empty() || dt != 0; }
+};
+void add_record_file_options(CLI::App& cmd, RecordFileOptions& opts);
+rocking::RecordOptions record_options(const RecordFileOptions& opts);
+// The formats and what they are, for --help.
+std::string record_formats_help();
+
+// --record FILE [--format] [--component] [--units] [--dt] [--scale]: the
+// ground motion of a run.
 struct MotionOptions {
   std::string record;  // empty: the scene's [excitation]
-  std::string units;   // empty: the scene's, else g
-  double dt = 0;
+  RecordFileOptions file;
   double scale = 1;
 };
 void add_motion_options(CLI::App& cmd, MotionOptions& opts);

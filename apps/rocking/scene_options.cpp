@@ -56,14 +56,43 @@ rocking::Scene load_elastic_scene(const SceneOptions& opts) {
   return scene;
 }
 
+std::string record_formats_help() {
+  std::string out;
+  for (const RecordFormatInfo& f : record_formats()) out += fmt::format("\n  {:8} {}", f.name, f.description);
+  return out;
+}
+
+void add_record_file_options(CLI::App& cmd, RecordFileOptions& opts) {
+  cmd.add_option("--format", opts.format,
+                 "Record file format (default auto: detected from the content):" + record_formats_help())
+      ->type_name("NAME");
+  cmd.add_option("--component", opts.component,
+                 "Component of a file that holds several (GeoNet: 1-3 or its name, e.g. N28W;\n"
+                 "CSV: the acceleration column's name or number). Default: the first")
+      ->type_name("C");
+  cmd.add_option("--units", opts.units,
+                 "Acceleration unit of the values: g, m/s2, cm/s2 (gal) or mm/s2. Default: the\n"
+                 "file's own (GeoNet mm/s2, K-NET gal, COSMOS and CSV as stated), else g")
+      ->type_name("UNIT");
+  cmd.add_option("--dt", opts.dt, "Sample interval of a one-column record or a CSV without time [s]")->type_name("S");
+}
+
+rocking::RecordOptions record_options(const RecordFileOptions& opts) {
+  RecordOptions ro;
+  ro.format = opts.format;
+  ro.component = opts.component;
+  if (!opts.units.empty()) ro.unit = parse_acceleration_unit(opts.units);
+  if (opts.dt < 0 || !std::isfinite(opts.dt)) throw InputError(fmt::format("--dt {}: must be positive", opts.dt));
+  ro.dt = opts.dt;
+  return ro;
+}
+
 void add_motion_options(CLI::App& cmd, MotionOptions& opts) {
   cmd.add_option("--record", opts.record,
-                 "Ground-motion file: PEER .AT2, two columns (t, a) or one column\n"
-                 "(a, with --dt). Without it: the scene's [excitation] (a pulse).")
+                 "Ground-motion file in any format --format lists (PEER .AT2, GeoNet,\n"
+                 "K-NET, COSMOS, CSV, columns). Without it: the scene's [excitation].")
       ->type_name("FILE");
-  cmd.add_option("--units", opts.units, "Acceleration unit of the record: g, m/s2 or cm/s2 (default g)")
-      ->type_name("UNIT");
-  cmd.add_option("--dt", opts.dt, "Sample interval of a one-column record [s]")->type_name("S");
+  add_record_file_options(cmd, opts.file);
   cmd.add_option("--scale", opts.scale, "Scale factor on the ground acceleration (default 1)")->type_name("SF");
 }
 
@@ -80,14 +109,11 @@ ScaleFactors motion_scale(const rocking::Scene& scene, const MotionOptions& opts
 rocking::GroundMotion load_motion(const rocking::Scene& scene, const MotionOptions& opts) {
   if (!std::isfinite(opts.scale)) throw InputError(fmt::format("--scale {}: must be a finite number", opts.scale));
   if (opts.record.empty()) {
-    if (!opts.units.empty() || opts.dt != 0)
-      throw InputError("--units and --dt describe a --record file; none was given");
+    if (opts.file.given())
+      throw InputError("--format, --component, --units and --dt describe a --record file; none was given");
     return default_ground_motion(scene).scaled(opts.scale);
   }
-  RecordOptions ro;
-  ro.unit = opts.units.empty() ? AccelerationUnit::g : parse_acceleration_unit(opts.units);
-  if (opts.dt < 0 || !std::isfinite(opts.dt)) throw InputError(fmt::format("--dt {}: must be positive", opts.dt));
-  ro.dt = opts.dt;
+  RecordOptions ro = record_options(opts.file);
   ro.scale = opts.scale;
   return read_record(opts.record, ro);
 }

@@ -24,7 +24,7 @@ namespace {
 struct StudyArgs {
   SceneOptions scene;
   std::vector<std::string> records;
-  std::string units;
+  RecordFileOptions file;
   std::string scales = "1:20:1";
   std::vector<std::string> variants;
   int threads = 0;
@@ -357,8 +357,7 @@ std::unique_ptr<Study> make_study(const StudyArgs& a, const std::vector<std::str
   if (a.records.empty()) throw InputError("--record: give at least one ground-motion file");
   const Scene scene = load_scene(SceneOptions{a.scene.path, overrides});
   scene_name = scene.name;
-  RecordOptions ro;
-  ro.unit = a.units.empty() ? AccelerationUnit::g : parse_acceleration_unit(a.units);
+  const RecordOptions ro = record_options(a.file);
   RunOptions run = run_options(scene, a.solver, false);
   return std::make_unique<Study>(a.scene.path, overrides, a.records, ro, std::move(variants), run);
 }
@@ -366,10 +365,10 @@ std::unique_ptr<Study> make_study(const StudyArgs& a, const std::vector<std::str
 void add_study_options(CLI::App& cmd, StudyArgs& a, const std::string& default_out) {
   a.out = default_out;
   add_scene_options(cmd, a.scene);
-  cmd.add_option("--record", a.records, "Ground-motion files (PEER .AT2, or columns); repeat or list several")
+  cmd.add_option("--record", a.records, "Ground-motion files in any format --format lists; repeat or list several")
       ->type_name("FILE...")
       ->required();
-  cmd.add_option("--units", a.units, "Acceleration unit of the records: g, m/s2 or cm/s2 (default g)")->type_name("UNIT");
+  add_record_file_options(cmd, a.file);
   cmd.add_option("--scales", a.scales, "Scale factors: FIRST:LAST:STEP or a list 0.5,1,2 (default 1:20:1)")
       ->type_name("SPEC");
   cmd.add_option("--threads", a.threads, "Worker threads (default: every core)")->type_name("N");

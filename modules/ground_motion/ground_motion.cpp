@@ -13,24 +13,52 @@ import rocking.errors;
 
 namespace rocking {
 
-namespace {
-constexpr double standard_g = 9.81;  // as rocking.modal's gravity
-}
-
 AccelerationUnit parse_acceleration_unit(std::string_view text) {
   if (text == "g") return AccelerationUnit::g;
   if (text == "m/s2") return AccelerationUnit::m_per_s2;
-  if (text == "cm/s2") return AccelerationUnit::cm_per_s2;
-  throw InputError(fmt::format("unknown acceleration unit '{}' (choose g, m/s2 or cm/s2)", text));
+  if (text == "cm/s2" || text == "gal") return AccelerationUnit::cm_per_s2;
+  if (text == "mm/s2") return AccelerationUnit::mm_per_s2;
+  throw InputError(fmt::format("unknown acceleration unit '{}' (choose g, m/s2, cm/s2 (gal) or mm/s2)", text));
+}
+
+std::string unit_name(AccelerationUnit unit) {
+  switch (unit) {
+    case AccelerationUnit::g: return "g";
+    case AccelerationUnit::m_per_s2: return "m/s2";
+    case AccelerationUnit::cm_per_s2: return "cm/s2";
+    case AccelerationUnit::mm_per_s2: return "mm/s2";
+  }
+  return "m/s2";
 }
 
 double to_si(AccelerationUnit unit) {
   switch (unit) {
-    case AccelerationUnit::g: return standard_g;
+    case AccelerationUnit::g: return standard_gravity;
     case AccelerationUnit::m_per_s2: return 1.0;
     case AccelerationUnit::cm_per_s2: return 0.01;
+    case AccelerationUnit::mm_per_s2: return 0.001;
   }
   return 1.0;
+}
+
+std::string RecordInfo::label() const {
+  std::string out;
+  for (const std::string* part : {&event, &station, &component})
+    if (!part->empty()) out += (out.empty() ? "" : ", ") + *part;
+  return out;
+}
+
+std::vector<double> GroundMotion::sample_times() const {
+  std::vector<double> t(sample_count());
+  for (std::size_t i = 0; i < t.size(); ++i) t[i] = time_of(i);
+  return t;
+}
+
+std::vector<double> GroundMotion::sample_values() const {
+  if (!samples_) return {};
+  std::vector<double> v(samples_->values);
+  for (double& x : v) x *= scale_;
+  return v;
 }
 
 PulseShape parse_pulse_shape(std::string_view text) {

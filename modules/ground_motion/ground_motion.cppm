@@ -1,17 +1,25 @@
 // rocking.ground_motion: the horizontal ground acceleration a_g(t) [m/s^2]
 // (MODEL.md 10). A record is piecewise linear between its samples, which are
 // breakpoints for the integrator; it is zero before its first and after its
-// last sample. Readers: PEER .AT2 (the three header styles of
-// shared/data/records/SOURCES.md: the line holding NPTS and DT, then every
-// number after it; CRLF or LF; NPTS checked against the count), two-column
-// (time, acceleration) and one-column (acceleration, with dt given) text.
-// Units g, m/s2 or cm/s2 (g = 9.81 m/s^2, as in rocking.modal). Analytic pulses
-// for tests, teaching and the default excitation:
+// last sample. Records are read from the files the field keeps them in, one
+// reader per format (format_*.cpp, registered in formats.cpp), the format
+// detected from the content:
+//   at2:     PEER .AT2 (the three header styles of shared/data/records/SOURCES.md),
+//   geonet:  GeoNet V1A/V2A (New Zealand; three components per file, mm/s^2),
+//   knet:    K-NET / KiK-net ASCII (counts x Scale Factor = gal, mean removed),
+//   cosmos:  COSMOS V1/V2 (V2c; units and time step from its headers),
+//   csv:     a header row naming the time and acceleration columns and units,
+//   columns: one (acceleration, with dt given) or two (time, acceleration) columns.
+// Each reader checks the data against the header it read (the count, and the
+// peak the file states where it states one) and keeps the file's metadata.
+// Units g, m/s2, cm/s2 (gal) or mm/s2 (g = 9.81 m/s^2, as in rocking.modal).
+// Analytic pulses for tests, teaching and the default excitation:
 //   one-sine: a(t) = A sin(2 pi t / T) on [0, T] (Makris & Roussos 2000),
 //   Ricker:   a(t) = A (1 - 2 u) exp(-u), u = (pi f (t - t0))^2, t0 = 1.5 / f.
 // Every reader error is an InputError of one line: file:line and what is wrong.
 module;
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -19,10 +27,24 @@ export module rocking.ground_motion;
 
 export namespace rocking {
 
-enum class AccelerationUnit { g, m_per_s2, cm_per_s2 };
-// "g", "m/s2", "cm/s2"; InputError otherwise.
+enum class AccelerationUnit { g, m_per_s2, cm_per_s2, mm_per_s2 };
+// "g", "m/s2", "cm/s2" (or "gal"), "mm/s2"; InputError otherwise.
 AccelerationUnit parse_acceleration_unit(std::string_view text);
+std::string unit_name(AccelerationUnit unit);  // "g", "m/s2", "cm/s2", "mm/s2"
 double to_si(AccelerationUnit unit);  // factor to m/s^2
+inline constexpr double standard_gravity = 9.81;  // the g of unit g [m/s^2]
+
+// What a record file says about itself; empty where it says nothing.
+struct RecordInfo {
+  std::string format;     // the reader's name ("at2", "geonet", ...)
+  std::string event, date, station, component;
+  std::string units;      // the unit of the file's numbers, as read ("mm/s2", "g")
+  double dt = 0;          // sample interval [s]; 0 when the times are uneven
+  std::size_t npts = 0;   // samples read
+  std::optional<double> stated_peak;  // |peak| the file states [m/s^2]
+  // "event, station, component" from what is known ("" when none is).
+  std::string label() const;
+};
 
 enum class PulseShape { one_sine, ricker };
 PulseShape parse_pulse_shape(std::string_view text);  // "one-sine", "ricker"
@@ -55,6 +77,14 @@ class GroundMotion {
   // has no header.
   const std::string& description() const { return description_; }
   void set_description(std::string text) { description_ = std::move(text); }
+  const RecordInfo& info() const { return info_; }
+  void set_info(RecordInfo info) { info_ = std::move(info); }
+  // A record's samples as scaled (empty for a pulse): times [s] and a_g [m/s^2].
+  std::vector<double> sample_times() const;
+  std::vector<double> sample_values() const;
+  double scale() const { return scale_; }
+  // The interval of evenly spaced samples from t = 0 [s]; 0 otherwise.
+  double sample_interval() const { return samples_ ? samples_->dt : 0.0; }
   GroundMotion scaled(double factor) const;  // a_g x factor; shares the samples
 
  private:
@@ -68,21 +98,89 @@ class GroundMotion {
   double time_of(std::size_t i) const;
 
   std::string name_, description_;
+  RecordInfo info_;
   std::shared_ptr<const Samples> samples_;  // null for a pulse
   double duration_ = 0;
   PulseShape shape_ = PulseShape::one_sine;
   double amplitude_ = 0, period_ = 0, scale_ = 1;
 };
 
-enum class RecordFormat { automatic, at2, two_column, one_column };
-
 struct RecordOptions {
-  RecordFormat format = RecordFormat::automatic;  // .at2 or an NPTS header: AT2
-  AccelerationUnit unit = AccelerationUnit::g;
-  double dt = 0;       // one-column files only [s]
+  std::string format = "auto";            // "auto" (from the content) or a name of record_formats()
+  std::optional<AccelerationUnit> unit;   // unset: the file's own (g where a file states none)
+  std::string component;  // a file of several components (GeoNet) or columns (CSV): name or 1-based index
+  double dt = 0;          // one-column files only [s]
   double scale = 1;
 };
+
+struct RecordFormatInfo {
+  std::string name, description;
+};
+// Every format read_record knows, in the order detection tries them.
+std::vector<RecordFormatInfo> record_formats();
 
 GroundMotion read_record(const std::string& path, const RecordOptions& options = {});
 
 }  // namespace rocking
+
+// The readers' shared parts, seen by this module's own units only (not
+// exported). A format is one file, format_NAME.cpp, defining its
+// FormatReader, and one line in formats.cpp registering it.
+namespace rocking::records {
+
+struct Line {
+  int number;        // 1-based
+  std::string text;  // without the line end (CR stripped)
+};
+
+struct FormatReader {
+  std::string name;         // what --format takes
+  std::string description;  // for --help and for a file of no known format
+  // Whether `lines` look like this format (only the first few are needed).
+  bool (*detect)(const std::string& path, const std::vector<Line>& lines);
+  GroundMotion (*read)(const std::string& path, const std::vector<Line>& lines, const RecordOptions& options);
+};
+
+FormatReader at2_format();
+FormatReader geonet_format();
+FormatReader knet_format();
+FormatReader cosmos_format();
+FormatReader csv_format();
+FormatReader columns_format();
+
+// Records beyond these are not records: refused with their line rather than
+// run into a non-finite state or an absurd amount of work.
+inline constexpr double max_acceleration_g = 100;  // |a| [g]
+inline constexpr double max_record_duration = 1e5; // [s], about 28 hours
+inline constexpr double min_record_dt = 1e-6;      // [s]
+
+std::vector<Line> read_lines(const std::string& path);
+[[noreturn]] void fail(const std::string& path, int line, std::string_view what);
+// The numbers of one line separated by spaces, tabs or commas; text among
+// them is an error at that line.
+std::vector<double> numbers_of(const std::string& path, const Line& line);
+// Fixed-width Fortran fields (10 x F8.1 ...): numbers that may touch; a
+// blank field ends the line. Text in a field is an error at that line.
+std::vector<double> fixed_fields(const std::string& path, const Line& line, std::size_t width);
+// A number that is all of `text` after trimming blanks ("1e" is not 1).
+std::optional<double> whole_number(std::string_view text);
+// Where `key` (upper case; compared ignoring case) stands in `text`, or npos.
+std::size_t find_word(std::string_view text, std::string_view key, std::size_t from = 0);
+// The value of "KEY = value" in a header line, up to a space or comma.
+std::optional<std::string> header_field(std::string_view text, std::string_view key);
+std::string trim(std::string_view text);
+bool blank_or_comment(const Line& l);
+// Each acceleration [m/s^2] within max_acceleration_g, or an error at its line.
+void check_acceleration(const std::string& path, int line, double a_si);
+// A unit the file states and the one the user gave must agree.
+AccelerationUnit file_unit(const std::string& path, int line, AccelerationUnit stated, const RecordOptions& o);
+// Options a format of one component and its own time step cannot take.
+void refuse_component(const std::string& path, const RecordOptions& o, std::string_view format);
+void refuse_dt(const std::string& path, int line, const RecordOptions& o, double stated_dt);
+// Evenly sampled values [m/s^2] from t = 0 as a record, with the file's
+// metadata; the stated peak, when there is one, checked against the data
+// (within 0.1 % and half a unit of its last printed digit, `resolution`).
+GroundMotion evenly_sampled(const std::string& path, int header_line, std::vector<double> values, double dt,
+                            RecordInfo info, double stated_resolution = 0);
+
+}  // namespace rocking::records

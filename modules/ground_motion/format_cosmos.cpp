@@ -1,0 +1,194 @@
+// COSMOS strong-motion data format V1/V2 (COSMOS, "Strong Motion Data Format",
+// v1.20, 2001; the V2c files of CESMD and USGS): line 1 "... (Format v01.20
+// with 13 text lines)", the text lines (line 2 the event, line 4 the origin,
+// line 5 the station, line 11 "Processed: ... Max = -6.852 cm/sec2 at ..."),
+// then "100 Integer-header values follow on 10 lines, Format= (10I8)", the
+// integers, "100 Real-header values follow on 20 lines, Format= (5F15.6)",
+// the reals (field 62 the time step in ms, else field 34 in s; field 64 the
+// peak), "6 Comment line(s) follow", the comments, and "42000 acceleration
+// pts, approx 210 secs, units=cm/sec2(04), Format=(1E15.6)" before the data,
+// read in the stated Fortran fields. V2 files may follow with velocity and
+// displacement blocks, which are not read.
+module;
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+#include <fmt/format.h>
+module rocking.ground_motion;
+import rocking.errors;
+
+namespace rocking::records {
+
+namespace {
+
+bool detect(const std::string&, const std::vector<Line>& lines) {
+  return !lines.empty() && find_word(lines[0].text, "(FORMAT V") != std::string::npos &&
+         find_word(lines[0].text, "TEXT LINES") != std::string::npos;
+}
+
+// The whole number that starts `text` (after blanks), or nullopt.
+std::optional<long> leading_count(std::string_view text) {
+  const std::string t = trim(text);
+  std::size_t n = 0;
+  while (n < t.size() && std::isdigit(static_cast<unsigned char>(t[n]))) ++n;
+  if (n == 0 || n > 9) return std::nullopt;
+  return std::stol(t.substr(0, n));
+}
+
+// A Fortran format "(10I8)", "(5F15.6)", "(1E15.6)": fields a line and width.
+struct Fields {
+  std::size_t per_line = 0, width = 0;
+};
+std::optional<Fields> fortran_fields(std::string_view text) {
+  const std::size_t open = find_word(text, "FORMAT");
+  if (open == std::string_view::npos) return std::nullopt;
+  const std::size_t paren = text.find('(', open);
+  if (paren == std::string_view::npos) return std::nullopt;
+  std::size_t i = paren + 1;
+  auto integer = [&](std::size_t& value) {
+    const std::size_t from = i;
+    while (i < text.size() && std::isdigit(static_cast<unsigned char>(text[i]))) ++i;
+    if (i == from || i - from > 4) return false;
+    value = std::stoul(std::string(text.substr(from, i - from)));
+    return true;
+  };
+  Fields f;
+  if (!integer(f.per_line)) f.per_line = 1;
+  if (i >= text.size() || !std::isalpha(static_cast<unsigned char>(text[i]))) return std::nullopt;
+  ++i;
+  if (!integer(f.width) || f.per_line == 0 || f.width == 0) return std::nullopt;
+  return f;
+}
+
+// The values of a block of `count` numbers in `fields`, from line index `at`.
+std::vector<double> block(const std::string& path, const std::vector<Line>& lines, std::size_t at, std::size_t count,
+                          const Fields& f, std::string_view what) {
+  std::vector<double> out;
+  out.reserve(std::min<std::size_t>(count, 1u << 20));
+  for (std::size_t i = at; out.size() < count; ++i) {
+    if (i >= lines.size())
+      fail(path, lines.back().number, fmt::format("the file ends after {} of its {} {}", out.size(), count, what));
+    const std::vector<double> row = fixed_fields(path, lines[i], f.width);
+    const std::size_t expect = std::min(f.per_line, count - out.size());
+    if (row.size() != expect)
+      fail(path, lines[i].number, fmt::format("expected {} {} on this line, found {}", expect, what, row.size()));
+    out.insert(out.end(), row.begin(), row.end());
+  }
+  return out;
+}
+
+// A "N ... follow on L lines, Format= (...)" line at index `at`.
+struct BlockHeader {
+  std::size_t count;
+  Fields fields;
+};
+BlockHeader block_header(const std::string& path, const std::vector<Line>& lines, std::size_t at, std::string_view what) {
+  if (at >= lines.size()) fail(path, lines.back().number, fmt::format("the file ends before its {}", what));
+  const Line& l = lines[at];
+  const std::optional<long> n = leading_count(l.text);
+  const std::optional<Fields> f = fortran_fields(l.text);
+  if (!n || !f) fail(path, l.number, fmt::format("expected the {} line ('N ... Format=(...)'), found '{:.50}'", what, trim(l.text)));
+  return {static_cast<std::size_t>(*n), *f};
+}
+
+// An acceleration unit COSMOS codes (Table 2): its factor to m/s^2 and, where
+// --units can name it, the unit.
+struct Unit {
+  double to_si;
+  std::optional<AccelerationUnit> unit;
+};
+std::optional<Unit> cosmos_unit(int code) {
+  switch (code) {
+    case 2: return Unit{standard_gravity, AccelerationUnit::g};
+    case 4:
+    case 10: return Unit{0.01, AccelerationUnit::cm_per_s2};
+    case 7: return Unit{0.0254, std::nullopt};
+    case 11: return Unit{1e-3 * standard_gravity, std::nullopt};
+    default: return std::nullopt;
+  }
+}
+
+GroundMotion read(const std::string& path, const std::vector<Line>& lines, const RecordOptions& o) {
+  refuse_component(path, o, "COSMOS");
+  const std::size_t with = find_word(lines[0].text, "WITH");
+  const std::optional<long> ntext = with == std::string::npos ? std::nullopt : leading_count(lines[0].text.substr(with + 4));
+  if (!ntext || *ntext < 1 || *ntext > 100) fail(path, 1, "line 1 does not say how many text lines follow ('with 13 text lines')");
+  std::size_t at = static_cast<std::size_t>(*ntext);
+  const BlockHeader ints = block_header(path, lines, at, "integer-header");
+  const std::vector<double> ih = block(path, lines, at + 1, ints.count, ints.fields, "integer-header values");
+  at += 1 + (ints.count + ints.fields.per_line - 1) / ints.fields.per_line;
+  const BlockHeader reals = block_header(path, lines, at, "real-header");
+  const std::vector<double> rh = block(path, lines, at + 1, reals.count, reals.fields, "real-header values");
+  at += 1 + (reals.count + reals.fields.per_line - 1) / reals.fields.per_line;
+  if (at >= lines.size() || find_word(lines[at].text, "COMMENT") == std::string::npos)
+    fail(path, lines[std::min(at, lines.size() - 1)].number, "expected the 'N Comment line(s) follow' line");
+  const std::optional<long> ncomments = leading_count(lines[at].text);
+  if (!ncomments) fail(path, lines[at].number, "the comment line count is not a number");
+  std::string channel;
+  for (std::size_t c = at + 1; c < std::min(lines.size(), at + 1 + static_cast<std::size_t>(*ncomments)); ++c)
+    if (const std::size_t scnl = lines[c].text.find("<SCNL>"); scnl != std::string::npos) {
+      const std::string id = trim(lines[c].text.substr(scnl + 6));
+      const std::size_t dot = id.find('.');
+      if (dot != std::string::npos) channel = id.substr(dot + 1, id.find_first_of(". ", dot + 1) - dot - 1);
+    }
+  at += 1 + static_cast<std::size_t>(*ncomments);
+  const BlockHeader data = block_header(path, lines, at, "data");
+  const Line& data_line = lines[at];
+  if (find_word(data_line.text, "ACCELERATION") == std::string::npos)
+    fail(path, data_line.number, "the first data block is not acceleration");
+  // The unit: "units=cm/sec2(04)".
+  const std::size_t u = find_word(data_line.text, "UNITS=");
+  const std::size_t code_at = u == std::string::npos ? u : data_line.text.find('(', u);
+  const std::optional<long> code = code_at == std::string::npos ? std::nullopt : leading_count(data_line.text.substr(code_at + 1));
+  const std::optional<Unit> unit = code ? cosmos_unit(static_cast<int>(*code)) : std::nullopt;
+  if (!unit) fail(path, data_line.number, "the data line names no acceleration unit this program knows (units=...(02|04|07|10|11))");
+  if (unit->unit) file_unit(path, data_line.number, *unit->unit, o);
+  else if (o.unit) fail(path, data_line.number, fmt::format("--units {}: the file states its own units", unit_name(*o.unit)));
+  // The time step: real field 62 [ms], else 34 [s]; -999 (or the file's own
+  // "unknown" value) where not given.
+  auto real = [&](std::size_t field) { return field <= rh.size() ? rh[field - 1] : -999.0; };
+  const double dt = real(62) > 0 ? real(62) / 1000.0 : real(34) > 0 ? real(34) : 0.0;
+  if (!(dt > 0)) fail(path, data_line.number, "no time step in the real header (field 62 in ms or 34 in s)");
+  refuse_dt(path, data_line.number, o, dt);
+  std::vector<double> values = block(path, lines, at + 1, data.count, data.fields, "accelerations");
+  for (double& v : values) v *= unit->to_si;
+  for (std::size_t i = 0; i < values.size(); ++i)
+    check_acceleration(path, lines[at + 1 + i / data.fields.per_line].number, values[i]);
+  RecordInfo info;
+  auto after = [&](std::size_t line, std::string_view key) {
+    if (line >= static_cast<std::size_t>(*ntext) || line >= lines.size()) return std::string();
+    const std::size_t k = find_word(lines[line].text, key);
+    return k == std::string::npos ? std::string() : trim(lines[line].text.substr(k + key.size()));
+  };
+  info.event = after(1, "RECORD OF");
+  info.date = after(3, "ORIGIN:");
+  std::string station = after(4, "CODE:");
+  station.erase(std::unique(station.begin(), station.end(), [](char a, char b) { return a == ' ' && b == ' '; }), station.end());
+  info.station = station;
+  info.component = channel;
+  info.units = trim(data_line.text.substr(u + 6, code_at - u - 6));
+  double resolution = 0;
+  if (const std::string max = after(10, "MAX ="); !max.empty()) {
+    const std::string number = max.substr(0, max.find_first_of(" \t"));
+    if (const std::optional<double> v = whole_number(number); v && std::isfinite(*v)) {
+      info.stated_peak = std::abs(*v) * unit->to_si;
+      const std::size_t dot = number.find('.');
+      resolution = 0.5 * std::pow(10.0, dot == std::string::npos ? 0.0 : -static_cast<double>(number.size() - dot - 1)) * unit->to_si;
+    }
+  } else if (real(64) != -999.0 && rh.size() >= 64) {
+    info.stated_peak = std::abs(real(64)) * unit->to_si;
+  }
+  return evenly_sampled(path, data_line.number, std::move(values), dt, std::move(info), resolution);
+}
+
+}  // namespace
+
+FormatReader cosmos_format() {
+  return {"cosmos", "COSMOS V1/V2 (V2c; units and time step from its headers)", detect, read};
+}
+
+}  // namespace rocking::records

@@ -1,0 +1,215 @@
+// Records kept as a table with a header row: "time (s), acc (g)",
+// "t,a_g", "time_s;acceleration_m_s2", tab- or space-separated as well.
+// The time column is named t or time (seconds, or ms when it says so); an
+// acceleration column by a name starting acc, a or ag; its unit from brackets
+// "(g)", "[m/s^2]", "(cm/s/s)", "(gal)" or a suffix "_g", "_m_s2", "_cm_s2",
+// "_mm_s2", "_gal". Without a time column the samples are --dt apart. A file
+// with several acceleration columns picks one with --component (its name or
+// its 1-based column number).
+module;
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+#include <fmt/format.h>
+module rocking.ground_motion;
+import rocking.errors;
+
+namespace rocking::records {
+
+namespace {
+
+const Line* data_line(const std::vector<Line>& lines, std::size_t skip) {
+  for (const Line& l : lines)
+    if (!blank_or_comment(l) && skip-- == 0) return &l;
+  return nullptr;
+}
+
+char separator_of(std::string_view header) {
+  for (char c : {',', ';', '\t'})
+    if (header.find(c) != std::string_view::npos) return c;
+  return ' ';
+}
+
+std::vector<std::string> split(std::string_view text, char sep) {
+  std::vector<std::string> out;
+  if (sep == ' ') {
+    for (std::size_t at = 0; at < text.size();) {
+      at = text.find_first_not_of(" \t", at);
+      if (at == std::string_view::npos) break;
+      const std::size_t end = std::min(text.find_first_of(" \t", at), text.size());
+      out.emplace_back(text.substr(at, end - at));
+      at = end;
+    }
+    return out;
+  }
+  for (std::size_t at = 0;;) {
+    const std::size_t end = text.find(sep, at);
+    out.push_back(trim(text.substr(at, end == std::string_view::npos ? std::string_view::npos : end - at)));
+    if (end == std::string_view::npos) break;
+    at = end + 1;
+  }
+  return out;
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// A column name split into its name and its unit text ("acc (g)" -> acc, g;
+// "acc_m_s2" -> acc, m/s2).
+struct Name {
+  std::string base, unit;
+};
+Name parse_name(std::string_view raw) {
+  std::string t = lower(trim(raw));
+  if (t.size() >= 2 && t.front() == '"' && t.back() == '"') t = t.substr(1, t.size() - 2);
+  Name n;
+  const std::size_t open = t.find_first_of("([");
+  if (open != std::string::npos) {
+    const std::size_t close = t.find_first_of(")]", open);
+    n.unit = t.substr(open + 1, close == std::string::npos ? std::string::npos : close - open - 1);
+    n.base = trim(t.substr(0, open));
+  } else {
+    n.base = t;
+    for (const char* suffix : {"_m_s2", "_cm_s2", "_mm_s2", "_gal", "_g", "_ms", "_s"})
+      if (t.size() > std::string_view(suffix).size() && t.ends_with(suffix)) {
+        n.base = t.substr(0, t.size() - std::string_view(suffix).size());
+        n.unit = std::string(suffix + 1);
+        std::replace(n.unit.begin(), n.unit.end(), '_', '/');
+        break;
+      }
+  }
+  // Spellings of one unit: m/s^2, m/s/s, m/sec2, m s-2.
+  std::string u;
+  for (char c : n.unit)
+    if (c != ' ' && c != '^' && c != '*') u += c;
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"/s/s", "/s2"}, {"/sec2", "/s2"}, {"/sec/sec", "/s2"},
+                                 {"s-2", "/s2"}, {"//", "/"}})
+    for (std::size_t at = u.find(from); at != std::string::npos; at = u.find(from)) u.replace(at, from.size(), to);
+  n.unit = u;
+  return n;
+}
+
+bool is_time(const Name& n) { return n.base == "t" || n.base == "time"; }
+bool is_acceleration(const Name& n) {
+  return n.base.starts_with("acc") || n.base == "a" || n.base.starts_with("a_") || n.base.starts_with("ag");
+}
+
+bool detect(const std::string&, const std::vector<Line>& lines) {
+  const Line* head = data_line(lines, 0);
+  if (!head) return false;
+  const std::vector<std::string> names = split(head->text, separator_of(head->text));
+  return std::any_of(names.begin(), names.end(), [](const std::string& s) { return is_acceleration(parse_name(s)); }) &&
+         std::none_of(names.begin(), names.end(), [](const std::string& s) { return whole_number(s).has_value(); });
+}
+
+GroundMotion read(const std::string& path, const std::vector<Line>& lines, const RecordOptions& o) {
+  const Line* head = data_line(lines, 0);
+  if (!head) fail(path, 1, "the record is empty");
+  const char sep = separator_of(head->text);
+  const std::vector<std::string> raw = split(head->text, sep);
+  std::vector<Name> names;
+  for (const std::string& r : raw) names.push_back(parse_name(r));
+  std::optional<std::size_t> time, acc;
+  std::vector<std::size_t> accs;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (is_time(names[i])) {
+      if (time) fail(path, head->number, fmt::format("two time columns ('{}' and '{}')", raw[*time], raw[i]));
+      time = i;
+    } else if (is_acceleration(names[i])) {
+      accs.push_back(i);
+    }
+  }
+  if (!o.component.empty()) {
+    const std::optional<double> index = whole_number(o.component);
+    for (std::size_t i = 0; i < names.size(); ++i)
+      if (lower(raw[i]) == lower(o.component) || names[i].base == lower(o.component)) acc = i;
+    if (!acc && index && *index >= 1 && *index <= static_cast<double>(names.size()) && *index == std::floor(*index))
+      acc = static_cast<std::size_t>(*index) - 1;
+    if (!acc || acc == time)
+      throw InputError(fmt::format("{}: --component {}: no acceleration column of that name or number (the header "
+                                   "names {})", path, o.component, trim(head->text)));
+  } else if (accs.size() == 1) {
+    acc = accs[0];
+  } else {
+    std::string list;
+    for (std::size_t i : accs) list += (list.empty() ? "'" : ", '") + raw[i] + "'";
+    fail(path, head->number, accs.empty() ? "no acceleration column in the header (name one acc, a or ag)"
+                                          : fmt::format("columns {} are all accelerations: choose one with --component", list));
+  }
+  // Units: the header's, or --units; both must agree.
+  std::optional<AccelerationUnit> stated;
+  if (!names[*acc].unit.empty()) {
+    try {
+      stated = parse_acceleration_unit(names[*acc].unit);
+    } catch (const InputError&) {
+      fail(path, head->number, fmt::format("column '{}': unknown acceleration unit '{}' (g, m/s2, cm/s2, gal or mm/s2)",
+                                           raw[*acc], names[*acc].unit));
+    }
+  }
+  if (!stated && !o.unit)
+    fail(path, head->number, fmt::format("column '{}' names no unit: write it as 'acc (g)' or 'acc_m_s2', or give --units",
+                                         raw[*acc]));
+  const AccelerationUnit unit = stated ? file_unit(path, head->number, *stated, o) : *o.unit;
+  double time_scale = 1;
+  if (time) {
+    const std::string& tu = names[*time].unit;
+    if (tu == "ms") time_scale = 1e-3;
+    else if (!tu.empty() && tu != "s" && tu != "sec")
+      fail(path, head->number, fmt::format("column '{}': time unit '{}' (s or ms)", raw[*time], tu));
+    if (o.dt > 0) fail(path, head->number, fmt::format("--dt {:g}: the file has a time column ('{}')", o.dt, raw[*time]));
+  } else if (!(o.dt > 0)) {
+    fail(path, head->number, "no time column (name one t or time), and no --dt");
+  }
+  std::vector<double> times, values;
+  bool past_header = false;
+  for (const Line& l : lines) {
+    if (blank_or_comment(l)) continue;
+    if (!past_header) {
+      past_header = true;
+      continue;
+    }
+    const std::vector<std::string> cells = split(l.text, sep);
+    if (cells.size() != names.size())
+      fail(path, l.number, fmt::format("{} fields, the header names {}", cells.size(), names.size()));
+    auto number = [&](std::size_t c) {
+      const std::optional<double> v = whole_number(cells[c]);
+      if (!v) fail(path, l.number, fmt::format("'{:.40}' is not a number", cells[c]));
+      if (!std::isfinite(*v)) fail(path, l.number, fmt::format("'{:.40}' is not a finite number", cells[c]));
+      return *v;
+    };
+    const double t = time ? number(*time) * time_scale : static_cast<double>(values.size()) * o.dt;
+    if (times.empty() && t < 0)
+      fail(path, l.number, fmt::format("the record starts at t = {:g} s: a run starts at 0 (shift the times)", t));
+    if (!times.empty() && !(t > times.back())) fail(path, l.number, fmt::format("times must increase ({} after {})", t, times.back()));
+    if (t > max_record_duration)
+      fail(path, l.number, fmt::format("t = {:g} s is beyond {:g} s: not a record's duration", t, max_record_duration));
+    times.push_back(t);
+    values.push_back(number(*acc) * to_si(unit));
+    check_acceleration(path, l.number, values.back());
+  }
+  if (values.size() < 2) fail(path, lines.back().number, "a record needs at least two samples");
+  RecordInfo info;
+  info.units = unit_name(unit);
+  info.component = raw[*acc];
+  info.npts = values.size();
+  GroundMotion g =
+      GroundMotion::from_samples(std::filesystem::path(path).filename().string(), std::move(times), std::move(values));
+  info.dt = g.sample_interval();
+  g.set_info(std::move(info));
+  return g;
+}
+
+}  // namespace
+
+FormatReader csv_format() {
+  return {"csv", "a table with a header row naming the time and acceleration columns and units", detect, read};
+}
+
+}  // namespace rocking::records

@@ -1,0 +1,81 @@
+// The record formats read_record knows, and the detection that picks one
+// from a file's content. A new format is a format_NAME.cpp defining its
+// FormatReader (declared in ground_motion.cppm) and one line in `readers`.
+module;
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <string>
+#include <vector>
+#include <fmt/format.h>
+module rocking.ground_motion;
+import rocking.errors;
+
+namespace rocking {
+
+namespace {
+
+// In the order detection tries them: the formats with a signature first,
+// bare columns last.
+const std::vector<records::FormatReader>& readers() {
+  static const std::vector<records::FormatReader> all = {
+      records::geonet_format(), records::knet_format(), records::cosmos_format(),
+      records::at2_format(),    records::csv_format(),  records::columns_format(),
+  };
+  return all;
+}
+
+std::string format_names() {
+  std::string out;
+  for (const records::FormatReader& r : readers()) out += (out.empty() ? "" : ", ") + r.name;
+  return out;
+}
+
+}  // namespace
+
+std::vector<RecordFormatInfo> record_formats() {
+  std::vector<RecordFormatInfo> out;
+  for (const records::FormatReader& r : readers()) out.push_back({r.name, r.description});
+  return out;
+}
+
+GroundMotion read_record(const std::string& path, const RecordOptions& o) {
+  if (!std::isfinite(o.scale)) throw InputError(fmt::format("--scale must be finite (got {})", o.scale));
+  if (o.dt < 0 || !std::isfinite(o.dt)) throw InputError(fmt::format("--dt {}: must be positive", o.dt));
+  const records::FormatReader* reader = nullptr;
+  if (o.format != "auto") {
+    const auto& all = readers();
+    const auto it = std::find_if(all.begin(), all.end(), [&](const records::FormatReader& r) { return r.name == o.format; });
+    if (it == all.end())
+      throw InputError(fmt::format("--format {}: unknown record format (choose auto, {})", o.format, format_names()));
+    reader = &*it;
+  }
+  const std::vector<records::Line> lines = records::read_lines(path);
+  const auto first = std::find_if(lines.begin(), lines.end(), [](const records::Line& l) { return !records::blank_or_comment(l); });
+  if (first == lines.end()) records::fail(path, 1, "the record is empty");
+  if (!reader)
+    for (const records::FormatReader& r : readers())
+      if (r.detect(path, lines)) {
+        reader = &r;
+        break;
+      }
+  if (!reader) {
+    std::string look = records::trim(first->text);
+    bool text = false;
+    for (char& c : look) {
+      if (!std::isprint(static_cast<unsigned char>(c))) c = '?';
+      text = text || std::isalpha(static_cast<unsigned char>(c));
+    }
+    records::fail(path, first->number,
+                  fmt::format("not a record format this program reads: it starts with {} '{:.50}' (formats: {}; "
+                              "--format forces one)",
+                              text ? "text" : "numbers", look, format_names()));
+  }
+  GroundMotion g = reader->read(path, lines, o);
+  RecordInfo info = g.info();
+  info.format = reader->name;
+  g.set_info(std::move(info));
+  return o.scale == 1.0 ? g : g.scaled(o.scale);
+}
+
+}  // namespace rocking

@@ -1,0 +1,310 @@
+module;
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <string_view>
+#include <vector>
+#include <fmt/format.h>
+module rocking.intensity;
+import rocking.errors;
+import rocking.ground_motion;
+
+namespace rocking {
+
+namespace {
+
+struct Samples {
+  std::vector<double> t, a;
+};
+
+Samples samples_of(const GroundMotion& g) {
+  if (!g.piecewise_linear())
+    throw InputError(fmt::format("{}: intensity measures are defined for records, not for an analytic pulse", g.name()));
+  return {g.sample_times(), g.sample_values()};
+}
+
+void check_damping(double zeta) {
+  if (!(zeta >= 0 && zeta < 1)) throw InputError(fmt::format("damping {} must be in [0, 1)", zeta));
+}
+
+void check_period(double T) {
+  if (!(T > 0) || !std::isfinite(T)) throw InputError(fmt::format("period {} s must be positive", T));
+}
+
+// The oscillator's exact step over h for a(tau) = a0 + s tau: the particular
+// solution p + q tau plus the free decay of what is left (y, y').
+class Oscillator {
+ public:
+  Oscillator(double period, double zeta)
+      : w_(2 * std::numbers::pi / period), zeta_(zeta), wd_(w_ * std::sqrt(1 - zeta * zeta)) {}
+  double omega() const { return w_; }
+  double max_step() const { return 2 * std::numbers::pi / w_ / 20; }
+
+  // Position and velocity after tau from (x0, v0) under a0 + s tau.
+  void advance(double x0, double v0, double a0, double s, double tau, double& x, double& v) const {
+    if (tau != tau_) set_step(tau);
+    state(x0, v0, a0, s, tau, E_, C_, S_, x, v);
+  }
+
+  // The largest |x| strictly inside a step whose velocity changes sign: where
+  // v = 0, by safeguarded Newton on the exact solution.
+  double interior_peak(double x0, double v0, double a0, double s, double h, double v1) const {
+    double lo = 0, hi = h, tau = h * v0 / (v0 - v1);
+    double x = x0, v = v0;
+    for (int it = 0; it < 50; ++it) {
+      const double e = std::exp(-zeta_ * w_ * tau);
+      state(x0, v0, a0, s, tau, e, std::cos(wd_ * tau), std::sin(wd_ * tau), x, v);
+      if ((v > 0) == (v0 > 0)) lo = tau;
+      else hi = tau;
+      const double acc = -(a0 + s * tau) - 2 * zeta_ * w_ * v - w_ * w_ * x;  // dv/dtau
+      double next = acc != 0 ? tau - v / acc : 0.5 * (lo + hi);
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      if (std::abs(next - tau) <= 1e-15 * h || hi - lo <= 1e-15 * h) break;
+      tau = next;
+    }
+    return std::abs(x);
+  }
+
+ private:
+  void set_step(double tau) const {
+    tau_ = tau;
+    E_ = std::exp(-zeta_ * w_ * tau);
+    C_ = std::cos(wd_ * tau);
+    S_ = std::sin(wd_ * tau);
+  }
+  void state(double x0, double v0, double a0, double s, double tau, double E, double C, double S, double& x,
+             double& v) const {
+    const double w2 = w_ * w_;
+    const double q = -s / w2, p = (-a0 + 2 * zeta_ * s / w_) / w2;
+    const double y0 = x0 - p, yd0 = v0 - q;
+    x = E * (y0 * C + (yd0 + zeta_ * w_ * y0) / wd_ * S) + p + q * tau;
+    v = E * (yd0 * C - (w2 * y0 + zeta_ * w_ * yd0) / wd_ * S) + q;
+  }
+
+  double w_, zeta_, wd_;
+  mutable double tau_ = -1, E_ = 0, C_ = 0, S_ = 0;
+};
+
+double peak_displacement(const Samples& r, double period, double zeta) {
+  const Oscillator osc(period, zeta);
+  double x = 0, v = 0, peak = 0;
+  for (std::size_t i = 0; i + 1 < r.t.size(); ++i) {
+    const double h = r.t[i + 1] - r.t[i];
+    const double s = (r.a[i + 1] - r.a[i]) / h;
+    const int m = std::max(1, static_cast<int>(std::ceil(h / osc.max_step() - 1e-9)));
+    const double hs = h / m;
+    for (int k = 0; k < m; ++k) {
+      const double a0 = r.a[i] + s * hs * k;
+      double x1, v1;
+      osc.advance(x, v, a0, s, hs, x1, v1);
+      if ((v > 0 && v1 < 0) || (v < 0 && v1 > 0)) peak = std::max(peak, osc.interior_peak(x, v, a0, s, hs, v1));
+      peak = std::max(peak, std::abs(x1));
+      x = x1;
+      v = v1;
+    }
+  }
+  return peak;
+}
+
+// The time within [t0, t0 + h] at which int_t0^t a^2 reaches `target`
+// (from `start`, its value at t0), a = a0 + s tau: bisection on the cubic.
+double arias_crossing(double t0, double h, double a0, double s, double start, double target) {
+  auto cumulative = [&](double tau) {
+    return start + a0 * a0 * tau + a0 * s * tau * tau + s * s * tau * tau * tau / 3;
+  };
+  double lo = 0, hi = h;
+  for (int it = 0; it < 200 && hi - lo > 1e-15 * h; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (cumulative(mid) < target ? lo : hi) = mid;
+  }
+  return t0 + 0.5 * (lo + hi);
+}
+
+}  // namespace
+
+GroundHistory integrate_record(const GroundMotion& g) {
+  const Samples r = samples_of(g);
+  GroundHistory h;
+  h.t = r.t;
+  h.a = r.a;
+  h.v.assign(r.t.size(), 0.0);
+  h.d.assign(r.t.size(), 0.0);
+  for (std::size_t i = 0; i + 1 < r.t.size(); ++i) {
+    const double dt = r.t[i + 1] - r.t[i], s = (r.a[i + 1] - r.a[i]) / dt;
+    h.v[i + 1] = h.v[i] + r.a[i] * dt + s * dt * dt / 2;
+    h.d[i + 1] = h.d[i] + h.v[i] * dt + r.a[i] * dt * dt / 2 + s * dt * dt * dt / 6;
+  }
+  return h;
+}
+
+RecordMeasures measure_record(const GroundMotion& g, const std::vector<double>& periods, double damping) {
+  check_damping(damping);
+  for (double T : periods) check_period(T);
+  const GroundHistory hist = integrate_record(g);
+  const std::vector<double>& t = hist.t;
+  const std::vector<double>& a = hist.a;
+  const std::vector<double>& v = hist.v;
+  const std::vector<double>& d = hist.d;
+  RecordMeasures m;
+  m.damping = damping;
+  double energy = 0;  // int a^2 dt
+  std::vector<double> cumulative(t.size(), 0.0);
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    if (std::abs(a[i]) > m.pga) {
+      m.pga = std::abs(a[i]);
+      m.pga_time = t[i];
+    }
+    m.pgv = std::max(m.pgv, std::abs(v[i]));
+    m.pgd = std::max(m.pgd, std::abs(d[i]));
+    if (i + 1 == t.size()) break;
+    const double h = t[i + 1] - t[i], a0 = a[i], a1 = a[i + 1], s = (a1 - a0) / h;
+    // Between samples: v peaks where a = 0, d where v = 0.
+    if (s != 0) {
+      const double tau = -a0 / s;
+      if (tau > 0 && tau < h) m.pgv = std::max(m.pgv, std::abs(v[i] + a0 * tau + s * tau * tau / 2));
+    }
+    const double qa = s / 2, qb = a0, qc = v[i];  // v(tau) = qa tau^2 + qb tau + qc
+    auto d_at = [&](double tau) { return d[i] + v[i] * tau + a0 * tau * tau / 2 + s * tau * tau * tau / 6; };
+    if (qa != 0) {
+      const double disc = qb * qb - 4 * qa * qc;
+      if (disc >= 0) {
+        const double root = std::sqrt(disc);
+        const double q = -0.5 * (qb + std::copysign(root, qb));
+        for (double tau : {q / qa, q != 0 ? qc / q : -1.0})
+          if (tau > 0 && tau < h) m.pgd = std::max(m.pgd, std::abs(d_at(tau)));
+      }
+    } else if (qb != 0) {
+      const double tau = -qc / qb;
+      if (tau > 0 && tau < h) m.pgd = std::max(m.pgd, std::abs(d_at(tau)));
+    }
+    energy += h * (a0 * a0 + a0 * a1 + a1 * a1) / 3;
+    cumulative[i + 1] = energy;
+    m.cav += (a0 >= 0) == (a1 >= 0) ? h * (std::abs(a0) + std::abs(a1)) / 2
+                                    : h * (a0 * a0 + a1 * a1) / (2 * (std::abs(a0) + std::abs(a1)));
+  }
+  m.arias = std::numbers::pi / (2 * standard_gravity) * energy;
+  if (energy > 0) {
+    auto crossing = [&](double fraction) {
+      const double target = fraction * energy;
+      const std::size_t i = static_cast<std::size_t>(
+          std::lower_bound(cumulative.begin(), cumulative.end(), target) - cumulative.begin());
+      if (i == 0) return t[0];
+      const double h = t[i] - t[i - 1];
+      return arias_crossing(t[i - 1], h, a[i - 1], (a[i] - a[i - 1]) / h, cumulative[i - 1], target);
+    };
+    m.d5_95 = crossing(0.95) - crossing(0.05);
+  }
+  m.periods = periods;
+  const Samples r{t, a};
+  for (double T : periods) m.psa.push_back(std::pow(2 * std::numbers::pi / T, 2) * peak_displacement(r, T, damping));
+  return m;
+}
+
+double pseudo_spectral_acceleration(const GroundMotion& g, double period, double damping) {
+  return response_spectrum(g, {period}, damping).front();
+}
+
+std::vector<double> response_spectrum(const GroundMotion& g, const std::vector<double>& periods, double damping) {
+  check_damping(damping);
+  const Samples r = samples_of(g);
+  std::vector<double> out;
+  for (double T : periods) {
+    check_period(T);
+    out.push_back(std::pow(2 * std::numbers::pi / T, 2) * peak_displacement(r, T, damping));
+  }
+  return out;
+}
+
+std::vector<double> standard_periods() {
+  return {0.01, 0.02, 0.03, 0.05, 0.075, 0.1, 0.15, 0.2, 0.25, 0.3, 0.4,
+          0.5,  0.75, 1.0,  1.5,  2.0,   3.0, 4.0,  5.0, 7.5,  10.0};
+}
+
+std::vector<double> log_periods(double from, double to, int n) {
+  check_period(from);
+  check_period(to);
+  std::vector<double> out;
+  for (int i = 0; i < n; ++i)
+    out.push_back(n == 1 ? from : from * std::pow(to / from, static_cast<double>(i) / (n - 1)));
+  return out;
+}
+
+std::string IntensityMeasure::name() const {
+  switch (kind) {
+    case Kind::scale_factor: return "sf";
+    case Kind::pga: return "pga";
+    case Kind::pgv: return "pgv";
+    case Kind::sa: return fmt::format("sa:{:g}", t1);
+    case Kind::saavg: return fmt::format("saavg:{:g}:{:g}", t1, t2);
+  }
+  return "sf";
+}
+
+std::string IntensityMeasure::unit() const {
+  switch (kind) {
+    case Kind::scale_factor: return "";
+    case Kind::pgv: return "m/s";
+    default: return "g";
+  }
+}
+
+IntensityMeasure parse_intensity_measure(std::string_view text, double damping) {
+  check_damping(damping);
+  IntensityMeasure im;
+  im.damping = damping;
+  std::vector<std::string> parts;
+  for (std::size_t at = 0;;) {
+    const std::size_t colon = text.find(':', at);
+    parts.emplace_back(text.substr(at, colon == std::string_view::npos ? std::string_view::npos : colon - at));
+    if (colon == std::string_view::npos) break;
+    at = colon + 1;
+  }
+  auto period = [&](const std::string& p) {
+    std::size_t used = 0;
+    double T = 0;
+    try {
+      T = std::stod(p, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != p.size() || p.empty() || !(T > 0) || !std::isfinite(T))
+      throw InputError(fmt::format("intensity measure '{}': '{}' is not a period in seconds", text, p));
+    return T;
+  };
+  const std::string& k = parts[0];
+  if ((k == "sf" || k == "pga" || k == "pgv") && parts.size() == 1) {
+    im.kind = k == "sf" ? IntensityMeasure::Kind::scale_factor : k == "pga" ? IntensityMeasure::Kind::pga
+                                                                             : IntensityMeasure::Kind::pgv;
+  } else if (k == "sa" && parts.size() == 2) {
+    im.kind = IntensityMeasure::Kind::sa;
+    im.t1 = period(parts[1]);
+  } else if (k == "saavg" && parts.size() == 3) {
+    im.kind = IntensityMeasure::Kind::saavg;
+    im.t1 = period(parts[1]);
+    im.t2 = period(parts[2]);
+    if (!(im.t2 > im.t1)) throw InputError(fmt::format("intensity measure '{}': T2 must exceed T1", text));
+  } else {
+    throw InputError(fmt::format("intensity measure '{}': choose sf, pga, pgv, sa:T or saavg:T1:T2", text));
+  }
+  return im;
+}
+
+double intensity(const GroundMotion& g, const IntensityMeasure& im) {
+  using Kind = IntensityMeasure::Kind;
+  switch (im.kind) {
+    case Kind::scale_factor: return 1.0;
+    case Kind::pga: return measure_record(g, {}, im.damping).pga / standard_gravity;
+    case Kind::pgv: return measure_record(g, {}, im.damping).pgv;
+    case Kind::sa: return pseudo_spectral_acceleration(g, im.t1, im.damping) / standard_gravity;
+    case Kind::saavg: {
+      const std::vector<double> psa = response_spectrum(g, log_periods(im.t1, im.t2, 10), im.damping);
+      double log_sum = 0;
+      for (double s : psa) log_sum += std::log(s);
+      return std::exp(log_sum / static_cast<double>(psa.size())) / standard_gravity;
+    }
+  }
+  return 1.0;
+}
+
+}  // namespace rocking

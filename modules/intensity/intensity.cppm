@@ -1,0 +1,69 @@
+// rocking.intensity: what a ground motion is, in the measures of the field
+// (MODEL.md 12). For a record a(t), piecewise linear between its samples:
+//   PGA = max|a|; v and d by exact integration (v piecewise quadratic, d
+//   cubic, both zero at t = 0, no baseline correction), PGV and PGD their
+//   peaks including those between samples;
+//   Arias intensity I_A = pi / (2 g) int a^2 dt; D5-95 the time between 5 %
+//   and 95 % of I_A; CAV = int |a| dt (all exact for the piecewise-linear a);
+//   PSA(T, zeta) = w^2 max|x| for x'' + 2 zeta w x' + w^2 x = -a(t), w = 2 pi / T,
+//   from rest, over the record's duration. Each step is exact for the linear
+//   a (the first-order-hold, or piecewise-exact, step of Nigam & Jennings,
+//   BSSA 59, 1969; the same discretisation as rocking.integrator's full
+//   contact); steps are cut to at most T / 20 and the peak between two
+//   points is located where x' = 0, so a short period's peak between samples
+//   is caught.
+// Intensity measures for scaling (MODEL.md 12): the scale factor that brings
+// a record's IM to a level is level / IM(record), since every IM here is
+// proportional to the acceleration's scale.
+module;
+#include <string>
+#include <string_view>
+#include <vector>
+export module rocking.intensity;
+import rocking.ground_motion;
+
+export namespace rocking {
+
+// a, v, d at the record's samples [m/s^2, m/s, m].
+struct GroundHistory {
+  std::vector<double> t, a, v, d;
+};
+GroundHistory integrate_record(const GroundMotion& g);
+
+struct RecordMeasures {
+  double pga = 0, pga_time = 0;  // [m/s^2], [s]
+  double pgv = 0;                // [m/s]
+  double pgd = 0;                // [m]
+  double arias = 0;              // [m/s]
+  double d5_95 = 0;              // [s]
+  double cav = 0;                // [m/s]
+  double damping = 0.05;
+  std::vector<double> periods;   // [s]
+  std::vector<double> psa;       // [m/s^2], one per period
+};
+// InputError for a pulse (not a record), a period not positive and finite,
+// or a damping outside [0, 1).
+RecordMeasures measure_record(const GroundMotion& g, const std::vector<double>& periods, double damping = 0.05);
+// PSA(T, zeta) [m/s^2].
+double pseudo_spectral_acceleration(const GroundMotion& g, double period, double damping = 0.05);
+std::vector<double> response_spectrum(const GroundMotion& g, const std::vector<double>& periods, double damping = 0.05);
+// The periods of the NGA-West2 spectra from 0.01 to 10 s (21 of them).
+std::vector<double> standard_periods();
+// n periods evenly spaced in log T from `from` to `to` (for smooth figures).
+std::vector<double> log_periods(double from, double to, int n);
+
+// An intensity measure to scale records to: "sf" (the factor itself), "pga",
+// "pgv", "sa:T" (PSA at T), "saavg:T1:T2" (the geometric mean of PSA at 10
+// periods evenly spaced in log T from T1 to T2).
+struct IntensityMeasure {
+  enum class Kind { scale_factor, pga, pgv, sa, saavg } kind = Kind::scale_factor;
+  double t1 = 0, t2 = 0;     // [s]
+  double damping = 0.05;
+  std::string name() const;  // as parsed: "sa:1", "pga"
+  std::string unit() const;  // "g", "m/s", "" (scale factor)
+};
+IntensityMeasure parse_intensity_measure(std::string_view text, double damping = 0.05);
+// The record's IM in the unit of IntensityMeasure::unit() (1 for "sf").
+double intensity(const GroundMotion& g, const IntensityMeasure& im);
+
+}  // namespace rocking

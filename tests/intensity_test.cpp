@@ -1,0 +1,214 @@
+// rocking.intensity: intensity measures against closed forms, the response
+// spectrum against the oscillator's closed form (harmonic and ramp ground
+// motions) and against an independent integration of El Centro (4th-order
+// Runge-Kutta on the record at a twentieth of its step), the peak between
+// samples, and IM scaling.
+#include <doctest/doctest.h>
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <string>
+#include <vector>
+#include "records.hpp"
+import rocking.ground_motion;
+import rocking.intensity;
+import rocking.errors;
+
+using namespace rocking;
+
+namespace {
+
+constexpr double pi = std::numbers::pi;
+
+// max |x(t)| on [0, end] of a smooth closed form: the largest of a fine grid,
+// refined by golden-section search within a grid step either side.
+double closed_form_peak(const std::function<double(double)>& x, double end, double grid) {
+  const int n = static_cast<int>(std::ceil(end / grid));
+  double best = 0, at = 0;
+  for (int i = 0; i <= n; ++i) {
+    const double t = std::min(end, i * grid);
+    if (std::abs(x(t)) > best) best = std::abs(x(t)), at = t;
+  }
+  double lo = std::max(0.0, at - grid), hi = std::min(end, at + grid);
+  const double r = (std::sqrt(5.0) - 1) / 2;
+  for (int it = 0; it < 200; ++it) {
+    const double m1 = hi - r * (hi - lo), m2 = lo + r * (hi - lo);
+    (std::abs(x(m1)) > std::abs(x(m2)) ? hi : lo) = (std::abs(x(m1)) > std::abs(x(m2)) ? m2 : m1);
+  }
+  return std::max(best, std::abs(x(0.5 * (lo + hi))));
+}
+
+// Free decay from (y0, yd0) of x'' + 2 zeta w x' + w^2 x = 0.
+double decay(double t, double y0, double yd0, double w, double zeta) {
+  const double wd = w * std::sqrt(1 - zeta * zeta);
+  return std::exp(-zeta * w * t) * (y0 * std::cos(wd * t) + (yd0 + zeta * w * y0) / wd * std::sin(wd * t));
+}
+
+GroundMotion sampled(const std::function<double(double)>& a, double dt, double end) {
+  std::vector<double> t, v;
+  for (long i = 0; i * dt <= end + 1e-12; ++i) {
+    t.push_back(i * dt);
+    v.push_back(a(i * dt));
+  }
+  return GroundMotion::from_samples("test", t, v);
+}
+
+}  // namespace
+
+TEST_CASE("PSA of a harmonic ground motion equals the oscillator's closed form to 1e-8") {
+  // a = A sin(W t) from rest, sampled at dt with W dt = 6e-5, so that the
+  // record's linear interpolation changes the response by about (W dt)^2 / 12.
+  const double A = 2.0, W = 2 * pi, end = 3.0;
+  const GroundMotion g = sampled([&](double t) { return A * std::sin(W * t); }, 1e-5, end);
+  for (double T : {0.25, 1.7, 4.0}) {
+    for (double zeta : {0.0, 0.05}) {
+      CAPTURE(T);
+      CAPTURE(zeta);
+      const double w = 2 * pi / T, D = std::pow(w * w - W * W, 2) + std::pow(2 * zeta * w * W, 2);
+      const double c1 = -A * (w * w - W * W) / D, c2 = 2 * A * zeta * w * W / D;
+      auto x = [&](double t) { return c1 * std::sin(W * t) + c2 * std::cos(W * t) + decay(t, -c2, -c1 * W, w, zeta); };
+      const double expected = w * w * closed_form_peak(x, end, std::min(T, 1.0) / 200);
+      CHECK(pseudo_spectral_acceleration(g, T, zeta) == doctest::Approx(expected).epsilon(1e-8));
+    }
+  }
+}
+
+TEST_CASE("PSA of a single ramp equals the closed form to 1e-8 (one sample interval, many sub-steps)") {
+  const double s = 3.0, end = 2.3;
+  const GroundMotion g = GroundMotion::from_samples("ramp", {0.0, end}, {0.0, s * end});
+  for (double T : {0.05, 0.4, 3.0}) {
+    CAPTURE(T);
+    const double w = 2 * pi / T, zeta = 0.05;
+    const double q = -s / (w * w), p = 2 * zeta * s / (w * w * w);
+    auto x = [&](double t) { return p + q * t + decay(t, -p, -q, w, zeta); };
+    CHECK(pseudo_spectral_acceleration(g, T, zeta) == doctest::Approx(w * w * closed_form_peak(x, end, T / 200)).epsilon(1e-8));
+  }
+}
+
+TEST_CASE("the peak between samples is caught: a finer resampling of the same record gives the same PSA") {
+  // Resampled linearly, a piecewise-linear record is the same function; a
+  // spectrum that only looked at the samples would miss most of the peak at
+  // periods near the sample interval.
+  const auto dir = records_dir();
+  if (!dir) return;
+  const GroundMotion g = read_record(*dir + "/elcentro_1940_ns.at2");
+  const std::vector<double> t = g.sample_times(), a = g.sample_values();
+  std::vector<double> tf, af;
+  for (std::size_t i = 0; i + 1 < t.size(); ++i)
+    for (int k = 0; k < 8; ++k) {
+      tf.push_back(t[i] + (t[i + 1] - t[i]) * k / 8.0);
+      af.push_back(a[i] + (a[i + 1] - a[i]) * k / 8.0);
+    }
+  tf.push_back(t.back());
+  af.push_back(a.back());
+  const GroundMotion fine = GroundMotion::from_samples("fine", tf, af);
+  for (double T : {0.01, 0.02, 0.05, 0.3}) {
+    CAPTURE(T);
+    CHECK(pseudo_spectral_acceleration(fine, T) == doctest::Approx(pseudo_spectral_acceleration(g, T)).epsilon(1e-9));
+  }
+  // At T = dt the spectral acceleration is near the PGA, as it must be for a
+  // rigid oscillator.
+  CHECK(pseudo_spectral_acceleration(g, 0.01) == doctest::Approx(g.peak()).epsilon(0.05));
+}
+
+TEST_CASE("PSA of El Centro at 0.5, 1 and 2 s agrees with an independent Runge-Kutta integration") {
+  const auto dir = records_dir();
+  if (!dir) return;
+  const GroundMotion g = read_record(*dir + "/elcentro_1940_ns.at2");
+  for (double T : {0.5, 1.0, 2.0}) {
+    CAPTURE(T);
+    // Classic RK4 on (x, v) at h = dt / 20 = 1 ms, the record interpolated
+    // linearly, the peak taken at the steps: the peak's sampling error is
+    // about (w h)^2 / 8 <= 2e-5 and RK4's (w h)^4, so 1e-4 holds.
+    const double w = 2 * pi / T, zeta = 0.05, h = 0.001;
+    auto f = [&](double t, double x, double v, double& dx, double& dv) {
+      dx = v;
+      dv = -g.acceleration(t) - 2 * zeta * w * v - w * w * x;
+    };
+    double x = 0, v = 0, peak = 0;
+    const long n = std::lround(g.duration() / h);
+    for (long i = 0; i < n; ++i) {
+      const double t = i * h;
+      double k1x, k1v, k2x, k2v, k3x, k3v, k4x, k4v;
+      f(t, x, v, k1x, k1v);
+      f(t + h / 2, x + h / 2 * k1x, v + h / 2 * k1v, k2x, k2v);
+      f(t + h / 2, x + h / 2 * k2x, v + h / 2 * k2v, k3x, k3v);
+      f(t + h, x + h * k3x, v + h * k3v, k4x, k4v);
+      x += h / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
+      v += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+      peak = std::max(peak, std::abs(x));
+    }
+    CHECK(pseudo_spectral_acceleration(g, T) == doctest::Approx(w * w * peak).epsilon(1e-4));
+  }
+}
+
+TEST_CASE("PGA, PGV, PGD, Arias intensity, CAV and D5-95 against closed forms") {
+  const double A = 3.0, L = 2.0, g0 = standard_gravity;
+  // Constant a = A on [0, L].
+  const RecordMeasures c = measure_record(GroundMotion::from_samples("c", {0.0, L}, {A, A}), {});
+  CHECK(c.pga == doctest::Approx(A));
+  CHECK(c.pgv == doctest::Approx(A * L));
+  CHECK(c.pgd == doctest::Approx(A * L * L / 2));
+  CHECK(c.arias == doctest::Approx(pi / (2 * g0) * A * A * L).epsilon(1e-14));
+  CHECK(c.cav == doctest::Approx(A * L).epsilon(1e-14));
+  CHECK(c.d5_95 == doctest::Approx(0.9 * L).epsilon(1e-12));
+  // A ramp a = s t: int a^2 grows as t^3, so D5-95 = L (0.95^(1/3) - 0.05^(1/3)).
+  const RecordMeasures r = measure_record(GroundMotion::from_samples("r", {0.0, L}, {0.0, A}), {});
+  CHECK(r.d5_95 == doctest::Approx(L * (std::cbrt(0.95) - std::cbrt(0.05))).epsilon(1e-12));
+  CHECK(r.arias == doctest::Approx(pi / (2 * g0) * A * A * L / 3).epsilon(1e-14));
+  // From -A to A: v = -A t + A t^2 / L peaks between the samples at t = L/2.
+  const RecordMeasures s = measure_record(GroundMotion::from_samples("s", {0.0, L}, {-A, A}), {});
+  CHECK(s.pgv == doctest::Approx(A * L / 4).epsilon(1e-14));
+  CHECK(s.cav == doctest::Approx(A * L / 2).epsilon(1e-14));
+  CHECK(s.pgd == doctest::Approx(A * L * L / 6).epsilon(1e-14));
+  // Then held at A for L: v = A (t - L) crosses zero at t = L, where
+  // d = -A L^2 / 6 is a minimum; by 2 L, d = -A L^2/6 + A L^2/2.
+  const RecordMeasures u = measure_record(GroundMotion::from_samples("u", {0.0, L, 2 * L}, {-A, A, A}), {});
+  CHECK(u.pgd == doctest::Approx(A * L * L / 3).epsilon(1e-14));
+  // Displacement peaking between samples: a = -A on [0, L], then rising to
+  // 7 A over [L, 2 L] (a = -A + k tau, k = 8 A / L): v = -A L - A tau + k tau^2 / 2
+  // is zero at tau = (A + sqrt(A^2 + 2 k A L)) / k, inside the interval.
+  const RecordMeasures w = measure_record(GroundMotion::from_samples("w", {0.0, L, 2 * L}, {-A, -A, 7 * A}), {});
+  const double k = 8 * A / L, tau = (A + std::sqrt(A * A + 2 * k * A * L)) / k;
+  CHECK(tau < L);
+  const double d_min = -A * L * L / 2 - A * L * tau - A * tau * tau / 2 + k * tau * tau * tau / 6;
+  CHECK(std::abs(d_min) > std::abs(-A * L * L / 2 - A * L * L - A * L * L / 2 + k * L * L * L / 6));  // beyond the end's
+  CHECK(w.pgd == doctest::Approx(std::abs(d_min)).epsilon(1e-12));
+}
+
+TEST_CASE("IM scaling is exact: the scaled record's IM equals the level") {
+  const auto dir = records_dir();
+  if (!dir) return;
+  const GroundMotion g = read_record(*dir + "/elcentro_1940_ns.at2");
+  for (const char* name : {"pga", "pgv", "sa:1", "sa:0.2", "saavg:0.2:2"}) {
+    CAPTURE(name);
+    const IntensityMeasure im = parse_intensity_measure(name);
+    CHECK(im.name() == name);
+    for (double level : {0.1, 0.75, 2.5}) {
+      const double sf = level / intensity(g, im);
+      CHECK(intensity(g.scaled(sf), im) == doctest::Approx(level).epsilon(1e-9));
+    }
+  }
+  CHECK(intensity(g, parse_intensity_measure("pga")) == doctest::Approx(0.3188).epsilon(1e-3));
+  CHECK_THROWS_WITH_AS(parse_intensity_measure("sa"), "intensity measure 'sa': choose sf, pga, pgv, sa:T or saavg:T1:T2", InputError);
+  CHECK_THROWS_WITH_AS(parse_intensity_measure("sa:-1"), "intensity measure 'sa:-1': '-1' is not a period in seconds", InputError);
+  CHECK_THROWS_WITH_AS(parse_intensity_measure("saavg:2:1"), "intensity measure 'saavg:2:1': T2 must exceed T1", InputError);
+  CHECK_THROWS_AS(measure_record(g, {0.0}), InputError);
+  CHECK_THROWS_AS(measure_record(g, {1.0}, 1.0), InputError);
+  CHECK_THROWS_AS(measure_record(GroundMotion::pulse(PulseShape::one_sine, 1, 1), {}), InputError);
+}
+
+TEST_CASE("the GeoNet file's velocity agrees with its own stated peak velocity") {
+  // The V2A states the peak of its own (filtered) velocity; integrating its
+  // acceleration from rest gives the same to within the processing's
+  // difference (1 %).
+  const auto dir = records_dir();
+  if (!dir) return;
+  const GroundMotion g = read_record(*dir + "/formats/20161113_110259_WTMC_20.V2A");
+  const RecordMeasures m = measure_record(g, standard_periods());
+  CHECK(m.pgv == doctest::Approx(1.01655).epsilon(0.01));
+  CHECK(m.pga == doctest::Approx(9.7331).epsilon(1e-6));
+  CHECK(m.periods.size() == 21);
+  CHECK(m.psa.size() == 21);
+}
