@@ -54,6 +54,8 @@ bench: build
 	@build/bin/run_bench
 	@echo "command: build/bin/study_bench"
 	@build/bin/study_bench
+	@echo "command: build/bin/records_bench"
+	@build/bin/records_bench
 
 clean:
 	@rm -rf build build-sanitize

@@ -35,6 +35,10 @@ struct RecordFileOptions {
 };
 void add_record_file_options(CLI::App& cmd, RecordFileOptions& opts);
 rocking::RecordOptions record_options(const RecordFileOptions& opts);
+// Record ids for rows, tables and figures: a file's name, or as many of its
+// last path components as make it unique ("x/a.at2", "y/a.at2"); the same
+// file given twice becomes "a.at2" and "a.at2#2".
+std::vector<std::string> record_ids(const std::vector<std::string>& paths);
 // The formats and what they are, for --help.
 std::string record_formats_help();
 
@@ -78,6 +82,7 @@ Command add_sweep_command(CLI::App& app);
 Command add_tradeoff_command(CLI::App& app);
 Command add_spectrum_command(CLI::App& app);
 Command add_animate_command(CLI::App& app);
+Command add_record_command(CLI::App& app);
 
 // The numbers of a FIRST:LAST:STEP or comma-list option; errors name the flag.
 std::vector<double> number_list(const std::string& flag, const std::string& text);

@@ -133,8 +133,10 @@ std::string key_plot(const Grid& g, const std::vector<std::string>& entries) {
              "  set tmargin at screen {:.4f}\n  set bmargin at screen {:.4f}\n"
              "  unset border\n  unset tics\n  unset xlabel\n  unset ylabel\n  unset grid\n  unset logscale\n"
              "  set xrange [0:1]\n  set yrange [0:1]\n"
-             "  set key center center horizontal maxcols {} nobox noopaque samplen 2.5\n",
-             g.key_top, g.key_bottom, g.key_columns) +
+             "  set key center center {} maxcols {} nobox noopaque samplen 2.5\n",
+             // One column laid out "horizontal" loses its entries ("difficulty
+             // fitting plot titles into key"); "vertical" draws the same column.
+             g.key_top, g.key_bottom, g.key_columns == 1 ? "vertical" : "horizontal", g.key_columns) +
          plot_command(entries) +
          "  set border\n  set tics\n  set xrange [*:*]\n  set yrange [*:*]\n  unset key\n";
 }
@@ -346,6 +348,12 @@ std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const
     const Panel& panel = panels[p];
     body += grid.panels[p] + "  unset key\n";
     body += fmt::format("  set ylabel {}\n  set yrange [{}:*]\n", gp_string(panel.ylabel), panel.from_zero ? "0" : "*");
+    body += "  unset arrow\n  unset label\n";
+    for (std::size_t m = 0; m < panel.marks.size(); ++m)
+      body += fmt::format("  set arrow from first {0:.9g}, graph 0 to first {0:.9g}, graph 1 nohead dashtype 2 "
+                          "linecolor rgb \"#555555\"\n  set label {1} {2} at first {0:.9g}, graph 0.97 left offset "
+                          "char 0.3,-{3} font \",{4}\" noenhanced\n",
+                          panel.marks[m].x, m + 10, gp_string(panel.marks[m].label), m, std::max(7, points - 3));
     std::vector<std::string> items;
     for (std::size_t i = 0; i < series.size(); ++i) {
       const Series& s = series[i];
@@ -353,8 +361,8 @@ std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const
       const std::string file = gp_string(s.file);
       const std::string title = fmt::format("title {} noenhanced", gp_string(s.label));
       if (s.collapse_column == 0) {
-        items.push_back(fmt::format("{} skip 1 using ({}):({}) with linespoints linestyle {} {}", file, panel.x,
-                                    panel.y, i + 1, title));
+        items.push_back(fmt::format("{} skip 1 using ({}):({}) with {} linestyle {} {}", file, panel.x, panel.y,
+                                    s.points ? "linespoints" : "lines", i + 1, title));
       } else {
         const std::string code = fmt::format("${}", s.collapse_column);
         items.push_back(fmt::format("{} skip 1 using ({}):({} == 0 ? {} : NaN) with linespoints linestyle {} {}", file,
@@ -382,10 +390,11 @@ std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const
     }
     body += plot_command(items);
   }
+  body += "  unset arrow\n  unset label\n";
   std::vector<std::string> entries;
   for (std::size_t i = 0; i < series.size(); ++i)
-    entries.push_back(fmt::format("NaN with linespoints linestyle {} title {} noenhanced", i + 1,
-                                  gp_string(series[i].label)));
+    entries.push_back(fmt::format("NaN with {} linestyle {} title {} noenhanced",
+                                  series[i].points ? "linespoints" : "lines", i + 1, gp_string(series[i].label)));
   if (collapses)
     entries.push_back("NaN with points pointtype 2 pointsize 2.6 linewidth 3 linecolor rgb \"#222222\" "
                       "title \"overturns (x: first; o: survives above it)\"");

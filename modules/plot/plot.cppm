@@ -65,11 +65,17 @@ std::vector<std::filesystem::path> render_modes(const Figure& fig, const std::st
 // curves and parametric studies. Each series is a CSV file (header row
 // skipped); each panel says which columns it plots, as gnuplot expressions
 // ("$1", "$2*100").
+// A vertical line across a panel at x, labelled at its top (a period).
+struct Mark {
+  double x;
+  std::string label;
+};
 struct Panel {
   std::string ylabel;
   std::string x, y;
   bool from_zero = false;   // the y axis starts at zero (peaks of magnitudes)
   std::string point_label;  // non-empty: a text at every point (e.g. "sprintf('%.0e', $4)")
+  std::vector<Mark> marks = {};
 };
 struct Series {
   std::string label;
@@ -82,6 +88,7 @@ struct Series {
   // cross, the line ends before it), 2 a later collapse (a small cross),
   // 3 a survivor above a collapse (an open point, not joined).
   int collapse_column = 0;
+  bool points = true;  // false: a line only (time histories, spectra)
 };
 // loglog: both axes logarithmic (work-precision diagrams).
 std::vector<std::filesystem::path> render_panels(const Figure& fig, int rows, int cols, const std::string& xlabel,

@@ -1,0 +1,249 @@
+// `rocking record`: what a ground motion is, in the measures of the field
+// (MODEL.md 12): PGA, PGV, PGD, Arias intensity, D5-95, CAV and the
+// pseudo-spectral acceleration at chosen periods, for records in any format
+// the readers know; figures of the records and their spectra.
+#include "commands.hpp"
+#include "run_output.hpp"
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+#include <fmt/format.h>
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <optional>
+
+namespace rocking::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct RecordArgs {
+  std::vector<std::string> files;
+  RecordFileOptions file;
+  std::string periods;
+  double damping = 0.05;
+  bool json = false;
+  std::string out;
+  std::string formats = "png,pdf,svg";
+  bool log_axes = false;
+  std::string scene;
+  std::vector<std::string> overrides;
+};
+
+struct Measured {
+  std::string id, path;
+  GroundMotion motion;
+  RecordMeasures m;
+};
+
+nlohmann::json to_json(const Measured& r) {
+  const RecordInfo& i = r.motion.info();
+  auto text = [](const std::string& s) { return s.empty() ? nlohmann::json(nullptr) : nlohmann::json(s); };
+  std::vector<double> psa_g;
+  for (double v : r.m.psa) psa_g.push_back(v / standard_gravity);
+  return {{"id", r.id},
+          {"file", r.path},
+          {"format", i.format},
+          {"event", text(i.event)},
+          {"date", text(i.date)},
+          {"station", text(i.station)},
+          {"component", text(i.component)},
+          {"units", text(i.units)},
+          {"dt_s", i.dt > 0 ? nlohmann::json(i.dt) : nlohmann::json(nullptr)},
+          {"npts", r.motion.sample_count()},
+          {"duration_s", r.motion.duration()},
+          {"stated_peak_g", i.stated_peak ? nlohmann::json(*i.stated_peak / standard_gravity) : nlohmann::json(nullptr)},
+          {"pga_g", r.m.pga / standard_gravity},
+          {"pga_time_s", r.m.pga_time},
+          {"pgv_m_s", r.m.pgv},
+          {"pgd_m", r.m.pgd},
+          {"arias_m_s", r.m.arias},
+          {"d5_95_s", r.m.d5_95},
+          {"cav_m_s", r.m.cav},
+          {"damping", r.m.damping},
+          {"periods_s", r.m.periods},
+          {"psa_g", psa_g}};
+}
+
+// One column per record, one row per measure.
+void print_table(const std::vector<Measured>& rs) {
+  std::size_t width = 12;
+  for (const Measured& r : rs) width = std::max(width, r.id.size() + 2);
+  const std::size_t name = 18;
+  auto row = [&](const std::string& label, auto cell) {
+    std::string line = fmt::format("{:<{}}", label, name);
+    for (const Measured& r : rs) line += fmt::format("{:<{}}", cell(r), width);
+    while (!line.empty() && line.back() == ' ') line.pop_back();
+    fmt::print("{}\n", line);
+  };
+  row("record", [](const Measured& r) { return r.id; });
+  for (const Measured& r : rs)
+    if (const std::string label = r.motion.info().label(); !label.empty()) fmt::print("  {}: {}\n", r.id, label);
+  row("format", [](const Measured& r) {
+    return r.motion.info().format + (r.motion.info().component.empty() ? "" : " " + r.motion.info().component);
+  });
+  row("samples", [](const Measured& r) {
+    const double dt = r.motion.info().dt;
+    return dt > 0 ? fmt::format("{} x {:g} s", r.motion.sample_count(), dt) : fmt::format("{} (uneven)", r.motion.sample_count());
+  });
+  row("duration [s]", [](const Measured& r) { return fmt::format("{:.2f}", r.motion.duration()); });
+  row("PGA [g]", [](const Measured& r) { return fmt::format("{:.4f} @{:.2f}s", r.m.pga / standard_gravity, r.m.pga_time); });
+  row("PGV [m/s]", [](const Measured& r) { return fmt::format("{:.4f}", r.m.pgv); });
+  row("PGD [m]", [](const Measured& r) { return fmt::format("{:.4f}", r.m.pgd); });
+  row("Arias [m/s]", [](const Measured& r) { return fmt::format("{:.4f}", r.m.arias); });
+  row("D5-95 [s]", [](const Measured& r) { return fmt::format("{:.2f}", r.m.d5_95); });
+  row("CAV [m/s]", [](const Measured& r) { return fmt::format("{:.3f}", r.m.cav); });
+  fmt::print("PSA, {:g} % damped [g]\n", 100 * rs.front().m.damping);
+  for (std::size_t k = 0; k < rs.front().m.periods.size(); ++k)
+    row(fmt::format("  T = {:g} s", rs.front().m.periods[k]),
+        [&](const Measured& r) { return fmt::format("{:.4f}", r.m.psa[k] / standard_gravity); });
+}
+
+void write_figures(const RecordArgs& a, const std::vector<Measured>& rs, const std::vector<plot::Mark>& marks,
+                   const std::string& scene_name) {
+  const fs::path dir(a.out);
+  make_output_dir(dir / "record.data");
+  const std::vector<double> dense = log_periods(0.01, 10.0, 120);
+  std::vector<plot::Series> histories, spectra;
+  std::string table = "id,period_s,psa_g\n";
+  for (std::size_t i = 0; i < rs.size(); ++i) {
+    const Measured& r = rs[i];
+    const GroundHistory h = integrate_record(r.motion);
+    std::string csv = "t_s,a_g,v_m_s,d_m\n";
+    for (std::size_t k = 0; k < h.t.size(); ++k)
+      csv += fmt::format("{:.9g},{:.9g},{:.9g},{:.9g}\n", h.t[k], h.a[k] / standard_gravity, h.v[k], h.d[k]);
+    const std::string stem = fmt::format("record_{}", i + 1);
+    write_text(dir / "record.data" / (stem + ".csv"), csv);
+    const std::vector<double> psa = response_spectrum(r.motion, dense, a.damping);
+    std::string sp = "period_s,psa_g\n";
+    for (std::size_t k = 0; k < dense.size(); ++k) {
+      sp += fmt::format("{:.9g},{:.9g}\n", dense[k], psa[k] / standard_gravity);
+      table += fmt::format("{},{:.9g},{:.9g}\n", r.id, dense[k], psa[k] / standard_gravity);
+    }
+    write_text(dir / "record.data" / (stem + "_spectrum.csv"), sp);
+    // The id and what the file says it is, short enough for the key.
+    std::string label = r.motion.info().label().empty() ? r.id : fmt::format("{}: {}", r.id, r.motion.info().label());
+    if (label.size() > 72) label = label.substr(0, 69) + "...";
+    plot::Series s{label, (fs::path("record.data") / (stem + ".csv")).string(), {}, 0, false};
+    histories.push_back(s);
+    s.file = (fs::path("record.data") / (stem + "_spectrum.csv")).string();
+    spectra.push_back(s);
+  }
+  write_text(dir / "spectrum.csv", table);
+  const std::vector<std::string> formats = plot::parse_formats(a.formats);
+  plot::Figure fig;
+  fig.dir = dir;
+  fig.formats = formats;
+  fig.name = "record";
+  fig.title = rs.size() == 1 ? fmt::format("{}", rs.front().id) : fmt::format("{} records", rs.size());
+  fig.height = 1100;
+  std::vector<std::filesystem::path> written = plot::render_panels(
+      fig, 3, 1, "t [s]",
+      {plot::Panel{"a_g [g]", "$1", "$2", false, "", {}}, plot::Panel{"v_g [m/s]", "$1", "$3", false, "", {}},
+       plot::Panel{"d_g [m]", "$1", "$4", false, "", {}}},
+      histories);
+  fig.name = "spectrum";
+  fig.title = fmt::format("Pseudo-spectral acceleration, {:g} % damped{}", 100 * a.damping,
+                          marks.empty() ? "" : fmt::format("; dashed: fixed-base periods of {}", scene_name));
+  fig.height = 800;
+  const auto more = plot::render_panels(fig, 1, 1, "T [s]", {plot::Panel{"PSA [g]", "$1", "$2", !a.log_axes, "", marks}},
+                                        spectra, a.log_axes);
+  written.insert(written.end(), more.begin(), more.end());
+  for (const auto& f : written) spdlog::info("wrote {}", f.string());
+  spdlog::info("wrote {} (the spectrum at {} periods from 0.01 to 10 s)", (dir / "spectrum.csv").string(), dense.size());
+}
+
+// The scene's fixed-base periods (at most three), to mark on the spectrum.
+std::vector<plot::Mark> scene_periods(const RecordArgs& a, std::string& scene_name) {
+  if (a.scene.empty() && a.overrides.empty()) return {};
+  const Scene scene = load_scene(SceneOptions{a.scene, a.overrides});
+  scene_name = scene.name;
+  if (scene.structure.rigid) {
+    spdlog::info("{}: a rigid block has no fixed-base periods to mark", scene.source);
+    return {};
+  }
+  const ModalSummary m = modal_analysis(scene.structure, scene.damper);
+  std::vector<plot::Mark> marks;
+  for (std::size_t i = 0; i < m.fixed_base_hz.size() && i < 3; ++i) {
+    const double T = 1.0 / m.fixed_base_hz[i];
+    if (T >= 0.01 && T <= 10) marks.push_back({T, fmt::format("T{} = {:.3f} s", i + 1, T)});
+  }
+  return marks;
+}
+
+int record(const RecordArgs& a) {
+  if (!(a.damping >= 0 && a.damping < 1)) throw InputError(fmt::format("--damping {}: must be in [0, 1)", a.damping));
+  const std::vector<double> periods = a.periods.empty() ? standard_periods() : number_list("--periods", a.periods);
+  for (double T : periods)
+    if (!(T > 0)) throw InputError(fmt::format("--periods: {} is not a positive period", T));
+  if (!a.out.empty()) plot::parse_formats(a.formats);  // refused before any work
+  std::string scene_name;
+  const std::vector<plot::Mark> marks = scene_periods(a, scene_name);
+  const RecordOptions ro = record_options(a.file);
+  const std::vector<std::string> ids = record_ids(a.files);
+  std::vector<Measured> rs;
+  for (std::size_t i = 0; i < a.files.size(); ++i) {
+    GroundMotion g = read_record(a.files[i], ro);
+    RecordMeasures m = measure_record(g, periods, a.damping);
+    rs.push_back({ids[i], a.files[i], std::move(g), std::move(m)});
+  }
+  if (a.json) {
+    nlohmann::json all = nlohmann::json::array();
+    for (const Measured& r : rs) all.push_back(to_json(r));
+    std::cout << all.dump(2) << '\n';
+  } else {
+    print_table(rs);
+  }
+  if (!a.out.empty()) {
+    write_figures(a, rs, marks, scene_name);
+    nlohmann::json all = nlohmann::json::array();
+    for (const Measured& r : rs) all.push_back(to_json(r));
+    write_text(fs::path(a.out) / "record.json", all.dump(2) + "\n");
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command add_record_command(CLI::App& app) {
+  auto* cmd = app.add_subcommand(
+      "record",
+      "What a ground motion is: PGA, PGV, PGD, Arias intensity, D5-95, CAV and\n"
+      "the pseudo-spectral acceleration PSA(T) (MODEL.md 12), for records in any\n"
+      "format below, side by side. Velocity and displacement are the exact\n"
+      "integrals of the piecewise-linear record from rest (no baseline\n"
+      "correction); PSA is exact between samples, its peak located between them.");
+  auto a = std::make_shared<RecordArgs>();
+  cmd->add_option("files", a->files, "Record files (any format --format lists)")->required()->type_name("FILE...");
+  add_record_file_options(*cmd, a->file);
+  cmd->add_option("--periods", a->periods,
+                  "Periods of the PSA table: FIRST:LAST:STEP or a list 0.2,0.5,1\n"
+                  "(default the 21 of NGA-West2 from 0.01 to 10 s)")
+      ->type_name("LIST");
+  cmd->add_option("--damping", a->damping, "Damping ratio of the spectrum (default 0.05)")->type_name("ZETA");
+  cmd->add_flag("--json", a->json,
+                "Print a JSON array, one object per record: metadata, pga_g, pgv_m_s,\n"
+                "pgd_m, arias_m_s, d5_95_s, cav_m_s, periods_s, psa_g (SI units, g)");
+  cmd->add_option("--out", a->out,
+                  "Write figures (record: a, v, d; spectrum: PSA against T), the data\n"
+                  "behind them and record.json to DIR")
+      ->type_name("DIR");
+  cmd->add_option("--formats", a->formats, "Figure formats: png,pdf,svg (default all)")->type_name("LIST");
+  cmd->add_flag("--log", a->log_axes, "Spectrum on log-log axes");
+  cmd->add_option("--scene", a->scene,
+                  "Mark this scene's fixed-base periods on the spectrum (--set applies)")
+      ->type_name("SCENE");
+  cmd->add_option("--set", a->overrides, "Override a value of --scene, TABLE.KEY=VALUE (repeatable)")
+      ->type_name("KEY=VALUE")
+      ->allow_extra_args(false);
+  cmd->footer(
+      "Examples:\n"
+      "  rocking record ../shared/data/records/elcentro_1940_ns.at2\n"
+      "  rocking record ../shared/data/records/formats/20161113_110259_WTMC_20.V2A --component Up --json\n"
+      "  rocking record a.at2 b.V2A --out out/records --log --scene data/scenes/christchurch_chimney.toml");
+  return [a]() { return record(*a); };
+}
+
+}  // namespace rocking::app

@@ -1,0 +1,87 @@
+// `rocking record`: the measures of records in every format, as a table and
+// as JSON (numbers equal to the library's), figures and their data, every
+// format through simulate, and one-line errors.
+#include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include "records.hpp"
+#include "run_program.hpp"
+#include "temp_path.hpp"
+
+namespace fs = std::filesystem;
+using namespace cli;
+
+TEST_CASE("record --json gives the measures and metadata of every format") {
+  const auto dir = records_dir();
+  if (!dir) return;
+  const std::string f = *dir + "/formats/";
+  const Result r = run("record --json --periods 0.5,1 " + *dir + "/elcentro_1940_ns.at2 " + f +
+                       "20161113_110259_WTMC_20.V2A " + f + "AOM0011801241951.EW " + f + "us1000hyfh_akbmrp_bnz.V2c");
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  REQUIRE(j.size() == 4);
+  for (const auto& rec : j)
+    for (const char* key : {"pga_g", "pgv_m_s", "pgd_m", "arias_m_s", "d5_95_s", "cav_m_s", "periods_s", "psa_g", "dt_s",
+                            "npts", "format", "event", "station", "component", "units", "stated_peak_g"})
+      CHECK_MESSAGE(rec.contains(key), key);
+  CHECK(j[0]["format"] == "at2");
+  CHECK(j[0]["pga_g"].get<double>() == doctest::Approx(0.3188).epsilon(1e-3));
+  CHECK(j[0]["periods_s"].size() == 2);
+  CHECK(j[0]["psa_g"].size() == 2);
+  // Each file's PGA is the peak its header states, to 0.1 %.
+  for (std::size_t i = 1; i < 4; ++i) {
+    CAPTURE(j[i]["id"]);
+    CHECK(j[i]["pga_g"].get<double>() == doctest::Approx(j[i]["stated_peak_g"].get<double>()).epsilon(1e-3));
+  }
+  CHECK(j[1]["format"] == "geonet");
+  CHECK(j[1]["component"] == "N28W");
+  CHECK(j[1]["pga_g"].get<double>() == doctest::Approx(9.7331 / 9.81).epsilon(1e-3));
+  CHECK(j[2]["format"] == "knet");
+  CHECK(j[3]["format"] == "cosmos");
+}
+
+TEST_CASE("record writes the record and spectrum figures with their data, and marks a scene's periods") {
+  const auto dir = records_dir();
+  if (!dir) return;
+  const fs::path out = temp_path("record_figures");
+  const Result r = run("record " + *dir + "/elcentro_1940_ns.at2 --formats png --log --scene " +
+                       std::string(ROCKING_SOURCE_DIR) + "/data/scenes/christchurch_chimney.toml --out " + out.string());
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  CHECK(r.out.find("PGA [g]           0.3188") != std::string::npos);
+  for (const char* file : {"record.png", "spectrum.png", "spectrum.csv", "record.json", "record.data/record_1.csv"})
+    CHECK_MESSAGE(fs::exists(out / file), file);
+  std::ifstream gp(out / "spectrum.gp");
+  const std::string script((std::istreambuf_iterator<char>(gp)), std::istreambuf_iterator<char>());
+  CHECK(script.find("T1 = 0.460 s") != std::string::npos);  // the chimney's first fixed-base period
+  CHECK(script.find("set logscale xy") != std::string::npos);
+}
+
+TEST_CASE("simulate takes every format; record errors are one line with exit 2") {
+  const auto dir = records_dir();
+  if (!dir) return;
+  const std::string f = *dir + "/formats/";
+  const fs::path out = temp_path("record_simulate");
+  const Result k = run("simulate --json --duration 5 --record " + f + "AOM0011801241951.EW --out " + out.string());
+  CHECK_MESSAGE(k.code == 0, k.err);
+  const Result up = run("simulate --json --duration 5 --component Up --record " + f +
+                        "20161113_110259_WTMC_20.V2A --out " + out.string());
+  CHECK_MESSAGE(up.code == 0, up.err);
+  CHECK(nlohmann::json::parse(up.out)["motion"].get<std::string>().find("Up") != std::string::npos);
+  const Result bad = run("record " + f + "AOM0011801241951.EW --component 2");
+  CHECK(bad.code == 2);
+  CHECK(bad.err == "rocking: error: " + f + "AOM0011801241951.EW: --component 2: a K-NET file holds one component\n");
+  const Result damping = run("record " + f + "AOM0011801241951.EW --damping 1.5");
+  CHECK(damping.code == 2);
+  CHECK(damping.err == "rocking: error: --damping 1.5: must be in [0, 1)\n");
+  const Result periods = run("record " + f + "AOM0011801241951.EW --periods 0,1");
+  CHECK(periods.code == 2);
+  CHECK(periods.err == "rocking: error: --periods: 0 is not a positive period\n");
+  const Result none = run("record /no/such.V2A");
+  CHECK(none.code == 2);
+  CHECK(none.err == "rocking: error: /no/such.V2A: record file not found\n");
+  const Result stray = run("simulate --component 2");
+  CHECK(stray.code == 2);
+  CHECK(stray.err.find("--format, --component, --units and --dt describe a --record file") != std::string::npos);
+}
