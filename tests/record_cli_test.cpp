@@ -85,3 +85,20 @@ TEST_CASE("simulate takes every format; record errors are one line with exit 2")
   CHECK(stray.code == 2);
   CHECK(stray.err.find("--format, --component, --units and --dt describe a --record file") != std::string::npos);
 }
+
+TEST_CASE("ida takes every format and lists what each record is in records.csv") {
+  const auto dir = records_dir();
+  if (!dir) return;
+  const fs::path out = temp_path("record_ida");
+  const Result r = run("ida --no-plot --scales 0.25 --variants fixed-base --record " + *dir +
+                       "/formats/20161113_110259_WTMC_20.V2A --record " + *dir + "/formats/AOM0011801241951.EW --out " +
+                       out.string());
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  std::ifstream in(out / "records.csv");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  CHECK(text.starts_with("record,file,format,event,date,station,component,pga_g\n"));
+  CHECK(text.find("20161113_110259_WTMC_20.V2A,") != std::string::npos);
+  CHECK(text.find(",geonet,Mw 7.82 (5 km south-west of Waiau),2016 November 13 11:02:56 UT,WTMC (Te Mara Farm Waiau),N28W,0.99") !=
+        std::string::npos);
+  CHECK(text.find(",knet,") != std::string::npos);
+}

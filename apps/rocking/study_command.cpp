@@ -247,6 +247,17 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
   std::string timing_text = "record,scale,variant,wall_s\n";
   for (const auto& [i, text] : all_timings) timing_text += text;
   write_text(timing_file, timing_text);
+  // What each record id is, as its file says (rows name records by id).
+  std::string records_text = "record,file,format,event,date,station,component,pga_g\n";
+  for (std::size_t r = 0; r < ids.size(); ++r) {
+    const GroundMotion* m = st.motion(r);
+    const RecordInfo info = m ? m->info() : RecordInfo{};
+    records_text += fmt::format("{},{},{},{},{},{},{},{}\n", csv_field(ids[r]), csv_field(st.records()[r]),
+                                csv_field(info.format), csv_field(info.event), csv_field(info.date),
+                                csv_field(info.station), csv_field(info.component),
+                                m ? fmt::format("{:.6g}", m->peak() / standard_gravity) : std::string());
+  }
+  write_text(dir / "records.csv", records_text);
   if (emitted < mine.size()) {  // stopped by a signal (one process: mine is every job left)
     const std::size_t done = first + emitted;
     const int signal = stop_signal();
@@ -351,7 +362,8 @@ Command add_ida_command(CLI::App& app) {
       "ida",
       "Incremental dynamic analysis (the paper's Figs. 5-6): every (record, scale,\n"
       "variant) job, in parallel on all cores, one CSV row per job in a fixed order\n"
-      "(DIR/ida.csv; wall times in DIR/timing.csv), and per record a figure of each\n"
+      "(DIR/ida.csv; wall times in DIR/timing.csv; what each record is in\n"
+      "DIR/records.csv), and per record a figure of each\n"
       "peak quantity against the scale factor, one line per variant.\n"
       "Under `mpirun -np N` the jobs are split across the N processes and rank 0\n"
       "writes the same CSV. Overturning is an outcome (the collapse point), not an\n"

@@ -168,6 +168,8 @@ GroundMotion read(const std::string& path, const std::vector<Line>& lines, const
     info.station = info.station.empty() ? name : fmt::format("{} ({})", info.station, name);
   info.component = c.name;
   info.date = trim(lines[s + 7].text);
+  info.date.erase(std::unique(info.date.begin(), info.date.end(), [](char a, char b) { return a == ' ' && b == ' '; }),
+                  info.date.end());
   std::string magnitude;
   if (const std::size_t m = find_word(lines[s + 8].text, "MW"); m != std::string::npos)
     magnitude = trim(lines[s + 8].text.substr(m));
