@@ -310,3 +310,28 @@ TEST_CASE("a file of no known format says what it looks like and which formats e
   CHECK(error_of(at2, {.format = "knet"}) == at2 + ":1: expected the K-NET header line 'Origin Time' (line 1 of 17)");
   CHECK(error_of(at2, {.component = "2"}) == at2 + ": --component 2: a PEER .AT2 file holds one component");
 }
+
+TEST_CASE("GeoNet V1A: uncorrected, the sampling rate in the header, values in units of the stated size") {
+  // A V1A component: the same header layout, "Raw readings in units of 2.00
+  // mm/s/s at intervals of 0.005 s", the sampling rate (200 Hz, as
+  // v2a_component writes it) in real-header field (1,1), and the
+  // accelerations alone.
+  std::string file;
+  for (const char* name : {"S14E", "N76E", "Up"}) {
+    std::string c = v2a_component(name, {10.0, -20.0, 30.0, -40.0, 50.0, -60.0, 70.0, -80.0, 90.0, -100.0, 5.0, 1.0}, 0.005,
+                                  -200.0);
+    c.replace(0, std::string("Corrected").size(), "Uncorrected");
+    c.replace(c.find("Instrument corrected data at 0.005 sec intervals"), 48,
+              "Raw readings in units of 2.00 mm/s/s  at intervals of 0.005 s");
+    // Drop the velocity and displacement blocks (two lines each for 12 values).
+    for (int k = 0; k < 4; ++k) c.erase(c.rfind('\n', c.size() - 2) + 1);
+    file += c;
+  }
+  const std::string path = write_temp("raw.V1A", file);
+  const GroundMotion g = read_record(path, {.component = "N76E"});
+  CHECK(g.info().component == "N76E");
+  CHECK(g.info().dt == doctest::Approx(0.005));
+  CHECK(g.sample_count() == 12);
+  CHECK(g.acceleration(0.005) == doctest::Approx(-20.0 * 2.0 * 1e-3));
+  CHECK(g.peak() == doctest::Approx(0.2));  // stated peak -200 mm/s/s = 2 x the largest reading
+}

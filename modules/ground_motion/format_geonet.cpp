@@ -177,8 +177,9 @@ GroundMotion read(const std::string& path, const std::vector<Line>& lines, const
   info.event = magnitude.empty() ? place : place.empty() ? magnitude : fmt::format("{} ({})", magnitude, place);
   double resolution = 0;
   if (const std::optional<Stated> peak = number_after(lines[s + 13].text, "PEAK")) {
-    info.stated_peak = std::abs(peak->value) * to_m;
-    resolution = peak->resolution * to_m;
+    // In mm/s/s, whatever the size of a raw reading.
+    info.stated_peak = std::abs(peak->value) * to_si(unit);
+    resolution = peak->resolution * to_si(unit);
   }
   return evenly_sampled(path, lines[s + 13].number, std::move(values), dt, std::move(info), resolution);
 }
