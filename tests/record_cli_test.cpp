@@ -4,7 +4,6 @@
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include "records.hpp"
 #include "run_program.hpp"
@@ -52,8 +51,7 @@ TEST_CASE("record writes the record and spectrum figures with their data, and ma
   CHECK(r.out.find("PGA [g]           0.3188") != std::string::npos);
   for (const char* file : {"record.png", "spectrum.png", "spectrum.csv", "record.json", "record.data/record_1.csv"})
     CHECK_MESSAGE(fs::exists(out / file), file);
-  std::ifstream gp(out / "spectrum.gp");
-  const std::string script((std::istreambuf_iterator<char>(gp)), std::istreambuf_iterator<char>());
+  const std::string script = file_text(out / "spectrum.gp");
   CHECK(script.find("T1 = 0.460 s") != std::string::npos);  // the chimney's first fixed-base period
   CHECK(script.find("set logscale xy") != std::string::npos);
 }
@@ -94,8 +92,7 @@ TEST_CASE("ida takes every format and lists what each record is in records.csv")
                        "/formats/20161113_110259_WTMC_20.V2A --record " + *dir + "/formats/AOM0011801241951.EW --out " +
                        out.string());
   REQUIRE_MESSAGE(r.code == 0, r.err);
-  std::ifstream in(out / "records.csv");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string text = file_text(out / "records.csv");
   CHECK(text.starts_with("record,file,format,event,date,station,component,pga_g\n"));
   CHECK(text.find("20161113_110259_WTMC_20.V2A,") != std::string::npos);
   CHECK(text.find(",geonet,Mw 7.82 (5 km south-west of Waiau),2016 November 13 11:02:56 UT,WTMC (Te Mara Farm Waiau),N28W,0.99") !=

@@ -20,12 +20,6 @@ using namespace rocking;
 
 namespace {
 
-std::string write_temp(const std::string& name, const std::string& text) {
-  const auto path = temp_path(name);
-  std::ofstream(path, std::ios::binary) << text;
-  return path.string();
-}
-
 std::string error_of(const std::string& path, RecordOptions o = {}) {
   return one_line_error<InputError>([&] { read_record(path, o); }, path);
 }

@@ -35,6 +35,13 @@ inline std::filesystem::path scratch_dir(const std::string& name) {
   return dir;
 }
 
+// Writes `text` to a file of this name in the process's folder; its path.
+inline std::string write_temp(const std::string& name, const std::string& text) {
+  const std::filesystem::path path = temp_path(name);
+  std::ofstream(path, std::ios::binary) << text;
+  return path.string();
+}
+
 // The bytes of a file ("" if it cannot be read).
 inline std::string file_text(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);

@@ -189,17 +189,12 @@ int record(const RecordArgs& a) {
     RecordMeasures m = measure_record(g, periods, a.damping);
     rs.push_back({ids[i], a.files[i], std::move(g), std::move(m)});
   }
-  if (a.json) {
-    nlohmann::json all = nlohmann::json::array();
-    for (const Measured& r : rs) all.push_back(to_json(r));
-    std::cout << all.dump(2) << '\n';
-  } else {
-    print_table(rs);
-  }
+  nlohmann::json all = nlohmann::json::array();
+  for (const Measured& r : rs) all.push_back(to_json(r));
+  if (a.json) std::cout << all.dump(2) << '\n';
+  else print_table(rs);
   if (!a.out.empty()) {
     write_figures(a, rs, marks, scene_name);
-    nlohmann::json all = nlohmann::json::array();
-    for (const Measured& r : rs) all.push_back(to_json(r));
     write_text(fs::path(a.out) / "record.json", all.dump(2) + "\n");
   }
   return 0;

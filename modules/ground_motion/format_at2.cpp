@@ -18,24 +18,10 @@ namespace rocking::records {
 namespace {
 
 bool detect(const std::string& path, const std::vector<Line>& lines) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string ext = lower(std::filesystem::path(path).extension().string());
   bool has_npts = false;
   for (std::size_t i = 0; i < lines.size() && i < 10; ++i) has_npts |= lines[i].text.find("NPTS") != std::string::npos;
   return ext == ".at2" || has_npts;
-}
-
-// "a, b, c" split at commas, each part trimmed.
-std::vector<std::string> comma_parts(std::string_view text) {
-  std::vector<std::string> parts;
-  for (std::size_t at = 0;;) {
-    const std::size_t comma = text.find(',', at);
-    parts.push_back(trim(text.substr(at, comma == std::string_view::npos ? std::string_view::npos : comma - at)));
-    if (comma == std::string_view::npos) break;
-    at = comma + 1;
-  }
-  while (!parts.empty() && parts.back().empty()) parts.pop_back();
-  return parts;
 }
 
 GroundMotion read(const std::string& path, const std::vector<Line>& lines, const RecordOptions& o) {
@@ -83,7 +69,8 @@ GroundMotion read(const std::string& path, const std::vector<Line>& lines, const
   // files describe the record on line 1 ("Data for El Centro 1940 ...").
   std::string what = h > 0 ? lines[0].text : "";
   if (what.starts_with("PEER") && h > 1) {
-    const std::vector<std::string> parts = comma_parts(lines[1].text);
+    std::vector<std::string> parts = split_fields(lines[1].text, ',');
+    while (!parts.empty() && parts.back().empty()) parts.pop_back();
     if (parts.size() >= 4) {
       info.event = parts[0];
       info.date = parts[1];

@@ -1,8 +1,6 @@
 // Bare numeric columns: two (time [s], acceleration) or one (acceleration,
 // with --dt), '#' comments and blank lines skipped; units g unless --units.
 module;
-#include <cmath>
-#include <filesystem>
 #include <string>
 #include <vector>
 #include <fmt/format.h>
@@ -39,33 +37,18 @@ GroundMotion read(const std::string& path, const std::vector<Line>& lines, const
   if (columns == 1 && !(o.dt > 0)) fail(path, 1, fmt::format("a one-column record needs --dt > 0 (got {})", o.dt));
   if (columns == 2 && o.dt > 0) fail(path, 1, fmt::format("--dt {:g}: a two-column record gives its own times", o.dt));
   const AccelerationUnit unit = o.unit.value_or(AccelerationUnit::g);
-  std::vector<double> times, values;
+  TimedSamples samples;
   for (const Line& l : lines) {
     if (blank_or_comment(l)) continue;
     const std::vector<double> row = numbers_of(path, l);
     if (row.size() != columns)
       fail(path, l.number, fmt::format("expected {} column{}, found {}", columns, columns == 1 ? "" : "s", row.size()));
-    const double t = columns == 1 ? static_cast<double>(values.size()) * o.dt : row[0];
-    if (times.empty() && t < 0)
-      fail(path, l.number, fmt::format("the record starts at t = {:g} s: a run starts at 0, and would lose what "
-                                       "comes before it (shift the times)", t));
-    if (!times.empty() && !(t > times.back()))
-      fail(path, l.number, fmt::format("times must increase ({} after {})", t, times.back()));
-    if (t > max_record_duration)
-      fail(path, l.number, fmt::format("t = {:g} s is beyond {:g} s: not a record's duration", t, max_record_duration));
-    times.push_back(t);
-    values.push_back(row.back() * to_si(unit));
-    check_acceleration(path, l.number, values.back());
+    const double t = columns == 1 ? static_cast<double>(samples.size()) * o.dt : row[0];
+    samples.add(path, l.number, t, row.back() * to_si(unit));
   }
-  if (values.size() < 2) fail(path, lines.back().number, "a record needs at least two samples");
   RecordInfo info;
   info.units = unit_name(unit);
-  info.npts = values.size();
-  GroundMotion g =
-      GroundMotion::from_samples(std::filesystem::path(path).filename().string(), std::move(times), std::move(values));
-  info.dt = g.sample_interval();
-  g.set_info(std::move(info));
-  return g;
+  return std::move(samples).record(path, lines.back().number, std::move(info));
 }
 
 }  // namespace

@@ -166,9 +166,7 @@ GroundMotion read(const std::string& path, const std::vector<Line>& lines, const
   };
   info.event = after(1, "RECORD OF");
   info.date = after(3, "ORIGIN:");
-  std::string station = after(4, "CODE:");
-  station.erase(std::unique(station.begin(), station.end(), [](char a, char b) { return a == ' ' && b == ' '; }), station.end());
-  info.station = station;
+  info.station = collapse_spaces(after(4, "CODE:"));
   info.component = channel;
   info.units = trim(data_line.text.substr(u + 6, code_at - u - 6));
   double resolution = 0;
@@ -176,8 +174,7 @@ GroundMotion read(const std::string& path, const std::vector<Line>& lines, const
     const std::string number = max.substr(0, max.find_first_of(" \t"));
     if (const std::optional<double> v = whole_number(number); v && std::isfinite(*v)) {
       info.stated_peak = std::abs(*v) * unit->to_si;
-      const std::size_t dot = number.find('.');
-      resolution = 0.5 * std::pow(10.0, dot == std::string::npos ? 0.0 : -static_cast<double>(number.size() - dot - 1)) * unit->to_si;
+      resolution = printed_resolution(number) * unit->to_si;
     }
   } else if (real(64) != -999.0 && rh.size() >= 64) {
     info.stated_peak = std::abs(real(64)) * unit->to_si;

@@ -35,32 +35,6 @@ char separator_of(std::string_view header) {
   return ' ';
 }
 
-std::vector<std::string> split(std::string_view text, char sep) {
-  std::vector<std::string> out;
-  if (sep == ' ') {
-    for (std::size_t at = 0; at < text.size();) {
-      at = text.find_first_not_of(" \t", at);
-      if (at == std::string_view::npos) break;
-      const std::size_t end = std::min(text.find_first_of(" \t", at), text.size());
-      out.emplace_back(text.substr(at, end - at));
-      at = end;
-    }
-    return out;
-  }
-  for (std::size_t at = 0;;) {
-    const std::size_t end = text.find(sep, at);
-    out.push_back(trim(text.substr(at, end == std::string_view::npos ? std::string_view::npos : end - at)));
-    if (end == std::string_view::npos) break;
-    at = end + 1;
-  }
-  return out;
-}
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
 // A column name split into its name and its unit text ("acc (g)" -> acc, g;
 // "acc_m_s2" -> acc, m/s2).
 struct Name {
@@ -104,7 +78,7 @@ bool is_acceleration(const Name& n) {
 bool detect(const std::string&, const std::vector<Line>& lines) {
   const Line* head = data_line(lines, 0);
   if (!head) return false;
-  const std::vector<std::string> names = split(head->text, separator_of(head->text));
+  const std::vector<std::string> names = split_fields(head->text, separator_of(head->text));
   return std::any_of(names.begin(), names.end(), [](const std::string& s) { return is_acceleration(parse_name(s)); }) &&
          std::none_of(names.begin(), names.end(), [](const std::string& s) { return whole_number(s).has_value(); });
 }
@@ -113,7 +87,7 @@ GroundMotion read(const std::string& path, const std::vector<Line>& lines, const
   const Line* head = data_line(lines, 0);
   if (!head) fail(path, 1, "the record is empty");
   const char sep = separator_of(head->text);
-  const std::vector<std::string> raw = split(head->text, sep);
+  const std::vector<std::string> raw = split_fields(head->text, sep);
   std::vector<Name> names;
   for (const std::string& r : raw) names.push_back(parse_name(r));
   std::optional<std::size_t> time, acc;
@@ -167,7 +141,7 @@ GroundMotion read(const std::string& path, const std::vector<Line>& lines, const
   } else if (!(o.dt > 0)) {
     fail(path, head->number, "no time column (name one t or time), and no --dt");
   }
-  std::vector<double> times, values;
+  TimedSamples samples;
   bool past_header = false;
   for (const Line& l : lines) {
     if (blank_or_comment(l)) continue;
@@ -175,35 +149,16 @@ GroundMotion read(const std::string& path, const std::vector<Line>& lines, const
       past_header = true;
       continue;
     }
-    const std::vector<std::string> cells = split(l.text, sep);
+    const std::vector<std::string> cells = split_fields(l.text, sep);
     if (cells.size() != names.size())
       fail(path, l.number, fmt::format("{} fields, the header names {}", cells.size(), names.size()));
-    auto number = [&](std::size_t c) {
-      const std::optional<double> v = whole_number(cells[c]);
-      if (!v) fail(path, l.number, fmt::format("'{:.40}' is not a number", cells[c]));
-      if (!std::isfinite(*v)) fail(path, l.number, fmt::format("'{:.40}' is not a finite number", cells[c]));
-      return *v;
-    };
-    const double t = time ? number(*time) * time_scale : static_cast<double>(values.size()) * o.dt;
-    if (times.empty() && t < 0)
-      fail(path, l.number, fmt::format("the record starts at t = {:g} s: a run starts at 0 (shift the times)", t));
-    if (!times.empty() && !(t > times.back())) fail(path, l.number, fmt::format("times must increase ({} after {})", t, times.back()));
-    if (t > max_record_duration)
-      fail(path, l.number, fmt::format("t = {:g} s is beyond {:g} s: not a record's duration", t, max_record_duration));
-    times.push_back(t);
-    values.push_back(number(*acc) * to_si(unit));
-    check_acceleration(path, l.number, values.back());
+    const double t = time ? number_at(path, l.number, cells[*time]) * time_scale : static_cast<double>(samples.size()) * o.dt;
+    samples.add(path, l.number, t, number_at(path, l.number, cells[*acc]) * to_si(unit));
   }
-  if (values.size() < 2) fail(path, lines.back().number, "a record needs at least two samples");
   RecordInfo info;
   info.units = unit_name(unit);
   info.component = raw[*acc];
-  info.npts = values.size();
-  GroundMotion g =
-      GroundMotion::from_samples(std::filesystem::path(path).filename().string(), std::move(times), std::move(values));
-  info.dt = g.sample_interval();
-  g.set_info(std::move(info));
-  return g;
+  return std::move(samples).record(path, lines.back().number, std::move(info));
 }
 
 }  // namespace

@@ -36,19 +36,6 @@ bool detect(const std::string&, const std::vector<Line>& lines) {
   return !lines.empty() && starts_component(lines[0]);
 }
 
-// The words of a line.
-std::vector<std::string> words(std::string_view text) {
-  std::vector<std::string> out;
-  for (std::size_t at = 0; at < text.size();) {
-    at = text.find_first_not_of(" \t", at);
-    if (at == std::string_view::npos) break;
-    const std::size_t end = std::min(text.find_first_of(" \t", at), text.size());
-    out.emplace_back(text.substr(at, end - at));
-    at = end;
-  }
-  return out;
-}
-
 // The number after `key` (upper case) on a line, with its printed resolution
 // (half its last digit).
 struct Stated {
@@ -57,13 +44,11 @@ struct Stated {
 std::optional<Stated> number_after(std::string_view text, std::string_view key) {
   const std::size_t at = find_word(text, key);
   if (at == std::string_view::npos) return std::nullopt;
-  const std::vector<std::string> w = words(text.substr(at + key.size()));
+  const std::vector<std::string> w = split_fields(text.substr(at + key.size()), ' ');
   if (w.empty()) return std::nullopt;
   const std::optional<double> v = whole_number(w[0]);
   if (!v || !std::isfinite(*v)) return std::nullopt;
-  const std::size_t dot = w[0].find('.');
-  const double digits = dot == std::string::npos ? 0.0 : static_cast<double>(w[0].size() - dot - 1);
-  return Stated{*v, 0.5 * std::pow(10.0, -digits)};
+  return Stated{*v, printed_resolution(w[0])};
 }
 
 struct Component {
@@ -79,7 +64,7 @@ GroundMotion read(const std::string& path, const std::vector<Line>& lines, const
     if (starts_component(lines[i])) {
       if (i + text_lines + header_lines > lines.size())
         fail(path, lines[i].number, "a component header cut short (16 text and 10 numeric header lines)");
-      const std::vector<std::string> w = words(lines[i + 12].text);
+      const std::vector<std::string> w = split_fields(lines[i + 12].text, ' ');
       if (w.size() < 2 || find_word(w[0], "COMPONENT") != 0)
         fail(path, lines[i + 12].number, "no 'Component' line (line 13 of the component's header)");
       comps.push_back({i, w[1]});
@@ -91,11 +76,7 @@ GroundMotion read(const std::string& path, const std::vector<Line>& lines, const
   std::size_t pick = 0;
   if (!o.component.empty()) {
     const std::optional<double> index = whole_number(o.component);
-    auto same = [&](const Component& c) {
-      return c.name.size() == o.component.size() &&
-             std::equal(c.name.begin(), c.name.end(), o.component.begin(),
-                        [](char a, char b) { return std::toupper(static_cast<unsigned char>(a)) == std::toupper(static_cast<unsigned char>(b)); });
-    };
+    auto same = [&](const Component& c) { return lower(c.name) == lower(o.component); };
     const auto named = std::find_if(comps.begin(), comps.end(), same);
     if (named != comps.end()) pick = static_cast<std::size_t>(named - comps.begin());
     else if (index && *index >= 1 && *index <= 3 && *index == std::floor(*index)) pick = static_cast<std::size_t>(*index) - 1;
@@ -163,13 +144,11 @@ GroundMotion read(const std::string& path, const std::vector<Line>& lines, const
   }
   RecordInfo info;
   info.units = unit_name(unit);
-  info.station = words(lines[s + 1].text).size() > 1 ? words(lines[s + 1].text)[1] : "";
+  info.station = split_fields(lines[s + 1].text, ' ').size() > 1 ? split_fields(lines[s + 1].text, ' ')[1] : "";
   if (const std::string name = trim(lines[s + 2].text); !name.empty())
     info.station = info.station.empty() ? name : fmt::format("{} ({})", info.station, name);
   info.component = c.name;
-  info.date = trim(lines[s + 7].text);
-  info.date.erase(std::unique(info.date.begin(), info.date.end(), [](char a, char b) { return a == ' ' && b == ' '; }),
-                  info.date.end());
+  info.date = collapse_spaces(trim(lines[s + 7].text));
   std::string magnitude;
   if (const std::size_t m = find_word(lines[s + 8].text, "MW"); m != std::string::npos)
     magnitude = trim(lines[s + 8].text.substr(m));

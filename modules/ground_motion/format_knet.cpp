@@ -85,10 +85,8 @@ GroundMotion read(const std::string& path, const std::vector<Line>& lines, const
   const std::optional<double> peak = whole_number(max_text);
   if (!peak || !std::isfinite(*peak)) fail(path, lines[14].number, fmt::format("Max. Acc. '{:.40}' is not a number", max_text));
   info.stated_peak = std::abs(*peak) * to_si(unit);
-  const std::size_t dot = max_text.find('.');
-  const double digits = dot == std::string::npos ? 0.0 : static_cast<double>(max_text.size() - dot - 1);
   return evenly_sampled(path, lines[14].number, std::move(values), 1.0 / rate, std::move(info),
-                        0.5 * std::pow(10.0, -digits) * to_si(unit));
+                        printed_resolution(max_text) * to_si(unit));
 }
 
 }  // namespace

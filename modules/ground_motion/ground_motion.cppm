@@ -107,8 +107,8 @@ class GroundMotion {
 
 struct RecordOptions {
   std::string format = "auto";            // "auto" (from the content) or a name of record_formats()
-  std::optional<AccelerationUnit> unit;   // unset: the file's own (g where a file states none)
-  std::string component;  // a file of several components (GeoNet) or columns (CSV): name or 1-based index
+  std::optional<AccelerationUnit> unit = {};  // unset: the file's own (g where a file states none)
+  std::string component = {};  // a file of several components (GeoNet) or columns (CSV): name or 1-based index
   double dt = 0;          // one-column files only [s]
   double scale = 1;
 };
@@ -156,6 +156,9 @@ inline constexpr double min_record_dt = 1e-6;      // [s]
 
 std::vector<Line> read_lines(const std::string& path);
 [[noreturn]] void fail(const std::string& path, int line, std::string_view what);
+// The number that is all of `field` (blanks aside); text or a non-finite
+// value is an error at that line.
+double number_at(const std::string& path, int line, std::string_view field);
 // The numbers of one line separated by spaces, tabs or commas; text among
 // them is an error at that line.
 std::vector<double> numbers_of(const std::string& path, const Line& line);
@@ -169,6 +172,14 @@ std::size_t find_word(std::string_view text, std::string_view key, std::size_t f
 // The value of "KEY = value" in a header line, up to a space or comma.
 std::optional<std::string> header_field(std::string_view text, std::string_view key);
 std::string trim(std::string_view text);
+std::string lower(std::string text);
+// Runs of spaces as one ("2016 November 13     11:02" -> "2016 November 13 11:02").
+std::string collapse_spaces(std::string text);
+// The fields of a line: at `separator`, each trimmed (every field kept, empty
+// ones too); with ' ', the words between runs of blanks.
+std::vector<std::string> split_fields(std::string_view text, char separator);
+// Half a unit of the last digit printed in `number` ("-9733.1" -> 0.05).
+double printed_resolution(std::string_view number);
 bool blank_or_comment(const Line& l);
 // Each acceleration [m/s^2] within max_acceleration_g, or an error at its line.
 void check_acceleration(const std::string& path, int line, double a_si);
@@ -182,5 +193,19 @@ void refuse_dt(const std::string& path, int line, const RecordOptions& o, double
 // (within 0.1 % and half a unit of its last printed digit, `resolution`).
 GroundMotion evenly_sampled(const std::string& path, int header_line, std::vector<double> values, double dt,
                             RecordInfo info, double stated_resolution = 0);
+
+// Samples with their own times, as a table gives them, checked one by one
+// where they are read: starting at t >= 0, times increasing and within
+// max_record_duration, accelerations within max_acceleration_g.
+class TimedSamples {
+ public:
+  void add(const std::string& path, int line, double t, double a_si);
+  std::size_t size() const { return a_.size(); }
+  // The record (at least two samples, else an error at `last_line`).
+  GroundMotion record(const std::string& path, int last_line, RecordInfo info) &&;
+
+ private:
+  std::vector<double> t_, a_;
+};
 
 }  // namespace rocking::records

@@ -53,14 +53,49 @@ std::optional<double> whole_number(std::string_view raw) {
   return v;
 }
 
-namespace {
 double number_at(const std::string& path, int line, std::string_view field) {
   const std::optional<double> v = whole_number(field);
   if (!v) fail(path, line, fmt::format("'{:.40}' is not a number", trim(field)));
   if (!std::isfinite(*v)) fail(path, line, fmt::format("'{:.40}' is not a finite number", trim(field)));
   return *v;
 }
-}  // namespace
+
+std::string lower(std::string text) {
+  for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return text;
+}
+
+std::string collapse_spaces(std::string text) {
+  text.erase(std::unique(text.begin(), text.end(), [](char a, char b) { return a == ' ' && b == ' '; }), text.end());
+  return text;
+}
+
+std::vector<std::string> split_fields(std::string_view text, char separator) {
+  std::vector<std::string> out;
+  if (separator == ' ') {
+    for (std::size_t at = 0; at < text.size();) {
+      at = text.find_first_not_of(" \t", at);
+      if (at == std::string_view::npos) break;
+      const std::size_t end = std::min(text.find_first_of(" \t", at), text.size());
+      out.emplace_back(text.substr(at, end - at));
+      at = end;
+    }
+    return out;
+  }
+  for (std::size_t at = 0;;) {
+    const std::size_t end = text.find(separator, at);
+    out.push_back(trim(text.substr(at, end == std::string_view::npos ? std::string_view::npos : end - at)));
+    if (end == std::string_view::npos) break;
+    at = end + 1;
+  }
+  return out;
+}
+
+double printed_resolution(std::string_view number) {
+  const std::size_t dot = number.find('.');
+  const double digits = dot == std::string_view::npos ? 0.0 : static_cast<double>(number.size() - dot - 1);
+  return 0.5 * std::pow(10.0, -digits);
+}
 
 std::vector<double> numbers_of(const std::string& path, const Line& line) {
   std::vector<double> out;
@@ -142,6 +177,22 @@ void refuse_dt(const std::string& path, int line, const RecordOptions& o, double
   if (o.dt > 0) fail(path, line, fmt::format("--dt {:g}: the file states its own time step ({:g} s)", o.dt, stated_dt));
 }
 
+namespace {
+// The record of these samples with the file's metadata (its count, and its
+// time step unless the file stated it) and, where the file names it, a
+// description with its PGA.
+GroundMotion with_info(const std::string& path, std::vector<double> times, std::vector<double> values, RecordInfo info) {
+  info.npts = values.size();
+  GroundMotion g =
+      GroundMotion::from_samples(std::filesystem::path(path).filename().string(), std::move(times), std::move(values));
+  if (info.dt == 0) info.dt = g.sample_interval();
+  const std::string label = info.label();
+  if (!label.empty()) g.set_description(fmt::format("{}, PGA {:.2f} g", label, g.peak() / standard_gravity));
+  g.set_info(std::move(info));
+  return g;
+}
+}  // namespace
+
 GroundMotion evenly_sampled(const std::string& path, int header_line, std::vector<double> values, double dt,
                             RecordInfo info, double stated_resolution) {
   if (!(dt > 0) || !std::isfinite(dt)) fail(path, header_line, fmt::format("the time step must be positive (got {})", dt));
@@ -162,13 +213,24 @@ GroundMotion evenly_sampled(const std::string& path, int header_line, std::vecto
   std::vector<double> times(values.size());
   for (std::size_t i = 0; i < times.size(); ++i) times[i] = static_cast<double>(i) * dt;
   info.dt = dt;
-  info.npts = values.size();
-  GroundMotion g =
-      GroundMotion::from_samples(std::filesystem::path(path).filename().string(), std::move(times), std::move(values));
-  const std::string label = info.label();
-  if (!label.empty()) g.set_description(fmt::format("{}, PGA {:.2f} g", label, peak / standard_gravity));
-  g.set_info(std::move(info));
-  return g;
+  return with_info(path, std::move(times), std::move(values), std::move(info));
+}
+
+void TimedSamples::add(const std::string& path, int line, double t, double a_si) {
+  if (t_.empty() && t < 0)
+    fail(path, line, fmt::format("the record starts at t = {:g} s: a run starts at 0, and would lose what "
+                                 "comes before it (shift the times)", t));
+  if (!t_.empty() && !(t > t_.back())) fail(path, line, fmt::format("times must increase ({} after {})", t, t_.back()));
+  if (t > max_record_duration)
+    fail(path, line, fmt::format("t = {:g} s is beyond {:g} s: not a record's duration", t, max_record_duration));
+  check_acceleration(path, line, a_si);
+  t_.push_back(t);
+  a_.push_back(a_si);
+}
+
+GroundMotion TimedSamples::record(const std::string& path, int last_line, RecordInfo info) && {
+  if (a_.size() < 2) fail(path, last_line, "a record needs at least two samples");
+  return with_info(path, std::move(t_), std::move(a_), std::move(info));
 }
 
 }  // namespace rocking::records

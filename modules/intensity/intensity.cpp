@@ -14,13 +14,19 @@ namespace rocking {
 
 namespace {
 
+constexpr double pi = std::numbers::pi;
+
 struct Samples {
   std::vector<double> t, a;
 };
 
-Samples samples_of(const GroundMotion& g) {
+void require_record(const GroundMotion& g) {
   if (!g.piecewise_linear())
     throw InputError(fmt::format("{}: intensity measures are defined for records, not for an analytic pulse", g.name()));
+}
+
+Samples samples_of(const GroundMotion& g) {
+  require_record(g);
   return {g.sample_times(), g.sample_values()};
 }
 
@@ -37,9 +43,9 @@ void check_period(double T) {
 class Oscillator {
  public:
   Oscillator(double period, double zeta)
-      : w_(2 * std::numbers::pi / period), zeta_(zeta), wd_(w_ * std::sqrt(1 - zeta * zeta)) {}
+      : w_(2 * pi / period), zeta_(zeta), wd_(w_ * std::sqrt(1 - zeta * zeta)) {}
   double omega() const { return w_; }
-  double max_step() const { return 2 * std::numbers::pi / w_ / 20; }
+  double max_step() const { return 2 * pi / w_ / 20; }
 
   // Position and velocity after tau from (x0, v0) under a0 + s tau.
   // The step is linear in (x0, v0, a0, s): its eight coefficients are
@@ -130,6 +136,17 @@ double peak_displacement(const Samples& r, double period, double zeta) {
   return peak;
 }
 
+// PSA at each period [m/s^2].
+std::vector<double> spectrum_of(const Samples& r, const std::vector<double>& periods, double damping) {
+  check_damping(damping);
+  std::vector<double> out;
+  for (double T : periods) {
+    check_period(T);
+    out.push_back(std::pow(2 * pi / T, 2) * peak_displacement(r, T, damping));
+  }
+  return out;
+}
+
 // The time within [t0, t0 + h] at which int_t0^t a^2 reaches `target`
 // (from `start`, its value at t0), a = a0 + s tau: bisection on the cubic.
 double arias_crossing(double t0, double h, double a0, double s, double start, double target) {
@@ -163,7 +180,7 @@ GroundHistory integrate_record(const GroundMotion& g) {
 
 RecordMeasures measure_record(const GroundMotion& g, const std::vector<double>& periods, double damping) {
   check_damping(damping);
-  for (double T : periods) check_period(T);
+  for (double T : periods) check_period(T);  // before any work
   const GroundHistory hist = integrate_record(g);
   const std::vector<double>& t = hist.t;
   const std::vector<double>& a = hist.a;
@@ -206,7 +223,7 @@ RecordMeasures measure_record(const GroundMotion& g, const std::vector<double>& 
     m.cav += (a0 >= 0) == (a1 >= 0) ? h * (std::abs(a0) + std::abs(a1)) / 2
                                     : h * (a0 * a0 + a1 * a1) / (2 * (std::abs(a0) + std::abs(a1)));
   }
-  m.arias = std::numbers::pi / (2 * standard_gravity) * energy;
+  m.arias = pi / (2 * standard_gravity) * energy;
   if (energy > 0) {
     auto crossing = [&](double fraction) {
       const double target = fraction * energy;
@@ -219,8 +236,7 @@ RecordMeasures measure_record(const GroundMotion& g, const std::vector<double>& 
     m.d5_95 = crossing(0.95) - crossing(0.05);
   }
   m.periods = periods;
-  const Samples r{t, a};
-  for (double T : periods) m.psa.push_back(std::pow(2 * std::numbers::pi / T, 2) * peak_displacement(r, T, damping));
+  m.psa = spectrum_of({t, a}, periods, damping);
   return m;
 }
 
@@ -229,14 +245,7 @@ double pseudo_spectral_acceleration(const GroundMotion& g, double period, double
 }
 
 std::vector<double> response_spectrum(const GroundMotion& g, const std::vector<double>& periods, double damping) {
-  check_damping(damping);
-  const Samples r = samples_of(g);
-  std::vector<double> out;
-  for (double T : periods) {
-    check_period(T);
-    out.push_back(std::pow(2 * std::numbers::pi / T, 2) * peak_displacement(r, T, damping));
-  }
-  return out;
+  return spectrum_of(samples_of(g), periods, damping);
 }
 
 std::vector<double> standard_periods() {
@@ -317,7 +326,9 @@ double intensity(const GroundMotion& g, const IntensityMeasure& im) {
   using Kind = IntensityMeasure::Kind;
   switch (im.kind) {
     case Kind::scale_factor: return 1.0;
-    case Kind::pga: return measure_record(g, {}, im.damping).pga / standard_gravity;
+    case Kind::pga:
+      require_record(g);
+      return g.peak() / standard_gravity;
     case Kind::pgv: return measure_record(g, {}, im.damping).pgv;
     case Kind::sa: return pseudo_spectral_acceleration(g, im.t1, im.damping) / standard_gravity;
     case Kind::saavg: {
