@@ -101,6 +101,19 @@ void print_table(const std::vector<Measured>& rs) {
         [&](const Measured& r) { return fmt::format("{:.4f}", r.m.psa[k] / standard_gravity); });
 }
 
+// A record in a figure's key: its station and component where the file
+// names them (else its event, else its id), with the event when it fits.
+std::string key_label(const Measured& r) {
+  constexpr std::size_t room = 72;
+  const RecordInfo& i = r.motion.info();
+  std::string label = !i.station.empty() ? i.station + (i.component.empty() ? "" : ", " + i.component)
+                      : !i.event.empty() ? i.event
+                                         : r.id;
+  if (!i.station.empty() && !i.event.empty() && label.size() + i.event.size() + 3 <= room)
+    label += " (" + i.event + ")";
+  return label.size() > room ? label.substr(0, room - 3) + "..." : label;
+}
+
 void write_figures(const RecordArgs& a, const std::vector<Measured>& rs, const std::vector<plot::Mark>& marks,
                    const std::string& scene_name) {
   const fs::path dir(a.out);
@@ -123,9 +136,7 @@ void write_figures(const RecordArgs& a, const std::vector<Measured>& rs, const s
       table += fmt::format("{},{:.9g},{:.9g}\n", r.id, dense[k], psa[k] / standard_gravity);
     }
     write_text(dir / "record.data" / (stem + "_spectrum.csv"), sp);
-    // The id and what the file says it is, short enough for the key.
-    std::string label = r.motion.info().label().empty() ? r.id : fmt::format("{}: {}", r.id, r.motion.info().label());
-    if (label.size() > 72) label = label.substr(0, 69) + "...";
+    const std::string label = key_label(r);
     plot::Series s{label, (fs::path("record.data") / (stem + ".csv")).string(), {}, 0, false};
     histories.push_back(s);
     s.file = (fs::path("record.data") / (stem + "_spectrum.csv")).string();
@@ -146,7 +157,7 @@ void write_figures(const RecordArgs& a, const std::vector<Measured>& rs, const s
       histories);
   fig.name = "spectrum";
   fig.title = fmt::format("Pseudo-spectral acceleration, {:g} % damped{}", 100 * a.damping,
-                          marks.empty() ? "" : fmt::format("; dashed: fixed-base periods of {}", scene_name));
+                          marks.empty() ? "" : fmt::format("\ndashed: the fixed-base periods of {}", scene_name));
   fig.height = 800;
   const auto more = plot::render_panels(fig, 1, 1, "T [s]", {plot::Panel{"PSA [g]", "$1", "$2", !a.log_axes, "", marks}},
                                         spectra, a.log_axes);
