@@ -1,0 +1,65 @@
+// rocking.fragility: the statistics of incremental dynamic analysis over a
+// suite of records (MODEL.md 13). Pure numbers: it knows neither records nor
+// runs.
+// - Fractile IDA curves (Vamvatsikos & Cornell 2002): at one IM level, the
+//   p-fractile of the EDP over the records, a collapse counted as +inf. The
+//   fractile is Hyndman & Fan's type 7 (GSL's gsl_stats_quantile_from_sorted_data:
+//   position p (n - 1) in the sorted values, linear between neighbours); it is
+//   +inf (collapse) when that position touches a collapse with a non-zero
+//   weight.
+// - Lognormal fragility P(IM_c <= im) = Phi(ln(im / median) / beta):
+//   * from the capacity of each record (the lowest IM at which it reaches the
+//     limit): ln(median) = mean ln IM_c, beta = sample standard deviation of
+//     ln IM_c (n - 1), when every record reached it; when some did not, they
+//     are right-censored at the highest IM they were run to and median and
+//     beta maximise the censored likelihood;
+//   * from stripes (multiple-stripe analysis, Baker 2015, Earthquake Spectra
+//     31(1)): median and beta maximise the binomial likelihood of the counts
+//     of runs that reached the limit at each IM.
+//   Likelihoods are maximised over (ln median, ln beta) by GSL's Nelder-Mead
+//   simplex; standard errors come from the inverse of the negative
+//   log-likelihood's Hessian (finite differences) at the optimum, or, for the
+//   moment fit, from se(ln median) = beta / sqrt(n), se(beta) = beta / sqrt(2 (n - 1)).
+module;
+#include <cstddef>
+#include <string>
+#include <vector>
+export module rocking.fragility;
+
+export namespace rocking {
+
+// The p-fractile (p in [0, 1]) of values, +inf standing for a collapse;
+// +inf when the fractile falls on collapses. InputError for no values, a NaN,
+// or p outside [0, 1].
+double fractile(std::vector<double> values, double p);
+
+struct LognormalFit {
+  bool fitted = false;
+  std::string method;        // "moments", "censored-mle", "stripes-mle"
+  std::string note;          // why there is no fit, or what the fit assumed
+  double median = 0, beta = 0;
+  double log_median_se = 0;  // standard error of ln(median)
+  double beta_se = 0;
+  std::size_t records = 0;   // capacities: samples; stripes: runs in all
+  std::size_t reached = 0;   // how many reached the limit
+};
+
+// P(capacity <= im) of the fit.
+double lognormal_cdf(double im, double median, double beta);
+
+// One record's capacity: the IM at which it first reached the limit, or (not
+// reached) the highest IM it was run to without reaching it.
+struct Capacity {
+  double im = 0;
+  bool reached = false;
+};
+LognormalFit fit_capacities(const std::vector<Capacity>& capacities);
+
+// One stripe: `runs` records run at IM `im`, `reached` of them at the limit.
+struct Stripe {
+  double im = 0;
+  std::size_t runs = 0, reached = 0;
+};
+LognormalFit fit_stripes(const std::vector<Stripe>& stripes);
+
+}  // namespace rocking
