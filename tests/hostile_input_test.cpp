@@ -76,8 +76,8 @@ TEST_CASE("requests for unbounded output or work are refused up front with the n
   CHECK_FALSE(fs::exists(dir / "history.csv"));
   std::ofstream(dir / "r.txt") << "0 0.1\n0.01 0.2\n0.02 0\n";
   const std::string ida = "ida --record " + (dir / "r.txt").string() + " --out " + (dir / "ida").string();
-  refused(ida + " --hunt --hunt-step 1e-6", "--hunt-step 1e-06: up to");
-  refused(ida + " --hunt --scales 5 --hunt-max 2", "--hunt-max 2: below the first scale 5");
+  refused(ida + " --hunt --hunt-step 1e-6", "--hunt-step 1e-06, --fill-step 1e-07: up to");
+  refused(ida + " --hunt --scales 5 --hunt-max 2", "--hunt-max 2: below the first level 5");
   refused(ida + " --scales 1,2,", "--scales '1,2,'");
   refused("simulate --duration 0 --out " + dir.string(), "--duration 0: must be positive");
   refused("simulate --duration -5 --out " + dir.string(), "--duration -5: must be positive");

@@ -196,6 +196,19 @@ TEST_CASE("IM scaling is exact: the scaled record's IM equals the level") {
   CHECK_THROWS_WITH_AS(parse_intensity_measure("saavg:2:1"), "intensity measure 'saavg:2:1': T2 must exceed T1", InputError);
   CHECK_THROWS_AS(measure_record(g, {0.0}), InputError);
   CHECK_THROWS_AS(measure_record(g, {1.0}, 1.0), InputError);
+  // T1 stands for the structure's first period, kT1 for a multiple of it.
+  const IntensityMeasure at_t1 = parse_intensity_measure("sa:T1", 0.05, 0.4);
+  CHECK(at_t1.kind == IntensityMeasure::Kind::sa);
+  CHECK(at_t1.t1 == 0.4);
+  const IntensityMeasure avg = parse_intensity_measure("saavg:0.2T1:3T1", 0.05, 0.4);
+  CHECK(avg.t1 == doctest::Approx(0.08));
+  CHECK(avg.t2 == doctest::Approx(1.2));
+  CHECK_THROWS_WITH_AS(parse_intensity_measure("sa:T1"),
+                       "intensity measure 'sa:T1': 'T1' needs the structure's first period (give a scene that has one; "
+                       "a rigid block has none)",
+                       InputError);
+  CHECK_THROWS_AS(parse_intensity_measure("sa:xT1", 0.05, 0.4), InputError);
+  CHECK_THROWS_AS(parse_intensity_measure("sa:-2T1", 0.05, 0.4), InputError);
   CHECK_THROWS_AS(measure_record(GroundMotion::pulse(PulseShape::one_sine, 1, 1), {}), InputError);
 }
 

@@ -1,7 +1,9 @@
 // `rocking ida` and `rocking sweep` as a user meets them: the CSV of a study is
-// byte-identical between --threads 1, --threads 2 and mpirun -np 2; a bad record
-// among good ones is reported in its rows and the rest finish; a sweep gives
-// one line per parameter value.
+// byte-identical between --threads 1, --threads 2 and mpirun -np 2, and so are
+// a suite's summaries; each row's record, scaled by the row's factor, has the
+// row's IM level; a bad record among good ones is reported in its rows and the
+// rest finish; folders and list files name suites; a sweep gives one line per
+// parameter value.
 #include <doctest/doctest.h>
 #include "temp_path.hpp"
 #include <cmath>
@@ -11,10 +13,15 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <vector>
 #include <unistd.h>
 #include "run_program.hpp"
+#include "records.hpp"
+import rocking.intensity;
+import rocking.ground_motion;
 
 namespace fs = std::filesystem;
+using namespace rocking;
 
 namespace {
 
@@ -95,4 +102,105 @@ TEST_CASE("a sweep writes one line per value of the swept key") {
   const Result two = run("-q sweep --record x --set damper.thickness=1,2 --set structure.EI_scale=1,2");
   CHECK(two.code == 2);
   CHECK(lines(two.err) == 1);
+}
+
+namespace {
+
+bool have_mpirun() {
+  if (std::system("command -v mpirun >/dev/null 2>&1") == 0) return true;
+  const char* ci = std::getenv("CI");
+  if (ci != nullptr && std::string(ci) == "true") FAIL("mpirun not found (scripts/setup.sh installs openmpi-bin)");
+  WARN_MESSAGE(false, "SKIPPED: mpirun not found");
+  return false;
+}
+
+std::vector<std::vector<std::string>> csv_rows(const std::string& text) {
+  std::vector<std::vector<std::string>> out;
+  std::stringstream in(text);
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+    out.push_back(f);
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("a suite scaled to PGA: rows meet their levels exactly, summaries are the same on 1, 2 threads and 2 ranks") {
+  const auto records = records_dir();
+  if (!records) return;
+  const fs::path dir = scratch_dir("study_cli_suite");
+  // A list file naming three records, relative to the records folder.
+  std::ofstream(dir / "three.txt") << "# three records\n" << *records << "/elcentro_1940_ns.at2\n"
+                                   << *records << "/kobe1995_kjma_000.at2\n\n"
+                                   << *records << "/christchurch2011_pphs_s57e.at2\n";
+  const std::string study = "-q ida --record " + (dir / "three.txt").string() +
+                            " --im pga --levels 0.5:2.5:0.5 --variants damper,no-damper --limit theta_over_alpha=0.5"
+                            " --no-plot --out ";
+  const Result one = run(study + (dir / "one").string() + " --threads 1");
+  REQUIRE_MESSAGE(one.code == 0, one.err);
+  CHECK(one.out.find("no-damper: overturning median pga") != std::string::npos);
+  REQUIRE(run(study + (dir / "two").string() + " --threads 2").code == 0);
+  const char* outputs[] = {"ida.csv", "summary.csv", "fragility.csv", "fragility_points.csv", "summary.json"};
+  for (const char* f : outputs) CHECK_MESSAGE(file_text(dir / "one" / f) == file_text(dir / "two" / f), f);
+  // Every row: the record read again and scaled by the row's factor has the row's PGA.
+  const auto rows = csv_rows(file_text(dir / "one" / "ida.csv"));
+  REQUIRE(rows.size() == 3 * 5 * 2);
+  const IntensityMeasure pga = parse_intensity_measure("pga");
+  std::size_t overturned = 0;
+  for (const auto& f : rows) {
+    CHECK(f[3] == "pga");
+    const GroundMotion g = read_record(*records + "/" + f[0]);
+    const double level = std::stod(f[4]), scale = std::stod(f[1]);
+    CHECK(intensity(g.scaled(scale), pga) == doctest::Approx(level).epsilon(1e-9));
+    CHECK(std::stod(f[5]) == doctest::Approx(intensity(g, pga)).epsilon(1e-15));
+    overturned += f[15] == "overturned" ? 1 : 0;
+  }
+  CHECK(overturned > 0);
+  const std::string summary = file_text(dir / "one" / "summary.csv");
+  CHECK(summary.starts_with("variant,quantity,im,level,runs,collapsed,p16,p50,p84\n"));
+  CHECK(summary.find("no-damper,theta_over_alpha,pga,0.5,3,") != std::string::npos);
+  const std::string fragility = file_text(dir / "one" / "fragility.csv");
+  CHECK(fragility.find("damper,overturning,pga,") != std::string::npos);
+  CHECK(fragility.find("damper,theta_over_alpha>=0.5,pga,") != std::string::npos);
+  CHECK(fragility.find("stripes-mle") != std::string::npos);
+  if (!have_mpirun()) return;
+  const std::string root = ::geteuid() == 0 ? " --allow-run-as-root" : "";
+  const std::string mpi = "ASAN_OPTIONS=detect_leaks=0:halt_on_error=1 mpirun" + root + " --oversubscribe -np 2 " +
+                          std::string(ROCKING_BIN) + " " + study + (dir / "mpi").string() + " --threads 1";
+  REQUIRE(std::system(mpi.c_str()) == 0);
+  for (const char* f : outputs) CHECK_MESSAGE(file_text(dir / "one" / f) == file_text(dir / "mpi" / f), f);
+}
+
+TEST_CASE("a folder of records: unrecognised files are skipped, an unreadable record fails alone, the rest finish") {
+  const fs::path dir = scratch_dir("study_cli_folder");
+  fs::create_directories(dir / "suite");
+  pulse_record(dir / "suite");
+  std::ofstream(dir / "suite" / "NOTES.md") << "# notes about these records\n";
+  // Two columns whose second row is not a number: recognised as columns, unreadable.
+  std::ofstream(dir / "suite" / "zz_bad.txt") << "0 0.1\n0.01 abc\n";
+  const Result r = run("-q ida --record " + (dir / "suite").string() +
+                       " --im pga --levels 0.1,0.2 --variants no-damper --formats png --out " + (dir / "out").string());
+  CHECK(r.code == 4);
+  const std::string csv = file_text(dir / "out" / "ida.csv");
+  CHECK(csv.find("NOTES.md") == std::string::npos);
+  CHECK(csv.find("pulse.txt,") != std::string::npos);
+  CHECK(csv.find("zz_bad.txt,") != std::string::npos);
+  CHECK(r.err.find("2 of 4 runs failed (records that could not be read: zz_bad.txt)") != std::string::npos);
+  CHECK(lines(r.err) == 1);
+  CHECK(fs::is_regular_file(dir / "out" / "summary.csv"));
+  // The suite figures, one per quantity, and the fragility.
+  CHECK(fs::is_regular_file(dir / "out" / "ida_theta_over_alpha.png"));
+  CHECK(fs::is_regular_file(dir / "out" / "ida_fragility.png"));
+  const Result none = run("-q ida --suite nosuch --out " + (dir / "x").string());
+  CHECK(none.code == 2);
+  CHECK(none.err.find("--suite nosuch: no such suite (suites: horizontal)") != std::string::npos);
+  const Result no_levels = run("-q ida --record " + (dir / "suite" / "pulse.txt").string() + " --im pga --out " +
+                               (dir / "x").string());
+  CHECK(no_levels.code == 2);
+  CHECK(no_levels.err.find("--im pga: give the levels to scale to as --levels") != std::string::npos);
 }

@@ -1,6 +1,8 @@
 // rocking.study: the thread pool hands results back in job order whatever the
-// number of threads; a bad record fails its own jobs only; the collapse hunt
-// brackets the overturning scale to the asked precision.
+// number of threads; a bad record fails its own jobs only; records scaled to
+// an IM level meet it exactly; the hunt and fill brackets the lowest
+// overturning and agrees with a fine ladder on El Centro; the summary's
+// fractiles, capacities and stripes match what is worked by hand.
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
 #include "temp_path.hpp"
@@ -13,6 +15,7 @@
 #include <string>
 #include <vector>
 #include "one_line_error.hpp"
+#include "records.hpp"
 import rocking.study;
 import rocking.errors;
 
@@ -79,20 +82,43 @@ TEST_CASE("a bad record fails its own jobs and the others run") {
   CHECK(bad.error.find("/nonexistent/record.at2") != std::string::npos);
 }
 
-TEST_CASE("the collapse hunt brackets the overturning scale to the asked precision") {
+TEST_CASE("the collapse hunt brackets the overturning level to the asked precision, and fills below it") {
   const Study study(rigid_block(), {}, {pulse_record()}, RecordOptions{}, {named_variant("scene")}, RunOptions{});
-  const HuntResult h = hunt_collapse(study, 0, 0, 1.0, 1.0, 20.0, 0.01);
+  const HuntOptions o{1.0, 1.0, 1.5, 20.0, 0.01, 0.1};
+  const HuntResult h = hunt_collapse(study, 0, 0, o);
   REQUIRE(h.collapsed);
-  CHECK(h.collapse_scale - h.survived_scale <= 0.01);
-  CHECK(h.collapse_scale > 1.0);
+  CHECK(h.collapse_level - h.survived_level <= 0.01);
+  CHECK(h.collapse_level > 1.0);
+  CHECK(h.collapse_level <= h.traced_level);
   // The bracket is real: one side overturns, the other does not.
-  CHECK(study.run({0, h.collapse_scale, 0}).run.outcome == Outcome::overturned);
-  CHECK(study.run({0, h.survived_scale, 0}).run.outcome == Outcome::completed);
+  CHECK(study.run(study.at_level(0, 0, h.collapse_level)).run.outcome == Outcome::overturned);
+  CHECK(study.run(study.at_level(0, 0, h.survived_level)).run.outcome == Outcome::completed);
+  // The fill ran every 0.1 below the bracket, and nothing below the answer overturned.
+  std::size_t below = 0;
+  for (const HuntPoint& p : h.points)
+    if (p.level < h.collapse_level) {
+      ++below;
+      CHECK_FALSE(p.overturned);
+    }
+  CHECK(below >= static_cast<std::size_t>((h.survived_level - 1.0) / 0.1));
+  CHECK(h.runs == static_cast<int>(h.points.size()));
+  for (const auto& [from, to] : h.resurrections) CHECK(from > h.collapse_level);
+  CHECK(hunt_capacity(h).reached);
+  CHECK(hunt_capacity(h).im == h.collapse_level);
+}
+
+TEST_CASE("hunt options that cannot work are refused in one line") {
+  CHECK_THROWS_WITH_AS(check_hunt_options({5, 1, 1.5, 2, 0.05, 0.1}),
+                       "--hunt-max 2: below the first level 5, the hunt would run nothing", InputError);
+  CHECK_THROWS_AS(check_hunt_options({1, 1, 0.5, 20, 0.05, 0.1}), InputError);
+  CHECK_THROWS_AS(check_hunt_options({1, 1, 1.5, 20, 0.05, 0}), InputError);
+  CHECK_THROWS_AS(check_hunt_options({1, 1, 1.5, 20, 0.05, 1e-6}), InputError);
+  CHECK_NOTHROW(check_hunt_options({1, 1, 1.5, 50, 0.05, 0.1}));
 }
 
 TEST_CASE("a fixed base cannot overturn: the hunt says so without running") {
   const Study study("", {}, {pulse_record()}, RecordOptions{}, {named_variant("fixed-base")}, RunOptions{});
-  const HuntResult h = hunt_collapse(study, 0, 0, 1.0, 1.0, 20.0, 0.01);
+  const HuntResult h = hunt_collapse(study, 0, 0, HuntOptions{});
   CHECK(h.fixed_base);
   CHECK(h.runs == 0);
 }
@@ -147,4 +173,120 @@ TEST_CASE("size effect: one curve in normalised axes, and in seconds the larger 
   const long small_count = overturn_count(1.0, small.p), large_count = overturn_count(4.0, large.p);
   CHECK(small_count > 0);
   CHECK(large_count < small_count);
+}
+
+TEST_CASE("IM scaling is exact: every job's scaled record has the level's IM to 1e-9") {
+  const auto dir = records_dir();
+  if (!dir) return;
+  for (const char* name : {"pga", "pgv", "sa:0.5", "saavg:0.2:1.5"}) {
+    CAPTURE(name);
+    const IntensityMeasure im = parse_intensity_measure(name);
+    const Study study("", {}, {*dir + "/elcentro_1940_ns.at2", *dir + "/kobe1995_kjma_000.at2"}, RecordOptions{},
+                      {named_variant("damper")}, RunOptions{}, im);
+    for (const Job& job : study.ladder({0.05, 0.3, 1.7})) {
+      const GroundMotion scaled = study.motion(job.record)->scaled(job.scale);
+      CHECK(intensity(scaled, im) == doctest::Approx(job.level).epsilon(1e-9));
+      CHECK(job.scale == doctest::Approx(job.level / study.record_intensity(job.record)).epsilon(1e-15));
+    }
+  }
+  // The scale factor is its own IM: the level is the scale.
+  const Study sf(rigid_block(), {}, {pulse_record()}, RecordOptions{}, {named_variant("scene")}, RunOptions{});
+  for (const Job& job : sf.ladder({0.5, 2.0})) CHECK(job.scale == job.level);
+}
+
+TEST_CASE("a record of zero IM cannot be scaled to a level: its jobs fail, saying so") {
+  const fs::path file = temp_path("study_silent.txt");
+  std::ofstream(file) << "0 0\n0.01 0\n0.02 0\n";
+  const Study study("", {}, {file.string()}, RecordOptions{}, {named_variant("damper")}, RunOptions{},
+                    parse_intensity_measure("pga"));
+  CHECK(study.record_error(0).find("its pga is 0: it cannot be scaled to a level") != std::string::npos);
+  CHECK(study.run(study.ladder({0.5}).front()).error == study.record_error(0));
+}
+
+TEST_CASE("on El Centro the hunt finds the first overturning of a 0.01-step ladder, and its resurrections") {
+  const auto dir = records_dir();
+  if (!dir) return;
+  const Study study("", {}, {*dir + "/elcentro_1940_ns.at2"}, RecordOptions{},
+                    {named_variant("damper"), named_variant("no-damper")}, RunOptions{});
+  // The ladder 1, 1.01, ..., 14 for both variants, on two threads.
+  const std::vector<Job> jobs = study.ladder(parse_number_list("1:14:0.01"));
+  std::vector<double> first_overturn(2, 0);
+  parallel_ordered<JobResult>(
+      jobs.size(), 2, [&](std::size_t i) { return study.run(jobs[i]); },
+      [&](std::size_t i, const JobResult& r) {
+        REQUIRE(r.error.empty());
+        if (r.run.outcome == Outcome::overturned && first_overturn[jobs[i].variant] == 0)
+          first_overturn[jobs[i].variant] = jobs[i].level;
+      });
+  const HuntOptions o{1.0, 1.0, 1.5, 50.0, 0.05, 0.1};
+  for (std::size_t v = 0; v < 2; ++v) {
+    CAPTURE(v);
+    const HuntResult h = hunt_collapse(study, 0, v, o);
+    REQUIRE(h.collapsed);
+    REQUIRE(first_overturn[v] > 0);
+    // The ladder's first overturning lies in the hunt's bracket (width <= precision).
+    CHECK(h.collapse_level - h.survived_level <= o.precision + 1e-12);
+    CHECK(first_overturn[v] > h.survived_level);
+    CHECK(first_overturn[v] <= h.collapse_level + 1e-9);
+    // Both variants survive above their first overturning (El Centro is not
+    // monotonic): the hunt reports it.
+    CHECK_FALSE(h.resurrections.empty());
+  }
+  // With dampers the trace up meets a later window first (above 13); the fill finds the one near 10.4.
+  const HuntResult damper = hunt_collapse(study, 0, 0, o);
+  CHECK(damper.traced_level > 13.0);
+  CHECK(damper.collapse_level < 10.5);
+}
+
+TEST_CASE("the summary's fractiles, capacities and stripes, worked by hand") {
+  // Three copies of one record; the results are set by hand, not run.
+  const std::string rec = pulse_record();
+  const Study study(rigid_block(), {}, {rec, rec, rec}, RecordOptions{}, {named_variant("scene")}, RunOptions{});
+  StudySummary summary(study, {2.0, 1.0, 3.0}, {overturning_limit(), parse_limit("theta_over_alpha=0.5")});
+  CHECK(summary.levels() == std::vector<double>{1.0, 2.0, 3.0});
+  // theta/alpha by record (rows) and level (columns); -1 marks an overturning.
+  const double theta[3][3] = {{0.1, 0.3, 0.6}, {0.2, -1, 0.4}, {0.3, 0.7, -1}};
+  for (std::size_t r = 0; r < 3; ++r)
+    for (std::size_t k = 0; k < 3; ++k) {
+      JobResult res;
+      res.run.outcome = theta[r][k] < 0 ? Outcome::overturned : Outcome::completed;
+      res.run.peaks[static_cast<std::size_t>(Quantity::theta_over_alpha)] = theta[r][k] < 0 ? 1.0 : theta[r][k];
+      summary.add(study.at_level(r, 0, 1.0 + static_cast<double>(k)), res);
+    }
+  const auto rows = summary.fractiles(0, Quantity::theta_over_alpha);
+  REQUIRE(rows.size() == 3);
+  // Level 1: 0.1 0.2 0.3 -> 16 %: 0.1 + 0.32 x 0.1; 50 %: 0.2; 84 %: 0.2 + 0.68 x 0.1.
+  CHECK(rows[0].edp[0] == doctest::Approx(0.132));
+  CHECK(rows[0].edp[1] == doctest::Approx(0.2));
+  CHECK(rows[0].edp[2] == doctest::Approx(0.268));
+  // Level 2: 0.3 0.7 inf -> the 84 % fractile falls on the collapse.
+  CHECK(rows[1].collapsed == 1);
+  CHECK(rows[1].edp[1] == doctest::Approx(0.7));
+  CHECK(std::isinf(rows[1].edp[2]));
+  // Overturning: record 0 never (censored at 3), record 1 at 2 (and survives 3), record 2 at 3.
+  const auto over = summary.capacities(0, 0);
+  REQUIRE(over.size() == 3);
+  CHECK_FALSE(over[0].second.reached);
+  CHECK(over[0].second.im == 3.0);
+  CHECK((over[1].second.reached && over[1].second.im == 2.0));
+  CHECK((over[2].second.reached && over[2].second.im == 3.0));
+  // theta/alpha >= 0.5: record 0 at 3, record 1 at 2 (overturned), record 2 at 2.
+  const auto half = summary.capacities(0, 1);
+  CHECK(half[0].second.im == 3.0);
+  CHECK(half[1].second.im == 2.0);
+  CHECK(half[2].second.im == 2.0);
+  const auto stripes = summary.stripes(0, 0);
+  REQUIRE(stripes.size() == 3);
+  CHECK(stripes[0].reached == 0);
+  CHECK(stripes[1].reached == 1);
+  CHECK(stripes[2].reached == 1);  // record 1 survives level 3: a resurrection
+  CHECK(stripes[2].runs == 3);
+  // A record's IDA curve stops at its first overturning.
+  const auto curve = summary.curve(1, 0, Quantity::theta_over_alpha);
+  CHECK(curve.points.size() == 1);
+  CHECK(curve.collapse_level == 2.0);
+  CHECK_THROWS_AS(parse_limit("theta=0.5"), InputError);
+  CHECK_THROWS_AS(parse_limit("damper_d=-1"), InputError);
+  CHECK_THROWS_AS(parse_limit("damper_d"), InputError);
+  CHECK(parse_limit("damper_d=0.07").name == "damper_d>=0.07");
 }

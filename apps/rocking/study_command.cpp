@@ -1,8 +1,11 @@
-// `rocking ida` and `rocking sweep`: many runs at once (the paper's Figs. 5-8).
-// Jobs run on a thread pool (and across MPI ranks under mpirun); rows are
-// written in job order, so the CSV does not depend on how the work was split.
-// Wall times go to a separate timing.csv for that reason.
+// `rocking ida` and `rocking sweep`: many runs at once (the paper's Figs. 5-8),
+// over a suite of records scaled to an intensity measure. Jobs run on a
+// thread pool (and across MPI ranks under mpirun); rows are written in job
+// order, so the CSV does not depend on how the work was split. Wall times go
+// to a separate timing.csv for that reason. The suite's summaries and figures
+// are study_report.cpp's.
 #include "commands.hpp"
+#include "study_report.hpp"
 #include "mpi_jobs.hpp"
 #include "run_output.hpp"
 #include "stop_signals.hpp"
@@ -24,22 +27,49 @@ namespace {
 struct StudyArgs {
   SceneOptions scene;
   std::vector<std::string> records;
+  std::string suite;
   RecordFileOptions file;
-  std::string scales = "1:20:1";
+  std::string im = "sf";
+  double damping = 0.05;
+  std::string levels, scales;
   std::vector<std::string> variants;
+  std::vector<std::string> limits;
   int threads = 0;
   std::string out;
   SolverOptions solver;
   bool hunt = false;
-  double hunt_step = 1, hunt_max = 50, precision = 0.05;
+  // NaN: derived from the first level (see --help).
+  double hunt_step = std::nan(""), hunt_max = std::nan(""), precision = std::nan(""), fill_step = std::nan("");
+  double hunt_growth = 1.5;
   std::string formats = "png,pdf,svg";
   bool no_plot = false;
+  bool per_record = false;
   bool resume = false;
 };
 
+// The levels: --levels, or --scales for the scale factor; 1:20:1 by default
+// for the scale factor, required for any other IM.
+std::vector<double> study_levels(const StudyArgs& a, const IntensityMeasure& im) {
+  if (!a.scales.empty() && !a.levels.empty()) throw InputError("--scales and --levels: give one (--scales is --levels of the scale factor)");
+  if (!a.scales.empty() && im.kind != IntensityMeasure::Kind::scale_factor)
+    throw InputError(fmt::format("--scales with --im {}: give the levels of the IM as --levels", im.name()));
+  const std::string flag = a.scales.empty() ? "--levels" : "--scales";
+  std::string text = a.scales.empty() ? a.levels : a.scales;
+  if (text.empty()) {
+    if (im.kind != IntensityMeasure::Kind::scale_factor)
+      throw InputError(fmt::format("--im {}: give the levels to scale to as --levels (e.g. --levels 0.05:1.5:0.05, in {})",
+                                   im.name(), im.unit()));
+    text = "1:20:1";
+  }
+  const std::vector<double> levels = number_list(flag, text);
+  for (double l : levels)
+    if (!(l > 0)) throw InputError(fmt::format("{} {}: every level must be positive (got {:g})", flag, text, l));
+  return levels;
+}
+
 const char* csv_header =
-    "record,scale,variant,delta_t,delta_e,theta_over_alpha,damper_d_m,base_shear,base_moment,mid_shear,"
-    "mid_moment,top_total_mm,outcome,uplifts,impacts,rhs,error\n";
+    "record,scale,variant,im,level,record_im,delta_t,delta_e,theta_over_alpha,damper_d_m,base_shear,base_moment,"
+    "mid_shear,mid_moment,top_total_mm,outcome,uplifts,impacts,rhs,error\n";
 
 std::string csv_field(const std::string& s) {
   if (s.find_first_of(",\"\n") == std::string::npos) return s;
@@ -48,26 +78,53 @@ std::string csv_field(const std::string& s) {
   return out + "\"";
 }
 
+// A number as its shortest exact decimal (the scale and IM of a row read back
+// to the same double).
+std::string exact(double v) { return std::isfinite(v) ? fmt::format("{}", v) : std::string(); }
+
+// The first fields of a job's row: record, scale, variant, im, level, record_im.
+std::string job_fields(const Study& st, const std::vector<std::string>& ids, const Job& job) {
+  return fmt::format("{},{},{},{},{},{}", csv_field(ids[job.record]), exact(job.scale),
+                     csv_field(st.variants()[job.variant].name), st.intensity_measure().name(), exact(job.level),
+                     exact(st.record_intensity(job.record)));
+}
+
 std::string row(const Study& st, const std::vector<std::string>& ids, const Job& job, const JobResult& r) {
   std::string q;
   const RunResult& run = r.run;
-  for (Quantity k : {Quantity::delta_t, Quantity::delta_e, Quantity::theta_over_alpha, Quantity::damper_d,
-                     Quantity::base_shear, Quantity::base_moment, Quantity::mid_shear, Quantity::mid_moment}) {
+  for (Quantity k : study_quantities)
     q += r.error.empty() && (run.has_forces || !is_force(k)) ? fmt::format("{:.9g},", run.peak(k)) : std::string(",");
-  }
-  return fmt::format("{},{:.6g},{},{}{},{},{},{},{}\n", csv_field(ids[job.record]), job.scale,
-                     csv_field(st.variants()[job.variant].name), q,
+  return fmt::format("{},{}{},{},{},{},{}\n", job_fields(st, ids, job), q,
                      r.error.empty() ? fmt::format("{:.6g}", run.top_total_mm) : "", outcome_name(run.outcome),
                      run.counts.uplifts, fmt::format("{},{}", run.counts.impacts, run.stats.rhs), csv_field(r.error));
 }
 
-// A job's line of figure data: the scale, the eight peaks, 1 if it
+// A job's line of figure data: the level, the eight peaks, 1 if it
 // overturned; empty for a job that failed.
 std::string figure_line(const Job& job, const JobResult& r) {
   if (!r.error.empty()) return {};
-  std::string out = fmt::format("{:.6g}", job.scale);
-  for (std::size_t k : {0, 1, 3, 4, 6, 7, 8, 9}) out += fmt::format(",{:.9g}", r.run.peaks[k]);
+  std::string out = fmt::format("{:.9g}", job.level);
+  for (Quantity k : study_quantities) out += fmt::format(",{:.9g}", r.run.peak(k));
   return out + (r.run.outcome == Outcome::overturned ? ",1" : ",0");
+}
+
+// The result a figure line stands for (peaks and outcome), for the summary.
+JobResult line_result(const std::string& line) {
+  JobResult r;
+  if (line.empty()) {
+    r.error = "failed";
+    return r;
+  }
+  std::stringstream ss(line);
+  std::string f;
+  std::getline(ss, f, ',');  // the level
+  for (Quantity k : study_quantities) {
+    std::getline(ss, f, ',');
+    r.run.peaks[static_cast<std::size_t>(k)] = std::stod(f);
+  }
+  std::getline(ss, f, ',');
+  r.run.outcome = f == "1" ? Outcome::overturned : Outcome::completed;
+  return r;
 }
 
 // One data file per (record, variant) and one figure per record: peaks
@@ -87,7 +144,7 @@ void study_figures(const StudyArgs& a, const Study& st, const std::vector<std::s
     for (std::size_t v = 0; v < st.variants().size(); ++v) {
       const std::string file = (fs::path(name + ".data") / (fmt::format("{}.csv", v))).string();
       std::ofstream out(dir / file);
-      out << "scale,delta_t,delta_e,theta_over_alpha,damper_d,base_shear,base_moment,mid_shear,mid_moment,collapse\n";
+      out << "level,delta_t,delta_e,theta_over_alpha,damper_d,base_shear,base_moment,mid_shear,mid_moment,collapse\n";
       int rows = 0;
       bool fallen = false;
       for (std::size_t i = 0; i < jobs.size(); ++i) {
@@ -124,7 +181,7 @@ void study_figures(const StudyArgs& a, const Study& st, const std::vector<std::s
         {"peak base moment M/M_{ref} [-]", "$1", "$7", true, ""},
         {"peak mid-height shear V/V_{ref} [-]", "$1", "$8", true, ""},
         {"peak mid-height moment M/M_{ref} [-]", "$1", "$9", true, ""}};
-    for (const fs::path& f : plot::render_panels(fig, 4, 2, "scale factor on the record [-]", panels, series))
+    for (const fs::path& f : plot::render_panels(fig, 4, 2, im_axis_label(st.intensity_measure()), panels, series))
       fmt::print("wrote {}\n", f.string());
   }
 }
@@ -157,17 +214,15 @@ Resumed read_resumed(const fs::path& csv_file, const fs::path& timing_file, cons
     if (in.eof()) break;  // a last line without its newline was cut: run that job again
     const std::size_t k = r.rows.size();
     const std::vector<std::string> f = csv_fields(line);
-    const std::string expected = k < jobs.size() ? fmt::format("{},{:.6g},{}", csv_field(ids[jobs[k].record]), jobs[k].scale,
-                                                               csv_field(st.variants()[jobs[k].variant].name))
-                                                 : std::string("(no more jobs)");
-    if (k >= jobs.size() || f.size() < 17 || !line.starts_with(expected + ","))
+    const std::string expected = k < jobs.size() ? job_fields(st, ids, jobs[k]) : std::string("(no more jobs)");
+    if (k >= jobs.size() || f.size() < 20 || !line.starts_with(expected + ","))
       throw InputError(fmt::format("--resume: {}:{}: this row is not job {} of this study ({}): give the same scene, "
-                                   "--record, --scales and --variants as the interrupted run",
+                                   "--record, --im, --levels and --variants as the interrupted run",
                                    csv_file.string(), n, k + 1, expected));
     r.rows.push_back(line + "\n");
-    std::string data = f[1];
-    for (std::size_t c = 3; c <= 10; ++c) data += "," + (f[c].empty() ? std::string("0") : f[c]);
-    r.lines.push_back(f[16].empty() ? data + (f[12] == "overturned" ? ",1" : ",0") : std::string());
+    std::string data = f[4];
+    for (std::size_t c = 6; c <= 13; ++c) data += "," + (f[c].empty() ? std::string("0") : f[c]);
+    r.lines.push_back(f[19].empty() ? data + (f[15] == "overturned" ? ",1" : ",0") : std::string());
   }
   std::ifstream timing(timing_file);
   if (timing && std::getline(timing, line))
@@ -175,9 +230,20 @@ Resumed read_resumed(const fs::path& csv_file, const fs::path& timing_file, cons
   return r;
 }
 
+// " (records that could not be read: a.at2, b.txt)", or nothing.
+std::string unreadable(const Study& st, const std::vector<std::string>& ids) {
+  std::string out;
+  for (std::size_t r = 0; r < ids.size(); ++r)
+    if (!st.record_error(r).empty()) out += (out.empty() ? "" : ", ") + ids[r];
+  return out.empty() ? out : " (records that could not be read: " + out + ")";
+}
+
 int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, const std::string& scene_name,
                const MpiWorld& world) {
-  const std::vector<Job> jobs = st.ladder(number_list("--scales", a.scales));
+  const std::vector<double> levels = study_levels(a, st.intensity_measure());
+  std::vector<Limit> limits{overturning_limit()};
+  for (const std::string& l : a.limits) limits.push_back(parse_limit(l));
+  const std::vector<Job> jobs = st.ladder(levels);
   const std::vector<std::string> ids = record_ids(st.records());
   const int threads = thread_count(a.threads);
   if (!a.no_plot) plot::parse_formats(a.formats);  // refused before any run
@@ -216,8 +282,7 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
       [&](std::size_t k, const JobResult& r) {
         const std::size_t i = mine[k];
         const std::string text = row(st, ids, jobs[i], r);
-        const std::string timing = fmt::format("{},{:.6g},{},{:.6f}\n", csv_field(ids[jobs[i].record]),
-                                               jobs[i].scale, csv_field(st.variants()[jobs[i].variant].name), r.run.wall_s);
+        const std::string timing = fmt::format("{},{:.6f}\n", job_fields(st, ids, jobs[i]), r.run.wall_s);
         if (world.size == 1) {
           csv << text << std::flush;
         } else {
@@ -244,7 +309,7 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
   csv.close();
   if (!csv) throw RunError(fmt::format("{}: cannot write", partial.string()));
   fs::rename(partial, csv_file);
-  std::string timing_text = "record,scale,variant,wall_s\n";
+  std::string timing_text = "record,scale,variant,im,level,record_im,wall_s\n";
   for (const auto& [i, text] : all_timings) timing_text += text;
   write_text(timing_file, timing_text);
   // What each record id is, as its file says (rows name records by id).
@@ -270,84 +335,192 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
   for (auto& [i, text] : all_lines) figure_lines[static_cast<std::size_t>(i)] = std::move(text);
   const auto failed = std::count(figure_lines.begin(), figure_lines.end(), std::string());
   fmt::print("wrote {} ({} runs)\n", csv_file.string(), jobs.size());
-  if (!a.no_plot) study_figures(a, st, ids, jobs, figure_lines, kind, scene_name);
+  StudySummary summary(st, levels, limits);
+  for (std::size_t i = 0; i < jobs.size(); ++i) summary.add(jobs[i], line_result(figure_lines[i]));
+  write_ladder_report(dir, st, summary, ids);
+  if (!a.no_plot) {
+    // One figure per record for a few records (the paper's Figs. 5-8); the
+    // suite's figures (every record, fractiles, fragility) for two or more.
+    const std::size_t nr = st.records().size();
+    if (nr <= 3 || a.per_record) study_figures(a, st, ids, jobs, figure_lines, kind, scene_name);
+    if (nr >= 2)
+      for (const fs::path& f : draw_ladder_report(dir, st, summary, kind, scene_name, plot::parse_formats(a.formats)))
+        fmt::print("wrote {}\n", f.string());
+  }
   if (failed > 0) {
-    fmt::print(stderr, "rocking: {} of {} runs failed: see the error column of {}\n", failed, jobs.size(),
-               csv_file.string());
+    fmt::print(stderr, "rocking: {} of {} runs failed{}: see the error column of {}\n", failed, jobs.size(),
+               unreadable(st, ids), csv_file.string());
     return exit_jobs_failed;
   }
   return 0;
 }
 
+// A hunt's options: the first level starts it; the others default to
+// multiples of it (step = first, precision = first / 20, fill = first / 10,
+// max = 50 x first).
+HuntOptions hunt_options(const StudyArgs& a, const Study& st) {
+  HuntOptions o;
+  o.first = study_levels(a, st.intensity_measure()).front();
+  auto given = [](double v, double otherwise) { return std::isnan(v) ? otherwise : v; };
+  o.step = given(a.hunt_step, o.first);
+  o.precision = given(a.precision, o.step / 20);
+  o.fill_step = given(a.fill_step, o.step / 10);
+  o.max = given(a.hunt_max, 50 * o.first);
+  o.growth = a.hunt_growth;
+  check_hunt_options(o);
+  return o;
+}
+
+std::string ranges_text(const std::vector<std::pair<double, double>>& ranges) {
+  std::string out;
+  for (const auto& [from, to] : ranges)
+    out += (out.empty() ? "" : " ") + (from == to ? fmt::format("{:.6g}", from) : fmt::format("{:.6g}-{:.6g}", from, to));
+  return out;
+}
+
 int run_hunt(const StudyArgs& a, const Study& st) {
   const fs::path dir(a.out);
+  const HuntOptions o = hunt_options(a, st);
   make_output_dir(dir);
-  if (!(a.hunt_step > 0) || !(a.precision > 0) || !(a.hunt_max > 0) || !std::isfinite(a.hunt_max))
-    throw InputError("--hunt-step, --hunt-max and --precision must be positive");
-  const double first = number_list("--scales", a.scales).front();
-  if (a.hunt_max < first)
-    throw InputError(fmt::format("--hunt-max {:g}: below the first scale {:g}, the hunt would run nothing", a.hunt_max, first));
-  // Runs per record and variant: the steps up, then the bisection.
-  const double runs = (a.hunt_max - first) / a.hunt_step + std::log2(std::max(1.0, a.hunt_step / a.precision)) + 1;
-  if (runs > 1e5)
-    throw InputError(fmt::format("--hunt-step {:g}: up to {:.3g} runs per record and variant (at most 1e5); take a "
-                                 "larger step",
-                                 a.hunt_step, runs));
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
   for (std::size_t r = 0; r < st.records().size(); ++r)
     for (std::size_t v = 0; v < st.variants().size(); ++v) pairs.emplace_back(r, v);
   const std::vector<std::string> ids = record_ids(st.records());
+  const IntensityMeasure& im = st.intensity_measure();
+  const std::string unit = im.unit().empty() ? "" : " " + im.unit();
   std::ofstream csv(dir / "hunt.csv");
   if (!csv) throw InputError(fmt::format("{}: cannot write", (dir / "hunt.csv").string()));
-  csv << "record,variant,collapse_scale,survived_scale,runs,error\n";
+  csv << "record,variant,im,collapse_level,survived_level,collapse_scale,record_im,traced_level,fill_step,precision,"
+         "resurrections,runs,error\n";
+  spdlog::info("hunt: {} from {:g}{} by a step of {:g} growing x{:g} to {:g}; bracket {:g}; fill below at {:g}", im.name(),
+               o.first, unit, o.step, o.growth, o.max, o.precision, o.fill_step);
   Progress progress(spdlog::get_level() <= spdlog::level::info);
+  std::vector<HuntResult> hunts;
+  int failed = 0;
   parallel_ordered<HuntResult>(
       pairs.size(), thread_count(a.threads),
-      [&](std::size_t k) { return hunt_collapse(st, pairs[k].first, pairs[k].second, first, a.hunt_step, a.hunt_max, a.precision); },
+      [&](std::size_t k) { return hunt_collapse(st, pairs[k].first, pairs[k].second, o); },
       [&](std::size_t k, const HuntResult& h) {
         const std::string& record = ids[pairs[k].first];
         const std::string variant = st.variants()[pairs[k].second].name;
-        csv << fmt::format("{},{},{},{:.6g},{},{}\n", csv_field(record), csv_field(variant),
-                           h.collapsed ? fmt::format("{:.6g}", h.collapse_scale) : "", h.survived_scale, h.runs,
-                           csv_field(h.fixed_base ? "fixed base: cannot overturn" : h.error));
-        fmt::print("{} / {}: {}\n", record, variant,
-                   !h.error.empty() ? "error: " + h.error
-                   : h.fixed_base   ? std::string("a fixed base cannot overturn (not run)")
-                   : h.collapsed    ? fmt::format("overturns at scale {:.4g} (survives {:.4g}; {} runs)", h.collapse_scale,
-                                                  h.survived_scale, h.runs)
-                                    : fmt::format("no overturning up to scale {:.4g} ({} runs)", h.survived_scale, h.runs));
+        const std::string error = h.fixed_base ? "fixed base: cannot overturn" : h.error;
+        failed += h.error.empty() ? 0 : 1;
+        csv << fmt::format("{},{},{},{},{:.6g},{},{},{},{:g},{:g},{},{},{}\n", csv_field(record), csv_field(variant),
+                           im.name(), h.collapsed ? fmt::format("{:.6g}", h.collapse_level) : "", h.survived_level,
+                           h.collapsed ? exact(h.collapse_level / h.record_im) : "", exact(h.record_im),
+                           h.collapsed ? fmt::format("{:.6g}", h.traced_level) : "", o.fill_step, o.precision,
+                           ranges_text(h.resurrections), h.runs, csv_field(error));
+        std::string what;
+        if (!h.error.empty()) what = "error: " + h.error;
+        else if (h.fixed_base) what = "a fixed base cannot overturn (not run)";
+        else if (!h.collapsed)
+          what = fmt::format("no overturning up to {} {:.4g}{} ({} runs)", im.name(), h.survived_level, unit, h.runs);
+        else
+          what = fmt::format("overturns at {} {:.4g}{} (survives {:.4g}; {} runs){}", im.name(), h.collapse_level, unit,
+                             h.survived_level, h.runs,
+                             h.resurrections.empty() ? "" : "; survives again above it at " + ranges_text(h.resurrections));
+        fmt::print("{} / {}: {}\n", record, variant, what);
+        hunts.push_back(h);
       },
       [&](std::size_t done, std::size_t total) { progress(done, total); });
-  fmt::print("note: overturning is not monotonic in the scale factor; the hunt reports the first overturning it\n"
-             "      meets stepping by {:g}, and can step over a narrower window below it (see `rocking ida --help`)\n",
-             a.hunt_step);
-  fmt::print("wrote {}\n", (dir / "hunt.csv").string());
+  csv.close();
+  fmt::print("the lowest overturning found, bracketed to {:g}{}; a window narrower than the fill step {:g}{} below it "
+             "can be missed\n",
+             o.precision, unit, o.fill_step, unit);
+  write_hunt_report(dir, st, hunts, ids);
+  fmt::print("wrote {}, {}\n", (dir / "hunt.csv").string(), (dir / "fragility.csv").string());
+  if (failed > 0) {
+    fmt::print(stderr, "rocking: {} of {} hunts failed{}: see the error column of {}\n", failed, hunts.size(),
+               unreadable(st, ids), (dir / "hunt.csv").string());
+    return exit_jobs_failed;
+  }
   return 0;
+}
+
+// The records of a study: each --record argument (a file, a folder, a list
+// file) and the --suite's list.
+std::vector<std::string> study_records(const StudyArgs& a) {
+  std::vector<std::string> out;
+  for (const std::string& r : a.records) {
+    std::vector<std::string> skipped;
+    for (std::string& p : record_paths(r, &skipped)) out.push_back(std::move(p));
+    for (const std::string& s : skipped) spdlog::info("{}: skipped (not a record format this program reads)", s);
+  }
+  if (!a.suite.empty()) {
+    const fs::path list = fs::path(ROCKING_SUITES_DIR) / (a.suite + ".txt");
+    if (!fs::is_regular_file(list)) {
+      std::string names;
+      for (const auto& e : fs::directory_iterator(ROCKING_SUITES_DIR))
+        if (e.path().extension() == ".txt") names += (names.empty() ? "" : ", ") + e.path().stem().string();
+      throw InputError(fmt::format("--suite {}: no such suite (suites: {})", a.suite, names));
+    }
+    const char* env = std::getenv("ROCKING_RECORDS");
+    const fs::path records = env != nullptr && *env != 0 ? fs::path(env) : fs::path(ROCKING_RECORDS_DIR);
+    if (!fs::is_directory(records))
+      throw InputError(fmt::format("--suite {}: the records folder {} is missing (set ROCKING_RECORDS to where the "
+                                   "records are)",
+                                   a.suite, records.string()));
+    for (std::string& p : read_record_list(list.string(), records.string())) out.push_back(std::move(p));
+  }
+  if (out.empty()) throw InputError("--record or --suite: give at least one ground-motion file");
+  return out;
 }
 
 std::unique_ptr<Study> make_study(const StudyArgs& a, const std::vector<std::string>& overrides,
                                   std::vector<Variant> variants, std::string& scene_name) {
-  if (a.records.empty()) throw InputError("--record: give at least one ground-motion file");
+  const std::vector<std::string> records = study_records(a);
   const Scene scene = load_scene(SceneOptions{a.scene.path, overrides});
   scene_name = scene.name;
+  const double t1 = scene.structure.rigid ? 0.0 : 1.0 / modal_analysis(scene.structure, scene.damper).fixed_base_hz[0];
+  if (!(a.damping >= 0 && a.damping < 1)) throw InputError(fmt::format("--damping {}: must be in [0, 1)", a.damping));
+  const IntensityMeasure im = parse_intensity_measure(a.im, a.damping, t1);
+  if (a.im.find("T1") != std::string::npos)
+    spdlog::info("--im {}: T1 = {:.4f} s, the fixed-base first period of {}", a.im, t1, scene.name);
   const RecordOptions ro = record_options(a.file);
   RunOptions run = run_options(scene, a.solver, false);
-  return std::make_unique<Study>(a.scene.path, overrides, a.records, ro, std::move(variants), run);
+  auto study = std::make_unique<Study>(a.scene.path, overrides, records, ro, std::move(variants), run, im);
+  return study;
 }
 
 void add_study_options(CLI::App& cmd, StudyArgs& a, const std::string& default_out) {
   a.out = default_out;
   add_scene_options(cmd, a.scene);
-  cmd.add_option("--record", a.records, "Ground-motion files in any format --format lists; repeat or list several")
-      ->type_name("FILE...")
-      ->required();
+  cmd.add_option("--record", a.records,
+                 "Ground-motion files in any format --format lists, folders (every file\n"
+                 "in it a reader recognises, by name) or list files (one record path a\n"
+                 "line, relative to the list; # comments); repeat or list several")
+      ->type_name("PATH...");
+  cmd.add_option("--suite", a.suite,
+                 "A record suite kept in the project (data/suites/NAME.txt, paths in\n"
+                 "$ROCKING_RECORDS or ../shared/data/records): 'horizontal' is every\n"
+                 "horizontal record there, 24 of them")
+      ->type_name("NAME");
   add_record_file_options(cmd, a.file);
-  cmd.add_option("--scales", a.scales, "Scale factors: FIRST:LAST:STEP or a list 0.5,1,2 (default 1:20:1)")
+  cmd.add_option("--im", a.im,
+                 "What the levels measure: sf (the scale factor itself, default), pga [g],\n"
+                 "pgv [m/s], sa:T (5 %-damped PSA at T seconds [g]; sa:T1 at the scene's\n"
+                 "fixed-base first period), saavg:T1:T2 (geometric mean of PSA at 10\n"
+                 "periods from T1 to T2; 0.2T1:3T1 in multiples of T1). Each record is\n"
+                 "scaled by level / IM(record), so that its IM equals the level exactly")
+      ->type_name("IM");
+  cmd.add_option("--levels", a.levels,
+                 "IM levels: FIRST:LAST:STEP or a list (default 1:20:1 for sf; required\n"
+                 "for any other --im)")
       ->type_name("SPEC");
+  cmd.add_option("--scales", a.scales, "Scale factors: the --levels of --im sf")->type_name("SPEC");
+  cmd.add_option("--damping", a.damping, "Damping ratio of sa and saavg (default 0.05)")->type_name("ZETA");
+  cmd.add_option("--limit", a.limits,
+                 "A limit state for a fragility besides overturning: QUANTITY=VALUE, the\n"
+                 "peak at or above VALUE in the CSV's unit (theta_over_alpha=0.5,\n"
+                 "damper_d=0.07 [m], delta_t=0.01); repeat for several. An overturned run\n"
+                 "has reached every limit")
+      ->type_name("Q=V");
   cmd.add_option("--threads", a.threads, "Worker threads (default: every core)")->type_name("N");
   cmd.add_option("--out", a.out, fmt::format("Output folder (default {})", default_out))->type_name("DIR");
   cmd.add_option("--formats", a.formats, "Figure formats: png,pdf,svg (default all)")->type_name("LIST");
-  cmd.add_flag("--no-plot", a.no_plot, "Write the CSV only");
+  cmd.add_flag("--no-plot", a.no_plot, "Write the CSVs and JSON only");
+  cmd.add_flag("--per-record", a.per_record,
+               "Draw one figure per record also for more than three records");
   cmd.add_flag("--resume", a.resume,
                "Continue a study stopped by Ctrl-C or SIGTERM: the rows already in\n"
                "DIR/ida.csv (DIR/sweep.csv) are kept, the other jobs run; the CSV ends as\n"
@@ -360,13 +533,25 @@ void add_study_options(CLI::App& cmd, StudyArgs& a, const std::string& default_o
 Command add_ida_command(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "ida",
-      "Incremental dynamic analysis (the paper's Figs. 5-6): every (record, scale,\n"
-      "variant) job, in parallel on all cores, one CSV row per job in a fixed order\n"
-      "(DIR/ida.csv; wall times in DIR/timing.csv; what each record is in\n"
-      "DIR/records.csv), and per record a figure of each\n"
-      "peak quantity against the scale factor, one line per variant.\n"
+      "Incremental dynamic analysis (Vamvatsikos & Cornell 2002; the paper's Figs.\n"
+      "5-6): every (record, level, variant) job, each record scaled so that its\n"
+      "intensity measure (--im) equals the level, in parallel on all cores, one CSV\n"
+      "row per job in a fixed order (DIR/ida.csv: the IM, level, scale factor used and\n"
+      "the record's own IM, the peaks, the outcome; wall times in DIR/timing.csv;\n"
+      "what each record is in DIR/records.csv).\n"
+      "Over the records (MODEL.md 13): DIR/summary.csv has the 16/50/84 % fractile\n"
+      "IDA curves of each peak (an overturned run counts as an infinite peak: 'inf'\n"
+      "is a fractile that falls on collapses); DIR/fragility.csv the lognormal\n"
+      "overturning fragility (and of each --limit) fitted two ways: to each record's\n"
+      "first level at the limit (moments of ln IM; censored MLE when some records\n"
+      "never reach it) and to the stripes, the count at each level (binomial MLE,\n"
+      "Baker 2015); DIR/fragility_points.csv their data; DIR/summary.json all of it.\n"
+      "Figures: with up to three records, one per record (peaks against the level,\n"
+      "one line per variant); with two or more, one per peak quantity across the\n"
+      "suite (every record thin and grey, fractiles bold, overturning crossed) and\n"
+      "one of the fragility curves with their data.\n"
       "Under `mpirun -np N` the jobs are split across the N processes and rank 0\n"
-      "writes the same CSV. Overturning is an outcome (the collapse point), not an\n"
+      "writes the same CSVs. Overturning is an outcome (the collapse point), not an\n"
       "error; a job that fails is reported in its row and the others go on.\n"
       "Exit codes: 0 every run done, 2 bad input, 4 some runs failed (their rows\n"
       "say why; the count is printed on stderr), 130 / 143 stopped by Ctrl-C /\n"
@@ -377,23 +562,32 @@ Command add_ida_command(CLI::App& app) {
       ->delimiter(',')
       ->type_name("LIST");
   cmd->add_flag("--hunt", a->hunt,
-                "Find the scale at which each record and variant overturns: step up from\n"
-                "the first scale by --hunt-step to --hunt-max, then bisect to --precision.\n"
-                "Overturning is not monotonic in the scale factor: a structure that\n"
-                "overturns at one scale can survive a larger one (El Centro, with dampers:\n"
-                "overturns at 10.45, survives 10.75 to 13.0, overturns from 13.05). The\n"
-                "hunt finds the first overturning on its steps, and misses a window\n"
-                "narrower than --hunt-step below it: its answer bounds the lowest\n"
-                "overturning scale from above. For the lowest, run a fine ladder\n"
-                "(--scales 1:20:0.05) and read the first 'overturned' row.");
-  cmd->add_option("--hunt-step", a->hunt_step, "Step of the hunt (default 1)")->type_name("X");
-  cmd->add_option("--hunt-max", a->hunt_max, "Largest scale tried (default 50)")->type_name("X");
-  cmd->add_option("--precision", a->precision, "Width of the final bracket (default 0.05)")->type_name("X");
+                "Hunt and fill (Vamvatsikos & Cornell 2004) for the level at which each\n"
+                "record and variant first overturns: trace up from the first level by\n"
+                "--hunt-step, the step growing x--hunt-growth each run, to --hunt-max,\n"
+                "until a run overturns; bisect between the last survivor and it to\n"
+                "--precision; then fill every level below at --fill-step, and bisect below\n"
+                "the lowest overturning the fill finds. Overturning is not monotonic in\n"
+                "the level: a structure that overturns at one level can survive a larger\n"
+                "one (El Centro, with dampers, scaled: overturns at 10.45, survives 10.75\n"
+                "to 13.0). Survivors above the lowest overturning are reported as\n"
+                "resurrections. A window narrower than --fill-step below the answer can\n"
+                "be missed: the answer bounds the lowest overturning level from above, to\n"
+                "within the fill step. Writes DIR/hunt.csv and the overturning fragility\n"
+                "of the records' collapse levels (DIR/fragility.csv).");
+  cmd->add_option("--hunt-step", a->hunt_step, "First step of the hunt (default: the first level)")->type_name("X");
+  cmd->add_option("--hunt-growth", a->hunt_growth, "Factor the step grows by each run (default 1.5)")->type_name("X");
+  cmd->add_option("--hunt-max", a->hunt_max, "Largest level tried (default 50 x the first level)")->type_name("X");
+  cmd->add_option("--precision", a->precision, "Width of the final bracket (default hunt step / 20)")->type_name("X");
+  cmd->add_option("--fill-step", a->fill_step, "Step of the fill below the first overturning (default hunt step / 10)")
+      ->type_name("X");
   cmd->footer(
       "Examples:\n"
       "  rocking ida --record ../shared/data/records/christchurch2011_pphs_s57e.at2 --scales 1:20:1\n"
+      "  rocking ida --suite horizontal --im pga --levels 0.1:3:0.1 --variants damper,no-damper\n"
+      "  rocking ida --record records/ --im sa:T1 --levels 0.2:6:0.2 --limit theta_over_alpha=0.5\n"
       "  rocking ida --record A.at2 B.at2 --variants damper,no-damper --hunt\n"
-      "  mpirun -np 4 build/bin/rocking ida --record A.at2 --threads 1");
+      "  mpirun -np 4 build/bin/rocking ida --suite horizontal --im pga --levels 0.1:3:0.1 --threads 1");
   return [a]() {
     MpiSession mpi;
     std::vector<Variant> variants;

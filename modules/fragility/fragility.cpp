@@ -47,10 +47,10 @@ bool minimise(const std::function<double(double, double)>& f, double& x0, double
     const double size = gsl_multimin_fminimizer_size(s);
     // No progress is possible once the simplex is at rounding level.
     if (gsl_multimin_fminimizer_iterate(s) != GSL_SUCCESS) {
-      status = size < 1e-6 ? GSL_SUCCESS : GSL_FAILURE;
+      status = size < 1e-5 ? GSL_SUCCESS : GSL_FAILURE;
       break;
     }
-    status = gsl_multimin_test_size(gsl_multimin_fminimizer_size(s), 1e-9);
+    status = gsl_multimin_test_size(gsl_multimin_fminimizer_size(s), 1e-6);
   }
   x0 = gsl_vector_get(s->x, 0);
   x1 = gsl_vector_get(s->x, 1);

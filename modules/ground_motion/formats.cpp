@@ -78,4 +78,14 @@ GroundMotion read_record(const std::string& path, const RecordOptions& o) {
   return o.scale == 1.0 ? g : g.scaled(o.scale);
 }
 
+bool is_record_file(const std::string& path) {
+  try {
+    const std::vector<records::Line> lines = records::read_lines(path);
+    for (const records::FormatReader& r : readers())
+      if (r.detect(path, lines)) return true;
+  } catch (const InputError&) {
+  }
+  return false;
+}
+
 }  // namespace rocking

@@ -120,6 +120,19 @@ struct RecordFormatInfo {
 std::vector<RecordFormatInfo> record_formats();
 
 GroundMotion read_record(const std::string& path, const RecordOptions& options = {});
+// Whether some reader recognises the file's content as its format.
+bool is_record_file(const std::string& path);
+
+// Record suites (suites.cpp): the record files one argument names. A folder
+// gives its files that a reader recognises, sorted by name (the others are
+// added to `skipped`); a list file (every line that is not blank or a #
+// comment names an existing file, relative to the list's folder) gives those
+// files; anything else is itself (a file that cannot be read fails its own
+// jobs, not the study).
+std::vector<std::string> record_paths(const std::string& argument, std::vector<std::string>* skipped = nullptr);
+// The files a list names, relative to `base` when not absolute; InputError
+// naming the list's line of a file that does not exist.
+std::vector<std::string> read_record_list(const std::string& list, const std::string& base);
 
 }  // namespace rocking
 

@@ -281,7 +281,7 @@ std::string IntensityMeasure::unit() const {
   }
 }
 
-IntensityMeasure parse_intensity_measure(std::string_view text, double damping) {
+IntensityMeasure parse_intensity_measure(std::string_view text, double damping, double first_period) {
   check_damping(damping);
   IntensityMeasure im;
   im.damping = damping;
@@ -293,15 +293,27 @@ IntensityMeasure parse_intensity_measure(std::string_view text, double damping) 
     at = colon + 1;
   }
   auto period = [&](const std::string& p) {
+    // "T1" and "kT1" (0.2T1, 1.5T1): multiples of the structure's first period.
+    const bool of_t1 = p.ends_with("T1");
+    const std::string number = of_t1 ? p.substr(0, p.size() - 2) : p;
+    if (of_t1 && !(first_period > 0))
+      throw InputError(fmt::format("intensity measure '{}': '{}' needs the structure's first period (give a scene that "
+                                   "has one; a rigid block has none)",
+                                   text, p));
     std::size_t used = 0;
-    double T = 0;
-    try {
-      T = std::stod(p, &used);
-    } catch (const std::exception&) {
-      used = 0;
+    double T = of_t1 && number.empty() ? 1 : 0;
+    if (!number.empty()) {
+      try {
+        T = std::stod(number, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != number.size()) T = 0;
     }
-    if (used != p.size() || p.empty() || !(T > 0) || !std::isfinite(T))
-      throw InputError(fmt::format("intensity measure '{}': '{}' is not a period in seconds", text, p));
+    if (of_t1) T *= first_period;
+    if (!(T > 0) || !std::isfinite(T))
+      throw InputError(fmt::format("intensity measure '{}': '{}' is not a period in seconds{}", text, p,
+                                   first_period > 0 ? " or a multiple of T1" : ""));
     return T;
   };
   const std::string& k = parts[0];

@@ -62,7 +62,9 @@ struct IntensityMeasure {
   std::string name() const;  // as parsed: "sa:1", "pga"
   std::string unit() const;  // "g", "m/s", "" (scale factor)
 };
-IntensityMeasure parse_intensity_measure(std::string_view text, double damping = 0.05);
+// A period may be written T1 or kT1 (0.2T1) when first_period [s] is given:
+// sa:T1 is PSA at the structure's first period.
+IntensityMeasure parse_intensity_measure(std::string_view text, double damping = 0.05, double first_period = 0);
 // The record's IM in the unit of IntensityMeasure::unit() (1 for "sf").
 double intensity(const GroundMotion& g, const IntensityMeasure& im);
 

@@ -95,7 +95,8 @@ struct Grid {
   double key_bottom = 0, key_top = 0;
   int key_columns = 1;
 };
-Grid shared_key_grid(const Figure& fig, int rows, int cols, int points, const std::vector<std::string>& labels) {
+Grid shared_key_grid(const Figure& fig, int rows, int cols, int points, const std::vector<std::string>& labels,
+                     int panel_title_lines = 0) {
   const double W = fig.width, H = fig.height, line = line_px(points);
   // gnuplot gives every column of a key the width of its longest entry.
   std::size_t longest = 0;
@@ -106,8 +107,9 @@ Grid shared_key_grid(const Figure& fig, int rows, int cols, int points, const st
   const int title_lines = 1 + static_cast<int>(std::count(fig.title.begin(), fig.title.end(), '\n'));
   const double title_px = 0.8 * line + title_lines * line;
   const double left = 8.5 * points / W, right = 1 - 1.5 * points / W;
-  const double bottom = 3.4 * line / H, top = 1 - (title_px + key_rows * line + 0.8 * line) / H;
-  const double xgap = 9.0 * points / W, ygap = 3.6 * line / H;
+  const double bottom = 3.4 * line / H,
+               top = 1 - (title_px + key_rows * line + (0.8 + 1.3 * panel_title_lines) * line) / H;
+  const double xgap = 9.0 * points / W, ygap = (3.6 + 1.3 * panel_title_lines) * line / H;
   const double width = (right - left - (cols - 1) * xgap) / cols, height = (top - bottom - (rows - 1) * ygap) / rows;
   Grid g;
   g.begin = fmt::format("  set multiplot title {} noenhanced\n", gp_string(fig.title));
@@ -119,7 +121,7 @@ Grid shared_key_grid(const Figure& fig, int rows, int cols, int points, const st
                                      x0, x0 + width, y1, y1 - height));
     }
   g.key_top = 1 - title_px / H;
-  g.key_bottom = top + 0.3 * line / H;
+  g.key_bottom = top + (0.3 + 1.3 * panel_title_lines) * line / H;
   g.key_columns = columns;
   return g;
 }
@@ -323,6 +325,59 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
       "set datafile separator \",\"\n"
       "{}{}",
       fig.name, style_lines(1.5, 0.6), render_loop(fig, body, points));
+  return render_script(fig, script);
+}
+
+std::vector<fs::path> render_lines(const Figure& fig, int rows, int cols, const std::string& xlabel,
+                                   const std::string& ylabel, const std::vector<LinePanel>& panels) {
+  using Style = Line::Style;
+  // How each style draws; the key entry of a label is its first line's.
+  auto style = [](const Line& l) -> std::string {
+    const std::string colour = fmt::format("linecolor rgb \"#{}\"", palette[static_cast<std::size_t>(l.colour) % palette_size]);
+    switch (l.style) {
+      case Style::thin_grey: return "with lines linewidth 0.6 linecolor rgb \"#a0a0a0\"";
+      case Style::bold: return "with lines linewidth 3 " + colour;
+      case Style::bold_dashed: return "with lines linewidth 2.2 dashtype 2 " + colour;
+      case Style::circles: return "with points pointtype 6 pointsize 1.1 linewidth 1.5 " + colour;
+      case Style::squares: return "with points pointtype 4 pointsize 1.1 linewidth 1.5 " + colour;
+      case Style::crosses: return "with points pointtype 2 pointsize 1.3 linewidth 1.5 " + colour;
+    }
+    return "with lines";
+  };
+  std::vector<std::string> labels, entries;
+  for (const LinePanel& p : panels)
+    for (const Line& l : p.lines)
+      if (!l.label.empty() && std::find(labels.begin(), labels.end(), l.label) == labels.end()) {
+        labels.push_back(l.label);
+        entries.push_back(fmt::format("NaN {} title {} noenhanced", style(l), gp_string(l.label)));
+      }
+  const int points = font_points(fig, 550 * cols, 420 * rows);
+  const Grid grid = shared_key_grid(fig, rows, cols, points, labels, 1);
+  std::string body = grid.begin + fmt::format("  set grid\n  set xlabel {}\n  set ylabel {}\n", gp_string(xlabel),
+                                               gp_string(ylabel));
+  for (std::size_t k = 0; k < panels.size() && k < grid.panels.size(); ++k) {
+    const LinePanel& panel = panels[k];
+    body += grid.panels[k] + "  unset key\n  unset label\n";
+    body += fmt::format("  set title {} noenhanced\n  set xrange [{}]\n  set yrange [{}]\n", gp_string(panel.title),
+                        panel.xrange, panel.yrange);
+    if (panel.lines.empty()) {
+      body += "  set label 1 \"(nothing to show for this variant)\" at graph 0.5,0.5 center\n"
+              "  plot [0:1] [0:1] NaN notitle\n  unset label 1\n";
+      continue;
+    }
+    std::vector<std::string> items;
+    for (const Line& l : panel.lines)
+      items.push_back(fmt::format("{} skip 1 using 1:2 {} notitle", gp_string(l.file), style(l)));
+    body += plot_command(items);
+  }
+  body += "  unset title\n  set xrange [*:*]\n  set yrange [*:*]\n";
+  body += key_plot(grid, entries);
+  const std::string script = fmt::format(
+      "# rocking: curves over a suite of records (IDA curves, fragility).\n"
+      "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
+      "set datafile separator \",\"\n"
+      "{}",
+      fig.name, render_loop(fig, body, points));
   return render_script(fig, script);
 }
 

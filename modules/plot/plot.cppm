@@ -95,6 +95,26 @@ std::vector<std::filesystem::path> render_panels(const Figure& fig, int rows, in
                                                  const std::vector<Panel>& panels, const std::vector<Series>& series,
                                                  bool loglog = false);
 
+// Panels of lines from files, each line styled by its role: for IDA curves
+// over a suite (every record thin and grey, fractiles bold, collapses
+// crossed) and fragility curves with their data points. A file is CSV with a
+// header row, x in column 1 and y in column 2; a blank line breaks a line (one
+// file can hold many curves). One key above the panels lists each label once.
+struct Line {
+  enum class Style { thin_grey, bold, bold_dashed, circles, squares, crosses } style = Style::bold;
+  std::string label;  // empty: no key entry
+  std::string file;   // relative to the figure's folder, or absolute
+  int colour = 0;     // palette index (not for thin_grey)
+};
+struct LinePanel {
+  std::string title;
+  std::vector<Line> lines;      // none: the panel says it has nothing to show
+  std::string yrange = "0:*";   // gnuplot range
+  std::string xrange = "0:*";
+};
+std::vector<std::filesystem::path> render_lines(const Figure& fig, int rows, int cols, const std::string& xlabel,
+                                                const std::string& ylabel, const std::vector<LinePanel>& panels);
+
 // Overturning spectra: each series file has columns frequency_ratio,
 // amplitude_ratio, period_s, amplitude_g, overturned (0/1), then the cell of
 // each grid point: its low and high frequency ratio, amplitude ratio, period

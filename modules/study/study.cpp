@@ -1,7 +1,12 @@
 module;
 #include <rocking/eigen.hpp>
 #include <cmath>
+#include <algorithm>
 #include <functional>
+#include <iterator>
+#include <limits>
+#include <tuple>
+#include <utility>
 #include <numbers>
 #include <optional>
 #include <sstream>
@@ -13,6 +18,11 @@ import rocking.errors;
 
 namespace rocking {
 
+namespace {
+// The value as its decimal reads to 12 digits (1.3, not 1.2999999999999998).
+double decimal(double v) { return std::stod(fmt::format("{:.12g}", v)); }
+}  // namespace
+
 Variant named_variant(const std::string& name) {
   if (name == "scene") return {name, {}};
   if (name == "damper") return {name, {"damper.enabled=true"}};
@@ -23,16 +33,22 @@ Variant named_variant(const std::string& name) {
 
 Study::Study(const std::string& scene_path, const std::vector<std::string>& common_overrides,
              std::vector<std::string> records, RecordOptions record_options, std::vector<Variant> variants,
-             RunOptions run_options)
-    : records_(std::move(records)), variants_(std::move(variants)), options_(run_options) {
+             RunOptions run_options, IntensityMeasure im)
+    : records_(std::move(records)), variants_(std::move(variants)), im_(im), options_(run_options) {
   options_.track_energy = false;
   for (const std::string& r : records_) {
+    motions_.emplace_back(std::nullopt);
+    record_errors_.emplace_back();
+    record_im_.push_back(std::numeric_limits<double>::quiet_NaN());
     try {
-      motions_.emplace_back(read_record(r, record_options));
-      record_errors_.emplace_back();
+      motions_.back().emplace(read_record(r, record_options));
+      const double own = intensity(*motions_.back(), im_);
+      if (!(own > 0) || !std::isfinite(own))
+        throw InputError(fmt::format("{}: its {} is {:g}: it cannot be scaled to a level", r, im_.name(), own));
+      record_im_.back() = own;
     } catch (const InputError& e) {
-      motions_.emplace_back(std::nullopt);
-      record_errors_.emplace_back(e.what());
+      motions_.back().reset();
+      record_errors_.back() = e.what();
     }
   }
   for (const Variant& v : variants_) {
@@ -49,11 +65,17 @@ Study::Study(const std::string& scene_path, const std::vector<std::string>& comm
   }
 }
 
-std::vector<Job> Study::ladder(const std::vector<double>& scales) const {
+Job Study::at_level(std::size_t record, std::size_t variant, double level) const {
+  // For "sf" the record's IM is 1 and the scale is the level itself.
+  const double own = record_im_[record];
+  return {record, std::isfinite(own) ? level / own : level, variant, level};
+}
+
+std::vector<Job> Study::ladder(const std::vector<double>& levels) const {
   std::vector<Job> jobs;
   for (std::size_t r = 0; r < records_.size(); ++r)
-    for (double s : scales)
-      for (std::size_t v = 0; v < variants_.size(); ++v) jobs.push_back({r, s, v});
+    for (double level : levels)
+      for (std::size_t v = 0; v < variants_.size(); ++v) jobs.push_back(at_level(r, v, level));
   return jobs;
 }
 
@@ -100,7 +122,8 @@ std::vector<double> parse_number_list(const std::string& text) {
     const double first = number(parts[0]), last = number(parts[1]), step = number(parts[2]);
     if (!(step > 0) || last < first || (last - first) / step > 1e6) fail();
     const auto n = static_cast<long>(std::floor((last - first) / step + 1e-9));
-    for (long i = 0; i <= n; ++i) out.push_back(first + static_cast<double>(i) * step);
+    // Each value as its decimal reads (0.15, not 0.15000000000000002).
+    for (long i = 0; i <= n; ++i) out.push_back(decimal(first + static_cast<double>(i) * step));
   } else {
     if (text.ends_with(",")) fail();
     std::stringstream ss(text);
@@ -110,48 +133,97 @@ std::vector<double> parse_number_list(const std::string& text) {
   return out;
 }
 
-HuntResult hunt_collapse(const Study& study, std::size_t record, std::size_t variant, double first, double step,
-                         double max_scale, double precision) {
+void check_hunt_options(const HuntOptions& o) {
+  for (const auto& [name, v] : {std::pair{"first level", o.first}, {"--hunt-step", o.step}, {"--hunt-max", o.max},
+                                {"--precision", o.precision}, {"--fill-step", o.fill_step}, {"--hunt-growth", o.growth}})
+    if (!(v > 0) || !std::isfinite(v)) throw InputError(fmt::format("{} {}: must be positive and finite", name, v));
+  if (o.growth < 1) throw InputError(fmt::format("--hunt-growth {}: must be at least 1 (the step grows)", o.growth));
+  if (o.max < o.first)
+    throw InputError(fmt::format("--hunt-max {:g}: below the first level {:g}, the hunt would run nothing", o.max, o.first));
+  // The fill is the most runs: one per fill step up to --hunt-max.
+  const double runs = (o.max - o.first) / std::min(o.step, o.fill_step) + std::log2(o.max / o.precision) + 2;
+  if (runs > 1e5)
+    throw InputError(fmt::format("--hunt-step {:g}, --fill-step {:g}: up to {:.3g} runs per record and variant (at "
+                                 "most 1e5); take larger steps",
+                                 o.step, o.fill_step, runs));
+}
+
+HuntResult hunt_collapse(const Study& study, std::size_t record, std::size_t variant, const HuntOptions& o) {
   HuntResult h;
+  h.record_im = study.record_intensity(record);
   if (!study.can_overturn(variant)) {
     h.fixed_base = true;
     return h;
   }
-  auto overturns = [&](double scale, bool& failed) {
-    const JobResult r = study.run({record, scale, variant});
+  // Runs the level; false when the run failed (h.error says why).
+  auto run = [&](double level) {
+    const JobResult r = study.run(study.at_level(record, variant, level));
     ++h.runs;
     if (!r.error.empty()) {
       h.error = r.error;
-      failed = true;
       return false;
     }
-    return r.run.outcome == Outcome::overturned;
+    h.points.push_back({level, r.run.outcome == Outcome::overturned});
+    return true;
   };
-  bool failed = false;
-  double low = 0, high = 0;
-  for (double s = first; s <= max_scale + 1e-12; s += step) {
-    const bool down = overturns(s, failed);
-    if (failed) return h;
-    if (down) {
+  auto down_at = [&](double level) { return h.points.back().level == level && h.points.back().overturned; };
+  // Bisects (low survives, high overturns) to the precision; returns the
+  // final bracket.
+  auto bisect = [&](double low, double high) {
+    while (high - low > o.precision) {
+      const double mid = 0.5 * (low + high);
+      if (!run(mid)) return std::pair{low, high};
+      (down_at(mid) ? high : low) = mid;
+    }
+    return std::pair{low, high};
+  };
+  // Trace up.
+  double low = 0, step = o.step;
+  const double tolerance = 1e-9 * o.max;
+  for (double level = o.first; level <= o.max + tolerance; level = decimal(level + step), step *= o.growth) {
+    if (!run(level)) return h;
+    if (down_at(level)) {
       h.collapsed = true;
-      high = s;
+      h.traced_level = level;
       break;
     }
-    low = s;
+    low = level;
   }
   if (!h.collapsed) {
-    h.survived_scale = low;
+    h.survived_level = low;
     return h;
   }
-  while (high - low > precision) {
-    const double mid = 0.5 * (low + high);
-    const bool down = overturns(mid, failed);
-    if (failed) return h;
-    (down ? high : low) = mid;
+  // Bracket, then fill below it.
+  auto [survived, collapse] = bisect(low, h.traced_level);
+  if (!h.error.empty()) return h;
+  for (int k = 1;; ++k) {
+    const double level = decimal(o.first + k * o.fill_step);
+    if (level >= survived - tolerance) break;
+    const bool done = std::any_of(h.points.begin(), h.points.end(),
+                                  [&](const HuntPoint& p) { return std::abs(p.level - level) <= tolerance; });
+    if (!done && !run(level)) return h;
   }
-  h.collapse_scale = high;
-  h.survived_scale = low;
+  std::sort(h.points.begin(), h.points.end(), [](const HuntPoint& a, const HuntPoint& b) { return a.level < b.level; });
+  const auto lowest = std::find_if(h.points.begin(), h.points.end(), [](const HuntPoint& p) { return p.overturned; });
+  if (lowest->level < collapse) {  // an earlier window: bracket its lower edge too
+    const double below = lowest == h.points.begin() ? 0 : std::prev(lowest)->level;
+    std::tie(survived, collapse) = bisect(below, lowest->level);
+    if (!h.error.empty()) return h;
+    std::sort(h.points.begin(), h.points.end(), [](const HuntPoint& a, const HuntPoint& b) { return a.level < b.level; });
+  }
+  h.collapse_level = collapse;
+  h.survived_level = survived;
+  for (const HuntPoint& p : h.points) {
+    if (p.level <= collapse || p.overturned) continue;
+    const bool extends = !h.resurrections.empty() && h.resurrections.back().second == std::prev(&p)->level;
+    if (extends) h.resurrections.back().second = p.level;
+    else h.resurrections.emplace_back(p.level, p.level);
+  }
   return h;
+}
+
+Capacity hunt_capacity(const HuntResult& h) {
+  return h.collapsed ? Capacity{h.collapse_level, true} : Capacity{h.survived_level, false};
 }
 
 BlockSpectrum overturning_spectrum(const Scene& rigid_block, double size, PulseShape pulse,

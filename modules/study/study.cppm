@@ -1,11 +1,17 @@
 // rocking.study: many runs of a scene at once, for incremental dynamic
 // analysis (IDA, Vamvatsikos & Cornell 2002) and parametric studies (the
-// paper's Figs. 5-8). A study is a list of jobs (record x scale x variant);
-// jobs are independent and deterministic, so they run on a pool of threads and
-// their results are handed back in job order: the output of a study does not
-// depend on the number of threads (or of processes: the app splits the same
-// list across MPI ranks). The collapse hunt steps the scale up until the
-// structure overturns, then bisects (the hunt-and-fill idea of IDA tools).
+// paper's Figs. 5-8). A study is a list of jobs (record x IM level x variant);
+// each record is scaled so that its intensity measure equals the level
+// exactly (SF = level / IM(record), MODEL.md 12). Jobs are independent and
+// deterministic, so they run on a pool of threads and their results are
+// handed back in job order: the output of a study does not depend on the
+// number of threads (or of processes: the app splits the same list across
+// MPI ranks). The collapse hunt is the hunt-and-fill of Vamvatsikos & Cornell
+// (2004): trace up with a growing step to the first overturning, bisect to a
+// stated precision, then fill the levels below at a finer step to catch
+// earlier collapse windows. The summary (summary.cpp) gathers what a suite
+// study reports (MODEL.md 13): fractile IDA curves, capacities and stripes
+// for each limit state, and their lognormal fragilities (rocking.fragility).
 module;
 #include <rocking/eigen.hpp>
 #include <atomic>
@@ -14,6 +20,8 @@ module;
 #include <cstddef>
 #include <functional>
 #include <mutex>
+#include <array>
+#include <limits>
 #include <optional>
 #include <string>
 #include <thread>
@@ -21,6 +29,8 @@ module;
 export module rocking.study;
 export import rocking.simulation;
 export import rocking.scene;
+export import rocking.intensity;
+export import rocking.fragility;
 
 export namespace rocking {
 
@@ -81,8 +91,9 @@ Variant named_variant(const std::string& name);
 
 struct Job {
   std::size_t record = 0;   // index into the study's records
-  double scale = 1;
+  double scale = 1;         // the factor applied to the record
   std::size_t variant = 0;  // index into the study's variants
+  double level = 1;         // the IM level the scale brings the record to (the scale itself for "sf")
 };
 
 // What a study keeps of a run.
@@ -95,12 +106,20 @@ struct JobResult {
 // variants, and how each run is integrated.
 class Study {
  public:
+  // im: what the levels measure (the scale factor unless given).
   Study(const std::string& scene_path, const std::vector<std::string>& common_overrides,
         std::vector<std::string> records, RecordOptions record_options, std::vector<Variant> variants,
-        RunOptions run_options);
+        RunOptions run_options, IntensityMeasure im = {});
   const std::vector<std::string>& records() const { return records_; }
   const std::vector<Variant>& variants() const { return variants_; }
-  std::vector<Job> ladder(const std::vector<double>& scales) const;  // record-major, then scale, then variant
+  const IntensityMeasure& intensity_measure() const { return im_; }
+  // The record's own IM (unscaled); NaN when it could not be read.
+  double record_intensity(std::size_t record) const { return record_im_[record]; }
+  // Empty, or why the record's jobs cannot run.
+  const std::string& record_error(std::size_t record) const { return record_errors_[record]; }
+  // The job that runs the record scaled to an IM level.
+  Job at_level(std::size_t record, std::size_t variant, double level) const;
+  std::vector<Job> ladder(const std::vector<double>& levels) const;  // record-major, then level, then variant
   JobResult run(const Job& job) const;
   bool can_overturn(std::size_t variant) const;  // false for a fixed base
   bool has_damper(std::size_t variant) const;
@@ -114,6 +133,8 @@ class Study {
   std::vector<Variant> variants_;
   std::vector<std::optional<GroundMotion>> motions_;
   std::vector<std::string> record_errors_;
+  IntensityMeasure im_;
+  std::vector<double> record_im_;
   std::vector<std::optional<ContactModel>> models_;
   std::vector<std::string> variant_errors_;
   RunOptions options_;
@@ -123,18 +144,104 @@ class Study {
 // quoting the text (the caller names the option it came from).
 std::vector<double> parse_number_list(const std::string& text);
 
-// The collapse hunt for one record and variant: scales first, first + step, ...
-// up to max_scale until a run overturns, then bisection to `precision`.
+// The collapse hunt for one record and variant, in IM levels (Vamvatsikos &
+// Cornell 2004): trace up from `first` by a step that grows by `growth` each
+// run, up to `max`, until a run overturns; bisect between the last survivor
+// and that collapse to `precision`; then fill every level below it at
+// `fill_step` (first + k fill_step) and, if an earlier collapse turns up,
+// bisect below the lowest one too. A collapse window narrower than
+// `fill_step` below the answer can be missed: the answer is the lowest
+// collapse level found, bracketed to `precision`.
+struct HuntOptions {
+  double first = 1, step = 1, growth = 1.5, max = 50, precision = 0.05, fill_step = 0.1;
+};
+// InputError unless every option is positive and finite, growth >= 1 and
+// first <= max, or when the hunt could take more than 1e5 runs.
+void check_hunt_options(const HuntOptions& o);
+struct HuntPoint {
+  double level = 0;
+  bool overturned = false;
+};
 struct HuntResult {
   bool collapsed = false;
   bool fixed_base = false;     // a fixed base cannot overturn: nothing was run
-  double collapse_scale = 0;   // lowest scale found that overturns
-  double survived_scale = 0;   // highest scale below it that did not
+  double collapse_level = 0;   // the lowest level found that overturns
+  double survived_level = 0;   // the highest level below it that did not (the highest run if none overturned)
+  double traced_level = 0;     // the first overturning the trace up met (before the fill)
+  double record_im = 0;        // the record's own IM: scale = level / record_im
+  std::vector<HuntPoint> points;  // every run, in level order
+  // Levels above the collapse at which the structure survived, as ranges
+  // [first, last] of consecutive surviving runs ("resurrections").
+  std::vector<std::pair<double, double>> resurrections;
   int runs = 0;
   std::string error;
 };
-HuntResult hunt_collapse(const Study& study, std::size_t record, std::size_t variant, double first, double step,
-                         double max_scale, double precision);
+HuntResult hunt_collapse(const Study& study, std::size_t record, std::size_t variant, const HuntOptions& options);
+
+// A hunt's overturning capacity: the collapse level, or (none found) the
+// highest level it survived, censored.
+Capacity hunt_capacity(const HuntResult& h);
+
+// A limit state for fragility (MODEL.md 13): overturning, or a peak quantity
+// at or above a value. An overturned run has reached every limit.
+struct Limit {
+  std::string name;                  // "overturning", "theta_over_alpha>=0.5"
+  std::optional<Quantity> quantity;  // none: overturning
+  double value = 0;
+};
+Limit overturning_limit();
+// "theta_over_alpha=0.5", "damper_d=0.07" (the quantity's unit: damper_d in
+// m, drifts as fractions, forces over V_ref and M_ref); InputError naming the
+// text and the quantities otherwise.
+Limit parse_limit(const std::string& text);
+// The peak quantities a study reports, in the order of its CSV columns.
+inline constexpr std::array<Quantity, 8> study_quantities = {
+    Quantity::delta_t,    Quantity::delta_e,     Quantity::theta_over_alpha, Quantity::damper_d,
+    Quantity::base_shear, Quantity::base_moment, Quantity::mid_shear,        Quantity::mid_moment};
+
+// What a suite study reports (MODEL.md 13), gathered job by job: a few
+// numbers per job are kept, never a run's history. Failed jobs are left out.
+class StudySummary {
+ public:
+  StudySummary(const Study& study, std::vector<double> levels, std::vector<Limit> limits);
+  void add(const Job& job, const JobResult& result);
+  const std::vector<double>& levels() const { return levels_; }  // ascending
+  const std::vector<Limit>& limits() const { return limits_; }
+  // At each level, the 16/50/84 % fractiles of a peak over the records that
+  // ran there, an overturned run counted as +inf (a +inf fractile is a collapse).
+  struct FractileRow {
+    double level = 0;
+    std::size_t runs = 0, collapsed = 0;
+    std::array<double, 3> edp{};  // 16, 50, 84 %
+  };
+  std::vector<FractileRow> fractiles(std::size_t variant, Quantity q) const;
+  // A record's IDA curve: (level, peak) up to its first overturning, and the
+  // level of that overturning (NaN if none).
+  struct Curve {
+    std::vector<std::pair<double, double>> points;
+    double collapse_level = std::numeric_limits<double>::quiet_NaN();
+  };
+  Curve curve(std::size_t record, std::size_t variant, Quantity q) const;
+  // Per record that ran: the lowest level at which it reached the limit, or
+  // the highest level it ran to without, censored.
+  std::vector<std::pair<std::size_t, Capacity>> capacities(std::size_t variant, std::size_t limit) const;
+  // Per level: how many records ran, how many reached the limit.
+  std::vector<Stripe> stripes(std::size_t variant, std::size_t limit) const;
+
+ private:
+  struct Cell {
+    std::array<double, quantity_count> peaks{};
+    bool ran = false, overturned = false;
+  };
+  const Cell& cell(std::size_t record, std::size_t variant, std::size_t level) const {
+    return cells_[(record * variants_ + variant) * levels_.size() + level];
+  }
+  bool reached(const Cell& c, const Limit& l) const;
+  std::size_t records_ = 0, variants_ = 0;
+  std::vector<double> levels_;
+  std::vector<Limit> limits_;
+  std::vector<Cell> cells_;  // [record][variant][level]
+};
 
 // The overturning spectrum of a rigid block under pulses (Housner 1963;
 // Makris & Roussos 2000; Zhang & Makris 2001), the classic teaching figure:

@@ -1,0 +1,33 @@
+// What `rocking ida` and `rocking sweep` report over a suite of records
+// (MODEL.md 13): summary.csv (fractile IDA curves), fragility.csv and
+// fragility_points.csv (each limit state's lognormal fits and their data),
+// summary.json (all of it), and the figures: one per quantity across the
+// suite, one of the fragility curves.
+#pragma once
+#include "commands.hpp"
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace rocking::app {
+
+// The axis label of an intensity measure ("PGA [g]", "scale factor [-]").
+std::string im_axis_label(const rocking::IntensityMeasure& im);
+
+// Writes the summary files of a ladder into dir; prints each variant's
+// overturning fragility in one line.
+void write_ladder_report(const std::filesystem::path& dir, const rocking::Study& st,
+                         const rocking::StudySummary& summary, const std::vector<std::string>& ids);
+// The suite figures of a ladder (IDA curves with fractiles per quantity, and
+// the fragility curves); returns the files written.
+std::vector<std::filesystem::path> draw_ladder_report(const std::filesystem::path& dir, const rocking::Study& st,
+                                                      const rocking::StudySummary& summary, const std::string& kind,
+                                                      const std::string& scene_name,
+                                                      const std::vector<std::string>& formats);
+
+// The overturning fragility of hunts, one per (record, variant) in order:
+// fragility.csv, fragility_points.csv and summary.json in dir.
+void write_hunt_report(const std::filesystem::path& dir, const rocking::Study& st,
+                       const std::vector<rocking::HuntResult>& hunts, const std::vector<std::string>& ids);
+
+}  // namespace rocking::app
