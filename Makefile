@@ -56,6 +56,8 @@ bench: build
 	@build/bin/study_bench
 	@echo "command: build/bin/records_bench"
 	@build/bin/records_bench
+	@echo "command: build/bin/suite_bench"
+	@build/bin/suite_bench
 
 clean:
 	@rm -rf build build-sanitize

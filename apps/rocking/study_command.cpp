@@ -260,21 +260,34 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
     spdlog::info("{}: {} jobs on {} thread(s){}{}", kind, jobs.size() - first, threads,
                  world.size > 1 ? fmt::format(" x {} processes", world.size) : "",
                  first > 0 ? fmt::format(" ({} done before, resumed)", first) : "");
+  // A single process streams its rows and timings (a long study shows them
+  // as they come) into temporary files, renamed when the study ends or stops,
+  // and keeps of each job only its cell of the summary (and its figure line
+  // when it draws one figure per record): memory does not grow with the
+  // number of jobs. Under mpirun, rank 0 gathers the rows and lines.
+  const std::size_t nr = st.records().size();
+  const bool per_record_figures = !a.no_plot && (nr <= 3 || a.per_record);
+  const bool keep_lines = per_record_figures || world.size > 1;
+  StudySummary summary(st, levels, limits);
   std::vector<std::pair<long, std::string>> rows, timings, lines;
+  std::size_t failed = 0;
   for (std::size_t i = 0; i < first; ++i) {
-    timings.emplace_back(static_cast<long>(i), i < resumed.timings.size() ? resumed.timings[i] : std::string());
-    lines.emplace_back(static_cast<long>(i), resumed.lines[i]);
+    summary.add(jobs[i], line_result(resumed.lines[i]));
+    failed += resumed.lines[i].empty() ? 1 : 0;
+    if (keep_lines) lines.emplace_back(static_cast<long>(i), resumed.lines[i]);
   }
-  // A single process streams its rows (a long study shows them as they come)
-  // into a temporary file, renamed when the study ends or stops.
-  const fs::path partial = csv_file.string() + ".partial";
-  std::ofstream csv;
+  const char* timing_header = "record,scale,variant,im,level,record_im,wall_s\n";
+  const fs::path partial = csv_file.string() + ".partial", timing_partial = timing_file.string() + ".partial";
+  std::ofstream csv, timing;
   if (world.size == 1) {
     csv.open(partial);
-    if (!csv) throw InputError(fmt::format("{}: cannot write", partial.string()));
+    timing.open(timing_partial);
+    if (!csv || !timing) throw InputError(fmt::format("{}: cannot write", (!csv ? partial : timing_partial).string()));
     csv << csv_header;
     for (const std::string& r : resumed.rows) csv << r;
     csv << std::flush;
+    timing << timing_header;
+    for (std::size_t i = 0; i < first; ++i) timing << (i < resumed.timings.size() ? resumed.timings[i] : std::string());
   }
   Progress progress(world.rank == 0 && spdlog::get_level() <= spdlog::level::info);
   const std::size_t emitted = parallel_ordered<JobResult>(
@@ -282,36 +295,43 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
       [&](std::size_t k, const JobResult& r) {
         const std::size_t i = mine[k];
         const std::string text = row(st, ids, jobs[i], r);
-        const std::string timing = fmt::format("{},{:.6f}\n", job_fields(st, ids, jobs[i]), r.run.wall_s);
+        const std::string time = fmt::format("{},{:.6f}\n", job_fields(st, ids, jobs[i]), r.run.wall_s);
         if (world.size == 1) {
           csv << text << std::flush;
+          timing << time;
+          summary.add(jobs[i], line_result(figure_line(jobs[i], r)));  // the numbers a rank sends: one summary
+          failed += r.error.empty() ? 0 : 1;
         } else {
           rows.emplace_back(static_cast<long>(i), text);
+          timings.emplace_back(static_cast<long>(i), time);
         }
-        timings.emplace_back(static_cast<long>(i), timing);
-        lines.emplace_back(static_cast<long>(i), figure_line(jobs[i], r));
+        if (keep_lines) lines.emplace_back(static_cast<long>(i), figure_line(jobs[i], r));
       },
       [&](std::size_t done, std::size_t total) { progress(done, total); }, [] { return stop_signal() != 0; });
   if (world.size > 1) {
     auto all = gather_rows(world, rows);
+    auto all_timings = gather_rows(world, timings);
     std::sort(all.begin(), all.end());
+    std::sort(all_timings.begin(), all_timings.end());
     if (world.rank == 0) {
       csv.open(partial);
+      timing.open(timing_partial);
       csv << csv_header;
       for (const auto& [i, text] : all) csv << text;
+      timing << timing_header;
+      for (const auto& [i, text] : all_timings) timing << text;
     }
   }
-  auto all_timings = gather_rows(world, timings);
-  auto all_lines = gather_rows(world, lines);
-  std::sort(all_timings.begin(), all_timings.end());
-  std::sort(all_lines.begin(), all_lines.end());
+  if (keep_lines) {
+    lines = gather_rows(world, lines);
+    std::sort(lines.begin(), lines.end());
+  }
   if (world.rank != 0) return 0;
   csv.close();
-  if (!csv) throw RunError(fmt::format("{}: cannot write", partial.string()));
+  timing.close();
+  if (!csv || !timing) throw RunError(fmt::format("{}: cannot write", (!csv ? partial : timing_partial).string()));
   fs::rename(partial, csv_file);
-  std::string timing_text = "record,scale,variant,im,level,record_im,wall_s\n";
-  for (const auto& [i, text] : all_timings) timing_text += text;
-  write_text(timing_file, timing_text);
+  fs::rename(timing_partial, timing_file);
   // What each record id is, as its file says (rows name records by id).
   std::string records_text = "record,file,format,event,date,station,component,pga_g\n";
   for (std::size_t r = 0; r < ids.size(); ++r) {
@@ -331,18 +351,18 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
                signal == SIGTERM ? "SIGTERM" : "SIGINT", done, jobs.size(), csv_file.string());
     return stop_exit_code(signal);
   }
-  std::vector<std::string> figure_lines(jobs.size());
-  for (auto& [i, text] : all_lines) figure_lines[static_cast<std::size_t>(i)] = std::move(text);
-  const auto failed = std::count(figure_lines.begin(), figure_lines.end(), std::string());
+  std::vector<std::string> figure_lines(keep_lines ? jobs.size() : 0);
+  for (auto& [i, text] : lines) figure_lines[static_cast<std::size_t>(i)] = std::move(text);
+  if (world.size > 1) {
+    failed = static_cast<std::size_t>(std::count(figure_lines.begin(), figure_lines.end(), std::string()));
+    for (std::size_t i = 0; i < jobs.size(); ++i) summary.add(jobs[i], line_result(figure_lines[i]));
+  }
   fmt::print("wrote {} ({} runs)\n", csv_file.string(), jobs.size());
-  StudySummary summary(st, levels, limits);
-  for (std::size_t i = 0; i < jobs.size(); ++i) summary.add(jobs[i], line_result(figure_lines[i]));
   write_ladder_report(dir, st, summary, ids);
   if (!a.no_plot) {
     // One figure per record for a few records (the paper's Figs. 5-8); the
     // suite's figures (every record, fractiles, fragility) for two or more.
-    const std::size_t nr = st.records().size();
-    if (nr <= 3 || a.per_record) study_figures(a, st, ids, jobs, figure_lines, kind, scene_name);
+    if (per_record_figures) study_figures(a, st, ids, jobs, figure_lines, kind, scene_name);
     if (nr >= 2)
       for (const fs::path& f : draw_ladder_report(dir, st, summary, kind, scene_name, plot::parse_formats(a.formats)))
         fmt::print("wrote {}\n", f.string());

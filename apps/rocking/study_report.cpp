@@ -121,18 +121,23 @@ void write_ladder_report(const fs::path& dir, const Study& st, const StudySummar
     const std::string& name = st.variants()[v].name;
     nlohmann::json jv{{"name", name}, {"fractiles", nlohmann::json::object()}, {"fragility", nlohmann::json::array()}};
     for (Quantity q : study_quantities) {
-      nlohmann::json rows = nlohmann::json::array();
+      // By column: level, runs, collapsed, p16, p50, p84 (null: a collapse,
+      // JSON having no infinity).
+      nlohmann::json cols{{"level", nlohmann::json::array()}, {"runs", nlohmann::json::array()},
+                          {"collapsed", nlohmann::json::array()}, {"p16", nlohmann::json::array()},
+                          {"p50", nlohmann::json::array()}, {"p84", nlohmann::json::array()}};
+      const char* keys[] = {"p16", "p50", "p84"};
       for (const StudySummary::FractileRow& row : summary.fractiles(v, q)) {
         fractiles += fmt::format("{},{},{},{},{},{},{},{},{}\n", csv_text(name), quantity_name(q), im.name(),
                                  num(row.level), row.runs, row.collapsed, num(row.edp[0]), num(row.edp[1]),
                                  num(row.edp[2]));
-        nlohmann::json jr{{"level", row.level}, {"runs", row.runs}, {"collapsed", row.collapsed}};
-        const char* keys[] = {"p16", "p50", "p84"};
-        for (std::size_t i = 0; i < 3; ++i)  // JSON has no infinity: null is a collapse
-          jr[keys[i]] = std::isinf(row.edp[i]) ? nlohmann::json(nullptr) : nlohmann::json(row.edp[i]);
-        rows.push_back(jr);
+        cols["level"].push_back(row.level);
+        cols["runs"].push_back(row.runs);
+        cols["collapsed"].push_back(row.collapsed);
+        for (std::size_t i = 0; i < 3; ++i)
+          cols[keys[i]].push_back(std::isinf(row.edp[i]) ? nlohmann::json(nullptr) : nlohmann::json(row.edp[i]));
       }
-      jv["fractiles"][std::string(quantity_name(q))] = rows;
+      jv["fractiles"][std::string(quantity_name(q))] = std::move(cols);
     }
     for (std::size_t l = 0; l < summary.limits().size(); ++l) {
       const Limit& limit = summary.limits()[l];

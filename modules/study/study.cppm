@@ -22,6 +22,7 @@ module;
 #include <mutex>
 #include <array>
 #include <limits>
+#include <map>
 #include <optional>
 #include <string>
 #include <thread>
@@ -45,7 +46,8 @@ std::size_t parallel_ordered(std::size_t n, int threads, const std::function<T(s
                              const std::function<void(std::size_t, const T&)>& emit,
                              const std::function<void(std::size_t, std::size_t)>& progress = {},
                              const std::function<bool()>& stop = {}) {
-  std::vector<std::optional<T>> results(n);
+  // Results done but not yet emitted: memory follows the work in flight, not n.
+  std::map<std::size_t, T> results;
   std::mutex m;
   std::condition_variable ready;
   std::atomic<std::size_t> next{0};
@@ -55,7 +57,7 @@ std::size_t parallel_ordered(std::size_t n, int threads, const std::function<T(s
       T r = work(i);
       {
         std::lock_guard lock(m);
-        results[i] = std::move(r);
+        results.emplace(i, std::move(r));
       }
       ready.notify_one();
     }
@@ -66,13 +68,15 @@ std::size_t parallel_ordered(std::size_t n, int threads, const std::function<T(s
   for (; i < n; ++i) {
     std::unique_lock lock(m);
     // Index i is computed by whoever took it; none took it if next <= i.
-    while (!results[i].has_value()) {
+    auto done = results.find(i);
+    while (done == results.end()) {
       if (stopped() && next.load() <= i) break;
       ready.wait_for(lock, std::chrono::milliseconds(20));
+      done = results.find(i);
     }
-    if (!results[i].has_value()) break;
-    T r = std::move(*results[i]);
-    results[i].reset();
+    if (done == results.end()) break;
+    T r = std::move(done->second);
+    results.erase(done);
     lock.unlock();
     emit(i, r);
     if (progress) progress(i + 1, n);
