@@ -145,3 +145,61 @@ TEST_CASE("the README's table of the paper's checks is the one the golden file m
                 "README.md lacks the table; `make golden` prints it:\n"
                     << markdown_table(read_golden()));
 }
+
+namespace {
+
+const fs::path suite_golden = fs::path(ROCKING_SOURCE_DIR) / "tests" / "golden" / "suite_fragility.csv";
+// The README's suite study (its command, less the figures).
+const std::string suite_study =
+    "-q ida --suite horizontal --im pga --levels 0.2:6:0.2 --variants damper,no-damper --no-plot";
+
+std::vector<std::vector<std::string>> csv_lines(const std::string& text) {
+  std::vector<std::vector<std::string>> out;
+  std::stringstream in(text);
+  for (std::string line; std::getline(in, line);) out.push_back(split(line, ','));
+  return out;
+}
+
+// The README's sentence for a variant's overturning fit (fragility.csv row).
+std::string readme_fit(const std::vector<std::string>& row) {
+  return fmt::format("median PGA {:.2f} g, beta {:.2f}", std::stod(row[4]), std::stod(row[5]));
+}
+
+}  // namespace
+
+TEST_CASE("the README's suite study: its fragility.csv matches the golden file, and the README quotes it") {
+  const auto records = records_dir();
+  if (!records) return;
+  const fs::path out = scratch_dir("golden_suite");
+  const Result r = run(suite_study + " --out " + out.string());
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const std::string now = file_text(out / "fragility.csv");
+  const char* write = std::getenv("ROCKING_WRITE_GOLDEN");
+  if (write != nullptr && std::string(write) == "1") {
+    std::ofstream(suite_golden) << now;
+    MESSAGE("rewrote " << suite_golden.string());
+  }
+  // Counts, methods and notes exactly; fitted numbers to 1e-4 relative (the
+  // simplex stops at 1e-6 in ln median and ln beta).
+  const auto was = csv_lines(file_text(suite_golden)), is = csv_lines(now);
+  REQUIRE(was.size() == is.size());
+  for (std::size_t i = 0; i < was.size(); ++i) {
+    REQUIRE(was[i].size() == is[i].size());
+    for (std::size_t k = 0; k < was[i].size(); ++k) {
+      CAPTURE(i);
+      CAPTURE(k);
+      if (i > 0 && k >= 4 && k <= 7 && !was[i][k].empty())
+        CHECK(std::stod(is[i][k]) == doctest::Approx(std::stod(was[i][k])).epsilon(1e-4));
+      else
+        CHECK(is[i][k] == was[i][k]);
+    }
+  }
+  // The README's text with its line breaks as spaces (sentences wrap).
+  std::string readme;
+  for (char c : file_text(fs::path(ROCKING_SOURCE_DIR) / "README.md"))
+    if (!(c == ' ' || c == '\n') || readme.empty() || readme.back() != ' ') readme += c == '\n' ? ' ' : c;
+  for (const auto& row : was)
+    if (row.size() > 3 && row[1] == "overturning" && row[3] != "stripes-mle")
+      CHECK_MESSAGE(readme.find(row[0] + ": " + readme_fit(row)) != std::string::npos,
+                    "README.md lacks '" << row[0] << ": " << readme_fit(row) << "'");
+}
