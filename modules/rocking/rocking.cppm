@@ -5,6 +5,7 @@ export import rocking.errors;
 export import rocking.geometry;
 export import rocking.beam;
 export import rocking.hysteresis;
+export import rocking.devices;
 export import rocking.modal;
 export import rocking.dynamics;
 export import rocking.scene;

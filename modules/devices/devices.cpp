@@ -1,0 +1,97 @@
+module;
+#include <cmath>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <tuple>
+#include <utility>
+#include <variant>
+#include <vector>
+#include <fmt/format.h>
+module rocking.devices;
+import rocking.errors;
+
+namespace rocking {
+
+double lever_arm(const DeviceGeometry& g, double half_width, int s) { return half_width - s * g.x; }
+
+Stretch stretch(const DeviceGeometry& g, double half_width, int s, const Tilt& tilt) {
+  const double l = lever_arm(g, half_width, s);
+  if (g.kinematics == Kinematics::chord)
+    return {2.0 * l * std::abs(tilt.sin_half), l * tilt.cos_half};
+  const double L = g.free_length, sin_abs = std::abs(tilt.sin()), cos_th = tilt.cos();
+  const double rise = L + l * sin_abs, slide = l * (1.0 - cos_th);
+  const double length = std::sqrt(rise * rise + slide * slide);
+  return {length - L, l * (rise * cos_th + slide * sin_abs) / length};
+}
+
+int law_states(const DeviceLaw& law) {
+  return std::visit([](const auto& l) { return std::decay_t<decltype(l)>::states; }, law);
+}
+double law_force(const DeviceLaw& law, double e, double e_dot, double z) {
+  return std::visit([&](const auto& l) { return l.force(e, e_dot, z); }, law);
+}
+double law_rate(const DeviceLaw& law, double e, double e_dot, double z) {
+  return std::visit([&](const auto& l) { return l.rate(e, e_dot, z); }, law);
+}
+double law_stored_energy(const DeviceLaw& law, double e, double z) {
+  return std::visit([&](const auto& l) { return l.stored_energy(e, z); }, law);
+}
+double law_force_at_rest(const DeviceLaw& law, double z) {
+  return std::visit([&](const auto& l) { return l.force_at_rest(z); }, law);
+}
+double law_stiffness(const DeviceLaw& law) {
+  return std::visit([](const auto& l) { return l.stiffness(); }, law);
+}
+
+namespace {
+
+template <class Law>
+LawInfo info_of() {
+  return {Law::name, Law::summary, Law::parameters()};
+}
+
+template <class Law>
+DeviceLaw make_one(const std::function<std::optional<double>(std::string_view)>& value) {
+  std::vector<double> values;
+  for (const LawParameter& p : Law::parameters()) {
+    const double v = value(p.key).value_or(p.default_value);
+    const bool low = p.minimum_exclusive ? !(v > p.minimum) : !(v >= p.minimum);
+    if (low || !std::isfinite(v))
+      throw InputError(fmt::format("{} law: {} = {}: must be {} {} {}", Law::name, p.key, v,
+                                   p.minimum_exclusive ? ">" : ">=", p.minimum, p.unit));
+    values.push_back(v);
+  }
+  return Law::make(values);
+}
+
+template <std::size_t... I>
+std::vector<LawInfo> all_infos(std::index_sequence<I...>) {
+  return {info_of<std::variant_alternative_t<I, DeviceLaw>>()...};
+}
+
+template <std::size_t I = 0>
+std::optional<DeviceLaw> make_named(std::string_view name,
+                                    const std::function<std::optional<double>(std::string_view)>& value) {
+  if constexpr (I == std::variant_size_v<DeviceLaw>) {
+    return std::nullopt;
+  } else {
+    using Law = std::variant_alternative_t<I, DeviceLaw>;
+    if (name == Law::name) return make_one<Law>(value);
+    return make_named<I + 1>(name, value);
+  }
+}
+
+}  // namespace
+
+std::vector<LawInfo> device_laws() { return all_infos(std::make_index_sequence<std::variant_size_v<DeviceLaw>>()); }
+
+DeviceLaw make_law(std::string_view name, const std::function<std::optional<double>(std::string_view)>& value) {
+  if (auto law = make_named(name, value)) return *law;
+  std::string names;
+  for (const LawInfo& l : device_laws()) names += (names.empty() ? "" : ", ") + l.name;
+  throw InputError(fmt::format("device law '{}': unknown (laws: {})", name, names));
+}
+
+}  // namespace rocking

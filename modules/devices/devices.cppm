@@ -1,0 +1,81 @@
+// rocking.devices: devices joining the foundation to the rocking base
+// (MODEL.md 11): post-tensioned tendons, viscous dampers, yielding metallic
+// dampers. A device is an anchor on the base at x (-B <= x <= B from the
+// centre line), a kinematics that turns the tilt into an elongation, a force
+// law F(e, e', z) with an optional internal state z, and optionally a
+// capacity e_u at which it fractures.
+// Kinematics, rocking about pivot s with lever arm l = B - s x:
+//   chord (the paper's damper):  e = 2 l sin(|th| / 2),  de/d|th| = l cos(th / 2);
+//   vertical (free length L):    e = sqrt((L + l sin|th|)^2 + (l (1 - cos th))^2) - L,
+//                                de/d|th| = l ((L + l sin|th|) cos th + l (1 - cos th) sin|th|) / (e + L);
+//   in both e' = (de/d|th|) s th', and the device adds -F de/dth = -s F de/d|th|
+//   to the rocking equation. The paper's edge damper is a chord device at
+//   x = -s B (l = 2B): e = 4B sin(|th|/2).
+// Laws, one file each (law_NAME.cppm, a partition of this module) and one
+// entry in DeviceLaw below: bouc-wen, elastic, viscous. Each says its scene
+// keys (LawParameter), so that the scene reader reads any law without
+// knowing it. The physics knows no I/O: parameters arrive as numbers.
+module;
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+export module rocking.devices;
+export import rocking.geometry;
+export import :parameters;
+export import :bouc_wen;
+export import :elastic;
+export import :viscous;
+
+export namespace rocking {
+
+// The registered laws. A new law: its file law_NAME.cppm, its
+// `export import :NAME;` above and its type here.
+using DeviceLaw = std::variant<BoucWenLaw, ElasticLaw, ViscousLaw>;
+
+enum class Kinematics { chord, vertical };
+
+struct DeviceGeometry {
+  double x = 0;                          // anchor on the base [m], -B..B
+  Kinematics kinematics = Kinematics::chord;
+  double free_length = 0;                // L of a vertical device [m]
+};
+
+struct Device {
+  std::string name;                      // names its outputs
+  DeviceGeometry geometry;
+  DeviceLaw law;
+  double capacity = 0;                   // e_u [m]: fractures there; 0: never
+};
+
+// The elongation of a device and its derivative with respect to |theta|
+// while rocking about pivot s.
+struct Stretch {
+  double e = 0;          // [m]
+  double de_dtheta = 0;  // de / d|theta| [m]
+};
+double lever_arm(const DeviceGeometry& g, double half_width, int s);
+Stretch stretch(const DeviceGeometry& g, double half_width, int s, const Tilt& tilt);
+
+// The law's numbers (see each law's file).
+int law_states(const DeviceLaw& law);
+double law_force(const DeviceLaw& law, double e, double e_dot, double z);
+double law_rate(const DeviceLaw& law, double e, double e_dot, double z);  // z'
+double law_stored_energy(const DeviceLaw& law, double e, double z);
+double law_force_at_rest(const DeviceLaw& law, double z);
+double law_stiffness(const DeviceLaw& law);  // dF/de at rest, pre-yield
+
+// The registered laws: their names, summaries and parameters.
+struct LawInfo {
+  std::string name, summary;
+  std::vector<LawParameter> parameters;
+};
+std::vector<LawInfo> device_laws();
+// A law by name from its parameters: value(key) gives a parameter's value, or
+// nothing for its default. InputError for an unknown law (listing the laws)
+// or a value out of range (naming the key and its bound).
+DeviceLaw make_law(std::string_view name, const std::function<std::optional<double>(std::string_view)>& value);
+
+}  // namespace rocking

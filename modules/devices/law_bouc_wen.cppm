@@ -1,0 +1,51 @@
+// The Bouc-Wen law (MODEL.md 5; the paper's Eqs. 6-7, Wen 1976): a metallic
+// yielding damper, F = k eps e + k (1 - eps) d_y z with
+// d_y z' = e' - alpha |e'| z |z|^(n-1) - beta e' |z|^n; one state, z. It is
+// rocking.hysteresis's damper, computed by the same functions, so a device of
+// this law gives the numbers of the paper's damper bit for bit. It stores
+// k eps e^2 / 2 + k (1 - eps) d_y^2 z^2 / 2 (the recoverable part) and holds
+// the force k (1 - eps) d_y z at rest.
+module;
+#include <vector>
+export module rocking.devices:bouc_wen;
+import :parameters;
+import rocking.hysteresis;
+
+export namespace rocking {
+
+struct BoucWenLaw {
+  static constexpr const char* name = "bouc-wen";
+  static constexpr const char* summary = "Bouc-Wen hysteresis: a yielding metallic damper (the paper's plates)";
+  static std::vector<LawParameter> parameters() {
+    return {{"k", "N/m", "pre-yield stiffness", 0, 0, true},
+            {"eps", "-", "post-yield stiffness ratio", 0, 0, false},
+            {"d_y", "m", "yield elongation", 0, 0, true},
+            {"alpha", "-", "Bouc-Wen shape", 0.5, 0, false},
+            {"beta", "-", "Bouc-Wen shape", 0.5, 0, false},
+            {"n", "-", "Bouc-Wen sharpness of yield", 1, 0, true}};
+  }
+  static BoucWenLaw make(const std::vector<double>& v) {
+    BoucWenLaw law;
+    law.damper.stiffness = v[0];
+    law.damper.post_yield_ratio = v[1];
+    law.d_y = v[2];
+    law.damper.alpha = v[3];
+    law.damper.beta = v[4];
+    law.damper.n = v[5];
+    return law;
+  }
+
+  Damper damper;  // stiffness, post_yield_ratio, alpha, beta, n (theta_y and thickness unused)
+  double d_y = 0;
+  static constexpr int states = 1;
+  double force(double e, double /*e_dot*/, double z) const { return damper_force(damper, d_y, e, z); }
+  double rate(double /*e*/, double e_dot, double z) const { return bouc_wen_rate(damper, d_y, e_dot, z); }
+  double stored_energy(double e, double z) const {
+    const double k = damper.stiffness, eps = damper.post_yield_ratio;
+    return 0.5 * k * eps * e * e + 0.5 * k * (1 - eps) * d_y * d_y * z * z;
+  }
+  double force_at_rest(double z) const { return damper_force(damper, d_y, 0.0, z); }
+  double stiffness() const { return damper.stiffness; }
+};
+
+}  // namespace rocking

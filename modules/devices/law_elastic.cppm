@@ -1,0 +1,30 @@
+// The elastic law (MODEL.md 11): F = P0 + k e, tension only (F >= 0); a
+// post-tensioned unbonded tendon of prestress P0 and axial stiffness k, or an
+// elastic spring. No internal state. It stores P0 e + k e^2 / 2.
+module;
+#include <algorithm>
+#include <vector>
+export module rocking.devices:elastic;
+import :parameters;
+
+export namespace rocking {
+
+struct ElasticLaw {
+  static constexpr const char* name = "elastic";
+  static constexpr const char* summary = "F = P0 + k e, tension only: a post-tensioned tendon or a spring";
+  static std::vector<LawParameter> parameters() {
+    return {{"P0", "N", "prestress: the force at zero elongation", 0, 0, false},
+            {"k", "N/m", "stiffness (a tendon: E A / free length)", 0, 0, false}};
+  }
+  static ElasticLaw make(const std::vector<double>& v) { return {v[0], v[1]}; }
+
+  double P0 = 0, k = 0;
+  static constexpr int states = 0;
+  double force(double e, double /*e_dot*/, double /*z*/) const { return std::max(0.0, P0 + k * e); }
+  double rate(double, double, double) const { return 0; }
+  double stored_energy(double e, double /*z*/) const { return P0 * e + 0.5 * k * e * e; }
+  double force_at_rest(double /*z*/) const { return P0; }
+  double stiffness() const { return k; }
+};
+
+}  // namespace rocking

@@ -1,0 +1,154 @@
+// rocking.devices (MODEL.md 11): each kinematics against its closed form and
+// the paper's damper; each law alone under a prescribed elongation history
+// against its closed form; the limits (a law that exerts nothing, a Bouc-Wen
+// device with eps = 1 that is an elastic spring); laws made by name from
+// their parameters, with one-line errors.
+#include <doctest/doctest.h>
+#include <cmath>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+import rocking.devices;
+import rocking.hysteresis;
+import rocking.errors;
+
+using namespace rocking;
+
+namespace {
+
+std::optional<double> none(std::string_view) { return std::nullopt; }
+
+// z of a rate law along e(t) = e_of(t), by classical RK4 with n steps on [0, T].
+double integrate_z(const DeviceLaw& law, double (*e_of)(double), double (*v_of)(double), double T, int n) {
+  double z = 0;
+  const double h = T / n;
+  for (int i = 0; i < n; ++i) {
+    const double t = i * h;
+    auto f = [&](double tt, double zz) { return law_rate(law, e_of(tt), v_of(tt), zz); };
+    const double k1 = f(t, z), k2 = f(t + h / 2, z + h / 2 * k1), k3 = f(t + h / 2, z + h / 2 * k2),
+                 k4 = f(t + h, z + h * k3);
+    z += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+  }
+  return z;
+}
+
+}  // namespace
+
+TEST_CASE("chord kinematics at the far edge is the paper's damper, bit for bit") {
+  const double B = 0.9;
+  for (int s : {+1, -1})
+    for (double th : {1e-6, 0.003, 0.02, 0.3}) {
+      const Tilt tilt(s * th);
+      const Stretch st = stretch({-s * B, Kinematics::chord, 0}, B, s, tilt);
+      CHECK(lever_arm({-s * B, Kinematics::chord, 0}, B, s) == 2 * B);
+      CHECK(st.e == damper_elongation(B, tilt));
+      // e' = de/d|th| s th' is the damper's rate.
+      CHECK(st.de_dtheta * s * 0.7 == doctest::Approx(damper_rate(B, tilt, 0.7, s)).epsilon(1e-15));
+      // The device at the pivot does not stretch.
+      CHECK(stretch({s * B, Kinematics::chord, 0}, B, s, tilt).e == 0);
+    }
+}
+
+TEST_CASE("vertical kinematics: the closed form, its derivative, and its limits") {
+  const double B = 1.5, L = 6.0;
+  const DeviceGeometry centre{0, Kinematics::vertical, L};
+  for (double th : {0.001, 0.01, 0.05, 0.2}) {
+    const double l = B;  // a central anchor: l = B about either pivot
+    const Stretch st = stretch(centre, B, +1, Tilt(th));
+    CHECK(st.e == doctest::Approx(std::hypot(L + l * std::sin(th), l * (1 - std::cos(th))) - L).epsilon(1e-13));
+    // de/d|th| against a central difference of e.
+    const double h = 1e-6;
+    const double fd = (stretch(centre, B, +1, Tilt(th + h)).e - stretch(centre, B, +1, Tilt(th - h)).e) / (2 * h);
+    CHECK(st.de_dtheta == doctest::Approx(fd).epsilon(1e-7));
+    // Rocking the other way mirrors it.
+    CHECK(stretch(centre, B, -1, Tilt(-th)).e == doctest::Approx(st.e).epsilon(1e-15));
+  }
+  // At theta = 0 the lever arm is the rate of elongation; a very long tendon
+  // follows the anchor's rise, l sin|th|.
+  CHECK(stretch(centre, B, +1, Tilt(0.0)).de_dtheta == doctest::Approx(B));
+  const Stretch long_tendon = stretch({0, Kinematics::vertical, 1e7}, B, +1, Tilt(0.1));
+  CHECK(long_tendon.e == doctest::Approx(B * std::sin(0.1)).epsilon(1e-6));
+}
+
+TEST_CASE("elastic law: F = P0 + k e in tension only, storing the work done on it") {
+  const DeviceLaw tendon = ElasticLaw{2.0e5, 3.0e6};
+  CHECK(law_states(tendon) == 0);
+  CHECK(law_force_at_rest(tendon, 0) == 2.0e5);
+  CHECK(law_stiffness(tendon) == 3.0e6);
+  // Along e = 0 .. 0.05 the work int F de (trapezoids, exact for a linear F) is the stored energy.
+  double work = 0;
+  const int n = 1000;
+  for (int i = 0; i < n; ++i) {
+    const double e0 = 0.05 * i / n, e1 = 0.05 * (i + 1) / n;
+    work += 0.5 * (law_force(tendon, e0, 0, 0) + law_force(tendon, e1, 0, 0)) * (e1 - e0);
+  }
+  CHECK(work == doctest::Approx(law_stored_energy(tendon, 0.05, 0)).epsilon(1e-12));
+  CHECK(law_force(tendon, 0.05, 0, 0) == doctest::Approx(2.0e5 + 3.0e6 * 0.05));
+  // Tension only: a compressed spring without prestress pushes nothing.
+  CHECK(law_force(ElasticLaw{0, 1e6}, -0.01, 0, 0) == 0);
+}
+
+TEST_CASE("viscous law: F = c sign(e') |e'|^a, linear for a = 1") {
+  const DeviceLaw linear = ViscousLaw{4.0e5, 1.0}, fluid = ViscousLaw{4.0e5, 0.3};
+  for (double v : {-0.8, -0.01, 0.0, 0.02, 0.5}) {
+    CHECK(law_force(linear, 0.1, v, 0) == doctest::Approx(4.0e5 * v));
+    CHECK(law_force(fluid, 0.1, v, 0) == doctest::Approx(std::copysign(4.0e5 * std::pow(std::abs(v), 0.3), v)));
+  }
+  CHECK(law_force_at_rest(fluid, 0) == 0);
+  CHECK(law_stored_energy(fluid, 0.3, 0) == 0);
+}
+
+TEST_CASE("Bouc-Wen law: monotonic loading follows z = 1 - exp(-e / d_y), and it is the paper's damper") {
+  // alpha = beta = 1/2, n = 1, loading from rest: d_y dz/de = 1 - z, so z = 1 - exp(-e / d_y).
+  const DeviceLaw law = BoucWenLaw::make({1.2e6, 0.05, 0.004, 0.5, 0.5, 1.0});
+  CHECK(law_states(law) == 1);
+  auto e_of = [](double t) { return 0.01 * t; };
+  auto v_of = [](double) { return 0.01; };
+  for (double T : {0.2, 1.0, 3.0}) {
+    const double z = integrate_z(law, e_of, v_of, T, 20000);
+    CHECK(z == doctest::Approx(1 - std::exp(-0.01 * T / 0.004)).epsilon(1e-10));
+  }
+  // The same numbers as rocking.hysteresis's damper.
+  Damper d;
+  d.stiffness = 1.2e6;
+  d.post_yield_ratio = 0.05;
+  d.alpha = d.beta = 0.5;
+  d.n = 1;
+  CHECK(law_force(law, 0.01, 0.3, 0.4) == damper_force(d, 0.004, 0.01, 0.4));
+  CHECK(law_rate(law, 0.01, 0.3, 0.4) == bouc_wen_rate(d, 0.004, 0.3, 0.4));
+  CHECK(law_force_at_rest(law, 0.4) == damper_force(d, 0.004, 0.0, 0.4));
+}
+
+TEST_CASE("limits: laws that exert nothing, and Bouc-Wen with eps = 1 is the elastic spring") {
+  for (double e : {0.0, 0.01, 0.2})
+    for (double v : {-1.0, 0.0, 0.3}) {
+      CHECK(law_force(ViscousLaw{0, 1}, e, v, 0) == 0);
+      CHECK(law_force(ViscousLaw{0, 0.3}, e, v, 0) == 0);
+      CHECK(law_force(ElasticLaw{0, 0}, e, v, 0) == 0);
+      const DeviceLaw linear = BoucWenLaw::make({2e6, 1.0, 0.003, 0.5, 0.5, 1.0});
+      CHECK(law_force(linear, e, v, 0.7) == doctest::Approx(law_force(ElasticLaw{0, 2e6}, e, v, 0)));
+    }
+}
+
+TEST_CASE("laws by name from their parameters, with one-line errors naming the key") {
+  const auto values = [](std::string_view key) -> std::optional<double> {
+    if (key == "P0") return 1e5;
+    if (key == "k") return 2e6;
+    return std::nullopt;
+  };
+  const DeviceLaw tendon = make_law("elastic", values);
+  REQUIRE(std::holds_alternative<ElasticLaw>(tendon));
+  CHECK(std::get<ElasticLaw>(tendon).P0 == 1e5);
+  const DeviceLaw dashpot = make_law("viscous", none);
+  CHECK(std::get<ViscousLaw>(dashpot).a == 1);  // the default exponent
+  CHECK(device_laws().size() == 3);
+  CHECK_THROWS_WITH_AS(make_law("friction", none), "device law 'friction': unknown (laws: bouc-wen, elastic, viscous)",
+                       InputError);
+  CHECK_THROWS_WITH_AS(make_law("viscous", [](std::string_view k) -> std::optional<double> {
+                         return k == "a" ? std::optional<double>(0.0) : std::nullopt;
+                       }),
+                       "viscous law: a = 0: must be > 0 -", InputError);
+  CHECK_THROWS_AS(make_law("bouc-wen", none), InputError);  // k and d_y have no default
+}
