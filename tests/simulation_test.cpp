@@ -2,6 +2,8 @@
 // Energy conservation and balance, the rigid block against Housner's closed
 // form (GSL quadrature), decay by r per impact, overturning, and the stiff
 // flexible structure converging to the rigid block.
+#include <numbers>
+#include <variant>
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
 #include <algorithm>
@@ -60,7 +62,7 @@ TEST_CASE("with viscous damping, a damper and a ground motion the energy balance
   const RunResult r = simulate(m, default_ground_motion(chimney()), o);
   REQUIRE(r.outcome == Outcome::completed);
   CHECK(r.counts.uplifts >= 1);
-  CHECK(r.peak(Quantity::damper_d) > yield_displacement(m.damper, 3.3));  // the damper yields
+  CHECK(r.peak(Quantity::damper_d) > std::get<BoucWenLaw>(m.devices[0].law).d_y);  // the damper yields
   const EnergyBalance& e = r.energy;
   CHECK(e.viscous > 0);
   CHECK(e.damper > 0);
@@ -196,4 +198,44 @@ TEST_CASE("a rigid block at rest still sees a smooth pulse: the step never jumps
   const RunResult r = simulate(m, GroundMotion::pulse(PulseShape::ricker, 2.0 * m.body.g, 1.3), o);
   CHECK(r.counts.uplifts == 1);
   CHECK(r.outcome == Outcome::overturned);
+}
+
+TEST_CASE("a central tendon's prestress raises the uplift threshold: m a_g H_cg = m g B + P0 B (first uplift to 1e-8 s)") {
+  // A rigid block, no damper, a vertical tendon anchored on the centre line
+  // (lever arm B about either pivot) with prestress P0 and no stiffness.
+  Scene scene = rigid_block({"damper.enabled=false"});
+  const double P0 = 2.0e4;
+  const Device tendon{"tendon", {0.0, Kinematics::vertical, 4.0}, ElasticLaw{P0, 0.0}, 0};
+  const ContactModel m = make_contact_model(scene, {tendon}, false);
+  REQUIRE(m.devices.size() == 1);
+  CHECK(m.active[0] == std::vector<int>{0});
+  CHECK(m.active[1] == std::vector<int>{0});
+  const Structure& st = m.body.structure;
+  const double B = st.half_width, mass = m.body.total_mass;
+  // a_g at uplift from m a_g H_cg = m g B + P0 B, with m H_cg = H'M1.
+  const double a_crit = (m.body.g * B * mass + P0 * B) / m.body.HM1;
+  const double amplitude = 1.5 * a_crit, period = 0.8;
+  const GroundMotion pulse = GroundMotion::pulse(PulseShape::one_sine, amplitude, period);
+  const RunResult r = simulate(m, pulse, tight(1.0));
+  // a_g = A sin(2 pi t / T) first reaches a_crit at t = T asin(a_crit / A) / (2 pi).
+  const double expected = period * std::asin(a_crit / amplitude) / (2 * std::numbers::pi);
+  CHECK(r.first_uplift == doctest::Approx(expected).epsilon(1e-8));
+  // Without the tendon it lifts sooner, at g tan(alpha).
+  const RunResult bare = simulate(make_contact_model(scene, false), pulse, tight(1.0));
+  CHECK(bare.first_uplift < r.first_uplift - 1e-3);
+}
+
+TEST_CASE("a tendon with no prestress and no stiffness, or a dashpot with c = 0, is no device at all") {
+  Scene scene = load_default_scene({"damper.enabled=false"});
+  const GroundMotion pulse = GroundMotion::pulse(PulseShape::one_sine, 4.0, 0.6);
+  const RunResult bare = simulate(make_contact_model(scene, false), pulse, tight(4.0));
+  for (const Device& nothing : {Device{"t", {0.0, Kinematics::vertical, 5.0}, ElasticLaw{0, 0}, 0},
+                                Device{"v", {-0.5, Kinematics::chord, 0}, ViscousLaw{0, 1}, 0}}) {
+    CAPTURE(nothing.name);
+    const RunResult with = simulate(make_contact_model(scene, {nothing}, false), pulse, tight(4.0));
+    CHECK(with.counts.uplifts == bare.counts.uplifts);
+    CHECK(with.counts.impacts == bare.counts.impacts);
+    CHECK(with.peak(Quantity::theta) == bare.peak(Quantity::theta));
+    CHECK(with.peak(Quantity::base_moment) == bare.peak(Quantity::base_moment));
+  }
 }

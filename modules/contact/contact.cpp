@@ -14,7 +14,7 @@ namespace rocking {
 
 namespace {
 
-Layout make_layout(ModelKind kind, Eigen::Index n, bool damper, bool energy) {
+Layout make_layout(ModelKind kind, Eigen::Index n, Eigen::Index z_count, bool energy) {
   Layout l;
   Eigen::Index next = 0;
   if (kind != ModelKind::rigid_block) {
@@ -26,7 +26,11 @@ Layout make_layout(ModelKind kind, Eigen::Index n, bool damper, bool energy) {
   if (kind != ModelKind::fixed_base) {
     l.theta = next++;
     l.theta_dot = next++;
-    if (damper) l.z = next++;
+    if (z_count > 0) {
+      l.z = next;
+      l.z_count = z_count;
+      next += z_count;
+    }
   }
   if (energy) {
     l.energy = next;
@@ -35,6 +39,8 @@ Layout make_layout(ModelKind kind, Eigen::Index n, bool damper, bool energy) {
   l.size = next;
   return l;
 }
+
+std::size_t side(int s) { return s > 0 ? 1 : 0; }
 
 double theta_of(const ContactModel& m, Eigen::Ref<const Eigen::VectorXd> y) {
   return m.layout.theta < 0 ? 0.0 : y[m.layout.theta];
@@ -88,9 +94,12 @@ UpliftTerms uplift_terms(const ContactModel& m, double a_g, Eigen::Ref<const Eig
 double uplift_guard(const ContactModel& m, const Discrete& d, int s, const UpliftTerms& t) {
   const Structure& st = m.body.structure;
   const double B = st.half_width;
-  const double f_res = m.has_damper ? damper_force(m.damper, m.d_y, 0.0, damper_z(d, s)) : 0.0;
+  // The devices' forces at rest about their lever arms (a tendon's prestress, a damper's stored force).
+  double held = 0;
+  for (int k : m.active[side(s)])
+    held += law_force_at_rest(m.devices[k].law, d.z[k]) * lever_arm(m.devices[k].geometry, B, s);
   const double restoring = m.body.g * (B * m.body.total_mass - s * t.Mu);
-  const double gs = s * t.moment - (restoring + f_res * 2.0 * B);
+  const double gs = s * t.moment - (restoring + held);
   if (m.layout.u < 0) return gs;
   return std::min(gs, s * t.momentum);
 }
@@ -120,17 +129,40 @@ double restitution(const ContactModel& m, int s, Eigen::Ref<const Eigen::VectorX
 }  // namespace
 
 ContactModel make_contact_model(const Scene& scene, bool track_energy) {
+  return make_contact_model(scene, {}, track_energy);
+}
+
+ContactModel make_contact_model(const Scene& scene, std::vector<Device> devices, bool track_energy) {
   ContactModel m;
   const Structure& st = scene.structure;
   m.kind = st.rigid ? ModelKind::rigid_block : scene.contact.rocking ? ModelKind::flexible : ModelKind::fixed_base;
   m.body = make_body(st);
-  m.has_damper = scene.damper.enabled && m.kind != ModelKind::fixed_base;
-  m.damper = scaled_for_thickness(scene.damper);
-  m.d_y = m.has_damper ? yield_displacement(m.damper, st.half_width) : 0.0;
+  if (m.kind != ModelKind::fixed_base) {
+    if (scene.damper.enabled) m.devices = edge_dampers(scene.damper, st.half_width);
+    for (Device& dev : devices) {
+      if (!(std::abs(dev.geometry.x) <= st.half_width))
+        throw InputError(fmt::format("device {}: anchor x = {} m lies outside the base (|x| <= B = {} m)", dev.name,
+                                     dev.geometry.x, st.half_width));
+      m.devices.push_back(std::move(dev));
+    }
+  }
+  m.has_damper = !m.devices.empty();
+  if (m.devices.size() > static_cast<std::size_t>(max_device_states))
+    throw InputError(fmt::format("{} devices: at most {}", m.devices.size(), max_device_states));
   m.contact = scene.contact;
   m.r_eq10 = restitution_eq10(st);
   m.overturn_angle = scene.contact.overturn_angle > 0 ? scene.contact.overturn_angle : slenderness(st);
-  m.layout = make_layout(m.kind, node_count(st), m.has_damper, track_energy);
+  std::array<Eigen::Index, 2> states{0, 0};
+  for (int s : {-1, +1})
+    for (std::size_t k = 0; k < m.devices.size(); ++k)
+      if (lever_arm(m.devices[k].geometry, st.half_width, s) > 0) {
+        m.active[side(s)].push_back(static_cast<int>(k));
+        m.slots[side(s)].push_back(law_states(m.devices[k].law) > 0 ? states[side(s)]++ : -1);
+      }
+  m.layout = make_layout(m.kind, node_count(st), std::max(states[0], states[1]), track_energy);
+  for (auto& slots : m.slots)
+    for (Eigen::Index& slot : slots)
+      if (slot >= 0) slot += m.layout.z;
   if (m.layout.u >= 0) {
     const Eigen::Index n = m.layout.n;
     m.mass_row.setZero(2 * n);
@@ -141,8 +173,13 @@ ContactModel make_contact_model(const Scene& scene, bool track_energy) {
   return m;
 }
 
-double& damper_z(Discrete& d, int pivot) { return d.z[pivot > 0 ? 1 : 0]; }
-double damper_z(const Discrete& d, int pivot) { return d.z[pivot > 0 ? 1 : 0]; }
+std::vector<Device> edge_dampers(const Damper& damper, double half_width) {
+  BoucWenLaw law;
+  law.damper = scaled_for_thickness(damper);
+  law.d_y = yield_displacement(law.damper, half_width);
+  return {Device{"damper_left", {-half_width, Kinematics::chord, 0}, law, 0},
+          Device{"damper_right", {half_width, Kinematics::chord, 0}, law, 0}};
+}
 
 std::string phase_name(int pivot) {
   return pivot == 0 ? "full_contact" : pivot > 0 ? "rocking(+1)" : "rocking(-1)";
@@ -171,9 +208,12 @@ ode::LinearSystem full_contact_system(const ContactModel& m, std::function<doubl
 
 DamperState active_damper(const ContactModel& m, const Discrete& d, const Tilt& tilt,
                           Eigen::Ref<const Eigen::VectorXd> y) {
-  if (!m.has_damper || d.pivot == 0) return {};
-  const double e = damper_elongation(m.body.structure.half_width, tilt);
-  return {e, damper_force(m.damper, m.d_y, e, y[m.layout.z])};
+  if (d.pivot == 0 || m.active[side(d.pivot)].empty()) return {};
+  const Device& dev = m.devices[m.active[side(d.pivot)].front()];
+  const Eigen::Index slot = m.slots[side(d.pivot)].front();
+  const Stretch st = stretch(dev.geometry, m.body.structure.half_width, d.pivot, tilt);
+  const double e_dot = st.de_dtheta * d.pivot * (m.layout.theta_dot < 0 ? 0.0 : y[m.layout.theta_dot]);
+  return {st.e, law_force(dev.law, st.e, e_dot, slot >= 0 ? y[slot] : 0.0)};
 }
 
 void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y,
@@ -183,22 +223,36 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<
   const double B = m.body.structure.half_width;
   const Tilt tilt(theta_of(m, y));  // the only trig of the evaluation
   const double thd = theta_dot_of(m, y);
-  const DamperState damper = active_damper(m, d, tilt, y);
-  double damper_power = 0;
+  // The devices this pivot stretches: their generalised moment sum F de/d|th|
+  // (a chord device's as (F l) cos(th/2)), their state rates and their power.
+  double device_moment = 0, damper_power = 0;
+  if (s != 0) {
+    const auto& active = m.active[side(s)];
+    const auto& slots = m.slots[side(s)];
+    for (Eigen::Index k = 0; k < l.z_count; ++k) dydt[l.z + k] = 0.0;  // a slot this pivot leaves unused rests
+    for (std::size_t j = 0; j < active.size(); ++j) {
+      const Device& dev = m.devices[active[j]];
+      const Stretch st = stretch(dev.geometry, B, s, tilt);
+      const double e_dot = st.de_dtheta * s * thd;
+      const double z = slots[j] >= 0 ? y[slots[j]] : 0.0;
+      const double F = law_force(dev.law, st.e, e_dot, z);
+      device_moment += dev.geometry.kinematics == Kinematics::chord
+                           ? F * lever_arm(dev.geometry, B, s) * tilt.cos_half
+                           : F * st.de_dtheta;
+      if (slots[j] >= 0) dydt[slots[j]] = law_rate(dev.law, st.e, e_dot, z);
+      damper_power += F * e_dot;
+    }
+  }
   if (s != 0) {
     dydt[l.theta] = thd;
     if (l.u < 0) {
-      dydt[l.theta_dot] = rigid_rocking_acceleration(m.body, s, a_g, damper.force, tilt);
+      dydt[l.theta_dot] = rigid_rocking_acceleration(m.body, s, a_g, device_moment, tilt);
     } else {
       const Coordinates q{y.segment(l.u, l.n), y.segment(l.u_dot, l.n), tilt, thd};
       dydt.segment(l.u, l.n) = q.u_dot;
-      dydt[l.theta_dot] = rocking_acceleration(m.body, s, a_g, damper.force, q, dydt.segment(l.u_dot, l.n));
+      dydt[l.theta_dot] = rocking_acceleration(m.body, s, a_g, device_moment, q, dydt.segment(l.u_dot, l.n));
     }
-    if (l.z >= 0) {
-      const double v = damper_rate(B, tilt, thd, s);
-      dydt[l.z] = bouc_wen_rate(m.damper, m.d_y, v, y[l.z]);
-      damper_power = damper.force * v;
-    }
+
   } else {
     if (l.theta >= 0) dydt.segment(l.theta, l.size - l.theta).setZero();  // theta, theta', z rest
     if (l.u >= 0) {
@@ -264,11 +318,24 @@ int uplift_now(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<
   return 0;
 }
 
+namespace {
+// The states of the devices pivot s stretches, from the discrete state into
+// their slots, or back.
+void load_states(const ContactModel& m, const Discrete& d, int s, Eigen::Ref<Eigen::VectorXd> y) {
+  for (std::size_t j = 0; j < m.active[side(s)].size(); ++j)
+    if (m.slots[side(s)][j] >= 0) y[m.slots[side(s)][j]] = d.z[m.active[side(s)][j]];
+}
+void save_states(const ContactModel& m, Discrete& d, int s, Eigen::Ref<const Eigen::VectorXd> y) {
+  for (std::size_t j = 0; j < m.active[side(s)].size(); ++j)
+    if (m.slots[side(s)][j] >= 0) d.z[m.active[side(s)][j]] = y[m.slots[side(s)][j]];
+}
+}  // namespace
+
 void begin_rocking(const ContactModel& m, Discrete& d, int s, Eigen::Ref<Eigen::VectorXd> y) {
   d.pivot = d.last_pivot = s;
   y[m.layout.theta] = 0.0;
   y[m.layout.theta_dot] = 0.0;
-  if (m.layout.z >= 0) y[m.layout.z] = damper_z(d, s);
+  load_states(m, d, s, y);
 }
 
 ImpactResult impact(const ContactModel& m, Discrete& d, Eigen::Ref<Eigen::VectorXd> y) {
@@ -276,7 +343,7 @@ ImpactResult impact(const ContactModel& m, Discrete& d, Eigen::Ref<Eigen::Vector
   const Structure& st = m.body.structure;
   const int s = d.pivot;
   const double B = st.half_width, theta_dot = y[l.theta_dot];
-  if (l.z >= 0) damper_z(d, s) = y[l.z];  // the lifted damper keeps its z for its next cycle
+  save_states(m, d, s, y);  // the stretched devices keep their z for their next cycle
   y[l.theta] = 0.0;
   // L_new = (J_p - 2 (1'M1 + m0) B^2 + u'Mu) th'- + H'M u' (momentum about the new pivot)
   double uMu = 0;
@@ -289,7 +356,7 @@ ImpactResult impact(const ContactModel& m, Discrete& d, Eigen::Ref<Eigen::Vector
     out.r = restitution(m, s, y, l_new, theta_dot);
     y[l.theta_dot] = out.r * theta_dot;
     d.pivot = d.last_pivot = -s;
-    if (l.z >= 0) y[l.z] = damper_z(d, -s);
+    load_states(m, d, -s, y);
   } else {
     if (l.u >= 0) y.segment(l.u_dot, l.n) += st.heights * theta_dot;
     y[l.theta_dot] = 0.0;

@@ -3,14 +3,20 @@
 // (model, discrete state, continuous state).
 // A scene models one of: a rigid block (state theta, theta'), a fixed-base
 // flexible structure (u, u'; linear, no events), or a flexible rocking
-// structure (u, u', theta, theta'), plus z of the active damper when it has
-// dampers. The state holds only that; three energy accumulators (ground input,
-// viscous, damper work) may follow for the bookkeeping of MODEL.md 7.
+// structure (u, u', theta, theta'), plus the internal states z of the devices
+// the current pivot stretches (rocking.devices, MODEL.md 11). The state holds
+// only that; three energy accumulators (ground input, viscous, device work)
+// may follow for the bookkeeping of MODEL.md 7. Devices act on the rocking
+// equation through their generalised force -s F de/d|th|, on the uplift
+// guards through their force at rest times their lever arm, and keep their z
+// in the discrete state while their pivot is not the current one. The paper's
+// [damper] is a Bouc-Wen chord device at each edge (x = -B, stretched about
+// pivot +1; x = +B, about -1).
 // Phases: full contact (pivot 0) or rocking about pivot s = +1 (right, theta > 0)
 // or -1. Guards: uplift about s (both Eq. 2 as the smooth moment guard g_s and
 // Eq. 3, L_s > 0: the guard is min(g_s, L_s), rising); impact (s theta falling
 // through 0); overturning (s theta rising through the overturn angle).
-// Resets: uplift (theta = theta' = 0, the lifted damper resumes its z);
+// Resets: uplift (theta = theta' = 0, the stretched devices resume their z);
 // impact, either continued rocking about -s (th'+ = r th'-, u'+ = u'-) when
 // -s L_new >= 0 and |th'-| > theta_dot_min, or full contact
 // (th'+ = 0, u'+ = u'- + H th'-). r: constant, Eq. 10, or Eq. 9 per impact.
@@ -23,6 +29,7 @@ module;
 export module rocking.contact;
 export import rocking.dynamics;
 export import rocking.hysteresis;
+export import rocking.devices;
 export import rocking.scene;
 export import rocking.integrator;
 
@@ -33,7 +40,8 @@ enum class ModelKind { rigid_block, fixed_base, flexible };
 // Where each coordinate sits in the ODE state; -1 when the model lacks it.
 struct Layout {
   Eigen::Index n = 0;  // elastic coordinates (N, or 0 for a rigid block)
-  Eigen::Index u = -1, u_dot = -1, theta = -1, theta_dot = -1, z = -1;
+  Eigen::Index u = -1, u_dot = -1, theta = -1, theta_dot = -1;
+  Eigen::Index z = -1, z_count = 0;  // the states of the devices the current pivot stretches
   Eigen::Index energy = -1;  // [ground input, viscous, damper work] [J]
   Eigen::Index size = 0;
 };
@@ -41,9 +49,12 @@ struct Layout {
 struct ContactModel {
   ModelKind kind = ModelKind::flexible;
   RockingBody body;
-  bool has_damper = false;
-  Damper damper;               // thickness scaling applied
-  double d_y = 0;              // yield elongation [m]
+  bool has_damper = false;      // some device acts at the interface
+  std::vector<Device> devices;
+  // Per pivot ([0]: s = -1, [1]: s = +1): the devices it stretches (lever arm
+  // > 0), in the scene's order, and the state slot of each (-1: stateless).
+  std::array<std::vector<int>, 2> active;
+  std::array<std::vector<Eigen::Index>, 2> slots;
   Contact contact;
   double r_eq10 = 0;
   double overturn_angle = 0;   // [rad]
@@ -54,15 +65,19 @@ struct ContactModel {
   Eigen::VectorXd mass_row, momentum_row;
 };
 ContactModel make_contact_model(const Scene& scene, bool track_energy);
+// The same with devices besides the scene's [damper] (after its two).
+ContactModel make_contact_model(const Scene& scene, std::vector<Device> devices, bool track_energy);
+
+// At most this many devices with an internal state (the discrete state is a
+// fixed array, so that events allocate nothing).
+inline constexpr int max_device_states = 16;
 
 // The discrete state kept beside the ODE state.
 struct Discrete {
   int pivot = 0;                   // 0: full contact; +1 / -1: rocking about that pivot
-  std::array<double, 2> z{0, 0};   // z of the damper lifted by pivot -1 [0] and +1 [1]
+  std::array<double, max_device_states> z{};  // z of each device (by device index) while not stretched
   int last_pivot = 1;              // the pivot of the last rocking phase
 };
-double& damper_z(Discrete& d, int pivot);
-double damper_z(const Discrete& d, int pivot);
 std::string phase_name(int pivot);  // "full_contact", "rocking(+1)", "rocking(-1)"
 
 // Scratch space so that the right-hand side allocates nothing.
@@ -80,12 +95,16 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<
 // exact integration under a piecewise-linear record.
 ode::LinearSystem full_contact_system(const ContactModel& m, std::function<double(double)> a_g);
 
-// The damper force and elongation of the active damper (0 in full contact).
+// The elongation and force of the first device the current pivot stretches
+// (0 in full contact, or with no device): the paper's damper.
 struct DamperState {
   double elongation = 0, force = 0;
 };
 DamperState active_damper(const ContactModel& m, const Discrete& d, const Tilt& tilt,
                           Eigen::Ref<const Eigen::VectorXd> y);
+
+// The paper's [damper] as devices: a Bouc-Wen chord device at each edge.
+std::vector<Device> edge_dampers(const Damper& damper, double half_width);
 
 // Guards of the phase (see the top of this file) and their directions.
 enum class Guard { uplift_right, uplift_left, impact, overturn };
@@ -102,7 +121,7 @@ bool guards_use_ground_acceleration(const ContactModel& m, int pivot);
 // (both conditions of MODEL.md 6 hold), or 0.
 int uplift_now(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y);
 
-// Uplift about pivot s: theta = theta' = 0, the damper lifted by s resumes its z.
+// Uplift about pivot s: theta = theta' = 0, the devices s stretches resume their z.
 void begin_rocking(const ContactModel& m, Discrete& d, int s, Eigen::Ref<Eigen::VectorXd> y);
 
 // Impact while rocking: the reset of MODEL.md 6. Returns the r applied (0 when

@@ -29,7 +29,7 @@ void restoring_force(const StructuralMatrices& sm, const double* u, const double
 
 // The body of rocking_acceleration (below) for static size S.
 template <int S>
-double rocking_acceleration_n(const RockingBody& b, int s, double a_g, double F_hd, const Coordinates& q,
+double rocking_acceleration_n(const RockingBody& b, int s, double a_g, double device_moment, const Coordinates& q,
                               double* acc) {
   const Structure& st = b.structure;
   const long n = static_or<S>(q.u.size());
@@ -59,7 +59,7 @@ double rocking_acceleration_n(const RockingBody& b, int s, double a_g, double F_
     moment += KH[i] * u[i] + KH[n + i] * u_dot[i];
     r[i] += m[i] * per_mass - spin * mw;
   }
-  const double rhs_th = 2.0 * s * wMu_dot * thd - s * F_hd * 2.0 * B * q.tilt.cos_half
+  const double rhs_th = 2.0 * s * wMu_dot * thd - s * device_moment
                         - a_g * (b.HM1 * c + s * (Mw + b.base_moment) * sn)
                         - g * (-b.HM1 * sn + s * (Mw + b.base_moment) * c);
   // Schur complement of the diagonal M: J - H'MH = m0 B^2 + w'Mw > 0. H'rhs_u
@@ -105,20 +105,20 @@ void full_contact_acceleration(const RockingBody& b, double a_g, Eigen::Ref<cons
 
 // Unrolled for the node count (static_size.hpp): the right-hand side of
 // every rocking step.
-double rocking_acceleration(const RockingBody& b, int s, double a_g, double F_hd, const Coordinates& q,
+double rocking_acceleration(const RockingBody& b, int s, double a_g, double device_moment, const Coordinates& q,
                             Eigen::Ref<Eigen::VectorXd> u_ddot) {
   double th_ddot = 0;
   with_static_size(q.u.size(), [&](auto size) {
-    th_ddot = rocking_acceleration_n<decltype(size)::value>(b, s, a_g, F_hd, q, u_ddot.data());
+    th_ddot = rocking_acceleration_n<decltype(size)::value>(b, s, a_g, device_moment, q, u_ddot.data());
   });
   return th_ddot;
 }
 
-double rigid_rocking_acceleration(const RockingBody& b, int s, double a_g, double F_hd, const Tilt& tilt) {
+double rigid_rocking_acceleration(const RockingBody& b, int s, double a_g, double device_moment, const Tilt& tilt) {
   const Structure& st = b.structure;
   const double B = st.half_width, c = tilt.cos(), sn = tilt.sin();
   const double BM = B * b.total_mass;
-  const double rhs_th = -s * F_hd * 2.0 * B * tilt.cos_half - a_g * (b.HM1 * c + s * BM * sn) -
+  const double rhs_th = -s * device_moment - a_g * (b.HM1 * c + s * BM * sn) -
                         b.g * (-b.HM1 * sn + s * BM * c);
   return rhs_th / pivot_inertia(st);
 }

@@ -6,11 +6,13 @@
 //   [M  MH; H'M  J(u)] [u''; th''] = [rhs_u; rhs_th]  (MODEL.md 4).
 // M is diagonal (lumped), so the system is solved in closed form:
 //   th'' = (rhs_th - H' rhs_u) / (m0 B^2 + w'Mw),  u'' = M^-1 rhs_u - H th''.
-// The damper force F_hd enters as a given number (rocking.hysteresis owns it).
+// Devices enter as a given number, their generalised moment
+// D = sum_k F_k de_k/d|th| (rocking.devices owns it), as -s D in rhs_th; for
+// the paper's edge damper D = F_hd 2B cos(th/2).
 // A rigid block (Structure::rigid) has u = 0 throughout: J_p th'' = rhs_th(u = 0).
 // mechanical_energy is kinetic + gravity (from rest) + elastic, and
 // ground_input_power the power of the a_g terms on (u', th'), for the energy
-// bookkeeping of MODEL.md 7: dE/dt = P_ground - u'Cu' - F_hd v. SI units.
+// bookkeeping of MODEL.md 7: dE/dt = P_ground - u'Cu' - sum_k F_k e_k'. SI units.
 module;
 #include <rocking/eigen.hpp>
 export module rocking.dynamics;
@@ -45,13 +47,13 @@ struct Coordinates {
 void full_contact_acceleration(const RockingBody& b, double a_g, Eigen::Ref<const Eigen::VectorXd> u,
                                Eigen::Ref<const Eigen::VectorXd> u_dot, Eigen::Ref<Eigen::VectorXd> u_ddot);
 
-// (u'', th'') while rocking about pivot s (+1 right, -1 left) with damper force F_hd.
+// (u'', th'') while rocking about pivot s (+1 right, -1 left) with device moment D [N m].
 // Allocates nothing (it runs in every right-hand side).
-double rocking_acceleration(const RockingBody& b, int s, double a_g, double F_hd, const Coordinates& q,
+double rocking_acceleration(const RockingBody& b, int s, double a_g, double device_moment, const Coordinates& q,
                             Eigen::Ref<Eigen::VectorXd> u_ddot);
 
 // th'' of a rigid block rocking about pivot s (u = u' = 0).
-double rigid_rocking_acceleration(const RockingBody& b, int s, double a_g, double F_hd, const Tilt& tilt);
+double rigid_rocking_acceleration(const RockingBody& b, int s, double a_g, double device_moment, const Tilt& tilt);
 
 // Power of the ground-acceleration terms of MODEL.md 4 on (u', th') [W]
 // (full contact: theta = theta' = 0 gives -a_g 1'M u').
