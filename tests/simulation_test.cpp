@@ -208,8 +208,9 @@ TEST_CASE("a central tendon's prestress raises the uplift threshold: m a_g H_cg 
   const Device tendon{"tendon", {0.0, Kinematics::vertical, 4.0}, ElasticLaw{P0, 0.0}, 0};
   const ContactModel m = make_contact_model(scene, {tendon}, false);
   REQUIRE(m.devices.size() == 1);
-  CHECK(m.active[0] == std::vector<int>{0});
-  CHECK(m.active[1] == std::vector<int>{0});
+  REQUIRE(m.acting[0].size() == 1);  // a central anchor: stretched about either pivot, with lever arm B
+  REQUIRE(m.acting[1].size() == 1);
+  CHECK(m.acting[0][0].lever == m.body.structure.half_width);
   const Structure& st = m.body.structure;
   const double B = st.half_width, mass = m.body.total_mass;
   // a_g at uplift from m a_g H_cg = m g B + P0 B, with m H_cg = H'M1.

@@ -96,8 +96,7 @@ double uplift_guard(const ContactModel& m, const Discrete& d, int s, const Uplif
   const double B = st.half_width;
   // The devices' forces at rest about their lever arms (a tendon's prestress, a damper's stored force).
   double held = 0;
-  for (int k : m.active[side(s)])
-    held += law_force_at_rest(m.devices[k].law, d.z[k]) * lever_arm(m.devices[k].geometry, B, s);
+  for (const ContactModel::Acting& a : m.acting[side(s)]) held += law_force_at_rest(a.law, d.z[a.device]) * a.lever;
   const double restoring = m.body.g * (B * m.body.total_mass - s * t.Mu);
   const double gs = s * t.moment - (restoring + held);
   if (m.layout.u < 0) return gs;
@@ -154,15 +153,19 @@ ContactModel make_contact_model(const Scene& scene, std::vector<Device> devices,
   m.overturn_angle = scene.contact.overturn_angle > 0 ? scene.contact.overturn_angle : slenderness(st);
   std::array<Eigen::Index, 2> states{0, 0};
   for (int s : {-1, +1})
-    for (std::size_t k = 0; k < m.devices.size(); ++k)
-      if (lever_arm(m.devices[k].geometry, st.half_width, s) > 0) {
-        m.active[side(s)].push_back(static_cast<int>(k));
-        m.slots[side(s)].push_back(law_states(m.devices[k].law) > 0 ? states[side(s)]++ : -1);
-      }
+    for (std::size_t k = 0; k < m.devices.size(); ++k) {
+      const Device& dev = m.devices[k];
+      const double lever = lever_arm(dev.geometry, st.half_width, s);
+      if (lever > 0)
+        m.acting[side(s)].push_back(
+            {static_cast<int>(k), law_states(dev.law) > 0 ? states[side(s)]++ : -1, lever, dev.geometry, dev.law});
+    }
   m.layout = make_layout(m.kind, node_count(st), std::max(states[0], states[1]), track_energy);
-  for (auto& slots : m.slots)
-    for (Eigen::Index& slot : slots)
-      if (slot >= 0) slot += m.layout.z;
+  for (int s : {-1, +1}) {
+    for (ContactModel::Acting& a : m.acting[side(s)])
+      if (a.slot >= 0) a.slot += m.layout.z;
+    m.idle_slots[side(s)] = states[side(s)] < m.layout.z_count;
+  }
   if (m.layout.u >= 0) {
     const Eigen::Index n = m.layout.n;
     m.mass_row.setZero(2 * n);
@@ -208,12 +211,11 @@ ode::LinearSystem full_contact_system(const ContactModel& m, std::function<doubl
 
 DamperState active_damper(const ContactModel& m, const Discrete& d, const Tilt& tilt,
                           Eigen::Ref<const Eigen::VectorXd> y) {
-  if (d.pivot == 0 || m.active[side(d.pivot)].empty()) return {};
-  const Device& dev = m.devices[m.active[side(d.pivot)].front()];
-  const Eigen::Index slot = m.slots[side(d.pivot)].front();
-  const Stretch st = stretch(dev.geometry, m.body.structure.half_width, d.pivot, tilt);
+  if (d.pivot == 0 || m.acting[side(d.pivot)].empty()) return {};
+  const ContactModel::Acting& a = m.acting[side(d.pivot)].front();
+  const Stretch st = stretch(a.geometry, m.body.structure.half_width, d.pivot, tilt);
   const double e_dot = st.de_dtheta * d.pivot * (m.layout.theta_dot < 0 ? 0.0 : y[m.layout.theta_dot]);
-  return {st.e, law_force(dev.law, st.e, e_dot, slot >= 0 ? y[slot] : 0.0)};
+  return {st.e, law_force(a.law, st.e, e_dot, a.slot >= 0 ? y[a.slot] : 0.0)};
 }
 
 void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y,
@@ -227,19 +229,17 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<
   // (a chord device's as (F l) cos(th/2)), their state rates and their power.
   double device_moment = 0, damper_power = 0;
   if (s != 0) {
-    const auto& active = m.active[side(s)];
-    const auto& slots = m.slots[side(s)];
-    for (Eigen::Index k = 0; k < l.z_count; ++k) dydt[l.z + k] = 0.0;  // a slot this pivot leaves unused rests
-    for (std::size_t j = 0; j < active.size(); ++j) {
-      const Device& dev = m.devices[active[j]];
-      const Stretch st = stretch(dev.geometry, B, s, tilt);
+    if (m.idle_slots[side(s)])  // a slot this pivot leaves unused rests
+      for (Eigen::Index k = 0; k < l.z_count; ++k) dydt[l.z + k] = 0.0;
+    for (const ContactModel::Acting& a : m.acting[side(s)]) {
+      const bool chord = a.geometry.kinematics == Kinematics::chord;
+      const Stretch st = chord ? Stretch{2.0 * a.lever * std::abs(tilt.sin_half), a.lever * tilt.cos_half}
+                               : stretch(a.geometry, B, s, tilt);
       const double e_dot = st.de_dtheta * s * thd;
-      const double z = slots[j] >= 0 ? y[slots[j]] : 0.0;
-      const double F = law_force(dev.law, st.e, e_dot, z);
-      device_moment += dev.geometry.kinematics == Kinematics::chord
-                           ? F * lever_arm(dev.geometry, B, s) * tilt.cos_half
-                           : F * st.de_dtheta;
-      if (slots[j] >= 0) dydt[slots[j]] = law_rate(dev.law, st.e, e_dot, z);
+      const double z = a.slot >= 0 ? y[a.slot] : 0.0;
+      const double F = law_force(a.law, st.e, e_dot, z);
+      device_moment += chord ? F * a.lever * tilt.cos_half : F * st.de_dtheta;
+      if (a.slot >= 0) dydt[a.slot] = law_rate(a.law, st.e, e_dot, z);
       damper_power += F * e_dot;
     }
   }
@@ -322,12 +322,12 @@ namespace {
 // The states of the devices pivot s stretches, from the discrete state into
 // their slots, or back.
 void load_states(const ContactModel& m, const Discrete& d, int s, Eigen::Ref<Eigen::VectorXd> y) {
-  for (std::size_t j = 0; j < m.active[side(s)].size(); ++j)
-    if (m.slots[side(s)][j] >= 0) y[m.slots[side(s)][j]] = d.z[m.active[side(s)][j]];
+  for (const ContactModel::Acting& a : m.acting[side(s)])
+    if (a.slot >= 0) y[a.slot] = d.z[a.device];
 }
 void save_states(const ContactModel& m, Discrete& d, int s, Eigen::Ref<const Eigen::VectorXd> y) {
-  for (std::size_t j = 0; j < m.active[side(s)].size(); ++j)
-    if (m.slots[side(s)][j] >= 0) d.z[m.active[side(s)][j]] = y[m.slots[side(s)][j]];
+  for (const ContactModel::Acting& a : m.acting[side(s)])
+    if (a.slot >= 0) d.z[a.device] = y[a.slot];
 }
 }  // namespace
 

@@ -52,9 +52,17 @@ struct ContactModel {
   bool has_damper = false;      // some device acts at the interface
   std::vector<Device> devices;
   // Per pivot ([0]: s = -1, [1]: s = +1): the devices it stretches (lever arm
-  // > 0), in the scene's order, and the state slot of each (-1: stateless).
-  std::array<std::vector<int>, 2> active;
-  std::array<std::vector<Eigen::Index>, 2> slots;
+  // > 0), in the scene's order, each with what the right-hand side needs of
+  // it in one place; and whether some state slot is left unused there.
+  struct Acting {
+    int device = 0;
+    Eigen::Index slot = -1;  // of its state z; -1: stateless
+    double lever = 0;        // l = B - s x [m]
+    DeviceGeometry geometry;
+    DeviceLaw law;
+  };
+  std::array<std::vector<Acting>, 2> acting;
+  std::array<bool, 2> idle_slots{false, false};
   Contact contact;
   double r_eq10 = 0;
   double overturn_angle = 0;   // [rad]

@@ -26,25 +26,6 @@ Stretch stretch(const DeviceGeometry& g, double half_width, int s, const Tilt& t
   return {length - L, l * (rise * cos_th + slide * sin_abs) / length};
 }
 
-int law_states(const DeviceLaw& law) {
-  return std::visit([](const auto& l) { return std::decay_t<decltype(l)>::states; }, law);
-}
-double law_force(const DeviceLaw& law, double e, double e_dot, double z) {
-  return std::visit([&](const auto& l) { return l.force(e, e_dot, z); }, law);
-}
-double law_rate(const DeviceLaw& law, double e, double e_dot, double z) {
-  return std::visit([&](const auto& l) { return l.rate(e, e_dot, z); }, law);
-}
-double law_stored_energy(const DeviceLaw& law, double e, double z) {
-  return std::visit([&](const auto& l) { return l.stored_energy(e, z); }, law);
-}
-double law_force_at_rest(const DeviceLaw& law, double z) {
-  return std::visit([&](const auto& l) { return l.force_at_rest(z); }, law);
-}
-double law_stiffness(const DeviceLaw& law) {
-  return std::visit([](const auto& l) { return l.stiffness(); }, law);
-}
-
 namespace {
 
 template <class Law>

@@ -20,6 +20,7 @@ module;
 #include <optional>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <variant>
 #include <vector>
 export module rocking.devices;
@@ -59,13 +60,25 @@ struct Stretch {
 double lever_arm(const DeviceGeometry& g, double half_width, int s);
 Stretch stretch(const DeviceGeometry& g, double half_width, int s, const Tilt& tilt);
 
-// The law's numbers (see each law's file).
-int law_states(const DeviceLaw& law);
-double law_force(const DeviceLaw& law, double e, double e_dot, double z);
-double law_rate(const DeviceLaw& law, double e, double e_dot, double z);  // z'
-double law_stored_energy(const DeviceLaw& law, double e, double z);
-double law_force_at_rest(const DeviceLaw& law, double z);
-double law_stiffness(const DeviceLaw& law);  // dF/de at rest, pre-yield
+// The law's numbers (see each law's file); inline, for the right-hand side.
+inline int law_states(const DeviceLaw& law) {
+  return std::visit([](const auto& l) { return std::decay_t<decltype(l)>::states; }, law);
+}
+inline double law_force(const DeviceLaw& law, double e, double e_dot, double z) {
+  return std::visit([&](const auto& l) { return l.force(e, e_dot, z); }, law);
+}
+inline double law_rate(const DeviceLaw& law, double e, double e_dot, double z) {  // z'
+  return std::visit([&](const auto& l) { return l.rate(e, e_dot, z); }, law);
+}
+inline double law_stored_energy(const DeviceLaw& law, double e, double z) {
+  return std::visit([&](const auto& l) { return l.stored_energy(e, z); }, law);
+}
+inline double law_force_at_rest(const DeviceLaw& law, double z) {
+  return std::visit([&](const auto& l) { return l.force_at_rest(z); }, law);
+}
+inline double law_stiffness(const DeviceLaw& law) {  // dF/de at rest, pre-yield
+  return std::visit([](const auto& l) { return l.stiffness(); }, law);
+}
 
 // The registered laws: their names, summaries and parameters.
 struct LawInfo {

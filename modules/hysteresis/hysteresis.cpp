@@ -30,14 +30,4 @@ double damper_rate(double B, const Tilt& tilt, double theta_dot, int s) {
   return 2.0 * B * tilt.cos_half * s * theta_dot;
 }
 
-double damper_force(const Damper& d, double d_y, double elongation, double z) {
-  return d.stiffness * (d.post_yield_ratio * elongation + (1.0 - d.post_yield_ratio) * d_y * z);
-}
-
-double bouc_wen_rate(const Damper& d, double d_y, double v, double z) {
-  const double az = std::abs(z);
-  const double zn1 = d.n == 1.0 ? 1.0 : std::pow(az, d.n - 1.0);  // |z|^(n-1)
-  return (v - d.alpha * std::abs(v) * z * zn1 - d.beta * v * az * zn1) / d_y;
-}
-
 }  // namespace rocking

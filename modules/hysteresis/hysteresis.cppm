@@ -6,6 +6,7 @@
 // scales with tau^3, yield force with tau^2, so d_y scales with 1/tau.
 // SI units: N/m, m, rad.
 module;
+#include <cmath>
 export module rocking.hysteresis;
 export import rocking.geometry;
 
@@ -38,11 +39,17 @@ double post_yield_rotational_stiffness(const Damper& d, double half_width);
 double damper_elongation(double half_width, const Tilt& tilt);
 double damper_rate(double half_width, const Tilt& tilt, double theta_dot, int s);
 
-// F_hd = k eps d + k (1 - eps) d_y z (Eq. 6) [N]
-double damper_force(const Damper& d, double d_y, double elongation, double z);
+// F_hd = k eps d + k (1 - eps) d_y z (Eq. 6) [N]; inline, for the right-hand side.
+inline double damper_force(const Damper& d, double d_y, double elongation, double z) {
+  return d.stiffness * (d.post_yield_ratio * elongation + (1.0 - d.post_yield_ratio) * d_y * z);
+}
 
 // Bouc-Wen (Eq. 7 with its "= 0"): d_y z' = v - alpha |v| z |z|^(n-1) - beta v |z|^n.
 // Returns z' [1/s]; z stays in [-1, 1] for alpha + beta = 1 when it starts there.
-double bouc_wen_rate(const Damper& d, double d_y, double v, double z);
+inline double bouc_wen_rate(const Damper& d, double d_y, double v, double z) {
+  const double az = std::abs(z);
+  const double zn1 = d.n == 1.0 ? 1.0 : std::pow(az, d.n - 1.0);  // |z|^(n-1)
+  return (v - d.alpha * std::abs(v) * z * zn1 - d.beta * v * az * zn1) / d_y;
+}
 
 }  // namespace rocking
