@@ -36,6 +36,14 @@ std::string pulse_record(const fs::path& dir) {
   return file.string();
 }
 
+bool have_mpirun() {
+  if (std::system("command -v mpirun >/dev/null 2>&1") == 0) return true;
+  const char* ci = std::getenv("CI");
+  if (ci != nullptr && std::string(ci) == "true") FAIL("mpirun not found (scripts/setup.sh installs openmpi-bin)");
+  WARN_MESSAGE(false, "SKIPPED: mpirun not found");
+  return false;
+}
+
 }  // namespace
 
 TEST_CASE("an IDA's CSV is byte-identical with 1 thread, 2 threads and mpirun -np 2") {
@@ -47,12 +55,7 @@ TEST_CASE("an IDA's CSV is byte-identical with 1 thread, 2 threads and mpirun -n
   CHECK(lines(one) == 1 + 4 * 3);  // header, 4 scales x 3 variants
   CHECK(one.find("overturned") == std::string::npos);
   CHECK(one == file_text(dir / "two" / "ida.csv"));
-  if (std::system("command -v mpirun >/dev/null 2>&1") != 0) {
-    const char* ci = std::getenv("CI");
-    if (ci != nullptr && std::string(ci) == "true") FAIL("mpirun not found (scripts/setup.sh installs openmpi-bin)");
-    WARN_MESSAGE(false, "SKIPPED: mpirun not found");
-    return;
-  }
+  if (!have_mpirun()) return;
   const std::string root = ::geteuid() == 0 ? " --allow-run-as-root" : "";
   // Under `make sanitize` the ranks run without leak detection: OpenMPI
   // unloads its components before the check, so its own leaks come without
@@ -105,14 +108,6 @@ TEST_CASE("a sweep writes one line per value of the swept key") {
 }
 
 namespace {
-
-bool have_mpirun() {
-  if (std::system("command -v mpirun >/dev/null 2>&1") == 0) return true;
-  const char* ci = std::getenv("CI");
-  if (ci != nullptr && std::string(ci) == "true") FAIL("mpirun not found (scripts/setup.sh installs openmpi-bin)");
-  WARN_MESSAGE(false, "SKIPPED: mpirun not found");
-  return false;
-}
 
 std::vector<std::vector<std::string>> csv_rows(const std::string& text) {
   std::vector<std::vector<std::string>> out;

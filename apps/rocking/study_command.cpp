@@ -71,13 +71,6 @@ const char* csv_header =
     "record,scale,variant,im,level,record_im,delta_t,delta_e,theta_over_alpha,damper_d_m,base_shear,base_moment,"
     "mid_shear,mid_moment,top_total_mm,outcome,uplifts,impacts,rhs,error\n";
 
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' ? ' ' : c);
-  return out + "\"";
-}
-
 // A number as its shortest exact decimal (the scale and IM of a row read back
 // to the same double).
 std::string exact(double v) { return std::isfinite(v) ? fmt::format("{}", v) : std::string(); }

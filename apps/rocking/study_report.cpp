@@ -34,13 +34,6 @@ constexpr QuantityAxis quantity_axes[] = {
 
 std::string num(double v) { return std::isinf(v) ? "inf" : fmt::format("{:.6g}", v); }
 
-std::string csv_text(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' ? ' ' : c);
-  return out + "\"";
-}
-
 // Whether a variant can reach a limit at all (a fixed base never overturns).
 bool applies(const Study& st, std::size_t variant, const Limit& limit) {
   if (!limit.quantity) return st.can_overturn(variant);
@@ -62,9 +55,9 @@ nlohmann::json fit_json(const LognormalFit& f) {
 }
 
 std::string fit_row(const std::string& variant, const std::string& limit, const std::string& im, const LognormalFit& f) {
-  return fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", csv_text(variant), csv_text(limit), im, f.method,
+  return fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", csv_field(variant), csv_field(limit), im, f.method,
                      f.fitted ? num(f.median) : "", f.fitted ? num(f.beta) : "", f.fitted ? num(f.log_median_se) : "",
-                     f.fitted ? num(f.beta_se) : "", f.records, f.reached, csv_text(f.note));
+                     f.fitted ? num(f.beta_se) : "", f.records, f.reached, csv_field(f.note));
 }
 
 const char* fragility_header = "variant,limit,im,method,median,beta,log_median_se,beta_se,records,reached,note\n";
@@ -80,7 +73,7 @@ std::string capacity_points(const std::string& variant, const std::string& limit
   std::string out;
   for (std::size_t k = 0; k < caps.size(); ++k) {
     const auto& [r, c] = caps[k];
-    out += fmt::format("{},{},{},capacity,{},{},{},1,{}\n", csv_text(variant), csv_text(limit), im, csv_text(ids[r]),
+    out += fmt::format("{},{},{},capacity,{},{},{},1,{}\n", csv_field(variant), csv_field(limit), im, csv_field(ids[r]),
                        num(c.im), c.reached ? num(static_cast<double>(k + 1) / static_cast<double>(caps.size())) : "",
                        c.reached ? 1 : 0);
   }
@@ -97,6 +90,13 @@ void print_fit(const std::string& variant, const std::string& limit, const Inten
 }
 
 }  // namespace
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' ? ' ' : c);
+  return out + "\"";
+}
 
 std::string im_axis_label(const IntensityMeasure& im) {
   const std::string damping = im.damping == 0.05 ? "" : fmt::format(", {:g} %", im.damping * 100);
@@ -128,7 +128,7 @@ void write_ladder_report(const fs::path& dir, const Study& st, const StudySummar
                           {"p50", nlohmann::json::array()}, {"p84", nlohmann::json::array()}};
       const char* keys[] = {"p16", "p50", "p84"};
       for (const StudySummary::FractileRow& row : summary.fractiles(v, q)) {
-        fractiles += fmt::format("{},{},{},{},{},{},{},{},{}\n", csv_text(name), quantity_name(q), im.name(),
+        fractiles += fmt::format("{},{},{},{},{},{},{},{},{}\n", csv_field(name), quantity_name(q), im.name(),
                                  num(row.level), row.runs, row.collapsed, num(row.edp[0]), num(row.edp[1]),
                                  num(row.edp[2]));
         cols["level"].push_back(row.level);
@@ -152,7 +152,7 @@ void write_ladder_report(const fs::path& dir, const Study& st, const StudySummar
       nlohmann::json jc = nlohmann::json::array(), js = nlohmann::json::array();
       for (const auto& [r, c] : caps) jc.push_back({{"record", ids[r]}, {"level", c.im}, {"reached", c.reached}});
       for (const Stripe& s : stripes) {
-        points += fmt::format("{},{},{},stripe,,{},{},{},{}\n", csv_text(name), csv_text(limit.name), im.name(),
+        points += fmt::format("{},{},{},stripe,,{},{},{},{}\n", csv_field(name), csv_field(limit.name), im.name(),
                               num(s.im), num(static_cast<double>(s.reached) / static_cast<double>(s.runs)), s.runs,
                               s.reached);
         js.push_back({{"level", s.im}, {"runs", s.runs}, {"reached", s.reached}});
@@ -282,31 +282,29 @@ std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, c
       for (const Capacity& c : values)
         if (c.reached) reached.push_back(c.im);
       std::sort(reached.begin(), reached.end());
-      std::string ecdf = "im,p\n", stripe_text = "im,p\n", curve = "im,p\n";
+      // The fitted CDF at 200 levels up to the top of the axis.
+      auto fit_curve = [&](const LognormalFit& f) {
+        std::string text = "im,p\n";
+        if (f.fitted)
+          for (int k = 1; k <= 200; ++k) {
+            const double x = top * k / 200.0;
+            text += fmt::format("{:.6g},{:.6g}\n", x, lognormal_cdf(x, f.median, f.beta));
+          }
+        return text;
+      };
+      std::string ecdf = "im,p\n", stripe_text = "im,p\n";
       for (std::size_t k = 0; k < reached.size(); ++k)
         ecdf += fmt::format("{:.6g},{:.6g}\n", reached[k], static_cast<double>(k + 1) / static_cast<double>(values.size()));
       for (const Stripe& s : stripes)
         stripe_text += fmt::format("{:.6g},{:.6g}\n", s.im, static_cast<double>(s.reached) / static_cast<double>(s.runs));
-      if (fit.fitted)
-        for (int k = 1; k <= 200; ++k) {
-          const double x = top * k / 200.0;
-          curve += fmt::format("{:.6g},{:.6g}\n", x, lognormal_cdf(x, fit.median, fit.beta));
-        }
       write_text(dir / (stem + "_records.csv"), ecdf);
       write_text(dir / (stem + "_stripes.csv"), stripe_text);
-      write_text(dir / (stem + "_fit.csv"), curve);
+      write_text(dir / (stem + "_fit.csv"), fit_curve(fit));
       const int colour = static_cast<int>(v);
       panel.lines.push_back({Style::bold, label + ": fit to the records", stem + "_fit.csv", colour});
       panel.lines.push_back({Style::circles, label + ": each record", stem + "_records.csv", colour});
       panel.lines.push_back({Style::squares, label + ": fraction at each level", stem + "_stripes.csv", colour});
-      const LognormalFit by_stripes = fit_stripes(stripes);
-      std::string stripe_curve = "im,p\n";
-      if (by_stripes.fitted)
-        for (int k = 1; k <= 200; ++k) {
-          const double x = top * k / 200.0;
-          stripe_curve += fmt::format("{:.6g},{:.6g}\n", x, lognormal_cdf(x, by_stripes.median, by_stripes.beta));
-        }
-      write_text(dir / (stem + "_stripes_fit.csv"), stripe_curve);
+      write_text(dir / (stem + "_stripes_fit.csv"), fit_curve(fit_stripes(stripes)));
       panel.lines.push_back({Style::bold_dashed, label + ": fit to the fractions", stem + "_stripes_fit.csv", colour});
     }
     panels.push_back(panel);

@@ -11,6 +11,9 @@
 
 namespace rocking::app {
 
+// A CSV field: quoted (with "" for ") when it holds a comma, quote or newline.
+std::string csv_field(const std::string& s);
+
 // The axis label of an intensity measure ("PGA [g]", "scale factor [-]").
 std::string im_axis_label(const rocking::IntensityMeasure& im);
 

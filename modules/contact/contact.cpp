@@ -233,8 +233,7 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<
       for (Eigen::Index k = 0; k < l.z_count; ++k) dydt[l.z + k] = 0.0;
     for (const ContactModel::Acting& a : m.acting[side(s)]) {
       const bool chord = a.geometry.kinematics == Kinematics::chord;
-      const Stretch st = chord ? Stretch{2.0 * a.lever * std::abs(tilt.sin_half), a.lever * tilt.cos_half}
-                               : stretch(a.geometry, B, s, tilt);
+      const Stretch st = stretch(a.geometry, B, s, tilt);
       const double e_dot = st.de_dtheta * s * thd;
       const double z = a.slot >= 0 ? y[a.slot] : 0.0;
       const double F = law_force(a.law, st.e, e_dot, z);

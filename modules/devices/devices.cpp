@@ -14,18 +14,6 @@ import rocking.errors;
 
 namespace rocking {
 
-double lever_arm(const DeviceGeometry& g, double half_width, int s) { return half_width - s * g.x; }
-
-Stretch stretch(const DeviceGeometry& g, double half_width, int s, const Tilt& tilt) {
-  const double l = lever_arm(g, half_width, s);
-  if (g.kinematics == Kinematics::chord)
-    return {2.0 * l * std::abs(tilt.sin_half), l * tilt.cos_half};
-  const double L = g.free_length, sin_abs = std::abs(tilt.sin()), cos_th = tilt.cos();
-  const double rise = L + l * sin_abs, slide = l * (1.0 - cos_th);
-  const double length = std::sqrt(rise * rise + slide * slide);
-  return {length - L, l * (rise * cos_th + slide * sin_abs) / length};
-}
-
 namespace {
 
 template <class Law>

@@ -16,6 +16,7 @@
 // keys (LawParameter), so that the scene reader reads any law without
 // knowing it. The physics knows no I/O: parameters arrive as numbers.
 module;
+#include <cmath>
 #include <functional>
 #include <optional>
 #include <string>
@@ -57,8 +58,16 @@ struct Stretch {
   double e = 0;          // [m]
   double de_dtheta = 0;  // de / d|theta| [m]
 };
-double lever_arm(const DeviceGeometry& g, double half_width, int s);
-Stretch stretch(const DeviceGeometry& g, double half_width, int s, const Tilt& tilt);
+inline double lever_arm(const DeviceGeometry& g, double half_width, int s) { return half_width - s * g.x; }
+// Inline: it runs in every rocking right-hand side.
+inline Stretch stretch(const DeviceGeometry& g, double half_width, int s, const Tilt& tilt) {
+  const double l = lever_arm(g, half_width, s);
+  if (g.kinematics == Kinematics::chord) return {2.0 * l * std::abs(tilt.sin_half), l * tilt.cos_half};
+  const double L = g.free_length, sin_abs = std::abs(tilt.sin()), cos_th = tilt.cos();
+  const double rise = L + l * sin_abs, slide = l * (1.0 - cos_th);
+  const double length = std::sqrt(rise * rise + slide * slide);
+  return {length - L, l * (rise * cos_th + slide * sin_abs) / length};
+}
 
 // The law's numbers (see each law's file); inline, for the right-hand side.
 inline int law_states(const DeviceLaw& law) {
