@@ -35,6 +35,13 @@ TEST_CASE("modal on a scene file with --set changes the result as asked") {
         doctest::Approx(0.5 * base["fixed_base_hz"][0].get<double>()).epsilon(1e-9));
   const auto no_damper = nlohmann::json::parse(run("modal --json --set damper.enabled=false").out);
   CHECK(no_damper["damper_pre_yield_hz"].is_null());
+  // A central tendon a --set away: the rocking stiffness gains k B^2 and the prestress holds P0 B.
+  const auto tendon = nlohmann::json::parse(
+      run(R"(modal --json --set 'device+={kind="elastic", at=0, kinematics="vertical", free_length=33, P0=2e6, k=5e7}')").out);
+  const double B = 3.3;
+  CHECK(tendon["k_theta"]["right"]["at_rest"].get<double>() ==
+        doctest::Approx(base["k_theta"]["right"]["at_rest"].get<double>() + 5e7 * B * B).epsilon(1e-12));
+  CHECK(tendon["device_held_moment"]["left"].get<double>() == doctest::Approx(2e6 * B).epsilon(1e-12));
 }
 
 TEST_CASE("bad input exits 2 with one line on stderr naming what and where") {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 import rocking.contact;
+import rocking.scene;
 import rocking.modal;
 #include "spread_nodes.hpp"
 

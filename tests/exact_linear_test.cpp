@@ -11,6 +11,7 @@
 #include <vector>
 #include "records.hpp"
 import rocking.simulation;
+import rocking.scene;
 
 using namespace rocking;
 using namespace rocking::ode;

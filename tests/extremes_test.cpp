@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 import rocking.simulation;
+import rocking.scene;
 
 using namespace rocking;
 

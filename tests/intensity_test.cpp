@@ -144,7 +144,7 @@ TEST_CASE("PSA of El Centro at 0.5, 1 and 2 s agrees with an independent Runge-K
 }
 
 TEST_CASE("PGA, PGV, PGD, Arias intensity, CAV and D5-95 against closed forms") {
-  const double A = 3.0, L = 2.0, g0 = standard_gravity;
+  const double A = 3.0, L = 2.0, g0 = gravity;
   // Constant a = A on [0, L].
   const RecordMeasures c = measure_record(GroundMotion::from_samples("c", {0.0, L}, {A, A}), {});
   CHECK(c.pga == doctest::Approx(A));

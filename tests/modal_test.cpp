@@ -3,15 +3,19 @@
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
 #include <cmath>
+#include <numbers>
+#include <string>
 import rocking.scene;
 import rocking.beam;
 import rocking.modal;
+import rocking.devices;
+import rocking.hysteresis;
 
 using namespace rocking;
 
 TEST_CASE("the chimney reproduces MODEL.md 8 within 0.5 % and M_ref, V_ref within 1 %") {
   const Scene scene = load_default_scene();
-  const ModalSummary m = modal_analysis(scene.structure, scene.damper);
+  const ModalSummary m = modal_analysis(scene.structure, scene_devices(scene));
   const double half_percent = 5e-3, one_percent = 1e-2;
   CHECK(m.fixed_base_hz.at(0) == doctest::Approx(2.176).epsilon(half_percent));
   CHECK(m.rocking_hz.at(0) == doctest::Approx(6.21).epsilon(half_percent));
@@ -47,7 +51,7 @@ TEST_CASE("free rocking has exactly one unstable mode; an elastic damper stabili
 TEST_CASE("a very stiff structure rocks like a rigid body: p^2 = g sum(m H) / J_p") {
   Scene scene = load_default_scene({"structure.EI_scale=1e6"});
   const Structure& s = scene.structure;
-  const ModalSummary m = modal_analysis(s, scene.damper);
+  const ModalSummary m = modal_analysis(s, scene_devices(scene));
   const double rigid_p = std::sqrt(gravity * s.masses.dot(s.heights) / pivot_inertia(s));
   CHECK(m.rocking_p == doctest::Approx(rigid_p).epsilon(1e-5));
 }
@@ -60,4 +64,32 @@ TEST_CASE("modes of the rocking phase are orthogonal in its mass matrix") {
   const Eigen::MatrixXd P = modes.shapes;
   const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(P.cols(), P.cols());
   CHECK((P.transpose() * lin.mass * P - I).norm() < 1e-10);
+}
+
+TEST_CASE("devices linearised at theta = 0: k (de/dth)^2 per device, prestress P0 l held (MODEL.md 11)") {
+  const std::string tendon = R"(device+={kind="elastic", at=0, kinematics="vertical", free_length=33, P0=2e6, k=5e7})";
+  const Scene scene = load_default_scene({tendon});
+  const Structure& s = scene.structure;
+  const double B = s.half_width, k_tendon = 5e7, k_damper = 1e7, eps = 0.06;
+  // The paper's edge damper alone: k (2B)^2 pre-yield, eps k (2B)^2 yielded (hysteresis's own formulas).
+  const RockingStiffness damper = rocking_stiffness(edge_dampers(scene.damper, B), B, +1);
+  CHECK(damper.at_rest == doctest::Approx(pre_yield_rotational_stiffness(scene.damper, B)).epsilon(1e-14));
+  CHECK(damper.yielded == doctest::Approx(post_yield_rotational_stiffness(scene.damper, B)).epsilon(1e-14));
+  CHECK(damper.held_moment == 0.0);
+  // A central vertical tendon: de/d|th| = l = B at theta = 0, for either pivot.
+  const ModalSummary m = modal_analysis(s, scene_devices(scene));
+  for (int side : {0, 1}) {
+    CHECK(m.devices[side].at_rest == doctest::Approx(k_damper * 4 * B * B + k_tendon * B * B).epsilon(1e-14));
+    CHECK(m.devices[side].yielded == doctest::Approx(eps * k_damper * 4 * B * B + k_tendon * B * B).epsilon(1e-14));
+    CHECK(m.devices[side].held_moment == doctest::Approx(2e6 * B).epsilon(1e-14));
+  }
+  // The reported frequency is the linearised rocking phase's with that stiffness.
+  const RockingModes modes = rocking_modes(linearise_rocking(s, assemble(s), m.devices[1].at_rest));
+  REQUIRE(modes.lambda[0] > 0);
+  CHECK(m.damper_pre_yield_hz == doctest::Approx(std::sqrt(modes.lambda[0]) / (2 * std::numbers::pi)).epsilon(1e-12));
+  CHECK(m.damper_pre_yield_hz > modal_analysis(s, edge_dampers(scene.damper, B)).damper_pre_yield_hz);
+  // An anchor off the centre: its lever arm differs by pivot, l = B - s x.
+  const Device off{"off", {1.0, Kinematics::vertical, 10.0}, ElasticLaw{0.0, 1e6}, 0};
+  CHECK(rocking_stiffness({off}, B, +1).at_rest == doctest::Approx(1e6 * (B - 1.0) * (B - 1.0)).epsilon(1e-14));
+  CHECK(rocking_stiffness({off}, B, -1).at_rest == doctest::Approx(1e6 * (B + 1.0) * (B + 1.0)).epsilon(1e-14));
 }

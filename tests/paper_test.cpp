@@ -10,6 +10,7 @@
 #include <vector>
 #include "records.hpp"
 import rocking.simulation;
+import rocking.scene;
 
 using namespace rocking;
 

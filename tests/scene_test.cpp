@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <variant>
 #include <vector>
 #include "one_line_error.hpp"
 import rocking.scene;
@@ -154,4 +155,89 @@ TEST_CASE("--set damper.enabled=false works on a scene without a [damper] table"
   CHECK_FALSE(block.damper.enabled);
   const Scene chimney = load_default_scene({"damper.enabled=false", "damper.stiffness=-1"});
   CHECK_FALSE(chimney.damper.enabled);  // a disabled damper's properties are not read
+}
+
+// --- [[device]] tables (MODEL.md 11) -------------------------------------------
+
+namespace {
+const char* tendon_and_fluid = R"(
+[[device]]
+name = "tendon"
+kind = "elastic"
+at = 0.0
+kinematics = "vertical"
+free_length = 30.0
+P0 = 2.0e6
+k = 5.0e7
+capacity = 0.05
+
+[[device]]
+name = "fluid"
+kind = "viscous"
+at = "edges"
+c = 3.0e5
+a = 0.3
+)";
+}  // namespace
+
+TEST_CASE("[[device]] tables: law, anchor, kinematics, capacity and the law's keys") {
+  const Scene s = load_scene(chimney_with("[excitation]", std::string(tendon_and_fluid) + "\n[excitation]"));
+  REQUIRE(s.devices.size() == 3);  // the tendon, and the fluid damper at each edge
+  const Device& tendon = s.devices[0];
+  CHECK(tendon.name == "tendon");
+  CHECK(tendon.geometry.x == 0.0);
+  CHECK(tendon.geometry.kinematics == Kinematics::vertical);
+  CHECK(tendon.geometry.free_length == 30.0);
+  CHECK(tendon.capacity == 0.05);
+  REQUIRE(std::holds_alternative<ElasticLaw>(tendon.law));
+  CHECK(std::get<ElasticLaw>(tendon.law).P0 == 2.0e6);
+  CHECK(std::get<ElasticLaw>(tendon.law).k == 5.0e7);
+  CHECK(s.devices[1].name == "fluid_left");
+  CHECK(s.devices[1].geometry.x == -3.3);
+  CHECK(s.devices[2].name == "fluid_right");
+  CHECK(s.devices[2].geometry.x == 3.3);
+  CHECK(s.devices[2].geometry.kinematics == Kinematics::chord);
+  CHECK(std::get<ViscousLaw>(s.devices[2].law).a == 0.3);
+  // Every device of the scene: the [damper]'s two first.
+  const std::vector<Device> all = scene_devices(s);
+  REQUIRE(all.size() == 5);
+  CHECK(all[0].name == "damper_left");
+  CHECK(all[4].name == "fluid_right");
+}
+
+TEST_CASE("--set adds a device, sets a device's key, or removes them all") {
+  const std::string add = R"(device+={kind="elastic", at=0, kinematics="vertical", free_length=33, P0=1e6, k=2e7})";
+  Scene s = load_default_scene({add});
+  REQUIRE(s.devices.size() == 1);
+  CHECK(s.devices[0].name == "elastic_1");
+  s = load_default_scene({add, "device[0].P0=3e6", "device[0].name=tendon"});
+  CHECK(std::get<ElasticLaw>(s.devices[0].law).P0 == 3e6);
+  CHECK(s.devices[0].name == "tendon");
+  CHECK(load_default_scene({add, add, "device=[]"}).devices.empty());
+}
+
+TEST_CASE("a wrong [[device]] is a one-line error naming the device, the key and the place") {
+  const std::string path = chimney_with("[excitation]", std::string(tendon_and_fluid) + "\n[excitation]");
+  const int tendon_line = line_of(path, "name = \"tendon\"");
+  const auto error = [&](const std::vector<std::string>& sets) { return error_of(path, sets); };
+  CHECK(error({"device[0].k=-1"}) == "--set device[0].k=-1: device[0].k: must be >= 0 [N/m] (got -1)");
+  CHECK(error({"device[0].kind=spring"}).find("device[0].kind: unknown law 'spring' (laws: bouc-wen, elastic, viscous)") !=
+        std::string::npos);
+  CHECK(error({"device[0].at=4"}).find("device[0].at: must be on the base, -B <= x <= B = 3.3 [m] (got 4)") !=
+        std::string::npos);
+  CHECK(error({"device[1].free_length=2"}) == "--set device[1].free_length=2: device[1].free_length: only a vertical "
+                                               "device has a free length");
+  CHECK(error({"device[2].k=1"}).find("no device [2]: the scene has 2 device tables") != std::string::npos);
+  CHECK(error({"device[1].name=damper"}).find("'damper_left' names two devices") != std::string::npos);
+  CHECK(error({"device[0].name=a,b"}).find("device[0].name: must be letters, digits, _ or -") != std::string::npos);
+  // A typo in the file: file:line of the key.
+  const std::string typo = chimney_with("[excitation]", std::string(tendon_and_fluid) + "spring_rate = 1\n\n[excitation]");
+  const std::string e = error_of(typo);
+  CHECK(e.find("device[1].spring_rate: unknown key for a viscous device (known: a, at, c, capacity, free_length, kind, "
+               "kinematics, name)") != std::string::npos);
+  CHECK(e.find(std::to_string(line_of(typo, "spring_rate = 1"))) != std::string::npos);
+  CHECK(tendon_line > 0);
+  CHECK(error({"device+=3"}).find("expected one device as an inline table") != std::string::npos);
+  CHECK(one_line_error<InputError>([] { load_default_scene({"device+={at=0}"}); }, "").find("device[0].kind: missing key") !=
+        std::string::npos);
 }

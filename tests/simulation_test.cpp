@@ -12,6 +12,7 @@
 #include <vector>
 #include "housner.hpp"
 import rocking.simulation;
+import rocking.scene;
 
 using namespace rocking;
 
@@ -206,7 +207,7 @@ TEST_CASE("a central tendon's prestress raises the uplift threshold: m a_g H_cg 
   Scene scene = rigid_block({"damper.enabled=false"});
   const double P0 = 2.0e4;
   const Device tendon{"tendon", {0.0, Kinematics::vertical, 4.0}, ElasticLaw{P0, 0.0}, 0};
-  const ContactModel m = make_contact_model(scene, {tendon}, false);
+  const ContactModel m = make_contact_model(scene, false, {tendon});
   REQUIRE(m.devices.size() == 1);
   REQUIRE(m.acting[0].size() == 1);  // a central anchor: stretched about either pivot, with lever arm B
   REQUIRE(m.acting[1].size() == 1);
@@ -233,7 +234,7 @@ TEST_CASE("a tendon with no prestress and no stiffness, or a dashpot with c = 0,
   for (const Device& nothing : {Device{"t", {0.0, Kinematics::vertical, 5.0}, ElasticLaw{0, 0}, 0},
                                 Device{"v", {-0.5, Kinematics::chord, 0}, ViscousLaw{0, 1}, 0}}) {
     CAPTURE(nothing.name);
-    const RunResult with = simulate(make_contact_model(scene, {nothing}, false), pulse, tight(4.0));
+    const RunResult with = simulate(make_contact_model(scene, false, {nothing}), pulse, tight(4.0));
     CHECK(with.counts.uplifts == bare.counts.uplifts);
     CHECK(with.counts.impacts == bare.counts.impacts);
     CHECK(with.peak(Quantity::theta) == bare.peak(Quantity::theta));

@@ -144,7 +144,7 @@ int animate(const AnimateArgs& a) {
     tr << "# t [s], a_g [g], M/M_ref main, M/M_ref twin, theta/alpha_cg main\n";
     for (std::size_t i = 0; i < rows; ++i)
       tr << fmt::format("{:.6g} {:.6g} {:.6g} {:.6g} {:.6g}\n", main_rec.rows[i].t,
-                        motion.acceleration(main_rec.rows[i].t) / 9.81, main_rec.rows[i][Quantity::base_moment],
+                        motion.acceleration(main_rec.rows[i].t) / gravity, main_rec.rows[i][Quantity::base_moment],
                         twin_rec.rows[i][Quantity::base_moment], main_rec.rows[i][Quantity::theta_over_alpha]);
   }
   const std::string twin_label = compare == "fixed-base" ? "fixed base" : "no damper";

@@ -127,7 +127,7 @@ int response(const ResponseArgs& a) {
 
 int modes(const SceneOptions& scene_opts, const FigureArgs& fa) {
   const Scene scene = load_elastic_scene(scene_opts);
-  const ModalSummary m = modal_analysis(scene.structure, scene.damper);
+  const ModalSummary m = modal_analysis(scene.structure, scene_devices(scene));
   const Eigen::VectorXd& H = scene.structure.heights;
   const Eigen::Index n = H.size();
   // Columns: fixed-base shapes, then rocking-phase total displacements u + H theta.

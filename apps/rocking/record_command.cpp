@@ -42,7 +42,7 @@ nlohmann::json to_json(const Measured& r) {
   const RecordInfo& i = r.motion.info();
   auto text = [](const std::string& s) { return s.empty() ? nlohmann::json(nullptr) : nlohmann::json(s); };
   std::vector<double> psa_g;
-  for (double v : r.m.psa) psa_g.push_back(v / standard_gravity);
+  for (double v : r.m.psa) psa_g.push_back(v / gravity);
   return {{"id", r.id},
           {"file", r.path},
           {"format", i.format},
@@ -54,8 +54,8 @@ nlohmann::json to_json(const Measured& r) {
           {"dt_s", i.dt > 0 ? nlohmann::json(i.dt) : nlohmann::json(nullptr)},
           {"npts", r.motion.sample_count()},
           {"duration_s", r.motion.duration()},
-          {"stated_peak_g", i.stated_peak ? nlohmann::json(*i.stated_peak / standard_gravity) : nlohmann::json(nullptr)},
-          {"pga_g", r.m.pga / standard_gravity},
+          {"stated_peak_g", i.stated_peak ? nlohmann::json(*i.stated_peak / gravity) : nlohmann::json(nullptr)},
+          {"pga_g", r.m.pga / gravity},
           {"pga_time_s", r.m.pga_time},
           {"pgv_m_s", r.m.pgv},
           {"pgd_m", r.m.pgd},
@@ -89,7 +89,7 @@ void print_table(const std::vector<Measured>& rs) {
     return dt > 0 ? fmt::format("{} x {:g} s", r.motion.sample_count(), dt) : fmt::format("{} (uneven)", r.motion.sample_count());
   });
   row("duration [s]", [](const Measured& r) { return fmt::format("{:.2f}", r.motion.duration()); });
-  row("PGA [g]", [](const Measured& r) { return fmt::format("{:.4f} @{:.2f}s", r.m.pga / standard_gravity, r.m.pga_time); });
+  row("PGA [g]", [](const Measured& r) { return fmt::format("{:.4f} @{:.2f}s", r.m.pga / gravity, r.m.pga_time); });
   row("PGV [m/s]", [](const Measured& r) { return fmt::format("{:.4f}", r.m.pgv); });
   row("PGD [m]", [](const Measured& r) { return fmt::format("{:.4f}", r.m.pgd); });
   row("Arias [m/s]", [](const Measured& r) { return fmt::format("{:.4f}", r.m.arias); });
@@ -98,7 +98,7 @@ void print_table(const std::vector<Measured>& rs) {
   fmt::print("PSA, {:g} % damped [g]\n", 100 * rs.front().m.damping);
   for (std::size_t k = 0; k < rs.front().m.periods.size(); ++k)
     row(fmt::format("  T = {:g} s", rs.front().m.periods[k]),
-        [&](const Measured& r) { return fmt::format("{:.4f}", r.m.psa[k] / standard_gravity); });
+        [&](const Measured& r) { return fmt::format("{:.4f}", r.m.psa[k] / gravity); });
 }
 
 // A record in a figure's key: its station and component where the file
@@ -126,14 +126,14 @@ void write_figures(const RecordArgs& a, const std::vector<Measured>& rs, const s
     const GroundHistory h = integrate_record(r.motion);
     std::string csv = "t_s,a_g,v_m_s,d_m\n";
     for (std::size_t k = 0; k < h.t.size(); ++k)
-      csv += fmt::format("{:.9g},{:.9g},{:.9g},{:.9g}\n", h.t[k], h.a[k] / standard_gravity, h.v[k], h.d[k]);
+      csv += fmt::format("{:.9g},{:.9g},{:.9g},{:.9g}\n", h.t[k], h.a[k] / gravity, h.v[k], h.d[k]);
     const std::string stem = fmt::format("record_{}", i + 1);
     write_text(dir / "record.data" / (stem + ".csv"), csv);
     const std::vector<double> psa = response_spectrum(r.motion, dense, a.damping);
     std::string sp = "period_s,psa_g\n";
     for (std::size_t k = 0; k < dense.size(); ++k) {
-      sp += fmt::format("{:.9g},{:.9g}\n", dense[k], psa[k] / standard_gravity);
-      table += fmt::format("{},{:.9g},{:.9g}\n", r.id, dense[k], psa[k] / standard_gravity);
+      sp += fmt::format("{:.9g},{:.9g}\n", dense[k], psa[k] / gravity);
+      table += fmt::format("{},{:.9g},{:.9g}\n", r.id, dense[k], psa[k] / gravity);
     }
     write_text(dir / "record.data" / (stem + "_spectrum.csv"), sp);
     const std::string label = key_label(r);
@@ -175,7 +175,7 @@ std::vector<plot::Mark> scene_periods(const RecordArgs& a, std::string& scene_na
     spdlog::info("{}: a rigid block has no fixed-base periods to mark", scene.source);
     return {};
   }
-  const ModalSummary m = modal_analysis(scene.structure, scene.damper);
+  const ModalSummary m = modal_analysis(scene.structure, scene_devices(scene));
   std::vector<plot::Mark> marks;
   for (std::size_t i = 0; i < m.fixed_base_hz.size() && i < 3; ++i) {
     const double T = 1.0 / m.fixed_base_hz[i];

@@ -333,7 +333,7 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
     records_text += fmt::format("{},{},{},{},{},{},{},{}\n", csv_field(ids[r]), csv_field(st.records()[r]),
                                 csv_field(info.format), csv_field(info.event), csv_field(info.date),
                                 csv_field(info.station), csv_field(info.component),
-                                m ? fmt::format("{:.6g}", m->peak() / standard_gravity) : std::string());
+                                m ? fmt::format("{:.6g}", m->peak() / gravity) : std::string());
   }
   write_text(dir / "records.csv", records_text);
   if (emitted < mine.size()) {  // stopped by a signal (one process: mine is every job left)
@@ -484,7 +484,7 @@ std::unique_ptr<Study> make_study(const StudyArgs& a, const std::vector<std::str
   const std::vector<std::string> records = study_records(a);
   const Scene scene = load_scene(SceneOptions{a.scene.path, overrides});
   scene_name = scene.name;
-  const double t1 = scene.structure.rigid ? 0.0 : 1.0 / modal_analysis(scene.structure, scene.damper).fixed_base_hz[0];
+  const double t1 = scene.structure.rigid ? 0.0 : 1.0 / modal_analysis(scene.structure, scene_devices(scene)).fixed_base_hz[0];
   if (!(a.damping >= 0 && a.damping < 1)) throw InputError(fmt::format("--damping {}: must be in [0, 1)", a.damping));
   const IntensityMeasure im = parse_intensity_measure(a.im, a.damping, t1);
   if (a.im.find("T1") != std::string::npos)
@@ -636,7 +636,7 @@ Command add_sweep_command(CLI::App& app) {
     for (const std::string& s : a->scene.overrides) {
       const auto eq = s.find('=');
       const std::string value = eq == std::string::npos ? "" : s.substr(eq + 1);
-      if (value.find(',') == std::string::npos || value.starts_with("[")) {
+      if (value.find(',') == std::string::npos || value.starts_with("[") || value.starts_with("{")) {
         common.push_back(s);
         continue;
       }

@@ -3,7 +3,6 @@ module;
 #include <rocking/static_size.hpp>
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <string>
 #include <vector>
 #include <fmt/format.h>
@@ -127,17 +126,12 @@ double restitution(const ContactModel& m, int s, Eigen::Ref<const Eigen::VectorX
 
 }  // namespace
 
-ContactModel make_contact_model(const Scene& scene, bool track_energy) {
-  return make_contact_model(scene, {}, track_energy);
-}
-
-ContactModel make_contact_model(const Scene& scene, std::vector<Device> devices, bool track_energy) {
+ContactModel make_contact_model(const Structure& st, const Contact& contact, std::vector<Device> devices,
+                                bool track_energy) {
   ContactModel m;
-  const Structure& st = scene.structure;
-  m.kind = st.rigid ? ModelKind::rigid_block : scene.contact.rocking ? ModelKind::flexible : ModelKind::fixed_base;
+  m.kind = st.rigid ? ModelKind::rigid_block : contact.rocking ? ModelKind::flexible : ModelKind::fixed_base;
   m.body = make_body(st);
   if (m.kind != ModelKind::fixed_base) {
-    if (scene.damper.enabled) m.devices = edge_dampers(scene.damper, st.half_width);
     for (Device& dev : devices) {
       if (!(std::abs(dev.geometry.x) <= st.half_width))
         throw InputError(fmt::format("device {}: anchor x = {} m lies outside the base (|x| <= B = {} m)", dev.name,
@@ -148,9 +142,9 @@ ContactModel make_contact_model(const Scene& scene, std::vector<Device> devices,
   m.has_damper = !m.devices.empty();
   if (m.devices.size() > static_cast<std::size_t>(max_device_states))
     throw InputError(fmt::format("{} devices: at most {}", m.devices.size(), max_device_states));
-  m.contact = scene.contact;
+  m.contact = contact;
   m.r_eq10 = restitution_eq10(st);
-  m.overturn_angle = scene.contact.overturn_angle > 0 ? scene.contact.overturn_angle : slenderness(st);
+  m.overturn_angle = contact.overturn_angle > 0 ? contact.overturn_angle : slenderness(st);
   std::array<Eigen::Index, 2> states{0, 0};
   for (int s : {-1, +1})
     for (std::size_t k = 0; k < m.devices.size(); ++k) {
@@ -176,14 +170,6 @@ ContactModel make_contact_model(const Scene& scene, std::vector<Device> devices,
   return m;
 }
 
-std::vector<Device> edge_dampers(const Damper& damper, double half_width) {
-  BoucWenLaw law;
-  law.damper = scaled_for_thickness(damper);
-  law.d_y = yield_displacement(law.damper, half_width);
-  return {Device{"damper_left", {-half_width, Kinematics::chord, 0}, law, 0},
-          Device{"damper_right", {half_width, Kinematics::chord, 0}, law, 0}};
-}
-
 std::string phase_name(int pivot) {
   return pivot == 0 ? "full_contact" : pivot > 0 ? "rocking(+1)" : "rocking(-1)";
 }
@@ -191,13 +177,12 @@ std::string phase_name(int pivot) {
 Workspace::Workspace(const ContactModel& m)
     : a(node_count(m.body.structure)), b(node_count(m.body.structure)) {}
 
-ode::LinearSystem full_contact_system(const ContactModel& m, std::function<double(double)> a_g) {
+LinearPhase full_contact_matrices(const ContactModel& m) {
   const Eigen::Index n = m.layout.n;
-  if (m.layout.u < 0) throw InputError("full_contact_system: a rigid block has no elastic coordinates");
+  if (m.layout.u < 0) throw InputError("full_contact_matrices: a rigid block has no elastic coordinates");
   const StructuralMatrices& sm = m.body.matrices;
   const Eigen::VectorXd minus_inverse_mass = -m.body.structure.masses.cwiseInverse();
-  ode::LinearSystem sys;
-  sys.size = m.layout.size;
+  LinearPhase sys;
   sys.first = m.layout.u;  // u_dot follows u
   sys.A = Eigen::MatrixXd::Zero(2 * n, 2 * n);
   sys.A.topRightCorner(n, n).setIdentity();
@@ -205,7 +190,6 @@ ode::LinearSystem full_contact_system(const ContactModel& m, std::function<doubl
   sys.A.bottomRightCorner(n, n) = minus_inverse_mass.asDiagonal() * sm.C;
   sys.b = Eigen::VectorXd::Zero(2 * n);
   sys.b.tail(n).setConstant(-1.0);
-  sys.forcing = std::move(a_g);
   return sys;
 }
 
@@ -279,11 +263,10 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<
   }
 }
 
-std::vector<ode::Direction> guard_directions(const ContactModel& m, int pivot) {
-  using ode::Direction;
+std::vector<Crossing> guard_directions(const ContactModel& m, int pivot) {
   if (m.kind == ModelKind::fixed_base) return {};
-  if (pivot == 0) return {Direction::rising, Direction::rising};
-  return {Direction::falling, Direction::rising};
+  if (pivot == 0) return {Crossing::rising, Crossing::rising};
+  return {Crossing::falling, Crossing::rising};
 }
 
 Guard guard_meaning(int pivot, int index) {

@@ -23,17 +23,26 @@
 module;
 #include <rocking/eigen.hpp>
 #include <array>
-#include <functional>
 #include <string>
 #include <vector>
 export module rocking.contact;
 export import rocking.dynamics;
-export import rocking.hysteresis;
 export import rocking.devices;
-export import rocking.scene;
-export import rocking.integrator;
 
 export namespace rocking {
+
+// How the rocking velocity after an impact follows from the one before
+// (MODEL.md 6): a constant r, Eq. 10 from the geometry, or Eq. 9 per impact.
+enum class RestitutionRule { constant, eq10, eq9 };
+
+// How the structure meets the ground.
+struct Contact {
+  bool rocking = true;                       // false: fixed base
+  RestitutionRule restitution_rule = RestitutionRule::eq10;
+  double restitution = 0;                    // r when the rule is constant
+  double theta_dot_min = 0.0015;             // Eq. 8 threshold [rad/s]
+  double overturn_angle = 0;                 // |theta| that ends a run [rad]; 0: alpha_cg
+};
 
 enum class ModelKind { rigid_block, fixed_base, flexible };
 
@@ -72,9 +81,11 @@ struct ContactModel {
   // several times a step: [M1; 0], [0; MH].
   Eigen::VectorXd mass_row, momentum_row;
 };
-ContactModel make_contact_model(const Scene& scene, bool track_energy);
-// The same with devices besides the scene's [damper] (after its two).
-ContactModel make_contact_model(const Scene& scene, std::vector<Device> devices, bool track_energy);
+// The model of a structure meeting the ground by these rules, with these
+// devices (ignored on a fixed base); energy accumulators when asked.
+// InputError for an anchor off the base or too many devices with a state.
+ContactModel make_contact_model(const Structure& structure, const Contact& contact, std::vector<Device> devices,
+                                bool track_energy);
 
 // At most this many devices with an internal state (the discrete state is a
 // fixed array, so that events allocate nothing).
@@ -98,10 +109,16 @@ struct Workspace {
 void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y,
                Eigen::Ref<Eigen::VectorXd> dydt, Workspace& w);
 
-// Full contact of a flexible structure (Eq. 1) as z' = A z + b a_g(t) on the
-// block z = [u; u'] of the state (the rest is constant in full contact), for
-// exact integration under a piecewise-linear record.
-ode::LinearSystem full_contact_system(const ContactModel& m, std::function<double(double)> a_g);
+// Full contact of a flexible structure (Eq. 1) as x' = A x + b a_g(t) on the
+// block x = [u; u'] of the state, which starts at `first` (the rest is
+// constant in full contact), for exact integration under a piecewise-linear
+// record.
+struct LinearPhase {
+  Eigen::MatrixXd A;
+  Eigen::VectorXd b;
+  Eigen::Index first = 0;
+};
+LinearPhase full_contact_matrices(const ContactModel& m);
 
 // The elongation and force of the first device the current pivot stretches
 // (0 in full contact, or with no device): the paper's damper.
@@ -111,12 +128,11 @@ struct DamperState {
 DamperState active_damper(const ContactModel& m, const Discrete& d, const Tilt& tilt,
                           Eigen::Ref<const Eigen::VectorXd> y);
 
-// The paper's [damper] as devices: a Bouc-Wen chord device at each edge.
-std::vector<Device> edge_dampers(const Damper& damper, double half_width);
-
-// Guards of the phase (see the top of this file) and their directions.
+// Guards of the phase (see the top of this file) and the directions in which
+// their crossings count.
 enum class Guard { uplift_right, uplift_left, impact, overturn };
-std::vector<ode::Direction> guard_directions(const ContactModel& m, int pivot);
+enum class Crossing { rising, falling };
+std::vector<Crossing> guard_directions(const ContactModel& m, int pivot);
 Guard guard_meaning(int pivot, int index);
 void guard_values(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y,
                   Eigen::Ref<Eigen::VectorXd> g);

@@ -11,6 +11,7 @@ module;
 #include <fmt/format.h>
 module rocking.devices;
 import rocking.errors;
+import rocking.hysteresis;
 
 namespace rocking {
 
@@ -53,6 +54,28 @@ std::optional<DeviceLaw> make_named(std::string_view name,
 }
 
 }  // namespace
+
+std::vector<Device> edge_dampers(const Damper& damper, double half_width) {
+  BoucWenLaw law;
+  law.damper = scaled_for_thickness(damper);
+  law.d_y = yield_displacement(law.damper, half_width);
+  return {Device{"damper_left", {-half_width, Kinematics::chord, 0}, law, 0},
+          Device{"damper_right", {half_width, Kinematics::chord, 0}, law, 0}};
+}
+
+RockingStiffness rocking_stiffness(const std::vector<Device>& devices, double half_width, int s) {
+  RockingStiffness out;
+  for (const Device& d : devices) {
+    const double l = lever_arm(d.geometry, half_width, s);
+    if (!(l > 0)) continue;
+    const double slope = stretch(d.geometry, half_width, s, Tilt(0.0)).de_dtheta;
+    out.at_rest += law_stiffness(d.law) * slope * slope;
+    out.yielded += law_yielded_stiffness(d.law) * slope * slope;
+    out.held_moment += law_force_at_rest(d.law, 0.0) * l;
+    out.any = true;
+  }
+  return out;
+}
 
 std::vector<LawInfo> device_laws() { return all_infos(std::make_index_sequence<std::variant_size_v<DeviceLaw>>()); }
 

@@ -26,6 +26,7 @@ module;
 #include <vector>
 export module rocking.devices;
 export import rocking.geometry;
+export import rocking.hysteresis;
 export import :parameters;
 export import :bouc_wen;
 export import :elastic;
@@ -88,6 +89,26 @@ inline double law_force_at_rest(const DeviceLaw& law, double z) {
 inline double law_stiffness(const DeviceLaw& law) {  // dF/de at rest, pre-yield
   return std::visit([](const auto& l) { return l.stiffness(); }, law);
 }
+inline double law_yielded_stiffness(const DeviceLaw& law) {  // dF/de once yielded (the same for a law that does not yield)
+  return std::visit([](const auto& l) { return l.yielded_stiffness(); }, law);
+}
+
+// The devices linearised about theta = 0 while rocking about pivot s
+// (MODEL.md 8 and 11): the rocking stiffness they add, sum_k k_k (de_k/dth)^2
+// (de/d|th| = l at theta = 0 for both kinematics), with each law's stiffness
+// at rest and once yielded; and the moment their forces at rest hold against
+// uplift, sum_k F_k(e = 0) l_k (a tendon's P0 l). States z at 0.
+struct RockingStiffness {
+  double at_rest = 0, yielded = 0;  // [N m/rad]
+  double held_moment = 0;           // [N m]
+  bool any = false;                 // some device acts about this pivot
+};
+RockingStiffness rocking_stiffness(const std::vector<Device>& devices, double half_width, int s);
+
+// The paper's [damper] (MODEL.md 5) as devices: a Bouc-Wen chord device at
+// each edge, "damper_left" at x = -B (stretched about pivot +1, l = 2B) and
+// "damper_right" at x = +B.
+std::vector<Device> edge_dampers(const Damper& damper, double half_width);
 
 // The registered laws: their names, summaries and parameters.
 struct LawInfo {

@@ -46,6 +46,7 @@ struct BoucWenLaw {
   }
   double force_at_rest(double z) const { return damper_force(damper, d_y, 0.0, z); }
   double stiffness() const { return damper.stiffness; }
+  double yielded_stiffness() const { return damper.stiffness * damper.post_yield_ratio; }
 };
 
 }  // namespace rocking

@@ -25,6 +25,7 @@ struct ElasticLaw {
   double stored_energy(double e, double /*z*/) const { return P0 * e + 0.5 * k * e * e; }
   double force_at_rest(double /*z*/) const { return P0; }
   double stiffness() const { return k; }
+  double yielded_stiffness() const { return k; }
 };
 
 }  // namespace rocking

@@ -28,6 +28,7 @@ struct ViscousLaw {
   double stored_energy(double, double) const { return 0; }
   double force_at_rest(double) const { return 0; }
   double stiffness() const { return 0; }
+  double yielded_stiffness() const { return 0; }
 };
 
 }  // namespace rocking

@@ -25,7 +25,7 @@ export namespace rocking {
 struct RockingBody {
   Structure structure;
   StructuralMatrices matrices;
-  double g = 9.81;
+  double g = gravity;
   // Derived once by make_body: H'M1 [kg m], m0 + 1'M1 [kg], m0 B^2 [kg m^2],
   // m0 B [kg m], 1/m per node [1/kg], and [K'H; C'H] (2N: H'(K u + C u'),
   // the moment of the elastic forces about the base, as one dot product with
@@ -33,7 +33,7 @@ struct RockingBody {
   double HM1 = 0, total_mass = 0, base_inertia = 0, base_moment = 0;
   Eigen::VectorXd inverse_masses, moment_row;
 };
-RockingBody make_body(const Structure& s, double g = 9.81);
+RockingBody make_body(const Structure& s, double g = gravity);
 
 // The elastic and rocking coordinates of a state, by reference (the tilt
 // carries theta with its half-angle sine and cosine).

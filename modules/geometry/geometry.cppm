@@ -10,6 +10,9 @@ export module rocking.geometry;
 
 export namespace rocking {
 
+// The acceleration of gravity, for every module and unit [m/s^2].
+inline constexpr double gravity = 9.81;
+
 struct Structure {
   double half_width = 0;       // B: half the distance between the pivots [m]
   Eigen::VectorXd heights;     // H: heights of nodes 1..N, increasing [m]

@@ -103,11 +103,11 @@ struct Unit {
 };
 std::optional<Unit> cosmos_unit(int code) {
   switch (code) {
-    case 2: return Unit{standard_gravity, AccelerationUnit::g};
+    case 2: return Unit{gravity, AccelerationUnit::g};
     case 4:
     case 10: return Unit{0.01, AccelerationUnit::cm_per_s2};
     case 7: return Unit{0.0254, std::nullopt};
-    case 11: return Unit{1e-3 * standard_gravity, std::nullopt};
+    case 11: return Unit{1e-3 * gravity, std::nullopt};
     default: return std::nullopt;
   }
 }

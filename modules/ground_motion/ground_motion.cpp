@@ -33,7 +33,7 @@ std::string unit_name(AccelerationUnit unit) {
 
 double to_si(AccelerationUnit unit) {
   switch (unit) {
-    case AccelerationUnit::g: return standard_gravity;
+    case AccelerationUnit::g: return gravity;
     case AccelerationUnit::m_per_s2: return 1.0;
     case AccelerationUnit::cm_per_s2: return 0.01;
     case AccelerationUnit::mm_per_s2: return 0.001;

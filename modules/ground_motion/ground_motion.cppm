@@ -12,7 +12,7 @@
 //   columns: one (acceleration, with dt given) or two (time, acceleration) columns.
 // Each reader checks the data against the header it read (the count, and the
 // peak the file states where it states one) and keeps the file's metadata.
-// Units g, m/s2, cm/s2 (gal) or mm/s2 (g = 9.81 m/s^2, as in rocking.modal).
+// Units g, m/s2, cm/s2 (gal) or mm/s2 (g = 9.81 m/s^2, rocking.geometry's gravity).
 // Analytic pulses for tests, teaching and the default excitation:
 //   one-sine: a(t) = A sin(2 pi t / T) on [0, T] (Makris & Roussos 2000),
 //   Ricker:   a(t) = A (1 - 2 u) exp(-u), u = (pi f (t - t0))^2, t0 = 1.5 / f.
@@ -24,6 +24,7 @@ module;
 #include <string_view>
 #include <vector>
 export module rocking.ground_motion;
+export import rocking.geometry;  // gravity
 
 export namespace rocking {
 
@@ -32,7 +33,6 @@ enum class AccelerationUnit { g, m_per_s2, cm_per_s2, mm_per_s2 };
 AccelerationUnit parse_acceleration_unit(std::string_view text);
 std::string unit_name(AccelerationUnit unit);  // "g", "m/s2", "cm/s2", "mm/s2"
 double to_si(AccelerationUnit unit);  // factor to m/s^2
-inline constexpr double standard_gravity = 9.81;  // the g of unit g [m/s^2]
 
 // What a record file says about itself; empty where it says nothing.
 struct RecordInfo {

@@ -157,7 +157,7 @@ bool blank_or_comment(const Line& l) {
 }
 
 void check_acceleration(const std::string& path, int line, double a_si) {
-  if (std::abs(a_si) > max_acceleration_g * standard_gravity)
+  if (std::abs(a_si) > max_acceleration_g * gravity)
     fail(path, line, fmt::format("acceleration {:g} m/s2 is beyond {} g: not a ground motion (wrong units?)", a_si,
                                  max_acceleration_g));
 }
@@ -187,7 +187,7 @@ GroundMotion with_info(const std::string& path, std::vector<double> times, std::
       GroundMotion::from_samples(std::filesystem::path(path).filename().string(), std::move(times), std::move(values));
   if (info.dt == 0) info.dt = g.sample_interval();
   const std::string label = info.label();
-  if (!label.empty()) g.set_description(fmt::format("{}, PGA {:.2f} g", label, g.peak() / standard_gravity));
+  if (!label.empty()) g.set_description(fmt::format("{}, PGA {:.2f} g", label, g.peak() / gravity));
   g.set_info(std::move(info));
   return g;
 }

@@ -223,7 +223,7 @@ RecordMeasures measure_record(const GroundMotion& g, const std::vector<double>& 
     m.cav += (a0 >= 0) == (a1 >= 0) ? h * (std::abs(a0) + std::abs(a1)) / 2
                                     : h * (a0 * a0 + a1 * a1) / (2 * (std::abs(a0) + std::abs(a1)));
   }
-  m.arias = pi / (2 * standard_gravity) * energy;
+  m.arias = pi / (2 * gravity) * energy;
   if (energy > 0) {
     auto crossing = [&](double fraction) {
       const double target = fraction * energy;
@@ -340,14 +340,14 @@ double intensity(const GroundMotion& g, const IntensityMeasure& im) {
     case Kind::scale_factor: return 1.0;
     case Kind::pga:
       require_record(g);
-      return g.peak() / standard_gravity;
+      return g.peak() / gravity;
     case Kind::pgv: return measure_record(g, {}, im.damping).pgv;
-    case Kind::sa: return pseudo_spectral_acceleration(g, im.t1, im.damping) / standard_gravity;
+    case Kind::sa: return pseudo_spectral_acceleration(g, im.t1, im.damping) / gravity;
     case Kind::saavg: {
       const std::vector<double> psa = response_spectrum(g, log_periods(im.t1, im.t2, 10), im.damping);
       double log_sum = 0;
       for (double s : psa) log_sum += std::log(s);
-      return std::exp(log_sum / static_cast<double>(psa.size())) / standard_gravity;
+      return std::exp(log_sum / static_cast<double>(psa.size())) / gravity;
     }
   }
   return 1.0;

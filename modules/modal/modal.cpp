@@ -1,5 +1,6 @@
 module;
 #include <rocking/eigen.hpp>
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -46,7 +47,7 @@ ReferenceForces reference_forces(const Structure& s, const StructuralMatrices& s
   return {c * s.heights.dot(Kphi), c * Kphi.sum()};
 }
 
-ModalSummary modal_analysis(const Structure& s, const Damper& damper) {
+ModalSummary modal_analysis(const Structure& s, const std::vector<Device>& devices) {
   const StructuralMatrices sm = assemble(s);
   ModalSummary out;
   for (double w : sm.fixed_base.omega) out.fixed_base_hz.push_back(w / two_pi);
@@ -54,13 +55,16 @@ ModalSummary modal_analysis(const Structure& s, const Damper& damper) {
   for (double l : out.free_rocking.lambda)
     if (l > 0) out.rocking_hz.push_back(std::sqrt(l) / two_pi);
   out.rocking_p = unstable_p(out.free_rocking);
-  if (damper.enabled) {
-    const Damper d = scaled_for_thickness(damper);
-    const double B = s.half_width;
-    const RockingModes pre = rocking_modes(linearise_rocking(s, sm, pre_yield_rotational_stiffness(d, B)));
-    out.damper_pre_yield_hz = pre.lambda[0] > 0 ? std::sqrt(pre.lambda[0]) / two_pi : 0.0;
+  for (int side : {0, 1}) {
+    const RockingStiffness& k = out.devices[side] = rocking_stiffness(devices, s.half_width, 2 * side - 1);
+    if (!k.any) continue;
+    const RockingModes at_rest = rocking_modes(linearise_rocking(s, sm, k.at_rest));
+    if (at_rest.lambda[0] > 0) {
+      const double hz = std::sqrt(at_rest.lambda[0]) / two_pi;
+      out.damper_pre_yield_hz = out.damper_pre_yield_hz > 0 ? std::min(out.damper_pre_yield_hz, hz) : hz;
+    }
     out.damper_post_yield_p =
-        unstable_p(rocking_modes(linearise_rocking(s, sm, post_yield_rotational_stiffness(d, B))));
+        std::max(out.damper_post_yield_p, unstable_p(rocking_modes(linearise_rocking(s, sm, k.yielded))));
   }
   out.r_eq10 = restitution_eq10(s);
   out.J_p = pivot_inertia(s);

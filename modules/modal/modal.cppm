@@ -5,19 +5,20 @@
 // generalised coordinates (u, theta): mass [[M, M H], [H'M, J_p]], stiffness
 // [[K, -g M1], [-g 1'M, -g H'M1 + k_theta]] (symmetric with the Lagrangian
 // gravity sign, MODEL.md 9.2). A negative eigenvalue -p^2 is the rocking mode
-// with frequency parameter p. k_theta = 0 (free rocking), k (2B)^2 (damper
-// pre-yield) or eps k (2B)^2 (post-yield). SI units, frequencies in Hz.
+// with frequency parameter p. k_theta = 0 (free rocking) or the devices'
+// sum_k k_k (de_k/dth)^2 at rest or yielded (rocking.devices; the paper's
+// edge damper: k (2B)^2 pre-yield, eps k (2B)^2 post-yield), about each
+// pivot. SI units, frequencies in Hz.
 module;
 #include <rocking/eigen.hpp>
+#include <array>
 #include <vector>
 export module rocking.modal;
 import rocking.geometry;
 import rocking.beam;
-import rocking.hysteresis;
+import rocking.devices;
 
 export namespace rocking {
-
-inline constexpr double gravity = 9.81;  // g [m/s^2]
 
 struct LinearisedRocking {
   Eigen::MatrixXd mass;       // (N+1) x (N+1)
@@ -49,13 +50,15 @@ struct ModalSummary {
   std::vector<double> fixed_base_hz;  // all fixed-base modes
   std::vector<double> rocking_hz;     // stable modes of free rocking
   double rocking_p = 0;               // p of free rocking [rad/s] (0 if none)
-  double damper_pre_yield_hz = 0;     // lowest mode, damper pre-yield (0: no damper)
-  double damper_post_yield_p = 0;     // p with the damper post-yield (0: stable or no damper)
+  // With the devices (the lower frequency and the larger p of the two pivots):
+  double damper_pre_yield_hz = 0;     // lowest mode, devices at rest (0: no device stiffness)
+  double damper_post_yield_p = 0;     // p with the devices yielded (0: stable or no device)
+  std::array<RockingStiffness, 2> devices;  // about pivot -1, +1
   double r_eq10 = 0, J_p = 0, H_cg = 0, alpha_cg = 0;
   ReferenceForces reference;
   Modes fixed_base;                   // shapes for the mode-shape figure
   RockingModes free_rocking;
 };
-ModalSummary modal_analysis(const Structure& s, const Damper& damper);
+ModalSummary modal_analysis(const Structure& s, const std::vector<Device>& devices);
 
 }  // namespace rocking

@@ -12,6 +12,7 @@ module;
 #include <fmt/format.h>
 module rocking.plot;
 import rocking.errors;
+import rocking.geometry;
 
 namespace rocking::plot {
 
@@ -293,8 +294,8 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
   if (ground) {  // the excitation the response answers, in g
     body += grid.panels[next++];
     body += fmt::format("  set ylabel \"ground acceleration a_g [g]\"\n"
-                        "  plot {} skip 1 using 1:($14/9.81) with lines linecolor rgb \"#555555\" notitle\n",
-                        gp_string(runs.front().history));
+                        "  plot {} skip 1 using 1:($14/{}) with lines linecolor rgb \"#555555\" notitle\n",
+                        gp_string(runs.front().history), gravity);
   }
   body += grid.panels[next++] + "  set ylabel \"total top drift {/Symbol d}_t [%]\"\n";
   body += curves("1:($6*100)", every);

@@ -1,7 +1,11 @@
 module;
 #include <rocking/eigen.hpp>
 #include <toml++/toml.h>
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdio>
+#include <optional>
 #include <filesystem>
 #include <functional>
 #include <map>
@@ -51,12 +55,22 @@ class TableReader {
     table_ = node->as_table();
     if (table_ == nullptr) fail(node, "", "must be a table");
   }
+  // One table of an array of tables, named e.g. "device[0]".
+  TableReader(const toml::table* table, std::string name, std::string file, const Origins& origins)
+      : table_name_(std::move(name)), file_(std::move(file)), origins_(origins), table_(table) {}
+
+  const toml::table& table() const { return *table_; }
 
   bool has(std::string_view key) const { return table_->get(key) != nullptr; }
 
   [[noreturn]] void fail(const toml::node* node, std::string_view key, std::string_view what) const {
     const std::string name = key.empty() ? table_name_ : fmt::format("{}.{}", table_name_, key);
-    const auto set = origins_.find(name.substr(0, name.find('[')));
+    // The --set that gave the key, the array holding it, or its whole table.
+    const auto bracket = name.rfind('['), dot = name.rfind('.');
+    auto set = origins_.find(name);
+    if (set == origins_.end() && bracket != std::string::npos && (dot == std::string::npos || bracket > dot))
+      set = origins_.find(name.substr(0, bracket));
+    if (set == origins_.end()) set = origins_.find(table_name_);
     const std::string at = set != origins_.end() ? set->second
                            : node                ? where(node->source(), file_)
                            : table_              ? where(table_->source(), file_)
@@ -99,6 +113,12 @@ class TableReader {
     return *node.value<bool>();
   }
 
+  std::string string(std::string_view key) const {
+    const toml::node& node = required(key);
+    if (!node.is_string()) fail(&node, key, "must be a string");
+    return *node.value<std::string>();
+  }
+
   std::string string_or(std::string_view key, std::string fallback) const {
     if (!has(key)) return fallback;
     const toml::node& node = required(key);
@@ -135,9 +155,15 @@ const auto non_negative = [](double v) { return v >= 0; };
 
 void check_known_keys(const toml::table& root, const std::string& file) {
   for (auto&& [table_key, node] : root) {
+    if (table_key.str() == "device") {  // read_devices checks each table's keys against its law's
+      if (!node.is_array())
+        throw InputError(fmt::format("{}: device: devices are [[device]] tables (an array of tables)",
+                                     where(table_key.source(), file)));
+      continue;
+    }
     const auto known = schema.find(table_key.str());
     if (known == schema.end())
-      throw InputError(fmt::format("{}: unknown table [{}] (known: {})", where(table_key.source(), file),
+      throw InputError(fmt::format("{}: unknown table [{}] (known: {}, [[device]])", where(table_key.source(), file),
                                    table_key.str(), fmt::join(schema | std::views::keys, ", ")));
     if (const toml::table* table = node.as_table())
       for (auto&& [key, value] : *table)
@@ -149,7 +175,71 @@ void check_known_keys(const toml::table& root, const std::string& file) {
 }
 
 // "table.key=value": the value is parsed as TOML; a bare word becomes a string.
+// The value of "key=value" as TOML (in the table returned, under "v").
+toml::table parse_override_value(const std::string& value, const std::string& origin) {
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + value, origin);
+  } catch (const toml::parse_error&) {
+    if (value.find_first_of("'\n") != std::string::npos)
+      throw InputError(fmt::format("{}: value is neither TOML nor a plain word", origin));
+    parsed = toml::parse("v = '" + value + "'", origin);
+  }
+  return parsed;
+}
+
+// The [[device]] forms of --set: device+={...} appends a device, device=[...]
+// replaces them all (device=[] removes them), device[I].KEY=VALUE sets one key
+// of device I (from 0). Returns false for any other text.
+bool apply_device_override(toml::table& root, const std::string& text, Origins& origins) {
+  if (!text.starts_with("device")) return false;
+  const std::string origin = "--set " + text;
+  const auto eq = text.find('=');
+  if (eq == std::string::npos) return false;
+  const std::string key = text.substr(0, eq), value = text.substr(eq + 1);
+  toml::array* list = root.get_as<toml::array>("device");
+  const auto ensure_list = [&] {
+    if (list == nullptr) {
+      root.insert_or_assign("device", toml::array{});
+      list = root.get_as<toml::array>("device");
+    }
+  };
+  if (key == "device+" || key == "device") {
+    const toml::table parsed = parse_override_value(value, origin);
+    const toml::node* node = parsed.get("v");
+    if (key == "device+") {
+      if (!node->is_table())
+        throw InputError(fmt::format("{}: expected one device as an inline table, e.g. device+={{kind=\"elastic\", "
+                                     "at=0, kinematics=\"vertical\", free_length=10, P0=1e6, k=1e8}}", origin));
+      ensure_list();
+      origins[fmt::format("device[{}]", list->size())] = origin;
+      list->push_back(*node->as_table());
+      return true;
+    }
+    if (!node->is_array() || !(node->as_array()->empty() || node->as_array()->is_array_of_tables()))
+      throw InputError(fmt::format("{}: expected an array of inline tables (device=[] removes every device)", origin));
+    root.insert_or_assign("device", *node->as_array());
+    for (std::size_t i = 0; i < node->as_array()->size(); ++i) origins[fmt::format("device[{}]", i)] = origin;
+    return true;
+  }
+  std::size_t index = 0, leaf_at = 0;
+  if (std::sscanf(key.c_str(), "device[%zu].%zn", &index, &leaf_at) != 1 || leaf_at == 0 || leaf_at >= key.size())
+    return false;
+  const std::string leaf = key.substr(leaf_at);
+  if (leaf.find_first_of(".[") != std::string::npos) return false;
+  const std::size_t count = list == nullptr ? 0 : list->size();
+  if (index >= count)
+    throw InputError(fmt::format("{}: no device [{}]: the scene has {} device table{} (device+={{...}} adds one)",
+                                 origin, index, count, count == 1 ? "" : "s"));
+  toml::table* table = list->get_as<toml::table>(index);
+  if (table == nullptr) throw InputError(fmt::format("{}: device[{}] is not a table", origin, index));
+  table->insert_or_assign(leaf, *parse_override_value(value, origin).get("v"));
+  origins[key] = origin;
+  return true;
+}
+
 void apply_override(toml::table& root, const std::string& text, Origins& origins) {
+  if (apply_device_override(root, text, origins)) return;
   const auto eq = text.find('=');
   const std::string key = eq == std::string::npos ? "" : text.substr(0, eq);
   const std::string value = eq == std::string::npos ? "" : text.substr(eq + 1);
@@ -162,14 +252,7 @@ void apply_override(toml::table& root, const std::string& text, Origins& origins
   if (known == schema.end() || !known->second.contains(leaf))
     throw InputError(fmt::format("--set {}: unknown key '{}'", text, key));
   const std::string origin = "--set " + text;
-  toml::table parsed;
-  try {
-    parsed = toml::parse("v = " + value, origin);
-  } catch (const toml::parse_error&) {
-    if (value.find_first_of("'\n") != std::string::npos)
-      throw InputError(fmt::format("{}: value is neither TOML nor a plain word", origin));
-    parsed = toml::parse("v = '" + value + "'", origin);
-  }
+  const toml::table parsed = parse_override_value(value, origin);
   if (!root.contains(table_name)) root.insert(table_name, toml::table{});
   toml::table* table = root.get_as<toml::table>(table_name);
   if (table == nullptr) throw InputError(fmt::format("{}: [{}] is not a table", origin, table_name));
@@ -248,6 +331,82 @@ Damper read_damper(const toml::table& root, const std::string& file, const Origi
   d.thickness = t.number_or("thickness", 1.0, positive, "positive");
   if (!(d.alpha + d.beta > 0)) t.fail(nullptr, "beta", "alpha + beta must be positive (bounded hysteresis)");
   return d;
+}
+
+// [[device]] tables (MODEL.md 11): kind (a law of rocking.devices), at (x
+// [m] from the centre line, or "edges" for one device at each edge, named
+// NAME_left and NAME_right), kinematics (chord, or vertical with free_length
+// [m]), capacity [m] (optional), name (optional), and the law's own keys.
+std::vector<Device> read_devices(const toml::table& root, const std::string& file, const Origins& origins,
+                                 const Structure& st, const Damper& damper) {
+  std::vector<Device> out;
+  const toml::array* list = root.get_as<toml::array>("device");
+  if (list == nullptr) return out;
+  const std::vector<LawInfo> laws = device_laws();
+  std::set<std::string, std::less<>> names;
+  if (damper.enabled)
+    for (const Device& d : edge_dampers(damper, st.half_width)) names.insert(d.name);
+  const double B = st.half_width;
+  for (std::size_t i = 0; i < list->size(); ++i) {
+    const std::string table_name = fmt::format("device[{}]", i);
+    const toml::table* table = list->get_as<toml::table>(i);
+    if (table == nullptr)
+      throw InputError(fmt::format("{}: {}: must be a table", where(list->get(i)->source(), file), table_name));
+    const TableReader t(table, table_name, file, origins);
+    const std::string kind = t.string("kind");
+    const auto law = std::ranges::find(laws, kind, &LawInfo::name);
+    if (law == laws.end())
+      t.fail(&t.required("kind"), "kind",
+             fmt::format("unknown law '{}' (laws: {})", kind, fmt::join(laws | std::views::transform(&LawInfo::name), ", ")));
+    std::set<std::string, std::less<>> known = {"name", "kind", "at", "kinematics", "free_length", "capacity"};
+    for (const LawParameter& p : law->parameters) known.insert(p.key);
+    for (auto&& [key, value] : *table)
+      if (!known.contains(key.str()))
+        t.fail(&value, key.str(), fmt::format("unknown key for a {} device (known: {})", kind, fmt::join(known, ", ")));
+
+    const std::string name = t.string_or("name", fmt::format("{}_{}", kind, i + 1));
+    const bool plain = !name.empty() && std::ranges::all_of(name, [](char c) {
+      return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '-';
+    });
+    if (!plain) t.fail(&t.required("name"), "name", "must be letters, digits, _ or - (it names output columns)");
+    DeviceGeometry geometry;
+    const std::string kinematics = t.string_or("kinematics", "chord");
+    if (kinematics == "vertical") {
+      geometry.kinematics = Kinematics::vertical;
+      geometry.free_length = t.number("free_length", in_range(0, max_length, false),
+                                      fmt::format("positive and at most {:g} m", max_length));
+    } else if (kinematics == "chord") {
+      if (t.has("free_length")) t.fail(&t.required("free_length"), "free_length", "only a vertical device has a free length");
+    } else {
+      t.fail(&t.required("kinematics"), "kinematics", fmt::format("must be chord or vertical (got '{}')", kinematics));
+    }
+    const double capacity = t.number_or("capacity", 0.0, positive, "positive [m] (leave it out: never breaks)");
+    const DeviceLaw device_law = make_law(kind, [&](std::string_view key) -> std::optional<double> {
+      if (!t.has(key)) return std::nullopt;
+      const LawParameter& p = *std::ranges::find(law->parameters, key, &LawParameter::key);
+      return t.number(key, [&p](double v) { return p.minimum_exclusive ? v > p.minimum : v >= p.minimum; },
+                      fmt::format("{} {:g} [{}]", p.minimum_exclusive ? ">" : ">=", p.minimum, p.unit));
+    });
+    std::vector<Device> made;
+    const toml::node& at = t.required("at");
+    if (at.is_string()) {
+      if (t.string("at") != "edges") t.fail(&at, "at", "must be x [m] from the centre line, or \"edges\"");
+      made.push_back({name + "_left", geometry, device_law, capacity});
+      made.back().geometry.x = -B;
+      made.push_back({name + "_right", geometry, device_law, capacity});
+      made.back().geometry.x = B;
+    } else {
+      geometry.x = t.number("at", [B](double x) { return std::abs(x) <= B; },
+                            fmt::format("on the base, -B <= x <= B = {:g} [m]", B));
+      made.push_back({name, geometry, device_law, capacity});
+    }
+    for (Device& d : made) {
+      if (!names.insert(d.name).second)
+        t.fail(t.has("name") ? &t.required("name") : nullptr, "name", fmt::format("'{}' names two devices", d.name));
+      out.push_back(std::move(d));
+    }
+  }
+  return out;
 }
 
 // [excitation]: either record = "file" (+ units, dt, scale) or a pulse.
@@ -337,6 +496,7 @@ Scene read_scene(toml::table root, const std::string& file, const std::vector<st
   scene.structure = read_structure(root, file, origins);
   scene.contact = read_contact(root, file, origins);
   scene.damper = read_damper(root, file, origins);
+  scene.devices = read_devices(root, file, origins, scene.structure, scene.damper);
   scene.excitation = read_excitation(root, file, origins);
   scene.initial = read_initial(root, file, origins, scene.structure, scene.contact);
   if (scene.structure.rigid && !scene.contact.rocking)
@@ -370,6 +530,19 @@ Scene load_default_scene(const std::vector<std::string>& overrides) {
   } catch (const toml::parse_error& e) {
     throw InputError(parse_error_line(e, name));
   }
+}
+
+std::vector<Device> scene_devices(const Scene& scene) {
+  std::vector<Device> all;
+  if (scene.damper.enabled) all = edge_dampers(scene.damper, scene.structure.half_width);
+  all.insert(all.end(), scene.devices.begin(), scene.devices.end());
+  return all;
+}
+
+ContactModel make_contact_model(const Scene& scene, bool track_energy, std::vector<Device> extra) {
+  std::vector<Device> devices = scene_devices(scene);
+  for (Device& d : extra) devices.push_back(std::move(d));
+  return make_contact_model(scene.structure, scene.contact, std::move(devices), track_energy);
 }
 
 GroundMotion default_ground_motion(const Scene& scene) {

@@ -1,12 +1,16 @@
 // rocking.scene: what a scene file says, read from TOML (toml++) into the plain
 // constant data the physics modules take. A scene names the structure
 // ([structure]: geometry, masses, sections, damping), how it meets the ground
-// ([contact]), its dampers ([damper]) and its default excitation ([excitation]:
+// ([contact]), the paper's dampers ([damper]), any other devices at the
+// rocking interface ([[device]] tables: kind = a law of rocking.devices, at =
+// x [m] or "edges", kinematics, free_length, capacity, name, and the law's
+// keys) and its default excitation ([excitation]:
 // an analytic pulse, a record file, or none) and its initial state
 // ([initial]: a release from a tilt, initial velocities and displacements);
 // see data/scenes/*.toml for the keys,
 // which are SI throughout. Any key can be overridden with `--set table.key=value`
-// (the value is read as TOML, or as a bare string such as eq10).
+// (the value is read as TOML, or as a bare string such as eq10); devices with
+// `--set device+={...}` (add one), `--set device[I].key=value`, `--set device=[]`.
 // Every error is an InputError of one line: where (file:line, or the --set
 // text), which key, what is wrong.
 module;
@@ -17,21 +21,11 @@ module;
 export module rocking.scene;
 export import rocking.geometry;
 export import rocking.hysteresis;
+export import rocking.devices;
+export import rocking.contact;
 export import rocking.ground_motion;
 
 export namespace rocking {
-
-// How the rocking velocity after an impact follows from the one before
-// (MODEL.md 6): a constant r, Eq. 10 from the geometry, or Eq. 9 per impact.
-enum class RestitutionRule { constant, eq10, eq9 };
-
-struct Contact {
-  bool rocking = true;                       // false: fixed base
-  RestitutionRule restitution_rule = RestitutionRule::eq10;
-  double restitution = 0;                    // r when the rule is constant
-  double theta_dot_min = 0.0015;             // Eq. 8 threshold [rad/s]
-  double overturn_angle = 0;                 // |theta| that ends a run [rad]; 0: alpha_cg
-};
 
 // The ground motion a scene runs under when no record is given on the command
 // line: a record file (path relative to the scene file), an analytic pulse,
@@ -63,9 +57,18 @@ struct Scene {
   Structure structure;
   Contact contact;
   Damper damper;       // damper.enabled = false when the scene has none
+  std::vector<Device> devices;  // the [[device]] tables, in order
   Excitation excitation;
   Initial initial;
 };
+
+// Every device of the scene: the [damper]'s two (edge_dampers) then the
+// [[device]] tables'.
+std::vector<Device> scene_devices(const Scene& scene);
+
+// The model the scene describes (rocking.contact), with energy accumulators
+// when asked; `extra` devices act after the scene's own.
+ContactModel make_contact_model(const Scene& scene, bool track_energy, std::vector<Device> extra = {});
 
 // The scene's excitation as a ground motion (reads the record if it names one).
 // InputError if the scene has none.

@@ -82,7 +82,10 @@ class Driver {
       // guards and peaks sampled 8 times in the shortest natural period.
       exact.sample_spacing = tolerances.sample_spacing;
       exact.max_steps = tolerances.max_steps;
-      exact_ = ode::make_exact_linear(full_contact_system(m, [this](double t) { return ground_.acceleration(t); }), exact);
+      LinearPhase phase = full_contact_matrices(m);
+      ode::LinearSystem system{m.layout.size, phase.first, std::move(phase.A), std::move(phase.b),
+                               [this](double t) { return ground_.acceleration(t); }};
+      exact_ = ode::make_exact_linear(std::move(system), exact);
       exact_->set_breakpoints(next_sample);
     }
     integrator_->set_breakpoints(next_sample);
@@ -154,7 +157,8 @@ class Driver {
 
   void restart(double t) {
     ode::Guards guards;
-    guards.directions = guard_directions(m_, d_.pivot);
+    for (Crossing c : guard_directions(m_, d_.pivot))
+      guards.directions.push_back(c == Crossing::rising ? ode::Direction::rising : ode::Direction::falling);
     if (!guards.directions.empty())
       guards.fn = [this, with_a_g = guards_use_ground_acceleration(m_, d_.pivot)](
                       double tg, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> g) {
