@@ -269,3 +269,20 @@ TEST_CASE("animate to MP4 when ffmpeg is installed, and a one-line error naming 
   CHECK(file_text(dir / "probe.txt").starts_with("400,300,10"));
   CHECK_FALSE(fs::exists(dir / "v.frames"));  // the PNG frames are cleaned up
 }
+
+TEST_CASE("plot response with a tendon and dampers draws each device's loop and the devices' moment against theta") {
+  const fs::path dir = scratch_dir("plot_test_devices");
+  const Result r = run(R"(plot response --variants scene --formats png --out )" + dir.string() +
+                       R"( --set 'device+={name="tendon", kind="elastic", at=0, kinematics="vertical", free_length=33, P0=2e6, k=5e7}')");
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const std::string script = file_text(dir / "response.gp");
+  CHECK(script.find("device force F [kN]") != std::string::npos);
+  CHECK(script.find("\"tendon\"") != std::string::npos);
+  CHECK(script.find("\"damper_left\"") != std::string::npos);
+  CHECK(script.find("using 4:($15/1e6)") != std::string::npos);  // M_dev against theta
+  CHECK(fs::file_size(dir / "response.png") > 1000);
+  // Without other devices the figure keeps the paper's one signed damper loop.
+  const Result plain = run("plot response --variants scene --formats png --out " + (dir / "plain").string());
+  REQUIRE(plain.code == 0);
+  CHECK(file_text(dir / "plain" / "response.gp").find("device force F") == std::string::npos);
+}

@@ -137,3 +137,31 @@ TEST_CASE("tradeoff refuses an unknown backend in one line, before any run") {
   CHECK(r.err.find("--backends euler+exact") != std::string::npos);
   CHECK(r.out.find("reference") == std::string::npos);  // no reference run was made
 }
+
+TEST_CASE("simulate with devices: each device's columns in history.csv, its peaks, work and fracture in summary.json") {
+  const fs::path dir = scratch_dir("simulate_test_devices");
+  const Result r = run(
+      R"(simulate --json --out )" + dir.string() +
+      R"( --set 'device+={name="tendon", kind="elastic", at=0, kinematics="vertical", free_length=33, P0=2e6, k=5e7, capacity=0.005}')");
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const auto j = nlohmann::json::parse(r.out);
+  REQUIRE(j["devices"].size() == 3);
+  const auto& tendon = j["devices"][2];
+  CHECK(tendon["name"] == "tendon");
+  CHECK(tendon["fracture_s"].is_number());
+  CHECK(j["devices"][0]["name"] == "damper_left");
+  CHECK(j["devices"][0]["fracture_s"].is_null());
+  CHECK(tendon["peak_force_N"].get<double>() == doctest::Approx(2e6 + 5e7 * 0.005).epsilon(1e-8));
+  // At the default rtol 1e-4: the energy it stored when it broke.
+  CHECK(tendon["work_J"].get<double>() == doctest::Approx(2e6 * 0.005 + 0.5 * 5e7 * 0.005 * 0.005).epsilon(1e-4));
+  CHECK(tendon["peak_elongation_m"].get<double>() == doctest::Approx(0.005).epsilon(1e-9));
+  const std::string history = file_text(dir / "history.csv");
+  const std::string header = history.substr(0, history.find('\n'));
+  CHECK(header.ends_with("a_g [m/s2],M_dev [N m],damper_left e [m],damper_left F [N],damper_right e [m],"
+                         "damper_right F [N],tendon e [m],tendon F [N]"));
+  CHECK(r.out.find("broke") == std::string::npos);  // --json prints the JSON alone
+  const Result text = run(R"(simulate --out )" + dir.string() +
+                          R"( --set 'device+={name="tendon", kind="elastic", at=0, kinematics="vertical", free_length=33, P0=2e6, k=5e7, capacity=0.005}')");
+  CHECK(text.out.find("device        tendon: e 0.005") != std::string::npos);
+  CHECK(text.out.find("broke at t = ") != std::string::npos);
+}

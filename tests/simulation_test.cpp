@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 #include "housner.hpp"
+#include "records.hpp"
 import rocking.simulation;
 import rocking.scene;
 
@@ -33,6 +34,15 @@ RunOptions tight(double duration, double theta0 = 0) {
   o.duration = duration;
   o.initial.theta = theta0;
   return o;
+}
+
+// --set text adding a central vertical tendon (P0 + k e) over the chimney's
+// height, breaking at e_u (0: never).
+std::string fmt_tendon(double P0, double k, double e_u) {
+  std::string text = "device+={name=\"tendon\", kind=\"elastic\", at=0, kinematics=\"vertical\", free_length=33, P0=" +
+                     std::to_string(P0) + ", k=" + std::to_string(k);
+  if (e_u > 0) text += ", capacity=" + std::to_string(e_u);
+  return text + "}";
 }
 
 // Keeps every response it is given.
@@ -239,5 +249,96 @@ TEST_CASE("a tendon with no prestress and no stiffness, or a dashpot with c = 0,
     CHECK(with.counts.impacts == bare.counts.impacts);
     CHECK(with.peak(Quantity::theta) == bare.peak(Quantity::theta));
     CHECK(with.peak(Quantity::base_moment) == bare.peak(Quantity::base_moment));
+  }
+}
+
+namespace {
+// Keeps every response with the devices' samples of the same instant.
+struct DeviceRecorder : Observer {
+  std::vector<Response> rows;
+  std::vector<std::vector<DeviceSample>> samples;
+  std::vector<DeviceSample> pending;
+  void devices(const std::vector<DeviceSample>& s) override { pending = s; }
+  void record(const Response& r) override {
+    rows.push_back(r);
+    samples.push_back(pending);
+  }
+};
+}  // namespace
+
+TEST_CASE("a device reaching its capacity fractures once, at a located event, and exerts nothing after") {
+  // The chimney with a central tendon (P0 + k e) that breaks at e_u = 5 mm.
+  const double P0 = 2e6, k = 5e7, e_u = 0.005;
+  const Scene scene = chimney({fmt_tendon(P0, k, e_u)});
+  const ContactModel m = make_contact_model(scene, true);
+  REQUIRE(m.devices.size() == 3);
+  DeviceRecorder rec;
+  RunOptions o = tight(4.0);
+  o.tolerances.rtol = 1e-10;
+  const RunResult r = simulate(m, default_ground_motion(scene), o, &rec);
+  REQUIRE(r.outcome == Outcome::completed);
+  const DeviceResult& tendon = r.devices[2];
+  CHECK(tendon.name == "tendon");
+  REQUIRE(std::isfinite(tendon.fracture_time));
+  CHECK(!std::isfinite(r.devices[0].fracture_time));  // the dampers have no capacity
+  // The row at the event: the elongation equals the capacity (to the event
+  // location's accuracy), and the force is already zero.
+  bool found = false;
+  for (std::size_t i = 0; i < rec.rows.size(); ++i) {
+    if (rec.rows[i].t < tendon.fracture_time) {
+      CHECK(rec.samples[i][2].e <= e_u * (1 + 1e-9));
+      continue;
+    }
+    CHECK(rec.samples[i][2].F == 0.0);
+    if (rec.rows[i].t == tendon.fracture_time && !found) {
+      found = true;
+      CHECK(rec.samples[i][2].e == doctest::Approx(e_u).epsilon(1e-9));
+    }
+  }
+  CHECK(found);
+  // The largest force it carried is the one at fracture; the work done on it,
+  // all lost when it broke, is the energy it stored there: P0 e_u + k e_u^2 / 2.
+  CHECK(tendon.peak_force == doctest::Approx(P0 + k * e_u).epsilon(1e-8));
+  CHECK(tendon.peak_elongation == doctest::Approx(e_u).epsilon(1e-9));
+  CHECK(tendon.work == doctest::Approx(P0 * e_u + 0.5 * k * e_u * e_u).epsilon(1e-6));
+  // The balance still closes: the work on the devices includes the tendon's.
+  CHECK(std::abs(r.energy.residual()) < 1e-6 * r.energy.ground);
+}
+
+TEST_CASE("the energy balance closes to 1e-6 of the input for every device law, alone and together, under a record") {
+  const auto dir = records_dir();
+  if (!dir) return;
+  RecordOptions ro;
+  ro.scale = 3.0;  // El Centro NS at about 1 g: the chimney rocks and the devices work
+  const GroundMotion elcentro = read_record(*dir + "/elcentro_1940_ns.at2", ro);
+  const std::string bouc_wen = R"(device+={name="plates", kind="bouc-wen", at="edges", k=1e7, eps=0.06, d_y=0.0185, alpha=1, beta=0})";
+  const std::string tendon = fmt_tendon(2e6, 5e7, 0);
+  const std::string dashpot = R"(device+={name="dashpot", kind="viscous", at="edges", c=2e6, a=1})";
+  const std::string fluid = R"(device+={name="fluid", kind="viscous", at="edges", c=3e5, a=0.3})";
+  struct Case {
+    const char* what;
+    std::vector<std::string> sets;
+  };
+  for (const Case& c : {Case{"bouc-wen", {bouc_wen}}, Case{"elastic with prestress", {tendon}},
+                        Case{"viscous, a = 1", {dashpot}}, Case{"viscous, a = 0.3", {fluid}},
+                        Case{"all together", {bouc_wen, tendon, dashpot, fluid}}}) {
+    CAPTURE(c.what);
+    std::vector<std::string> sets{"damper.enabled=false"};
+    sets.insert(sets.end(), c.sets.begin(), c.sets.end());
+    const ContactModel m = make_contact_model(chimney(sets), true);
+    RunOptions o = tight(12.0);
+    o.tolerances.rtol = 1e-10;
+    const RunResult r = simulate(m, elcentro, o);
+    REQUIRE(r.outcome == Outcome::completed);
+    CHECK(r.counts.uplifts >= 2);
+    double work = 0;
+    for (const DeviceResult& d : r.devices) {
+      CAPTURE(d.name);
+      CHECK(d.peak_elongation > 0);  // every device was stretched
+      work += d.work;
+    }
+    CHECK(work == doctest::Approx(r.energy.damper).epsilon(1e-9));  // the devices' works add up to the total
+    CHECK(std::abs(r.energy.damper) > 1e-3 * r.energy.ground);       // and the devices matter
+    CHECK(std::abs(r.energy.residual()) < 1e-6 * r.energy.ground);
   }
 }

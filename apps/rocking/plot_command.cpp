@@ -106,7 +106,7 @@ int response(const ResponseArgs& a) {
       ro.output_interval = 0.005;
       const ContactModel model = make_contact_model(scene, false);
       const fs::path csv = data_dir / (key + ".csv");
-      HistoryCsv history(csv, motion);
+      HistoryCsv history(csv, motion, model.devices);
       const RunResult r = simulate(model, motion, ro, &history);
       history.close();
       if (r.outcome == Outcome::failed) throw RunError(fmt::format("variant {}: {}", key, r.failure));

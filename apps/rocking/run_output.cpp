@@ -12,12 +12,15 @@
 
 namespace rocking::app {
 
-HistoryCsv::HistoryCsv(const std::filesystem::path& file, const GroundMotion& motion)
-    : path_(file.string()), motion_(motion) {
+HistoryCsv::HistoryCsv(const std::filesystem::path& file, const GroundMotion& motion, const std::vector<Device>& devices)
+    : path_(file.string()), motion_(motion), devices_(devices.size()) {
   file_ = std::fopen(path_.c_str(), "w");
   if (file_ == nullptr) throw InputError(fmt::format("{}: cannot write: {}", path_, std::strerror(errno)));
   std::fputs("t [s],phase,u_N [m],theta [rad],theta/alpha_cg [-],delta_t [-],delta_e [-],d [m],F_hd [N],"
-             "base_shear [V_ref],base_moment [M_ref],mid_shear [V_ref],mid_moment [M_ref],a_g [m/s2]\n", file_);
+             "base_shear [V_ref],base_moment [M_ref],mid_shear [V_ref],mid_moment [M_ref],a_g [m/s2]", file_);
+  if (!devices.empty()) std::fputs(",M_dev [N m]", file_);
+  for (const Device& d : devices) fmt::print(file_, ",{0} e [m],{0} F [N]", d.name);
+  std::fputs("\n", file_);
 }
 
 HistoryCsv::~HistoryCsv() {
@@ -37,10 +40,17 @@ void HistoryCsv::record(const Response& r) {
 
 void HistoryCsv::print_row(const Response& r) {
   using Q = Quantity;
-  fmt::print(file_, "{:.9g},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}\n", r.t,
+  fmt::print(file_, "{:.9g},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}", r.t,
              r.pivot == 0 ? "contact" : r.pivot > 0 ? "rock+" : "rock-", r.u_top, r[Q::theta], r[Q::theta_over_alpha],
              r[Q::delta_t], r[Q::delta_e], r[Q::damper_d], r[Q::damper_F], r[Q::base_shear], r[Q::base_moment],
              r[Q::mid_shear], r[Q::mid_moment], motion_.acceleration(r.t));
+  if (!devices_.empty()) {
+    double moment = 0;
+    for (const DeviceSample& d : devices_) moment += d.moment;
+    fmt::print(file_, ",{:.9g}", moment);
+    for (const DeviceSample& d : devices_) fmt::print(file_, ",{:.9g},{:.9g}", d.e, d.F);
+  }
+  std::fputs("\n", file_);
 }
 
 void HistoryCsv::close() {
@@ -68,7 +78,7 @@ nlohmann::json summary_json(const RunLabel& label, const RunResult& r) {
                         ((q == Quantity::damper_d || q == Quantity::damper_F) && !r.has_damper);
     peaks[std::string(quantity_name(q))] = absent ? json(nullptr) : json(r.peaks[i]);
   }
-  auto time_or_null = [](double t) { return std::isfinite(t) ? json(t) : json(nullptr); };
+  auto finite_or_null = [](double t) { return std::isfinite(t) ? json(t) : json(nullptr); };
   json out = {
       {"scene", label.scene},
       {"scene_source", label.scene_source},
@@ -82,8 +92,8 @@ nlohmann::json summary_json(const RunLabel& label, const RunResult& r) {
       {"peaks", peaks},
       {"top_total_mm", r.top_total_mm},
       {"counts", {{"uplifts", r.counts.uplifts}, {"impacts", r.counts.impacts}}},
-      {"first_uplift_s", time_or_null(r.first_uplift)},
-      {"first_impact_s", time_or_null(r.first_impact)},
+      {"first_uplift_s", finite_or_null(r.first_uplift)},
+      {"first_impact_s", finite_or_null(r.first_impact)},
       {"outcome", std::string(outcome_name(r.outcome))},
       {"t_end", r.t_end},
       {"stats", {{"rhs", r.stats.rhs}, {"steps", r.stats.steps}, {"rejected", r.stats.rejected},
@@ -91,6 +101,14 @@ nlohmann::json summary_json(const RunLabel& label, const RunResult& r) {
       {"wall_s", r.wall_s},
   };
   if (r.outcome == Outcome::failed) out["failure"] = r.failure;
+  json devices = json::array();
+  for (const DeviceResult& d : r.devices)
+    devices.push_back({{"name", d.name},
+                       {"peak_elongation_m", d.peak_elongation},
+                       {"peak_force_N", d.peak_force},
+                       {"work_J", finite_or_null(d.work)},
+                       {"fracture_s", finite_or_null(d.fracture_time)}});
+  out["devices"] = devices;
   if (r.energy_tracked) {
     const EnergyBalance& e = r.energy;
     out["energy_J"] = {{"initial", e.initial}, {"final", e.final}, {"ground_input", e.ground},

@@ -8,19 +8,24 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <vector>
 import rocking;
 
 namespace rocking::app {
 
 // Streams every Response to DIR/history.csv (header row with units), with the
-// ground acceleration it answers in the last column.
+// ground acceleration it answers in column 14; with devices, then the moment
+// they exert together (M_dev, signed as theta) and each device's elongation
+// and force, named by the device.
 class HistoryCsv : public rocking::Observer {
  public:
-  HistoryCsv(const std::filesystem::path& file, const rocking::GroundMotion& motion);
+  HistoryCsv(const std::filesystem::path& file, const rocking::GroundMotion& motion,
+             const std::vector<rocking::Device>& devices = {});
   ~HistoryCsv() override;
   HistoryCsv(const HistoryCsv&) = delete;
   HistoryCsv& operator=(const HistoryCsv&) = delete;
   void record(const rocking::Response& r) override;
+  void devices(const std::vector<rocking::DeviceSample>& samples) override { devices_ = samples; }
   void close();  // flushes; InputError-free, RunError if the disk refused
 
  private:
@@ -28,6 +33,7 @@ class HistoryCsv : public rocking::Observer {
   std::FILE* file_ = nullptr;
   std::string path_;
   const rocking::GroundMotion& motion_;
+  std::vector<rocking::DeviceSample> devices_;
 };
 
 // Creates DIR (and parents) or fails with a one-line InputError.

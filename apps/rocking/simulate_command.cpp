@@ -36,6 +36,13 @@ void print_text(const nlohmann::json& s) {
   fmt::print("  rocking angle {} rad = {} alpha_cg\n", num(p["theta"]), num(p["theta_over_alpha"]));
   if (p["damper_d"].is_null()) fmt::print("  damper        -\n");
   else fmt::print("  damper        d {} m, F {} N\n", num(p["damper_d"]), num(p["damper_F"]));
+  for (const auto& d : s["devices"]) {
+    const std::string broke =
+        d["fracture_s"].is_null() ? "" : fmt::format(", broke at t = {:.4f} s", d["fracture_s"].get<double>());
+    const std::string work = d["work_J"].is_null() ? "" : fmt::format(", work {:.4g} J", d["work_J"].get<double>());
+    fmt::print("  device        {}: e {:.4g} m, F {:.4g} N{}{}\n", d["name"].get<std::string>(),
+               d["peak_elongation_m"].get<double>(), d["peak_force_N"].get<double>(), work, broke);
+  }
   fmt::print("  base          V/V_ref {}, M/M_ref {}\n", num(p["base_shear"]), num(p["base_moment"]));
   fmt::print("  mid-height    V/V_ref {}, M/M_ref {}\n", num(p["mid_shear"]), num(p["mid_moment"]));
   fmt::print("  contacts      {}, {}\n", count(s["counts"]["uplifts"].get<long>(), "uplift"),
@@ -61,7 +68,7 @@ int run(const SimulateOptions& o) {
   ro.stop = [] { return stop_signal() != 0; };
   const std::filesystem::path dir(o.out);
   make_output_dir(dir);
-  HistoryCsv history(dir / "history.csv", motion);
+  HistoryCsv history(dir / "history.csv", motion, model.devices);
   const ScaleFactors scale = motion_scale(scene, o.motion);
   spdlog::info("simulating '{}' under {} ({}) with {}", scene.name, motion.name(), scale.describe(), o.solver.integrator);
   const RunResult result = simulate(model, motion, ro, &history);

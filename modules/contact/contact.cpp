@@ -13,7 +13,7 @@ namespace rocking {
 
 namespace {
 
-Layout make_layout(ModelKind kind, Eigen::Index n, Eigen::Index z_count, bool energy) {
+Layout make_layout(ModelKind kind, Eigen::Index n, Eigen::Index z_count, Eigen::Index devices, bool energy) {
   Layout l;
   Eigen::Index next = 0;
   if (kind != ModelKind::rigid_block) {
@@ -33,7 +33,8 @@ Layout make_layout(ModelKind kind, Eigen::Index n, Eigen::Index z_count, bool en
   }
   if (energy) {
     l.energy = next;
-    next += 3;
+    l.energy_count = 3 + devices;
+    next += l.energy_count;
   }
   l.size = next;
   return l;
@@ -95,7 +96,8 @@ double uplift_guard(const ContactModel& m, const Discrete& d, int s, const Uplif
   const double B = st.half_width;
   // The devices' forces at rest about their lever arms (a tendon's prestress, a damper's stored force).
   double held = 0;
-  for (const ContactModel::Acting& a : m.acting[side(s)]) held += law_force_at_rest(a.law, d.z[a.device]) * a.lever;
+  for (const ContactModel::Acting& a : m.acting[side(s)])
+    if (!d.is_broken(a.device)) held += law_force_at_rest(a.law, d.z[a.device]) * a.lever;
   const double restoring = m.body.g * (B * m.body.total_mass - s * t.Mu);
   const double gs = s * t.moment - (restoring + held);
   if (m.layout.u < 0) return gs;
@@ -142,6 +144,9 @@ ContactModel make_contact_model(const Structure& st, const Contact& contact, std
   m.has_damper = !m.devices.empty();
   if (m.devices.size() > static_cast<std::size_t>(max_device_states))
     throw InputError(fmt::format("{} devices: at most {}", m.devices.size(), max_device_states));
+  for (const Device& dev : m.devices)
+    if (!(dev.capacity >= 0) || !std::isfinite(dev.capacity))
+      throw InputError(fmt::format("device {}: capacity {} m: must be positive (0: never breaks)", dev.name, dev.capacity));
   m.contact = contact;
   m.r_eq10 = restitution_eq10(st);
   m.overturn_angle = contact.overturn_angle > 0 ? contact.overturn_angle : slenderness(st);
@@ -150,11 +155,17 @@ ContactModel make_contact_model(const Structure& st, const Contact& contact, std
     for (std::size_t k = 0; k < m.devices.size(); ++k) {
       const Device& dev = m.devices[k];
       const double lever = lever_arm(dev.geometry, st.half_width, s);
-      if (lever > 0)
-        m.acting[side(s)].push_back(
-            {static_cast<int>(k), law_states(dev.law) > 0 ? states[side(s)]++ : -1, lever, dev.geometry, dev.law});
+      if (!(lever > 0)) continue;
+      if (dev.capacity > 0) m.breakable[side(s)].push_back(static_cast<int>(m.acting[side(s)].size()));
+      m.acting[side(s)].push_back({static_cast<int>(k), law_states(dev.law) > 0 ? states[side(s)]++ : -1, lever,
+                                   dev.geometry, dev.law, dev.capacity});
     }
-  m.layout = make_layout(m.kind, node_count(st), std::max(states[0], states[1]), track_energy);
+  // The work on each device needs its own accumulator only where a pivot
+  // stretches several; with one at most, the total's increase over a rocking
+  // phase is that device's (the driver splits it), and the state stays as small.
+  const bool split = m.acting[0].size() > 1 || m.acting[1].size() > 1;
+  m.layout = make_layout(m.kind, node_count(st), std::max(states[0], states[1]),
+                         split ? static_cast<Eigen::Index>(m.devices.size()) : 0, track_energy);
   for (int s : {-1, +1}) {
     for (ContactModel::Acting& a : m.acting[side(s)])
       if (a.slot >= 0) a.slot += m.layout.z;
@@ -198,6 +209,7 @@ DamperState active_damper(const ContactModel& m, const Discrete& d, const Tilt& 
   if (d.pivot == 0 || m.acting[side(d.pivot)].empty()) return {};
   const ContactModel::Acting& a = m.acting[side(d.pivot)].front();
   const Stretch st = stretch(a.geometry, m.body.structure.half_width, d.pivot, tilt);
+  if (d.is_broken(a.device)) return {st.e, 0.0};
   const double e_dot = st.de_dtheta * d.pivot * (m.layout.theta_dot < 0 ? 0.0 : y[m.layout.theta_dot]);
   return {st.e, law_force(a.law, st.e, e_dot, a.slot >= 0 ? y[a.slot] : 0.0)};
 }
@@ -215,7 +227,13 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<
   if (s != 0) {
     if (m.idle_slots[side(s)])  // a slot this pivot leaves unused rests
       for (Eigen::Index k = 0; k < l.z_count; ++k) dydt[l.z + k] = 0.0;
+    const bool split_work = l.energy_count > 3;
+    if (split_work) dydt.segment(l.energy + 3, l.energy_count - 3).setZero();
     for (const ContactModel::Acting& a : m.acting[side(s)]) {
+      if (d.broken != 0 && d.is_broken(a.device)) {
+        if (a.slot >= 0) dydt[a.slot] = 0.0;
+        continue;
+      }
       const bool chord = a.geometry.kinematics == Kinematics::chord;
       const Stretch st = stretch(a.geometry, B, s, tilt);
       const double e_dot = st.de_dtheta * s * thd;
@@ -224,6 +242,7 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<
       device_moment += chord ? F * a.lever * tilt.cos_half : F * st.de_dtheta;
       if (a.slot >= 0) dydt[a.slot] = law_rate(a.law, st.e, e_dot, z);
       damper_power += F * e_dot;
+      if (split_work) dydt[l.energy + 3 + a.device] = F * e_dot;
     }
   }
   if (s != 0) {
@@ -237,7 +256,7 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<
     }
 
   } else {
-    if (l.theta >= 0) dydt.segment(l.theta, l.size - l.theta).setZero();  // theta, theta', z rest
+    if (l.theta >= 0) dydt.segment(l.theta, l.size - l.theta).setZero();  // theta, theta', z, device work rest
     if (l.u >= 0) {
       dydt.segment(l.u, l.n) = y.segment(l.u_dot, l.n);
       full_contact_acceleration(m.body, a_g, y.segment(l.u, l.n), y.segment(l.u_dot, l.n),
@@ -266,12 +285,16 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<
 std::vector<Crossing> guard_directions(const ContactModel& m, int pivot) {
   if (m.kind == ModelKind::fixed_base) return {};
   if (pivot == 0) return {Crossing::rising, Crossing::rising};
-  return {Crossing::falling, Crossing::rising};
+  std::vector<Crossing> out{Crossing::falling, Crossing::rising};
+  out.resize(2 + m.breakable[side(pivot)].size(), Crossing::rising);
+  return out;
 }
 
-Guard guard_meaning(int pivot, int index) {
-  if (pivot == 0) return index == 0 ? Guard::uplift_right : Guard::uplift_left;
-  return index == 0 ? Guard::impact : Guard::overturn;
+GuardMeaning guard_meaning(const ContactModel& m, int pivot, int index) {
+  if (pivot == 0) return {index == 0 ? Guard::uplift_right : Guard::uplift_left};
+  if (index < 2) return {index == 0 ? Guard::impact : Guard::overturn};
+  const auto& acting = m.acting[side(pivot)];
+  return {Guard::fracture, acting[static_cast<std::size_t>(m.breakable[side(pivot)][static_cast<std::size_t>(index - 2)])].device};
 }
 
 void guard_values(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y,
@@ -285,6 +308,32 @@ void guard_values(const ContactModel& m, const Discrete& d, double a_g, Eigen::R
     const double st = d.pivot * y[m.layout.theta];
     g[0] = st;
     g[1] = st - m.overturn_angle;
+    const auto& breakable = m.breakable[side(d.pivot)];
+    if (breakable.empty()) return;
+    const Tilt tilt(y[m.layout.theta]);
+    Eigen::Index k = 2;
+    for (int i : breakable) {
+      const ContactModel::Acting& a = m.acting[side(d.pivot)][static_cast<std::size_t>(i)];
+      g[k++] = d.is_broken(a.device) ? -1.0
+                                     : stretch(a.geometry, m.body.structure.half_width, d.pivot, tilt).e - a.capacity;
+    }
+  }
+}
+
+void fracture(Discrete& d, int device) { d.broken |= 1u << device; }
+
+void device_samples(const ContactModel& m, const Discrete& d, Eigen::Ref<const Eigen::VectorXd> y,
+                    std::vector<DeviceSample>& out) {
+  out.assign(m.devices.size(), DeviceSample{});
+  if (d.pivot == 0) return;
+  const Tilt tilt(y[m.layout.theta]);
+  const double thd = y[m.layout.theta_dot];
+  for (const ContactModel::Acting& a : m.acting[side(d.pivot)]) {
+    const Stretch st = stretch(a.geometry, m.body.structure.half_width, d.pivot, tilt);
+    const double F = d.is_broken(a.device)
+                         ? 0.0
+                         : law_force(a.law, st.e, st.de_dtheta * d.pivot * thd, a.slot >= 0 ? y[a.slot] : 0.0);
+    out[static_cast<std::size_t>(a.device)] = {st.e, F, d.pivot * F * st.de_dtheta};
   }
 }
 

@@ -5,13 +5,14 @@
 // flexible structure (u, u'; linear, no events), or a flexible rocking
 // structure (u, u', theta, theta'), plus the internal states z of the devices
 // the current pivot stretches (rocking.devices, MODEL.md 11). The state holds
-// only that; three energy accumulators (ground input, viscous, device work)
-// may follow for the bookkeeping of MODEL.md 7. Devices act on the rocking
+// only that; energy accumulators (ground input, viscous, work on the devices
+// in all and on each) may follow for the bookkeeping of MODEL.md 7. Devices act on the rocking
 // equation through their generalised force -s F de/d|th|, on the uplift
 // guards through their force at rest times their lever arm, and keep their z
 // in the discrete state while their pivot is not the current one. The paper's
 // [damper] is a Bouc-Wen chord device at each edge (x = -B, stretched about
-// pivot +1; x = +B, about -1).
+// pivot +1; x = +B, about -1). A device with a capacity e_u fractures when its
+// elongation reaches it (a located event) and exerts nothing after.
 // Phases: full contact (pivot 0) or rocking about pivot s = +1 (right, theta > 0)
 // or -1. Guards: uplift about s (both Eq. 2 as the smooth moment guard g_s and
 // Eq. 3, L_s > 0: the guard is min(g_s, L_s), rising); impact (s theta falling
@@ -23,6 +24,7 @@
 module;
 #include <rocking/eigen.hpp>
 #include <array>
+#include <cstdint>
 #include <string>
 #include <vector>
 export module rocking.contact;
@@ -51,7 +53,9 @@ struct Layout {
   Eigen::Index n = 0;  // elastic coordinates (N, or 0 for a rigid block)
   Eigen::Index u = -1, u_dot = -1, theta = -1, theta_dot = -1;
   Eigen::Index z = -1, z_count = 0;  // the states of the devices the current pivot stretches
-  Eigen::Index energy = -1;  // [ground input, viscous, damper work] [J]
+  // [ground input, viscous, work on all devices, and when some pivot
+  // stretches several devices the work on device 0, 1, ...] [J]
+  Eigen::Index energy = -1, energy_count = 0;
   Eigen::Index size = 0;
 };
 
@@ -69,8 +73,11 @@ struct ContactModel {
     double lever = 0;        // l = B - s x [m]
     DeviceGeometry geometry;
     DeviceLaw law;
+    double capacity = 0;     // e_u [m]; 0: never breaks
   };
   std::array<std::vector<Acting>, 2> acting;
+  // Per pivot: which of its acting devices can break (each has a fracture guard).
+  std::array<std::vector<int>, 2> breakable;
   std::array<bool, 2> idle_slots{false, false};
   Contact contact;
   double r_eq10 = 0;
@@ -96,6 +103,8 @@ struct Discrete {
   int pivot = 0;                   // 0: full contact; +1 / -1: rocking about that pivot
   std::array<double, max_device_states> z{};  // z of each device (by device index) while not stretched
   int last_pivot = 1;              // the pivot of the last rocking phase
+  std::uint32_t broken = 0;        // bit k: device k has fractured (exerts nothing for the rest of the run)
+  bool is_broken(int device) const { return ((broken >> device) & 1u) != 0; }
 };
 std::string phase_name(int pivot);  // "full_contact", "rocking(+1)", "rocking(-1)"
 
@@ -129,11 +138,16 @@ DamperState active_damper(const ContactModel& m, const Discrete& d, const Tilt& 
                           Eigen::Ref<const Eigen::VectorXd> y);
 
 // Guards of the phase (see the top of this file) and the directions in which
-// their crossings count.
-enum class Guard { uplift_right, uplift_left, impact, overturn };
+// their crossings count. While rocking, a device with a capacity that the
+// pivot stretches has a fracture guard e - e_u (rising; -1 once broken).
+enum class Guard { uplift_right, uplift_left, impact, overturn, fracture };
 enum class Crossing { rising, falling };
 std::vector<Crossing> guard_directions(const ContactModel& m, int pivot);
-Guard guard_meaning(int pivot, int index);
+struct GuardMeaning {
+  Guard what = Guard::impact;
+  int device = -1;  // the device of a fracture guard
+};
+GuardMeaning guard_meaning(const ContactModel& m, int pivot, int index);
 void guard_values(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y,
                   Eigen::Ref<Eigen::VectorXd> g);
 // Whether the guards of this phase depend on a_g (only a rigid block's uplift
@@ -144,6 +158,18 @@ bool guards_use_ground_acceleration(const ContactModel& m, int pivot);
 // The pivot about which the structure in full contact lifts at this instant
 // (both conditions of MODEL.md 6 hold), or 0.
 int uplift_now(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y);
+
+// A device reaching its capacity fractures: it exerts nothing from now on.
+void fracture(Discrete& d, int device);
+
+// Each device's elongation and force in this state (0 for the devices the
+// current pivot does not stretch, and for the broken). out: one per device.
+struct DeviceSample {
+  double e = 0, F = 0;  // [m], [N]
+  double moment = 0;    // s F de/d|th|: the moment it exerts against the tilt, signed as theta [N m]
+};
+void device_samples(const ContactModel& m, const Discrete& d, Eigen::Ref<const Eigen::VectorXd> y,
+                    std::vector<DeviceSample>& out);
 
 // Uplift about pivot s: theta = theta' = 0, the devices s stretches resume their z.
 void begin_rocking(const ContactModel& m, Discrete& d, int s, Eigen::Ref<Eigen::VectorXd> y);

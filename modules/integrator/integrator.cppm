@@ -80,6 +80,11 @@ struct Options {
   double sample_spacing = std::numeric_limits<double>::infinity();
   double initial_step = 0;        // 0: chosen automatically
   long max_steps = 10'000'000;    // accepted + rejected, over the integrator's life
+  // The leading components the step-size control weighs (-1: all). The rest
+  // are quadratures that nothing else depends on (running sums of work),
+  // integrated with the same steps but not steering them. rk45 only: the
+  // SUNDIALS backends weigh every component.
+  long error_components = -1;
 };
 
 // Guard samples in a step of length h (Options::sample_spacing): 4 without a

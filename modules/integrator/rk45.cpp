@@ -142,13 +142,19 @@ class DormandPrince final : public Integrator {
   double scaled(double v, double ya, double yb) const {
     return v / (opt_.atol + opt_.rtol * std::max(std::abs(ya), std::abs(yb)));
   }
+  // The components the error norm weighs (Options::error_components).
+  long controlled() const {
+    return opt_.error_components < 0 ? static_cast<long>(y_.size())
+                                     : std::min(static_cast<long>(y_.size()), opt_.error_components);
+  }
   double weighted_rms(const Eigen::VectorXd& v, const Eigen::VectorXd& ya, const Eigen::VectorXd& yb) const {
     double sum = 0;
-    for (Eigen::Index i = 0; i < v.size(); ++i) {
+    const long nc = controlled();
+    for (Eigen::Index i = 0; i < nc; ++i) {
       const double r = scaled(v[i], ya[i], yb[i]);
       sum += r * r;
     }
-    return std::sqrt(sum / static_cast<double>(v.size()));
+    return std::sqrt(sum / static_cast<double>(nc));
   }
 
   // Hairer's starting step: h0 from |y|/|f|, refined with a second-derivative estimate.
@@ -197,14 +203,15 @@ class DormandPrince final : public Integrator {
     rhs(t_ + h, y_new_, k7_);
     double sum = 0;
     bool finite = true;
+    const long nc = controlled();
     for (long i = 0; i < n; ++i) {
       const double e = h * (e1 * k1[i] + e3 * k3[i] + e4 * k4[i] + e5 * k5[i] + e6 * k6[i] + e7 * k7[i]);
-      const double r = scaled(e, y[i], yn[i]);
+      const double r = i < nc ? scaled(e, y[i], yn[i]) : 0.0;
       sum += r * r;
       finite = finite && std::isfinite(yn[i]) && std::isfinite(k7[i]);
     }
     if (!finite) return std::numeric_limits<double>::quiet_NaN();
-    return std::sqrt(sum / static_cast<double>(n));
+    return std::sqrt(sum / static_cast<double>(nc));
   }
 
   void accept(double h, double t_new) {

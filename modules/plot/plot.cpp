@@ -250,6 +250,10 @@ HistoryContent check_history(const fs::path& file) {
     if (n == 1) {
       if (!line.starts_with("t [s]")) throw InputError(fmt::format("{}:1: not a rocking history (header 't [s],...')", file.string()));
       content.ground = line.find("a_g [m/s2]") != std::string::npos;
+      // Device columns: "NAME e [m],NAME F [N]" pairs after "M_dev [N m]".
+      std::stringstream header(line);
+      for (std::string field; std::getline(header, field, ',');)
+        if (field.ends_with(" e [m]")) content.devices.push_back(field.substr(0, field.size() - 6));
       continue;
     }
     if (line.empty()) continue;
@@ -266,8 +270,12 @@ HistoryContent check_history(const fs::path& file) {
 std::vector<fs::path> render_response(const Figure& fig, const std::vector<ResponseSeries>& runs) {
   if (runs.empty()) throw InputError("response figure: no runs to plot");
   bool ground = true, ground_moves = false, any_rocks = false, any_elastic = false, any_damper = false;
+  std::vector<std::vector<std::string>> devices;  // per run
+  bool other_devices = false;  // some device besides the paper's edge dampers
   for (const ResponseSeries& r : runs) {
     const HistoryContent c = check_history(fs::path(r.history).is_absolute() ? fs::path(r.history) : fig.dir / r.history);
+    devices.push_back(c.devices);
+    for (const std::string& d : c.devices) other_devices = other_devices || !d.starts_with("damper_");
     ground = ground && c.ground;
     ground_moves = ground_moves || c.ground_moves;
     any_rocks = any_rocks || r.rocks;
@@ -284,7 +292,9 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
     return plot_command(items);
   };
   auto every = [](const ResponseSeries&) { return true; };
-  const int panels = 1 + (ground ? 1 : 0) + (any_elastic ? 1 : 0) + (any_rocks ? 1 : 0) + (any_damper ? 1 : 0);
+  const bool device_panels = any_damper && other_devices;
+  const int panels = 1 + (ground ? 1 : 0) + (any_elastic ? 1 : 0) + (any_rocks ? 1 : 0) + (any_damper ? 1 : 0) +
+                     (device_panels ? 1 : 0);
   std::vector<std::string> labels;
   for (const ResponseSeries& r : runs) labels.push_back(r.label);
   const int points = font_points(fig, 1000, 1300);
@@ -307,7 +317,28 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
     body += grid.panels[next++] + "  set ylabel \"rocking angle {/Symbol q}/{/Symbol a}_{cg} [-]\"\n";
     body += curves("1:5", [](const ResponseSeries& r) { return r.rocks; });
   }
-  if (any_damper) {
+  if (device_panels) {
+    // Each device's force against its elongation (zero while it is not
+    // stretched: a break in the curve), dashed per device, in its run's colour.
+    body += grid.panels[next++] + "  set autoscale x\n  set xlabel \"device elongation e [mm]\"\n"
+            "  set ylabel \"device force F [kN]\"\n  set key top left noenhanced\n";
+    std::vector<std::string> items;
+    for (std::size_t i = 0; i < runs.size(); ++i)
+      for (std::size_t k = 0; k < devices[i].size(); ++k) {
+        const std::size_t e = 16 + 2 * k, f = e + 1;
+        const std::string title = runs.size() == 1 ? devices[i][k] : runs[i].label + ": " + devices[i][k];
+        items.push_back(fmt::format("{} skip 1 using (${} == 0 ? NaN : ${}*1000):(${}/1000) with lines linestyle {} "
+                                    "dashtype {} title {}",
+                                    gp_string(runs[i].history), e, e, f, i + 1, k + 1, gp_string(title)));
+      }
+    body += plot_command(items) + "  unset key\n";
+    // Their moment against the rotation: the rocking interface's hysteresis.
+    body += grid.panels[next++] + "  set autoscale x\n  set xlabel \"rocking angle {/Symbol q} [rad]\"\n"
+            "  set ylabel \"devices' moment M_{dev} [MN m]\"\n";
+    body += curves("4:($15/1e6)", [&](const ResponseSeries& r) {
+      return r.has_damper && !devices[static_cast<std::size_t>(&r - runs.data())].empty();
+    });
+  } else if (any_damper) {
     body += grid.panels[next++] + "  set autoscale x\n  set xlabel \"damper elongation d [mm] (signed by the pivot)\"\n"
             "  set ylabel \"damper force F_{hd} [kN]\"\n";
     // Break the loop where no damper is stretched (d = 0: full contact, and the
@@ -322,7 +353,8 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
       "# rocking: response figure in the style of the paper's Fig. 4.\n"
       "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
       "# Data: rocking simulate history CSV (t, phase, u_N, theta, theta/alpha_cg,\n"
-      "# delta_t, delta_e, d, F_hd, base/mid shear and moment, a_g).\n"
+      "# delta_t, delta_e, d, F_hd, base/mid shear and moment, a_g; with devices\n"
+      "# M_dev, then each device's e and F).\n"
       "set datafile separator \",\"\n"
       "{}{}",
       fig.name, style_lines(1.5, 0.6), render_loop(fig, body, points));

@@ -42,13 +42,21 @@ struct ResponseSeries {
 // What a history file holds: InputError unless it has the header and at least
 // two rows. rocks / elastic / has_damper: some row has theta / delta_e / a
 // damper elongation other than zero; ground: it has the a_g column, and
-// ground_moves: some a_g is not zero.
+// ground_moves: some a_g is not zero; devices: the names of the devices whose
+// elongation and force follow the devices' moment M_dev (column 15), from
+// column 16 on.
 struct HistoryContent {
   bool rocks = false, elastic = false, has_damper = false, ground = false, ground_moves = false;
+  std::vector<std::string> devices;
 };
 HistoryContent check_history(const std::filesystem::path& file);
 
-// Writes NAME.gp and renders it; returns the figure files written.
+// Writes NAME.gp and renders it; returns the figure files written. Panels:
+// ground acceleration, drifts, rocking angle, and the hysteresis of the
+// devices: the paper's edge dampers as one loop signed by the pivot; any
+// other device (a tendon, a viscous damper) draws each device's force against
+// its elongation, and the devices' moment against theta (a tendon with
+// dampers: the flag-shaped loop of controlled rocking).
 std::vector<std::filesystem::path> render_response(const Figure& fig, const std::vector<ResponseSeries>& runs);
 
 // Mode shapes: data file with one row per node (height first, then one column

@@ -69,6 +69,9 @@ class Driver {
     };
     ode::Options tolerances = o.tolerances;
     tolerances.max_step = std::min(tolerances.max_step, ground.max_step());
+    // The per-device work accumulators (the tail of the state) are sums that
+    // nothing depends on: they do not steer the steps.
+    if (m.layout.energy >= 0) tolerances.error_components = m.layout.size - (m.layout.energy_count - 3);
     // Guards and peaks sampled 8 times in the shortest natural period (the
     // exact steps below do the same), not more densely when steps are short.
     if (m.layout.u >= 0) tolerances.sample_spacing = shortest_period(m) / 8;
@@ -100,6 +103,8 @@ class Driver {
     result_.has_damper = m_.has_damper;
     result_.rocks = m_.kind != ModelKind::fixed_base;
     result_.energy_tracked = m_.layout.energy >= 0;
+    for (const Device& dev : m_.devices)
+      result_.devices.push_back({.name = dev.name, .work = result_.energy_tracked ? 0.0 : std::nan("")});
     initial_state();
     result_.energy.initial = mechanical();
     next_output_ = opt_.output_interval;
@@ -176,18 +181,20 @@ class Driver {
       const ode::StepReport rep = active_->step(t_end_);
       sample_step();
       if (rep.reason == ode::Stop::event) {
-        if (!handle_event(guard_meaning(d_.pivot, rep.guard), rep.t)) return;
+        if (!handle_event(guard_meaning(m_, d_.pivot, rep.guard), rep.t)) return;
       } else if (d_.pivot != 0 && d_.pivot * active_->state()[m_.layout.theta] < 0) {
         // Only round-off right after an uplift can put theta on the wrong side
         // without a crossing: treat it as the impact it is.
-        if (!handle_event(Guard::impact, active_->time())) return;
+        if (!handle_event({Guard::impact}, active_->time())) return;
       }
     }
   }
 
   // Returns false when the run ends (overturning).
-  bool handle_event(Guard what, double t) {
+  bool handle_event(GuardMeaning meaning, double t) {
+    const Guard what = meaning.what;
     y_ = active_->state();
+    attribute_work();
     if (++events_ > opt_.max_events)
       throw RunError(fmt::format("phase change number {} at t = {:.9g} s exceeds the limit (chattering? raise "
                                  "contact.theta_dot_min or the event limit)", events_, t));
@@ -207,6 +214,10 @@ class Driver {
       case Guard::overturn:
         result_.outcome = Outcome::overturned;
         return false;
+      case Guard::fracture:
+        fracture(d_, meaning.device);
+        result_.devices[static_cast<std::size_t>(meaning.device)].fracture_time = t;
+        break;
     }
     peaks_.break_continuity();
     restart(t);
@@ -218,21 +229,44 @@ class Driver {
     const int count = active_->sample_count();  // the integrator's guard samples
     const double t0 = active_->previous_time(), t1 = active_->time();
     for (int k = 1; k <= count; ++k) {
-      peaks_.add(evaluate(m_, scales_, d_, ode::Integrator::sample_time(t0, t1, k, count), active_->sample(k, count)));
+      const auto y = active_->sample(k, count);
+      peaks_.add(evaluate(m_, scales_, d_, ode::Integrator::sample_time(t0, t1, k, count), y));
+      device_peaks(y);
     }
     if (observer_ == nullptr || !(opt_.output_interval > 0)) return;
     while (next_output_ <= active_->time()) {
       active_->dense(next_output_, dense_);
+      pass_devices(dense_);
       observer_->record(evaluate(m_, scales_, d_, next_output_, dense_));
       pass_displacements(dense_);
       next_output_ = opt_.output_interval * static_cast<double>(++outputs_);
     }
   }
 
+  // Peak elongation and force of the devices the current pivot stretches.
+  void device_peaks(Eigen::Ref<const Eigen::VectorXd> y) {
+    if (d_.pivot == 0 || m_.devices.empty()) return;
+    device_samples(m_, d_, y, samples_);
+    for (std::size_t k = 0; k < samples_.size(); ++k) {
+      if (d_.is_broken(static_cast<int>(k))) continue;  // its peaks are those it had when it broke
+      DeviceResult& r = result_.devices[k];
+      r.peak_elongation = std::max(r.peak_elongation, samples_[k].e);
+      r.peak_force = std::max(r.peak_force, std::abs(samples_[k].F));
+    }
+  }
+
+  void pass_devices(Eigen::Ref<const Eigen::VectorXd> y) {
+    if (m_.devices.empty()) return;
+    device_samples(m_, d_, y, samples_);
+    observer_->devices(samples_);
+  }
+
   void emit(double t, Eigen::Ref<const Eigen::VectorXd> y, bool also_history) {
     const Response r = evaluate(m_, scales_, d_, t, y);
     peaks_.add(r);
+    device_peaks(y);
     if (also_history && observer_ != nullptr) {
+      pass_devices(y);
       observer_->record(r);
       pass_displacements(y);
     }
@@ -243,8 +277,21 @@ class Driver {
     else observer_->displacements(y.head(0));
   }
 
+  // Without an accumulator per device (no pivot stretches two), the work on
+  // the devices done since the last event is the one acting device's.
+  void attribute_work() {
+    const Layout& l = m_.layout;
+    if (l.energy < 0 || l.energy_count > 3) return;
+    const double total = y_[l.energy + 2];
+    if (d_.pivot != 0)
+      for (const ContactModel::Acting& a : m_.acting[d_.pivot > 0 ? 1 : 0])
+        result_.devices[static_cast<std::size_t>(a.device)].work += total - work_at_event_;
+    work_at_event_ = total;
+  }
+
   void finish() {
     y_ = active_->state();
+    attribute_work();
     result_.t_end = active_->time();
     result_.final_pivot = d_.pivot;
     result_.final_state = y_;
@@ -264,6 +311,8 @@ class Driver {
       result_.energy.ground = y_[m_.layout.energy];
       result_.energy.viscous = y_[m_.layout.energy + 1];
       result_.energy.damper = y_[m_.layout.energy + 2];
+      for (std::size_t k = 0; k < result_.devices.size() && m_.layout.energy_count > 3; ++k)
+        result_.devices[k].work = y_[m_.layout.energy + 3 + static_cast<Eigen::Index>(k)];
     }
   }
 
@@ -276,9 +325,10 @@ class Driver {
   Discrete d_;
   Eigen::VectorXd y_, dense_;
   StateView state_view_;
+  std::vector<DeviceSample> samples_;
   std::unique_ptr<ode::Integrator> integrator_, exact_;  // the backend; full contact under a record
   ode::Integrator* active_ = nullptr;                    // the one stepping the current phase
-  double t_end_ = 0, next_output_ = 0;
+  double t_end_ = 0, next_output_ = 0, work_at_event_ = 0;
   long outputs_ = 0, events_ = 0;
   PeakTracker peaks_;
   RunResult result_;

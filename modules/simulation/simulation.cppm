@@ -14,8 +14,11 @@
 // refined at local extrema by the parabola through three samples, so they do
 // not depend on where the integrator happened to step. The energy balance
 //   E(t) - E(0) = W_ground - W_viscous - W_damper - W_impacts
-// is carried along (W_damper is the work done on the dampers, stored plus
-// dissipated), and its residual measures the run's accuracy.
+// is carried along (W_damper is the work done on the devices, stored plus
+// dissipated; also per device), and its residual measures the run's accuracy.
+// Each device's peak elongation and force are taken on the same samples (no
+// refinement), and a device that reaches its capacity fractures at the
+// located event, its time reported.
 module;
 #include <rocking/eigen.hpp>
 #include <array>
@@ -23,6 +26,7 @@ module;
 #include <limits>
 #include <string>
 #include <string_view>
+#include <vector>
 export module rocking.simulation;
 export import rocking.contact;
 export import rocking.sundials;
@@ -56,6 +60,9 @@ class Observer {
   // The elastic displacements u (nodes 1..N; empty for a rigid block) at the
   // instant of the last record(), for observers that draw the structure.
   virtual void displacements(Eigen::Ref<const Eigen::VectorXd> u) { (void)u; }
+  // Each device's elongation and force (in the model's order) at the instant
+  // of the next record(), called just before it when the model has devices.
+  virtual void devices(const std::vector<DeviceSample>& samples) { (void)samples; }
 };
 
 struct InitialState {
@@ -92,6 +99,15 @@ struct Counts {
   long uplifts = 0, impacts = 0;
 };
 
+// What one device did in a run (MODEL.md 11).
+struct DeviceResult {
+  std::string name;
+  double peak_elongation = 0;      // max e [m]
+  double peak_force = 0;           // max |F| [N]
+  double work = std::numeric_limits<double>::quiet_NaN();  // int F de: stored + dissipated [J] (energy tracked)
+  double fracture_time = std::numeric_limits<double>::quiet_NaN();  // [s]; NaN: intact
+};
+
 struct EnergyBalance {
   double initial = 0, final = 0;                 // mechanical: kinetic + gravity + elastic [J]
   double ground = 0, viscous = 0, damper = 0, impacts = 0;  // [J]
@@ -109,6 +125,7 @@ struct RunResult {
   bool has_damper = false;         // damper peaks mean something
   bool rocks = true;               // the model can rock (theta peaks mean something)
   Counts counts;
+  std::vector<DeviceResult> devices;  // one per device of the model, in its order
   double first_uplift = std::numeric_limits<double>::quiet_NaN();
   double first_impact = std::numeric_limits<double>::quiet_NaN();
   EnergyBalance energy;
