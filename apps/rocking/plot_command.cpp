@@ -211,7 +211,8 @@ Command add_plot_command(CLI::App& app) {
   add_figure_options(*resp, ra->figure, "response");
   resp->add_option("--variants", ra->variants,
                    "Comma-separated runs to overlay: scene (as given), damper, no-damper,\n"
-                   "fixed-base (default damper,no-damper,fixed-base; scene for a rigid block)")
+                   "fixed-base, no-devices, without:NAME (the scene less its [[device]] NAME)\n"
+                   "(default damper,no-damper,fixed-base; scene for a rigid block)")
       ->delimiter(',')
       ->type_name("LIST");
   resp->add_option("--from", ra->from, "Plot the history.csv of earlier `rocking simulate --out DIR` runs")
@@ -220,6 +221,8 @@ Command add_plot_command(CLI::App& app) {
   resp->footer(
       "Examples:\n"
       "  rocking plot response                          chimney, default pulse\n"
+      "  rocking plot response data/scenes/controlled_rocking_wall.toml \\\n"
+      "      --variants scene,without:tendon,without:dampers,no-devices   self-centring\n"
       "  rocking plot response --record ../shared/data/records/elcentro_1940_ns.at2 --scale 3\n"
       "  rocking plot response --from out/a --from out/b --name compare");
   auto* mod = cmd->add_subcommand("modes",

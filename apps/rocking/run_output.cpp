@@ -96,6 +96,7 @@ nlohmann::json summary_json(const RunLabel& label, const RunResult& r) {
       {"first_impact_s", finite_or_null(r.first_impact)},
       {"outcome", std::string(outcome_name(r.outcome))},
       {"t_end", r.t_end},
+      {"final_theta", r.final_theta},
       {"stats", {{"rhs", r.stats.rhs}, {"steps", r.stats.steps}, {"rejected", r.stats.rejected},
                  {"events", r.stats.events}}},
       {"wall_s", r.wall_s},

@@ -24,6 +24,8 @@ std::string variant_label(const std::string& name) {
   if (name == "no-damper") return "rocking, no damper";
   if (name == "fixed-base") return "fixed base";
   if (name == "scene") return "as the scene says";
+  if (name == "no-devices") return "no devices";
+  if (name.starts_with("without:")) return "without " + name.substr(8);
   const auto eq = name.find('=');
   if (eq == std::string::npos) return name;
   const std::string key = name.substr(0, eq), value = name.substr(eq + 1);

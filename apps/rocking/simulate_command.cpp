@@ -33,7 +33,8 @@ void print_text(const nlohmann::json& s) {
   fmt::print("  outcome       {} at t = {:.3f} s\n", s["outcome"].get<std::string>(), s["t_end"].get<double>());
   fmt::print("  top total     {:.1f} mm (delta_t {})\n", s["top_total_mm"].get<double>(), num(p["delta_t"]));
   fmt::print("  top elastic   delta_e {}\n", num(p["delta_e"]));
-  fmt::print("  rocking angle {} rad = {} alpha_cg\n", num(p["theta"]), num(p["theta_over_alpha"]));
+  fmt::print("  rocking angle {} rad = {} alpha_cg; at the end {:.3g} rad\n", num(p["theta"]), num(p["theta_over_alpha"]),
+             s["final_theta"].get<double>());
   if (p["damper_d"].is_null()) fmt::print("  damper        -\n");
   else fmt::print("  damper        d {} m, F {} N\n", num(p["damper_d"]), num(p["damper_F"]));
   for (const auto& d : s["devices"]) {

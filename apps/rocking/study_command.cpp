@@ -571,7 +571,8 @@ Command add_ida_command(CLI::App& app) {
       "SIGTERM (the runs done are kept in the CSV; --resume continues).");
   auto a = std::make_shared<StudyArgs>();
   add_study_options(*cmd, *a, "out/ida");
-  cmd->add_option("--variants", a->variants, "damper, no-damper, fixed-base, scene (default the first three)")
+  cmd->add_option("--variants", a->variants, "damper, no-damper, fixed-base, scene, no-devices, without:NAME (the\n"
+                  "scene less its [[device]] NAME) (default the first three)")
       ->delimiter(',')
       ->type_name("LIST");
   cmd->add_flag("--hunt", a->hunt,

@@ -59,8 +59,8 @@ std::vector<Device> edge_dampers(const Damper& damper, double half_width) {
   BoucWenLaw law;
   law.damper = scaled_for_thickness(damper);
   law.d_y = yield_displacement(law.damper, half_width);
-  return {Device{"damper_left", {-half_width, Kinematics::chord, 0}, law, 0},
-          Device{"damper_right", {half_width, Kinematics::chord, 0}, law, 0}};
+  return {Device{"damper_left", {-half_width, Kinematics::chord, 0}, law, damper.capacity},
+          Device{"damper_right", {half_width, Kinematics::chord, 0}, law, damper.capacity}};
 }
 
 RockingStiffness rocking_stiffness(const std::vector<Device>& devices, double half_width, int s) {

@@ -19,6 +19,7 @@ struct Damper {
   double theta_y = 0;           // base rotation at full yield [rad] (as built)
   double alpha = 1, beta = 0, n = 1;  // Bouc-Wen shape parameters [-]
   double thickness = 1;         // tau, plate thickness scale (1 = as built)
+  double capacity = 0;          // elongation at which a plate fractures [m] (MODEL.md 11); 0: never
 };
 
 // The damper with its thickness scale applied (stiffness x tau^3,

@@ -33,7 +33,7 @@ const std::map<std::string, std::set<std::string, std::less<>>, std::less<>> sch
     {"excitation", {"kind", "pulse", "amplitude_g", "period", "record", "units", "dt", "scale", "duration"}},
     {"initial", {"theta", "theta_dot", "u", "u_dot"}},
     {"damper", {"enabled", "stiffness", "post_yield_ratio", "theta_y", "alpha", "beta", "n",
-                "thickness"}},
+                "thickness", "capacity"}},
 };
 
 std::string where(const toml::source_region& src, std::string_view fallback) {
@@ -188,9 +188,10 @@ toml::table parse_override_value(const std::string& value, const std::string& or
   return parsed;
 }
 
-// The [[device]] forms of --set: device+={...} appends a device, device=[...]
-// replaces them all (device=[] removes them), device[I].KEY=VALUE sets one key
-// of device I (from 0). Returns false for any other text.
+// The [[device]] forms of --set: device+={...} appends a device, device-=NAME
+// removes the one of that name, device=[...] replaces them all (device=[]
+// removes them), device[I].KEY=VALUE sets one key of device I (from 0).
+// Returns false for any other text.
 bool apply_device_override(toml::table& root, const std::string& text, Origins& origins) {
   if (!text.starts_with("device")) return false;
   const std::string origin = "--set " + text;
@@ -204,6 +205,18 @@ bool apply_device_override(toml::table& root, const std::string& text, Origins& 
       list = root.get_as<toml::array>("device");
     }
   };
+  if (key == "device-") {  // device-=NAME: removes the [[device]] tables of that name
+    const std::size_t before = list == nullptr ? 0 : list->size();
+    if (list != nullptr)
+      for (std::size_t i = list->size(); i-- > 0;) {
+        const toml::table* t = list->get_as<toml::table>(i);
+        const auto* name = t != nullptr ? t->get_as<std::string>("name") : nullptr;
+        if (name != nullptr && name->get() == value) list->erase(list->begin() + static_cast<std::ptrdiff_t>(i));
+      }
+    if (list == nullptr || list->size() == before)
+      throw InputError(fmt::format("{}: no [[device]] named '{}'", origin, value));
+    return true;
+  }
   if (key == "device+" || key == "device") {
     const toml::table parsed = parse_override_value(value, origin);
     const toml::node* node = parsed.get("v");
@@ -329,6 +342,7 @@ Damper read_damper(const toml::table& root, const std::string& file, const Origi
   d.beta = t.number_or("beta", 0.0, [](double) { return true; }, "a number");
   d.n = t.number_or("n", 1.0, [](double n) { return n >= 1; }, ">= 1");
   d.thickness = t.number_or("thickness", 1.0, positive, "positive");
+  d.capacity = t.number_or("capacity", 0.0, positive, "positive [m] (leave it out: never breaks)");
   if (!(d.alpha + d.beta > 0)) t.fail(nullptr, "beta", "alpha + beta must be positive (bounded hysteresis)");
   return d;
 }

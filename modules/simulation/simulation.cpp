@@ -294,6 +294,7 @@ class Driver {
     attribute_work();
     result_.t_end = active_->time();
     result_.final_pivot = d_.pivot;
+    result_.final_theta = m_.layout.theta >= 0 ? y_[m_.layout.theta] : 0.0;
     result_.final_state = y_;
     result_.peaks = peaks_.peaks();
     result_.top_total_mm = result_.peak(Quantity::delta_t) * scales_.H_N * 1000.0;

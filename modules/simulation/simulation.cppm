@@ -119,6 +119,7 @@ struct RunResult {
   std::string failure;             // what stopped a failed run, with time and phase
   double t_end = 0;                // where the run ended [s]
   int final_pivot = 0;
+  double final_theta = 0;          // theta at t_end [rad]: the residual tilt when the motion has died out
   std::array<double, quantity_count> peaks{};  // absolute peaks
   double top_total_mm = 0;         // peak |delta_t| H_N [mm]
   bool has_forces = true;

@@ -28,7 +28,10 @@ Variant named_variant(const std::string& name) {
   if (name == "damper") return {name, {"damper.enabled=true"}};
   if (name == "no-damper") return {name, {"damper.enabled=false"}};
   if (name == "fixed-base") return {name, {"contact.rocking=false"}};
-  throw InputError(fmt::format("unknown variant '{}' (choose from damper, no-damper, fixed-base, scene)", name));
+  if (name == "no-devices") return {name, {"damper.enabled=false", "device=[]"}};
+  if (name.starts_with("without:") && name.size() > 8) return {name, {"device-=" + name.substr(8)}};
+  throw InputError(fmt::format("unknown variant '{}' (choose from damper, no-damper, fixed-base, scene, no-devices, "
+                               "without:NAME)", name));
 }
 
 Study::Study(const std::string& scene_path, const std::vector<std::string>& common_overrides,
