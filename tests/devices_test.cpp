@@ -100,6 +100,28 @@ TEST_CASE("viscous law: F = c sign(e') |e'|^a, linear for a = 1") {
   CHECK(law_stored_energy(fluid, 0.3, 0) == 0);
 }
 
+TEST_CASE("friction law: F = F_s tanh(e'/v_r), Coulomb friction once sliding, dissipating F_s per unit of slip") {
+  const double F_s = 2.0e5, v_r = 1e-3;
+  const DeviceLaw friction = FrictionLaw{F_s, v_r};
+  for (double v : {-0.5, -1e-3, 0.0, 2e-4, 0.3})
+    CHECK(law_force(friction, 0.05, v, 0) == doctest::Approx(F_s * std::tanh(v / v_r)).epsilon(1e-15));
+  CHECK(law_force(friction, 0.0, 0.2, 0) == doctest::Approx(F_s).epsilon(1e-12));  // sliding: the slip force
+  CHECK(law_force(friction, 0.0, -0.2, 0) == doctest::Approx(-F_s).epsilon(1e-12));
+  // A prescribed slide e(t) = V t to e = 0.1 m at V = 0.1 m/s >> v_r: the work
+  // done on it is F_s e to 1e-9 (midpoint rule, 1000 steps), all dissipated.
+  const double V = 0.1;
+  double work = 0;
+  for (int i = 0; i < 1000; ++i) work += law_force(friction, V * (i + 0.5) * 1e-3, V, 0) * V * 1e-3;
+  CHECK(work == doctest::Approx(F_s * 0.1).epsilon(1e-9));
+  CHECK(law_stored_energy(friction, 0.1, 0) == 0);
+  CHECK(law_force_at_rest(friction, 0) == 0);
+  CHECK(law_states(friction) == 0);
+  const DeviceLaw by_name = make_law("friction", [F_s](std::string_view k) -> std::optional<double> {
+    return k == "F_s" ? std::optional<double>(F_s) : std::nullopt;
+  });
+  CHECK(std::get<FrictionLaw>(by_name).v_r == 1e-3);  // the default regularising velocity
+}
+
 TEST_CASE("Bouc-Wen law: monotonic loading follows z = 1 - exp(-e / d_y), and it is the paper's damper") {
   // alpha = beta = 1/2, n = 1, loading from rest: d_y dz/de = 1 - z, so z = 1 - exp(-e / d_y).
   const DeviceLaw law = BoucWenLaw::make({1.2e6, 0.05, 0.004, 0.5, 0.5, 1.0});
@@ -143,8 +165,8 @@ TEST_CASE("laws by name from their parameters, with one-line errors naming the k
   CHECK(std::get<ElasticLaw>(tendon).P0 == 1e5);
   const DeviceLaw dashpot = make_law("viscous", none);
   CHECK(std::get<ViscousLaw>(dashpot).a == 1);  // the default exponent
-  CHECK(device_laws().size() == 3);
-  CHECK_THROWS_WITH_AS(make_law("friction", none), "device law 'friction': unknown (laws: bouc-wen, elastic, viscous)",
+  CHECK(device_laws().size() == 4);
+  CHECK_THROWS_WITH_AS(make_law("spring", none), "device law 'spring': unknown (laws: bouc-wen, elastic, viscous, friction)",
                        InputError);
   CHECK_THROWS_WITH_AS(make_law("viscous", [](std::string_view k) -> std::optional<double> {
                          return k == "a" ? std::optional<double>(0.0) : std::nullopt;

@@ -315,13 +315,14 @@ TEST_CASE("the energy balance closes to 1e-6 of the input for every device law, 
   const std::string tendon = fmt_tendon(2e6, 5e7, 0);
   const std::string dashpot = R"(device+={name="dashpot", kind="viscous", at="edges", c=2e6, a=1})";
   const std::string fluid = R"(device+={name="fluid", kind="viscous", at="edges", c=3e5, a=0.3})";
+  const std::string friction = R"(device+={name="slip", kind="friction", at="edges", F_s=5e4})";
   struct Case {
     const char* what;
     std::vector<std::string> sets;
   };
   for (const Case& c : {Case{"bouc-wen", {bouc_wen}}, Case{"elastic with prestress", {tendon}},
                         Case{"viscous, a = 1", {dashpot}}, Case{"viscous, a = 0.3", {fluid}},
-                        Case{"all together", {bouc_wen, tendon, dashpot, fluid}}}) {
+                        Case{"friction", {friction}}, Case{"all together", {bouc_wen, tendon, dashpot, fluid, friction}}}) {
     CAPTURE(c.what);
     std::vector<std::string> sets{"damper.enabled=false"};
     sets.insert(sets.end(), c.sets.begin(), c.sets.end());

@@ -31,12 +31,13 @@ export import :parameters;
 export import :bouc_wen;
 export import :elastic;
 export import :viscous;
+export import :friction;
 
 export namespace rocking {
 
 // The registered laws. A new law: its file law_NAME.cppm, its
 // `export import :NAME;` above and its type here.
-using DeviceLaw = std::variant<BoucWenLaw, ElasticLaw, ViscousLaw>;
+using DeviceLaw = std::variant<BoucWenLaw, ElasticLaw, ViscousLaw, FrictionLaw>;
 
 enum class Kinematics { chord, vertical };
 
