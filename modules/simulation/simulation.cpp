@@ -230,8 +230,9 @@ class Driver {
     const double t0 = active_->previous_time(), t1 = active_->time();
     for (int k = 1; k <= count; ++k) {
       const auto y = active_->sample(k, count);
-      peaks_.add(evaluate(m_, scales_, d_, ode::Integrator::sample_time(t0, t1, k, count), y));
-      device_peaks(y);
+      const Response r = evaluate(m_, scales_, d_, ode::Integrator::sample_time(t0, t1, k, count), y);
+      peaks_.add(r);
+      device_peaks(y, r);
     }
     if (observer_ == nullptr || !(opt_.output_interval > 0)) return;
     while (next_output_ <= active_->time()) {
@@ -243,9 +244,19 @@ class Driver {
     }
   }
 
-  // Peak elongation and force of the devices the current pivot stretches.
-  void device_peaks(Eigen::Ref<const Eigen::VectorXd> y) {
+  // Peak elongation and force of the devices the current pivot stretches. A
+  // pivot's first device is the response's damper (d, F_hd), already evaluated.
+  void device_peaks(Eigen::Ref<const Eigen::VectorXd> y, const Response& r) {
     if (d_.pivot == 0 || m_.devices.empty()) return;
+    const auto& acting = m_.acting[d_.pivot > 0 ? 1 : 0];
+    if (acting.size() == 1) {
+      const int k = acting.front().device;
+      if (d_.is_broken(k)) return;
+      DeviceResult& out = result_.devices[static_cast<std::size_t>(k)];
+      out.peak_elongation = std::max(out.peak_elongation, std::abs(r[Quantity::damper_d]));
+      out.peak_force = std::max(out.peak_force, std::abs(r[Quantity::damper_F]));
+      return;
+    }
     device_samples(m_, d_, y, samples_);
     for (std::size_t k = 0; k < samples_.size(); ++k) {
       if (d_.is_broken(static_cast<int>(k))) continue;  // its peaks are those it had when it broke
@@ -264,7 +275,7 @@ class Driver {
   void emit(double t, Eigen::Ref<const Eigen::VectorXd> y, bool also_history) {
     const Response r = evaluate(m_, scales_, d_, t, y);
     peaks_.add(r);
-    device_peaks(y);
+    device_peaks(y, r);
     if (also_history && observer_ != nullptr) {
       pass_devices(y);
       observer_->record(r);
