@@ -229,7 +229,7 @@ class Driver {
     const int count = active_->sample_count();  // the integrator's guard samples
     const double t0 = active_->previous_time(), t1 = active_->time();
     for (int k = 1; k <= count; ++k) {
-      const auto y = active_->sample(k, count);
+      const Eigen::VectorXd& y = active_->sample(k, count);  // the integrator's buffer, not a copy
       const Response r = evaluate(m_, scales_, d_, ode::Integrator::sample_time(t0, t1, k, count), y);
       peaks_.add(r);
       device_peaks(y, r);
