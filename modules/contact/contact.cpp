@@ -42,6 +42,24 @@ Layout make_layout(ModelKind kind, Eigen::Index n, Eigen::Index z_count, Eigen::
 
 std::size_t side(int s) { return s > 0 ? 1 : 0; }
 
+// A device the pivot s stretches, at tilt and rocking velocity thd: its
+// stretch, elongation rate, state and force (0 once broken). Inline: the
+// right-hand side, the outputs and the damper of the response all use it.
+struct ActingNow {
+  Stretch st;
+  double e_dot = 0, z = 0, F = 0;
+};
+inline ActingNow acting_now(const ContactModel::Acting& a, const Discrete& d, double half_width, int s,
+                            const Tilt& tilt, double thd, Eigen::Ref<const Eigen::VectorXd> y) {
+  ActingNow n;
+  n.st = stretch(a.geometry, half_width, s, tilt);
+  if (d.broken != 0 && d.is_broken(a.device)) return n;
+  n.e_dot = n.st.de_dtheta * s * thd;
+  n.z = a.slot >= 0 ? y[a.slot] : 0.0;
+  n.F = law_force(a.law, n.st.e, n.e_dot, n.z);
+  return n;
+}
+
 double theta_of(const ContactModel& m, Eigen::Ref<const Eigen::VectorXd> y) {
   return m.layout.theta < 0 ? 0.0 : y[m.layout.theta];
 }
@@ -207,11 +225,9 @@ LinearPhase full_contact_matrices(const ContactModel& m) {
 DamperState active_damper(const ContactModel& m, const Discrete& d, const Tilt& tilt,
                           Eigen::Ref<const Eigen::VectorXd> y) {
   if (d.pivot == 0 || m.acting[side(d.pivot)].empty()) return {};
-  const ContactModel::Acting& a = m.acting[side(d.pivot)].front();
-  const Stretch st = stretch(a.geometry, m.body.structure.half_width, d.pivot, tilt);
-  if (d.is_broken(a.device)) return {st.e, 0.0};
-  const double e_dot = st.de_dtheta * d.pivot * (m.layout.theta_dot < 0 ? 0.0 : y[m.layout.theta_dot]);
-  return {st.e, law_force(a.law, st.e, e_dot, a.slot >= 0 ? y[a.slot] : 0.0)};
+  const ActingNow n = acting_now(m.acting[side(d.pivot)].front(), d, m.body.structure.half_width, d.pivot, tilt,
+                                 theta_dot_of(m, y), y);
+  return {n.st.e, n.F};
 }
 
 void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y,
@@ -234,15 +250,12 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<
         if (a.slot >= 0) dydt[a.slot] = 0.0;
         continue;
       }
+      const ActingNow n = acting_now(a, d, B, s, tilt, thd, y);
       const bool chord = a.geometry.kinematics == Kinematics::chord;
-      const Stretch st = stretch(a.geometry, B, s, tilt);
-      const double e_dot = st.de_dtheta * s * thd;
-      const double z = a.slot >= 0 ? y[a.slot] : 0.0;
-      const double F = law_force(a.law, st.e, e_dot, z);
-      device_moment += chord ? F * a.lever * tilt.cos_half : F * st.de_dtheta;
-      if (a.slot >= 0) dydt[a.slot] = law_rate(a.law, st.e, e_dot, z);
-      damper_power += F * e_dot;
-      if (split_work) dydt[l.energy + 3 + a.device] = F * e_dot;
+      device_moment += chord ? n.F * a.lever * tilt.cos_half : n.F * n.st.de_dtheta;
+      if (a.slot >= 0) dydt[a.slot] = law_rate(a.law, n.st.e, n.e_dot, n.z);
+      damper_power += n.F * n.e_dot;
+      if (split_work) dydt[l.energy + 3 + a.device] = n.F * n.e_dot;
     }
   }
   if (s != 0) {
@@ -329,11 +342,8 @@ void device_samples(const ContactModel& m, const Discrete& d, Eigen::Ref<const E
   const Tilt tilt(y[m.layout.theta]);
   const double thd = y[m.layout.theta_dot];
   for (const ContactModel::Acting& a : m.acting[side(d.pivot)]) {
-    const Stretch st = stretch(a.geometry, m.body.structure.half_width, d.pivot, tilt);
-    const double F = d.is_broken(a.device)
-                         ? 0.0
-                         : law_force(a.law, st.e, st.de_dtheta * d.pivot * thd, a.slot >= 0 ? y[a.slot] : 0.0);
-    out[static_cast<std::size_t>(a.device)] = {st.e, F, d.pivot * F * st.de_dtheta};
+    const ActingNow n = acting_now(a, d, m.body.structure.half_width, d.pivot, tilt, thd, y);
+    out[static_cast<std::size_t>(a.device)] = {n.st.e, n.F, d.pivot * n.F * n.st.de_dtheta};
   }
 }
 
