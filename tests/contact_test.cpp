@@ -50,9 +50,9 @@ TEST_CASE("a damper's residual force enters the uplift condition of the edge it 
   const double a_up = m.body.g * std::tan(slenderness(m.body.structure));
   Discrete d;
   CHECK(uplift_now(m, d, -1.001 * a_up, y) == +1);
-  d.z[0] = 1.0;  // the damper that rocking about +1 stretches is already in tension
+  d.set_z(0, 1.0);  // the damper that rocking about +1 stretches is already in tension
   CHECK(uplift_now(m, d, -1.001 * a_up, y) == 0);
-  d.z[0] = -1.0;  // ... or pushing the edge up: lifts below the rigid threshold
+  d.set_z(0, -1.0);  // ... or pushing the edge up: lifts below the rigid threshold
   CHECK(uplift_now(m, d, -0.999 * a_up, y) == +1);
 }
 
@@ -102,8 +102,8 @@ TEST_CASE("uplift guards equal Eq. 2 and Eq. 3 written out, at 4 nodes (unrolled
     const Layout& l = m.layout;
     const Structure& st = m.body.structure;
     Discrete d;
-    d.z[0] = 0.3;
-    d.z[1] = -0.2;
+    d.set_z(0, 0.3);
+    d.set_z(1, -0.2);
     Eigen::VectorXd y = Eigen::VectorXd::Zero(l.size);
     y.segment(l.u, l.n) = Eigen::VectorXd::LinSpaced(l.n, 1e-3, 2e-2);
     y.segment(l.u_dot, l.n) = Eigen::VectorXd::LinSpaced(l.n, -0.05, 0.1);
@@ -113,7 +113,7 @@ TEST_CASE("uplift guards equal Eq. 2 and Eq. 3 written out, at 4 nodes (unrolled
     Eigen::VectorXd g(2);
     guard_values(m, d, 0.0, y, g);
     for (int s : {+1, -1}) {
-      const double f_res = law_force_at_rest(m.devices[s > 0 ? 0 : 1].law, d.z[s > 0 ? 0 : 1]);
+      const double f_res = law_force_at_rest(m.devices[s > 0 ? 0 : 1].law, d.z(s > 0 ? 0 : 1));
       const double eq2 = s * moment - (m.body.g * (st.half_width * total_mass(st) - s * st.masses.dot(u)) +
                                        f_res * 2 * st.half_width);
       const double expected = std::min(eq2, s * momentum);
@@ -133,14 +133,14 @@ TEST_CASE("impact: continued rocking takes r and keeps u'; full contact keeps th
   y[l.theta_dot] = -0.05;  // falling back onto the left pivot
   y.segment(l.u_dot, l.n).setConstant(0.001);
   y[l.z] = 0.4;
-  d.z[1] = -0.3;  // what the other damper kept from its last cycle
+  d.set_z(1, -0.3);  // what the other damper kept from its last cycle
   const ImpactResult r = impact(m, d, y);
   CHECK(r.continues);
   CHECK(d.pivot == -1);
   CHECK(y[l.theta_dot] == doctest::Approx(0.9 * -0.05).epsilon(1e-15));
   CHECK(y.segment(l.u_dot, l.n).isApproxToConstant(0.001));
   CHECK(y[l.z] == -0.3);               // the left-pivot damper resumes its own z
-  CHECK(d.z[0] == 0.4);       // and the other keeps its z for later
+  CHECK(d.z(0) == 0.4);       // and the other keeps its z for later
 
   // Below theta_dot_min the structure settles: th' = 0 and u' gains H th'-.
   y[l.theta_dot] = 0.001;  // rocking about -1, falling back (s th' > 0 means -th decreasing)

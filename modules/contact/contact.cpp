@@ -112,12 +112,8 @@ UpliftTerms uplift_terms(const ContactModel& m, double a_g, Eigen::Ref<const Eig
 double uplift_guard(const ContactModel& m, const Discrete& d, int s, const UpliftTerms& t) {
   const Structure& st = m.body.structure;
   const double B = st.half_width;
-  // The devices' forces at rest about their lever arms (a tendon's prestress, a damper's stored force).
-  double held = 0;
-  for (const ContactModel::Acting& a : m.acting[side(s)])
-    if (!d.is_broken(a.device)) held += law_force_at_rest(a.law, d.z[a.device]) * a.lever;
   const double restoring = m.body.g * (B * m.body.total_mass - s * t.Mu);
-  const double gs = s * t.moment - (restoring + held);
+  const double gs = s * t.moment - (restoring + held_moment(m, d, s));
   if (m.layout.u < 0) return gs;
   return std::min(gs, s * t.momentum);
 }
@@ -333,7 +329,23 @@ void guard_values(const ContactModel& m, const Discrete& d, double a_g, Eigen::R
   }
 }
 
-void fracture(Discrete& d, int device) { d.broken |= 1u << device; }
+void fracture(Discrete& d, int device) {
+  d.broken |= 1u << device;
+  d.held_fresh_ = false;
+}
+
+double held_moment(const ContactModel& m, const Discrete& d, int s) {
+  if (!d.held_fresh_) {
+    for (int p : {-1, +1}) {
+      double held = 0;
+      for (const ContactModel::Acting& a : m.acting[side(p)])
+        if (!d.is_broken(a.device)) held += law_force_at_rest(a.law, d.z(a.device)) * a.lever;
+      d.held_[side(p)] = held;
+    }
+    d.held_fresh_ = true;
+  }
+  return d.held_[side(s)];
+}
 
 void device_samples(const ContactModel& m, const Discrete& d, Eigen::Ref<const Eigen::VectorXd> y,
                     std::vector<DeviceSample>& out) {
@@ -364,11 +376,11 @@ namespace {
 // their slots, or back.
 void load_states(const ContactModel& m, const Discrete& d, int s, Eigen::Ref<Eigen::VectorXd> y) {
   for (const ContactModel::Acting& a : m.acting[side(s)])
-    if (a.slot >= 0) y[a.slot] = d.z[a.device];
+    if (a.slot >= 0) y[a.slot] = d.z(a.device);
 }
 void save_states(const ContactModel& m, Discrete& d, int s, Eigen::Ref<const Eigen::VectorXd> y) {
   for (const ContactModel::Acting& a : m.acting[side(s)])
-    if (a.slot >= 0) d.z[a.device] = y[a.slot];
+    if (a.slot >= 0) d.set_z(a.device, y[a.slot]);
 }
 }  // namespace
 

@@ -98,13 +98,28 @@ ContactModel make_contact_model(const Structure& structure, const Contact& conta
 // fixed array, so that events allocate nothing).
 inline constexpr int max_device_states = 16;
 
-// The discrete state kept beside the ODE state.
+// The discrete state kept beside the ODE state. The devices' z and their
+// fractures change only through set_z and fracture, so that the moment the
+// devices hold at rest about each pivot (a sum over the devices, needed at
+// every uplift-guard sample) is computed once per change of them.
 struct Discrete {
   int pivot = 0;                   // 0: full contact; +1 / -1: rocking about that pivot
-  std::array<double, max_device_states> z{};  // z of each device (by device index) while not stretched
   int last_pivot = 1;              // the pivot of the last rocking phase
   std::uint32_t broken = 0;        // bit k: device k has fractured (exerts nothing for the rest of the run)
   bool is_broken(int device) const { return ((broken >> device) & 1u) != 0; }
+  // z of each device (by device index) while not stretched.
+  double z(int device) const { return z_[static_cast<std::size_t>(device)]; }
+  void set_z(int device, double value) {
+    z_[static_cast<std::size_t>(device)] = value;
+    held_fresh_ = false;
+  }
+
+ private:
+  friend void fracture(Discrete& d, int device);
+  friend double held_moment(const ContactModel& m, const Discrete& d, int s);
+  std::array<double, max_device_states> z_{};
+  mutable std::array<double, 2> held_{};  // per pivot ([0]: s = -1), valid while held_fresh_
+  mutable bool held_fresh_ = false;
 };
 std::string phase_name(int pivot);  // "full_contact", "rocking(+1)", "rocking(-1)"
 
@@ -161,6 +176,10 @@ int uplift_now(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<
 
 // A device reaching its capacity fractures: it exerts nothing from now on.
 void fracture(Discrete& d, int device);
+
+// sum F_rest l over the intact devices pivot s stretches: the moment they
+// hold against uplift about s (a tendon's prestress, a damper's stored force) [N m].
+double held_moment(const ContactModel& m, const Discrete& d, int s);
 
 // Each device's elongation and force in this state (0 for the devices the
 // current pivot does not stretch, and for the broken). out: one per device.
