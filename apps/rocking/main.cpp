@@ -78,6 +78,7 @@ int main(int argc, char** argv) {
   rocking::app::Command spectrum = rocking::app::add_spectrum_command(app);
   rocking::app::Command animate = rocking::app::add_animate_command(app);
   rocking::app::Command record = rocking::app::add_record_command(app);
+  rocking::app::Command fit = rocking::app::add_fit_command(app);
 
   auto logger = spdlog::stderr_color_mt("rocking");
   spdlog::set_default_logger(logger);
@@ -110,6 +111,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("spectrum")) return spectrum();
     if (app.got_subcommand("animate")) return animate();
     if (app.got_subcommand("record")) return record();
+    if (app.got_subcommand("fit")) return fit();
   } catch (const rocking::InputError& e) {
     fmt::print(stderr, "rocking: error: {}\n", e.what());
     return rocking::exit_input_error;

@@ -98,7 +98,10 @@ int response(const ResponseArgs& a) {
     for (std::size_t k = 0; k < keys.size(); ++k) {
       const std::string& key = keys[k];
       const Variant& v = variants[k];
-      const std::string label = variant_label(key);
+      // The scene as run names what --set changed in it.
+      const std::string label = key == "scene" && !a.scene.overrides.empty()
+                                    ? fmt::format("scene, {}", fmt::join(a.scene.overrides, ", "))
+                                    : variant_label(key);
       std::vector<std::string> overrides = a.scene.overrides;
       overrides.insert(overrides.end(), v.overrides.begin(), v.overrides.end());
       const Scene scene = load_scene(SceneOptions{a.scene.path, overrides});

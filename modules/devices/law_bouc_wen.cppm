@@ -20,7 +20,10 @@ struct BoucWenLaw {
     return {{"k", "N/m", "pre-yield stiffness", 0, 0, true},
             {"eps", "-", "post-yield stiffness ratio", 0, 0, false},
             {"d_y", "m", "yield elongation", 0, 0, true},
-            {"alpha", "-", "Bouc-Wen shape", 0.5, 0, false},
+            // (d_y, alpha, beta) and (c d_y, c^n alpha, c^n beta) give the same
+            // force for every c > 0 (z scales by 1/c): a fit holds alpha + beta = 1,
+            // which makes d_y the yield elongation and |z| <= 1.
+            {"alpha", "-", "Bouc-Wen shape", 0.5, 0, false, "beta"},
             {"beta", "-", "Bouc-Wen shape", 0.5, 0, false},
             {"n", "-", "Bouc-Wen sharpness of yield", 1, 0, true}};
   }

@@ -13,6 +13,10 @@ struct LawParameter {
   double default_value = 0;
   double minimum = 0;      // values below are refused
   bool minimum_exclusive = false;  // the minimum itself is refused too
+  // Non-empty: the law gives the same forces when this parameter and others
+  // are rescaled together, and a fit (rocking.fitting) holds it at one minus
+  // the named parameter (Bouc-Wen's alpha = 1 - beta).
+  std::string fitted_as_one_minus = {};
 };
 
 }  // namespace rocking

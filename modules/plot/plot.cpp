@@ -1,5 +1,6 @@
 module;
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -318,22 +319,36 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
     body += curves("1:5", [](const ResponseSeries& r) { return r.rocks; });
   }
   if (device_panels) {
-    // Each device's force against its elongation (zero while it is not
-    // stretched: a break in the curve), dashed per device, in its run's colour.
-    body += grid.panels[next++] + "  set autoscale x\n  set xlabel \"device elongation e [mm]\"\n"
-            "  set ylabel \"device force F [kN]\"\n  set key top left noenhanced\n";
+    // Each device's force against its elongation, in its run's colour, with
+    // one dash pattern per device name (the same in every run), named in the
+    // axis label so that no key covers the loops. A zero elongation (not
+    // stretched) or a zero force (broken) breaks the curve.
+    static constexpr std::array<const char*, 5> dashes{"solid", "dashed", "dotted", "dash-dot", "dash-dot-dot"};
+    std::vector<std::string> names;
+    for (const auto& run_devices : devices)
+      for (const std::string& name : run_devices)
+        if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+    std::vector<std::string> legend;
+    for (std::size_t k = 0; k < names.size(); ++k)
+      legend.push_back(fmt::format("{} {}", dashes[k % dashes.size()], names[k]));
+    body += grid.panels[next++] +
+            fmt::format("  set autoscale x\n  set xlabel {} noenhanced\n", gp_string(fmt::format(
+                                                                            "device elongation e [mm]   ({})",
+                                                                            fmt::join(legend, ", ")))) +
+            "  set ylabel \"device force F [kN]\"\n";
     std::vector<std::string> items;
     for (std::size_t i = 0; i < runs.size(); ++i)
       for (std::size_t k = 0; k < devices[i].size(); ++k) {
         const std::size_t e = 16 + 2 * k, f = e + 1;
-        const std::string title = runs.size() == 1 ? devices[i][k] : runs[i].label + ": " + devices[i][k];
-        items.push_back(fmt::format("{} skip 1 using (${} == 0 ? NaN : ${}*1000):(${}/1000) with lines linestyle {} "
-                                    "dashtype {} title {}",
-                                    gp_string(runs[i].history), e, e, f, i + 1, k + 1, gp_string(title)));
+        const auto dash = std::find(names.begin(), names.end(), devices[i][k]) - names.begin();
+        items.push_back(fmt::format("{} skip 1 using (${} == 0 || ${} == 0 ? NaN : ${}*1000):(${}/1000) with lines "
+                                    "linestyle {} dashtype {} notitle",
+                                    gp_string(runs[i].history), e, f, e, f, i + 1,
+                                    static_cast<std::size_t>(dash) % dashes.size() + 1));
       }
-    body += plot_command(items) + "  unset key\n";
+    body += plot_command(items);
     // Their moment against the rotation: the rocking interface's hysteresis.
-    body += grid.panels[next++] + "  set autoscale x\n  set xlabel \"rocking angle {/Symbol q} [rad]\"\n"
+    body += grid.panels[next++] + "  set autoscale x\n  set xlabel \"rocking angle {/Symbol q} [rad]\" enhanced\n"
             "  set ylabel \"devices' moment M_{dev} [MN m]\"\n";
     body += curves("4:($15/1e6)", [&](const ResponseSeries& r) {
       return r.has_damper && !devices[static_cast<std::size_t>(&r - runs.data())].empty();
@@ -342,8 +357,10 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
     body += grid.panels[next++] + "  set autoscale x\n  set xlabel \"damper elongation d [mm] (signed by the pivot)\"\n"
             "  set ylabel \"damper force F_{hd} [kN]\"\n";
     // Break the loop where no damper is stretched (d = 0: full contact, and the
-    // impacts where one edge's damper hands over to the other's).
-    body += curves("($8 == 0 ? NaN : $8*1000):($9/1000)", [](const ResponseSeries& r) { return r.has_damper; });
+    // impacts where one edge's damper hands over to the other's) or where it
+    // has broken (F = 0).
+    body += curves("($8 == 0 || $9 == 0 ? NaN : $8*1000):($9/1000)",
+                   [](const ResponseSeries& r) { return r.has_damper; });
   }
   std::vector<std::string> entries;
   for (std::size_t i = 0; i < runs.size(); ++i)
@@ -358,6 +375,32 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
       "set datafile separator \",\"\n"
       "{}{}",
       fig.name, style_lines(1.5, 0.6), render_loop(fig, body, points));
+  return render_script(fig, script);
+}
+
+std::vector<fs::path> render_fit(const Figure& fig, const std::string& data_file, const std::string& fitted_label,
+                                 const std::string& time_label) {
+  const std::vector<std::string> labels{"measured", fitted_label};
+  const int points = font_points(fig, 1100, 480);
+  const Grid grid = shared_key_grid(fig, 1, 2, points, labels);
+  const std::string data = gp_string(data_file);
+  std::string body = grid.begin + "  set grid\n  unset key\n";
+  body += grid.panels[0] + "  set xlabel \"elongation e [mm]\"\n  set ylabel \"force F [kN]\"\n";
+  body += plot_command({fmt::format("{} skip 1 using ($2*1000):($3/1000) with points pointtype 7 pointsize 0.35 "
+                                    "linecolor rgb \"#a0a0a0\" notitle", data),
+                        fmt::format("{} skip 1 using ($2*1000):($4/1000) with lines linestyle 1 notitle", data)});
+  body += grid.panels[1] + fmt::format("  set xlabel {} noenhanced\n", gp_string(time_label)) +
+          "  set ylabel \"residual F_{fit} - F [kN]\"\n";
+  body += plot_command({fmt::format("{} skip 1 using 1:(($4-$3)/1000) with lines linestyle 2 notitle", data)});
+  body += key_plot(grid, {"NaN with points pointtype 7 pointsize 0.8 linecolor rgb \"#a0a0a0\" title \"measured\" noenhanced",
+                          fmt::format("NaN with lines linestyle 1 title {} noenhanced", gp_string(fitted_label))});
+  const std::string script = fmt::format(
+      "# rocking: a device law fitted to a cyclic test (the paper's Fig. 2, top right).\n"
+      "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
+      "# Data: time or sample, elongation [m], measured force [N], fitted force [N].\n"
+      "set datafile separator \",\"\n"
+      "{}{}",
+      fig.name, style_lines(1.8, 1.0), render_loop(fig, body, points));
   return render_script(fig, script);
 }
 

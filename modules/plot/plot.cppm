@@ -123,6 +123,12 @@ struct LinePanel {
 std::vector<std::filesystem::path> render_lines(const Figure& fig, int rows, int cols, const std::string& xlabel,
                                                 const std::string& ylabel, const std::vector<LinePanel>& panels);
 
+// A law fitted to a cyclic test (the paper's Fig. 2, top right): the data
+// file has columns sample time or number, elongation [m], measured force [N],
+// fitted force [N]. Left: measured (grey points) and fitted loops, force against
+// elongation; right: the residual (fitted - measured) against time.
+std::vector<std::filesystem::path> render_fit(const Figure& fig, const std::string& data_file,
+                                              const std::string& fitted_label, const std::string& time_label);
 // Overturning spectra: each series file has columns frequency_ratio,
 // amplitude_ratio, period_s, amplitude_g, overturned (0/1), then the cell of
 // each grid point: its low and high frequency ratio, amplitude ratio, period

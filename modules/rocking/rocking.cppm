@@ -12,6 +12,7 @@ export import rocking.scene;
 export import rocking.ground_motion;
 export import rocking.intensity;
 export import rocking.fragility;
+export import rocking.fitting;
 export import rocking.integrator;
 export import rocking.sundials;
 export import rocking.contact;
