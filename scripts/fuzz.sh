@@ -14,8 +14,9 @@ declare -A seeds=(
   [scene]="$here/data/scenes"
   [set_override]=""
   [number_list]=""
+  [cyclic_test]="$here/data/tests"
 )
-for target in record scene set_override number_list; do
+for target in record scene set_override number_list cyclic_test; do
   work="$here/build-sanitize/fuzz-corpus/$target"
   mkdir -p "$work"
   dirs=("$work" "$here/tests/fuzz/corpus/$target" "$here/tests/fuzz/regressions/$target")

@@ -37,3 +37,4 @@ TEST_CASE("fuzz inputs replayed: record files") { CHECK(replay("record", fuzz::r
 TEST_CASE("fuzz inputs replayed: scene files") { CHECK(replay("scene", fuzz::scene) > 0); }
 TEST_CASE("fuzz inputs replayed: --set values") { CHECK(replay("set_override", fuzz::set_override) > 0); }
 TEST_CASE("fuzz inputs replayed: number lists") { CHECK(replay("number_list", fuzz::number_list) > 0); }
+TEST_CASE("fuzz inputs replayed: cyclic tests") { CHECK(replay("cyclic_test", fuzz::cyclic_test) > 0); }

@@ -217,7 +217,8 @@ std::vector<double> law_force_history(const DeviceLaw& law, const CyclicTest& te
       const double de = test.e[i] - test.e[i - 1];
       const double dt = test.t.empty() ? 1.0 : test.t[i] - test.t[i - 1];
       const double e_dot = de / dt;
-      const int m = substep > 0 ? std::max(1, static_cast<int>(std::ceil(std::abs(de) / substep))) : 1;
+      const double steps = std::abs(de) / substep;  // at most 400, unless the range overflows
+      const int m = steps > 1 && steps <= 400 ? static_cast<int>(std::ceil(steps)) : 1;
       const double h = dt / m;
       for (int j = 0; j < m; ++j) {
         const double e = test.e[i - 1] + e_dot * h * j;

@@ -15,6 +15,7 @@
 #include <unistd.h>
 import rocking.scene;
 import rocking.study;
+import rocking.fitting;
 import rocking.errors;
 
 namespace fuzz {
@@ -65,6 +66,22 @@ inline void set_override(const std::uint8_t* data, std::size_t size) {
 inline void number_list(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   input_or_error([&] { (void)rocking::parse_number_list(text); });
+}
+
+// A cyclic test table (rocking fit): read, and when short, fitted (a fit
+// that does not converge on such bytes is a RunError, which is refused too).
+inline void cyclic_test(const std::uint8_t* data, std::size_t size) {
+  const std::string path = as_file(data, size, "cyclic.csv");
+  input_or_error([&] {
+    const rocking::CyclicTest test = rocking::read_cyclic_test(path);
+    if (test.e.size() <= 60) {
+      try {
+        (void)rocking::fit_law(test, {"bouc-wen", {{"n", 1.0}}});
+      } catch (const rocking::RunError&) {
+      }
+    }
+  });
+  std::remove(path.c_str());
 }
 
 }  // namespace fuzz
