@@ -159,13 +159,13 @@ Command add_fit_command(CLI::App& app) {
   cmd->add_flag("--json", a->json, "Print the fit as JSON");
   cmd->add_option("--out", a->out,
                   "Write the figure (measured and fitted loops, residual), its data and the\n"
-                  "table (NAME.toml) to this folder")
+                  "table (FIGURE.toml, see --figure) to this folder")
       ->type_name("DIR");
   cmd->add_option("--figure", a->figure_name, "File stem of the figure (default fit)")->type_name("NAME");
   cmd->add_option("--formats", a->formats, "Comma-separated: png, pdf, svg (default all three)")->type_name("LIST");
   cmd->footer(
       "Example (the synthetic test in data/tests, made by scripts/make_cyclic_tests.sh):\n"
-      "  rocking fit data/tests/bouc_wen_cyclic.csv --fix n=1 --out plots\n"
+      "  rocking fit data/tests/bouc_wen_cyclic.csv --out plots\n"
       "Paste the printed table into a scene, or try it: --set 'device+={...}'.");
   return [a]() { return run_fit(*a); };
 }
