@@ -67,11 +67,20 @@ double theta_dot_of(const ContactModel& m, Eigen::Ref<const Eigen::VectorXd> y) 
   return m.layout.theta_dot < 0 ? 0.0 : y[m.layout.theta_dot];
 }
 
-// H'M u' (momentum moment of the elastic velocities); 0 for a rigid block.
+// The elastic displacements and velocities of a state (zeros for a rigid block).
+Eigen::Ref<const Eigen::VectorXd> u_of(const ContactModel& m, Eigen::Ref<const Eigen::VectorXd> y) {
+  if (m.layout.u < 0) return m.zero_motion;
+  return y.segment(m.layout.u, m.layout.n);
+}
+Eigen::Ref<const Eigen::VectorXd> u_dot_of(const ContactModel& m, Eigen::Ref<const Eigen::VectorXd> y) {
+  if (m.layout.u < 0) return m.zero_motion;
+  return y.segment(m.layout.u_dot, m.layout.n);
+}
+
+// H'M u' (momentum moment of the elastic velocities).
 double moment_of_velocities(const ContactModel& m, Eigen::Ref<const Eigen::VectorXd> y) {
-  if (m.layout.u < 0) return 0.0;
   const Structure& st = m.body.structure;
-  return (st.heights.array() * st.masses.array() * y.segment(m.layout.u_dot, m.layout.n).array()).sum();
+  return (st.heights.array() * st.masses.array() * u_dot_of(m, y).array()).sum();
 }
 
 // The parts of both uplift guards that do not depend on the pivot, from one
@@ -127,12 +136,11 @@ double restitution(const ContactModel& m, int s, Eigen::Ref<const Eigen::VectorX
   }
   // Eq. 9: r = L_new / L_old, L_old = J(u) th'- + H'M u' (momentum about the old pivot)
   const Structure& st = m.body.structure;
-  double j = pivot_inertia(st), hmu = moment_of_velocities(m, y);
-  if (m.layout.u >= 0) {
-    const auto u = y.segment(m.layout.u, m.layout.n).array();
-    const auto mass = st.masses.array();
-    j += (mass * u * u).sum() - 2.0 * s * st.half_width * (mass * u).sum();
-  }
+  const auto u = u_of(m, y).array();
+  const auto mass = st.masses.array();
+  double j = pivot_inertia(st);
+  j += (mass * u * u).sum() - 2.0 * s * st.half_width * (mass * u).sum();
+  const double hmu = moment_of_velocities(m, y);
   const double l_old = j * theta_dot + hmu;
   const double scale = std::abs(j * theta_dot) + std::abs(hmu);
   // Guard against a vanishing denominator: fall back to the geometric Eq. 10.
@@ -147,6 +155,7 @@ ContactModel make_contact_model(const Structure& st, const Contact& contact, std
   ContactModel m;
   m.kind = st.rigid ? ModelKind::rigid_block : contact.rocking ? ModelKind::flexible : ModelKind::fixed_base;
   m.body = make_body(st);
+  m.zero_motion.setZero(node_count(st));
   if (m.kind != ModelKind::fixed_base) {
     for (Device& dev : devices) {
       if (!(std::abs(dev.geometry.x) <= st.half_width))
@@ -274,17 +283,10 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<
   }
   if (l.energy >= 0) {
     double input = 0, viscous = 0;
-    if (l.u >= 0) {
-      const auto u_dot = y.segment(l.u_dot, l.n);
-      const Coordinates q{y.segment(l.u, l.n), u_dot, tilt, thd};
-      input = ground_input_power(m.body, s == 0 ? 1 : s, a_g, q);
-      w.b.noalias() = m.body.matrices.C * u_dot;
-      viscous = u_dot.dot(w.b);
-    } else if (s != 0) {
-      w.a.setZero();
-      const Coordinates q{w.a, w.a, tilt, thd};
-      input = ground_input_power(m.body, s, a_g, q);
-    }
+    const Coordinates q{u_of(m, y), u_dot_of(m, y), tilt, thd};
+    input = ground_input_power(m.body, s == 0 ? 1 : s, a_g, q);
+    w.b.noalias() = m.body.matrices.C * q.u_dot;
+    viscous = q.u_dot.dot(w.b);
     dydt[l.energy] = input;
     dydt[l.energy + 1] = viscous;
     dydt[l.energy + 2] = damper_power;
@@ -399,8 +401,7 @@ ImpactResult impact(const ContactModel& m, Discrete& d, Eigen::Ref<Eigen::Vector
   save_states(m, d, s, y);  // the stretched devices keep their z for their next cycle
   y[l.theta] = 0.0;
   // L_new = (J_p - 2 (1'M1 + m0) B^2 + u'Mu) th'- + H'M u' (momentum about the new pivot)
-  double uMu = 0;
-  if (l.u >= 0) uMu = (st.masses.array() * y.segment(l.u, l.n).array().square()).sum();
+  const double uMu = (st.masses.array() * u_of(m, y).array().square()).sum();
   const double l_new = (pivot_inertia(st) - 2.0 * total_mass(st) * B * B + uMu) * theta_dot +
                        moment_of_velocities(m, y);
   ImpactResult out;
@@ -419,14 +420,8 @@ ImpactResult impact(const ContactModel& m, Discrete& d, Eigen::Ref<Eigen::Vector
 }
 
 void view(const ContactModel& m, Eigen::Ref<const Eigen::VectorXd> y, StateView& out) {
-  const Eigen::Index n = node_count(m.body.structure);
-  if (m.layout.u >= 0) {
-    out.u = y.segment(m.layout.u, n);
-    out.u_dot = y.segment(m.layout.u_dot, n);
-  } else {
-    out.u.setZero(n);
-    out.u_dot.setZero(n);
-  }
+  out.u = u_of(m, y);
+  out.u_dot = u_dot_of(m, y);
   out.theta = theta_of(m, y);
   out.theta_dot = theta_dot_of(m, y);
 }

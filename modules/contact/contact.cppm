@@ -83,6 +83,11 @@ struct ContactModel {
   double r_eq10 = 0;
   double overturn_angle = 0;   // [rad]
   Layout layout;
+  // N zeros: the elastic displacements and velocities of a rigid block, so
+  // that the formulas it shares with a flexible structure (momenta, Eq. 9,
+  // the impact reset's inertia, energies, views) read them as those of a
+  // structure whose u stays 0, with no branch on the model.
+  Eigen::VectorXd zero_motion;
   // Rows on the contiguous [u; u'] (2N) giving 1'M u and H'M u', with
   // body.moment_row the terms of both uplift guards, which are sampled
   // several times a step: [M1; 0], [0; MH].

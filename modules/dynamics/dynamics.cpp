@@ -77,8 +77,14 @@ RockingBody make_body(const Structure& s, double g) {
   RockingBody b;
   b.structure = s;
   b.g = g;
-  if (s.rigid) b.matrices.M = s.masses.asDiagonal();
-  else b.matrices = assemble(s);
+  if (s.rigid) {  // no elastic coordinates: nothing strains or damps
+    const Eigen::Index n = s.masses.size();
+    b.matrices.M = s.masses.asDiagonal();
+    b.matrices.K.setZero(n, n);
+    b.matrices.C.setZero(n, n);
+  } else {
+    b.matrices = assemble(s);
+  }
   b.HM1 = s.heights.dot(s.masses);
   if (!s.rigid) {
     b.moment_row.resize(2 * s.heights.size());
@@ -144,7 +150,7 @@ double mechanical_energy(const RockingBody& b, int s, const Coordinates& q) {
                          thd * (m * st.heights.array() * q.u_dot.array()).sum();
   // heights: Y = s w sin th + H cos th for the nodes, s B sin th for the foundation beam
   const double gravity = b.g * ((m * (s * w * sn + st.heights.array() * (c - 1.0))).sum() + st.base_mass * s * B * sn);
-  const double elastic = b.structure.rigid ? 0.0 : 0.5 * q.u.dot(b.matrices.K * q.u);
+  const double elastic = 0.5 * q.u.dot(b.matrices.K * q.u);
   return kinetic + gravity + elastic;
 }
 

@@ -9,7 +9,8 @@
 // Devices enter as a given number, their generalised moment
 // D = sum_k F_k de_k/d|th| (rocking.devices owns it), as -s D in rhs_th; for
 // the paper's edge damper D = F_hd 2B cos(th/2).
-// A rigid block (Structure::rigid) has u = 0 throughout: J_p th'' = rhs_th(u = 0).
+// A rigid block (Structure::rigid) has u = 0 throughout (its K and C are
+// zero): J_p th'' = rhs_th(u = 0), the constrained equation, not the free one.
 // mechanical_energy is kinetic + gravity (from rest) + elastic, and
 // ground_input_power the power of the a_g terms on (u', th'), for the energy
 // bookkeeping of MODEL.md 7: dE/dt = P_ground - u'Cu' - sum_k F_k e_k'. SI units.
