@@ -15,8 +15,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr double inf = std::numeric_limits<double>::infinity();
-
 struct QuantityAxis {
   Quantity q;
   const char* label;
