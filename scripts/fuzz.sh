@@ -19,8 +19,11 @@ declare -A seeds=(
 for target in record scene set_override number_list cyclic_test; do
   work="$here/build-sanitize/fuzz-corpus/$target"
   mkdir -p "$work"
-  dirs=("$work" "$here/tests/fuzz/corpus/$target" "$here/tests/fuzz/regressions/$target")
-  for s in ${seeds[$target]}; do [ -d "$s" ] && dirs+=("$s"); done
+  dirs=("$work")
+  # A target with no regression yet has no folder for them (git keeps no empty folder).
+  for s in "$here/tests/fuzz/corpus/$target" "$here/tests/fuzz/regressions/$target" ${seeds[$target]}; do
+    if [ -d "$s" ]; then dirs+=("$s"); fi
+  done
   echo "fuzz: $target for ${seconds} s"
   if ! (cd "$here/build-sanitize" && "$bin/${target}_fuzz" -max_total_time="$seconds" -timeout=10 \
         -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 "${dirs[@]}" 2>&1 | tail -n 25); then
