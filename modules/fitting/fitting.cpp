@@ -154,10 +154,43 @@ double starting_value(const LawParameter& p, const DataScales& s, double exponen
   return std::max(v, p.minimum + (std::abs(v) > 0 ? 1e-3 * std::abs(v) : 1e-3));
 }
 
+// The law's force along the test at the given rates (see law_force_history),
+// which a fit computes once for all its evaluations.
+std::vector<double> force_history(const DeviceLaw& law, const CyclicTest& test, const std::vector<double>& v) {
+  const std::size_t n = test.e.size();
+  std::vector<double> F(n, 0.0);
+  if (n == 0) return F;
+  const bool stateful = law_states(law) > 0;
+  const double substep = range_of(test.e) / 400;
+  double z = 0;
+  F[0] = law_force(law, test.e[0], v[0], z);
+  for (std::size_t i = 1; i < n; ++i) {
+    if (stateful) {
+      const double de = test.e[i] - test.e[i - 1];
+      const double dt = test.t.empty() ? 1.0 : test.t[i] - test.t[i - 1];
+      const double e_dot = de / dt;
+      const double steps = std::abs(de) / substep;  // at most 400, unless the range overflows
+      const int m = steps > 1 && steps <= 400 ? static_cast<int>(std::ceil(steps)) : 1;
+      const double h = dt / m;
+      for (int j = 0; j < m; ++j) {
+        const double e = test.e[i - 1] + e_dot * h * j;
+        const double k1 = law_rate(law, e, e_dot, z);
+        const double k2 = law_rate(law, e + 0.5 * e_dot * h, e_dot, z + 0.5 * h * k1);
+        const double k3 = law_rate(law, e + 0.5 * e_dot * h, e_dot, z + 0.5 * h * k2);
+        const double k4 = law_rate(law, e + e_dot * h, e_dot, z + h * k3);
+        z += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+      }
+    }
+    F[i] = law_force(law, test.e[i], v[i], z);
+  }
+  return F;
+}
+
 // The searched variables q and the law's parameters p (see the top of fitting.cppm).
 struct Search {
   const LawInfo* info = nullptr;
   const CyclicTest* test = nullptr;
+  std::vector<double> rates;             // of the test, at each sample
   std::vector<double> values;            // every parameter, the fixed ones set
   std::vector<std::size_t> free;         // indices of the free parameters
   std::vector<double> scale;             // per free parameter
@@ -189,7 +222,7 @@ struct Search {
 int residuals(const gsl_vector* q, void* data, gsl_vector* f) {
   const Search& s = *static_cast<const Search*>(data);
   try {
-    const std::vector<double> F = law_force_history(law_from(*s.info, s.parameters(q)), *s.test);
+    const std::vector<double> F = force_history(law_from(*s.info, s.parameters(q)), *s.test, s.rates);
     for (std::size_t i = 0; i < F.size(); ++i) {
       const double r = (F[i] - s.test->F[i]) / s.force_scale;
       if (!std::isfinite(r)) return GSL_EDOM;
@@ -204,34 +237,7 @@ int residuals(const gsl_vector* q, void* data, gsl_vector* f) {
 }  // namespace
 
 std::vector<double> law_force_history(const DeviceLaw& law, const CyclicTest& test) {
-  const std::size_t n = test.e.size();
-  std::vector<double> F(n, 0.0);
-  if (n == 0) return F;
-  const std::vector<double> v = rates(test);
-  const bool stateful = law_states(law) > 0;
-  const double substep = range_of(test.e) / 400;
-  double z = 0;
-  F[0] = law_force(law, test.e[0], v[0], z);
-  for (std::size_t i = 1; i < n; ++i) {
-    if (stateful) {
-      const double de = test.e[i] - test.e[i - 1];
-      const double dt = test.t.empty() ? 1.0 : test.t[i] - test.t[i - 1];
-      const double e_dot = de / dt;
-      const double steps = std::abs(de) / substep;  // at most 400, unless the range overflows
-      const int m = steps > 1 && steps <= 400 ? static_cast<int>(std::ceil(steps)) : 1;
-      const double h = dt / m;
-      for (int j = 0; j < m; ++j) {
-        const double e = test.e[i - 1] + e_dot * h * j;
-        const double k1 = law_rate(law, e, e_dot, z);
-        const double k2 = law_rate(law, e + 0.5 * e_dot * h, e_dot, z + 0.5 * h * k1);
-        const double k3 = law_rate(law, e + 0.5 * e_dot * h, e_dot, z + 0.5 * h * k2);
-        const double k4 = law_rate(law, e + e_dot * h, e_dot, z + h * k3);
-        z += h / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
-      }
-    }
-    F[i] = law_force(law, test.e[i], v[i], z);
-  }
-  return F;
+  return force_history(law, test, rates(test));
 }
 
 double Fit::value(const std::string& key) const {
@@ -323,6 +329,7 @@ Fit fit_law(const CyclicTest& test, const FitRequest& request) {
     s.scale.push_back(start[k] - p.minimum);
   }
   s.force_scale = scales.force;
+  s.rates = rates(test);
 
   const std::size_t p = s.free.size();
   gsl_multifit_nlinear_fdf fdf{};
