@@ -136,7 +136,8 @@ double restitution(const ContactModel& m, int s, Eigen::Ref<const Eigen::VectorX
   }
   // Eq. 9: r = L_new / L_old, L_old = J(u) th'- + H'M u' (momentum about the old pivot)
   const Structure& st = m.body.structure;
-  const auto u = u_of(m, y).array();
+  const Eigen::Ref<const Eigen::VectorXd> u_ref = u_of(m, y);  // named: .array() keeps a reference to it
+  const auto u = u_ref.array();
   const auto mass = st.masses.array();
   double j = pivot_inertia(st);
   j += (mass * u * u).sum() - 2.0 * s * st.half_width * (mass * u).sum();
