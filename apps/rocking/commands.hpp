@@ -92,10 +92,6 @@ std::vector<double> number_list(const std::string& flag, const std::string& text
 // no damper") or a swept key ("damper.thickness=1.5": "damper thickness x1.5").
 std::string variant_label(const std::string& name);
 
-// A record's name for titles and summaries; the stand-in record says so.
-std::string describe_motion(const std::string& name);
-// The same, with what the record's header says it is (event, station, PGA).
-std::string describe_motion(const rocking::GroundMotion& motion);
 // The same on two lines, for figure titles.
 std::string motion_title(const rocking::GroundMotion& motion);
 

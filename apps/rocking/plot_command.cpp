@@ -181,17 +181,6 @@ int modes(const SceneOptions& scene_opts, const FigureArgs& fa) {
 
 }  // namespace
 
-std::string describe_motion(const std::string& name) {
-  if (name.find("pphs_s57e") != std::string::npos)
-    return name + " (Papanui, stand-in for the Canterbury Aero Club record)";
-  return name;
-}
-
-std::string describe_motion(const GroundMotion& motion) {
-  const std::string name = describe_motion(motion.name());
-  return motion.description().empty() ? name : fmt::format("{}: {}", name, motion.description());
-}
-
 std::string motion_title(const GroundMotion& motion) {
   const std::string name = describe_motion(motion.name());
   return motion.description().empty() ? name : fmt::format("{}\n{}", motion.description(), name);

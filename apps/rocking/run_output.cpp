@@ -16,10 +16,10 @@ HistoryCsv::HistoryCsv(const std::filesystem::path& file, const GroundMotion& mo
     : path_(file.string()), motion_(motion), devices_(devices.size()) {
   file_ = std::fopen(path_.c_str(), "w");
   if (file_ == nullptr) throw InputError(fmt::format("{}: cannot write: {}", path_, std::strerror(errno)));
-  std::fputs("t [s],phase,u_N [m],theta [rad],theta/alpha_cg [-],delta_t [-],delta_e [-],d [m],F_hd [N],"
-             "base_shear [V_ref],base_moment [M_ref],mid_shear [V_ref],mid_moment [M_ref],a_g [m/s2]", file_);
-  if (!devices.empty()) std::fputs(",M_dev [N m]", file_);
-  for (const Device& d : devices) fmt::print(file_, ",{0} e [m],{0} F [N]", d.name);
+  std::string header;
+  for (const HistoryColumn& c : history_columns(devices))
+    header += fmt::format("{}{}{}", header.empty() ? "" : ",", c.name, c.unit.empty() ? "" : " [" + c.unit + "]");
+  std::fputs(header.c_str(), file_);
   std::fputs("\n", file_);
 }
 
@@ -39,17 +39,9 @@ void HistoryCsv::record(const Response& r) {
 }
 
 void HistoryCsv::print_row(const Response& r) {
-  using Q = Quantity;
-  fmt::print(file_, "{:.9g},{},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g},{:.9g}", r.t,
-             r.pivot == 0 ? "contact" : r.pivot > 0 ? "rock+" : "rock-", r.u_top, r[Q::theta], r[Q::theta_over_alpha],
-             r[Q::delta_t], r[Q::delta_e], r[Q::damper_d], r[Q::damper_F], r[Q::base_shear], r[Q::base_moment],
-             r[Q::mid_shear], r[Q::mid_moment], motion_.acceleration(r.t));
-  if (!devices_.empty()) {
-    double moment = 0;
-    for (const DeviceSample& d : devices_) moment += d.moment;
-    fmt::print(file_, ",{:.9g}", moment);
-    for (const DeviceSample& d : devices_) fmt::print(file_, ",{:.9g},{:.9g}", d.e, d.F);
-  }
+  history_values(r, motion_.acceleration(r.t), devices_, row_);
+  fmt::print(file_, "{:.9g},{}", row_[0], r.pivot == 0 ? "contact" : r.pivot > 0 ? "rock+" : "rock-");
+  for (std::size_t i = 2; i < row_.size(); ++i) fmt::print(file_, ",{:.9g}", row_[i]);
   std::fputs("\n", file_);
 }
 
@@ -67,56 +59,6 @@ void make_output_dir(const std::filesystem::path& dir) {
   if (ec || !std::filesystem::is_directory(dir))
     throw InputError(fmt::format("{}: cannot create the output folder: {}", dir.string(),
                                  ec ? ec.message() : "not a folder"));
-}
-
-nlohmann::json summary_json(const RunLabel& label, const RunResult& r) {
-  using nlohmann::json;
-  json peaks = json::object();
-  for (std::size_t i = 0; i < quantity_count; ++i) {
-    const auto q = static_cast<Quantity>(i);
-    const bool absent = (is_force(q) && !r.has_forces) ||
-                        ((q == Quantity::damper_d || q == Quantity::damper_F) && !r.has_damper);
-    peaks[std::string(quantity_name(q))] = absent ? json(nullptr) : json(r.peaks[i]);
-  }
-  auto finite_or_null = [](double t) { return std::isfinite(t) ? json(t) : json(nullptr); };
-  json out = {
-      {"scene", label.scene},
-      {"scene_source", label.scene_source},
-      {"motion", label.motion},
-      {"record", label.record.empty() ? json(nullptr) : json(label.record)},
-      {"scale", label.scale},
-      {"scale_factors", {{"scene", label.scene_scale}, {"option", label.option_scale}}},
-      {"integrator", r.integrator},
-      {"rtol", label.rtol},
-      {"atol", label.atol},
-      {"peaks", peaks},
-      {"top_total_mm", r.top_total_mm},
-      {"counts", {{"uplifts", r.counts.uplifts}, {"impacts", r.counts.impacts}}},
-      {"first_uplift_s", finite_or_null(r.first_uplift)},
-      {"first_impact_s", finite_or_null(r.first_impact)},
-      {"outcome", std::string(outcome_name(r.outcome))},
-      {"t_end", r.t_end},
-      {"final_theta", r.final_theta},
-      {"stats", {{"rhs", r.stats.rhs}, {"steps", r.stats.steps}, {"rejected", r.stats.rejected},
-                 {"events", r.stats.events}}},
-      {"wall_s", r.wall_s},
-  };
-  if (r.outcome == Outcome::failed) out["failure"] = r.failure;
-  json devices = json::array();
-  for (const DeviceResult& d : r.devices)
-    devices.push_back({{"name", d.name},
-                       {"peak_elongation_m", d.peak_elongation},
-                       {"peak_force_N", d.peak_force},
-                       {"work_J", finite_or_null(d.work)},
-                       {"fracture_s", finite_or_null(d.fracture_time)}});
-  out["devices"] = devices;
-  if (r.energy_tracked) {
-    const EnergyBalance& e = r.energy;
-    out["energy_J"] = {{"initial", e.initial}, {"final", e.final}, {"ground_input", e.ground},
-                       {"viscous", e.viscous}, {"damper", e.damper}, {"impacts", e.impacts},
-                       {"balance_residual", e.residual()}};
-  }
-  return out;
 }
 
 void write_text(const std::filesystem::path& file, const std::string& text) {

@@ -34,18 +34,11 @@ class HistoryCsv : public rocking::Observer {
   std::string path_;
   const rocking::GroundMotion& motion_;
   std::vector<rocking::DeviceSample> devices_;
+  std::vector<double> row_;
 };
 
 // Creates DIR (and parents) or fails with a one-line InputError.
 void make_output_dir(const std::filesystem::path& dir);
-
-// The run's summary, with the keys of `rocking simulate --json`.
-struct RunLabel {
-  std::string scene, scene_source, motion, record;
-  double scale = 1, scene_scale = 1, option_scale = 1;  // scale = scene_scale x option_scale
-  double rtol = 0, atol = 0;
-};
-nlohmann::json summary_json(const RunLabel& label, const rocking::RunResult& r);
 
 // Writes text to a file through a temporary name (the file is whole or not
 // there) or fails with a one-line InputError naming it.

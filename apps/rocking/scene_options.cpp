@@ -154,20 +154,15 @@ void add_solver_options(CLI::App& cmd, SolverOptions& opts) {
 rocking::RunOptions run_options(const rocking::Scene& scene, const SolverOptions& opts, bool scene_excitation) {
   RunOptions ro;
   ro.backend = ode::parse_backend(opts.integrator);
-  auto positive = [](double v) { return v > 0 && std::isfinite(v); };
-  if (!positive(opts.rtol) || opts.rtol >= 1)
-    throw InputError(fmt::format("--rtol {}: must be in (0, 1)", opts.rtol));
-  if (!positive(opts.atol)) throw InputError(fmt::format("--atol {}: must be positive", opts.atol));
-  if (opts.duration_given && !(opts.duration > 0 && opts.duration <= 1e5))
+  if (opts.duration_given && !(opts.duration > 0))
     throw InputError(fmt::format("--duration {}: must be positive and at most 1e5 s (omit it for the whole motion)",
                                  opts.duration));
-  if (opts.max_events < 1) throw InputError(fmt::format("--max-events {}: must be at least 1", opts.max_events));
   ro.tolerances.rtol = opts.rtol;
   ro.tolerances.atol = opts.atol;
   ro.duration = opts.duration_given ? opts.duration : scene_excitation ? scene.excitation.duration : 0.0;
-  if (opts.max_steps < 1) throw InputError(fmt::format("--max-steps {}: must be at least 1", opts.max_steps));
   ro.max_events = opts.max_events;
   ro.tolerances.max_steps = opts.max_steps;
+  check_run_options(ro, "--");
   ro.exact_full_contact = !opts.integrate_contact;
   ro.initial = {scene.initial.theta, scene.initial.theta_dot, scene.initial.u, scene.initial.u_dot};
   return ro;

@@ -84,7 +84,7 @@ int run(const SimulateOptions& o) {
   const RunLabel label{scene.name,    scene.source,       describe_motion(motion), o.motion.record,
                        scale.total(), scale.scene,         scale.option,                   ro.tolerances.rtol,
                        ro.tolerances.atol};
-  nlohmann::json summary = summary_json(label, result);
+  nlohmann::json summary = nlohmann::json::parse(summary_json(label, result));
   if (stop_signal() != 0) {
     summary["interrupted"] = true;
     summary["outcome"] = "interrupted";

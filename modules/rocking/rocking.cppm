@@ -20,3 +20,4 @@ export import rocking.simulation;
 export import rocking.plot;
 export import rocking.study;
 export import rocking.drawing;
+export import rocking.report;

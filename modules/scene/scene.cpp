@@ -11,6 +11,7 @@ module;
 #include <map>
 #include <ranges>
 #include <set>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -544,6 +545,18 @@ Scene load_default_scene(const std::vector<std::string>& overrides) {
   } catch (const toml::parse_error& e) {
     throw InputError(parse_error_line(e, name));
   }
+}
+
+std::string scene_toml(const std::string& path, const std::vector<std::string>& overrides) {
+  const Scene checked = path.empty() ? load_default_scene(overrides) : load_scene(path, overrides);
+  const std::string& name = checked.source;
+  toml::table root = path.empty() ? toml::parse(default_scene_text(), name) : toml::parse_file(path);
+  Origins origins;
+  for (const std::string& o : overrides) apply_override(root, o, origins);
+  std::ostringstream out;
+  out << "# " << name << (overrides.empty() ? "" : fmt::format(" with {}", fmt::join(overrides, ", "))) << "\n"
+      << toml::toml_formatter(root) << "\n";
+  return out.str();
 }
 
 std::vector<Device> scene_devices(const Scene& scene) {

@@ -77,6 +77,11 @@ GroundMotion default_ground_motion(const Scene& scene);
 // Reads a scene file and applies overrides ("table.key=value") in order.
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
 
+// The scene file (path; empty: the embedded chimney) with the overrides
+// applied, as TOML text: what load_scene reads. InputError as load_scene.
+// A record named by a relative path stays relative to the scene file's folder.
+std::string scene_toml(const std::string& path, const std::vector<std::string>& overrides = {});
+
 // The Christchurch chimney, embedded in the program at build time.
 Scene load_default_scene(const std::vector<std::string>& overrides = {});
 std::string_view default_scene_text();

@@ -1,9 +1,12 @@
 module;
 #include <rocking/eigen.hpp>
+#include <fmt/format.h>
 #include <cmath>
+#include <string>
 #include <string_view>
 module rocking.simulation;
 import rocking.modal;
+import rocking.errors;
 
 namespace rocking {
 
@@ -35,6 +38,30 @@ std::string_view outcome_name(Outcome o) {
     case Outcome::failed: return "failed";
   }
   return "?";
+}
+
+std::string_view event_name(EventKind k) {
+  switch (k) {
+    case EventKind::uplift: return "uplift";
+    case EventKind::impact: return "impact";
+    case EventKind::overturn: return "overturn";
+    case EventKind::fracture: return "fracture";
+  }
+  return "?";
+}
+
+void check_run_options(const RunOptions& o, std::string_view prefix) {
+  auto positive = [](double v) { return v > 0 && std::isfinite(v); };
+  const ode::Options& t = o.tolerances;
+  if (!positive(t.rtol) || t.rtol >= 1) throw InputError(fmt::format("{}rtol {}: must be in (0, 1)", prefix, t.rtol));
+  if (!positive(t.atol)) throw InputError(fmt::format("{}atol {}: must be positive", prefix, t.atol));
+  if (o.duration != 0 && !(o.duration > 0 && o.duration <= 1e5))
+    throw InputError(fmt::format("{}duration {}: must be positive and at most 1e5 s (omit it for the whole motion)",
+                                 prefix, o.duration));
+  if (o.max_events < 1) throw InputError(fmt::format("{}max-events {}: must be at least 1", prefix, o.max_events));
+  if (t.max_steps < 1) throw InputError(fmt::format("{}max-steps {}: must be at least 1", prefix, t.max_steps));
+  if (!positive(o.output_interval))
+    throw InputError(fmt::format("{}every {}: must be positive", prefix, o.output_interval));
 }
 
 OutputScales output_scales(const ContactModel& m) {

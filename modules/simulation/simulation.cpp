@@ -158,6 +158,11 @@ class Driver {
   void lift(int s, double t) {
     begin_rocking(m_, d_, s, y_);
     if (result_.counts.uplifts++ == 0) result_.first_uplift = t;
+    announce({EventKind::uplift, t, s});
+  }
+
+  void announce(const Event& e) {
+    if (observer_ != nullptr) observer_->event(e);
   }
 
   void restart(double t) {
@@ -204,6 +209,7 @@ class Driver {
         lift(what == Guard::uplift_right ? 1 : -1, t);
         break;
       case Guard::impact: {
+        announce({EventKind::impact, t, d_.pivot});
         const double before = mechanical();
         impact(m_, d_, y_);
         result_.energy.impacts += before - mechanical();
@@ -212,9 +218,11 @@ class Driver {
         break;
       }
       case Guard::overturn:
+        announce({EventKind::overturn, t, d_.pivot});
         result_.outcome = Outcome::overturned;
         return false;
       case Guard::fracture:
+        announce({EventKind::fracture, t, d_.pivot, meaning.device});
         fracture(d_, meaning.device);
         result_.devices[static_cast<std::size_t>(meaning.device)].fracture_time = t;
         break;

@@ -52,6 +52,18 @@ struct Response {
   double operator[](Quantity k) const { return q[static_cast<std::size_t>(k)]; }
 };
 
+// A phase change of a run, located to the tolerance (MODEL.md 6): an uplift
+// onto pivot s, an impact on the pivot s the structure rocked about, an
+// overturning about s, a device's fracture (its index in the model).
+enum class EventKind { uplift, impact, overturn, fracture };
+std::string_view event_name(EventKind k);  // "uplift", "impact", "overturn", "fracture"
+struct Event {
+  EventKind kind = EventKind::uplift;
+  double t = 0;
+  int pivot = 0;
+  int device = -1;
+};
+
 // Receives the response as it is computed (history files, plots, tests).
 class Observer {
  public:
@@ -63,6 +75,8 @@ class Observer {
   // Each device's elongation and force (in the model's order) at the instant
   // of the next record(), called just before it when the model has devices.
   virtual void devices(const std::vector<DeviceSample>& samples) { (void)samples; }
+  // Each phase change, as it happens (before the row recorded at it).
+  virtual void event(const Event& e) { (void)e; }
 };
 
 struct InitialState {
@@ -91,6 +105,12 @@ struct RunOptions {
   std::function<bool()> stop;
   InitialState initial;
 };
+
+// InputError unless the tolerances are in (0, 1) and positive, the limits at
+// least 1, the history interval positive and the duration 0 (the motion's)
+// or in (0, 1e5] s. The message names the option as `prefix` + its name
+// ("--rtol 2: must be in (0, 1)" for the command line's "--").
+void check_run_options(const RunOptions& o, std::string_view prefix);
 
 enum class Outcome { completed, overturned, failed };
 std::string_view outcome_name(Outcome o);

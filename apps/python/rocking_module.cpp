@@ -1,0 +1,577 @@
+// The Python module `rocking` (pybind11): the library the command line uses,
+// with NumPy arrays in and out and no physics of its own. Scenes are read and
+// overridden by rocking.scene (the keys and errors of --set), records by
+// rocking.ground_motion, runs by rocking.simulation, summaries by
+// rocking.report (summary.json and `rocking modal --json`, the same text
+// parsed by Python's json), studies by rocking.study. Long calls run on a
+// thread of their own with the GIL released; the calling thread watches for
+// Ctrl-C and stops them (RunOptions::stop, polled between steps). InputError
+// becomes ValueError with the same one-line message; a run that cannot finish
+// raises rocking.RunError carrying what was reached (.result).
+#include <pybind11/pybind11.h>
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+#include <rocking/eigen.hpp>
+#include <fmt/format.h>
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <future>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+import rocking;
+
+namespace py = pybind11;
+using namespace pybind11::literals;
+
+namespace {
+
+PyObject* run_error_type = nullptr;  // rocking.RunError, owned by the module
+
+// ---- running C++ with Ctrl-C honoured ---------------------------------------
+
+// Runs work() on a thread of its own with the GIL released. The calling
+// thread looks for Python signals every 50 ms; on one (Ctrl-C: the pending
+// KeyboardInterrupt) it sets stop, waits for work to return and raises it.
+template <class F>
+auto interruptible(std::atomic<bool>& stop, F work) -> decltype(work()) {
+  using R = decltype(work());
+  std::packaged_task<R()> task(std::move(work));
+  std::future<R> result = task.get_future();
+  std::thread worker(std::move(task));
+  bool interrupted = false;
+  for (;;) {
+    std::future_status status;
+    {
+      py::gil_scoped_release release;
+      status = result.wait_for(std::chrono::milliseconds(50));
+    }
+    if (status == std::future_status::ready) break;
+    if (PyErr_CheckSignals() != 0) {
+      interrupted = true;
+      stop = true;
+      py::gil_scoped_release release;
+      result.wait();
+      break;
+    }
+  }
+  worker.join();
+  if (interrupted) throw py::error_already_set();
+  return result.get();
+}
+
+py::object json_loads(const std::string& text) { return py::module_::import("json").attr("loads")(text); }
+
+// A NumPy array that owns the vector's storage (no copy).
+py::array_t<double> to_numpy(std::vector<double>&& v) {
+  auto* owned = new std::vector<double>(std::move(v));
+  py::capsule free(owned, [](void* p) { delete static_cast<std::vector<double>*>(p); });
+  return py::array_t<double>(static_cast<py::ssize_t>(owned->size()), owned->data(), free);
+}
+
+std::string path_text(const std::filesystem::path& p) { return p.string(); }
+
+// ---- scenes -----------------------------------------------------------------
+
+// A scene file (or the embedded chimney) and the overrides applied to it, in
+// order: what `rocking SCENE --set K=V ...` runs.
+struct PyScene {
+  std::string path;  // empty: the embedded chimney
+  std::vector<std::string> overrides;
+  std::shared_ptr<const rocking::Scene> scene;
+
+  void reload() {
+    scene = std::make_shared<const rocking::Scene>(path.empty() ? rocking::load_default_scene(overrides)
+                                                                : rocking::load_scene(path, overrides));
+  }
+};
+
+// The scene argument: a Scene, or None for the embedded chimney.
+PyScene scene_of(const py::object& o) {
+  if (!o.is_none()) return o.cast<PyScene>();
+  PyScene s;
+  s.reload();
+  return s;
+}
+
+// A Python value as the TOML text an override takes.
+std::string toml_value(const py::handle& v) {
+  if (py::isinstance<py::bool_>(v)) return v.cast<bool>() ? "true" : "false";
+  if (py::isinstance<py::int_>(v)) return py::str(v).cast<std::string>();
+  if (py::isinstance<py::float_>(v)) return py::repr(v).cast<std::string>();
+  if (py::isinstance<py::str>(v)) return v.cast<std::string>();
+  if (py::isinstance<py::dict>(v)) {
+    std::string out;
+    for (const auto& [k, x] : v.cast<py::dict>()) {
+      std::string item = toml_value(x);
+      if (py::isinstance<py::str>(x)) item = py::repr(x).cast<std::string>();
+      out += fmt::format("{}{} = {}", out.empty() ? "" : ", ", py::str(k).cast<std::string>(), item);
+    }
+    return "{" + out + "}";
+  }
+  if (py::isinstance<py::sequence>(v) || py::isinstance<py::array>(v)) {
+    std::string out;
+    for (const auto& x : py::iter(v)) {
+      std::string item = toml_value(x);
+      if (py::isinstance<py::str>(x)) item = py::repr(x).cast<std::string>();
+      out += (out.empty() ? "" : ", ") + item;
+    }
+    return "[" + out + "]";
+  }
+  if (py::hasattr(v, "__float__")) return py::repr(py::float_(v.cast<py::object>())).cast<std::string>();
+  throw rocking::InputError(fmt::format("set: cannot write a {} as a scene value",
+                                        py::str(v.get_type().attr("__name__")).cast<std::string>()));
+}
+
+void scene_set(PyScene& s, const std::string& key, const py::object& value) {
+  const std::string text = value.is_none() ? key : key + "=" + toml_value(value);
+  const std::string name = text.substr(0, text.find('='));
+  std::vector<std::string> before = s.overrides;
+  // A key set again replaces its earlier value; device+= and device-= add up.
+  if (!name.ends_with("+") && !name.ends_with("-"))
+    std::erase_if(s.overrides, [&](const std::string& o) { return o.substr(0, o.find('=')) == name; });
+  s.overrides.push_back(text);
+  try {
+    s.reload();
+  } catch (...) {
+    s.overrides = std::move(before);
+    throw;
+  }
+}
+
+// ---- records ----------------------------------------------------------------
+
+struct PyRecord {
+  std::shared_ptr<const rocking::GroundMotion> motion;
+  std::string path;  // the file it was read from ("" when built from an array)
+};
+
+PyRecord record_load(const std::filesystem::path& file, std::optional<std::string> component,
+                     std::optional<std::string> units, const std::string& format, std::optional<double> dt) {
+  rocking::RecordOptions ro;
+  ro.format = format;
+  if (component) ro.component = *component;
+  if (units) ro.unit = rocking::parse_acceleration_unit(*units);
+  if (dt) {
+    if (!(*dt > 0) || !std::isfinite(*dt)) throw rocking::InputError(fmt::format("dt {}: must be positive", *dt));
+    ro.dt = *dt;
+  }
+  return {std::make_shared<const rocking::GroundMotion>(rocking::read_record(path_text(file), ro)), path_text(file)};
+}
+
+PyRecord record_from_array(const py::array_t<double, py::array::c_style | py::array::forcecast>& acc, double dt,
+                           const std::string& units, const std::string& name) {
+  if (acc.ndim() != 1) throw rocking::InputError(fmt::format("Record: acc has {} dimensions; give one", acc.ndim()));
+  if (!(dt > 0) || !std::isfinite(dt)) throw rocking::InputError(fmt::format("Record: dt {}: must be positive", dt));
+  const double si = rocking::to_si(rocking::parse_acceleration_unit(units));
+  const auto n = static_cast<std::size_t>(acc.shape(0));
+  std::vector<double> times(n), values(n);
+  const double* a = acc.data();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(a[i])) throw rocking::InputError(fmt::format("Record: acc[{}] is {}: not a number", i, a[i]));
+    times[i] = static_cast<double>(i) * dt;
+    values[i] = a[i] * si;
+  }
+  return {std::make_shared<const rocking::GroundMotion>(
+              rocking::GroundMotion::from_samples(name, std::move(times), std::move(values))),
+          ""};
+}
+
+py::dict record_measures(const PyRecord& r, std::optional<std::vector<double>> periods, double damping) {
+  const rocking::RecordMeasures m =
+      rocking::measure_record(*r.motion, periods ? *periods : rocking::standard_periods(), damping);
+  return py::dict("pga"_a = m.pga, "pga_time"_a = m.pga_time, "pgv"_a = m.pgv, "pgd"_a = m.pgd, "arias"_a = m.arias,
+                  "d5_95"_a = m.d5_95, "cav"_a = m.cav, "damping"_a = m.damping,
+                  "periods"_a = to_numpy(std::vector<double>(m.periods)), "psa"_a = to_numpy(std::vector<double>(m.psa)));
+}
+
+// ---- runs -------------------------------------------------------------------
+
+// Keeps the history as columns and the events as they come.
+class Collector : public rocking::Observer {
+ public:
+  Collector(const rocking::GroundMotion& g, const std::vector<rocking::Device>& devices, bool keep_history)
+      : g_(g), samples_(devices.size()), keep_(keep_history) {
+    for (const rocking::HistoryColumn& c : rocking::history_columns(devices)) names.push_back(c.name);
+    columns.resize(names.size());
+  }
+  void record(const rocking::Response& r) override {
+    if (!keep_) return;
+    rocking::history_values(r, g_.acceleration(r.t), samples_, row_);
+    for (std::size_t i = 0; i < row_.size(); ++i) columns[i].push_back(row_[i]);
+  }
+  void devices(const std::vector<rocking::DeviceSample>& samples) override { samples_ = samples; }
+  void event(const rocking::Event& e) override { events.push_back(e); }
+
+  std::vector<std::string> names;
+  std::vector<std::vector<double>> columns;
+  std::vector<rocking::Event> events;
+
+ private:
+  const rocking::GroundMotion& g_;
+  std::vector<rocking::DeviceSample> samples_;
+  std::vector<double> row_;
+  bool keep_;
+};
+
+struct PyResult {
+  py::dict summary;
+  py::dict history;  // column name -> ndarray, in the order of history.csv
+  py::list events;
+  std::string outcome;
+};
+
+py::object to_pandas(const py::dict& columns) {
+  py::module_ pandas;
+  try {
+    pandas = py::module_::import("pandas");
+  } catch (const py::error_already_set&) {
+    throw py::import_error("to_pandas needs pandas (Debian: python3-pandas); the same columns are NumPy arrays in "
+                           ".history");
+  }
+  return pandas.attr("DataFrame")(columns);
+}
+
+PyResult simulate(const py::object& scene_arg, const py::object& record, double scale, double rtol, double atol,
+                  const std::string& integrator, double every, std::optional<double> duration, long max_events,
+                  long max_steps, bool integrate_contact, bool history) {
+  const PyScene s = scene_of(scene_arg);
+  const rocking::Scene& scene = *s.scene;
+  if (!std::isfinite(scale)) throw rocking::InputError(fmt::format("scale {}: must be a finite number", scale));
+  // The motion and its label as `rocking simulate` has them.
+  std::shared_ptr<const rocking::GroundMotion> motion;
+  std::string record_path;
+  double scene_scale = 1;
+  if (record.is_none()) {
+    motion = std::make_shared<const rocking::GroundMotion>(rocking::default_ground_motion(scene).scaled(scale));
+    if (!scene.excitation.record.empty()) scene_scale = scene.excitation.record_options.scale;
+  } else {
+    const PyRecord r = py::isinstance<PyRecord>(record) ? record.cast<PyRecord>()
+                                                        : record_load(record.cast<std::filesystem::path>(), {}, {},
+                                                                      "auto", {});
+    motion = std::make_shared<const rocking::GroundMotion>(r.motion->scaled(scale));
+    record_path = r.path;
+  }
+  rocking::RunOptions ro;
+  ro.backend = rocking::ode::parse_backend(integrator);
+  ro.tolerances.rtol = rtol;
+  ro.tolerances.atol = atol;
+  ro.duration = duration ? *duration : record.is_none() ? scene.excitation.duration : 0.0;
+  if (duration && !(*duration > 0))
+    throw rocking::InputError(fmt::format("duration {}: must be positive and at most 1e5 s (omit it for the whole "
+                                          "motion)", *duration));
+  ro.max_events = max_events;
+  ro.tolerances.max_steps = max_steps;
+  ro.output_interval = every;
+  ro.exact_full_contact = !integrate_contact;
+  ro.initial = {scene.initial.theta, scene.initial.theta_dot, scene.initial.u, scene.initial.u_dot};
+  rocking::check_run_options(ro, "");
+  const double length = ro.duration > 0 ? ro.duration : motion->duration();
+  if (history && length / every > 1e7)
+    throw rocking::InputError(fmt::format("every {:g}: {:.3g} rows of history for {:g} s (at most 1e7); choose a "
+                                          "larger interval", every, length / every, length));
+  const rocking::ContactModel model = rocking::make_contact_model(scene, true);
+  auto stop = std::make_shared<std::atomic<bool>>(false);
+  ro.stop = [stop] { return stop->load(); };
+  Collector collect(*motion, model.devices, history);
+  const rocking::RunResult result =
+      interruptible(*stop, [&] { return rocking::simulate(model, *motion, ro, &collect); });
+
+  const rocking::RunLabel label{scene.name,   scene.source, rocking::describe_motion(*motion), record_path,
+                                scene_scale * scale, scene_scale, scale, rtol, atol};
+  PyResult out;
+  out.summary = json_loads(rocking::summary_json(label, result)).cast<py::dict>();
+  out.outcome = std::string(rocking::outcome_name(result.outcome));
+  for (std::size_t i = 0; i < collect.names.size(); ++i)
+    out.history[py::str(collect.names[i])] = to_numpy(std::move(collect.columns[i]));
+  for (const rocking::Event& e : collect.events) {
+    py::dict d("kind"_a = std::string(rocking::event_name(e.kind)), "t"_a = e.t, "pivot"_a = e.pivot);
+    if (e.kind == rocking::EventKind::fracture) d["device"] = model.devices[static_cast<std::size_t>(e.device)].name;
+    out.events.append(d);
+  }
+  if (result.outcome == rocking::Outcome::failed) {
+    py::object exc = py::reinterpret_borrow<py::object>(run_error_type)(result.failure);
+    exc.attr("result") = py::cast(std::move(out));
+    PyErr_SetObject(run_error_type, exc.ptr());
+    throw py::error_already_set();
+  }
+  return out;
+}
+
+// ---- studies ----------------------------------------------------------------
+
+struct PyIda {
+  py::list rows;
+  std::vector<std::string> variants;
+  std::shared_ptr<rocking::StudySummary> summary;
+};
+
+PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std::string& im_text, std::vector<double> levels,
+          std::optional<std::vector<std::string>> variant_names, int threads, double rtol, double atol,
+          const std::string& integrator, double damping) {
+  const PyScene s = scene_of(scene_arg);
+  std::vector<std::string> records;
+  std::vector<std::string> given;
+  if (py::isinstance<py::str>(records_arg) || py::hasattr(records_arg, "__fspath__"))
+    given.push_back(path_text(records_arg.cast<std::filesystem::path>()));
+  else
+    for (const auto& r : py::iter(records_arg)) given.push_back(path_text(r.cast<std::filesystem::path>()));
+  for (const std::string& g : given)
+    for (std::string& p : rocking::record_paths(g)) records.push_back(std::move(p));
+  if (records.empty()) throw rocking::InputError("ida: records: give at least one ground-motion file");
+  if (levels.empty()) throw rocking::InputError("ida: levels: give at least one level");
+  for (double l : levels)
+    if (!(l > 0) || !std::isfinite(l)) throw rocking::InputError(fmt::format("ida: level {}: must be positive", l));
+  if (threads < 0) throw rocking::InputError(fmt::format("ida: threads {}: must be at least 1 (0: every core)", threads));
+  if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (!(damping >= 0 && damping < 1)) throw rocking::InputError(fmt::format("ida: damping {}: must be in [0, 1)", damping));
+
+  std::vector<rocking::Variant> variants;
+  for (const std::string& v : variant_names ? *variant_names : std::vector<std::string>{"damper", "no-damper", "fixed-base"})
+    variants.push_back(v.find('=') != std::string::npos ? rocking::Variant{v, {v}} : rocking::named_variant(v));
+  const rocking::Scene& scene = *s.scene;
+  const double t1 =
+      scene.structure.rigid ? 0.0 : 1.0 / rocking::modal_analysis(scene.structure, rocking::scene_devices(scene)).fixed_base_hz[0];
+  const rocking::IntensityMeasure im = rocking::parse_intensity_measure(im_text, damping, t1);
+  rocking::RunOptions ro;
+  ro.backend = rocking::ode::parse_backend(integrator);
+  ro.tolerances.rtol = rtol;
+  ro.tolerances.atol = atol;
+  rocking::check_run_options(ro, "");
+  auto stop = std::make_shared<std::atomic<bool>>(false);
+  ro.stop = [stop] { return stop->load(); };
+  const rocking::Study study(s.path, s.overrides, records, {}, std::move(variants), ro, im);
+  std::sort(levels.begin(), levels.end());
+  const std::vector<rocking::Job> jobs = study.ladder(levels);
+  auto summary = std::make_shared<rocking::StudySummary>(study, levels, std::vector<rocking::Limit>{rocking::overturning_limit()});
+  std::vector<rocking::JobResult> results(jobs.size());
+  const std::size_t done = interruptible(*stop, [&] {
+    return rocking::parallel_ordered<rocking::JobResult>(
+        jobs.size(), threads, [&](std::size_t i) { return study.run(jobs[i]); },
+        [&](std::size_t i, const rocking::JobResult& r) {
+          results[i] = r;
+          summary->add(jobs[i], r);
+        },
+        {}, [stop] { return stop->load(); });
+  });
+  PyIda out;
+  for (const rocking::Variant& v : study.variants()) out.variants.push_back(v.name);
+  out.summary = summary;
+  for (std::size_t i = 0; i < done; ++i) {
+    const rocking::Job& j = jobs[i];
+    const rocking::JobResult& r = results[i];
+    py::dict row("record"_a = study.records()[j.record], "variant"_a = study.variants()[j.variant].name,
+                 "im"_a = im.name(), "level"_a = j.level, "scale"_a = j.scale,
+                 "record_im"_a = study.record_intensity(j.record));
+    if (!r.error.empty()) {
+      row["outcome"] = "error";
+      row["error"] = r.error;
+    } else {
+      row["outcome"] = std::string(rocking::outcome_name(r.run.outcome));
+      if (r.run.outcome == rocking::Outcome::failed) row["error"] = r.run.failure;
+      for (rocking::Quantity q : rocking::study_quantities) {
+        const bool absent = (rocking::is_force(q) && !r.run.has_forces) ||
+                            ((q == rocking::Quantity::damper_d || q == rocking::Quantity::damper_F) && !r.run.has_damper);
+        row[py::str(std::string(rocking::quantity_name(q)))] = absent ? py::object(py::none()) : py::object(py::float_(r.run.peak(q)));
+      }
+      row["t_end"] = r.run.t_end;
+    }
+    out.rows.append(row);
+  }
+  return out;
+}
+
+rocking::Quantity parse_quantity(const std::string& name) {
+  for (std::size_t i = 0; i < rocking::quantity_count; ++i)
+    if (rocking::quantity_name(static_cast<rocking::Quantity>(i)) == name) return static_cast<rocking::Quantity>(i);
+  std::string names;
+  for (rocking::Quantity q : rocking::study_quantities) names += (names.empty() ? "" : ", ") + std::string(rocking::quantity_name(q));
+  throw rocking::InputError(fmt::format("unknown quantity '{}' (choose from {})", name, names));
+}
+
+std::size_t variant_index(const PyIda& r, const std::string& variant) {
+  if (variant.empty()) return 0;
+  const auto it = std::find(r.variants.begin(), r.variants.end(), variant);
+  if (it == r.variants.end()) throw rocking::InputError(fmt::format("variant '{}' is not one of this study's", variant));
+  return static_cast<std::size_t>(it - r.variants.begin());
+}
+
+}  // namespace
+
+PYBIND11_MODULE(rocking, m) {
+  m.doc() =
+      "rocking: earthquake response of flexible structures that rock on their base,\n"
+      "with hysteretic dampers and tendons at the rocking interface (the library of\n"
+      "the `rocking` command line; MODEL.md holds the equations).\n\n"
+      "  scene = rocking.Scene.default()                  # the Christchurch chimney\n"
+      "  rec = rocking.Record.load('elcentro_1940_ns.at2')\n"
+      "  res = rocking.simulate(scene, rec)\n"
+      "  res.peaks['theta_over_alpha'], res.history['theta'], res.events\n";
+  m.attr("__version__") = ROCKING_VERSION;
+  run_error_type = PyErr_NewException("rocking.RunError", PyExc_RuntimeError, nullptr);
+  PyObject_SetAttrString(run_error_type, "__doc__",
+                         py::str("A run that could not finish (step size underflow, step or event limit). Its "
+                                 "message says when and why; .result holds what the run reached.").ptr());
+  PyObject_SetAttrString(run_error_type, "result", Py_None);
+  m.add_object("RunError", py::handle(run_error_type));
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const rocking::InputError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const rocking::RunError& e) {
+      PyErr_SetString(run_error_type, e.what());
+    }
+  });
+
+  py::class_<PyScene>(m, "Scene",
+                      "A scene: a structure, its contact with the ground, its devices, its default\n"
+                      "excitation and initial state (data/scenes/*.toml), with overrides.")
+      .def_static(
+          "load",
+          [](const std::filesystem::path& path, std::optional<std::vector<std::string>> overrides) {
+            PyScene s{path_text(path), overrides.value_or(std::vector<std::string>{}), nullptr};
+            s.reload();
+            return s;
+          },
+          "path"_a, "overrides"_a = py::none(),
+          "Reads a scene file; overrides are --set texts (\"damper.enabled=false\"). ValueError\n"
+          "with the command line's message when the file or a value is wrong.")
+      .def_static(
+          "default",
+          [](std::optional<std::vector<std::string>> overrides) {
+            PyScene s{"", overrides.value_or(std::vector<std::string>{}), nullptr};
+            s.reload();
+            return s;
+          },
+          "overrides"_a = py::none(), "The Christchurch chimney built into the library (the paper's case).")
+      .def(
+          "set",
+          [](PyScene& s, const std::string& key, const py::object& value) -> PyScene& {
+            scene_set(s, key, value);
+            return s;
+          },
+          "key"_a, "value"_a = py::none(), py::return_value_policy::reference_internal,
+          "Overrides one value as --set does: scene.set(\"damper.thickness\", 1.5), or\n"
+          "scene.set(\"damper.enabled=false\"). Python values are written as TOML (bool,\n"
+          "number, string, list, dict). A key set again replaces its value. Returns the\n"
+          "scene; ValueError (the scene unchanged) when the key or value is wrong.")
+      .def("to_toml", [](const PyScene& s) { return rocking::scene_toml(s.path, s.overrides); },
+           "The scene file with the overrides applied, as TOML text.")
+      .def("copy", [](const PyScene& s) { return s; }, "An independent copy (set() on it leaves this one alone).")
+      .def_property_readonly("name", [](const PyScene& s) { return s.scene->name; })
+      .def_property_readonly("description", [](const PyScene& s) { return s.scene->description; })
+      .def_property_readonly("source", [](const PyScene& s) { return s.scene->source; })
+      .def_property_readonly("path", [](const PyScene& s) -> py::object {
+        return s.path.empty() ? py::object(py::none()) : py::object(py::str(s.path));
+      })
+      .def_property_readonly("overrides", [](const PyScene& s) { return s.overrides; })
+      .def_property_readonly("rigid", [](const PyScene& s) { return s.scene->structure.rigid; })
+      .def_property_readonly("devices", [](const PyScene& s) {
+        std::vector<std::string> names;
+        for (const rocking::Device& d : rocking::scene_devices(*s.scene)) names.push_back(d.name);
+        return names;
+      }, "The names of the scene's devices, in the order of the history's columns.")
+      .def("__repr__", [](const PyScene& s) {
+        return fmt::format("<rocking.Scene '{}' from {}{}>", s.scene->name, s.scene->source,
+                           s.overrides.empty() ? "" : fmt::format(" with {} override(s)", s.overrides.size()));
+      });
+
+  py::class_<PyRecord>(m, "Record", "A ground-motion record: a(t) piecewise linear between evenly spaced samples.")
+      .def(py::init(&record_from_array), "acc"_a, "dt"_a, "units"_a = "g", "name"_a = "array",
+           "A record from memory: acc[i] at t = i dt, in units g, m/s2, cm/s2 (gal) or mm/s2.")
+      .def_static("load", &record_load, "path"_a, "component"_a = py::none(), "units"_a = py::none(),
+                  "format"_a = "auto", "dt"_a = py::none(),
+                  "Reads a record file in any format the command line reads (PEER .AT2, GeoNet,\n"
+                  "K-NET, COSMOS, CSV, columns); the same options as --component, --units,\n"
+                  "--format and --dt.")
+      .def("scaled", [](const PyRecord& r, double f) {
+        if (!std::isfinite(f)) throw rocking::InputError(fmt::format("scaled {}: must be a finite number", f));
+        return PyRecord{std::make_shared<const rocking::GroundMotion>(r.motion->scaled(f)), r.path};
+      }, "factor"_a, "The record with every acceleration times factor.")
+      .def("measures", &record_measures, "periods"_a = py::none(), "damping"_a = 0.05,
+           "PGA [m/s2] and its time, PGV [m/s], PGD [m], Arias intensity [m/s], D5-95 [s],\n"
+           "CAV [m/s] and PSA [m/s2] at the periods (default: the 21 NGA-West2 periods).")
+      .def_property_readonly("name", [](const PyRecord& r) { return r.motion->name(); })
+      .def_property_readonly("description", [](const PyRecord& r) { return r.motion->description(); })
+      .def_property_readonly("path", [](const PyRecord& r) -> py::object {
+        return r.path.empty() ? py::object(py::none()) : py::object(py::str(r.path));
+      })
+      .def_property_readonly("dt", [](const PyRecord& r) { return r.motion->sample_interval(); })
+      .def_property_readonly("duration", [](const PyRecord& r) { return r.motion->duration(); })
+      .def_property_readonly("pga", [](const PyRecord& r) { return r.motion->peak(); }, "max |a| [m/s2]")
+      .def_property_readonly("times", [](const PyRecord& r) { return to_numpy(r.motion->sample_times()); })
+      .def_property_readonly("acceleration", [](const PyRecord& r) { return to_numpy(r.motion->sample_values()); },
+                             "The samples [m/s2], as scaled.")
+      .def("__len__", [](const PyRecord& r) { return r.motion->sample_count(); })
+      .def("__repr__", [](const PyRecord& r) {
+        return fmt::format("<rocking.Record '{}': {} samples, dt {:g} s, PGA {:.3g} g>", r.motion->name(),
+                           r.motion->sample_count(), r.motion->sample_interval(), r.motion->peak() / rocking::gravity);
+      });
+
+  py::class_<PyResult>(m, "Result", "One run: its summary, history and events.")
+      .def_readonly("summary", &PyResult::summary, "The dict of `rocking simulate`'s summary.json.")
+      .def_property_readonly("peaks", [](const PyResult& r) { return r.summary["peaks"]; },
+                             "Absolute peaks: delta_t, delta_e, theta, theta_over_alpha, damper_d, damper_F,\n"
+                             "base_shear, base_moment, mid_shear, mid_moment (None where absent).")
+      .def_readonly("history", &PyResult::history,
+                    "Column name -> NumPy array, the columns of history.csv (units in MODEL.md 7);\n"
+                    "'phase' is the pivot: 0 full contact, +1 / -1 rocking on the right / left.")
+      .def_readonly("events", &PyResult::events,
+                    "Phase changes in time order: dicts of kind (uplift, impact, overturn,\n"
+                    "fracture), t [s], pivot, and device for a fracture.")
+      .def_readonly("outcome", &PyResult::outcome, "completed, overturned or failed")
+      .def("to_pandas", [](const PyResult& r) { return to_pandas(r.history); },
+           "The history as a pandas DataFrame (needs pandas; the project does not).")
+      .def("__repr__", [](const PyResult& r) {
+        return fmt::format("<rocking.Result {}: {}>", r.outcome, py::str(r.summary["peaks"]).cast<std::string>());
+      });
+
+  m.def("simulate", &simulate, "scene"_a = py::none(), "record"_a = py::none(), "scale"_a = 1.0, "rtol"_a = 1e-4,
+        "atol"_a = 1e-7, "integrator"_a = "rk45", "every"_a = 0.01, "duration"_a = py::none(),
+        "max_events"_a = 100000L, "max_steps"_a = 10'000'000L, "integrate_contact"_a = false, "history"_a = true,
+        "Runs a scene under a record (a Record, or a file path; None: the scene's own\n"
+        "excitation), scaled by scale, as `rocking simulate` does with the same defaults.\n"
+        "Returns a Result; raises ValueError for bad input, rocking.RunError (with\n"
+        ".result) when the run cannot finish, KeyboardInterrupt on Ctrl-C.");
+
+  m.def("modal", [](const py::object& s) { return json_loads(rocking::modal_json(*scene_of(s).scene)); },
+        "scene"_a = py::none(),
+        "The dict of `rocking modal --json`: fixed-base and rocking frequencies [Hz], p,\n"
+        "the devices' rocking stiffness, r of Eq. 10, M_ref, V_ref; for a rigid block its\n"
+        "geometry, p = sqrt(m g R / J_p) and uplift_g.");
+
+  py::class_<PyIda>(m, "Ida", "An incremental dynamic analysis: one row per (record, level, variant).")
+      .def_readonly("rows", &PyIda::rows,
+                    "Dicts of record, variant, im, level, scale, record_im, outcome, the peaks and\n"
+                    "t_end (error instead when the job could not run).")
+      .def_readonly("variants", &PyIda::variants)
+      .def(
+          "fractiles",
+          [](const PyIda& r, const std::string& quantity, const std::string& variant) {
+            py::list out;
+            for (const auto& f : r.summary->fractiles(variant_index(r, variant), parse_quantity(quantity)))
+              out.append(py::dict("level"_a = f.level, "runs"_a = f.runs, "collapsed"_a = f.collapsed,
+                                  "p16"_a = f.edp[0], "p50"_a = f.edp[1], "p84"_a = f.edp[2]));
+            return out;
+          },
+          "quantity"_a = "theta_over_alpha", "variant"_a = "",
+          "At each level, the 16/50/84 % fractiles of a peak over the records (an overturned\n"
+          "run counts as +inf), for a variant (default: the first).")
+      .def("to_pandas", [](const PyIda& r) { return py::module_::import("pandas").attr("DataFrame")(r.rows); });
+
+  m.def("ida", &ida, "scene"_a, "records"_a, "im"_a = "sf", "levels"_a, "variants"_a = py::none(), "threads"_a = 0,
+        "rtol"_a = 1e-4, "atol"_a = 1e-7, "integrator"_a = "rk45", "damping"_a = 0.05,
+        "Incremental dynamic analysis as `rocking ida`: every record (files, folders or\n"
+        "list files) scaled to each level of the intensity measure im (sf, pga, pgv,\n"
+        "sa:T, sa:T1, saavg:T1:T2) for each variant (damper, no-damper, fixed-base,\n"
+        "scene, no-devices, without:NAME, or KEY=VALUE). Runs on threads (0: every\n"
+        "core); Ctrl-C stops it (KeyboardInterrupt).");
+}

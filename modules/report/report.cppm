@@ -1,0 +1,59 @@
+// rocking.report: what a run or an analysis reports, in the forms every front
+// end shares (the command line's files and --json, the Python module): the
+// run's summary (summary.json: peaks, counts, outcome, energy balance,
+// devices, cost), the columns of its history, the modal summary of a scene
+// (MODEL.md 8; for a rigid block its geometry, p and r, Housner 1963) and the
+// names records go by. JSON is handed over as text, so that no front end
+// depends on how it is built.
+module;
+#include <rocking/eigen.hpp>
+#include <string>
+#include <vector>
+export module rocking.report;
+export import rocking.simulation;
+export import rocking.scene;
+export import rocking.modal;
+
+export namespace rocking {
+
+// What a run was: the scene, the motion, the factors the motion was scaled
+// by (scale = scene_scale x option_scale) and the tolerances.
+struct RunLabel {
+  std::string scene, scene_source, motion, record;
+  double scale = 1, scene_scale = 1, option_scale = 1;
+  double rtol = 0, atol = 0;
+};
+
+// The run's summary as JSON text (the keys of `rocking simulate --json`).
+std::string summary_json(const RunLabel& label, const RunResult& r, int indent = 2);
+
+// A record's name for titles and summaries (the stand-in record says so),
+// and the same with what its header says it is (event, station, PGA).
+std::string describe_motion(const std::string& name);
+std::string describe_motion(const GroundMotion& motion);
+
+// The history's columns: time, phase (the pivot: -1, 0, +1), the response
+// of rocking.simulation, the ground acceleration; with devices the moment
+// they exert together (M_dev, signed as theta) and each device's elongation
+// and force, named by the device.
+struct HistoryColumn {
+  std::string name, unit;
+};
+std::vector<HistoryColumn> history_columns(const std::vector<Device>& devices);
+// One row's values in the columns' order (out is resized).
+void history_values(const Response& r, double a_g, const std::vector<DeviceSample>& devices, std::vector<double>& out);
+
+// A rigid block's geometry and rocking parameters: p = sqrt(m g R / J_p),
+// uplift at a_g = uplift_g g about the right pivot (the devices' held moment
+// included), r of Eq. 10.
+struct BlockSummary {
+  double mass = 0, J_p = 0, H_cg = 0, alpha_cg = 0, R = 0, p = 0, r_eq10 = 0, uplift_g = 0;
+  RockingStiffness devices;  // about the right pivot
+};
+BlockSummary block_summary(const Scene& scene);
+
+// `rocking modal --json`: the modal summary of an elastic scene, or the block
+// summary of a rigid one ("rigid": true).
+std::string modal_json(const Scene& scene, int indent = 2);
+
+}  // namespace rocking

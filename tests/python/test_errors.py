@@ -1,0 +1,69 @@
+"""Every scene error the program's tests exercise raises ValueError in Python
+with the program's own one-line message (tests/cli_test.cpp,
+hostile_input_test.cpp, first_use_test.cpp), whether the overrides come with
+the scene or one by one through Scene.set."""
+import pytest
+
+import rocking
+from conftest import SCENES
+
+BAD_OVERRIDES = [
+    ["structure.masses=[1,-2,3,4]"],
+    ["structure"],
+    ["structure.EI_scale=1e300"],
+    ["structure.youngs_modulus=1e308"],
+    ["structure.masses=[1e15,1,1,1]"],
+    ["excitation.duration=1e9"],
+    ["initial.u=[1,2]"],
+    ["contact.rocking=false", "initial.theta=0.1"],
+    ["structure.no_such_key=1"],
+    ["damper.enabled=maybe"],
+    ['device+={kind="no-such-law"}'],
+]
+
+
+@pytest.mark.parametrize("overrides", BAD_OVERRIDES, ids=lambda o: " ".join(o))
+def test_a_bad_override_raises_value_error_with_the_programs_message(cli, overrides):
+    expected = cli.error("modal", *[a for o in overrides for a in ("--set", o)])
+    with pytest.raises(ValueError) as caught:
+        rocking.Scene.default(overrides)
+    assert str(caught.value) == expected
+    scene = rocking.Scene.default()
+    with pytest.raises(ValueError) as caught:
+        for o in overrides:
+            scene.set(o)
+    assert str(caught.value) == expected
+    assert scene.overrides == overrides[:-1]  # the bad one is not kept
+
+
+@pytest.mark.parametrize("path", ["/no/such/scene.toml", str(SCENES)], ids=["missing", "a folder"])
+def test_a_bad_scene_file_raises_value_error_with_the_programs_message(cli, path):
+    expected = cli.error("modal", path)
+    with pytest.raises(ValueError) as caught:
+        rocking.Scene.load(path)
+    assert str(caught.value) == expected
+
+
+def test_a_rigid_block_on_a_fixed_base_is_refused_as_by_the_program(cli):
+    block = str(SCENES / "rigid_block.toml")
+    expected = cli.error("modal", block, "--set", "contact.rocking=false")
+    with pytest.raises(ValueError) as caught:
+        rocking.Scene.load(block).set("contact.rocking", False)
+    assert str(caught.value) == expected
+
+
+def test_bad_run_options_and_records_raise_value_error_naming_them(tmp_path):
+    with pytest.raises(ValueError, match=r"^rtol 2: must be in \(0, 1\)$"):
+        rocking.simulate(rtol=2)
+    with pytest.raises(ValueError, match=r"^every 0: must be positive$"):
+        rocking.simulate(every=0)
+    with pytest.raises(ValueError, match="unknown"):
+        rocking.simulate(integrator="euler")
+    with pytest.raises(ValueError, match=r"^Record: dt -1: must be positive$"):
+        rocking.Record([0.0, 0.1], dt=-1)
+    with pytest.raises(ValueError, match=r"acc\[1\] is nan"):
+        rocking.Record([0.0, float("nan")], dt=0.01)
+    with pytest.raises(ValueError, match="unit"):
+        rocking.Record([0.0, 0.1], dt=0.01, units="furlongs")
+    with pytest.raises(ValueError, match="record file not found|not found"):
+        rocking.Record.load(tmp_path / "none.at2")

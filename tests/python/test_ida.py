@@ -1,0 +1,50 @@
+"""rocking.ida: the rows of `rocking ida`, and Ctrl-C stops it."""
+import csv
+import os
+import signal
+import threading
+import time
+
+import pytest
+
+import rocking
+
+
+def test_ida_rows_equal_the_programs_csv(cli, elcentro, tmp_path):
+    out = tmp_path / "ida"
+    r = cli.run("ida", "--record", elcentro, "--scales", "1,2", "--variants", "damper,no-damper",
+                "--out", out, "--threads", "2", "--formats", "png")
+    assert r.returncode == 0, r.stderr
+    with open(out / "ida.csv") as f:
+        rows = list(csv.DictReader(f))
+    study = rocking.ida(None, [str(elcentro)], levels=[1, 2], variants=["damper", "no-damper"], threads=2)
+    assert len(study.rows) == len(rows) == 4
+    for mine, theirs in zip(study.rows, rows):
+        assert mine["variant"] == theirs["variant"]
+        assert mine["level"] == float(theirs["level"])
+        for key in ("delta_t", "delta_e", "theta_over_alpha", "base_moment"):
+            assert mine[key] == pytest.approx(float(theirs[key]), rel=1e-8), key  # the CSV's 9 digits
+    fractiles = study.fractiles("theta_over_alpha", "no-damper")
+    assert [f["level"] for f in fractiles] == [1, 2]
+    assert fractiles[0]["p50"] == study.rows[1]["theta_over_alpha"]  # one record: its own peak
+
+
+def test_ctrl_c_stops_an_ida_within_seconds(elcentro):
+    levels = [0.01 * k for k in range(1, 1001)]  # 3000 runs, far more work than 4 s
+    timer = threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT))
+    start = time.monotonic()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        rocking.ida(None, [str(elcentro)], levels=levels, threads=2)
+    elapsed = time.monotonic() - start
+    timer.cancel()
+    assert elapsed < 4, f"stopped {elapsed:.1f} s after the start; the signal came at 1 s"
+
+
+def test_ida_refuses_bad_arguments_with_value_error(elcentro):
+    with pytest.raises(ValueError, match="unknown variant 'sideways'"):
+        rocking.ida(None, [str(elcentro)], levels=[1], variants=["sideways"])
+    with pytest.raises(ValueError, match="level -1: must be positive"):
+        rocking.ida(None, [str(elcentro)], levels=[-1])
+    with pytest.raises(ValueError, match="unknown quantity"):
+        rocking.ida(None, [str(elcentro)], levels=[1], variants=["damper"]).fractiles("nope")

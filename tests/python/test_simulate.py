@@ -1,0 +1,127 @@
+"""rocking.simulate, rocking.modal and rocking.Record against the program:
+the same library, the same defaults, the same numbers."""
+import json
+
+import numpy as np
+import pytest
+
+import rocking
+
+
+def without_wall_time(summary):
+    summary = dict(summary)
+    del summary["wall_s"]  # the one entry that depends on the machine's load
+    return summary
+
+
+def test_chimney_under_el_centro_equals_the_programs_summary_number_for_number(cli, elcentro, tmp_path):
+    out = tmp_path / "cli"
+    r = cli.run("simulate", "--record", elcentro, "--out", out)
+    assert r.returncode == 0, r.stderr
+    expected = json.loads((out / "summary.json").read_text())
+    result = rocking.simulate(rocking.Scene.default(), str(elcentro))
+    assert without_wall_time(result.summary) == without_wall_time(expected)
+    assert result.peaks == expected["peaks"]
+    assert result.outcome == "completed"
+    # The history: history.csv's columns, printed there to 9 significant digits.
+    csv = np.genfromtxt(out / "history.csv", delimiter=",", names=True, dtype=None, encoding="utf-8")
+    header = (out / "history.csv").read_text().splitlines()[0].split(",")
+    names = [h.split(" [")[0] for h in header]
+    assert list(result.history) == names
+    n = len(csv)
+    assert len(result.history["t"]) == n
+    for i, name in enumerate(names):
+        column = csv[csv.dtype.names[i]]
+        if name == "phase":
+            phase = np.select([column == "contact", column == "rock+"], [0.0, 1.0], -1.0)
+            np.testing.assert_array_equal(result.history["phase"], phase)
+        else:
+            np.testing.assert_allclose(result.history[name], column, rtol=1e-8, atol=0, err_msg=name)
+
+
+def test_a_record_from_a_numpy_array_runs_as_the_same_record_read_from_its_file(elcentro):
+    from_file = rocking.Record.load(elcentro)
+    acc = from_file.acceleration
+    from_array = rocking.Record(acc, from_file.dt, units="m/s2")
+    a = rocking.simulate(record=from_file)
+    b = rocking.simulate(record=from_array)
+    assert a.peaks == b.peaks
+    assert a.events == b.events
+    np.testing.assert_array_equal(a.history["theta"], b.history["theta"])
+    # The same in g: one rounding per sample (x / 9.81 x 9.81), nothing more.
+    in_g = rocking.simulate(record=rocking.Record(acc / 9.81, from_file.dt, units="g"))
+    for key, value in a.peaks.items():
+        if value is not None:
+            assert in_g.peaks[key] == pytest.approx(value, rel=1e-6), key
+
+
+def test_history_arrays_are_handed_over_without_a_copy_per_element(elcentro):
+    result = rocking.simulate(record=str(elcentro))
+    t = result.history["t"]
+    assert isinstance(t, np.ndarray) and t.dtype == np.float64 and t.ndim == 1
+    assert t.base is not None and type(t.base).__name__ == "PyCapsule"  # owns the C++ vector, no copy
+    assert np.all(np.diff(t) >= 0)
+    assert all(len(v) == len(t) for v in result.history.values())
+
+
+def test_events_are_the_runs_phase_changes(elcentro):
+    result = rocking.simulate(record=str(elcentro))
+    kinds = [e["kind"] for e in result.events]
+    counts = result.summary["counts"]
+    assert kinds.count("uplift") == counts["uplifts"] > 0
+    assert kinds.count("impact") == counts["impacts"] > 0
+    uplifts = [e for e in result.events if e["kind"] == "uplift"]
+    assert uplifts[0]["t"] == result.summary["first_uplift_s"]
+    times = [e["t"] for e in result.events]
+    assert times == sorted(times)
+    assert all(e["pivot"] in (-1, 1) for e in result.events)
+
+
+def test_a_run_that_cannot_finish_raises_run_error_with_what_it_reached(elcentro):
+    with pytest.raises(rocking.RunError) as caught:
+        rocking.simulate(record=str(elcentro), max_steps=200)
+    assert "200" in str(caught.value)
+    partial = caught.value.result
+    assert partial.outcome == "failed"
+    assert partial.summary["failure"] == str(caught.value)
+    assert 0 < partial.history["t"][-1] < 10
+
+
+def test_modal_equals_the_programs_modal_json(cli):
+    assert rocking.modal() == cli.json("modal", "--json")
+    soft = rocking.Scene.default().set("structure.EI_scale", 0.25)
+    assert rocking.modal(soft) == cli.json("modal", "--json", "--set", "structure.EI_scale=0.25")
+    block = rocking.Scene.load(cli_scene("rigid_block.toml"))
+    assert rocking.modal(block) == cli.json("modal", cli_scene("rigid_block.toml"), "--json")
+
+
+def cli_scene(name):
+    from conftest import SCENES
+    return str(SCENES / name)
+
+
+def test_scene_set_replaces_a_key_copies_are_independent_and_to_toml_reads_back(tmp_path):
+    scene = rocking.Scene.default()
+    assert scene.devices == ["damper_left", "damper_right"]
+    other = scene.copy().set("damper.enabled", False)
+    assert other.devices == [] and scene.devices == ["damper_left", "damper_right"]
+    other.set("damper.enabled", True).set("damper.thickness", 1.5)
+    assert other.overrides == ["damper.enabled=true", "damper.thickness=1.5"]
+    text = other.to_toml()
+    path = tmp_path / "scene.toml"
+    path.write_text(text)
+    assert rocking.modal(rocking.Scene.load(path)) == rocking.modal(other)
+    assert rocking.modal(other) != rocking.modal(scene)
+    tendon = scene.copy().set("device+", {"kind": "elastic", "at": 0, "kinematics": "vertical",
+                                          "free_length": 33, "P0": 2e6, "k": 5e7, "name": "tendon"})
+    assert tendon.devices[-1] == "tendon"
+
+
+def test_record_measures_equal_the_programs(cli, elcentro):
+    mine = rocking.Record.load(elcentro).measures([0.5, 1.0])
+    theirs = cli.json("record", elcentro, "--periods", "0.5,1", "--json")
+    theirs = theirs[0] if isinstance(theirs, list) else theirs
+    assert mine["pga"] / 9.81 == pytest.approx(theirs["pga_g"], rel=1e-15)
+    assert mine["pgv"] == theirs["pgv_m_s"]
+    assert mine["arias"] == theirs["arias_m_s"]
+    assert list(mine["psa"] / 9.81) == pytest.approx(theirs["psa_g"], rel=1e-15)
