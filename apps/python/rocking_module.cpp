@@ -3,9 +3,9 @@
 // overridden by rocking.scene (the keys and errors of --set), records by
 // rocking.ground_motion, runs by rocking.simulation, summaries by
 // rocking.report (summary.json and `rocking modal --json`, the same text
-// parsed by Python's json), studies by rocking.study. Long calls run on a
-// thread of their own with the GIL released; the calling thread watches for
-// Ctrl-C and stops them (RunOptions::stop, polled between steps). InputError
+// parsed by Python's json), studies by rocking.study. Long calls run with the
+// GIL released, and Ctrl-C stops them (RunOptions::stop, polled between
+// steps) with a KeyboardInterrupt. InputError
 // becomes ValueError with the same one-line message; a run that cannot finish
 // raises rocking.RunError carrying what was reached (.result).
 #include <pybind11/pybind11.h>
@@ -20,12 +20,13 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <future>
+#include <csignal>
 #include <memory>
 #include <optional>
 #include <string>
 #include <thread>
 #include <vector>
+#include <signal.h>
 import rocking;
 
 namespace py = pybind11;
@@ -37,34 +38,61 @@ PyObject* run_error_type = nullptr;  // rocking.RunError, owned by the module
 
 // ---- running C++ with Ctrl-C honoured ---------------------------------------
 
-// Runs work() on a thread of its own with the GIL released. The calling
-// thread looks for Python signals every 50 ms; on one (Ctrl-C: the pending
-// KeyboardInterrupt) it sets stop, waits for work to return and raises it.
+// Ctrl-C during a long call: while the call runs with the GIL released, a
+// SIGINT handler of our own sets the call's stop flag (polled between steps
+// and jobs) and then calls the handler it replaced (Python's, which marks the
+// KeyboardInterrupt pending). Installed only on the main thread (where Python
+// handles signals) and only over a handler Python installed.
+std::atomic<std::atomic<bool>*> sigint_stop{nullptr};
+struct sigaction replaced_sigint {};
+
+extern "C" void on_sigint(int signal, siginfo_t* info, void* context) {
+  if (std::atomic<bool>* stop = sigint_stop.load()) stop->store(true);
+  if ((replaced_sigint.sa_flags & SA_SIGINFO) != 0) replaced_sigint.sa_sigaction(signal, info, context);
+  else replaced_sigint.sa_handler(signal);
+}
+
+class SigintStops {
+ public:
+  explicit SigintStops(std::atomic<bool>& stop) {
+    if (PyThread_get_thread_ident() != main_thread) return;
+    struct sigaction current {};
+    if (sigaction(SIGINT, nullptr, &current) != 0) return;
+    const bool python_handles = (current.sa_flags & SA_SIGINFO) != 0
+                                    ? current.sa_sigaction != nullptr && current.sa_sigaction != on_sigint
+                                    : current.sa_handler != SIG_DFL && current.sa_handler != SIG_IGN;
+    if (!python_handles) return;
+    replaced_sigint = current;
+    sigint_stop.store(&stop);
+    struct sigaction ours = current;
+    ours.sa_flags = (current.sa_flags | SA_SIGINFO) & ~SA_RESETHAND;
+    ours.sa_sigaction = on_sigint;
+    installed_ = sigaction(SIGINT, &ours, nullptr) == 0;
+  }
+  ~SigintStops() {
+    if (installed_) sigaction(SIGINT, &replaced_sigint, nullptr);
+    sigint_stop.store(nullptr);
+  }
+  SigintStops(const SigintStops&) = delete;
+  SigintStops& operator=(const SigintStops&) = delete;
+  static inline unsigned long main_thread = 0;  // set when the module is imported
+
+ private:
+  bool installed_ = false;
+};
+
+// Runs work() on the calling thread with the GIL released and Ctrl-C setting
+// stop; a KeyboardInterrupt pending afterwards is raised.
 template <class F>
 auto interruptible(std::atomic<bool>& stop, F work) -> decltype(work()) {
-  using R = decltype(work());
-  std::packaged_task<R()> task(std::move(work));
-  std::future<R> result = task.get_future();
-  std::thread worker(std::move(task));
-  bool interrupted = false;
-  for (;;) {
-    std::future_status status;
-    {
-      py::gil_scoped_release release;
-      status = result.wait_for(std::chrono::milliseconds(50));
-    }
-    if (status == std::future_status::ready) break;
-    if (PyErr_CheckSignals() != 0) {
-      interrupted = true;
-      stop = true;
-      py::gil_scoped_release release;
-      result.wait();
-      break;
-    }
+  std::optional<decltype(work())> result;
+  {
+    SigintStops guard(stop);
+    py::gil_scoped_release release;
+    result.emplace(work());
   }
-  worker.join();
-  if (interrupted) throw py::error_already_set();
-  return result.get();
+  if (stop && PyErr_CheckSignals() != 0) throw py::error_already_set();
+  return std::move(*result);
 }
 
 py::object json_loads(const std::string& text) { return py::module_::import("json").attr("loads")(text); }
@@ -415,6 +443,7 @@ PYBIND11_MODULE(rocking, m) {
       "  res = rocking.simulate(scene, rec)\n"
       "  res.peaks['theta_over_alpha'], res.history['theta'], res.events\n";
   m.attr("__version__") = ROCKING_VERSION;
+  SigintStops::main_thread = py::module_::import("threading").attr("main_thread")().attr("ident").cast<unsigned long>();
   run_error_type = PyErr_NewException("rocking.RunError", PyExc_RuntimeError, nullptr);
   PyObject_SetAttrString(run_error_type, "__doc__",
                          py::str("A run that could not finish (step size underflow, step or event limit). Its "

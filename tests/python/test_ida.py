@@ -48,3 +48,15 @@ def test_ida_refuses_bad_arguments_with_value_error(elcentro):
         rocking.ida(None, [str(elcentro)], levels=[-1])
     with pytest.raises(ValueError, match="unknown quantity"):
         rocking.ida(None, [str(elcentro)], levels=[1], variants=["damper"]).fractiles("nope")
+
+
+def test_ctrl_c_after_a_call_is_pythons_again_and_calls_from_threads_run(elcentro):
+    rocking.simulate(record=str(elcentro), history=False)
+    with pytest.raises(KeyboardInterrupt):
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(1)  # the interrupt lands here, raised by Python's own handler
+    results = []
+    worker = threading.Thread(target=lambda: results.append(rocking.simulate(record=str(elcentro), history=False)))
+    worker.start()
+    worker.join()
+    assert results[0].peaks == rocking.simulate(record=str(elcentro), history=False).peaks
