@@ -125,3 +125,16 @@ def test_record_measures_equal_the_programs(cli, elcentro):
     assert mine["pgv"] == theirs["pgv_m_s"]
     assert mine["arias"] == theirs["arias_m_s"]
     assert list(mine["psa"] / 9.81) == pytest.approx(theirs["psa_g"], rel=1e-15)
+
+
+def test_to_pandas_gives_the_history_or_says_what_it_needs():
+    result = rocking.simulate(duration=0.5)
+    try:
+        import pandas  # noqa: F401  (not a dependency of the project)
+    except ImportError:
+        with pytest.raises(ImportError, match="python3-pandas"):
+            result.to_pandas()
+    else:
+        frame = result.to_pandas()
+        assert list(frame.columns) == list(result.history)
+        assert len(frame) == len(result.history["t"])
