@@ -61,6 +61,8 @@ bench: build
 	@build/bin/records_bench
 	@echo "command: build/bin/suite_bench"
 	@build/bin/suite_bench
+	@echo "command: build/bin/tower_bench --n 8,16,32 --budget 60"
+	@build/bin/tower_bench --n 8,16,32 --budget 60
 	@echo "command: PYTHONPATH=build/python /usr/bin/python3 bench/python_bench.py"
 	@PYTHONPATH=build/python /usr/bin/python3 bench/python_bench.py
 

@@ -1,0 +1,64 @@
+// The cost of a run against the number of nodes N (issue 20): the towers of
+// data/scenes/towers (scripts/make_towers.py: the chimney's height, mass and
+// mean stiffness over N masses) under El Centro N-S at the default tolerance,
+// one run each, in two set-ups: as `rocking simulate` runs (energy balance
+// tracked, so full contact is integrated by the backend too) and as a study
+// runs (no energy accumulators: full contact stepped exactly). A run past its
+// budget is stopped (RunOptions::stop) and reported with the time it reached.
+// The exponent between consecutive N is log(cost ratio) / log(N ratio).
+// Usage: tower_bench [RECORDS_DIR] [--n 8,16,32] [--budget S]
+#include <rocking/eigen.hpp>
+#include <fmt/format.h>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <string>
+#include <vector>
+import rocking;
+
+using namespace rocking;
+
+int main(int argc, char** argv) {
+  const char* env = std::getenv("ROCKING_RECORDS");
+  std::string dir = env ? env : std::string(ROCKING_SOURCE_DIR) + "/../shared/data/records";
+  std::vector<double> counts{8, 16, 32};
+  double budget = 60;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--n" && i + 1 < argc) counts = parse_number_list(argv[++i]);
+    else if (a == "--budget" && i + 1 < argc) budget = std::atof(argv[++i]);
+    else if (!a.starts_with("--")) dir = a;
+    else {
+      fmt::print(stderr, "tower_bench: bad option '{}' (usage: tower_bench [RECORDS_DIR] [--n 8,16,32] [--budget S])\n", a);
+      return 2;
+    }
+  }
+  const GroundMotion elcentro = read_record(dir + "/elcentro_1940_ns.at2");
+  fmt::print("towers of N nodes (data/scenes/towers) under El Centro N-S ({:.1f} s), rk45 at rtol 1e-4, one run each,\n"
+             "stopped after {:g} s\n", elcentro.duration(), budget);
+  fmt::print("{:>5} {:<22} {:>10} {:>12} {:>10} {:>9} {:>10} {:>12}\n", "N", "set-up", "wall [s]", "rhs", "steps",
+             "exponent", "reached", "delta_t");
+  for (bool energy : {true, false}) {
+    double previous_wall = 0, previous_n = 0;
+    for (double n : counts) {
+      const Scene scene =
+          load_scene(fmt::format("{}/data/scenes/towers/tower_{}.toml", ROCKING_SOURCE_DIR, static_cast<int>(n)));
+      const ContactModel model = make_contact_model(scene, energy);
+      RunOptions o;
+      const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(budget);
+      o.stop = [deadline] { return std::chrono::steady_clock::now() > deadline; };
+      const RunResult r = simulate(model, elcentro, o);
+      const bool finished = r.outcome != Outcome::failed;
+      const std::string exponent = previous_wall > 0 && finished
+                                       ? fmt::format("{:.2f}", std::log(r.wall_s / previous_wall) / std::log(n / previous_n))
+                                       : std::string("-");
+      fmt::print("{:>5} {:<22} {:>10.4g} {:>12} {:>10} {:>9} {:>9.1f}s {:>12.6g}\n", n,
+                 energy ? "simulate (energy)" : "study (exact contact)", r.wall_s, r.stats.rhs, r.stats.steps,
+                 exponent, r.t_end, finished ? r.peak(Quantity::delta_t) : std::nan(""));
+      previous_wall = finished ? r.wall_s : 0;
+      previous_n = n;
+    }
+  }
+  fmt::print("target (issue 20): cost at most ~N^2 from N = 16 to 128, N = 64 under 50 ms\n");
+  return 0;
+}
