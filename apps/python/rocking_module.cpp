@@ -256,15 +256,19 @@ struct PyResult {
   std::string outcome;
 };
 
-py::object to_pandas(const py::dict& columns) {
-  py::module_ pandas;
+py::module_ import_pandas() {
   try {
-    pandas = py::module_::import("pandas");
+    return py::module_::import("pandas");
   } catch (const py::error_already_set&) {
-    throw py::import_error("to_pandas needs pandas (Debian: python3-pandas); the same columns are NumPy arrays in "
-                           ".history");
+    throw py::import_error("to_pandas needs pandas (Debian: python3-pandas); the same data are in plain Python and "
+                           "NumPy objects");
   }
-  return pandas.attr("DataFrame")(columns);
+}
+
+py::object to_pandas_rows(const py::list& rows) { return import_pandas().attr("DataFrame")(rows); }
+
+py::object to_pandas(const py::dict& columns) {
+  return import_pandas().attr("DataFrame")(columns);
 }
 
 PyResult simulate(const py::object& scene_arg, const py::object& record, double scale, double rtol, double atol,
@@ -338,13 +342,17 @@ PyResult simulate(const py::object& scene_arg, const py::object& record, double 
 struct PyIda {
   py::list rows;
   std::vector<std::string> variants;
+  std::vector<std::string> records;
+  std::vector<std::string> limits;
   std::shared_ptr<rocking::StudySummary> summary;
 };
 
 PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std::string& im_text, std::vector<double> levels,
           std::optional<std::vector<std::string>> variant_names, int threads, double rtol, double atol,
-          const std::string& integrator, double damping) {
+          const std::string& integrator, double damping, std::optional<std::vector<std::string>> limit_texts) {
   const PyScene s = scene_of(scene_arg);
+  std::vector<rocking::Limit> limits{rocking::overturning_limit()};
+  for (const std::string& l : limit_texts.value_or(std::vector<std::string>{})) limits.push_back(rocking::parse_limit(l));
   std::vector<std::string> records;
   std::vector<std::string> given;
   if (py::isinstance<py::str>(records_arg) || py::hasattr(records_arg, "__fspath__"))
@@ -378,7 +386,7 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
   const rocking::Study study(s.path, s.overrides, records, {}, std::move(variants), ro, im);
   std::sort(levels.begin(), levels.end());
   const std::vector<rocking::Job> jobs = study.ladder(levels);
-  auto summary = std::make_shared<rocking::StudySummary>(study, levels, std::vector<rocking::Limit>{rocking::overturning_limit()});
+  auto summary = std::make_shared<rocking::StudySummary>(study, levels, limits);
   std::vector<rocking::JobResult> results(jobs.size());
   const std::size_t done = interruptible(*stop, [&] {
     return rocking::parallel_ordered<rocking::JobResult>(
@@ -391,6 +399,8 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
   });
   PyIda out;
   for (const rocking::Variant& v : study.variants()) out.variants.push_back(v.name);
+  for (const rocking::Limit& l : limits) out.limits.push_back(l.name);
+  out.records = study.records();
   out.summary = summary;
   for (std::size_t i = 0; i < done; ++i) {
     const rocking::Job& j = jobs[i];
@@ -414,6 +424,18 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
     out.rows.append(row);
   }
   return out;
+}
+
+py::dict lognormal(const rocking::LognormalFit& f) {
+  py::dict d("fitted"_a = f.fitted, "method"_a = f.method, "note"_a = f.note, "records"_a = f.records,
+             "reached"_a = f.reached);
+  if (f.fitted) {
+    d["median"] = f.median;
+    d["beta"] = f.beta;
+    d["log_median_se"] = f.log_median_se;
+    d["beta_se"] = f.beta_se;
+  }
+  return d;
 }
 
 rocking::Quantity parse_quantity(const std::string& name) {
@@ -594,13 +616,42 @@ PYBIND11_MODULE(rocking, m) {
           "quantity"_a = "theta_over_alpha", "variant"_a = "",
           "At each level, the 16/50/84 % fractiles of a peak over the records (an overturned\n"
           "run counts as +inf), for a variant (default: the first).")
-      .def("to_pandas", [](const PyIda& r) { return py::module_::import("pandas").attr("DataFrame")(r.rows); });
+      .def_readonly("limits", &PyIda::limits)
+      .def(
+          "fragility",
+          [](const PyIda& r, const std::string& limit, const std::string& variant) {
+            const auto it = std::find(r.limits.begin(), r.limits.end(), limit);
+            if (it == r.limits.end())
+              throw rocking::InputError(fmt::format("limit '{}' is not one of this study's (give it to ida as limits=)", limit));
+            const auto l = static_cast<std::size_t>(it - r.limits.begin());
+            const std::size_t v = variant_index(r, variant);
+            py::list capacities, stripes;
+            std::vector<rocking::Capacity> values;
+            for (const auto& [record, c] : r.summary->capacities(v, l)) {
+              capacities.append(py::dict("record"_a = r.records[record], "level"_a = c.im, "reached"_a = c.reached));
+              values.push_back(c);
+            }
+            const std::vector<rocking::Stripe> stripe_list = r.summary->stripes(v, l);
+            for (const rocking::Stripe& st : stripe_list)
+              stripes.append(py::dict("level"_a = st.im, "runs"_a = st.runs, "reached"_a = st.reached));
+            return py::dict("limit"_a = limit, "capacities"_a = capacities, "stripes"_a = stripes,
+                            "capacity_fit"_a = lognormal(rocking::fit_capacities(values)),
+                            "stripes_fit"_a = lognormal(rocking::fit_stripes(stripe_list)));
+          },
+          "limit"_a = "overturning", "variant"_a = "",
+          "MODEL.md 13 for a limit state (overturning, or one given to ida as limits=) and a\n"
+          "variant: each record's capacity (the lowest level that reached it, or the highest\n"
+          "it ran to without, censored), the stripes (runs and how many reached it per level),\n"
+          "and the lognormal fragility fitted to each (median, beta, their standard errors).")
+      .def("to_pandas", [](const PyIda& r) { return to_pandas_rows(r.rows); });
 
   m.def("ida", &ida, "scene"_a, "records"_a, "im"_a = "sf", "levels"_a, "variants"_a = py::none(), "threads"_a = 0,
         "rtol"_a = 1e-4, "atol"_a = 1e-7, "integrator"_a = "rk45", "damping"_a = 0.05,
+        "limits"_a = py::none(),
         "Incremental dynamic analysis as `rocking ida`: every record (files, folders or\n"
         "list files) scaled to each level of the intensity measure im (sf, pga, pgv,\n"
         "sa:T, sa:T1, saavg:T1:T2) for each variant (damper, no-damper, fixed-base,\n"
         "scene, no-devices, without:NAME, or KEY=VALUE). Runs on threads (0: every\n"
-        "core); Ctrl-C stops it (KeyboardInterrupt).");
+        "core); Ctrl-C stops it (KeyboardInterrupt). limits: limit states beside overturning\n"
+        "for fragility(), as --limit takes them (\"theta_over_alpha=0.5\").");
 }

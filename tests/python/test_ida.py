@@ -1,5 +1,7 @@
 """rocking.ida: the rows of `rocking ida`, and Ctrl-C stops it."""
 import csv
+import json
+import pathlib
 import os
 import signal
 import threading
@@ -60,3 +62,28 @@ def test_ctrl_c_after_a_call_is_pythons_again_and_calls_from_threads_run(elcentr
     worker.start()
     worker.join()
     assert results[0].peaks == rocking.simulate(record=str(elcentro), history=False).peaks
+
+
+def test_fragility_equals_the_programs_summary(cli, records, tmp_path):
+    files = [records / "elcentro_1940_ns.at2", records / "chichi1999_chy028_n.at2"]
+    out = tmp_path / "ida"
+    r = cli.run("ida", "--record", *files, "--scales", "0.5,1,2", "--variants", "damper",
+                "--limit", "theta_over_alpha=0.01", "--out", out, "--no-plot")
+    assert r.returncode == 0, r.stderr
+    theirs = json.loads((out / "summary.json").read_text())["variants"][0]["fragility"]
+    study = rocking.ida(None, [str(f) for f in files], levels=[0.5, 1, 2], variants=["damper"],
+                        limits=["theta_over_alpha=0.01"])
+    assert study.limits == ["overturning", "theta_over_alpha>=0.01"]
+    for limit, expected in zip(study.limits, theirs):
+        mine = study.fragility(limit, "damper")
+        assert mine["limit"] == expected["limit"]
+        assert [(pathlib.Path(c["record"]).name, c["level"], c["reached"]) for c in mine["capacities"]] == \
+            [(c["record"], c["level"], c["reached"]) for c in expected["capacities"]]
+        assert mine["stripes"] == expected["stripes"]
+        for fit in ("capacity_fit", "stripes_fit"):
+            assert mine[fit]["fitted"] == expected[fit]["fitted"]
+            if mine[fit]["fitted"]:
+                assert mine[fit]["median"] == pytest.approx(expected[fit]["median"], rel=1e-12)
+                assert mine[fit]["beta"] == pytest.approx(expected[fit]["beta"], rel=1e-12)
+    with pytest.raises(ValueError, match="limit 'sideways'"):
+        study.fragility("sideways")
