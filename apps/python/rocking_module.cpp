@@ -121,13 +121,14 @@ struct PyScene {
   }
 };
 
-// The scene argument: a Scene, or None for the embedded chimney.
-PyScene scene_of(const py::object& o) {
-  if (!o.is_none()) return o.cast<PyScene>();
-  PyScene s;
+PyScene loaded_scene(std::string path, std::optional<std::vector<std::string>> overrides) {
+  PyScene s{std::move(path), overrides.value_or(std::vector<std::string>{}), nullptr};
   s.reload();
   return s;
 }
+
+// The scene argument: a Scene, or None for the embedded chimney.
+PyScene scene_of(const py::object& o) { return o.is_none() ? loaded_scene("", {}) : o.cast<PyScene>(); }
 
 // A Python value as the TOML text an override takes.
 std::string toml_value(const py::handle& v) {
@@ -439,11 +440,8 @@ py::dict lognormal(const rocking::LognormalFit& f) {
 }
 
 rocking::Quantity parse_quantity(const std::string& name) {
-  for (std::size_t i = 0; i < rocking::quantity_count; ++i)
-    if (rocking::quantity_name(static_cast<rocking::Quantity>(i)) == name) return static_cast<rocking::Quantity>(i);
-  std::string names;
-  for (rocking::Quantity q : rocking::study_quantities) names += (names.empty() ? "" : ", ") + std::string(rocking::quantity_name(q));
-  throw rocking::InputError(fmt::format("unknown quantity '{}' (choose from {})", name, names));
+  if (const auto q = rocking::study_quantity(name)) return *q;
+  throw rocking::InputError(fmt::format("unknown quantity '{}' (choose from {})", name, rocking::study_quantity_names()));
 }
 
 std::size_t variant_index(const PyIda& r, const std::string& variant) {
@@ -488,20 +486,14 @@ PYBIND11_MODULE(rocking, m) {
       .def_static(
           "load",
           [](const std::filesystem::path& path, std::optional<std::vector<std::string>> overrides) {
-            PyScene s{path_text(path), overrides.value_or(std::vector<std::string>{}), nullptr};
-            s.reload();
-            return s;
+            return loaded_scene(path_text(path), std::move(overrides));
           },
           "path"_a, "overrides"_a = py::none(),
           "Reads a scene file; overrides are --set texts (\"damper.enabled=false\"). ValueError\n"
           "with the command line's message when the file or a value is wrong.")
       .def_static(
           "default",
-          [](std::optional<std::vector<std::string>> overrides) {
-            PyScene s{"", overrides.value_or(std::vector<std::string>{}), nullptr};
-            s.reload();
-            return s;
-          },
+          [](std::optional<std::vector<std::string>> overrides) { return loaded_scene("", std::move(overrides)); },
           "overrides"_a = py::none(), "The Christchurch chimney built into the library (the paper's case).")
       .def(
           "set",

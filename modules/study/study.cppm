@@ -24,6 +24,7 @@ module;
 #include <limits>
 #include <map>
 #include <optional>
+#include <string_view>
 #include <string>
 #include <thread>
 #include <vector>
@@ -202,6 +203,9 @@ Limit parse_limit(const std::string& text);
 inline constexpr std::array<Quantity, 8> study_quantities = {
     Quantity::delta_t,    Quantity::delta_e,     Quantity::theta_over_alpha, Quantity::damper_d,
     Quantity::base_shear, Quantity::base_moment, Quantity::mid_shear,        Quantity::mid_moment};
+// The study quantity of that name (quantity_name), if any; and the names, for messages.
+std::optional<Quantity> study_quantity(std::string_view name);
+std::string study_quantity_names();  // "delta_t, delta_e, ..."
 
 // What a suite study reports (MODEL.md 13), gathered job by job: a few
 // numbers per job are kept, never a run's history. Failed jobs are left out.

@@ -17,18 +17,26 @@ namespace rocking {
 
 Limit overturning_limit() { return {"overturning", std::nullopt, 0}; }
 
-Limit parse_limit(const std::string& text) {
+std::optional<Quantity> study_quantity(std::string_view name) {
+  for (Quantity q : study_quantities)
+    if (name == quantity_name(q)) return q;
+  return std::nullopt;
+}
+
+std::string study_quantity_names() {
   std::string names;
   for (Quantity q : study_quantities) names += (names.empty() ? "" : ", ") + std::string(quantity_name(q));
+  return names;
+}
+
+Limit parse_limit(const std::string& text) {
   const auto eq = text.find('=');
   const std::string key = text.substr(0, eq);
-  std::optional<Quantity> quantity;
-  for (Quantity q : study_quantities)
-    if (key == quantity_name(q)) quantity = q;
+  const std::optional<Quantity> quantity = study_quantity(key);
   if (eq == std::string::npos || !quantity)
     throw InputError(fmt::format("--limit '{}': expected QUANTITY=VALUE with QUANTITY one of {} (e.g. "
                                  "theta_over_alpha=0.5, damper_d=0.07)",
-                                 text, names));
+                                 text, study_quantity_names()));
   const std::string number = text.substr(eq + 1);
   std::size_t used = 0;
   double value = 0;
