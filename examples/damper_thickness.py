@@ -36,6 +36,7 @@ print(f"no damper:       peak theta/alpha_cg {free:.4f}")
 fig, ax = plt.subplots(figsize=(5, 3.5), constrained_layout=True)
 ax.plot(thickness, peaks, "o-", label="with dampers")
 ax.axhline(free, ls="--", color="0.4", label="no damper")
+ax.set_ylim(0.95 * min(peaks), 1.05 * max(free, max(peaks)))  # the no-damper line clear of the frame
 ax.set_xlabel("damper thickness / the paper's")
 ax.set_ylabel(r"peak $\theta / \alpha_{cg}$")
 ax.legend(frameon=False)
