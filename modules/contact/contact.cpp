@@ -43,8 +43,9 @@ Layout make_layout(ModelKind kind, Eigen::Index n, Eigen::Index z_count, Eigen::
 std::size_t side(int s) { return s > 0 ? 1 : 0; }
 
 // A device the pivot s stretches, at tilt and rocking velocity thd: its
-// stretch, elongation rate, state and force (0 once broken). Inline: the
-// right-hand side, the outputs and the damper of the response all use it.
+// stretch, elongation rate, state and force (0 once broken), for the outputs
+// and the damper of the response (the right-hand side takes force and rate in
+// one dispatch instead).
 struct ActingNow {
   Stretch st;
   double e_dot = 0, z = 0, F = 0;
@@ -256,12 +257,14 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<
         if (a.slot >= 0) dydt[a.slot] = 0.0;
         continue;
       }
-      const ActingNow n = acting_now(a, d, B, s, tilt, thd, y);
+      const Stretch st = stretch(a.geometry, B, s, tilt);
+      const double e_dot = st.de_dtheta * s * thd;
+      const LawResponse r = law_force_and_rate(a.law, st.e, e_dot, a.slot >= 0 ? y[a.slot] : 0.0);
       const bool chord = a.geometry.kinematics == Kinematics::chord;
-      device_moment += chord ? n.F * a.lever * tilt.cos_half : n.F * n.st.de_dtheta;
-      if (a.slot >= 0) dydt[a.slot] = law_rate(a.law, n.st.e, n.e_dot, n.z);
-      damper_power += n.F * n.e_dot;
-      if (split_work) dydt[l.energy + 3 + a.device] = n.F * n.e_dot;
+      device_moment += chord ? r.F * a.lever * tilt.cos_half : r.F * st.de_dtheta;
+      if (a.slot >= 0) dydt[a.slot] = r.rate;
+      damper_power += r.F * e_dot;
+      if (split_work) dydt[l.energy + 3 + a.device] = r.F * e_dot;
     }
   }
   if (s != 0) {
@@ -270,7 +273,7 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<
       dydt[l.theta_dot] = rigid_rocking_acceleration(m.body, s, a_g, device_moment, tilt);
     } else {
       const Coordinates q{y.segment(l.u, l.n), y.segment(l.u_dot, l.n), tilt, thd};
-      dydt.segment(l.u, l.n) = q.u_dot;
+      for (Eigen::Index i = 0; i < l.n; ++i) dydt[l.u + i] = y[l.u_dot + i];  // a handful: no vector set-up
       dydt[l.theta_dot] = rocking_acceleration(m.body, s, a_g, device_moment, q, dydt.segment(l.u_dot, l.n));
     }
 

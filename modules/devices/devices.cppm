@@ -81,6 +81,14 @@ inline double law_force(const DeviceLaw& law, double e, double e_dot, double z) 
 inline double law_rate(const DeviceLaw& law, double e, double e_dot, double z) {  // z'
   return std::visit([&](const auto& l) { return l.rate(e, e_dot, z); }, law);
 }
+// Force and z' together: one dispatch on the law where the right-hand side
+// needs both.
+struct LawResponse {
+  double F = 0, rate = 0;
+};
+inline LawResponse law_force_and_rate(const DeviceLaw& law, double e, double e_dot, double z) {
+  return std::visit([&](const auto& l) { return LawResponse{l.force(e, e_dot, z), l.rate(e, e_dot, z)}; }, law);
+}
 inline double law_stored_energy(const DeviceLaw& law, double e, double z) {
   return std::visit([&](const auto& l) { return l.stored_energy(e, z); }, law);
 }

@@ -201,22 +201,27 @@ class DormandPrince final : public Integrator {
     for (long i = 0; i < n; ++i)
       yn[i] = y[i] + h * (a71 * k1[i] + a73 * k3[i] + a74 * k4[i] + a75 * k5[i] + a76 * k6[i]);
     rhs(t_ + h, y_new_, k7_);
-    // The error over the weighed components; the count is the static size
-    // itself unless some trailing components are left out.
-    const auto error_sum = [&](long count) {
-      double sum = 0;
+    // The error over the weighed components (the static size itself unless
+    // some trailing components are left out), and in the same pass whether
+    // the new state and derivative are finite: x - x is 0 for a finite x and
+    // NaN otherwise, so a sum of such differences is 0 exactly when all are
+    // finite (NaN != 0).
+    const auto error_sum = [&](long count, double& nonfinite) {
+      double sum = 0, bad = 0;
       for (long i = 0; i < count; ++i) {
         const double e = h * (e1 * k1[i] + e3 * k3[i] + e4 * k4[i] + e5 * k5[i] + e6 * k6[i] + e7 * k7[i]);
         const double r = scaled(e, y[i], yn[i]);
         sum += r * r;
+        bad += (yn[i] - yn[i]) + (k7[i] - k7[i]);
       }
+      nonfinite = bad;
       return sum;
     };
     const long nc = controlled();
-    const double sum = nc == n ? error_sum(n) : error_sum(nc);
-    bool finite = true;
-    for (long i = 0; i < n; ++i) finite = finite && std::isfinite(yn[i]) && std::isfinite(k7[i]);
-    if (!finite) return std::numeric_limits<double>::quiet_NaN();
+    double bad = 0;
+    const double sum = nc == n ? error_sum(n, bad) : error_sum(nc, bad);
+    for (long i = nc; i < n; ++i) bad += (yn[i] - yn[i]) + (k7[i] - k7[i]);
+    if (bad != 0.0) return std::numeric_limits<double>::quiet_NaN();
     return std::sqrt(sum / static_cast<double>(nc));
   }
 
