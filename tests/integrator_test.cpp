@@ -312,6 +312,8 @@ TEST_CASE("rk45, cvode and arkode agree in the weighted RMS norm of SUNDIALS' ch
 }
 
 TEST_CASE("an unknown backend name is an input error naming the choices") {
-  CHECK_THROWS_WITH(parse_backend("euler"), "--integrator euler: unknown integrator (choose rk45, cvode or arkode)");
-  CHECK(parse_backend("cvode") == Backend::cvode);
+  CHECK_THROWS_WITH(parse_backend("euler"),
+                    "--integrator euler: unknown integrator (choose auto, rk45, rosw, cvode or arkode)");
+  for (Backend b : {Backend::rk45, Backend::rosw, Backend::cvode, Backend::arkode, Backend::automatic})
+    CHECK(parse_backend(backend_name(b)) == b);
 }

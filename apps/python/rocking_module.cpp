@@ -578,7 +578,7 @@ PYBIND11_MODULE(rocking, m) {
       });
 
   m.def("simulate", &simulate, "scene"_a = py::none(), "record"_a = py::none(), "scale"_a = 1.0, "rtol"_a = 1e-4,
-        "atol"_a = 1e-7, "integrator"_a = "rk45", "every"_a = 0.01, "duration"_a = py::none(),
+        "atol"_a = 1e-7, "integrator"_a = "auto", "every"_a = 0.01, "duration"_a = py::none(),
         "max_events"_a = 100000L, "max_steps"_a = 10'000'000L, "integrate_contact"_a = false, "history"_a = true,
         "Runs a scene under a record (a Record, or a file path; None: the scene's own\n"
         "excitation), scaled by scale, as `rocking simulate` does with the same defaults.\n"
@@ -638,7 +638,7 @@ PYBIND11_MODULE(rocking, m) {
       .def("to_pandas", [](const PyIda& r) { return to_pandas_rows(r.rows); });
 
   m.def("ida", &ida, "scene"_a, "records"_a, "im"_a = "sf", "levels"_a, "variants"_a = py::none(), "threads"_a = 0,
-        "rtol"_a = 1e-4, "atol"_a = 1e-7, "integrator"_a = "rk45", "damping"_a = 0.05,
+        "rtol"_a = 1e-4, "atol"_a = 1e-7, "integrator"_a = "auto", "damping"_a = 0.05,
         "limits"_a = py::none(),
         "Incremental dynamic analysis as `rocking ida`: every record (files, folders or\n"
         "list files) scaled to each level of the intensity measure im (sf, pga, pgv,\n"

@@ -62,7 +62,7 @@ rocking::GroundMotion load_motion(const rocking::Scene& scene, const MotionOptio
 
 // --integrator, --rtol, --atol, --duration: how a run is integrated.
 struct SolverOptions {
-  std::string integrator = "rk45";
+  std::string integrator = "auto";
   double rtol = 1e-4, atol = 1e-7;  // RunOptions' defaults: the measured knee
   double duration = 0;           // with duration_given: --duration
   bool duration_given = false;

@@ -124,8 +124,11 @@ rocking::GroundMotion load_motion(const rocking::Scene& scene, const MotionOptio
 
 void add_solver_options(CLI::App& cmd, SolverOptions& opts) {
   cmd.add_option("--integrator", opts.integrator,
-                 "rk45 (the project's Dormand-Prince, default), cvode (SUNDIALS BDF)\n"
-                 "or arkode (SUNDIALS explicit Dormand-Prince), the references")
+                 "auto (default): rk45, or rosw for a structure whose highest modes would hold\n"
+                 "rk45's steps far below the record's; rk45 (the project's Dormand-Prince);\n"
+                 "rosw (Rosenbrock-W, linearly implicit in the elastic forces: tall or finely\n"
+                 "meshed structures); cvode (SUNDIALS BDF) or arkode (SUNDIALS explicit\n"
+                 "Dormand-Prince), the references")
       ->type_name("NAME");
   cmd.add_option("--rtol", opts.rtol, "Relative tolerance (default 1e-4: the knee of `rocking tradeoff`)")->type_name("X");
   cmd.add_option("--atol", opts.atol, "Absolute tolerance (default 1e-7)")->type_name("Y");

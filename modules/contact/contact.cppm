@@ -149,6 +149,39 @@ struct LinearPhase {
 };
 LinearPhase full_contact_matrices(const ContactModel& m);
 
+// The stiff part of each phase's equations, for a linearly implicit
+// integrator (ode::LinearSolve): the elastic forces f = K u + C u' with the
+// inertia of the phase frozen at u = 0 (stiff.cpp). In full contact
+// u'' = -M^-1 f; rocking about either pivot, u'' = -P f and
+// th'' = H'f / D0 with P = M^-1 + H H' / D0, D0 = m0 B^2 + B^2 1'M1 (MODEL.md 4
+// at u = 0, the same for both pivots). T holds these rows and nothing else;
+// solve() gives x = (I - g T)^-1 b on the whole state in O(N^2): with Rayleigh
+// damping C = a0 M + a1 K the velocity block is
+//   [(1 + g a0) I + g a0 H (MH)'/D0 + (g a1 + g^2) P K] x_v = b_v - g P K b_u,
+// which the eigenvectors of P K (K psi = lambda P^-1 psi, computed once per
+// model) diagonalise but for a rank-one term (Sherman-Morrison), and
+// x_u = b_u + g x_v. A rigid block has no stiff part (x = b).
+class StiffPart {
+ public:
+  explicit StiffPart(const ContactModel& m);
+  void solve(int pivot, double g, Eigen::Ref<const Eigen::VectorXd> b, Eigen::Ref<Eigen::VectorXd> x);
+
+ private:
+  struct Phase {
+    Eigen::MatrixXd Psi, Q;        // eigenvectors of P K, and Psi^-1 = Psi' P^-1
+    Eigen::VectorXd lambda;        // eigenvalues of P K
+    Eigen::VectorXd QH, theta_row; // Q H; P^-1 H / D0 (th' row of the solve)
+    double inverse_D0 = 0;         // 0 in full contact (P = M^-1)
+    double cached_g = -1;
+    Eigen::VectorXd d, z;          // at cached_g: 1 / ((1 + g a0) + (g a1 + g^2) lambda), the rank-one solve
+  };
+  void prepare(Phase& p, double g);
+
+  const ContactModel* m_;
+  Phase full_, rocking_;
+  Eigen::VectorXd work_, r_;
+};
+
 // The elongation and force of the first device the current pivot stretches
 // (0 in full contact, or with no device): the paper's damper.
 struct DamperState {

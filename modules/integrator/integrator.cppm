@@ -6,7 +6,9 @@
 // the automatic initial step and the 4th-order continuous extension of Hairer,
 // Norsett & Wanner, Solving ODEs I (2nd ed.), II.5-II.6 and their DOPRI5 code:
 //   y(t0 + s h) = r1 + s (r2 + (1-s) (r3 + s (r4 + (1-s) r5)))
-// Events are scalar guards g_i(t, y), each with a direction; a sign change is
+// Beside it, for stiff systems, the Rosenbrock-W method ROS34PW2 (Rang &
+// Angermann 2005; rosenbrock.cpp), linearly implicit in a stiff part the
+// caller solves with. Events are scalar guards g_i(t, y), each with a direction; a sign change is
 // looked for on the dense output at interior points of every step (so a
 // crossing and back inside one step is not missed when the samples see it) and
 // located by the Illinois method with bisection fallback (GuardScanner, shared
@@ -162,6 +164,15 @@ class Integrator {
 };
 
 std::unique_ptr<Integrator> make_rk45(Eigen::Index n, Rhs rhs, Options options);
+
+// x = (I - g T)^-1 b for a fixed matrix T (the stiff part of the Jacobian, or
+// any approximation of it) and any g > 0.
+using LinearSolve = std::function<void(double g, Eigen::Ref<const Eigen::VectorXd> b, Eigen::Ref<Eigen::VectorXd> x)>;
+// The Rosenbrock-W method ROS34PW2 (rosenbrock.cpp): order 3 with any T,
+// L-stable, so that a stiff system whose stiff part T captures is stepped at
+// the accuracy's pace; events, breakpoints and dense output (order 2) as
+// rk45. An empty solve means T = 0 (an explicit method of order 3).
+std::unique_ptr<Integrator> make_rosenbrock_w(Eigen::Index n, Rhs rhs, LinearSolve solve, Options options);
 
 // y' = f(t, y) where, on the block z = y[first, first + m), f = A z + b a(t),
 // and every other component of y is constant; a(t) is linear between

@@ -54,9 +54,18 @@ class PeakTracker {
   long count_ = 0;
 };
 
-// The shortest fixed-base natural period of a flexible structure [s].
+// The shortest period among the fixed-base modes that oscillate, those with
+// Rayleigh damping ratio a0 / (2 omega) + a1 omega / 2 below 1 [s]. An
+// overdamped mode (omega above about 2 / a1: many of a finely meshed
+// structure's) only relaxes and turns nothing inside its period; the modes
+// that oscillate set how densely guards and peaks are sampled.
 double shortest_period(const ContactModel& m) {
-  return 2 * std::numbers::pi / m.body.matrices.fixed_base.omega.maxCoeff();
+  const Rayleigh& ray = m.body.matrices.rayleigh;
+  const Eigen::VectorXd& omega = m.body.matrices.fixed_base.omega;
+  double fastest = 0;
+  for (double w : omega)
+    if (0.5 * (ray.a0 / w + ray.a1 * w) < 1.0) fastest = std::max(fastest, w);
+  return 2 * std::numbers::pi / (fastest > 0 ? fastest : omega.maxCoeff());
 }
 
 class Driver {
@@ -72,17 +81,27 @@ class Driver {
     // The per-device work accumulators (the tail of the state) are sums that
     // nothing depends on: they do not steer the steps.
     if (m.layout.energy >= 0) tolerances.error_components = m.layout.size - (m.layout.energy_count - 3);
-    // Guards and peaks sampled 8 times in the shortest natural period (the
-    // exact steps below do the same), not more densely when steps are short.
+    // Guards and peaks sampled 8 times in the shortest period of a mode that
+    // oscillates (the exact steps below do the same), not more densely when
+    // steps are short.
     if (m.layout.u >= 0) tolerances.sample_spacing = shortest_period(m) / 8;
-    integrator_ = ode::make_integrator(o.backend, m.layout.size, rhs, tolerances);
+    // rosw solves with the stiff elastic part of the current phase.
+    const ode::Backend backend = choose_backend(m, ground, o.backend);
+    ode::LinearSolve stiff;
+    if (backend == ode::Backend::rosw && m.layout.u >= 0) {
+      stiff_ = std::make_unique<StiffPart>(m);
+      stiff = [this](double g, Eigen::Ref<const Eigen::VectorXd> b, Eigen::Ref<Eigen::VectorXd> x) {
+        stiff_->solve(d_.pivot, g, b, x);
+      };
+    }
+    integrator_ = ode::make_integrator(backend, m.layout.size, rhs, tolerances, std::move(stiff));
     t_end_ = o.duration > 0 ? o.duration : ground.duration();
     // The record's samples, computed when asked: a run holds no list of them.
     const ode::NextBreakpoint next_sample = [this](double t) { return ground_.next_breakpoint(t); };
     if (o.exact_full_contact && m.layout.u >= 0 && m.layout.energy < 0 && ground.piecewise_linear()) {
       ode::Options exact;
       // Steps from sample to sample of the record (up to 16 spacings), with
-      // guards and peaks sampled 8 times in the shortest natural period.
+      // guards and peaks sampled 8 times in the shortest oscillating period.
       exact.sample_spacing = tolerances.sample_spacing;
       exact.max_steps = tolerances.max_steps;
       LinearPhase phase = full_contact_matrices(m);
@@ -346,6 +365,7 @@ class Driver {
   Eigen::VectorXd y_, dense_;
   StateView state_view_;
   std::vector<DeviceSample> samples_;
+  std::unique_ptr<StiffPart> stiff_;                     // rosw's linear solves
   std::unique_ptr<ode::Integrator> integrator_, exact_;  // the backend; full contact under a record
   ode::Integrator* active_ = nullptr;                    // the one stepping the current phase
   double t_end_ = 0, next_output_ = 0, work_at_event_ = 0;
@@ -355,6 +375,22 @@ class Driver {
 };
 
 }  // namespace
+
+ode::Backend choose_backend(const ContactModel& m, const GroundMotion& ground, ode::Backend requested) {
+  if (requested != ode::Backend::automatic) return requested;
+  if (m.layout.u < 0) return ode::Backend::rk45;
+  const Rayleigh& ray = m.body.matrices.rayleigh;
+  double fastest = 0;
+  for (double w : m.body.matrices.fixed_base.omega) {
+    const double c = ray.a0 + ray.a1 * w * w;  // lambda^2 + c lambda + w^2 = 0
+    fastest = std::max(fastest, c > 2 * w ? 0.5 * (c + std::sqrt(c * c - 4 * w * w)) : w);
+  }
+  const std::size_t samples = ground.sample_count();
+  const double pace = ground.piecewise_linear() && samples > 1
+                          ? ground.duration() / static_cast<double>(samples - 1)
+                          : ground.max_step();
+  return std::isfinite(pace) && 3.3 / fastest < 0.25 * pace ? ode::Backend::rosw : ode::Backend::rk45;
+}
 
 RunResult simulate(const ContactModel& m, const GroundMotion& ground, const RunOptions& options,
                    Observer* observer) {

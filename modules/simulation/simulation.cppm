@@ -9,7 +9,8 @@
 // the pivot: + when rocking about the right pivot), and shear and moment of
 // the elastic nodal forces K u at the base and at mid-height over V_ref, M_ref.
 // Peaks are taken on the dense output at the integrator's guard samples
-// (for a flexible structure spaced an eighth of the shortest natural period:
+// (for a flexible structure spaced an eighth of the shortest period of a mode
+// that oscillates, Rayleigh damping ratio below 1:
 // all of an exact step's, 2 to 4 of an rk45 step's; else 4 per step) and
 // refined at local extrema by the parabola through three samples, so they do
 // not depend on where the integrator happened to step. The energy balance
@@ -85,7 +86,9 @@ struct InitialState {
 };
 
 struct RunOptions {
-  ode::Backend backend = ode::Backend::rk45;
+  // automatic: rk45, unless its steps would be bound by the stability of the
+  // structure's highest modes rather than by the motion (choose_backend).
+  ode::Backend backend = ode::Backend::automatic;
   // The default tolerance is the knee of the measured work-precision curve
   // (README, `rocking tradeoff`): El Centro's peak drift to about 5e-6 for
   // 13 % more time than rtol 1e-3.
@@ -171,6 +174,15 @@ struct OutputScales {
 OutputScales output_scales(const ContactModel& m);
 Response evaluate(const ContactModel& m, const OutputScales& sc, const Discrete& d, double t,
                   Eigen::Ref<const Eigen::VectorXd> y);
+
+// The integrator an automatic run uses: rosw (Rosenbrock-W, linearly implicit
+// in the elastic forces) for a flexible structure whose fastest mode would
+// hold rk45's steps below a quarter of the motion's own time step (a
+// record's mean sample interval, a pulse's period / 40): Dormand-Prince is
+// stable up to about h = 3.3 / |lambda|, with lambda the fastest eigenvalue
+// of the fixed-base modes under Rayleigh damping (an overdamped mode's fast
+// root a0 + a1 omega^2 and above). Else rk45. A given backend is kept.
+ode::Backend choose_backend(const ContactModel& m, const GroundMotion& ground, ode::Backend requested);
 
 // Runs the model under the ground motion. Never throws for a run that cannot
 // finish: the result says failed, with the reason, and holds what was reached.

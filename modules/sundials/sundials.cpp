@@ -301,7 +301,10 @@ Backend parse_backend(std::string_view name) {
   if (name == "rk45") return Backend::rk45;
   if (name == "cvode") return Backend::cvode;
   if (name == "arkode") return Backend::arkode;
-  throw InputError(fmt::format("--integrator {}: unknown integrator (choose rk45, cvode or arkode)", name));
+  if (name == "rosw") return Backend::rosw;
+  if (name == "auto") return Backend::automatic;
+  throw InputError(
+      fmt::format("--integrator {}: unknown integrator (choose auto, rk45, rosw, cvode or arkode)", name));
 }
 
 std::string_view backend_name(Backend b) {
@@ -309,6 +312,8 @@ std::string_view backend_name(Backend b) {
     case Backend::rk45: return "rk45";
     case Backend::cvode: return "cvode";
     case Backend::arkode: return "arkode";
+    case Backend::rosw: return "rosw";
+    case Backend::automatic: return "auto";
   }
   return "rk45";
 }
@@ -319,11 +324,13 @@ std::unique_ptr<Integrator> make_cvode(Eigen::Index n, Rhs rhs, Options o) {
 std::unique_ptr<Integrator> make_arkode(Eigen::Index n, Rhs rhs, Options o) {
   return std::make_unique<Arkode>(n, std::move(rhs), o);
 }
-std::unique_ptr<Integrator> make_integrator(Backend b, Eigen::Index n, Rhs rhs, Options o) {
+std::unique_ptr<Integrator> make_integrator(Backend b, Eigen::Index n, Rhs rhs, Options o, LinearSolve stiff) {
   switch (b) {
     case Backend::cvode: return make_cvode(n, std::move(rhs), o);
     case Backend::arkode: return make_arkode(n, std::move(rhs), o);
-    case Backend::rk45: break;
+    case Backend::rosw: return make_rosenbrock_w(n, std::move(rhs), std::move(stiff), o);
+    case Backend::rk45:
+    case Backend::automatic: break;
   }
   return make_rk45(n, std::move(rhs), o);
 }

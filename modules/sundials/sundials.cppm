@@ -18,14 +18,19 @@ export import rocking.integrator;
 
 export namespace rocking::ode {
 
-enum class Backend { rk45, cvode, arkode };
+// automatic: the caller picks rk45 or rosw for its system (the factory alone,
+// knowing nothing of it, makes rk45).
+enum class Backend { rk45, cvode, arkode, rosw, automatic };
 
-// "rk45", "cvode", "arkode"; throws InputError naming the choices otherwise.
+// "rk45", "rosw", "cvode", "arkode", "auto"; throws InputError naming the choices otherwise.
 Backend parse_backend(std::string_view name);
 std::string_view backend_name(Backend b);
 
 std::unique_ptr<Integrator> make_cvode(Eigen::Index n, Rhs rhs, Options options);
 std::unique_ptr<Integrator> make_arkode(Eigen::Index n, Rhs rhs, Options options);
-std::unique_ptr<Integrator> make_integrator(Backend b, Eigen::Index n, Rhs rhs, Options options);
+// The backend b; rosw (rocking.integrator's Rosenbrock-W) solves with `stiff`,
+// the others do not use it.
+std::unique_ptr<Integrator> make_integrator(Backend b, Eigen::Index n, Rhs rhs, Options options,
+                                            LinearSolve stiff = {});
 
 }  // namespace rocking::ode
