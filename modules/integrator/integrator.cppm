@@ -19,6 +19,9 @@
 // same interface.
 module;
 #include <rocking/eigen.hpp>
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -230,3 +233,159 @@ class GuardScanner {
 StepReport advance(Integrator& integrator, double t_end);
 
 }  // namespace rocking::ode
+
+// Not exported: what the adaptive one-step methods (rk45.cpp, rosenbrock.cpp)
+// share, as a base that calls its method's hooks directly (no virtual call in
+// the step loop). Method provides:
+//   double attempt(double h)             trial step from (t_, y_): error norm, NaN if non-finite
+//   void accept(double h, double t_new)  take it: y_, t_prev_, t_, h_dense_; ++stats_.steps
+//   double next_step(double h, double err)   after an accepted step (its controller)
+//   double retry_step(double h, double err)  after a rejected one
+//   void derivative_at_state()           f(t_, y_) into its first stage (after an event)
+// and dense(). The loop: steps end at the bound (a breakpoint or t_limit,
+// two equal steps rather than one and a stub), a non-finite trial retreats
+// to a tenth, max_steps and step-size underflow throw; after each accepted
+// step the guards are scanned at guard_samples(h, sample_spacing, 2, 4)
+// samples of its dense output.
+namespace rocking::ode::detail {
+
+inline constexpr int max_samples_per_step = 4;  // guard samples inside each step (incl. its end)
+
+template <class Method>
+class Adaptive : public Integrator {
+ public:
+  void set_breakpoints(NextBreakpoint next) override { breakpoints_.set(std::move(next)); }
+
+  StepReport step(double t_limit) override {
+    constexpr double eps = std::numeric_limits<double>::epsilon();
+    if (t_ >= t_limit) return {Stop::limit, t_};
+    const auto [bound, bp_ahead] = step_bound(breakpoints_, t_, t_limit);
+    bool non_finite = false;
+    for (;;) {
+      if (stats_.steps + stats_.rejected >= opt_.max_steps)
+        throw IntegrationError(IntegrationError::Kind::max_steps, t_, std::to_string(opt_.max_steps) + " steps");
+      double h = std::min(h_, opt_.max_step);
+      if (t_ + h < bound && t_ + 2 * h > bound) h = 0.5 * (bound - t_);  // two equal steps, not one and a stub
+      const bool lands = t_ + h >= bound - 16 * eps * std::abs(bound);
+      if (lands) h = bound - t_;
+      if (h <= 16 * eps * std::max(std::abs(t_), 1.0))
+        throw IntegrationError(non_finite ? IntegrationError::Kind::non_finite_state
+                                          : IntegrationError::Kind::step_size_underflow, t_, "");
+      const double err = method().attempt(h);
+      if (!std::isfinite(err)) {  // the rhs blew up inside the step: retreat
+        non_finite = true;
+        h_ = 0.1 * h;
+        ++stats_.rejected;
+        last_rejected_ = true;
+        continue;
+      }
+      if (err <= 1.0) {
+        method().accept(h, lands ? bound : t_ + h);
+        samples_valid_ = false;
+        double h_next = method().next_step(h, err);
+        if (last_rejected_) h_next = std::min(h_next, h);
+        if (!lands || h_next > h_) h_ = h_next;  // a short landing step does not shrink h
+        last_rejected_ = false;
+        if (const StepReport e = find_event(); e.reason == Stop::event) return e;
+        if (lands) return {bp_ahead ? Stop::breakpoint : Stop::limit, t_};
+        return {Stop::step, t_};
+      }
+      h_ = method().retry_step(h, err);
+      ++stats_.rejected;
+      last_rejected_ = true;
+    }
+  }
+
+  double time() const override { return t_; }
+  const Eigen::VectorXd& state() const override { return y_; }
+  double previous_time() const override { return t_prev_; }
+  // The step's interior samples, computed once for the guards and the caller.
+  const Eigen::VectorXd& sample(int k, int count) override {
+    if (count != sample_count_ || k == count) return Integrator::sample(k, count);
+    if (!samples_valid_) {
+      for (int j = 1; j < count; ++j) dense(sample_time(j, count), samples_[j - 1]);
+      samples_valid_ = true;
+    }
+    return samples_[k - 1];
+  }
+  int sample_count() const override { return sample_count_; }
+  Stats stats() const override {
+    Stats out = stats_;
+    out.guards = scanner_.evaluations();
+    return out;
+  }
+
+ protected:
+  Adaptive(Eigen::Index n, Rhs rhs, Options o) : rhs_(std::move(rhs)), opt_(o) {
+    y_.setZero(n);
+    y_event_.setZero(n);
+    for (auto& s : samples_) s.setZero(n);
+  }
+
+  // The common part of reset(): time, state and guards at (t, y).
+  void begin(double t, const Eigen::VectorXd& y, Guards guards) {
+    t_ = t_prev_ = t;
+    y_ = y;
+    scanner_.reset(std::move(guards), t, y_);
+    last_rejected_ = false;
+    samples_valid_ = false;
+  }
+
+  void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& f) {
+    rhs_(t, y, f);
+    ++stats_.rhs;
+  }
+
+  // The components the error norm weighs (Options::error_components).
+  long controlled() const {
+    return opt_.error_components < 0 ? static_cast<long>(y_.size())
+                                     : std::min(static_cast<long>(y_.size()), opt_.error_components);
+  }
+  // v over the mixed tolerance of a component that is ya and yb at the step's ends.
+  double scaled(double v, double ya, double yb) const {
+    return v / (opt_.atol + opt_.rtol * std::max(std::abs(ya), std::abs(yb)));
+  }
+  double weighted_rms(const Eigen::VectorXd& v, const Eigen::VectorXd& ya, const Eigen::VectorXd& yb) const {
+    double sum = 0;
+    const long nc = controlled();
+    for (Eigen::Index i = 0; i < nc; ++i) {
+      const double r = scaled(v[i], ya[i], yb[i]);
+      sum += r * r;
+    }
+    return std::sqrt(sum / static_cast<double>(nc));
+  }
+
+  Rhs rhs_;
+  Options opt_;
+  GuardScanner scanner_;
+  double t_ = 0, t_prev_ = 0, h_ = 0, h_dense_ = 0;
+  bool last_rejected_ = false, samples_valid_ = false;
+  Eigen::VectorXd y_;
+  Breakpoints breakpoints_;
+  Stats stats_;
+
+ private:
+  Method& method() { return static_cast<Method&>(*this); }
+
+  // Scans the guards at sample_count_ points of the last step; moves the
+  // state to the earliest wanted crossing.
+  StepReport find_event() {
+    sample_count_ = guard_samples(t_ - t_prev_, opt_.sample_spacing, 2, max_samples_per_step);
+    GuardScanner::Crossing c{};
+    if (!scanner_.scan(*this, sample_count_, c)) return {Stop::step, t_};
+    dense(c.t, y_event_);
+    t_ = c.t;
+    y_ = y_event_;
+    samples_valid_ = false;  // the step now ends at the event
+    method().derivative_at_state();  // the step end's derivative belongs to the discarded part
+    scanner_.restart_at(c, y_);
+    ++stats_.events;
+    return c.report();
+  }
+
+  int sample_count_ = max_samples_per_step;  // of the last step
+  std::array<Eigen::VectorXd, max_samples_per_step - 1> samples_;  // the last step's interior samples
+  Eigen::VectorXd y_event_;
+};
+
+}  // namespace rocking::ode::detail

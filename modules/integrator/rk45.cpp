@@ -35,80 +35,26 @@ constexpr double d1 = -12715105075.0 / 11282082432, d3 = 87487479700.0 / 3270041
                  d6 = -1453857185.0 / 822651844, d7 = 69997945.0 / 29380423;
 // PI controller (Hairer: beta = 0.04, safety 0.9, step ratio in [0.2, 10])
 constexpr double beta = 0.04, expo1 = 0.2 - 0.75 * beta, safety = 0.9, fac_min = 0.2, fac_max = 10.0;
-constexpr double eps = std::numeric_limits<double>::epsilon();
-constexpr int max_samples_per_step = 4;  // guard samples inside each step (incl. its end)
 
-class DormandPrince final : public Integrator {
+class DormandPrince final : public detail::Adaptive<DormandPrince> {
+  friend class detail::Adaptive<DormandPrince>;
+
  public:
-  DormandPrince(Eigen::Index n, Rhs rhs, Options o) : rhs_(std::move(rhs)), opt_(o) {
-    for (auto* v : {&y_, &y_new_, &y_stage_, &y_dense_, &k1_, &k2_, &k3_, &k4_, &k5_, &k6_, &k7_,
-                    &r1_, &r2_, &r3_, &r4_, &r5_})
+  DormandPrince(Eigen::Index n, Rhs rhs, Options o) : Adaptive(n, std::move(rhs), o) {
+    for (auto* v : {&y_new_, &y_stage_, &k1_, &k2_, &k3_, &k4_, &k5_, &k6_, &k7_, &r1_, &r2_, &r3_, &r4_, &r5_})
       v->setZero(n);
-    for (auto& s : samples_) s.setZero(n);
   }
 
   void reset(double t, const Eigen::VectorXd& y, Guards guards) override {
-    t_ = t_prev_ = t;
-    y_ = y;
+    begin(t, y, std::move(guards));
     r1_ = y;
     r2_.setZero(); r3_.setZero(); r4_.setZero(); r5_.setZero();
-    scanner_.reset(std::move(guards), t, y_);
     rhs(t_, y_, k1_);
     if (!k1_.allFinite()) throw IntegrationError(IntegrationError::Kind::non_finite_state, t_, "at the initial state");
     h_ = opt_.initial_step > 0 ? opt_.initial_step : initial_step();
     log_fac_old_ = std::log(1e-4);
-    last_rejected_ = false;
-    samples_valid_ = false;
   }
 
-  void set_breakpoints(NextBreakpoint next) override { breakpoints_.set(std::move(next)); }
-
-  StepReport step(double t_limit) override {
-    if (t_ >= t_limit) return {Stop::limit, t_};
-    const auto [bound, bp_ahead] = step_bound(breakpoints_, t_, t_limit);
-    bool non_finite = false;
-    for (;;) {
-      if (stats_.steps + stats_.rejected >= opt_.max_steps)
-        throw IntegrationError(IntegrationError::Kind::max_steps, t_, std::to_string(opt_.max_steps) + " steps");
-      double h = std::min(h_, opt_.max_step);
-      if (t_ + h < bound && t_ + 2 * h > bound) h = 0.5 * (bound - t_);  // two equal steps, not one and a stub
-      const bool lands = t_ + h >= bound - 16 * eps * std::abs(bound);
-      if (lands) h = bound - t_;
-      if (h <= 16 * eps * std::max(std::abs(t_), 1.0))
-        throw IntegrationError(non_finite ? IntegrationError::Kind::non_finite_state
-                                          : IntegrationError::Kind::step_size_underflow, t_, "");
-      const double err = attempt(h);
-      if (!std::isfinite(err)) {  // the rhs blew up inside the step: retreat
-        non_finite = true;
-        h_ = 0.1 * h;
-        ++stats_.rejected;
-        last_rejected_ = true;
-        continue;
-      }
-      // err^expo1 and the PI term err^expo1 / err_old^beta from one log and one exp
-      const double log_err = std::log(err);
-      if (err <= 1.0) {
-        accept(h, lands ? bound : t_ + h);
-        const double pi = std::exp(expo1 * log_err - beta * log_fac_old_);
-        double fac = std::clamp(pi / safety, 1.0 / fac_max, 1.0 / fac_min);
-        double h_next = h / fac;
-        if (last_rejected_) h_next = std::min(h_next, h);
-        if (!lands || h_next > h_) h_ = h_next;  // a short landing step does not shrink h
-        log_fac_old_ = std::max(log_err, std::log(1e-4));
-        last_rejected_ = false;
-        if (const StepReport e = find_event(); e.reason == Stop::event) return e;
-        if (lands) return {bp_ahead ? Stop::breakpoint : Stop::limit, t_};
-        return {Stop::step, t_};
-      }
-      h_ = h / std::min(1.0 / fac_min, std::exp(expo1 * log_err) / safety);
-      ++stats_.rejected;
-      last_rejected_ = true;
-    }
-  }
-
-  double time() const override { return t_; }
-  const Eigen::VectorXd& state() const override { return y_; }
-  double previous_time() const override { return t_prev_; }
   void dense(double t, Eigen::Ref<Eigen::VectorXd> y) override {
     if (h_dense_ == 0) { y = r1_; return; }
     const double s = (t - t_prev_) / h_dense_, s1 = 1.0 - s;
@@ -116,46 +62,22 @@ class DormandPrince final : public Integrator {
     double* out = y.data();
     for (long i = 0, n = y_.size(); i < n; ++i) out[i] = r1[i] + s * (r2[i] + s1 * (r3[i] + s * (r4[i] + s1 * r5[i])));
   }
-  // The step's interior samples, computed once for the guards and the caller.
-  const Eigen::VectorXd& sample(int k, int count) override {
-    if (count != sample_count_ || k == count) return Integrator::sample(k, count);
-    if (!samples_valid_) {
-      for (int j = 1; j < count; ++j) dense(sample_time(j, count), samples_[j - 1]);
-      samples_valid_ = true;
-    }
-    return samples_[k - 1];
-  }
-  Stats stats() const override {
-    Stats out = stats_;
-    out.guards = scanner_.evaluations();
-    return out;
-  }
   std::string name() const override { return "rk45"; }
 
  private:
-  void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& f) {
-    rhs_(t, y, f);
-    ++stats_.rhs;
+  // The PI step after an accepted step: err^expo1 and the PI term
+  // err^expo1 / err_old^beta from one log and one exp.
+  double next_step(double h, double err) {
+    const double log_err = std::log(err);
+    const double pi = std::exp(expo1 * log_err - beta * log_fac_old_);
+    const double fac = std::clamp(pi / safety, 1.0 / fac_max, 1.0 / fac_min);
+    log_fac_old_ = std::max(log_err, std::log(1e-4));
+    return h / fac;
   }
-
-  // v over the mixed tolerance of a component that is ya and yb at the step's ends.
-  double scaled(double v, double ya, double yb) const {
-    return v / (opt_.atol + opt_.rtol * std::max(std::abs(ya), std::abs(yb)));
+  double retry_step(double h, double err) const {
+    return h / std::min(1.0 / fac_min, std::exp(expo1 * std::log(err)) / safety);
   }
-  // The components the error norm weighs (Options::error_components).
-  long controlled() const {
-    return opt_.error_components < 0 ? static_cast<long>(y_.size())
-                                     : std::min(static_cast<long>(y_.size()), opt_.error_components);
-  }
-  double weighted_rms(const Eigen::VectorXd& v, const Eigen::VectorXd& ya, const Eigen::VectorXd& yb) const {
-    double sum = 0;
-    const long nc = controlled();
-    for (Eigen::Index i = 0; i < nc; ++i) {
-      const double r = scaled(v[i], ya[i], yb[i]);
-      sum += r * r;
-    }
-    return std::sqrt(sum / static_cast<double>(nc));
-  }
+  void derivative_at_state() { rhs(t_, y_, k1_); }  // FSAL: the next step's first stage
 
   // Hairer's starting step: h0 from |y|/|f|, refined with a second-derivative estimate.
   double initial_step() {
@@ -242,39 +164,12 @@ class DormandPrince final : public Integrator {
     t_ = t_new;
     y_.swap(y_new_);
     k1_.swap(k7_);  // FSAL
-    samples_valid_ = false;
     ++stats_.steps;
   }
 
-  int sample_count() const override { return sample_count_; }
-
-  // Scans the guards at sample_count_ points of the last step; moves the
-  // state to the earliest wanted crossing.
-  StepReport find_event() {
-    sample_count_ = guard_samples(t_ - t_prev_, opt_.sample_spacing, 2, max_samples_per_step);
-    GuardScanner::Crossing c{};
-    if (!scanner_.scan(*this, sample_count_, c)) return {Stop::step, t_};
-    dense(c.t, y_dense_);
-    t_ = c.t;
-    y_ = y_dense_;
-    samples_valid_ = false;  // the step now ends at the event
-    rhs(t_, y_, k1_);  // the FSAL derivative belongs to the discarded step end
-    scanner_.restart_at(c, y_);
-    ++stats_.events;
-    return c.report();
-  }
-
-  Rhs rhs_;
-  Options opt_;
-  GuardScanner scanner_;
-  double t_ = 0, t_prev_ = 0, h_ = 0, h_dense_ = 0, log_fac_old_ = 0;  // log of Hairer's facold
-  bool last_rejected_ = false, samples_valid_ = false;
-  int sample_count_ = max_samples_per_step;  // of the last step
-  std::array<Eigen::VectorXd, max_samples_per_step - 1> samples_;  // the last step's interior samples
-  Eigen::VectorXd y_, y_new_, y_stage_, y_dense_, k1_, k2_, k3_, k4_, k5_, k6_, k7_;
+  double log_fac_old_ = 0;  // log of Hairer's facold
+  Eigen::VectorXd y_new_, y_stage_, k1_, k2_, k3_, k4_, k5_, k6_, k7_;
   Eigen::VectorXd r1_, r2_, r3_, r4_, r5_;
-  Breakpoints breakpoints_;
-  Stats stats_;
 };
 
 }  // namespace

@@ -33,8 +33,6 @@ namespace rocking::ode {
 namespace {
 
 constexpr int stages = 4;
-constexpr double eps = std::numeric_limits<double>::epsilon();
-constexpr int max_samples_per_step = 4;
 
 // The method's tables and what the transformed form and the dense output need.
 struct Tableau {
@@ -92,118 +90,47 @@ const Tableau& tableau() {
 // Step-size control for an error estimate of order 2 (local error h^3).
 constexpr double safety = 0.9, fac_min = 0.2, fac_max = 5.0, exponent = 1.0 / 3.0;
 
-class RosenbrockW final : public Integrator {
+class RosenbrockW final : public detail::Adaptive<RosenbrockW> {
+  friend class detail::Adaptive<RosenbrockW>;
+
  public:
   RosenbrockW(Eigen::Index n, Rhs rhs, LinearSolve solve, Options o)
-      : rhs_(std::move(rhs)), solve_(std::move(solve)), opt_(o) {
-    for (auto* v : {&y_, &y_prev_, &y_new_, &y_stage_, &f_, &f_stage_, &r_, &err_, &d1_, &d2_}) v->setZero(n);
+      : Adaptive(n, std::move(rhs), o), solve_(std::move(solve)) {
+    for (auto* v : {&y_prev_, &y_new_, &y_stage_, &f_, &f_stage_, &r_, &err_, &d1_, &d2_}) v->setZero(n);
     for (auto& u : u_) u.setZero(n);
-    for (auto& s : samples_) s.setZero(n);
   }
 
   void reset(double t, const Eigen::VectorXd& y, Guards guards) override {
-    t_ = t_prev_ = t;
-    y_ = y;
+    begin(t, y, std::move(guards));
     y_prev_ = y;
     d1_.setZero();
     d2_.setZero();
     h_dense_ = 0;
-    scanner_.reset(std::move(guards), t, y_);
     rhs(t_, y_, f_);
     if (!f_.allFinite()) throw IntegrationError(IntegrationError::Kind::non_finite_state, t_, "at the initial state");
     h_ = opt_.initial_step > 0 ? opt_.initial_step : initial_step();
-    last_rejected_ = false;
-    samples_valid_ = false;
   }
 
-  void set_breakpoints(NextBreakpoint next) override { breakpoints_.set(std::move(next)); }
-
-  StepReport step(double t_limit) override {
-    if (t_ >= t_limit) return {Stop::limit, t_};
-    const auto [bound, bp_ahead] = step_bound(breakpoints_, t_, t_limit);
-    bool non_finite = false;
-    for (;;) {
-      if (stats_.steps + stats_.rejected >= opt_.max_steps)
-        throw IntegrationError(IntegrationError::Kind::max_steps, t_, std::to_string(opt_.max_steps) + " steps");
-      double h = std::min(h_, opt_.max_step);
-      if (t_ + h < bound && t_ + 2 * h > bound) h = 0.5 * (bound - t_);  // two equal steps, not one and a stub
-      const bool lands = t_ + h >= bound - 16 * eps * std::abs(bound);
-      if (lands) h = bound - t_;
-      if (h <= 16 * eps * std::max(std::abs(t_), 1.0))
-        throw IntegrationError(non_finite ? IntegrationError::Kind::non_finite_state
-                                          : IntegrationError::Kind::step_size_underflow, t_, "");
-      const double err = attempt(h);
-      if (!std::isfinite(err)) {  // the rhs or the solve blew up inside the step: retreat
-        non_finite = true;
-        h_ = 0.1 * h;
-        ++stats_.rejected;
-        last_rejected_ = true;
-        continue;
-      }
-      const double fac = err == 0 ? fac_max : std::clamp(safety * std::pow(err, -exponent), fac_min, fac_max);
-      if (err <= 1.0) {
-        accept(h, lands ? bound : t_ + h);
-        double h_next = h * fac;
-        if (last_rejected_) h_next = std::min(h_next, h);
-        if (!lands || h_next > h_) h_ = h_next;  // a short landing step does not shrink h
-        last_rejected_ = false;
-        if (const StepReport e = find_event(); e.reason == Stop::event) return e;
-        if (lands) return {bp_ahead ? Stop::breakpoint : Stop::limit, t_};
-        return {Stop::step, t_};
-      }
-      h_ = h * std::min(fac, 1.0);
-      ++stats_.rejected;
-      last_rejected_ = true;
-    }
-  }
-
-  double time() const override { return t_; }
-  const Eigen::VectorXd& state() const override { return y_; }
-  double previous_time() const override { return t_prev_; }
   void dense(double t, Eigen::Ref<Eigen::VectorXd> y) override {
     if (h_dense_ == 0) { y = y_prev_; return; }
     const double s = (t - t_prev_) / h_dense_;
     y = y_prev_ + s * (d1_ + s * d2_);
   }
-  const Eigen::VectorXd& sample(int k, int count) override {
-    if (count != sample_count_ || k == count) return Integrator::sample(k, count);
-    if (!samples_valid_) {
-      for (int j = 1; j < count; ++j) dense(sample_time(j, count), samples_[j - 1]);
-      samples_valid_ = true;
-    }
-    return samples_[k - 1];
-  }
-  int sample_count() const override { return sample_count_; }
-  Stats stats() const override {
-    Stats out = stats_;
-    out.guards = scanner_.evaluations();
-    return out;
-  }
   std::string name() const override { return "rosw"; }
 
  private:
-  void rhs(double t, const Eigen::VectorXd& y, Eigen::VectorXd& f) {
-    rhs_(t, y, f);
-    ++stats_.rhs;
+  double next_step(double h, double err) const {
+    return h * (err == 0 ? fac_max : std::clamp(safety * std::pow(err, -exponent), fac_min, fac_max));
   }
+  double retry_step(double h, double err) const {
+    return h * std::clamp(safety * std::pow(err, -exponent), fac_min, 1.0);
+  }
+  void derivative_at_state() { rhs(t_, y_, f_); }  // the next step's first stage
+
   // x = (I - g T)^-1 b; T = 0 without a LinearSolve.
   void solve(double g, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
     if (solve_) solve_(g, b, x);
     else x = b;
-  }
-
-  long controlled() const {
-    return opt_.error_components < 0 ? static_cast<long>(y_.size())
-                                     : std::min(static_cast<long>(y_.size()), opt_.error_components);
-  }
-  double weighted_rms(const Eigen::VectorXd& v, const Eigen::VectorXd& ya, const Eigen::VectorXd& yb) const {
-    double sum = 0;
-    const long nc = controlled();
-    for (Eigen::Index i = 0; i < nc; ++i) {
-      const double r = v[i] / (opt_.atol + opt_.rtol * std::max(std::abs(ya[i]), std::abs(yb[i])));
-      sum += r * r;
-    }
-    return std::sqrt(sum / static_cast<double>(nc));
   }
 
   // A first step from |y| / |f| (the controller corrects it within a few steps).
@@ -250,37 +177,13 @@ class RosenbrockW final : public Integrator {
     t_prev_ = t_;
     h_dense_ = h;
     t_ = t_new;
-    samples_valid_ = false;
     ++stats_.steps;
     rhs(t_, y_, f_);  // the next step's first stage
   }
 
-  StepReport find_event() {
-    sample_count_ = guard_samples(t_ - t_prev_, opt_.sample_spacing, 2, max_samples_per_step);
-    GuardScanner::Crossing c{};
-    if (!scanner_.scan(*this, sample_count_, c)) return {Stop::step, t_};
-    dense(c.t, y_stage_);
-    t_ = c.t;
-    y_ = y_stage_;
-    samples_valid_ = false;  // the step now ends at the event
-    rhs(t_, y_, f_);
-    scanner_.restart_at(c, y_);
-    ++stats_.events;
-    return c.report();
-  }
-
-  Rhs rhs_;
   LinearSolve solve_;
-  Options opt_;
-  GuardScanner scanner_;
-  double t_ = 0, t_prev_ = 0, h_ = 0, h_dense_ = 0;
-  bool last_rejected_ = false, samples_valid_ = false;
-  int sample_count_ = max_samples_per_step;
   std::array<Eigen::VectorXd, stages> u_;
-  std::array<Eigen::VectorXd, max_samples_per_step - 1> samples_;
-  Eigen::VectorXd y_, y_prev_, y_new_, y_stage_, f_, f_stage_, r_, err_, d1_, d2_;
-  Breakpoints breakpoints_;
-  Stats stats_;
+  Eigen::VectorXd y_prev_, y_new_, y_stage_, f_, f_stage_, r_, err_, d1_, d2_;
 };
 
 }  // namespace
