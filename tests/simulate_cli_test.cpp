@@ -131,6 +131,43 @@ TEST_CASE("tradeoff measures each backend against the reference and draws the wo
   CHECK(fs::is_regular_file(dir / "work_precision.png"));
 }
 
+TEST_CASE("tradeoff --scenes puts each method's cost at equal accuracy against the node count") {
+  const fs::path dir = scratch_dir("simulate_test_tradeoff_n");
+  const std::string towers = std::string(ROCKING_SOURCE_DIR) + "/data/scenes/towers/";
+  const Result r = run("-q tradeoff --duration 3 --rtols 1e-4,1e-3 --accuracy 1e-3 --reference-rtol 1e-8 --repeats 1 "
+                       "--formats png --scenes " + towers + "tower_8.toml," + towers + "tower_16.toml --out " +
+                       dir.string());
+  REQUIRE(r.code == 0);
+  const std::string csv = file_text(dir / "tradeoff_n.csv");
+  CHECK(lines(csv) == 1 + 2 * 3);  // two towers, three methods (rk45+exact, rosw+exact, rosw)
+  std::istringstream rows(csv);
+  std::string line;
+  std::getline(rows, line);
+  CHECK(line.starts_with("scene,n,method,rtol,wall_s,rhs,steps,err_delta_t,accuracy,met"));
+  while (std::getline(rows, line)) {
+    std::vector<std::string> f;
+    std::istringstream cells(line);
+    for (std::string c; std::getline(cells, c, ',');) f.push_back(c);
+    REQUIRE(f.size() == 11);
+    CAPTURE(line);
+    CHECK((f[1] == "8" || f[1] == "16"));
+    CHECK(f[3] == "1e-03");                 // the loosest rtol is tried first, and meets 1e-3
+    CHECK(std::stod(f[7]) <= 1e-3);         // its error is what was asked
+    CHECK(f[9] == "true");
+    CHECK(std::stod(f[10]) < 1e-6);         // rk45+exact confirms the rosw reference
+  }
+  CHECK(file_text(dir / "tradeoff_n.data" / "rosw.csv").find("\n16,") != std::string::npos);
+  CHECK(fs::is_regular_file(dir / "cost_against_n.png"));
+}
+
+TEST_CASE("tradeoff --scenes refuses a rigid block in one line") {
+  const Result r = run("-q tradeoff --scenes " + std::string(ROCKING_SOURCE_DIR) +
+                       "/data/scenes/rigid_block.toml --out " + scratch_dir("simulate_test_tradeoff_rigid").string());
+  CHECK(r.code == 2);
+  CHECK(lines(r.err) == 1);
+  CHECK(r.err.find("rigid block has no nodes") != std::string::npos);
+}
+
 TEST_CASE("tradeoff refuses an unknown backend in one line, before any run") {
   const Result r = run("-q tradeoff --backends rk45,euler+exact --out " + scratch_dir("simulate_test_bad_backend").string());
   CHECK(r.code == 2);

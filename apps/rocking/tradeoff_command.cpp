@@ -6,7 +6,9 @@
 #include <spdlog/spdlog.h>
 #include <fmt/format.h>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <functional>
 #include <fstream>
 #include <memory>
 #include <string_view>
@@ -26,6 +28,13 @@ struct TradeoffArgs {
   std::string formats = "png,pdf,svg";
   int repeats = 3;
   double duration = 0;
+  // The N axis: several scenes (e.g. the towers of data/scenes/towers), each
+  // method's cost at equal accuracy against the scene's node count.
+  std::vector<std::string> scenes;
+  double accuracy = 1e-4;       // peak delta_t within this of the reference
+  double reference_rtol = 1e-9;
+  double budget = 60;           // seconds a run may take before it is stopped
+  bool backends_given = false;
 };
 
 // "NAME" integrates every phase with backend NAME; "NAME+exact" steps full
@@ -40,8 +49,8 @@ Method parse_method(const std::string& name) {
   try {
     return {ode::parse_backend(exact ? name.substr(0, name.size() - suffix.size()) : name), exact};
   } catch (const InputError&) {
-    throw InputError(fmt::format("--backends {}: unknown backend (choose rk45, cvode or arkode, each with or "
-                                 "without +exact)", name));
+    throw InputError(fmt::format("--backends {}: unknown backend (choose rk45, rosw, cvode or arkode, each with "
+                                 "or without +exact)", name));
   }
 }
 
@@ -74,6 +83,123 @@ double time_error(double t, double reference) {
   return std::abs(t - reference);
 }
 
+// One scene's run at the cheapest rtol of the ladder (loosest first) that
+// meets the accuracy, or the reason none did.
+struct CostAtAccuracy {
+  bool met = false, over_budget = false;
+  double rtol = 0, error = 0;
+  RunResult run;
+};
+CostAtAccuracy cost_at_accuracy(const ContactModel& model, const GroundMotion& motion, const RunOptions& base,
+                                Method m, const std::vector<double>& rtols, const RunResult& ref,
+                                const TradeoffArgs& a) {
+  CostAtAccuracy out;
+  for (double rtol : rtols) {
+    RunOptions o = options_at(base, m, rtol);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(a.budget);
+    o.stop = [deadline] { return std::chrono::steady_clock::now() > deadline; };
+    out.run = best_of(model, motion, o, a.repeats);
+    out.rtol = rtol;
+    if (out.run.outcome == Outcome::failed) {
+      out.over_budget = true;
+      return out;
+    }
+    out.error = relative(out.run.peak(Quantity::delta_t), ref.peak(Quantity::delta_t));
+    if (out.error <= a.accuracy) {
+      out.met = true;
+      return out;
+    }
+  }
+  return out;
+}
+
+// The N axis: for each scene (its node count N) and method, the cost of the
+// cheapest run whose peak delta_t is within --accuracy of the reference
+// (rosw at --reference-rtol, cross-checked by rk45+exact where that takes
+// less than the budget). A method that runs past the budget is not tried on
+// larger scenes.
+int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
+  const std::vector<std::string> names =
+      a.backends_given ? a.backends : std::vector<std::string>{"rk45+exact", "rosw+exact", "rosw"};
+  std::vector<Method> methods;
+  for (const std::string& name : names) methods.push_back(parse_method(name));
+  const fs::path dir(a.out);
+  make_output_dir(dir / "tradeoff_n.data");
+  std::ofstream csv(dir / "tradeoff_n.csv");
+  csv << "scene,n,method,rtol,wall_s,rhs,steps,err_delta_t,accuracy,met,reference_check\n";
+  std::vector<std::ofstream> data;
+  for (const std::string& name : names) {
+    data.emplace_back(dir / "tradeoff_n.data" / (name + ".csv"));
+    data.back() << "n,wall_s,rhs,rtol\n";
+  }
+  std::vector<bool> given_up(names.size(), false);
+  fmt::print("cost at equal accuracy: peak delta_t within {:.0e} of rosw at rtol {:.0e}; rtols {}\n", a.accuracy,
+             a.reference_rtol, a.rtols);
+  fmt::print("{:>5} {:<12} {:>7} {:>10} {:>11} {:>9} {:>10}\n", "N", "method", "rtol", "wall [s]", "rhs", "steps",
+             "err d_t");
+  std::string first_name, last_name;
+  for (const std::string& path : a.scenes) {
+    const Scene scene = load_scene(SceneOptions{path, a.scene.overrides});
+    const GroundMotion motion = load_motion(scene, a.motion);
+    const ContactModel model = make_contact_model(scene, false);
+    if (model.layout.n == 0)
+      throw InputError(fmt::format("--scenes {}: a rigid block has no nodes to put on the N axis", path));
+    SolverOptions solver;
+    solver.duration = a.duration;
+    solver.duration_given = a.duration != 0;
+    RunOptions base = run_options(scene, solver, a.motion.record.empty());
+    base.track_energy = false;
+    const RunResult ref = simulate(model, motion, options_at(base, {ode::Backend::rosw, true}, a.reference_rtol));
+    if (ref.outcome == Outcome::failed) throw RunError(fmt::format("{}: reference run failed: {}", path, ref.failure));
+    RunOptions check_options = options_at(base, {ode::Backend::rk45, true}, a.reference_rtol);
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(a.budget);
+    check_options.stop = [deadline] { return std::chrono::steady_clock::now() > deadline; };
+    const RunResult check = simulate(model, motion, check_options);
+    const std::string checked =
+        check.outcome == Outcome::failed
+            ? std::string("rk45 over budget")
+            : fmt::format("{:.1e}", relative(check.peak(Quantity::delta_t), ref.peak(Quantity::delta_t)));
+    const long n = static_cast<long>(model.layout.n);
+    fmt::print("N = {}: {}; reference checked by rk45+exact at rtol {:.0e}: {}\n", n, scene.name, a.reference_rtol,
+               checked);
+    if (first_name.empty()) first_name = scene.name;
+    last_name = scene.name;
+    for (std::size_t i = 0; i < methods.size(); ++i) {
+      if (given_up[i]) continue;
+      const CostAtAccuracy c = cost_at_accuracy(model, motion, base, methods[i], rtols, ref, a);
+      given_up[i] = c.over_budget;
+      csv << fmt::format("\"{}\",{},{},{:.0e},{:.6f},{},{},{:.3e},{:.0e},{},{}\n", path, n, names[i], c.rtol,
+                         c.run.wall_s, c.run.stats.rhs, c.run.stats.steps, c.error, a.accuracy,
+                         c.met ? "true" : "false", checked);
+      if (c.met) data[i] << fmt::format("{},{:.6e},{},{:.0e}\n", n, c.run.wall_s, c.run.stats.rhs, c.rtol);
+      fmt::print("{:>5} {:<12} {:>7.0e} {:>10.4g} {:>11} {:>9} {:>10}\n", n, names[i], c.rtol, c.run.wall_s,
+                 c.run.stats.rhs, c.run.stats.steps,
+                 c.met ? fmt::format("{:.1e}", c.error)
+                       : (c.over_budget ? std::string("over budget") : std::string("not met")));
+    }
+  }
+  csv.close();
+  for (auto& d : data) d.close();
+  fmt::print("wrote {}\n", (dir / "tradeoff_n.csv").string());
+  plot::Figure fig;
+  fig.dir = dir;
+  fig.name = "cost_against_n";
+  fig.formats = plot::parse_formats(a.formats);
+  fig.width = 1400;
+  fig.height = 750;
+  fig.title = fmt::format("cost against the number of nodes at equal accuracy (peak {{/Symbol d}}_t within {:.0e}), "
+                          "{} to {}", a.accuracy, first_name, last_name);
+  std::vector<plot::Series> series;
+  for (const std::string& name : names) series.push_back({name, (fs::path("tradeoff_n.data") / (name + ".csv")).string(), {}, 0});
+  const std::string rtol_label = "sprintf('%d', floor(log10($4) + 0.5))";
+  const std::vector<plot::Panel> panels = {{"wall time per run [s]", "$1", "$2", false, rtol_label},
+                                           {"right-hand-side evaluations", "$1", "$3", false, rtol_label}};
+  for (const fs::path& f :
+       plot::render_panels(fig, 1, 2, "nodes N   (labels: log_{10} rtol)", panels, series, true))
+    fmt::print("wrote {}\n", f.string());
+  return 0;
+}
+
 int tradeoff(const TradeoffArgs& a) {
   const Scene scene = load_scene(a.scene);
   const GroundMotion motion = load_motion(scene, a.motion);
@@ -88,6 +214,14 @@ int tradeoff(const TradeoffArgs& a) {
   for (double r : number_list("--rtols", a.rtols)) {
     if (!(r > 0 && r < 1)) throw InputError(fmt::format("--rtols: {} is not in (0, 1)", r));
     rtols.push_back(r);
+  }
+  if (!a.scenes.empty()) {
+    if (!(a.accuracy > 0 && a.accuracy < 1)) throw InputError(fmt::format("--accuracy {}: must be in (0, 1)", a.accuracy));
+    if (!(a.reference_rtol > 0 && a.reference_rtol < 1))
+      throw InputError(fmt::format("--reference-rtol {}: must be in (0, 1)", a.reference_rtol));
+    if (!(a.budget > 0)) throw InputError(fmt::format("--budget {}: must be positive", a.budget));
+    std::sort(rtols.begin(), rtols.end(), std::greater<>());  // loosest first: the cheapest that meets the accuracy
+    return cost_against_n(a, rtols);
   }
   std::vector<Method> methods;
   for (const std::string& name : a.backends) methods.push_back(parse_method(name));  // before the long runs
@@ -163,15 +297,33 @@ Command add_tradeoff_command(CLI::App& app) {
       "every phase, cross-checked by ARKODE) in peak delta_t and theta,\n"
       "first uplift and impact times, impact count and final state, and its cost\n"
       "(best-of-3 wall time, rhs evaluations, steps). Writes DIR/tradeoff.csv and\n"
-      "a work-precision figure DIR/work_precision.{png,pdf,svg}.");
+      "a work-precision figure DIR/work_precision.{png,pdf,svg}.\n"
+      "With --scenes: the N axis. For each scene (its node count N) and method\n"
+      "(default rk45+exact, rosw+exact, rosw), the cost of the cheapest run of the\n"
+      "ladder whose peak delta_t is within --accuracy of a reference (rosw at\n"
+      "--reference-rtol, cross-checked by rk45+exact); writes DIR/tradeoff_n.csv\n"
+      "and DIR/cost_against_n.{png,pdf,svg}.");
   auto a = std::make_shared<TradeoffArgs>();
   add_scene_options(*cmd, a->scene);
   add_motion_options(*cmd, a->motion);
   cmd->add_option("--out", a->out, "Output folder (default out/tradeoff)")->type_name("DIR");
   cmd->add_option("--rtols", a->rtols, "Relative tolerances (default 1e-3,...,1e-10; atol = 1e-3 rtol)")
       ->type_name("LIST");
-  cmd->add_option("--backends", a->backends,
-                  "Backends; NAME+exact steps full contact exactly (default rk45,rk45+exact,arkode,cvode)")->delimiter(',')->type_name("LIST");
+  cmd->add_option_function<std::vector<std::string>>(
+         "--backends", [a](const std::vector<std::string>& v) { a->backends = v; a->backends_given = true; },
+         "Backends (rk45, rosw, cvode, arkode); NAME+exact steps full contact exactly\n"
+         "(default rk45,rk45+exact,arkode,cvode)")
+      ->delimiter(',')
+      ->type_name("LIST");
+  cmd->add_option("--scenes", a->scenes,
+                  "Scenes for the N axis, e.g. data/scenes/towers/tower_8.toml,...,tower_64.toml")
+      ->delimiter(',')
+      ->type_name("LIST");
+  cmd->add_option("--accuracy", a->accuracy, "With --scenes: the peak delta_t error to reach (default 1e-4)")
+      ->type_name("X");
+  cmd->add_option("--reference-rtol", a->reference_rtol, "With --scenes: the reference's rtol (default 1e-9)")
+      ->type_name("X");
+  cmd->add_option("--budget", a->budget, "With --scenes: seconds a run may take (default 60)")->type_name("S");
   cmd->add_option("--duration", a->duration, "Simulated time [s] (default: the motion's)")->type_name("S");
   cmd->add_option("--repeats", a->repeats, "Runs per point; the fastest counts (default 3)")->type_name("N");
   cmd->add_option("--formats", a->formats, "Figure formats (default png,pdf,svg)")->type_name("LIST");

@@ -98,7 +98,11 @@ class Driver {
     t_end_ = o.duration > 0 ? o.duration : ground.duration();
     // The record's samples, computed when asked: a run holds no list of them.
     const ode::NextBreakpoint next_sample = [this](double t) { return ground_.next_breakpoint(t); };
-    if (o.exact_full_contact && m.layout.u >= 0 && m.layout.energy < 0 && ground.piecewise_linear()) {
+    // An automatic choice of rosw integrates full contact too: its steps are
+    // not bound by the highest modes, and it then costs less than the exact
+    // steps, which sample every oscillating period (`rocking tradeoff --scenes`).
+    const bool auto_rosw = o.backend == ode::Backend::automatic && backend == ode::Backend::rosw;
+    if (o.exact_full_contact && !auto_rosw && m.layout.u >= 0 && m.layout.energy < 0 && ground.piecewise_linear()) {
       ode::Options exact;
       // Steps from sample to sample of the record (up to 16 spacings), with
       // guards and peaks sampled 8 times in the shortest oscillating period.

@@ -100,7 +100,8 @@ struct RunOptions {
   // a flexible structure in full contact under a record is stepped exactly
   // (ode::make_exact_linear) and the backend integrates the rocking phases
   // only. Not used when the model carries energy accumulators (quadratic in
-  // the state) or under an analytic pulse.
+  // the state), under an analytic pulse, or when an automatic backend chose
+  // rosw (choose_backend).
   bool exact_full_contact = true;
   long max_events = 100000;      // more phase changes than this: the run fails (chattering)
   // Polled between steps: true ends the run as failed ("stopped at t = ..."),
@@ -181,7 +182,9 @@ Response evaluate(const ContactModel& m, const OutputScales& sc, const Discrete&
 // record's mean sample interval, a pulse's period / 40): Dormand-Prince is
 // stable up to about h = 3.3 / |lambda|, with lambda the fastest eigenvalue
 // of the fixed-base modes under Rayleigh damping (an overdamped mode's fast
-// root a0 + a1 omega^2 and above). Else rk45. A given backend is kept.
+// root a0 + a1 omega^2 and above). Else rk45. A given backend is kept. An
+// automatic rosw integrates full contact as well (exact_full_contact applies
+// to an automatic rk45 and to a backend given by name).
 ode::Backend choose_backend(const ContactModel& m, const GroundMotion& ground, ode::Backend requested);
 
 // Runs the model under the ground motion. Never throws for a run that cannot
