@@ -179,7 +179,7 @@ class StiffPart {
 
   const ContactModel* m_;
   Phase full_, rocking_;
-  Eigen::VectorXd work_, r_;
+  Eigen::VectorXd work_, modal_;
 };
 
 // The elongation and force of the first device the current pivot stretches

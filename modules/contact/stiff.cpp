@@ -31,7 +31,7 @@ StiffPart::StiffPart(const ContactModel& m) : m_(&m) {
     build(rocking_, Eigen::MatrixXd(mass.asDiagonal()) - MH * MH.transpose() / (D0 + st.heights.dot(MH)));
   }
   work_.setZero(l.n);
-  r_.setZero(l.n);
+  modal_.setZero(l.n);
 }
 
 void StiffPart::prepare(Phase& p, double g) {
@@ -52,14 +52,13 @@ void StiffPart::solve(int pivot, double g, Eigen::Ref<const Eigen::VectorXd> b, 
   const Structure& st = m_->body.structure;
   const auto bu = b.segment(l.u, l.n), bv = b.segment(l.u_dot, l.n);
   auto xu = x.segment(l.u, l.n), xv = x.segment(l.u_dot, l.n);
-  // r = b_v - g P K b_u
-  work_.noalias() = m_->body.matrices.K * bu;
-  r_ = bv - g * m_->body.inverse_masses.cwiseProduct(work_);
-  if (p.inverse_D0 != 0) r_ -= (g * p.inverse_D0 * st.heights.dot(work_)) * st.heights;
-  // x_v: the diagonal solve in the eigenvectors, then the rank-one term
-  work_.noalias() = p.Q * r_;
-  work_.array() *= p.d.array();
+  // The diagonal solve in the eigenvectors: with Q P K = Psi' K = Lambda Q,
+  // Q (b_v - g P K b_u) = Q b_v - g Lambda Q b_u.
+  work_.noalias() = p.Q * bu;
+  modal_.noalias() = p.Q * bv;
+  work_ = p.d.cwiseProduct(modal_ - g * p.lambda.cwiseProduct(work_));
   xv.noalias() = p.Psi * work_;
+  // then the rank-one term
   if (p.inverse_D0 != 0) {
     const auto MH = st.masses.cwiseProduct(st.heights);
     xv -= p.z * (MH.dot(xv) / (1.0 + MH.dot(p.z)));

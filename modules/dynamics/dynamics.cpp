@@ -13,6 +13,22 @@ namespace {
 // more than the arithmetic.
 template <int S>
 void restoring_force(const StructuralMatrices& sm, const double* u, const double* u_dot, double* f, long n_runtime) {
+  if constexpr (S == 0) {
+    // Beyond the unrolled sizes the matrices outgrow the cache lines a pass
+    // touches: with C = a0 M + a1 K (Rayleigh, as assembled),
+    // K u + C u' = K (u + a1 u') + a0 M u' is one pass over K, not over K and C.
+    const long n = n_runtime;
+    const double a0 = sm.rayleigh.a0, a1 = sm.rayleigh.a1;
+    const double* K = sm.K.data();
+    const double* M = sm.M.data();  // diagonal (lumped masses) at (i, i)
+    for (long i = 0; i < n; ++i) f[i] = -a0 * M[i * n + i] * u_dot[i];
+    for (long j = 0; j < n; ++j) {
+      const double wj = u[j] + a1 * u_dot[j];
+      const double* Kj = K + j * n;
+      for (long i = 0; i < n; ++i) f[i] -= Kj[i] * wj;
+    }
+    return;
+  }
   const long n = static_or<S>(n_runtime);
   const double* K = sm.K.data();  // column-major, n x n
   const double* C = sm.C.data();
