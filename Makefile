@@ -61,8 +61,10 @@ bench: build
 	@build/bin/records_bench
 	@echo "command: build/bin/suite_bench"
 	@build/bin/suite_bench
-	@echo "command: build/bin/tower_bench --n 8,16,32 --budget 60"
-	@build/bin/tower_bench --n 8,16,32 --budget 60
+	@echo "command: build/bin/tower_bench --integrators auto --peaks"
+	@build/bin/tower_bench --integrators auto --peaks
+	@echo "command: build/bin/tower_bench --integrators rk45 --n 8,16,32 --budget 60"
+	@build/bin/tower_bench --integrators rk45 --n 8,16,32 --budget 60
 	@echo "command: PYTHONPATH=build/python /usr/bin/python3 bench/python_bench.py"
 	@PYTHONPATH=build/python /usr/bin/python3 bench/python_bench.py
 

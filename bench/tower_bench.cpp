@@ -9,10 +9,15 @@
 // Each integrator named is timed on every tower (auto: the default choice,
 // rosw for these towers; rk45 for the explicit method it replaces).
 // The exponent between consecutive N is log(cost ratio) / log(N ratio).
-// Usage: tower_bench [RECORDS_DIR] [--n 8,16,32,64,128] [--integrators auto,rk45] [--budget S]
+// --peaks then measures the default run's accuracy: its peaks of delta_t,
+// delta_e, theta and base moment against rk45 at rtol 1e-8 (N <= 32, where it
+// is affordable) and against rosw at rtol 1e-8 for every N (convergence).
+// Usage: tower_bench [RECORDS_DIR] [--n 8,16,32,64,128] [--integrators auto,rk45] [--budget S] [--peaks]
 #include <rocking/eigen.hpp>
 #include <fmt/format.h>
+#include <array>
 #include <chrono>
+#include <utility>
 #include <cmath>
 #include <cstdlib>
 #include <string>
@@ -21,16 +26,62 @@ import rocking;
 
 using namespace rocking;
 
+namespace {
+
+constexpr std::array checked{Quantity::delta_t, Quantity::delta_e, Quantity::theta, Quantity::base_moment};
+
+// The largest relative difference of the checked peaks of a and b.
+double peak_difference(const RunResult& a, const RunResult& b) {
+  double worst = 0;
+  for (Quantity q : checked) worst = std::max(worst, std::abs(a.peak(q) / b.peak(q) - 1));
+  return worst;
+}
+
+void peak_accuracy(const GroundMotion& record, const std::vector<double>& counts, double budget) {
+  fmt::print("\npeaks of the default run (auto, rtol 1e-4, energy tracked) against references at rtol 1e-8\n"
+             "(largest relative difference of delta_t, delta_e, theta, base moment; target 1e-3 against rk45)\n");
+  fmt::print("{:>5} {:>12} {:>12} {:>10} {:>12} {:>10}\n", "N", "default", "vs rk45", "rk45 [s]", "vs rosw", "rosw [s]");
+  for (double n : counts) {
+    const Scene scene =
+        load_scene(fmt::format("{}/data/scenes/towers/tower_{}.toml", ROCKING_SOURCE_DIR, static_cast<int>(n)));
+    const RunResult run = simulate(make_contact_model(scene, true), record, RunOptions{});
+    const ContactModel model = make_contact_model(scene, false);
+    const auto reference = [&](ode::Backend b) {
+      RunOptions o;
+      o.backend = b;
+      o.tolerances.rtol = 1e-8;
+      o.tolerances.atol = 1e-11;
+      const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(budget);
+      o.stop = [deadline] { return std::chrono::steady_clock::now() > deadline; };
+      return simulate(model, record, o);
+    };
+    const auto cell = [&](const RunResult& r) {
+      return r.outcome == Outcome::failed ? std::pair{std::string("over budget"), std::string("-")}
+                                          : std::pair{fmt::format("{:.1e}", peak_difference(run, r)),
+                                                      fmt::format("{:.3g}", r.wall_s)};
+    };
+    const auto [rk45_diff, rk45_wall] =
+        n <= 32 ? cell(reference(ode::Backend::rk45)) : std::pair{std::string("-"), std::string("-")};
+    const auto [rosw_diff, rosw_wall] = cell(reference(ode::Backend::rosw));
+    fmt::print("{:>5} {:>12} {:>12} {:>10} {:>12} {:>10}\n", n, run.integrator, rk45_diff, rk45_wall, rosw_diff,
+               rosw_wall);
+  }
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   const char* env = std::getenv("ROCKING_RECORDS");
   std::string dir = env ? env : std::string(ROCKING_SOURCE_DIR) + "/../shared/data/records";
   std::vector<double> counts{8, 16, 32, 64, 128};
   std::vector<std::string> integrators{"auto", "rk45"};
   double budget = 20;
+  bool peaks = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--n" && i + 1 < argc) counts = parse_number_list(argv[++i]);
     else if (a == "--budget" && i + 1 < argc) budget = std::atof(argv[++i]);
+    else if (a == "--peaks") peaks = true;
     else if (a == "--integrators" && i + 1 < argc) {
       integrators.clear();
       for (std::string list = argv[++i]; !list.empty();) {
@@ -41,7 +92,7 @@ int main(int argc, char** argv) {
     }
     else if (!a.starts_with("--")) dir = a;
     else {
-      fmt::print(stderr, "tower_bench: bad option '{}' (usage: tower_bench [RECORDS_DIR] [--n 8,16,32,64,128] [--integrators auto,rk45] [--budget S])\n", a);
+      fmt::print(stderr, "tower_bench: bad option '{}' (usage: tower_bench [RECORDS_DIR] [--n 8,16,32,64,128] [--integrators auto,rk45] [--budget S] [--peaks])\n", a);
       return 2;
     }
   }
@@ -80,5 +131,6 @@ int main(int argc, char** argv) {
     }
   }
   fmt::print("target (issue 20): cost at most ~N^2 from N = 16 to 128, N = 64 under 50 ms\n");
+  if (peaks) peak_accuracy(elcentro, counts, budget);
   return 0;
 }

@@ -65,6 +65,17 @@ RunOptions options_at(const RunOptions& base, Method m, double rtol) {
   return o;
 }
 
+// The figures of this command: wide, for a legend of every method.
+plot::Figure wide_figure(const fs::path& dir, std::string name, const std::string& formats) {
+  plot::Figure fig;
+  fig.dir = dir;
+  fig.name = std::move(name);
+  fig.formats = plot::parse_formats(formats);
+  fig.width = 1400;
+  fig.height = 750;
+  return fig;
+}
+
 // The fastest of `repeats` runs; each may take `budget` seconds before it is
 // stopped (a run that fails or is stopped ends the repeats: it is the result).
 RunResult best_of(const ContactModel& m, const GroundMotion& g, RunOptions o, int repeats,
@@ -184,12 +195,7 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
   csv.close();
   for (auto& d : data) d.close();
   fmt::print("wrote {}\n", (dir / "tradeoff_n.csv").string());
-  plot::Figure fig;
-  fig.dir = dir;
-  fig.name = "cost_against_n";
-  fig.formats = plot::parse_formats(a.formats);
-  fig.width = 1400;
-  fig.height = 750;
+  plot::Figure fig = wide_figure(dir, "cost_against_n", a.formats);
   fig.title = fmt::format("cost against the number of nodes at equal accuracy (peak {{/Symbol d}}_t within {:.0e}), "
                           "{} to {}", a.accuracy, first_name, last_name);
   std::vector<plot::Series> series;
@@ -270,12 +276,7 @@ int tradeoff(const TradeoffArgs& a) {
   }
   csv.close();
   fmt::print("wrote {}\n", (dir / "tradeoff.csv").string());
-  plot::Figure fig;
-  fig.dir = dir;
-  fig.name = "work_precision";
-  fig.formats = plot::parse_formats(a.formats);
-  fig.width = 1400;
-  fig.height = 750;
+  plot::Figure fig = wide_figure(dir, "work_precision", a.formats);
   fig.title = fmt::format("{}: work-precision, {}, rtol {} (reference: rk45 at rtol 1e-12)\n{}", scene.name,
                           motion_scale(scene, a.motion).describe(), a.rtols, motion_title(motion));
   // Each point is labelled with its rtol (the exponent: "-4" for 1e-4).
