@@ -237,7 +237,7 @@ DamperState active_damper(const ContactModel& m, const Discrete& d, const Tilt& 
   return {n.st.e, n.F};
 }
 
-void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y,
+void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, const Eigen::Ref<const Eigen::VectorXd>& y,
                Eigen::Ref<Eigen::VectorXd> dydt, Workspace& w) {
   const Layout& l = m.layout;
   const int s = d.pivot;
@@ -312,7 +312,7 @@ GuardMeaning guard_meaning(const ContactModel& m, int pivot, int index) {
   return {Guard::fracture, acting[static_cast<std::size_t>(m.breakable[side(pivot)][static_cast<std::size_t>(index - 2)])].device};
 }
 
-void guard_values(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y,
+void guard_values(const ContactModel& m, const Discrete& d, double a_g, const Eigen::Ref<const Eigen::VectorXd>& y,
                   Eigen::Ref<Eigen::VectorXd> g) {
   if (m.kind == ModelKind::fixed_base) return;
   if (d.pivot == 0) {

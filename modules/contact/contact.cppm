@@ -135,7 +135,7 @@ struct Workspace {
 };
 
 // dy/dt in the current phase at ground acceleration a_g.
-void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y,
+void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, const Eigen::Ref<const Eigen::VectorXd>& y,
                Eigen::Ref<Eigen::VectorXd> dydt, Workspace& w);
 
 // Full contact of a flexible structure (Eq. 1) as x' = A x + b a_g(t) on the
@@ -201,7 +201,7 @@ struct GuardMeaning {
   int device = -1;  // the device of a fracture guard
 };
 GuardMeaning guard_meaning(const ContactModel& m, int pivot, int index);
-void guard_values(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y,
+void guard_values(const ContactModel& m, const Discrete& d, double a_g, const Eigen::Ref<const Eigen::VectorXd>& y,
                   Eigen::Ref<Eigen::VectorXd> g);
 // Whether the guards of this phase depend on a_g (only a rigid block's uplift
 // does: a flexible structure's inertia forces are K u + C u'), so that a

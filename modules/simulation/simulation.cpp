@@ -73,7 +73,8 @@ class Driver {
   Driver(const ContactModel& m, const GroundMotion& ground, const RunOptions& o, Observer* observer)
       : m_(m), ground_(ground), opt_(o), observer_(observer), scales_(output_scales(m)), work_(m),
         y_(Eigen::VectorXd::Zero(m.layout.size)), dense_(m.layout.size) {
-    auto rhs = [this](double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> dydt) {
+    // The parameters bind to the std::function's own arguments: no Ref is copied per call.
+    auto rhs = [this](double t, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& dydt) {
       phase_rhs(m_, d_, ground_.acceleration(t), y, dydt, work_);
     };
     ode::Options tolerances = o.tolerances;
@@ -194,7 +195,7 @@ class Driver {
       guards.directions.push_back(c == Crossing::rising ? ode::Direction::rising : ode::Direction::falling);
     if (!guards.directions.empty())
       guards.fn = [this, with_a_g = guards_use_ground_acceleration(m_, d_.pivot)](
-                      double tg, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> g) {
+                      double tg, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& g) {
         guard_values(m_, d_, with_a_g ? ground_.acceleration(tg) : 0.0, y, g);
       };
     active_ = d_.pivot == 0 && exact_ ? exact_.get() : integrator_.get();
