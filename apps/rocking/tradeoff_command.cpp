@@ -155,6 +155,7 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
   fmt::print("{:>5} {:<12} {:>7} {:>10} {:>11} {:>9} {:>10}\n", "N", "method", "rtol", "wall [s]", "rhs", "steps",
              "err d_t");
   std::string first_name, last_name;
+  long smallest_n = std::numeric_limits<long>::max(), largest_n = 0;
   for (const std::string& path : a.scenes) {
     const Scene scene = load_scene(SceneOptions{path, a.scene.overrides});
     const GroundMotion motion = load_motion(scene, a.motion);
@@ -179,6 +180,8 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
                checked);
     if (first_name.empty()) first_name = scene.name;
     last_name = scene.name;
+    smallest_n = std::min(smallest_n, n);
+    largest_n = std::max(largest_n, n);
     for (std::size_t i = 0; i < methods.size(); ++i) {
       if (given_up[i]) continue;
       const CostAtAccuracy c = cost_at_accuracy(model, motion, base, methods[i], rtols, ref, a);
@@ -196,13 +199,15 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
   for (auto& d : data) d.close();
   fmt::print("wrote {}\n", (dir / "tradeoff_n.csv").string());
   plot::Figure fig = wide_figure(dir, "cost_against_n", a.formats);
-  fig.title = fmt::format("cost against the number of nodes at equal accuracy (peak {{/Symbol d}}_t within {:.0e}), "
+  fig.title = fmt::format("cost against the number of nodes at equal accuracy (peak delta_t within {:.0e}), "
                           "{} to {}", a.accuracy, first_name, last_name);
   std::vector<plot::Series> series;
   for (const std::string& name : names) series.push_back({name, (fs::path("tradeoff_n.data") / (name + ".csv")).string(), {}, 0});
   const std::string rtol_label = "sprintf('%d', floor(log10($4) + 0.5))";
-  const std::vector<plot::Panel> panels = {{"wall time per run [s]", "$1", "$2", false, rtol_label},
-                                           {"right-hand-side evaluations", "$1", "$3", false, rtol_label}};
+  // The node counts' own range, widened by a fifth on the log axis each side.
+  const std::string xrange = fmt::format("[{:.6g}:{:.6g}]", smallest_n / 1.2, largest_n * 1.2);
+  const std::vector<plot::Panel> panels = {{"wall time per run [s]", "$1", "$2", false, rtol_label, {}, xrange},
+                                           {"right-hand-side evaluations", "$1", "$3", false, rtol_label, {}, xrange}};
   for (const fs::path& f :
        plot::render_panels(fig, 1, 2, "nodes N   (labels: log_{10} rtol)", panels, series, true))
     fmt::print("wrote {}\n", f.string());

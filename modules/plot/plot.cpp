@@ -480,6 +480,7 @@ std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const
     body += grid.panels[p] + "  unset key\n";
     body += fmt::format("  set ylabel {}\n  set yrange [{}:*]\n", gp_string(panel.ylabel), panel.from_zero ? "0" : "*");
     body += "  unset arrow\n  unset label\n";
+    if (!panel.xrange.empty()) body += fmt::format("  set xrange {}\n", panel.xrange);
     for (std::size_t m = 0; m < panel.marks.size(); ++m)
       body += fmt::format("  set arrow from first {0:.9g}, graph 0 to first {0:.9g}, graph 1 nohead dashtype 2 "
                           "linecolor rgb \"#555555\"\n  set label {1} {2} at first {0:.9g}, graph 0.97 left offset "

@@ -84,6 +84,7 @@ struct Panel {
   bool from_zero = false;   // the y axis starts at zero (peaks of magnitudes)
   std::string point_label;  // non-empty: a text at every point (e.g. "sprintf('%.0e', $4)")
   std::vector<Mark> marks = {};
+  std::string xrange = {};  // non-empty: the x axis's range, e.g. "[6:170]" (else autoscaled)
 };
 struct Series {
   std::string label;
