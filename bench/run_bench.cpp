@@ -125,6 +125,10 @@ int main(int argc, char** argv) {
   const char* usage = "usage: run_bench [RECORDS_DIR] [--backend NAME] [--contact exact|integrated] [--repeats N] [--rhs]";
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
+    if (a == "--help" || a == "-h") {
+      fmt::print("{}\n", usage);
+      return 0;
+    }
     if (a == "--backend" && i + 1 < argc) backends = {ode::parse_backend(argv[++i])};
     else if (a == "--repeats" && i + 1 < argc) repeats = std::max(1, std::atoi(argv[++i]));
     else if (a == "--rhs") rhs_only = true;

@@ -77,8 +77,14 @@ int main(int argc, char** argv) {
   std::vector<std::string> integrators{"auto", "rk45"};
   double budget = 20;
   bool peaks = false;
+  const char* usage =
+      "usage: tower_bench [RECORDS_DIR] [--n 8,16,32,64,128] [--integrators auto,rk45] [--budget S] [--peaks]";
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
+    if (a == "--help" || a == "-h") {
+      fmt::print("{}\n", usage);
+      return 0;
+    }
     if (a == "--n" && i + 1 < argc) counts = parse_number_list(argv[++i]);
     else if (a == "--budget" && i + 1 < argc) budget = std::atof(argv[++i]);
     else if (a == "--peaks") peaks = true;
@@ -92,7 +98,7 @@ int main(int argc, char** argv) {
     }
     else if (!a.starts_with("--")) dir = a;
     else {
-      fmt::print(stderr, "tower_bench: bad option '{}' (usage: tower_bench [RECORDS_DIR] [--n 8,16,32,64,128] [--integrators auto,rk45] [--budget S] [--peaks])\n", a);
+      fmt::print(stderr, "tower_bench: bad option '{}' ({})\n", a, usage);
       return 2;
     }
   }
