@@ -9,6 +9,7 @@
 import rocking.contact;
 import rocking.scene;
 import rocking.modal;
+import rocking.simulation;
 #include "spread_nodes.hpp"
 
 using namespace rocking;
@@ -177,4 +178,96 @@ TEST_CASE("Eq. 9 restitution equals Eq. 10 for an undeformed structure and stays
   CHECK(r2.continues);
   CHECK(r2.r == doctest::Approx(l_new / l_old).epsilon(1e-12));
   CHECK(std::abs(r2.r - eq9.r_eq10) > 1e-4);  // the deformation matters
+}
+
+TEST_CASE("modal coordinates: rhs, guards, energy, outputs and resets equal the nodal model's, mapped by u = Phi q") {
+  // The same physics in the fixed-base modes (rocking.dynamics): every
+  // function of the state agrees with the nodal model's at states mapped by
+  // q = Phi^-1 u, to round-off (1e-9 relative), at 4 nodes and 20, with
+  // devices, energy accumulators and Eq. 9 restitution.
+  for (Eigen::Index nodes : {4, 20}) {
+    Scene scene = chimney({"contact.restitution=eq9", "device+={name=\"tendon\", kind=\"elastic\", at=0, "
+                           "kinematics=\"vertical\", free_length=33, P0=2e6, k=5e7}"});
+    if (nodes != 4) spread_over_nodes(scene.structure, nodes);
+    const ContactModel nodal = make_contact_model(scene, true);
+    const ContactModel modal = in_modal_coordinates(nodal);
+    const Layout& l = nodal.layout;
+    REQUIRE(modal.layout.size == l.size);
+    CHECK(modal.body.coordinates == ElasticCoordinates::modal);
+    const Eigen::MatrixXd& Phi = modal.body.modes.Phi;
+    // q = Phi^-1 u, and the whole state mapped
+    const auto to_modal = [&](const Eigen::VectorXd& y) {
+      Eigen::VectorXd out = y;
+      from_nodal(modal.body, y.segment(l.u, l.n), out.segment(l.u, l.n));
+      from_nodal(modal.body, y.segment(l.u_dot, l.n), out.segment(l.u_dot, l.n));
+      return out;
+    };
+    const auto to_nodal_state = [&](const Eigen::VectorXd& y) {
+      Eigen::VectorXd out = y;
+      out.segment(l.u, l.n) = Phi * y.segment(l.u, l.n);
+      out.segment(l.u_dot, l.n) = Phi * y.segment(l.u_dot, l.n);
+      return out;
+    };
+    const auto close = [](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+      return (a - b).norm() <= 1e-9 * std::max(b.norm(), 1e-300);
+    };
+    CHECK(close(to_nodal_state(to_modal(Eigen::VectorXd::LinSpaced(l.size, -1, 1))),
+                Eigen::VectorXd::LinSpaced(l.size, -1, 1)));
+    const OutputScales sn = output_scales(nodal), sm = output_scales(modal);
+    Workspace wn(nodal), wm(modal);
+    for (int pivot : {0, 1, -1}) {
+      CAPTURE(nodes);
+      CAPTURE(pivot);
+      Discrete d;
+      d.set_z(0, 0.3);
+      d.set_z(1, -0.2);
+      Eigen::VectorXd y = Eigen::VectorXd::Zero(l.size);
+      if (pivot != 0) {
+        begin_rocking(nodal, d, pivot, y);
+        y[l.theta] = 0.004 * pivot;
+        y[l.theta_dot] = -0.03 * pivot;
+      }
+      y.segment(l.u, l.n) = Eigen::VectorXd::LinSpaced(l.n, 1e-3, 2e-2);
+      y.segment(l.u_dot, l.n) = Eigen::VectorXd::LinSpaced(l.n, -0.05, 0.1);
+      const Eigen::VectorXd q = to_modal(y);
+      Eigen::VectorXd fn(l.size), fm(l.size);
+      phase_rhs(nodal, d, 1.3, y, fn, wn);
+      phase_rhs(modal, d, 1.3, q, fm, wm);
+      CHECK(close(to_nodal_state(fm), fn));
+      CHECK(mechanical_energy(modal, pivot == 0 ? 1 : pivot, q) ==
+            doctest::Approx(mechanical_energy(nodal, pivot == 0 ? 1 : pivot, y)).epsilon(1e-9));
+      const std::size_t guards = guard_directions(nodal, pivot).size();
+      Eigen::VectorXd gn(guards), gm(guards);
+      guard_values(nodal, d, 1.3, y, gn);
+      guard_values(modal, d, 1.3, q, gm);
+      CHECK(close(gm, gn));
+      const Response rn = evaluate(nodal, sn, d, 0.0, y), rm = evaluate(modal, sm, d, 0.0, q);
+      for (std::size_t k = 0; k < quantity_count; ++k) CHECK(rm.q[k] == doctest::Approx(rn.q[k]).epsilon(1e-9));
+      StateView vn, vm;
+      view(nodal, y, vn);
+      view(modal, q, vm);
+      CHECK(close(vm.u, vn.u));
+      CHECK(close(vm.u_dot, vn.u_dot));
+      if (pivot != 0) {
+        // an impact (Eq. 9 continued rocking), then one that settles (u' + H th')
+        for (double theta_dot : {-0.03 * pivot, -0.001 * pivot}) {
+          Eigen::VectorXd yn = y, ym = q;
+          yn[l.theta_dot] = ym[l.theta_dot] = theta_dot;
+          Discrete dn = d, dm = d;
+          const ImpactResult in = impact(nodal, dn, yn), im = impact(modal, dm, ym);
+          CHECK(in.continues == im.continues);
+          CHECK(im.r == doctest::Approx(in.r).epsilon(1e-9));
+          CHECK(dn.pivot == dm.pivot);
+          CHECK(close(to_nodal_state(ym), yn));
+        }
+      }
+    }
+    // Full contact as a linear system: A and b map to the nodal ones.
+    const LinearPhase pn = full_contact_matrices(nodal), pm = full_contact_matrices(modal);
+    Eigen::MatrixXd T = Eigen::MatrixXd::Zero(2 * l.n, 2 * l.n);
+    T.topLeftCorner(l.n, l.n) = Phi;
+    T.bottomRightCorner(l.n, l.n) = Phi;
+    CHECK((T * pm.A - pn.A * T).norm() <= 1e-9 * (pn.A * T).norm());
+    CHECK((T * pm.b - pn.b).norm() <= 1e-9 * pn.b.norm());
+  }
 }

@@ -18,6 +18,7 @@
 #include "records.hpp"
 import rocking.simulation;
 import rocking.scene;
+import rocking.errors;
 
 using namespace rocking;
 using namespace rocking::ode;
@@ -146,10 +147,10 @@ ContactModel three_nodes() {
 
 }  // namespace
 
-TEST_CASE("StiffPart: T is the Jacobian of the equations of motion at rest, and its solve is exact") {
+TEST_CASE("StiffPart: T is the Jacobian of the modal equations of motion at rest, and its solve is exact") {
   // Without gravity the rest of the equations vanishes at rest with all its
   // derivatives in u and u' (gravity's are the non-stiff terms T leaves out).
-  ContactModel m = three_nodes();
+  ContactModel m = in_modal_coordinates(three_nodes());
   m.body.g = 0;
   const Layout& l = m.layout;
   Workspace w(m);
@@ -184,6 +185,23 @@ TEST_CASE("StiffPart: T is the Jacobian of the equations of motion at rest, and 
     stiff.solve(pivot, 0.5, b, x);
     CHECK(((Eigen::MatrixXd::Identity(l.size, l.size) - 0.5 * T) * x - b).norm() < 1e-6 * b.norm());
   }
+}
+
+TEST_CASE("StiffPart refuses a flexible model in nodal coordinates, and solves nothing for a rigid block") {
+  const ContactModel nodal = three_nodes();
+  CHECK_THROWS_AS(StiffPart{nodal}, InputError);
+  Structure s;
+  s.heights = vec({4.0, 8.0});
+  s.masses = vec({2e4, 2e4});
+  s.half_width = 2.0;
+  s.base_mass = 3e4;
+  s.rigid = true;
+  const ContactModel block = make_contact_model(s, Contact{}, {}, false);
+  StiffPart stiff(block);
+  const Vec b = Vec::LinSpaced(block.layout.size, -1.0, 2.0);
+  Vec x(block.layout.size);
+  stiff.solve(1, 0.1, b, x);
+  CHECK(x == b);
 }
 
 namespace {

@@ -80,8 +80,20 @@ Eigen::Ref<const Eigen::VectorXd> u_dot_of(const ContactModel& m, Eigen::Ref<con
 
 // H'M u' (momentum moment of the elastic velocities).
 double moment_of_velocities(const ContactModel& m, Eigen::Ref<const Eigen::VectorXd> y) {
-  const Structure& st = m.body.structure;
-  return (st.heights.array() * st.masses.array() * u_dot_of(m, y).array()).sum();
+  return moment_sum(m.body, u_dot_of(m, y));
+}
+
+// The rows of the uplift guards' dot products on [q; q'] (contact.cppm).
+void set_guard_rows(ContactModel& m) {
+  if (m.layout.u < 0) return;
+  const Eigen::Index n = m.layout.n;
+  const RockingBody& b = m.body;
+  const bool modal = b.coordinates == ElasticCoordinates::modal;
+  const Structure& st = b.structure;
+  m.mass_row.setZero(2 * n);
+  m.mass_row.head(n) = modal ? Eigen::VectorXd(b.modes.mu * b.modes.r) : st.masses;
+  m.momentum_row.setZero(2 * n);
+  m.momentum_row.tail(n) = modal ? Eigen::VectorXd(b.modes.mu * b.modes.h) : st.heights.cwiseProduct(st.masses);
 }
 
 // The parts of both uplift guards that do not depend on the pivot, from one
@@ -105,12 +117,12 @@ UpliftTerms uplift_terms(const ContactModel& m, double a_g, Eigen::Ref<const Eig
       t.moment = Eigen::Map<const Row>(r0).dot(state);
       t.Mu = Eigen::Map<const Row>(r1).dot(state);
       t.momentum = Eigen::Map<const Row>(r2).dot(state);
-    } else {
-      for (long i = 0; i < 2 * m.layout.n; ++i) {
-        t.moment += r0[i] * x[i];
-        t.Mu += r1[i] * x[i];
-        t.momentum += r2[i] * x[i];
-      }
+    } else {  // Eigen's dot products: vectorised, several partial sums each
+      const long n2 = 2 * m.layout.n;
+      const Eigen::Map<const Eigen::VectorXd> state(x, n2);
+      t.moment = Eigen::Map<const Eigen::VectorXd>(r0, n2).dot(state);
+      t.Mu = Eigen::Map<const Eigen::VectorXd>(r1, n2).dot(state);
+      t.momentum = Eigen::Map<const Eigen::VectorXd>(r2, n2).dot(state);
     }
   });
   return t;
@@ -137,11 +149,9 @@ double restitution(const ContactModel& m, int s, Eigen::Ref<const Eigen::VectorX
   }
   // Eq. 9: r = L_new / L_old, L_old = J(u) th'- + H'M u' (momentum about the old pivot)
   const Structure& st = m.body.structure;
-  const Eigen::Ref<const Eigen::VectorXd> u_ref = u_of(m, y);  // named: .array() keeps a reference to it
-  const auto u = u_ref.array();
-  const auto mass = st.masses.array();
+  const Eigen::Ref<const Eigen::VectorXd> u = u_of(m, y);
   double j = pivot_inertia(st);
-  j += (mass * u * u).sum() - 2.0 * s * st.half_width * (mass * u).sum();
+  j += mass_dot(m.body, u, u) - 2.0 * s * st.half_width * mass_sum(m.body, u);
   const double hmu = moment_of_velocities(m, y);
   const double l_old = j * theta_dot + hmu;
   const double scale = std::abs(j * theta_dot) + std::abs(hmu);
@@ -196,13 +206,13 @@ ContactModel make_contact_model(const Structure& st, const Contact& contact, std
       if (a.slot >= 0) a.slot += m.layout.z;
     m.idle_slots[side(s)] = states[side(s)] < m.layout.z_count;
   }
-  if (m.layout.u >= 0) {
-    const Eigen::Index n = m.layout.n;
-    m.mass_row.setZero(2 * n);
-    m.mass_row.head(n) = st.masses;
-    m.momentum_row.setZero(2 * n);
-    m.momentum_row.tail(n) = st.heights.cwiseProduct(st.masses);
-  }
+  set_guard_rows(m);
+  return m;
+}
+
+ContactModel in_modal_coordinates(ContactModel m) {
+  m.body = in_modal_coordinates(std::move(m.body));
+  set_guard_rows(m);
   return m;
 }
 
@@ -222,6 +232,14 @@ LinearPhase full_contact_matrices(const ContactModel& m) {
   sys.first = m.layout.u;  // u_dot follows u
   sys.A = Eigen::MatrixXd::Zero(2 * n, 2 * n);
   sys.A.topRightCorner(n, n).setIdentity();
+  if (m.body.coordinates == ElasticCoordinates::modal) {  // q'' = -(k q + c q') - r a_g
+    const ModalBasis& md = m.body.modes;
+    sys.A.bottomLeftCorner(n, n).diagonal() = -md.k;
+    sys.A.bottomRightCorner(n, n).diagonal() = -md.c;
+    sys.b = Eigen::VectorXd::Zero(2 * n);
+    sys.b.tail(n) = -md.r;
+    return sys;
+  }
   sys.A.bottomLeftCorner(n, n) = minus_inverse_mass.asDiagonal() * sm.K;   // u'' = -M^-1 (K u + C u') - 1 a_g
   sys.A.bottomRightCorner(n, n) = minus_inverse_mass.asDiagonal() * sm.C;
   sys.b = Eigen::VectorXd::Zero(2 * n);
@@ -289,8 +307,12 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, const Eigen
     double input = 0, viscous = 0;
     const Coordinates q{u_of(m, y), u_dot_of(m, y), tilt, thd};
     input = ground_input_power(m.body, s == 0 ? 1 : s, a_g, q);
-    w.b.noalias() = m.body.matrices.C * q.u_dot;
-    viscous = q.u_dot.dot(w.b);
+    if (m.body.coordinates == ElasticCoordinates::modal) {
+      viscous = viscous_power(m.body, q.u_dot);
+    } else {
+      w.b.noalias() = m.body.matrices.C * q.u_dot;
+      viscous = q.u_dot.dot(w.b);
+    }
     dydt[l.energy] = input;
     dydt[l.energy + 1] = viscous;
     dydt[l.energy + 2] = damper_power;
@@ -405,7 +427,7 @@ ImpactResult impact(const ContactModel& m, Discrete& d, Eigen::Ref<Eigen::Vector
   save_states(m, d, s, y);  // the stretched devices keep their z for their next cycle
   y[l.theta] = 0.0;
   // L_new = (J_p - 2 (1'M1 + m0) B^2 + u'Mu) th'- + H'M u' (momentum about the new pivot)
-  const double uMu = (st.masses.array() * u_of(m, y).array().square()).sum();
+  const double uMu = mass_norm(m.body, u_of(m, y));
   const double l_new = (pivot_inertia(st) - 2.0 * total_mass(st) * B * B + uMu) * theta_dot +
                        moment_of_velocities(m, y);
   ImpactResult out;
@@ -416,16 +438,23 @@ ImpactResult impact(const ContactModel& m, Discrete& d, Eigen::Ref<Eigen::Vector
     d.pivot = d.last_pivot = -s;
     load_states(m, d, -s, y);
   } else {
-    if (l.u >= 0) y.segment(l.u_dot, l.n) += st.heights * theta_dot;
+    if (l.u >= 0) y.segment(l.u_dot, l.n) += heights_in_coordinates(m.body) * theta_dot;
     y[l.theta_dot] = 0.0;
     d.pivot = 0;
   }
   return out;
 }
 
+double mechanical_energy(const ContactModel& m, int s, Eigen::Ref<const Eigen::VectorXd> y) {
+  const Coordinates q{u_of(m, y), u_dot_of(m, y), Tilt(theta_of(m, y)), theta_dot_of(m, y)};
+  return mechanical_energy(m.body, s, q);
+}
+
 void view(const ContactModel& m, Eigen::Ref<const Eigen::VectorXd> y, StateView& out) {
-  out.u = u_of(m, y);
-  out.u_dot = u_dot_of(m, y);
+  out.u.resize(m.zero_motion.size());
+  out.u_dot.resize(m.zero_motion.size());
+  to_nodal(m.body, u_of(m, y), out.u);
+  to_nodal(m.body, u_dot_of(m, y), out.u_dot);
   out.theta = theta_of(m, y);
   out.theta_dot = theta_dot_of(m, y);
 }

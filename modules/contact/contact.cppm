@@ -49,6 +49,8 @@ struct Contact {
 enum class ModelKind { rigid_block, fixed_base, flexible };
 
 // Where each coordinate sits in the ODE state; -1 when the model lacks it.
+// u and u_dot hold the elastic coordinates in the body's coordinates: the
+// nodal displacements, or the fixed-base modes' amplitudes (rocking.dynamics).
 struct Layout {
   Eigen::Index n = 0;  // elastic coordinates (N, or 0 for a rigid block)
   Eigen::Index u = -1, u_dot = -1, theta = -1, theta_dot = -1;
@@ -98,6 +100,9 @@ struct ContactModel {
 // InputError for an anchor off the base or too many devices with a state.
 ContactModel make_contact_model(const Structure& structure, const Contact& contact, std::vector<Device> devices,
                                 bool track_energy);
+// The same model with the fixed-base modes as its elastic coordinates: every
+// right-hand side, guard and stiff solve then costs O(N) (rocking.dynamics).
+ContactModel in_modal_coordinates(ContactModel m);
 
 // At most this many devices with an internal state (the discrete state is a
 // fixed array, so that events allocate nothing).
@@ -150,36 +155,30 @@ struct LinearPhase {
 LinearPhase full_contact_matrices(const ContactModel& m);
 
 // The stiff part of each phase's equations, for a linearly implicit
-// integrator (ode::LinearSolve): the elastic forces f = K u + C u' with the
-// inertia of the phase frozen at u = 0 (stiff.cpp). In full contact
-// u'' = -M^-1 f; rocking about either pivot, u'' = -P f and
-// th'' = H'f / D0 with P = M^-1 + H H' / D0, D0 = m0 B^2 + B^2 1'M1 (MODEL.md 4
-// at u = 0, the same for both pivots). T holds these rows and nothing else;
-// solve() gives x = (I - g T)^-1 b on the whole state in O(N^2): with Rayleigh
-// damping C = a0 M + a1 K the velocity block is
-//   [(1 + g a0) I + g a0 H (MH)'/D0 + (g a1 + g^2) P K] x_v = b_v - g P K b_u,
-// which the eigenvectors of P K (K psi = lambda P^-1 psi, computed once per
-// model) diagonalise but for a rank-one term (Sherman-Morrison), and
-// x_u = b_u + g x_v. A rigid block has no stiff part (x = b).
+// integrator (ode::LinearSolve), on a model in modal coordinates: the elastic
+// forces f = k q + c q' (per unit modal mass) with the inertia of the phase
+// frozen at u = 0. In full contact q'' = -f; rocking about either pivot,
+// q'' = -P f and th'' = a h'f with P = I + a h h', a = mu / D0,
+// D0 = m0 B^2 + B^2 1'M1 (MODEL.md 4 at u = 0, the same for both pivots). T
+// holds these rows and nothing else; solve() gives x = (I - g T)^-1 b on the
+// whole state in O(N): the velocity block
+//   (I + P D) x_v = b_v - g P (k b_u),  D = g c + g^2 k (diagonal),
+// is a diagonal plus a rank-one term (Sherman-Morrison), x_u = b_u + g x_v
+// and x_th' = b_th' + g a h'(k x_u + c x_v). A rigid block has no stiff part
+// (x = b). InputError for a flexible model in nodal coordinates.
 class StiffPart {
  public:
   explicit StiffPart(const ContactModel& m);
   void solve(int pivot, double g, Eigen::Ref<const Eigen::VectorXd> b, Eigen::Ref<Eigen::VectorXd> x);
 
  private:
-  struct Phase {
-    Eigen::MatrixXd Psi, Q;        // eigenvectors of P K, and Psi^-1 = Psi' P^-1
-    Eigen::VectorXd lambda;        // eigenvalues of P K
-    Eigen::VectorXd QH, theta_row; // Q H; P^-1 H / D0 (th' row of the solve)
-    double inverse_D0 = 0;         // 0 in full contact (P = M^-1)
-    double cached_g = -1;
-    Eigen::VectorXd d, z;          // at cached_g: 1 / ((1 + g a0) + (g a1 + g^2) lambda), the rank-one solve
-  };
-  void prepare(Phase& p, double g);
+  void prepare(double g);
 
   const ContactModel* m_;
-  Phase full_, rocking_;
-  Eigen::VectorXd work_, modal_;
+  double a_ = 0;                // mu / D0
+  double cached_g_ = -1;
+  Eigen::VectorXd e_, z_, Dh_;  // at cached_g_: 1 / (1 + D), e_ h and D h, D = g c + g^2 k
+  double hDz_ = 0;              // at cached_g_: (D h)' z_
 };
 
 // The elongation and force of the first device the current pivot stretches
@@ -239,7 +238,10 @@ struct ImpactResult {
 };
 ImpactResult impact(const ContactModel& m, Discrete& d, Eigen::Ref<Eigen::VectorXd> y);
 
-// Coordinates (u, u', theta, theta') of a state, zeros where the model has none.
+// Kinetic + gravity + elastic energy of a state about pivot s (any when theta = 0) [J].
+double mechanical_energy(const ContactModel& m, int s, Eigen::Ref<const Eigen::VectorXd> y);
+
+// Coordinates (u, u', theta, theta') of a state, nodal, zeros where the model has none.
 struct StateView {
   Eigen::VectorXd u, u_dot;
   double theta = 0, theta_dot = 0;

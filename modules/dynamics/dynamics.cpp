@@ -87,6 +87,35 @@ double rocking_acceleration_n(const RockingBody& b, int s, double a_g, double de
   return th_ddot;
 }
 
+// The rocking right-hand side in modal coordinates (see dynamics.cppm): the
+// same terms as rocking_acceleration_n, each a diagonal or a dot product
+// (Eigen's, vectorised with several partial sums: a plain loop's sum is one
+// chain of dependent additions).
+double rocking_acceleration_modal(const RockingBody& b, int s, double a_g, double device_moment,
+                                  const Coordinates& q, Eigen::Ref<Eigen::VectorXd> acc) {
+  const ModalBasis& md = b.modes;
+  const auto& x = q.u;
+  const auto& v = q.u_dot;
+  const double B = b.structure.half_width, g = b.g, thd = q.theta_dot, mu = md.mu;
+  const double cs = q.tilt.cos(), sn = q.tilt.sin();
+  const double per_mass = -a_g * cs + g * sn, spin = s * thd * thd;
+  const double rx = md.r.dot(x), rv = md.r.dot(v), xx = x.squaredNorm(), xv = x.dot(v), hx = md.h.dot(x);
+  const double hf = md.hk.dot(x) + md.hc.dot(v);  // h'(k q + c q')
+  const double Mw = mu * (B - s * rx);             // 1'M w
+  const double wMw = mu * (B * B - 2.0 * s * B * rx + xx);
+  const double wMu_dot = mu * (B * rv - s * xv);
+  const double HMw = B * b.HM1 - s * mu * hx;
+  const double rhs_th = 2.0 * s * wMu_dot * thd - s * device_moment
+                        - a_g * (b.HM1 * cs + s * (Mw + b.base_moment) * sn)
+                        - g * (-b.HM1 * sn + s * (Mw + b.base_moment) * cs);
+  const double H_rhs_u = -mu * hf + b.HM1 * per_mass - spin * HMw;
+  const double th_ddot = (rhs_th - H_rhs_u) / (b.base_inertia + wMw);
+  // rhs_u / mu in the modes, less h th''
+  acc.array() = -(md.k.array() * x.array() + md.c.array() * v.array()) + (per_mass - spin * B) * md.r.array() +
+                (spin * s) * x.array() - th_ddot * md.h.array();
+  return th_ddot;
+}
+
 }  // namespace
 
 RockingBody make_body(const Structure& s, double g) {
@@ -113,8 +142,74 @@ RockingBody make_body(const Structure& s, double g) {
   return b;
 }
 
+RockingBody in_modal_coordinates(RockingBody b) {
+  if (b.structure.rigid || b.coordinates == ElasticCoordinates::modal) return b;
+  const Structure& st = b.structure;
+  const StructuralMatrices& sm = b.matrices;
+  ModalBasis& md = b.modes;
+  md.mu = st.masses.sum();
+  md.Phi = sm.fixed_base.shapes * std::sqrt(md.mu);  // shapes' M shapes = I
+  md.inverse = md.Phi.transpose() * st.masses.asDiagonal() / md.mu;
+  md.k = sm.fixed_base.omega.array().square().matrix();
+  md.c = (sm.rayleigh.a0 + sm.rayleigh.a1 * md.k.array()).matrix();
+  md.r = md.inverse * Eigen::VectorXd::Ones(st.masses.size());
+  md.h = md.inverse * st.heights;
+  md.hk = md.h.cwiseProduct(md.k);
+  md.hc = md.h.cwiseProduct(md.c);
+  const Eigen::Index n = st.masses.size();
+  b.moment_row.resize(2 * n);  // H'(K u + C u') = mu h'(k q + c q')
+  b.moment_row << md.mu * md.h.cwiseProduct(md.k), md.mu * md.h.cwiseProduct(md.c);
+  b.coordinates = ElasticCoordinates::modal;
+  return b;
+}
+
+double mass_sum(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> x) {
+  if (b.coordinates == ElasticCoordinates::modal) return b.modes.mu * b.modes.r.dot(x);
+  return (b.structure.masses.array() * x.array()).sum();
+}
+
+double mass_dot(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> x, Eigen::Ref<const Eigen::VectorXd> y) {
+  if (b.coordinates == ElasticCoordinates::modal) return b.modes.mu * x.dot(y);
+  return (b.structure.masses.array() * x.array() * y.array()).sum();
+}
+
+double mass_norm(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> x) {
+  if (b.coordinates == ElasticCoordinates::modal) return b.modes.mu * x.squaredNorm();
+  return (b.structure.masses.array() * x.array().square()).sum();
+}
+
+double moment_sum(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> x) {
+  if (b.coordinates == ElasticCoordinates::modal) return b.modes.mu * b.modes.h.dot(x);
+  return (b.structure.heights.array() * b.structure.masses.array() * x.array()).sum();
+}
+
+const Eigen::VectorXd& heights_in_coordinates(const RockingBody& b) {
+  return b.coordinates == ElasticCoordinates::modal ? b.modes.h : b.structure.heights;
+}
+
+double viscous_power(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> v) {
+  if (b.coordinates == ElasticCoordinates::modal)
+    return b.modes.mu * (b.modes.c.array() * v.array().square()).sum();
+  return v.dot(b.matrices.C * v);
+}
+
+void to_nodal(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> q, Eigen::Ref<Eigen::VectorXd> u) {
+  if (b.coordinates == ElasticCoordinates::modal) u.noalias() = b.modes.Phi * q;
+  else u = q;
+}
+
+void from_nodal(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> u, Eigen::Ref<Eigen::VectorXd> q) {
+  if (b.coordinates == ElasticCoordinates::modal) q.noalias() = b.modes.inverse * u;
+  else q = u;
+}
+
 void full_contact_acceleration(const RockingBody& b, double a_g, Eigen::Ref<const Eigen::VectorXd> u,
                                Eigen::Ref<const Eigen::VectorXd> u_dot, Eigen::Ref<Eigen::VectorXd> u_ddot) {
+  if (b.coordinates == ElasticCoordinates::modal) {
+    const ModalBasis& md = b.modes;
+    u_ddot = -(md.k.cwiseProduct(u) + md.c.cwiseProduct(u_dot)) - a_g * md.r;
+    return;
+  }
   with_static_size(u.size(), [&](auto size) {
     constexpr int S = decltype(size)::value;
     const long n = static_or<S>(u.size());
@@ -129,6 +224,8 @@ void full_contact_acceleration(const RockingBody& b, double a_g, Eigen::Ref<cons
 // every rocking step.
 double rocking_acceleration(const RockingBody& b, int s, double a_g, double device_moment, const Coordinates& q,
                             Eigen::Ref<Eigen::VectorXd> u_ddot) {
+  if (b.coordinates == ElasticCoordinates::modal)
+    return rocking_acceleration_modal(b, s, a_g, device_moment, q, u_ddot);
   double th_ddot = 0;
   with_static_size(q.u.size(), [&](auto size) {
     th_ddot = rocking_acceleration_n<decltype(size)::value>(b, s, a_g, device_moment, q, u_ddot.data());
@@ -147,6 +244,11 @@ double rigid_rocking_acceleration(const RockingBody& b, int s, double a_g, doubl
 
 double ground_input_power(const RockingBody& b, int s, double a_g, const Coordinates& q) {
   const Structure& st = b.structure;
+  if (b.coordinates == ElasticCoordinates::modal) {
+    const double B = st.half_width, c = q.tilt.cos(), sn = q.tilt.sin();
+    const double Mw = B * b.modes.mu - s * mass_sum(b, q.u);
+    return -a_g * c * mass_sum(b, q.u_dot) - a_g * (b.HM1 * c + s * (Mw + b.base_moment) * sn) * q.theta_dot;
+  }
   const auto& m = st.masses.array();
   const double B = st.half_width, c = q.tilt.cos(), sn = q.tilt.sin();
   const double Mw = (m * (B - s * q.u.array())).sum();
@@ -157,6 +259,16 @@ double ground_input_power(const RockingBody& b, int s, double a_g, const Coordin
 
 double mechanical_energy(const RockingBody& b, int s, const Coordinates& q) {
   const Structure& st = b.structure;
+  if (b.coordinates == ElasticCoordinates::modal) {
+    const double B = st.half_width, thd = q.theta_dot, c = q.tilt.cos(), sn = q.tilt.sin();
+    const double Mu = mass_sum(b, q.u);
+    const double J = pivot_inertia(st) - 2.0 * s * B * Mu + mass_dot(b, q.u, q.u);
+    const double kinetic = 0.5 * mass_dot(b, q.u_dot, q.u_dot) + 0.5 * J * thd * thd + thd * moment_sum(b, q.u_dot);
+    const double Mw = B * b.modes.mu - s * Mu;
+    const double gravity = b.g * (s * Mw * sn + b.HM1 * (c - 1.0) + st.base_mass * s * B * sn);
+    const double elastic = 0.5 * b.modes.mu * (b.modes.k.array() * q.u.array().square()).sum();
+    return kinetic + gravity + elastic;
+  }
   const auto& m = st.masses.array();
   const double B = st.half_width, thd = q.theta_dot;
   const double c = q.tilt.cos(), sn = q.tilt.sin();

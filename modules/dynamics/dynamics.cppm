@@ -11,6 +11,15 @@
 // the paper's edge damper D = F_hd 2B cos(th/2).
 // A rigid block (Structure::rigid) has u = 0 throughout (its K and C are
 // zero): J_p th'' = rhs_th(u = 0), the constrained equation, not the free one.
+// The elastic coordinates q of a state are the nodal displacements (q = u) or
+// the amplitudes of the fixed-base modes (u = Phi q, Phi'M Phi = mu I with mu
+// = 1'M1, so that q is in metres; Chopra, Dynamics of Structures, ch. 12). The
+// equations keep their form in either; projected on the modes (with
+// Rayleigh damping, which the modes diagonalise) every term is a diagonal or a
+// dot product with a fixed vector:
+//   M u -> mu q, 1'M u -> mu r'q, H'M u -> mu h'q, K u + C u' -> mu (k q + c q'),
+// r = Phi^-1 1, h = Phi^-1 H, k = omega^2, c = a0 + a1 omega^2, so that a
+// right-hand side costs O(N) instead of a pass over K (O(N^2)).
 // mechanical_energy is kinetic + gravity (from rest) + elastic, and
 // ground_input_power the power of the a_g terms on (u', th'), for the energy
 // bookkeeping of MODEL.md 7: dE/dt = P_ground - u'Cu' - sum_k F_k e_k'. SI units.
@@ -21,6 +30,17 @@ export import rocking.geometry;
 export import rocking.beam;
 
 export namespace rocking {
+
+enum class ElasticCoordinates { nodal, modal };
+
+// The fixed-base modes as coordinates (see the top of this file).
+struct ModalBasis {
+  double mu = 0;                // 1'M1, the mass of each mode [kg]
+  Eigen::MatrixXd Phi, inverse; // u = Phi q, q = Phi^-1 u = Phi'M u / mu
+  Eigen::VectorXd k, c;         // omega^2 [1/s^2], a0 + a1 omega^2 [1/s]
+  Eigen::VectorXd r, h;         // Phi^-1 1 [-], Phi^-1 H [m]
+  Eigen::VectorXd hk, hc;       // h k, h c (H'(K u + C u') = mu (hk'q + hc'q'))
+};
 
 // Constant data the equations need, built once.
 struct RockingBody {
@@ -33,11 +53,32 @@ struct RockingBody {
   // [u; u']; empty for a rigid block).
   double HM1 = 0, total_mass = 0, base_inertia = 0, base_moment = 0;
   Eigen::VectorXd inverse_masses, moment_row;
+  // The state's elastic coordinates; moment_row is on [q; q'].
+  ElasticCoordinates coordinates = ElasticCoordinates::nodal;
+  ModalBasis modes;  // filled when modal
 };
 RockingBody make_body(const Structure& s, double g = gravity);
+// The same body with the fixed-base modes as its elastic coordinates (a
+// flexible body; a rigid block is returned as it is).
+RockingBody in_modal_coordinates(RockingBody b);
 
-// The elastic and rocking coordinates of a state, by reference (the tilt
-// carries theta with its half-angle sine and cosine).
+// Sums over the nodes of elastic coordinates x, y in the body's coordinates:
+// 1'M u, u'M v, u'M u and H'M u [kg m, kg m^2, kg m^2, kg m^2].
+double mass_sum(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> x);
+double mass_dot(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> x, Eigen::Ref<const Eigen::VectorXd> y);
+double mass_norm(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> x);
+double moment_sum(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> x);
+// H and 1 in the body's coordinates (the velocity jump H th' of an impact,
+// the influence of a_g): the heights and ones, or h and r.
+const Eigen::VectorXd& heights_in_coordinates(const RockingBody& b);
+// u'C u' [W] for elastic velocities in the body's coordinates.
+double viscous_power(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> v);
+// Nodal displacements from elastic coordinates, and back.
+void to_nodal(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> q, Eigen::Ref<Eigen::VectorXd> u);
+void from_nodal(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> u, Eigen::Ref<Eigen::VectorXd> q);
+
+// The elastic (in the body's coordinates) and rocking coordinates of a
+// state, by reference (the tilt carries theta with its half-angle sine and cosine).
 struct Coordinates {
   Eigen::Ref<const Eigen::VectorXd> u, u_dot;
   Tilt tilt;

@@ -164,7 +164,10 @@ class RosenbrockW final : public detail::Adaptive<RosenbrockW> {
       err_ += tb.error[j] * u_[j];
     }
     if (!y_new_.allFinite() || !err_.allFinite()) return std::numeric_limits<double>::quiet_NaN();
-    return weighted_rms(err_, y_, y_new_);
+    // weighted_rms as one vectorised expression
+    const long nc = controlled();
+    const auto scale = opt_.atol + opt_.rtol * y_.head(nc).cwiseAbs().cwiseMax(y_new_.head(nc).cwiseAbs()).array();
+    return std::sqrt((err_.head(nc).array() / scale).square().sum() / static_cast<double>(nc));
   }
 
   void accept(double h, double t_new) {

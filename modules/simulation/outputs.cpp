@@ -86,6 +86,10 @@ OutputScales output_scales(const ContactModel& m) {
     w.row(2) = above.matrix().transpose() / sc.V_ref;
     w.row(3) = (above * (st.heights.array() - mid)).matrix().transpose() / sc.M_ref;
     sc.force_rows = w * m.body.matrices.K;
+    if (m.body.coordinates == ElasticCoordinates::modal) {
+      sc.force_rows = sc.force_rows * m.body.modes.Phi;
+      sc.top_row = m.body.modes.Phi.row(n - 1);
+    }
   }
   return sc;
 }
@@ -99,7 +103,7 @@ Response evaluate(const ContactModel& m, const OutputScales& sc, const Discrete&
   r.pivot = d.pivot;
   const Tilt tilt(l.theta < 0 ? 0.0 : y[l.theta]);
   const double th = tilt.theta, s = th > 0 ? 1.0 : th < 0 ? -1.0 : 0.0;
-  r.u_top = l.u < 0 ? 0.0 : y[l.u + l.n - 1];
+  r.u_top = l.u < 0 ? 0.0 : sc.top_row.size() == 0 ? y[l.u + l.n - 1] : sc.top_row.dot(y.segment(l.u, l.n));
   const double c = tilt.cos(), H = sc.H_N, B = st.half_width;
   const double one_minus_c = 2.0 * tilt.sin_half * tilt.sin_half;  // 1 - cos theta without cancellation
   auto set = [&](Quantity k, double v) { r.q[static_cast<std::size_t>(k)] = v; };
@@ -112,7 +116,9 @@ Response evaluate(const ContactModel& m, const OutputScales& sc, const Discrete&
   set(Quantity::damper_F, d.pivot * damper.force);
   if (sc.has_forces) {
     Eigen::Vector4d f = Eigen::Vector4d::Zero();  // a column at a time: N is a handful
-    for (Eigen::Index j = 0; j < l.n; ++j) f += sc.force_rows.col(j) * y[l.u + j];
+    if (l.n > 16) f.noalias() = sc.force_rows * y.segment(l.u, l.n);
+    else
+      for (Eigen::Index j = 0; j < l.n; ++j) f += sc.force_rows.col(j) * y[l.u + j];
     set(Quantity::base_shear, f[0]);
     set(Quantity::base_moment, f[1]);
     set(Quantity::mid_shear, f[2]);

@@ -68,11 +68,23 @@ double shortest_period(const ContactModel& m) {
   return 2 * std::numbers::pi / (fastest > 0 ? fastest : omega.maxCoeff());
 }
 
+// The model in the elastic coordinates the run integrates in (RunOptions::
+// coordinates): a modal copy when the model is nodal and the run wants the
+// modes; null when the model serves as it is.
+std::unique_ptr<const ContactModel> recast(const ContactModel& m, const GroundMotion& ground, const RunOptions& o) {
+  if (m.layout.u < 0 || m.body.coordinates == ElasticCoordinates::modal) return nullptr;
+  const bool modal = choose_backend(m, ground, o.backend) == ode::Backend::rosw ||
+                     o.coordinates.value_or(ElasticCoordinates::nodal) == ElasticCoordinates::modal;
+  if (!modal) return nullptr;
+  return std::make_unique<const ContactModel>(in_modal_coordinates(m));
+}
+
 class Driver {
  public:
-  Driver(const ContactModel& m, const GroundMotion& ground, const RunOptions& o, Observer* observer)
-      : m_(m), ground_(ground), opt_(o), observer_(observer), scales_(output_scales(m)), work_(m),
-        y_(Eigen::VectorXd::Zero(m.layout.size)), dense_(m.layout.size) {
+  Driver(const ContactModel& given, const GroundMotion& ground, const RunOptions& o, Observer* observer)
+      : own_(recast(given, ground, o)), m_(own_ ? *own_ : given), ground_(ground), opt_(o), observer_(observer),
+        scales_(output_scales(m_)), work_(m_),
+        y_(Eigen::VectorXd::Zero(m_.layout.size)), dense_(m_.layout.size) {
     // The parameters bind to the std::function's own arguments: no Ref is copied per call.
     auto rhs = [this](double t, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& dydt) {
       phase_rhs(m_, d_, ground_.acceleration(t), y, dydt, work_);
@@ -81,21 +93,21 @@ class Driver {
     tolerances.max_step = std::min(tolerances.max_step, ground.max_step());
     // The per-device work accumulators (the tail of the state) are sums that
     // nothing depends on: they do not steer the steps.
-    if (m.layout.energy >= 0) tolerances.error_components = m.layout.size - (m.layout.energy_count - 3);
+    if (m_.layout.energy >= 0) tolerances.error_components = m_.layout.size - (m_.layout.energy_count - 3);
     // Guards and peaks sampled 8 times in the shortest period of a mode that
     // oscillates (the exact steps below do the same), not more densely when
     // steps are short.
-    if (m.layout.u >= 0) tolerances.sample_spacing = shortest_period(m) / 8;
+    if (m_.layout.u >= 0) tolerances.sample_spacing = shortest_period(m_) / 8;
     // rosw solves with the stiff elastic part of the current phase.
-    const ode::Backend backend = choose_backend(m, ground, o.backend);
+    const ode::Backend backend = choose_backend(m_, ground, o.backend);
     ode::LinearSolve stiff;
-    if (backend == ode::Backend::rosw && m.layout.u >= 0) {
-      stiff_ = std::make_unique<StiffPart>(m);
+    if (backend == ode::Backend::rosw && m_.layout.u >= 0) {
+      stiff_ = std::make_unique<StiffPart>(m_);
       stiff = [this](double g, Eigen::Ref<const Eigen::VectorXd> b, Eigen::Ref<Eigen::VectorXd> x) {
         stiff_->solve(d_.pivot, g, b, x);
       };
     }
-    integrator_ = ode::make_integrator(backend, m.layout.size, rhs, tolerances, std::move(stiff));
+    integrator_ = ode::make_integrator(backend, m_.layout.size, rhs, tolerances, std::move(stiff));
     t_end_ = o.duration > 0 ? o.duration : ground.duration();
     // The record's samples, computed when asked: a run holds no list of them.
     const ode::NextBreakpoint next_sample = [this](double t) { return ground_.next_breakpoint(t); };
@@ -103,14 +115,14 @@ class Driver {
     // not bound by the highest modes, and it then costs less than the exact
     // steps, which sample every oscillating period (`rocking tradeoff --scenes`).
     const bool auto_rosw = o.backend == ode::Backend::automatic && backend == ode::Backend::rosw;
-    if (o.exact_full_contact && !auto_rosw && m.layout.u >= 0 && m.layout.energy < 0 && ground.piecewise_linear()) {
+    if (o.exact_full_contact && !auto_rosw && m_.layout.u >= 0 && m_.layout.energy < 0 && ground.piecewise_linear()) {
       ode::Options exact;
       // Steps from sample to sample of the record (up to 16 spacings), with
       // guards and peaks sampled 8 times in the shortest oscillating period.
       exact.sample_spacing = tolerances.sample_spacing;
       exact.max_steps = tolerances.max_steps;
-      LinearPhase phase = full_contact_matrices(m);
-      ode::LinearSystem system{m.layout.size, phase.first, std::move(phase.A), std::move(phase.b),
+      LinearPhase phase = full_contact_matrices(m_);
+      ode::LinearSystem system{m_.layout.size, phase.first, std::move(phase.A), std::move(phase.b),
                                [this](double t) { return ground_.acceleration(t); }};
       exact_ = ode::make_exact_linear(std::move(system), exact);
       exact_->set_breakpoints(next_sample);
@@ -154,7 +166,7 @@ class Driver {
       if (v->size() == 0) continue;
       if (at < 0 || v->size() != l.n)
         throw InputError(fmt::format("initial {}: {} entries for a model with {} elastic coordinates", what, v->size(), l.n));
-      y_.segment(at, l.n) = *v;
+      from_nodal(m_.body, *v, y_.segment(at, l.n));
     }
     if (init.theta == 0 && init.theta_dot == 0) return;
     if (m_.kind == ModelKind::fixed_base)
@@ -165,11 +177,7 @@ class Driver {
     y_[l.theta_dot] = init.theta_dot;
   }
 
-  double mechanical() {
-    view(m_, y_, state_view_);
-    const Coordinates q{state_view_.u, state_view_.u_dot, state_view_.theta, state_view_.theta_dot};
-    return mechanical_energy(m_.body, d_.pivot == 0 ? 1 : d_.pivot, q);
-  }
+  double mechanical() { return mechanical_energy(m_, d_.pivot == 0 ? 1 : d_.pivot, y_); }
 
   // Full contact has begun at time t (start, or an impact): lift now if both
   // uplift conditions already hold (MODEL.md 6).
@@ -316,8 +324,15 @@ class Driver {
   }
 
   void pass_displacements(Eigen::Ref<const Eigen::VectorXd> y) {
-    if (m_.layout.u >= 0) observer_->displacements(y.segment(m_.layout.u, m_.layout.n));
-    else observer_->displacements(y.head(0));
+    if (m_.layout.u < 0) {
+      observer_->displacements(y.head(0));
+    } else if (m_.body.coordinates == ElasticCoordinates::nodal) {
+      observer_->displacements(y.segment(m_.layout.u, m_.layout.n));
+    } else {
+      nodal_.resize(m_.layout.n);
+      to_nodal(m_.body, y.segment(m_.layout.u, m_.layout.n), nodal_);
+      observer_->displacements(nodal_);
+    }
   }
 
   // Without an accumulator per device (no pivot stretches two), the work on
@@ -339,6 +354,11 @@ class Driver {
     result_.final_pivot = d_.pivot;
     result_.final_theta = m_.layout.theta >= 0 ? y_[m_.layout.theta] : 0.0;
     result_.final_state = y_;
+    const Layout& l = m_.layout;
+    if (l.u >= 0 && m_.body.coordinates == ElasticCoordinates::modal) {
+      to_nodal(m_.body, y_.segment(l.u, l.n), result_.final_state.segment(l.u, l.n));
+      to_nodal(m_.body, y_.segment(l.u_dot, l.n), result_.final_state.segment(l.u_dot, l.n));
+    }
     result_.peaks = peaks_.peaks();
     result_.top_total_mm = result_.peak(Quantity::delta_t) * scales_.H_N * 1000.0;
     result_.stats = integrator_->stats();
@@ -360,6 +380,7 @@ class Driver {
     }
   }
 
+  std::unique_ptr<const ContactModel> own_;  // the model in other coordinates (recast)
   const ContactModel& m_;
   const GroundMotion& ground_;
   const RunOptions& opt_;
@@ -367,8 +388,7 @@ class Driver {
   OutputScales scales_;
   Workspace work_;
   Discrete d_;
-  Eigen::VectorXd y_, dense_;
-  StateView state_view_;
+  Eigen::VectorXd y_, dense_, nodal_;
   std::vector<DeviceSample> samples_;
   std::unique_ptr<StiffPart> stiff_;                     // rosw's linear solves
   std::unique_ptr<ode::Integrator> integrator_, exact_;  // the backend; full contact under a record

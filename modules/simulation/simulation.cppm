@@ -25,6 +25,7 @@ module;
 #include <array>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -104,6 +105,11 @@ struct RunOptions {
   // rosw (choose_backend).
   bool exact_full_contact = true;
   long max_events = 100000;      // more phase changes than this: the run fails (chattering)
+  // The elastic coordinates of the integrated state (rocking.dynamics): by
+  // default the fixed-base modes under rosw (its O(N) linear solve needs
+  // them) and the model's own (nodal) otherwise. Modal makes every
+  // right-hand side O(N) for any backend; rosw always runs modal.
+  std::optional<ElasticCoordinates> coordinates;
   // Polled between steps: true ends the run as failed ("stopped at t = ..."),
   // with everything reached so far kept (a Ctrl-C on a long run).
   std::function<bool()> stop;
@@ -159,7 +165,7 @@ struct RunResult {
   std::string integrator;
   bool exact_full_contact = false;  // full contact was stepped exactly (stats add both)
   double wall_s = 0;
-  Eigen::VectorXd final_state;
+  Eigen::VectorXd final_state;     // the state at t_end, elastic coordinates nodal
   double peak(Quantity k) const { return peaks[static_cast<std::size_t>(k)]; }
 };
 
@@ -169,8 +175,10 @@ struct OutputScales {
   double inverse_H_N = 0, inverse_alpha_cg = 0;  // multiplied, not divided, at every sample
   bool has_forces = true;
   // Rows giving (base shear / V_ref, base moment / M_ref, mid shear / V_ref,
-  // mid moment / M_ref) from u: sums of the elastic nodal forces K u.
+  // mid moment / M_ref) from the elastic coordinates: sums of the elastic
+  // nodal forces K u.
   Eigen::Matrix<double, 4, Eigen::Dynamic> force_rows;
+  Eigen::RowVectorXd top_row;  // u_N from modal coordinates; empty when nodal (u_N is the last)
 };
 OutputScales output_scales(const ContactModel& m);
 Response evaluate(const ContactModel& m, const OutputScales& sc, const Discrete& d, double t,
