@@ -4,6 +4,7 @@ module;
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <variant>
 #include <vector>
 #include <fmt/format.h>
 module rocking.contact;
@@ -51,7 +52,7 @@ struct ActingNow {
   double e_dot = 0, z = 0, F = 0;
 };
 inline ActingNow acting_now(const ContactModel::Acting& a, const Discrete& d, double half_width, int s,
-                            const Tilt& tilt, double thd, Eigen::Ref<const Eigen::VectorXd> y) {
+                            const Tilt& tilt, double thd, const double* y) {
   ActingNow n;
   n.st = stretch(a.geometry, half_width, s, tilt);
   if (d.broken != 0 && d.is_broken(a.device)) return n;
@@ -59,6 +60,58 @@ inline ActingNow acting_now(const ContactModel::Acting& a, const Discrete& d, do
   n.z = a.slot >= 0 ? y[a.slot] : 0.0;
   n.F = law_force(a.law, n.st.e, n.e_dot, n.z);
   return n;
+}
+
+// The device terms of the right-hand side for a pivot that stretches one
+// device of law Law and chord (or vertical) kinematics: the general loop's
+// arithmetic, with the dispatch on law and kinematics done when the model is
+// built (single_device_for).
+template <class Law, bool Chord>
+ContactModel::DeviceTerms single_device(const ContactModel::Acting& a, const Discrete& d, double half_width, int s,
+                                        const Tilt& tilt, double thd, const double* y, double* dydt) {
+  if (d.broken != 0 && d.is_broken(a.device)) {
+    if constexpr (Law::states > 0) dydt[a.slot] = 0.0;
+    return {};
+  }
+  const Law& law = *std::get_if<Law>(&a.law);
+  double e = 0, de = 0;
+  if constexpr (Chord) {  // stretch() of a chord device, with its lever arm l = a.lever
+    e = 2.0 * a.lever * std::abs(tilt.sin_half);
+    de = a.lever * tilt.cos_half;
+  } else {
+    const Stretch st = stretch(a.geometry, half_width, s, tilt);
+    e = st.e;
+    de = st.de_dtheta;
+  }
+  const double e_dot = de * s * thd;
+  const double z = Law::states > 0 ? y[a.slot] : 0.0;  // a law with a state has a slot
+  const double F = law.force(e, e_dot, z);
+  if constexpr (Law::states > 0) dydt[a.slot] = law.rate(e, e_dot, z);
+  return {Chord ? F * a.lever * tilt.cos_half : F * de, F * e_dot};
+}
+
+// Its elongation and force (acting_now's, with the same dispatch done once).
+template <class Law, bool Chord>
+DamperState single_state(const ContactModel::Acting& a, const Discrete& d, double half_width, int s, const Tilt& tilt,
+                         double thd, const double* y) {
+  const Stretch st = Chord ? Stretch{2.0 * a.lever * std::abs(tilt.sin_half), a.lever * tilt.cos_half}
+                           : stretch(a.geometry, half_width, s, tilt);
+  if (d.broken != 0 && d.is_broken(a.device)) return {st.e, 0.0};
+  const double e_dot = st.de_dtheta * s * thd;
+  return {st.e, std::get_if<Law>(&a.law)->force(st.e, e_dot, Law::states > 0 ? y[a.slot] : 0.0)};
+}
+
+// Both kernels for a device, by its law and kinematics.
+template <std::size_t I = 0>
+void choose_single(const ContactModel::Acting& a, ContactModel::SingleDevice& terms,
+                   ContactModel::SingleState& state) {
+  if constexpr (I < std::variant_size_v<DeviceLaw>) {
+    using Law = std::variant_alternative_t<I, DeviceLaw>;
+    if (a.law.index() != I) return choose_single<I + 1>(a, terms, state);
+    const bool chord = a.geometry.kinematics == Kinematics::chord;
+    terms = chord ? &single_device<Law, true> : &single_device<Law, false>;
+    state = chord ? &single_state<Law, true> : &single_state<Law, false>;
+  }
 }
 
 double theta_of(const ContactModel& m, Eigen::Ref<const Eigen::VectorXd> y) {
@@ -205,6 +258,8 @@ ContactModel make_contact_model(const Structure& st, const Contact& contact, std
     for (ContactModel::Acting& a : m.acting[side(s)])
       if (a.slot >= 0) a.slot += m.layout.z;
     m.idle_slots[side(s)] = states[side(s)] < m.layout.z_count;
+    if (m.acting[side(s)].size() == 1)
+      choose_single(m.acting[side(s)].front(), m.single[side(s)], m.single_state[side(s)]);
   }
   set_guard_rows(m);
   return m;
@@ -250,8 +305,11 @@ LinearPhase full_contact_matrices(const ContactModel& m) {
 DamperState active_damper(const ContactModel& m, const Discrete& d, const Tilt& tilt,
                           Eigen::Ref<const Eigen::VectorXd> y) {
   if (d.pivot == 0 || m.acting[side(d.pivot)].empty()) return {};
+  if (const ContactModel::SingleState one = m.single_state[side(d.pivot)])
+    return one(m.acting[side(d.pivot)].front(), d, m.body.structure.half_width, d.pivot, tilt, theta_dot_of(m, y),
+               y.data());
   const ActingNow n = acting_now(m.acting[side(d.pivot)].front(), d, m.body.structure.half_width, d.pivot, tilt,
-                                 theta_dot_of(m, y), y);
+                                 theta_dot_of(m, y), y.data());
   return {n.st.e, n.F};
 }
 
@@ -269,8 +327,14 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, const Eigen
     if (m.idle_slots[side(s)])  // a slot this pivot leaves unused rests
       for (Eigen::Index k = 0; k < l.z_count; ++k) dydt[l.z + k] = 0.0;
     const bool split_work = l.energy_count > 3;
-    if (split_work) dydt.segment(l.energy + 3, l.energy_count - 3).setZero();
-    for (const ContactModel::Acting& a : m.acting[side(s)]) {
+    if (split_work) std::fill(dydt.data() + l.energy + 3, dydt.data() + l.energy + l.energy_count, 0.0);
+    if (const ContactModel::SingleDevice one = m.single[side(s)]) {
+      const ContactModel::Acting& a = m.acting[side(s)].front();
+      const ContactModel::DeviceTerms t = one(a, d, B, s, tilt, thd, y.data(), dydt.data());
+      device_moment = t.moment;
+      damper_power = t.power;
+      if (split_work) dydt[l.energy + 3 + a.device] = t.power;
+    } else for (const ContactModel::Acting& a : m.acting[side(s)]) {
       if (d.broken != 0 && d.is_broken(a.device)) {
         if (a.slot >= 0) dydt[a.slot] = 0.0;
         continue;
@@ -291,17 +355,14 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, const Eigen
       dydt[l.theta_dot] = rigid_rocking_acceleration(m.body, s, a_g, device_moment, tilt);
     } else {
       const Coordinates q{y.segment(l.u, l.n), y.segment(l.u_dot, l.n), tilt, thd};
-      for (Eigen::Index i = 0; i < l.n; ++i) dydt[l.u + i] = y[l.u_dot + i];  // a handful: no vector set-up
-      dydt[l.theta_dot] = rocking_acceleration(m.body, s, a_g, device_moment, q, dydt.segment(l.u_dot, l.n));
+      dydt[l.theta_dot] = rocking_acceleration(m.body, s, a_g, device_moment, q, dydt.segment(l.u, 2 * l.n));
     }
 
   } else {
-    if (l.theta >= 0) dydt.segment(l.theta, l.size - l.theta).setZero();  // theta, theta', z, device work rest
-    if (l.u >= 0) {
-      dydt.segment(l.u, l.n) = y.segment(l.u_dot, l.n);
-      full_contact_acceleration(m.body, a_g, y.segment(l.u, l.n), y.segment(l.u_dot, l.n),
-                                dydt.segment(l.u_dot, l.n));
-    }
+    if (l.theta >= 0)  // theta, theta', z, device work rest
+      std::fill(dydt.data() + l.theta, dydt.data() + l.size, 0.0);
+    if (l.u >= 0)
+      full_contact_acceleration(m.body, a_g, y.segment(l.u, l.n), y.segment(l.u_dot, l.n), dydt.segment(l.u, 2 * l.n));
   }
   if (l.energy >= 0) {
     double input = 0, viscous = 0;
@@ -362,17 +423,14 @@ void fracture(Discrete& d, int device) {
   d.held_fresh_ = false;
 }
 
-double held_moment(const ContactModel& m, const Discrete& d, int s) {
-  if (!d.held_fresh_) {
-    for (int p : {-1, +1}) {
-      double held = 0;
-      for (const ContactModel::Acting& a : m.acting[side(p)])
-        if (!d.is_broken(a.device)) held += law_force_at_rest(a.law, d.z(a.device)) * a.lever;
-      d.held_[side(p)] = held;
-    }
-    d.held_fresh_ = true;
+void Discrete::refresh_held(const ContactModel& m) const {
+  for (int p : {-1, +1}) {
+    double held = 0;
+    for (const ContactModel::Acting& a : m.acting[side(p)])
+      if (!is_broken(a.device)) held += law_force_at_rest(a.law, z(a.device)) * a.lever;
+    held_[side(p)] = held;
   }
-  return d.held_[side(s)];
+  held_fresh_ = true;
 }
 
 void device_samples(const ContactModel& m, const Discrete& d, Eigen::Ref<const Eigen::VectorXd> y,
@@ -382,7 +440,7 @@ void device_samples(const ContactModel& m, const Discrete& d, Eigen::Ref<const E
   const Tilt tilt(y[m.layout.theta]);
   const double thd = y[m.layout.theta_dot];
   for (const ContactModel::Acting& a : m.acting[side(d.pivot)]) {
-    const ActingNow n = acting_now(a, d, m.body.structure.half_width, d.pivot, tilt, thd, y);
+    const ActingNow n = acting_now(a, d, m.body.structure.half_width, d.pivot, tilt, thd, y.data());
     out[static_cast<std::size_t>(a.device)] = {n.st.e, n.F, d.pivot * n.F * n.st.de_dtheta};
   }
 }

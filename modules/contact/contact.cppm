@@ -61,6 +61,13 @@ struct Layout {
   Eigen::Index size = 0;
 };
 
+struct Discrete;
+
+// A device's elongation [m] and force [N] (active_damper below).
+struct DamperState {
+  double elongation = 0, force = 0;
+};
+
 struct ContactModel {
   ModelKind kind = ModelKind::flexible;
   RockingBody body;
@@ -81,6 +88,19 @@ struct ContactModel {
   // Per pivot: which of its acting devices can break (each has a fracture guard).
   std::array<std::vector<int>, 2> breakable;
   std::array<bool, 2> idle_slots{false, false};
+  // Per pivot that stretches exactly one device: the right-hand side's
+  // device terms specialised for its law and kinematics, chosen when the
+  // model is built (no per-call dispatch on them); null: the general loop.
+  struct DeviceTerms {
+    double moment = 0, power = 0;  // F de/d|th| [N m], F e' [W]
+  };
+  using SingleDevice = DeviceTerms (*)(const Acting& a, const Discrete& d, double half_width, int s,
+                                       const Tilt& tilt, double theta_dot, const double* y, double* dydt);
+  std::array<SingleDevice, 2> single{nullptr, nullptr};
+  // and its elongation and force, for the outputs (active_damper)
+  using SingleState = DamperState (*)(const Acting& a, const Discrete& d, double half_width, int s, const Tilt& tilt,
+                                      double theta_dot, const double* y);
+  std::array<SingleState, 2> single_state{nullptr, nullptr};
   Contact contact;
   double r_eq10 = 0;
   double overturn_angle = 0;   // [rad]
@@ -127,6 +147,7 @@ struct Discrete {
  private:
   friend void fracture(Discrete& d, int device);
   friend double held_moment(const ContactModel& m, const Discrete& d, int s);
+  void refresh_held(const ContactModel& m) const;
   std::array<double, max_device_states> z_{};
   mutable std::array<double, 2> held_{};  // per pivot ([0]: s = -1), valid while held_fresh_
   mutable bool held_fresh_ = false;
@@ -183,9 +204,6 @@ class StiffPart {
 
 // The elongation and force of the first device the current pivot stretches
 // (0 in full contact, or with no device): the paper's damper.
-struct DamperState {
-  double elongation = 0, force = 0;
-};
 DamperState active_damper(const ContactModel& m, const Discrete& d, const Tilt& tilt,
                           Eigen::Ref<const Eigen::VectorXd> y);
 
@@ -216,7 +234,11 @@ void fracture(Discrete& d, int device);
 
 // sum F_rest l over the intact devices pivot s stretches: the moment they
 // hold against uplift about s (a tendon's prestress, a damper's stored force) [N m].
-double held_moment(const ContactModel& m, const Discrete& d, int s);
+// Inline: every uplift-guard sample reads it.
+inline double held_moment(const ContactModel& m, const Discrete& d, int s) {
+  if (!d.held_fresh_) d.refresh_held(m);
+  return d.held_[s > 0 ? 1 : 0];
+}
 
 // Each device's elongation and force in this state (0 for the devices the
 // current pivot does not stretch, and for the broken). out: one per device.

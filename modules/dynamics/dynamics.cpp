@@ -46,7 +46,7 @@ void restoring_force(const StructuralMatrices& sm, const double* u, const double
 // The body of rocking_acceleration (below) for static size S.
 template <int S>
 double rocking_acceleration_n(const RockingBody& b, int s, double a_g, double device_moment, const Coordinates& q,
-                              double* acc) {
+                              double* vel, double* acc) {
   const Structure& st = b.structure;
   const long n = static_or<S>(q.u.size());
   const double* m = st.masses.data();
@@ -84,6 +84,7 @@ double rocking_acceleration_n(const RockingBody& b, int s, double a_g, double de
   const double H_rhs_u = -moment + b.HM1 * per_mass - spin * HMw;
   const double th_ddot = (rhs_th - H_rhs_u) / (b.base_inertia + wMw);
   for (long i = 0; i < n; ++i) acc[i] = r[i] * inv_m[i] - H[i] * th_ddot;
+  for (long i = 0; i < n; ++i) vel[i] = u_dot[i];
   return th_ddot;
 }
 
@@ -92,7 +93,7 @@ double rocking_acceleration_n(const RockingBody& b, int s, double a_g, double de
 // (Eigen's, vectorised with several partial sums: a plain loop's sum is one
 // chain of dependent additions).
 double rocking_acceleration_modal(const RockingBody& b, int s, double a_g, double device_moment,
-                                  const Coordinates& q, Eigen::Ref<Eigen::VectorXd> acc) {
+                                  const Coordinates& q, Eigen::Ref<Eigen::VectorXd> rates) {
   const ModalBasis& md = b.modes;
   const auto& x = q.u;
   const auto& v = q.u_dot;
@@ -111,7 +112,9 @@ double rocking_acceleration_modal(const RockingBody& b, int s, double a_g, doubl
   const double H_rhs_u = -mu * hf + b.HM1 * per_mass - spin * HMw;
   const double th_ddot = (rhs_th - H_rhs_u) / (b.base_inertia + wMw);
   // rhs_u / mu in the modes, less h th''
-  acc.array() = -(md.k.array() * x.array() + md.c.array() * v.array()) + (per_mass - spin * B) * md.r.array() +
+  const Eigen::Index n = x.size();
+  rates.head(n) = v;
+  rates.tail(n).array() = -(md.k.array() * x.array() + md.c.array() * v.array()) + (per_mass - spin * B) * md.r.array() +
                 (spin * s) * x.array() - th_ddot * md.h.array();
   return th_ddot;
 }
@@ -204,31 +207,36 @@ void from_nodal(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> u, Eigen
 }
 
 void full_contact_acceleration(const RockingBody& b, double a_g, Eigen::Ref<const Eigen::VectorXd> u,
-                               Eigen::Ref<const Eigen::VectorXd> u_dot, Eigen::Ref<Eigen::VectorXd> u_ddot) {
+                               Eigen::Ref<const Eigen::VectorXd> u_dot, Eigen::Ref<Eigen::VectorXd> rates) {
+  const Eigen::Index n_all = u.size();
   if (b.coordinates == ElasticCoordinates::modal) {
     const ModalBasis& md = b.modes;
-    u_ddot = -(md.k.cwiseProduct(u) + md.c.cwiseProduct(u_dot)) - a_g * md.r;
+    rates.head(n_all) = u_dot;
+    rates.tail(n_all) = -(md.k.cwiseProduct(u) + md.c.cwiseProduct(u_dot)) - a_g * md.r;
     return;
   }
-  with_static_size(u.size(), [&](auto size) {
+  with_static_size(n_all, [&](auto size) {
     constexpr int S = decltype(size)::value;
-    const long n = static_or<S>(u.size());
-    double* acc = u_ddot.data();
+    const long n = static_or<S>(n_all);
+    double* vel = rates.data();
+    double* acc = vel + n;
     const double* inv_m = b.inverse_masses.data();
     restoring_force<S>(b.matrices, u.data(), u_dot.data(), acc, n);
     for (long i = 0; i < n; ++i) acc[i] = acc[i] * inv_m[i] - a_g;
+    for (long i = 0; i < n; ++i) vel[i] = u_dot[i];
   });
 }
 
 // Unrolled for the node count (static_size.hpp): the right-hand side of
 // every rocking step.
 double rocking_acceleration(const RockingBody& b, int s, double a_g, double device_moment, const Coordinates& q,
-                            Eigen::Ref<Eigen::VectorXd> u_ddot) {
+                            Eigen::Ref<Eigen::VectorXd> rates) {
   if (b.coordinates == ElasticCoordinates::modal)
-    return rocking_acceleration_modal(b, s, a_g, device_moment, q, u_ddot);
+    return rocking_acceleration_modal(b, s, a_g, device_moment, q, rates);
   double th_ddot = 0;
-  with_static_size(q.u.size(), [&](auto size) {
-    th_ddot = rocking_acceleration_n<decltype(size)::value>(b, s, a_g, device_moment, q, u_ddot.data());
+  const Eigen::Index n = q.u.size();
+  with_static_size(n, [&](auto size) {
+    th_ddot = rocking_acceleration_n<decltype(size)::value>(b, s, a_g, device_moment, q, rates.data(), rates.data() + n);
   });
   return th_ddot;
 }

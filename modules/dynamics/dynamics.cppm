@@ -85,14 +85,16 @@ struct Coordinates {
   double theta_dot;
 };
 
-// u'' under full contact (theta = 0). u_ddot must have N entries.
+// (u', u'') under full contact (theta = 0) into rates (2N entries: u' is a
+// copy of u_dot).
 void full_contact_acceleration(const RockingBody& b, double a_g, Eigen::Ref<const Eigen::VectorXd> u,
-                               Eigen::Ref<const Eigen::VectorXd> u_dot, Eigen::Ref<Eigen::VectorXd> u_ddot);
+                               Eigen::Ref<const Eigen::VectorXd> u_dot, Eigen::Ref<Eigen::VectorXd> rates);
 
-// (u'', th'') while rocking about pivot s (+1 right, -1 left) with device moment D [N m].
-// Allocates nothing (it runs in every right-hand side).
+// (u', u'') into rates (2N entries: u' is a copy of q.u_dot) and th'' as the
+// result, while rocking about pivot s (+1 right, -1 left) with device moment
+// D [N m]. Allocates nothing (it runs in every right-hand side).
 double rocking_acceleration(const RockingBody& b, int s, double a_g, double device_moment, const Coordinates& q,
-                            Eigen::Ref<Eigen::VectorXd> u_ddot);
+                            Eigen::Ref<Eigen::VectorXd> rates);
 
 // th'' of a rigid block rocking about pivot s (u = u' = 0).
 double rigid_rocking_acceleration(const RockingBody& b, int s, double a_g, double device_moment, const Tilt& tilt);
