@@ -272,10 +272,10 @@ TEST_CASE("modal coordinates: rhs, guards, energy, outputs and resets equal the 
   }
 }
 
-TEST_CASE("a pivot with one device takes the specialised device terms, equal bit for bit to the general loop's") {
-  // Each law, chord and vertical, intact and broken: phase_rhs and
-  // active_damper with the kernels chosen when the model was built, and with
-  // the general loop.
+TEST_CASE("each acting device's kernels are its law and kinematics: terms, z' and state equal stretch() and the law's own functions") {
+  // Each law, chord and vertical, intact and broken, the kernels chosen when
+  // the model was built against stretch(), law_force_and_rate() and
+  // law_force() written out (bit for bit: the same arithmetic).
   const std::vector<std::string> devices = {
       R"(device+={name="d", kind="bouc-wen", at="edges", k=1e7, eps=0.06, d_y=0.0185, alpha=1, beta=0})",
       R"(device+={name="d", kind="elastic", at=0, kinematics="vertical", free_length=33, P0=2e6, k=5e7})",
@@ -284,35 +284,37 @@ TEST_CASE("a pivot with one device takes the specialised device terms, equal bit
       R"(device+={name="d", kind="friction", at="edges", kinematics="vertical", free_length=2, F_s=5e4})",
       R"(device+={name="d", kind="bouc-wen", at="edges", kinematics="vertical", free_length=2, k=1e7, eps=0.06, d_y=0.0185})"};
   for (const std::string& device : devices) {
-    for (bool energy : {false, true}) {
-      CAPTURE(device);
-      const ContactModel m = make_contact_model(chimney({"damper.enabled=false", device}), energy);
-      REQUIRE(bool(m.single[0]));
-      REQUIRE(bool(m.single[1]));
-      ContactModel general = m;
-      general.single = {nullptr, nullptr};
-      general.single_state = {nullptr, nullptr};
-      const Layout& l = m.layout;
-      Workspace w(m);
-      for (int pivot : {1, -1}) {
-        for (bool broken : {false, true}) {
-          Discrete d;
-          Eigen::VectorXd y = Eigen::VectorXd::LinSpaced(l.size, 0.002, 0.02);
-          begin_rocking(m, d, pivot, y);
-          y[l.theta] = 0.01 * pivot;
-          y[l.theta_dot] = 0.05 * pivot;
-          if (l.z >= 0) y[l.z] = 0.3;
-          if (broken) fracture(d, m.acting[pivot > 0 ? 1 : 0].front().device);
-          Eigen::VectorXd a = Eigen::VectorXd::Constant(l.size, 7.0), b = a;
-          phase_rhs(m, d, 1.1, y, a, w);
-          phase_rhs(general, d, 1.1, y, b, w);
-          CHECK(a == b);
-          const DamperState da = active_damper(m, d, Tilt(y[l.theta]), y);
-          const DamperState db = active_damper(general, d, Tilt(y[l.theta]), y);
-          CHECK(da.elongation == db.elongation);
-          CHECK(da.force == db.force);
-          CHECK(da.elongation > 0);
-        }
+    CAPTURE(device);
+    const ContactModel m = make_contact_model(chimney({"damper.enabled=false", device}), false);
+    const Layout& l = m.layout;
+    const double B = m.body.structure.half_width;
+    for (int s : {1, -1}) {
+      for (bool broken : {false, true}) {
+        CAPTURE(s);
+        CAPTURE(broken);
+        const ContactModel::Acting& a = m.acting[s > 0 ? 1 : 0].front();
+        Discrete d;
+        Eigen::VectorXd y = Eigen::VectorXd::LinSpaced(l.size, 0.002, 0.02);
+        begin_rocking(m, d, s, y);
+        y[l.theta] = 0.01 * s;
+        y[l.theta_dot] = 0.05 * s;
+        if (a.slot >= 0) y[a.slot] = 0.3;
+        if (broken) fracture(d, a.device);
+        const Tilt tilt(y[l.theta]);
+        const double thd = y[l.theta_dot];
+        Eigen::VectorXd dydt = Eigen::VectorXd::Constant(l.size, 7.0);
+        const ContactModel::DeviceTerms t = a.terms(a, d, B, s, tilt, thd, y.data(), dydt.data());
+        const DamperState state = a.state(a, d, B, s, tilt, thd, y.data());
+        const Stretch st = stretch(a.geometry, B, s, tilt);
+        const double e_dot = st.de_dtheta * s * thd, z = a.slot >= 0 ? y[a.slot] : 0.0;
+        const LawResponse r = law_force_and_rate(a.law, st.e, e_dot, z);
+        const bool chord = a.geometry.kinematics == Kinematics::chord;
+        CHECK(state.elongation == st.e);
+        CHECK(state.force == (broken ? 0.0 : law_force(a.law, st.e, e_dot, z)));
+        CHECK(t.moment == (broken ? 0.0 : chord ? r.F * a.lever * tilt.cos_half : r.F * st.de_dtheta));
+        CHECK(t.power == (broken ? 0.0 : r.F * e_dot));
+        if (a.slot >= 0) CHECK(dydt[a.slot] == (broken ? 0.0 : r.rate));
+        CHECK(st.e > 0);
       }
     }
   }

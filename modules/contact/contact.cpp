@@ -43,74 +43,48 @@ Layout make_layout(ModelKind kind, Eigen::Index n, Eigen::Index z_count, Eigen::
 
 std::size_t side(int s) { return s > 0 ? 1 : 0; }
 
-// A device the pivot s stretches, at tilt and rocking velocity thd: its
-// stretch, elongation rate, state and force (0 once broken), for the outputs
-// and the damper of the response (the right-hand side takes force and rate in
-// one dispatch instead).
-struct ActingNow {
-  Stretch st;
-  double e_dot = 0, z = 0, F = 0;
-};
-inline ActingNow acting_now(const ContactModel::Acting& a, const Discrete& d, double half_width, int s,
-                            const Tilt& tilt, double thd, const double* y) {
-  ActingNow n;
-  n.st = stretch(a.geometry, half_width, s, tilt);
-  if (d.broken != 0 && d.is_broken(a.device)) return n;
-  n.e_dot = n.st.de_dtheta * s * thd;
-  n.z = a.slot >= 0 ? y[a.slot] : 0.0;
-  n.F = law_force(a.law, n.st.e, n.e_dot, n.z);
-  return n;
+// The kernels of an acting device (ContactModel::TermsFn and StateFn) for
+// its law and kinematics: the chord's stretch with its lever arm l = a.lever,
+// else stretch(); the law's force and z' at (e, e', z); nothing once broken.
+template <bool Chord>
+Stretch stretch_of(const ContactModel::Acting& a, double half_width, int s, const Tilt& tilt) {
+  if constexpr (Chord) return {2.0 * a.lever * std::abs(tilt.sin_half), a.lever * tilt.cos_half};
+  else return stretch(a.geometry, half_width, s, tilt);
 }
 
-// The device terms of the right-hand side for a pivot that stretches one
-// device of law Law and chord (or vertical) kinematics: the general loop's
-// arithmetic, with the dispatch on law and kinematics done when the model is
-// built (single_device_for).
 template <class Law, bool Chord>
-ContactModel::DeviceTerms single_device(const ContactModel::Acting& a, const Discrete& d, double half_width, int s,
-                                        const Tilt& tilt, double thd, const double* y, double* dydt) {
+ContactModel::DeviceTerms device_terms(const ContactModel::Acting& a, const Discrete& d, double half_width, int s,
+                                       const Tilt& tilt, double thd, const double* y, double* dydt) {
   if (d.broken != 0 && d.is_broken(a.device)) {
     if constexpr (Law::states > 0) dydt[a.slot] = 0.0;
     return {};
   }
   const Law& law = *std::get_if<Law>(&a.law);
-  double e = 0, de = 0;
-  if constexpr (Chord) {  // stretch() of a chord device, with its lever arm l = a.lever
-    e = 2.0 * a.lever * std::abs(tilt.sin_half);
-    de = a.lever * tilt.cos_half;
-  } else {
-    const Stretch st = stretch(a.geometry, half_width, s, tilt);
-    e = st.e;
-    de = st.de_dtheta;
-  }
-  const double e_dot = de * s * thd;
+  const Stretch st = stretch_of<Chord>(a, half_width, s, tilt);
+  const double e_dot = st.de_dtheta * s * thd;
   const double z = Law::states > 0 ? y[a.slot] : 0.0;  // a law with a state has a slot
-  const double F = law.force(e, e_dot, z);
-  if constexpr (Law::states > 0) dydt[a.slot] = law.rate(e, e_dot, z);
-  return {Chord ? F * a.lever * tilt.cos_half : F * de, F * e_dot};
+  const double F = law.force(st.e, e_dot, z);
+  if constexpr (Law::states > 0) dydt[a.slot] = law.rate(st.e, e_dot, z);
+  return {Chord ? F * a.lever * tilt.cos_half : F * st.de_dtheta, F * e_dot};
 }
 
-// Its elongation and force (acting_now's, with the same dispatch done once).
 template <class Law, bool Chord>
-DamperState single_state(const ContactModel::Acting& a, const Discrete& d, double half_width, int s, const Tilt& tilt,
+DamperState device_state(const ContactModel::Acting& a, const Discrete& d, double half_width, int s, const Tilt& tilt,
                          double thd, const double* y) {
-  const Stretch st = Chord ? Stretch{2.0 * a.lever * std::abs(tilt.sin_half), a.lever * tilt.cos_half}
-                           : stretch(a.geometry, half_width, s, tilt);
+  const Stretch st = stretch_of<Chord>(a, half_width, s, tilt);
   if (d.broken != 0 && d.is_broken(a.device)) return {st.e, 0.0};
   const double e_dot = st.de_dtheta * s * thd;
   return {st.e, std::get_if<Law>(&a.law)->force(st.e, e_dot, Law::states > 0 ? y[a.slot] : 0.0)};
 }
 
-// Both kernels for a device, by its law and kinematics.
 template <std::size_t I = 0>
-void choose_single(const ContactModel::Acting& a, ContactModel::SingleDevice& terms,
-                   ContactModel::SingleState& state) {
+void choose_kernels(ContactModel::Acting& a) {
   if constexpr (I < std::variant_size_v<DeviceLaw>) {
     using Law = std::variant_alternative_t<I, DeviceLaw>;
-    if (a.law.index() != I) return choose_single<I + 1>(a, terms, state);
+    if (a.law.index() != I) return choose_kernels<I + 1>(a);
     const bool chord = a.geometry.kinematics == Kinematics::chord;
-    terms = chord ? &single_device<Law, true> : &single_device<Law, false>;
-    state = chord ? &single_state<Law, true> : &single_state<Law, false>;
+    a.terms = chord ? &device_terms<Law, true> : &device_terms<Law, false>;
+    a.state = chord ? &device_state<Law, true> : &device_state<Law, false>;
   }
 }
 
@@ -255,11 +229,12 @@ ContactModel make_contact_model(const Structure& st, const Contact& contact, std
   m.layout = make_layout(m.kind, node_count(st), std::max(states[0], states[1]),
                          split ? static_cast<Eigen::Index>(m.devices.size()) : 0, track_energy);
   for (int s : {-1, +1}) {
-    for (ContactModel::Acting& a : m.acting[side(s)])
+    for (ContactModel::Acting& a : m.acting[side(s)]) {
       if (a.slot >= 0) a.slot += m.layout.z;
+      choose_kernels(a);
+    }
     m.idle_slots[side(s)] = states[side(s)] < m.layout.z_count;
-    if (m.acting[side(s)].size() == 1)
-      choose_single(m.acting[side(s)].front(), m.single[side(s)], m.single_state[side(s)]);
+
   }
   set_guard_rows(m);
   return m;
@@ -305,12 +280,8 @@ LinearPhase full_contact_matrices(const ContactModel& m) {
 DamperState active_damper(const ContactModel& m, const Discrete& d, const Tilt& tilt,
                           Eigen::Ref<const Eigen::VectorXd> y) {
   if (d.pivot == 0 || m.acting[side(d.pivot)].empty()) return {};
-  if (const ContactModel::SingleState one = m.single_state[side(d.pivot)])
-    return one(m.acting[side(d.pivot)].front(), d, m.body.structure.half_width, d.pivot, tilt, theta_dot_of(m, y),
-               y.data());
-  const ActingNow n = acting_now(m.acting[side(d.pivot)].front(), d, m.body.structure.half_width, d.pivot, tilt,
-                                 theta_dot_of(m, y), y.data());
-  return {n.st.e, n.F};
+  const ContactModel::Acting& a = m.acting[side(d.pivot)].front();
+  return a.state(a, d, m.body.structure.half_width, d.pivot, tilt, theta_dot_of(m, y), y.data());
 }
 
 void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, const Eigen::Ref<const Eigen::VectorXd>& y,
@@ -328,25 +299,18 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, const Eigen
       for (Eigen::Index k = 0; k < l.z_count; ++k) dydt[l.z + k] = 0.0;
     const bool split_work = l.energy_count > 3;
     if (split_work) std::fill(dydt.data() + l.energy + 3, dydt.data() + l.energy + l.energy_count, 0.0);
-    if (const ContactModel::SingleDevice one = m.single[side(s)]) {
-      const ContactModel::Acting& a = m.acting[side(s)].front();
-      const ContactModel::DeviceTerms t = one(a, d, B, s, tilt, thd, y.data(), dydt.data());
+    const std::vector<ContactModel::Acting>& acting = m.acting[side(s)];
+    if (acting.size() == 1 && !split_work) {  // the paper's case: one damper per pivot
+      const ContactModel::DeviceTerms t = acting.front().terms(acting.front(), d, B, s, tilt, thd, y.data(), dydt.data());
       device_moment = t.moment;
       damper_power = t.power;
-      if (split_work) dydt[l.energy + 3 + a.device] = t.power;
-    } else for (const ContactModel::Acting& a : m.acting[side(s)]) {
-      if (d.broken != 0 && d.is_broken(a.device)) {
-        if (a.slot >= 0) dydt[a.slot] = 0.0;
-        continue;
+    } else {
+      for (const ContactModel::Acting& a : acting) {
+        const ContactModel::DeviceTerms t = a.terms(a, d, B, s, tilt, thd, y.data(), dydt.data());
+        device_moment += t.moment;
+        damper_power += t.power;
+        if (split_work) dydt[l.energy + 3 + a.device] = t.power;
       }
-      const Stretch st = stretch(a.geometry, B, s, tilt);
-      const double e_dot = st.de_dtheta * s * thd;
-      const LawResponse r = law_force_and_rate(a.law, st.e, e_dot, a.slot >= 0 ? y[a.slot] : 0.0);
-      const bool chord = a.geometry.kinematics == Kinematics::chord;
-      device_moment += chord ? r.F * a.lever * tilt.cos_half : r.F * st.de_dtheta;
-      if (a.slot >= 0) dydt[a.slot] = r.rate;
-      damper_power += r.F * e_dot;
-      if (split_work) dydt[l.energy + 3 + a.device] = r.F * e_dot;
     }
   }
   if (s != 0) {
@@ -440,8 +404,9 @@ void device_samples(const ContactModel& m, const Discrete& d, Eigen::Ref<const E
   const Tilt tilt(y[m.layout.theta]);
   const double thd = y[m.layout.theta_dot];
   for (const ContactModel::Acting& a : m.acting[side(d.pivot)]) {
-    const ActingNow n = acting_now(a, d, m.body.structure.half_width, d.pivot, tilt, thd, y.data());
-    out[static_cast<std::size_t>(a.device)] = {n.st.e, n.F, d.pivot * n.F * n.st.de_dtheta};
+    const DamperState n = a.state(a, d, m.body.structure.half_width, d.pivot, tilt, thd, y.data());
+    const double de_dtheta = stretch(a.geometry, m.body.structure.half_width, d.pivot, tilt).de_dtheta;
+    out[static_cast<std::size_t>(a.device)] = {n.elongation, n.force, d.pivot * n.force * de_dtheta};
   }
 }
 

@@ -76,6 +76,19 @@ struct ContactModel {
   // Per pivot ([0]: s = -1, [1]: s = +1): the devices it stretches (lever arm
   // > 0), in the scene's order, each with what the right-hand side needs of
   // it in one place; and whether some state slot is left unused there.
+  struct Acting;
+  // What an acting device adds to the rocking right-hand side: F de/d|th|
+  // [N m] and F e' [W] (its z' written into dydt), and its elongation and
+  // force (0 once broken) for the outputs; each a function specialised for
+  // the device's law and kinematics, chosen when the model is built, so that
+  // a right-hand side makes no dispatch on them.
+  struct DeviceTerms {
+    double moment = 0, power = 0;
+  };
+  using TermsFn = DeviceTerms (*)(const Acting& a, const Discrete& d, double half_width, int s, const Tilt& tilt,
+                                  double theta_dot, const double* y, double* dydt);
+  using StateFn = DamperState (*)(const Acting& a, const Discrete& d, double half_width, int s, const Tilt& tilt,
+                                  double theta_dot, const double* y);
   struct Acting {
     int device = 0;
     Eigen::Index slot = -1;  // of its state z; -1: stateless
@@ -83,24 +96,13 @@ struct ContactModel {
     DeviceGeometry geometry;
     DeviceLaw law;
     double capacity = 0;     // e_u [m]; 0: never breaks
+    TermsFn terms = nullptr;
+    StateFn state = nullptr;
   };
   std::array<std::vector<Acting>, 2> acting;
   // Per pivot: which of its acting devices can break (each has a fracture guard).
   std::array<std::vector<int>, 2> breakable;
   std::array<bool, 2> idle_slots{false, false};
-  // Per pivot that stretches exactly one device: the right-hand side's
-  // device terms specialised for its law and kinematics, chosen when the
-  // model is built (no per-call dispatch on them); null: the general loop.
-  struct DeviceTerms {
-    double moment = 0, power = 0;  // F de/d|th| [N m], F e' [W]
-  };
-  using SingleDevice = DeviceTerms (*)(const Acting& a, const Discrete& d, double half_width, int s,
-                                       const Tilt& tilt, double theta_dot, const double* y, double* dydt);
-  std::array<SingleDevice, 2> single{nullptr, nullptr};
-  // and its elongation and force, for the outputs (active_damper)
-  using SingleState = DamperState (*)(const Acting& a, const Discrete& d, double half_width, int s, const Tilt& tilt,
-                                      double theta_dot, const double* y);
-  std::array<SingleState, 2> single_state{nullptr, nullptr};
   Contact contact;
   double r_eq10 = 0;
   double overturn_angle = 0;   // [rad]
