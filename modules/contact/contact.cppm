@@ -73,9 +73,6 @@ struct ContactModel {
   RockingBody body;
   bool has_damper = false;      // some device acts at the interface
   std::vector<Device> devices;
-  // Per pivot ([0]: s = -1, [1]: s = +1): the devices it stretches (lever arm
-  // > 0), in the scene's order, each with what the right-hand side needs of
-  // it in one place; and whether some state slot is left unused there.
   struct Acting;
   // What an acting device adds to the rocking right-hand side: F de/d|th|
   // [N m] and F e' [W] (its z' written into dydt), and its elongation and
@@ -99,6 +96,9 @@ struct ContactModel {
     TermsFn terms = nullptr;
     StateFn state = nullptr;
   };
+  // Per pivot ([0]: s = -1, [1]: s = +1): the devices it stretches (lever arm
+  // > 0), in the scene's order, each with what the right-hand side needs of
+  // it in one place; and whether some state slot is left unused there.
   std::array<std::vector<Acting>, 2> acting;
   // Per pivot: which of its acting devices can break (each has a fracture guard).
   std::array<std::vector<int>, 2> breakable;
