@@ -234,7 +234,6 @@ ContactModel make_contact_model(const Structure& st, const Contact& contact, std
       choose_kernels(a);
     }
     m.idle_slots[side(s)] = states[side(s)] < m.layout.z_count;
-
   }
   set_guard_rows(m);
   return m;
@@ -301,7 +300,8 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, const Eigen
     if (split_work) std::fill(dydt.data() + l.energy + 3, dydt.data() + l.energy + l.energy_count, 0.0);
     const std::vector<ContactModel::Acting>& acting = m.acting[side(s)];
     if (acting.size() == 1 && !split_work) {  // the paper's case: one damper per pivot
-      const ContactModel::DeviceTerms t = acting.front().terms(acting.front(), d, B, s, tilt, thd, y.data(), dydt.data());
+      const ContactModel::Acting& a = acting.front();
+      const ContactModel::DeviceTerms t = a.terms(a, d, B, s, tilt, thd, y.data(), dydt.data());
       device_moment = t.moment;
       damper_power = t.power;
     } else {
@@ -332,12 +332,7 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, const Eigen
     double input = 0, viscous = 0;
     const Coordinates q{u_of(m, y), u_dot_of(m, y), tilt, thd};
     input = ground_input_power(m.body, s == 0 ? 1 : s, a_g, q);
-    if (m.body.coordinates == ElasticCoordinates::modal) {
-      viscous = viscous_power(m.body, q.u_dot);
-    } else {
-      w.b.noalias() = m.body.matrices.C * q.u_dot;
-      viscous = q.u_dot.dot(w.b);
-    }
+    viscous = viscous_power(m.body, q.u_dot, w.b);
     dydt[l.energy] = input;
     dydt[l.energy + 1] = viscous;
     dydt[l.energy + 2] = damper_power;

@@ -114,8 +114,8 @@ double rocking_acceleration_modal(const RockingBody& b, int s, double a_g, doubl
   // rhs_u / mu in the modes, less h th''
   const Eigen::Index n = x.size();
   rates.head(n) = v;
-  rates.tail(n).array() = -(md.k.array() * x.array() + md.c.array() * v.array()) + (per_mass - spin * B) * md.r.array() +
-                (spin * s) * x.array() - th_ddot * md.h.array();
+  rates.tail(n).array() = -(md.k.array() * x.array() + md.c.array() * v.array()) +
+                          (per_mass - spin * B) * md.r.array() + (spin * s) * x.array() - th_ddot * md.h.array();
   return th_ddot;
 }
 
@@ -161,7 +161,7 @@ RockingBody in_modal_coordinates(RockingBody b) {
   md.hc = md.h.cwiseProduct(md.c);
   const Eigen::Index n = st.masses.size();
   b.moment_row.resize(2 * n);  // H'(K u + C u') = mu h'(k q + c q')
-  b.moment_row << md.mu * md.h.cwiseProduct(md.k), md.mu * md.h.cwiseProduct(md.c);
+  b.moment_row << md.mu * md.hk, md.mu * md.hc;
   b.coordinates = ElasticCoordinates::modal;
   return b;
 }
@@ -190,10 +190,11 @@ const Eigen::VectorXd& heights_in_coordinates(const RockingBody& b) {
   return b.coordinates == ElasticCoordinates::modal ? b.modes.h : b.structure.heights;
 }
 
-double viscous_power(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> v) {
+double viscous_power(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> v, Eigen::Ref<Eigen::VectorXd> scratch) {
   if (b.coordinates == ElasticCoordinates::modal)
     return b.modes.mu * (b.modes.c.array() * v.array().square()).sum();
-  return v.dot(b.matrices.C * v);
+  scratch.noalias() = b.matrices.C * v;
+  return v.dot(scratch);
 }
 
 void to_nodal(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> q, Eigen::Ref<Eigen::VectorXd> u) {

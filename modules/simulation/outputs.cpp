@@ -1,5 +1,6 @@
 module;
 #include <rocking/eigen.hpp>
+#include <rocking/static_size.hpp>
 #include <fmt/format.h>
 #include <cmath>
 #include <string>
@@ -116,7 +117,7 @@ Response evaluate(const ContactModel& m, const OutputScales& sc, const Discrete&
   set(Quantity::damper_F, d.pivot * damper.force);
   if (sc.has_forces) {
     Eigen::Vector4d f = Eigen::Vector4d::Zero();  // a column at a time: N is a handful
-    if (l.n > 16) f.noalias() = sc.force_rows * y.segment(l.u, l.n);
+    if (l.n > max_static_size) f.noalias() = sc.force_rows * y.segment(l.u, l.n);
     else
       for (Eigen::Index j = 0; j < l.n; ++j) f += sc.force_rows.col(j) * y[l.u + j];
     set(Quantity::base_shear, f[0]);

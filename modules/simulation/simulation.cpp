@@ -69,11 +69,11 @@ double shortest_period(const ContactModel& m) {
 }
 
 // The model in the elastic coordinates the run integrates in (RunOptions::
-// coordinates): a modal copy when the model is nodal and the run wants the
-// modes; null when the model serves as it is.
-std::unique_ptr<const ContactModel> recast(const ContactModel& m, const GroundMotion& ground, const RunOptions& o) {
+// coordinates) with this backend: a modal copy when the model is nodal and
+// the run wants the modes; null when the model serves as it is.
+std::unique_ptr<const ContactModel> recast(const ContactModel& m, ode::Backend backend, const RunOptions& o) {
   if (m.layout.u < 0 || m.body.coordinates == ElasticCoordinates::modal) return nullptr;
-  const bool modal = choose_backend(m, ground, o.backend) == ode::Backend::rosw ||
+  const bool modal = backend == ode::Backend::rosw ||
                      o.coordinates.value_or(ElasticCoordinates::nodal) == ElasticCoordinates::modal;
   if (!modal) return nullptr;
   return std::make_unique<const ContactModel>(in_modal_coordinates(m));
@@ -82,7 +82,8 @@ std::unique_ptr<const ContactModel> recast(const ContactModel& m, const GroundMo
 class Driver {
  public:
   Driver(const ContactModel& given, const GroundMotion& ground, const RunOptions& o, Observer* observer)
-      : own_(recast(given, ground, o)), m_(own_ ? *own_ : given), ground_(ground), opt_(o), observer_(observer),
+      : backend_(choose_backend(given, ground, o.backend)), own_(recast(given, backend_, o)),
+        m_(own_ ? *own_ : given), ground_(ground), opt_(o), observer_(observer),
         scales_(output_scales(m_)), work_(m_),
         y_(Eigen::VectorXd::Zero(m_.layout.size)), dense_(m_.layout.size) {
     // The parameters bind to the std::function's own arguments: no Ref is copied per call.
@@ -99,22 +100,21 @@ class Driver {
     // steps are short.
     if (m_.layout.u >= 0) tolerances.sample_spacing = shortest_period(m_) / 8;
     // rosw solves with the stiff elastic part of the current phase.
-    const ode::Backend backend = choose_backend(m_, ground, o.backend);
     ode::LinearSolve stiff;
-    if (backend == ode::Backend::rosw && m_.layout.u >= 0) {
+    if (backend_ == ode::Backend::rosw && m_.layout.u >= 0) {
       stiff_ = std::make_unique<StiffPart>(m_);
       stiff = [this](double g, Eigen::Ref<const Eigen::VectorXd> b, Eigen::Ref<Eigen::VectorXd> x) {
         stiff_->solve(d_.pivot, g, b, x);
       };
     }
-    integrator_ = ode::make_integrator(backend, m_.layout.size, rhs, tolerances, std::move(stiff));
+    integrator_ = ode::make_integrator(backend_, m_.layout.size, rhs, tolerances, std::move(stiff));
     t_end_ = o.duration > 0 ? o.duration : ground.duration();
     // The record's samples, computed when asked: a run holds no list of them.
     const ode::NextBreakpoint next_sample = [this](double t) { return ground_.next_breakpoint(t); };
     // An automatic choice of rosw integrates full contact too: its steps are
     // not bound by the highest modes, and it then costs less than the exact
     // steps, which sample every oscillating period (`rocking tradeoff --scenes`).
-    const bool auto_rosw = o.backend == ode::Backend::automatic && backend == ode::Backend::rosw;
+    const bool auto_rosw = o.backend == ode::Backend::automatic && backend_ == ode::Backend::rosw;
     if (o.exact_full_contact && !auto_rosw && m_.layout.u >= 0 && m_.layout.energy < 0 && ground.piecewise_linear()) {
       ode::Options exact;
       // Steps from sample to sample of the record (up to 16 spacings), with
@@ -326,8 +326,6 @@ class Driver {
   void pass_displacements(Eigen::Ref<const Eigen::VectorXd> y) {
     if (m_.layout.u < 0) {
       observer_->displacements(y.head(0));
-    } else if (m_.body.coordinates == ElasticCoordinates::nodal) {
-      observer_->displacements(y.segment(m_.layout.u, m_.layout.n));
     } else {
       nodal_.resize(m_.layout.n);
       to_nodal(m_.body, y.segment(m_.layout.u, m_.layout.n), nodal_);
@@ -355,7 +353,7 @@ class Driver {
     result_.final_theta = m_.layout.theta >= 0 ? y_[m_.layout.theta] : 0.0;
     result_.final_state = y_;
     const Layout& l = m_.layout;
-    if (l.u >= 0 && m_.body.coordinates == ElasticCoordinates::modal) {
+    if (l.u >= 0) {
       to_nodal(m_.body, y_.segment(l.u, l.n), result_.final_state.segment(l.u, l.n));
       to_nodal(m_.body, y_.segment(l.u_dot, l.n), result_.final_state.segment(l.u_dot, l.n));
     }
@@ -380,6 +378,7 @@ class Driver {
     }
   }
 
+  ode::Backend backend_;                     // choose_backend's
   std::unique_ptr<const ContactModel> own_;  // the model in other coordinates (recast)
   const ContactModel& m_;
   const GroundMotion& ground_;
