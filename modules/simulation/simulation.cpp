@@ -21,36 +21,32 @@ namespace {
 // Absolute peaks over samples of the continuous response; an interior local
 // maximum of |q| is refined by the parabola through its neighbours. It runs
 // at every sample of every step, so the quantities go four at a time through
-// vector registers (the GCC/Clang vector extension): every quantity is
-// treated alike, the condition selecting rather than branching. Scalar code
-// does ten divisions in a row here, and the compiler's own vectoriser leaves
-// this short loop scalar.
+// vector registers (the GCC/Clang vector extension), and the parabola, with
+// its divisions, is computed only when some quantity's middle sample is a
+// local maximum: every lane is treated alike, the condition selecting rather
+// than branching.
 class PeakTracker {
   using Lanes = double __attribute__((vector_size(4 * sizeof(double))));
+  using Mask = long __attribute__((vector_size(4 * sizeof(long))));  // a comparison's lanes: -1 or 0
   static constexpr std::size_t lanes = 4, groups = (quantity_count + lanes - 1) / lanes;
+  using Group = std::array<Lanes, groups>;
 
  public:
   void add(const Response& r) {
     const double t = r.t;
-    const bool spaced = count_ >= 2 && t1_ > t2_ && t > t1_;
-    // Reciprocal spacings shared by all quantities (0 when the three samples
-    // cannot carry a parabola: every candidate is then rejected below).
-    const double i21 = spaced ? 1.0 / (t1_ - t2_) : 0.0, i10 = spaced ? 1.0 / (t - t1_) : 0.0,
-                 i20 = spaced ? 1.0 / (t - t2_) : 0.0, mid = 0.5 * (t2_ + t1_), t1 = t1_, t2 = t2_;
-    const auto all = spaced ? -1L : 0L;
+    Group a{};
+    Mask local_max{};  // some lane's middle sample above one neighbour and below neither
     for (std::size_t g = 0; g < groups; ++g) {
-      Lanes a{};
-      for (std::size_t j = 0; j < lanes && g * lanes + j < quantity_count; ++j) a[j] = r.q[g * lanes + j];
-      a = __builtin_elementwise_abs(a);
+      for (std::size_t j = 0; j < lanes && g * lanes + j < quantity_count; ++j) a[g][j] = r.q[g * lanes + j];
+      a[g] = __builtin_elementwise_abs(a[g]);
       const Lanes v1 = v1_[g], v2 = v2_[g];
-      const Lanes f21 = (v1 - v2) * i21, c = ((a - v1) * i10 - f21) * i20;
-      const Lanes x = mid - 0.5 * f21 / c;  // the vertex (inf or NaN when c = 0: rejected)
-      const Lanes top = v2 + f21 * (x - t2) + c * (x - t2) * (x - t1);
-      const auto vertex = (v1 >= v2) & (v1 >= a) & (c < 0) & (x >= t2) & (x <= t) & all;
-      const Lanes candidate = (vertex & (a < top)) ? top : a;
-      peak_[g] = peak_[g] < candidate ? candidate : peak_[g];
-      v2_[g] = v1;
-      v1_[g] = a;
+      local_max |= (v1 >= v2) & (v1 >= a[g]) & ((v1 > v2) | (v1 > a[g]));
+    }
+    if (count_ >= 2 && t1_ > t2_ && t > t1_ && __builtin_reduce_or(local_max) != 0) refine(t, a);
+    for (std::size_t g = 0; g < groups; ++g) {
+      peak_[g] = peak_[g] < a[g] ? a[g] : peak_[g];
+      v2_[g] = v1_[g];
+      v1_[g] = a[g];
     }
     t2_ = t1_;
     t1_ = t;
@@ -65,7 +61,23 @@ class PeakTracker {
   }
 
  private:
-  std::array<Lanes, groups> peak_{}, v1_{}, v2_{};
+  // The vertex of the parabola through the last two samples and a (at t),
+  // where it lies between them and is a maximum above a. A lane whose middle
+  // sample is no local maximum has c >= 0 and is rejected.
+  void refine(double t, const Group& a) {
+    const double i21 = 1.0 / (t1_ - t2_), i10 = 1.0 / (t - t1_), i20 = 1.0 / (t - t2_);
+    const double mid = 0.5 * (t2_ + t1_), t1 = t1_, t2 = t2_;
+    for (std::size_t g = 0; g < groups; ++g) {
+      const Lanes v1 = v1_[g], v2 = v2_[g];
+      const Lanes f21 = (v1 - v2) * i21, c = ((a[g] - v1) * i10 - f21) * i20;
+      const Lanes x = mid - 0.5 * f21 / c;  // the vertex (inf or NaN when c = 0: rejected)
+      const Lanes top = v2 + f21 * (x - t2) + c * (x - t2) * (x - t1);
+      const Mask vertex = (v1 >= v2) & (v1 >= a[g]) & (c < 0) & (x >= t2) & (x <= t) & (a[g] < top);
+      peak_[g] = (vertex & (peak_[g] < top)) ? top : peak_[g];
+    }
+  }
+
+  Group peak_{}, v1_{}, v2_{};
   double t1_ = 0, t2_ = 0;
   long count_ = 0;
 };
