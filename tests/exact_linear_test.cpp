@@ -1,8 +1,11 @@
 // ode::make_exact_linear: the exact steps of z' = A z + b a(t) with a(t)
 // piecewise linear, against closed forms (an undamped oscillator under a
-// constant and a ramp input), its dense output, its event location, and its
-// use for the full-contact phase of a simulation against rk45 throughout.
+// constant and a ramp input; independent oscillators solved block by block;
+// a coupled chain against the matrix exponential), its dense output, its
+// event location, and its use for the full-contact phase of a simulation
+// against rk45 throughout.
 #include <rocking/eigen.hpp>
+#include <unsupported/Eigen/MatrixFunctions>
 #include <doctest/doctest.h>
 #include <cmath>
 #include <memory>
@@ -103,34 +106,93 @@ TEST_CASE("with a sample spacing, exact steps span up to 16 spacings and are sam
   CHECK(integ->stats().steps == 8);
 }
 
-TEST_CASE("a block of 9 oscillators (beyond the unrolled sizes) is stepped as exactly as one") {
-  // Block size 18 > max_static_size: the general loops of the cached steps.
+TEST_CASE("9 independent oscillators laid out as a structure's modes, [x; v], are stepped block by block as exactly as one") {
+  // 18 components > max_static_size, and A splits into nine 2 x 2 blocks
+  // (x_c, v_c) whose components lie 9 apart: each block is solved alone.
   const int copies = 9;
   const LinearSystem one = oscillator();
   LinearSystem many;
   many.size = 2 * copies + 1;
   many.first = 0;
   many.A = Eigen::MatrixXd::Zero(2 * copies, 2 * copies);
-  many.b.resize(2 * copies);
+  many.b = Eigen::VectorXd::Zero(2 * copies);
   for (int c = 0; c < copies; ++c) {
-    many.A.block(2 * c, 2 * c, 2, 2) = one.A;
-    many.b.segment(2 * c, 2) = one.b;
+    const int x = c, v = copies + c;
+    many.A(x, v) = one.A(0, 1);
+    many.A(v, x) = one.A(1, 0);
+    many.b[v] = one.b[1];
   }
   many.forcing = one.forcing;
   Options o;
   o.max_step = 0.1;
   auto integ = make_exact_linear(many, o);
   integ->set_breakpoints(breakpoint_list({1.0}));
-  Eigen::VectorXd y0(many.size), y(many.size);
-  for (int c = 0; c < copies; ++c) y0.segment(2 * c, 2) = Eigen::Vector2d(1, 0);
+  Eigen::VectorXd y0 = Eigen::VectorXd::Zero(many.size), y(many.size);
+  y0.head(copies).setOnes();
   y0[2 * copies] = 42;
   integ->reset(0, y0, {});
   while (integ->time() < 3.0) {
     integ->step(3.0);
     for (int k = 1; k <= 4; ++k) {
       y = integ->sample(k, 4);
-      for (int c = 0; c < copies; ++c) CHECK((y.segment(2 * c, 2) - exact(integ->sample_time(k, 4))).norm() <= 1e-12);
+      const Eigen::Vector2d want = exact(integ->sample_time(k, 4));
+      for (int c = 0; c < copies; ++c) CHECK((Eigen::Vector2d(y[c], y[copies + c]) - want).norm() <= 1e-12);
       CHECK(y[2 * copies] == 42);
+    }
+    const double mid = 0.5 * (integ->previous_time() + integ->time());
+    integ->dense(mid, y);
+    CHECK((Eigen::Vector2d(y[0], y[copies]) - exact(mid)).norm() <= 1e-12);
+  }
+}
+
+TEST_CASE("a coupled block beyond the unrolled sizes (a chain of 9 damped masses) follows the matrix exponential") {
+  // One block of 18: the general loops. x'' = -K x - C x' + 1 a(t), K the
+  // chain's tridiagonal stiffness, C = 0.02 K + 0.1 I; reference: the
+  // exponential of the augmented matrix [[A, b, 0], [0, 0, 1], [0, 0, 0]]
+  // acting on [z; a; a'] over each linear piece of a(t).
+  const int n = 9;
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n);
+  for (int i = 0; i < n; ++i) {
+    K(i, i) = i + 1 < n ? 2 * 400.0 : 400.0;
+    if (i > 0) K(i, i - 1) = K(i - 1, i) = -400.0;
+  }
+  LinearSystem s;
+  s.size = 2 * n;
+  s.first = 0;
+  s.A = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+  s.A.topRightCorner(n, n).setIdentity();
+  s.A.bottomLeftCorner(n, n) = -K;
+  s.A.bottomRightCorner(n, n) = -(0.02 * K + 0.1 * Eigen::MatrixXd::Identity(n, n));
+  s.b = Eigen::VectorXd::Zero(2 * n);
+  s.b.tail(n).setOnes();
+  s.forcing = oscillator().forcing;
+  Eigen::MatrixXd aug = Eigen::MatrixXd::Zero(2 * n + 2, 2 * n + 2);
+  aug.topLeftCorner(2 * n, 2 * n) = s.A;
+  aug.block(0, 2 * n, 2 * n, 1) = s.b;
+  aug(2 * n, 2 * n + 1) = 1;
+  Eigen::VectorXd z0 = Eigen::VectorXd::Zero(2 * n);
+  z0[n - 1] = 0.01;
+  auto reference = [&](double t) {
+    auto piece = [&](const Eigen::VectorXd& z, double a0, double slope, double tau) {
+      Eigen::VectorXd x(2 * n + 2);
+      x << z, a0, slope;
+      return Eigen::VectorXd((aug * tau).exp() * x).head(2 * n).eval();
+    };
+    if (t <= 1) return piece(z0, 0.5, 0, t);
+    return piece(piece(z0, 0.5, 0, 1), 0.5, 2, t - 1);
+  };
+  Options o;
+  o.max_step = 0.05;
+  auto integ = make_exact_linear(s, o);
+  integ->set_breakpoints(breakpoint_list({1.0}));
+  integ->reset(0, z0, {});
+  Eigen::VectorXd y(2 * n);
+  while (integ->time() < 2.0) {
+    integ->step(2.0);
+    for (int k = 1; k <= 4; ++k) {
+      y = integ->sample(k, 4);
+      const Eigen::VectorXd want = reference(integ->sample_time(k, 4));
+      CHECK((y - want).norm() <= 1e-10 * want.norm());
     }
   }
 }

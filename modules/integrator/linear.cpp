@@ -10,7 +10,11 @@
 // Steps of the usual length (a record's sample interval, or an equal part of
 // it) reuse real matrices at the step's guard samples,
 // z_k = Phi_k z0 + G0_k a0 + G1_k a', so such a step costs a few small
-// matrix-vector products; other lengths use the eigen form.
+// matrix-vector products; other lengths use the eigen form. A system beyond
+// the unrolled sizes whose A splits into independent blocks (a structure in
+// its fixed-base modes: one block (q_i, q_i') per mode) is solved block by
+// block, so that a sample costs the sum of the blocks' squares, not the
+// square of their sum.
 module;
 #include <rocking/eigen.hpp>
 #include <rocking/static_size.hpp>
@@ -33,13 +37,42 @@ using Complex = std::complex<double>;
 // most 16 (steps are cut to fit); see guard_samples.
 constexpr int max_samples_per_step = 16;
 
-class ExactLinear final : public Integrator {
+// The independent blocks of z' = A z + b a(t): the connected components of
+// A's pattern (i and j joined when A(i, j) or A(j, i) is nonzero), each as
+// its indices in increasing order. A structure in nodal coordinates is one
+// block; in its fixed-base modes, one block of (q_i, q_i') per mode.
+std::vector<std::vector<Eigen::Index>> independent_blocks(const Eigen::MatrixXd& A) {
+  const auto m = static_cast<std::size_t>(A.rows());
+  std::vector<std::size_t> root(m);  // union-find with path halving
+  for (std::size_t i = 0; i < m; ++i) root[i] = i;
+  auto find = [&](std::size_t i) {
+    while (root[i] != i) i = root[i] = root[root[i]];
+    return i;
+  };
+  for (std::size_t j = 0; j < m; ++j)
+    for (std::size_t i = 0; i < m; ++i)
+      if (A(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) != 0.0) root[find(i)] = find(j);
+  std::vector<std::vector<Eigen::Index>> blocks;
+  std::vector<std::size_t> block_of(m, m);  // m: none yet
+  for (std::size_t i = 0; i < m; ++i) {
+    std::size_t& b = block_of[find(i)];
+    if (b == m) {
+      b = blocks.size();
+      blocks.emplace_back();
+    }
+    blocks[b].push_back(static_cast<Eigen::Index>(i));
+  }
+  return blocks;
+}
+
+// The exact solution of one block, z' = A z + b a(t), over a step from z0
+// with a(t0 + tau) = a0 + slope tau: in the eigen form at any tau, and from
+// cached real matrices at the guard samples of the usual step length.
+class BlockSolution {
  public:
-  ExactLinear(LinearSystem sys, Options o) : sys_(std::move(sys)), opt_(o) {
-    const Eigen::Index m = sys_.A.rows();
-    if (sys_.A.cols() != m || sys_.b.size() != m || sys_.first < 0 || sys_.first + m > sys_.size || !sys_.forcing)
-      throw IntegrationError(IntegrationError::Kind::backend, 0, "inconsistent linear system");
-    Eigen::EigenSolver<Eigen::MatrixXd> es(sys_.A);
+  BlockSolution(const Eigen::MatrixXd& A, const Eigen::VectorXd& b) {
+    const Eigen::Index m = A.rows();
+    Eigen::EigenSolver<Eigen::MatrixXd> es(A);
     if (es.info() != Eigen::Success)
       throw IntegrationError(IntegrationError::Kind::backend, 0, "no eigendecomposition of the linear system");
     lambda_ = es.eigenvalues();
@@ -49,12 +82,143 @@ class ExactLinear final : public Integrator {
     if (!lu.isInvertible() || !(smallest > 1e-12 * largest))
       throw IntegrationError(IntegrationError::Kind::backend, 0, "the linear system is singular or defective");
     V_inv_ = lu.inverse();
-    beta_ = V_inv_ * sys_.b.cast<Complex>();
+    beta_ = V_inv_ * b.cast<Complex>();
     inv_lambda_ = lambda_.cwiseInverse();
     choose_modes();
-    y_.setZero(sys_.size);
     z0_.setZero(m);
     w0_.setZero(m);
+  }
+
+  Eigen::Index size() const { return z0_.size(); }
+  // A new step from z0 (the block's values) under a0 + slope tau.
+  double* start(double a0, double slope) {
+    a0_ = a0;
+    slope_ = slope;
+    have_w0_ = false;
+    return z0_.data();
+  }
+  bool cached(double h, int count) const { return std::abs(h - cached_h_) <= 1e-10 * cached_h_ && count == cached_count_; }
+
+  // z at sample k of the cached step, unrolled for the block's size
+  // (static_size.hpp), in a local array that aliases nothing.
+  template <int S>
+  void cached_sample(int k, double* z) const {
+    const long m = static_or<S>(z0_.size());
+    const double* P = phi_[k].data();  // column-major
+    const double *g0 = g0_[k].data(), *g1 = g1_[k].data(), *z0 = z0_.data();
+    double local[S > 0 ? S : 1];
+    double* r = S > 0 ? local : z;
+    for (long i = 0; i < m; ++i) r[i] = g0[i] * a0_ + g1[i] * slope_;
+    for (long j = 0; j < m; ++j) {
+      const double zj = z0[j];
+      for (long i = 0; i < m; ++i) r[i] += P[j * m + i] * zj;
+    }
+    if (S > 0)
+      for (long i = 0; i < m; ++i) z[i] = r[i];
+  }
+
+  // z(t0 + tau) from the eigen form, in real arithmetic over the chosen modes.
+  void state_at(double tau, Eigen::Ref<Eigen::VectorXd> z) {
+    if (!have_w0_) {
+      // (dot() would conjugate V^-1's row)
+      for (const Mode& q : modes_) w0_[q.j] = (V_inv_.row(q.j).transpose().array() * z0_.array()).sum();
+      have_w0_ = true;
+    }
+    z.setZero();
+    for (const Mode& q : modes_) {
+      Complex e, f0, f1;
+      response_terms(q.j, tau, e, f0, f1);
+      const Complex w = q.weight * (e * w0_[q.j] + f0 * a0_ + f1 * slope_);
+      z += Vr_.col(q.j) * w.real() - Vi_.col(q.j) * w.imag();
+    }
+  }
+
+  // The real matrices of `count` samples of a step of length h.
+  void build_cache(double h, int count) {
+    const Eigen::Index m = z0_.size();
+    Eigen::VectorXcd e(m), f0(m), f1(m);
+    for (int k = 0; k < count; ++k) {
+      const double tau = h * (k + 1) / count;
+      for (Eigen::Index j = 0; j < m; ++j) response_terms(j, tau, e[j], f0[j], f1[j]);
+      phi_[k] = (V_ * e.asDiagonal() * V_inv_).real();
+      g0_[k] = (V_ * f0).real();
+      g1_[k] = (V_ * f1).real();
+    }
+    cached_h_ = h;
+    cached_count_ = count;
+  }
+
+ private:
+  // The modes state_at sums: a real eigenvalue with weight 1, and one of each
+  // conjugate pair (Im > 0) with weight 2, since z and the input are real and
+  // the partner's term is the conjugate (Re(v w) + Re(conj(v w)) = 2 Re(v w)).
+  void choose_modes() {
+    long above = 0, below = 0;
+    for (Eigen::Index j = 0; j < lambda_.size(); ++j) {
+      above += lambda_[j].imag() > 0;
+      below += lambda_[j].imag() < 0;
+    }
+    const bool paired = above == below;  // else (never seen) sum every mode
+    modes_.clear();
+    for (Eigen::Index j = 0; j < lambda_.size(); ++j) {
+      const double im = lambda_[j].imag();
+      if (!paired) modes_.push_back({j, 1.0});
+      else if (im > 0) modes_.push_back({j, 2.0});
+      else if (im == 0) modes_.push_back({j, 1.0});
+    }
+    Vr_ = V_.real();
+    Vi_ = V_.imag();
+  }
+
+  // Mode j over tau: e^x, beta (e^x - 1) / lambda, beta (e^x - 1 - x) / lambda^2.
+  void response_terms(Eigen::Index j, double tau, Complex& e, Complex& f0, Complex& f1) const {
+    const Complex x = lambda_[j] * tau;
+    e = std::exp(x);
+    f0 = beta_[j] * (e - 1.0) * inv_lambda_[j];
+    f1 = beta_[j] * (e - 1.0 - x) * inv_lambda_[j] * inv_lambda_[j];
+  }
+
+  struct Mode {
+    Eigen::Index j;
+    double weight;
+  };
+  Eigen::VectorXcd lambda_, inv_lambda_, beta_, w0_;
+  Eigen::MatrixXcd V_, V_inv_;
+  Eigen::MatrixXd Vr_, Vi_;  // V's real and imaginary parts
+  std::vector<Mode> modes_;
+  Eigen::VectorXd z0_;
+  Eigen::MatrixXd phi_[max_samples_per_step];
+  Eigen::VectorXd g0_[max_samples_per_step], g1_[max_samples_per_step];
+  double cached_h_ = std::numeric_limits<double>::quiet_NaN(), a0_ = 0, slope_ = 0;
+  int cached_count_ = 0;
+  bool have_w0_ = false;
+};
+
+class ExactLinear final : public Integrator {
+ public:
+  ExactLinear(LinearSystem sys, Options o) : sys_(std::move(sys)), opt_(o) {
+    const Eigen::Index m = sys_.A.rows();
+    if (sys_.A.cols() != m || sys_.b.size() != m || sys_.first < 0 || sys_.first + m > sys_.size || !sys_.forcing)
+      throw IntegrationError(IntegrationError::Kind::backend, 0, "inconsistent linear system");
+    // Within the unrolled sizes one product per sample costs less than a
+    // few tiny ones: such a system is stepped whole.
+    std::vector<std::vector<Eigen::Index>> blocks(1);
+    if (m > max_static_size) blocks = independent_blocks(sys_.A);
+    else
+      for (Eigen::Index i = 0; i < m; ++i) blocks.front().push_back(i);
+    for (std::vector<Eigen::Index>& at : blocks) {
+      const auto k = static_cast<Eigen::Index>(at.size());
+      Eigen::MatrixXd A(k, k);
+      Eigen::VectorXd b(k);
+      for (Eigen::Index i = 0; i < k; ++i) {
+        b[i] = sys_.b[at[static_cast<std::size_t>(i)]];
+        for (Eigen::Index j = 0; j < k; ++j) A(i, j) = sys_.A(at[static_cast<std::size_t>(i)], at[static_cast<std::size_t>(j)]);
+      }
+      blocks_.push_back({std::move(at), BlockSolution(A, b)});
+    }
+    whole_ = blocks_.size() == 1;
+    y_.setZero(sys_.size);
+    scratch_.setZero(m);
     for (auto& s : samples_) s.setZero(sys_.size);
   }
 
@@ -63,7 +227,7 @@ class ExactLinear final : public Integrator {
     y_ = y;
     h_ = 0;
     samples_valid_ = false;
-    for (auto& s : samples_) s = y;  // outside the block the state is constant
+    for (auto& s : samples_) s = y;  // outside the system the state is constant
     scanner_.reset(std::move(guards), t, y_);
   }
 
@@ -105,7 +269,7 @@ class ExactLinear final : public Integrator {
   void dense(double t, Eigen::Ref<Eigen::VectorXd> y) override {
     y = y_;
     if (h_ == 0) return;  // no step since the reset: the state is all there is
-    state_at(t - t_prev_, y.segment(sys_.first, z0_.size()));
+    for (Block& b : blocks_) at_time(b, t - t_prev_, y);
   }
 
   const Eigen::VectorXd& sample(int k, int count) override {
@@ -122,143 +286,85 @@ class ExactLinear final : public Integrator {
   std::string name() const override { return "exact"; }
 
  private:
+  struct Block {
+    std::vector<Eigen::Index> at;  // its components of the system
+    BlockSolution solution;
+  };
+
   // One exact step from (t_, y_) to t_new; keeps what dense() and sample() need.
   void advance_to(double t_new) {
-    const Eigen::Index m = z0_.size();
-    z0_ = y_.segment(sys_.first, m);
     t_prev_ = t_;
     h_ = t_new - t_;
     // a(t) at the step's start is the last step's end value when it ends there
-    a0_ = t_prev_ == forcing_time_ ? forcing_value_ : sys_.forcing(t_prev_);
+    const double a0 = t_prev_ == forcing_time_ ? forcing_value_ : sys_.forcing(t_prev_);
     forcing_time_ = t_new;
     forcing_value_ = sys_.forcing(t_new);
-    slope_ = (forcing_value_ - a0_) / h_;
-    have_w0_ = false;
-    if (std::abs(h_ - cached_h_) <= 1e-10 * cached_h_ && count_ == cached_count_) {
+    const double slope = (forcing_value_ - a0) / h_;
+    const double* z = y_.data() + sys_.first;
+    for (Block& b : blocks_) {
+      double* z0 = b.solution.start(a0, slope);
+      for (std::size_t i = 0; i < b.at.size(); ++i) z0[i] = z[b.at[i]];
+    }
+    if (blocks_.front().solution.cached(h_, count_)) {
       // The usual step: within 1e-10 of the cached length (consecutive sample
       // times differ by round-off), a shift far below the state's accuracy.
-      with_static_size(z0_.size(), [this](auto size) {
-        for (int k = 0; k < count_; ++k) cached_sample<decltype(size)::value>(k);
-      });
+      for (Block& b : blocks_)
+        with_static_size(b.solution.size(), [&](auto size) {
+          for (int k = 0; k < count_; ++k) {
+            double* out = samples_[k].data() + sys_.first;
+            if (whole_) {
+              b.solution.cached_sample<decltype(size)::value>(k, out);
+            } else {
+              b.solution.cached_sample<decltype(size)::value>(k, scratch_.data());
+              for (std::size_t i = 0; i < b.at.size(); ++i) out[b.at[i]] = scratch_[static_cast<Eigen::Index>(i)];
+            }
+          }
+        });
     } else {
       // A length that recurs is cached: three steps in a row. The equal parts
       // of the span from an event to the next sample (at most two) do not
       // displace the usual length.
       if (std::abs(h_ - candidate_h_) <= 1e-10 * candidate_h_) {
-        if (++candidate_repeats_ >= 3) build_cache(h_);
+        if (++candidate_repeats_ >= 3)
+          for (Block& b : blocks_) b.solution.build_cache(h_, count_);
       } else {
         candidate_h_ = h_;
         candidate_repeats_ = 1;
       }
-      for (int k = 0; k < count_; ++k) state_at(h_ * (k + 1) / count_, samples_[k].segment(sys_.first, m));
+      for (int k = 0; k < count_; ++k)
+        for (Block& b : blocks_) at_time(b, h_ * (k + 1) / count_, samples_[k]);
     }
     samples_valid_ = true;
     t_ = t_new;
-    y_.segment(sys_.first, m) = samples_[count_ - 1].segment(sys_.first, m);
+    y_.segment(sys_.first, sys_.A.rows()) = samples_[count_ - 1].segment(sys_.first, sys_.A.rows());
     ++stats_.steps;
   }
 
-  // The block of samples_[k] from the cached matrices, unrolled for its size
-  // (static_size.hpp), in a local array that aliases nothing.
-  template <int S>
-  void cached_sample(int k) {
-    const long m = static_or<S>(z0_.size());
-    const double* P = phi_[k].data();  // column-major
-    const double *g0 = g0_[k].data(), *g1 = g1_[k].data(), *z0 = z0_.data();
-    double* z = samples_[k].data() + sys_.first;
-    double local[S > 0 ? S : 1];
-    double* r = S > 0 ? local : z;
-    for (long i = 0; i < m; ++i) r[i] = g0[i] * a0_ + g1[i] * slope_;
-    for (long j = 0; j < m; ++j) {
-      const double zj = z0[j];
-      for (long i = 0; i < m; ++i) r[i] += P[j * m + i] * zj;
+  // Block b's components of y at tau into the step, from the eigen form.
+  void at_time(Block& b, double tau, Eigen::Ref<Eigen::VectorXd> y) {
+    if (whole_) {
+      b.solution.state_at(tau, y.segment(sys_.first, sys_.A.rows()));
+      return;
     }
-    if (S > 0)
-      for (long i = 0; i < m; ++i) z[i] = r[i];
-  }
-
-  // The modes state_at sums: a real eigenvalue with weight 1, and one of each
-  // conjugate pair (Im > 0) with weight 2, since z and the input are real and
-  // the partner's term is the conjugate (Re(v w) + Re(conj(v w)) = 2 Re(v w)).
-  void choose_modes() {
-    long above = 0, below = 0;
-    for (Eigen::Index j = 0; j < lambda_.size(); ++j) {
-      above += lambda_[j].imag() > 0;
-      below += lambda_[j].imag() < 0;
-    }
-    const bool paired = above == below;  // else (never seen) sum every mode
-    modes_.clear();
-    for (Eigen::Index j = 0; j < lambda_.size(); ++j) {
-      const double im = lambda_[j].imag();
-      if (!paired) modes_.push_back({j, 1.0});
-      else if (im > 0) modes_.push_back({j, 2.0});
-      else if (im == 0) modes_.push_back({j, 1.0});
-    }
-    Vr_ = V_.real();
-    Vi_ = V_.imag();
-  }
-
-  // z(t_prev_ + tau) from the eigen form, in real arithmetic over the chosen modes.
-  void state_at(double tau, Eigen::Ref<Eigen::VectorXd> z) {
-    if (!have_w0_) {
-      // (dot() would conjugate V^-1's row)
-      for (const Mode& q : modes_) w0_[q.j] = (V_inv_.row(q.j).transpose().array() * z0_.array()).sum();
-      have_w0_ = true;
-    }
-    z.setZero();
-    for (const Mode& q : modes_) {
-      Complex e, f0, f1;
-      response_terms(q.j, tau, e, f0, f1);
-      const Complex w = q.weight * (e * w0_[q.j] + f0 * a0_ + f1 * slope_);
-      z += Vr_.col(q.j) * w.real() - Vi_.col(q.j) * w.imag();
-    }
-  }
-
-  // Mode j over tau: e^x, beta (e^x - 1) / lambda, beta (e^x - 1 - x) / lambda^2.
-  void response_terms(Eigen::Index j, double tau, Complex& e, Complex& f0, Complex& f1) const {
-    const Complex x = lambda_[j] * tau;
-    e = std::exp(x);
-    f0 = beta_[j] * (e - 1.0) * inv_lambda_[j];
-    f1 = beta_[j] * (e - 1.0 - x) * inv_lambda_[j] * inv_lambda_[j];
-  }
-
-  void build_cache(double h) {
-    const Eigen::Index m = z0_.size();
-    Eigen::VectorXcd e(m), f0(m), f1(m);
-    for (int k = 0; k < count_; ++k) {
-      const double tau = h * (k + 1) / count_;
-      for (Eigen::Index j = 0; j < m; ++j) response_terms(j, tau, e[j], f0[j], f1[j]);
-      phi_[k] = (V_ * e.asDiagonal() * V_inv_).real();
-      g0_[k] = (V_ * f0).real();
-      g1_[k] = (V_ * f1).real();
-    }
-    cached_h_ = h;
-    cached_count_ = count_;
+    auto z = scratch_.head(b.solution.size());
+    b.solution.state_at(tau, z);
+    for (std::size_t i = 0; i < b.at.size(); ++i) y[sys_.first + b.at[i]] = z[static_cast<Eigen::Index>(i)];
   }
 
   LinearSystem sys_;
   Options opt_;
   GuardScanner scanner_;
-  struct Mode {
-    Eigen::Index j;
-    double weight;
-  };
-  Eigen::VectorXcd lambda_, inv_lambda_, beta_, w0_;
-  Eigen::MatrixXcd V_, V_inv_;
-  Eigen::MatrixXd Vr_, Vi_;  // V's real and imaginary parts
-  std::vector<Mode> modes_;
-  Eigen::VectorXd y_, z0_;
-  // The state at the step's guard samples (only the block changes in a step).
+  std::vector<Block> blocks_;
+  bool whole_ = true;          // one block: its values are the system's, in place
+  Eigen::VectorXd y_, scratch_;
+  // The state at the step's guard samples (only the system's part changes in a step).
   std::array<Eigen::VectorXd, max_samples_per_step> samples_;
-  Eigen::MatrixXd phi_[max_samples_per_step];
-  Eigen::VectorXd g0_[max_samples_per_step], g1_[max_samples_per_step];
-  int count_ = guard_samples(0, std::numeric_limits<double>::infinity(), 1, max_samples_per_step),
-      cached_count_ = 0;  // samples of the last step, of the cached length
-  double cached_h_ = std::numeric_limits<double>::quiet_NaN(), candidate_h_ = std::numeric_limits<double>::quiet_NaN();
+  int count_ = guard_samples(0, std::numeric_limits<double>::infinity(), 1, max_samples_per_step);
+  double candidate_h_ = std::numeric_limits<double>::quiet_NaN();
   int candidate_repeats_ = 0;
-  double t_ = 0, t_prev_ = 0, h_ = 0, a0_ = 0, slope_ = 0;
+  double t_ = 0, t_prev_ = 0, h_ = 0;
   double forcing_time_ = std::numeric_limits<double>::quiet_NaN(), forcing_value_ = 0;  // a(t) at the last step's end
-  bool have_w0_ = false, samples_valid_ = false;
+  bool samples_valid_ = false;
   Breakpoints breakpoints_;
   Stats stats_;
 };
