@@ -90,14 +90,13 @@ class BlockSolution {
   }
 
   Eigen::Index size() const { return z0_.size(); }
-  // A new step from z0 (the block's values) under a0 + slope tau.
-  double* start(double a0, double slope) {
+  // A new step from the block's components `at` of z, under a0 + slope tau.
+  void start(const double* z, const std::vector<Eigen::Index>& at, double a0, double slope) {
+    for (std::size_t i = 0; i < at.size(); ++i) z0_[static_cast<Eigen::Index>(i)] = z[at[i]];
     a0_ = a0;
     slope_ = slope;
     have_w0_ = false;
-    return z0_.data();
   }
-  bool cached(double h, int count) const { return std::abs(h - cached_h_) <= 1e-10 * cached_h_ && count == cached_count_; }
 
   // z at sample k of the cached step, unrolled for the block's size
   // (static_size.hpp), in a local array that aliases nothing.
@@ -144,8 +143,6 @@ class BlockSolution {
       g0_[k] = (V_ * f0).real();
       g1_[k] = (V_ * f1).real();
     }
-    cached_h_ = h;
-    cached_count_ = count;
   }
 
  private:
@@ -189,8 +186,7 @@ class BlockSolution {
   Eigen::VectorXd z0_;
   Eigen::MatrixXd phi_[max_samples_per_step];
   Eigen::VectorXd g0_[max_samples_per_step], g1_[max_samples_per_step];
-  double cached_h_ = std::numeric_limits<double>::quiet_NaN(), a0_ = 0, slope_ = 0;
-  int cached_count_ = 0;
+  double a0_ = 0, slope_ = 0;
   bool have_w0_ = false;
 };
 
@@ -207,14 +203,8 @@ class ExactLinear final : public Integrator {
     else
       for (Eigen::Index i = 0; i < m; ++i) blocks.front().push_back(i);
     for (std::vector<Eigen::Index>& at : blocks) {
-      const auto k = static_cast<Eigen::Index>(at.size());
-      Eigen::MatrixXd A(k, k);
-      Eigen::VectorXd b(k);
-      for (Eigen::Index i = 0; i < k; ++i) {
-        b[i] = sys_.b[at[static_cast<std::size_t>(i)]];
-        for (Eigen::Index j = 0; j < k; ++j) A(i, j) = sys_.A(at[static_cast<std::size_t>(i)], at[static_cast<std::size_t>(j)]);
-      }
-      blocks_.push_back({std::move(at), BlockSolution(A, b)});
+      BlockSolution solution(sys_.A(at, at), sys_.b(at));
+      blocks_.push_back({std::move(at), std::move(solution)});
     }
     whole_ = blocks_.size() == 1;
     y_.setZero(sys_.size);
@@ -300,22 +290,18 @@ class ExactLinear final : public Integrator {
     forcing_time_ = t_new;
     forcing_value_ = sys_.forcing(t_new);
     const double slope = (forcing_value_ - a0) / h_;
-    const double* z = y_.data() + sys_.first;
-    for (Block& b : blocks_) {
-      double* z0 = b.solution.start(a0, slope);
-      for (std::size_t i = 0; i < b.at.size(); ++i) z0[i] = z[b.at[i]];
-    }
-    if (blocks_.front().solution.cached(h_, count_)) {
+    for (Block& b : blocks_) b.solution.start(y_.data() + sys_.first, b.at, a0, slope);
+    if (std::abs(h_ - cached_h_) <= 1e-10 * cached_h_ && count_ == cached_count_) {
       // The usual step: within 1e-10 of the cached length (consecutive sample
       // times differ by round-off), a shift far below the state's accuracy.
       for (Block& b : blocks_)
         with_static_size(b.solution.size(), [&](auto size) {
           for (int k = 0; k < count_; ++k) {
-            double* out = samples_[k].data() + sys_.first;
             if (whole_) {
-              b.solution.cached_sample<decltype(size)::value>(k, out);
+              b.solution.cached_sample<decltype(size)::value>(k, samples_[k].data() + sys_.first);
             } else {
               b.solution.cached_sample<decltype(size)::value>(k, scratch_.data());
+              double* out = samples_[k].data() + sys_.first;
               for (std::size_t i = 0; i < b.at.size(); ++i) out[b.at[i]] = scratch_[static_cast<Eigen::Index>(i)];
             }
           }
@@ -325,8 +311,11 @@ class ExactLinear final : public Integrator {
       // of the span from an event to the next sample (at most two) do not
       // displace the usual length.
       if (std::abs(h_ - candidate_h_) <= 1e-10 * candidate_h_) {
-        if (++candidate_repeats_ >= 3)
+        if (++candidate_repeats_ >= 3) {
           for (Block& b : blocks_) b.solution.build_cache(h_, count_);
+          cached_h_ = h_;
+          cached_count_ = count_;
+        }
       } else {
         candidate_h_ = h_;
         candidate_repeats_ = 1;
@@ -359,8 +348,9 @@ class ExactLinear final : public Integrator {
   Eigen::VectorXd y_, scratch_;
   // The state at the step's guard samples (only the system's part changes in a step).
   std::array<Eigen::VectorXd, max_samples_per_step> samples_;
-  int count_ = guard_samples(0, std::numeric_limits<double>::infinity(), 1, max_samples_per_step);
-  double candidate_h_ = std::numeric_limits<double>::quiet_NaN();
+  int count_ = guard_samples(0, std::numeric_limits<double>::infinity(), 1, max_samples_per_step),
+      cached_count_ = 0;  // samples of the last step, of the cached length (all blocks alike)
+  double cached_h_ = std::numeric_limits<double>::quiet_NaN(), candidate_h_ = std::numeric_limits<double>::quiet_NaN();
   int candidate_repeats_ = 0;
   double t_ = 0, t_prev_ = 0, h_ = 0;
   double forcing_time_ = std::numeric_limits<double>::quiet_NaN(), forcing_value_ = 0;  // a(t) at the last step's end
