@@ -152,11 +152,11 @@ TEST_CASE("IDA figures draw collapse as collapse, start peaks at zero, and name 
   const std::string gp = file_text(dir / "ida" / "ida_p.gp");
   CHECK(contains(gp, "$10 == 1"));         // the first overturning has a marker of its own
   CHECK(contains(gp, "set yrange [0:*]"));  // peaks from zero
-  CHECK(contains(gp, "\"rocking, no damper\""));
+  CHECK(contains(gp, "'rocking, no damper'"));
   const Result sweep = run("-q sweep --record " + rec + " --scales 1 --set structure.EI_scale=0.25,1 --formats png "
                            "--out " + (dir / "sweep").string());
   REQUIRE_MESSAGE(sweep.code == 0, sweep.err);
-  CHECK(contains(file_text(dir / "sweep" / "sweep_p.gp"), "\"EI x0.25\""));
+  CHECK(contains(file_text(dir / "sweep" / "sweep_p.gp"), "'EI x0.25'"));
 }
 
 TEST_CASE("mode shapes: one colour per mode in both panels, and no internal document in the title") {
@@ -166,9 +166,9 @@ TEST_CASE("mode shapes: one colour per mode in both panels, and no internal docu
   CHECK_FALSE(contains(gp, "MODEL.md 8"));
   // Mode 1 is line style 1 in the fixed-base panel (column 2) and in the
   // rocking panel, where it follows the rocking mode R (column 7).
-  CHECK(contains(gp, "using 2:1 with linespoints linestyle 1 title \"mode 1:"));
-  CHECK(contains(gp, "using 7:1 with linespoints linestyle 1 title \"mode 1:"));
-  CHECK(contains(gp, "using 6:1 with linespoints linestyle 6 title \"R:"));
+  CHECK(contains(gp, "using 2:1 with linespoints linestyle 1 title 'mode 1:"));
+  CHECK(contains(gp, "using 7:1 with linespoints linestyle 1 title 'mode 1:"));
+  CHECK(contains(gp, "using 6:1 with linespoints linestyle 6 title 'R:"));
 }
 
 TEST_CASE("the program's own words: --version, a mistyped subcommand, -q after it, singulars, absent dampers") {

@@ -153,38 +153,38 @@ int animate(const AnimateArgs& a) {
   // base moments of both.
   const std::string panels =
       alone ? fmt::format(
-                  "  set origin 0.25,0.38\n  set size 0.5,0.57\n  set title \"{}\" noenhanced\n"
+                  "  set origin 0.25,0.38\n  set size 0.5,0.57\n  set title {} noenhanced\n"
                   "  plot d.\"main.dat\" index i using 1:($3 == 0 ? $2 : NaN) with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#1f4e9c\", "
                   "d.\"main.dat\" index i using 1:($3 == 1 ? $2 : NaN) with lines lw 4 lc rgb \"#d35400\", "
                   "0 with lines lc rgb \"#555555\" lw 2\n",
-                  scene.name)
+                  plot::quote(scene.name))
             : fmt::format(
-                  "  set origin 0,0.38\n  set size 0.5,0.57\n  set title \"{}\" noenhanced\n"
+                  "  set origin 0,0.38\n  set size 0.5,0.57\n  set title {} noenhanced\n"
                   "  plot d.\"main.dat\" index i using 1:($3 == 0 ? $2 : NaN) with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#1f4e9c\", "
                   "d.\"main.dat\" index i using 1:($3 == 1 ? $2 : NaN) with lines lw 4 lc rgb \"#d35400\", "
                   "0 with lines lc rgb \"#555555\" lw 2\n"
-                  "  set origin 0.5,0.38\n  set size 0.5,0.57\n  set title \"{}\"\n"
+                  "  set origin 0.5,0.38\n  set size 0.5,0.57\n  set title {} noenhanced\n"
                   "  plot d.\"twin.dat\" index i using 1:($3 == 0 ? $2 : NaN) with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#27864a\", "
                   "d.\"twin.dat\" index i using 1:($3 == 1 ? $2 : NaN) with lines lw 4 lc rgb \"#d35400\", "
                   "0 with lines lc rgb \"#555555\" lw 2\n",
-                  scene.name, twin_label);
+                  plot::quote(scene.name), plot::quote(twin_label));
   const std::string right_trace =
       alone ? std::string("  set ylabel \"rocking angle {/Symbol q}/{/Symbol a}_{cg}\"\n"
                           "  plot d.\"traces.dat\" using 1:5 with lines lc rgb \"#1f4e9c\" notitle\n")
             : fmt::format("  set ylabel \"base moment M/M_{{ref}}\"\n  set key top right\n"
                           "  plot d.\"traces.dat\" using 1:3 with lines lc rgb \"#1f4e9c\" title \"rocking\", "
-                          "'' using 1:4 with lines lc rgb \"#27864a\" title \"{}\"\n",
-                          twin_label);
+                          "'' using 1:4 with lines lc rgb \"#27864a\" title {}\n",
+                          plot::quote(twin_label));
   const double span = std::max(3 * B, 0.5 * H);
   std::string script = fmt::format(
       "# rocking: animation ({} frames, {:.3g} s of simulation per frame). Re-render: gnuplot {}.gp\n"
       "{}"
-      "d = \"{}.data/\"\n"
+      "d = {}\n"
       "unset key\n"
       "do for [i=0:{}] {{\n"
       "  t = {} * i\n"
       "{}"
-      "  set multiplot title sprintf(\"{} - {}, {}   t = %5.2f s\\n(drawn with rotation x{:g}, elastic deformation x{:g})\", t) noenhanced\n"
+      "  set multiplot title {} . sprintf(\"%5.2f s\", t) . {} noenhanced\n"
       "  set size ratio -1\n  set xrange [{}:{}]\n  set yrange [-0.05*{}:1.1*{}]\n  unset xtics\n  set ytics\n  set ylabel \"height [m]\"\n"
       "{}"
       "  set size noratio\n  set autoscale xy\n  set xtics\n  set xlabel \"t [s]\"\n  unset title\n"
@@ -196,13 +196,16 @@ int animate(const AnimateArgs& a) {
       "  unset key\n  unset arrow 1\n  unset xlabel\n"
       "  unset multiplot\n"
       "}}\n",
-      frames, frame_dt, stem,
+      frames, frame_dt, plot::comment(stem),
       video ? fmt::format("set terminal pngcairo size {},{} font \"DejaVu Sans,11\"\n", width, height)
             : fmt::format("set terminal gif animate delay {} size {},{} optimize font \"DejaVu Sans,11\"\n"
-                          "set output \"{}.gif\"\n", std::max(2, 100 / a.fps), width, height, stem),
-      stem, frames - 1, frame_dt,
-      video ? fmt::format("  set output sprintf(\"{}.frames/%05d.png\", i)\n", stem) : std::string(), scene.name,
-      describe_motion(motion.name()), motion_scale(scene, a.motion).describe(), kr, k, -span, span, H, H, panels, right_trace);
+                          "set output {}\n", std::max(2, 100 / a.fps), width, height, plot::quote(stem + ".gif")),
+      plot::quote(stem + ".data/"), frames - 1, frame_dt,
+      video ? fmt::format("  set output {} . sprintf(\"%05d.png\", i)\n", plot::quote(stem + ".frames/")) : std::string(),
+      plot::quote(fmt::format("{} - {}, {}   t = ", scene.name, describe_motion(motion.name()),
+                              motion_scale(scene, a.motion).describe())),
+      plot::quote(fmt::format("\n(drawn with rotation x{:g}, elastic deformation x{:g})", kr, k)), -span, span, H, H,
+      panels, right_trace);
   plot::Figure fig;
   fig.dir = dir;
   fig.name = stem;
@@ -210,12 +213,14 @@ int animate(const AnimateArgs& a) {
   if (video) make_output_dir(dir / (stem + ".frames"));
   plot::render_script(fig, script);
   if (video) {
-    const std::string codec = ext == ".mp4" ? "-c:v libx264 -pix_fmt yuv420p" : "-c:v libvpx-vp9 -b:v 0 -crf 40";
     const fs::path log = dir / (stem + ".ffmpeg.log");
-    const std::string encode = fmt::format("'{}' -y -loglevel error -framerate {} -i '{}/%05d.png' {} '{}' 2>'{}'",
-                                           ffmpeg, a.fps, (dir / (stem + ".frames")).string(), codec, gif.string(),
-                                           log.string());
-    if (std::system(encode.c_str()) != 0 || !fs::is_regular_file(gif))
+    std::vector<std::string> args{ffmpeg, "-y", "-loglevel", "error", "-framerate", std::to_string(a.fps), "-i",
+                                  fs::absolute(dir / (stem + ".frames") / "%05d.png").string()};
+    for (const char* c : ext == ".mp4" ? std::vector<const char*>{"-c:v", "libx264", "-pix_fmt", "yuv420p"}
+                                       : std::vector<const char*>{"-c:v", "libvpx-vp9", "-b:v", "0", "-crf", "40"})
+      args.emplace_back(c);
+    args.push_back(fs::absolute(gif).string());
+    if (plot::run_program(fs::current_path(), args, fs::absolute(log)) != 0 || !fs::is_regular_file(gif))
       throw RunError(fmt::format("ffmpeg failed on the frames of {} (see {})", gif.string(), log.string()));
     fs::remove_all(dir / (stem + ".frames"));
     fs::remove(log);

@@ -2,6 +2,8 @@
 // fitted [[device]] table ready for a scene, and the figure of the fit.
 #include <nlohmann/json.hpp>
 #include <fmt/format.h>
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -55,6 +57,18 @@ std::string device_table(const FitArgs& a, const Fit& fit, const std::vector<std
 }
 
 int run_fit(const FitArgs& a) {
+  // Checked before the fit: the table is written into scenes, the figure beside --out.
+  const bool plain = !a.name.empty() && std::all_of(a.name.begin(), a.name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '-';
+  });
+  if (!plain) throw InputError(fmt::format("--name {}: letters, digits, _ or - (it names a device)", plot::comment(a.name)));
+  if (a.at != "edges") {
+    char* end = nullptr;
+    const double x = std::strtod(a.at.c_str(), &end);
+    if (a.at.empty() || end != a.at.c_str() + a.at.size() || !std::isfinite(x) || std::abs(x) > 1e4)
+      throw InputError(fmt::format("--at {}: edges, or x [m] from the centre line (a finite number)", plot::comment(a.at)));
+  }
+  if (!a.out.empty()) plot::check_name(a.figure_name, "--figure");
   const CyclicTest test = read_cyclic_test(a.file, a.columns);
   const Fit fit = fit_law(test, {a.law, parse_fixes(a.fixes)});
   const PlateScaling scaling{a.thickness, a.stiffness, a.yield};

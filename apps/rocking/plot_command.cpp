@@ -36,8 +36,7 @@ plot::Figure figure(const FigureArgs& a, std::string title, int width, int heigh
   plot::Figure f;
   f.dir = a.out;
   f.name = a.name;
-  if (f.name.empty() || f.name.find('/') != std::string::npos)
-    throw InputError(fmt::format("--name '{}': a file stem without folders", a.name));
+  plot::check_name(a.name, "--name");
   f.title = std::move(title);
   f.formats = plot::parse_formats(a.formats);
   f.width = width;

@@ -7,7 +7,10 @@ module;
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
+#include <fcntl.h>
+#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <fmt/format.h>
@@ -20,20 +23,6 @@ namespace rocking::plot {
 namespace fs = std::filesystem;
 
 namespace {
-
-// A gnuplot string literal: double quotes, with \ and " escaped, newlines kept.
-std::string gp_string(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '\n') {
-      out += "\\n";
-      continue;
-    }
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out + "\"";
-}
 
 // Text size that stays readable at the size the figure is written.
 int font_points(const Figure& fig, int reference_width, int reference_height) {
@@ -78,8 +67,8 @@ std::string render_loop(const Figure& fig, const std::string& body, int points) 
       "  unset multiplot\n"
       "  set output\n"
       "}}\n",
-      gp_string(formats), fmt::arg("w", fig.width), fmt::arg("h", fig.height), fmt::arg("wi", fig.width / 100.0),
-      fmt::arg("hi", fig.height / 100.0), fmt::arg("name", gp_string(fig.name)), fmt::arg("body", body),
+      quote(formats), fmt::arg("w", fig.width), fmt::arg("h", fig.height), fmt::arg("wi", fig.width / 100.0),
+      fmt::arg("hi", fig.height / 100.0), fmt::arg("name", quote(fig.name)), fmt::arg("body", body),
       fmt::arg("pt", points));
 }
 
@@ -114,7 +103,7 @@ Grid shared_key_grid(const Figure& fig, int rows, int cols, int points, const st
   const double xgap = 9.0 * points / W, ygap = (3.6 + 1.3 * panel_title_lines) * line / H;
   const double width = (right - left - (cols - 1) * xgap) / cols, height = (top - bottom - (rows - 1) * ygap) / rows;
   Grid g;
-  g.begin = fmt::format("  set multiplot title {} noenhanced\n", gp_string(fig.title));
+  g.begin = fmt::format("  set multiplot title {} noenhanced\n", quote(fig.title));
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) {
       const double x0 = left + c * (width + xgap), y1 = top - r * (height + ygap);
@@ -149,14 +138,65 @@ void write_script(const fs::path& file, const std::string& text) {
   std::ofstream out(file);
   out << text;
   out.close();
-  if (!out) throw InputError(fmt::format("{}: cannot write the gnuplot script", file.string()));
+  if (!out) throw RunError(fmt::format("{}: cannot write the gnuplot script", file.string()));
 }
 
 bool executable(const fs::path& p) { return ::access(p.c_str(), X_OK) == 0 && fs::is_regular_file(p); }
 
 }  // namespace
 
+std::string quote(std::string_view text) {
+  std::string out = "'";
+  for (char c : text) {
+    if (c == '\n') {
+      out += "' . \"\\n\" . '";
+      continue;
+    }
+    if (c == '\'') out += '\'';
+    out += (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) ? ' ' : c;
+  }
+  return out + "'";
+}
+
+std::string comment(std::string_view text) {
+  std::string out(text);
+  for (char& c : out)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
+  return out;
+}
+
+void check_name(const std::string& name, const std::string& option) {
+  const bool control = std::any_of(name.begin(), name.end(),
+                                   [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; });
+  if (name.empty() || name == "." || name == ".." || name.find('/') != std::string::npos || control)
+    throw InputError(fmt::format("{} {}: a file name without a folder (no '/', not '.' or '..', no control "
+                                 "characters); --out chooses the folder",
+                                 option, comment(name)));
+}
+
+int run_program(const fs::path& dir, const std::vector<std::string>& argv, const fs::path& log) {
+  if (argv.empty()) return -1;
+  std::vector<char*> args;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addchdir_np(&actions, dir.c_str());
+  posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, 1, 2);
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, args[0], &actions, nullptr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0) return -1;
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
 std::vector<fs::path> render_script(const Figure& fig, const std::string& script) {
+  check_name(fig.name, "figure name");
   std::error_code ec;
   fs::create_directories(fig.dir, ec);
   if (ec || !fs::is_directory(fig.dir))
@@ -166,9 +206,10 @@ std::vector<fs::path> render_script(const Figure& fig, const std::string& script
   write_script(gp, script);
   const std::string gnuplot = find_gnuplot();
   const fs::path log = fig.dir / (fig.name + ".gnuplot.log");
-  const std::string cmd = fmt::format("cd '{}' && '{}' '{}' >'{}' 2>&1", fig.dir.string(), gnuplot,
-                                      gp.filename().string(), log.filename().string());
-  const int status = std::system(cmd.c_str());
+  for (const std::string& f : fig.formats) fs::remove(fig.dir / (fig.name + "." + f), ec);
+  // gnuplot runs in the figure's folder, as the script's relative paths expect.
+  const fs::path where = fs::absolute(fig.dir, ec);
+  const int status = run_program(where, {gnuplot, gp.filename().string()}, where / log.filename());
   std::vector<fs::path> written;
   for (const std::string& f : fig.formats) {
     const fs::path out = fig.dir / (fig.name + "." + f);
@@ -180,7 +221,7 @@ std::vector<fs::path> render_script(const Figure& fig, const std::string& script
     while (std::getline(in, line))
       if (!line.empty()) { first = line; break; }
     throw RunError(fmt::format("gnuplot failed on {} (see {}){}{}", gp.string(), log.string(),
-                               first.empty() ? "" : ": ", first));
+                               first.empty() ? "" : ": ", comment(first)));
   }
   fs::remove(log, ec);
   return written;
@@ -214,7 +255,7 @@ std::string find_program(const std::string& name) {
   const char* path = std::getenv("PATH");
   std::stringstream ss(path != nullptr ? path : "");
   for (std::string dir; std::getline(ss, dir, ':');)
-    if (!dir.empty() && executable(fs::path(dir) / name)) return (fs::path(dir) / name).string();
+    if (!dir.empty() && executable(fs::path(dir) / name)) return fs::absolute(fs::path(dir) / name).string();
   return {};
 }
 
@@ -222,7 +263,7 @@ std::string find_gnuplot() {
   if (const char* env = std::getenv("ROCKING_GNUPLOT"); env != nullptr && *env != 0) {
     if (!executable(env))
       throw RunError(fmt::format("ROCKING_GNUPLOT={}: not an executable program", env));
-    return env;
+    return fs::absolute(env).string();
   }
   std::string found = find_program("gnuplot");
   if (found.empty())
@@ -289,7 +330,7 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
     for (std::size_t i = 0; i < runs.size(); ++i)
       if (keep(runs[i]))
         items.push_back(fmt::format("{} skip 1 using {} with lines linestyle {} title {} noenhanced",
-                                    gp_string(runs[i].history), using_spec, i + 1, gp_string(runs[i].label)));
+                                    quote(runs[i].history), using_spec, i + 1, quote(runs[i].label)));
     return plot_command(items);
   };
   auto every = [](const ResponseSeries&) { return true; };
@@ -306,7 +347,7 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
     body += grid.panels[next++];
     body += fmt::format("  set ylabel \"ground acceleration a_g [g]\"\n"
                         "  plot {} skip 1 using 1:($14/{}) with lines linecolor rgb \"#555555\" notitle\n",
-                        gp_string(runs.front().history), gravity);
+                        quote(runs.front().history), gravity);
   }
   body += grid.panels[next++] + "  set ylabel \"total top drift {/Symbol d}_t [%]\"\n";
   body += curves("1:($6*100)", every);
@@ -332,7 +373,7 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
     for (std::size_t k = 0; k < names.size(); ++k)
       legend.push_back(fmt::format("{} {}", dashes[k % dashes.size()], names[k]));
     body += grid.panels[next++] +
-            fmt::format("  set autoscale x\n  set xlabel {} noenhanced\n", gp_string(fmt::format(
+            fmt::format("  set autoscale x\n  set xlabel {} noenhanced\n", quote(fmt::format(
                                                                             "device elongation e [mm]   ({})",
                                                                             fmt::join(legend, ", ")))) +
             "  set ylabel \"device force F [kN]\"\n";
@@ -343,7 +384,7 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
         const auto dash = std::find(names.begin(), names.end(), devices[i][k]) - names.begin();
         items.push_back(fmt::format("{} skip 1 using (${} == 0 || ${} == 0 ? NaN : ${}*1000):(${}/1000) with lines "
                                     "linestyle {} dashtype {} notitle",
-                                    gp_string(runs[i].history), e, f, e, f, i + 1,
+                                    quote(runs[i].history), e, f, e, f, i + 1,
                                     static_cast<std::size_t>(dash) % dashes.size() + 1));
       }
     body += plot_command(items);
@@ -364,7 +405,7 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
   }
   std::vector<std::string> entries;
   for (std::size_t i = 0; i < runs.size(); ++i)
-    entries.push_back(fmt::format("NaN with lines linestyle {} title {} noenhanced", i + 1, gp_string(runs[i].label)));
+    entries.push_back(fmt::format("NaN with lines linestyle {} title {} noenhanced", i + 1, quote(runs[i].label)));
   body += key_plot(grid, entries);
   const std::string script = fmt::format(
       "# rocking: response figure in the style of the paper's Fig. 4.\n"
@@ -383,17 +424,17 @@ std::vector<fs::path> render_fit(const Figure& fig, const std::string& data_file
   const std::vector<std::string> labels{"measured", fitted_label};
   const int points = font_points(fig, 1100, 480);
   const Grid grid = shared_key_grid(fig, 1, 2, points, labels);
-  const std::string data = gp_string(data_file);
+  const std::string data = quote(data_file);
   std::string body = grid.begin + "  set grid\n  unset key\n";
   body += grid.panels[0] + "  set xlabel \"elongation e [mm]\"\n  set ylabel \"force F [kN]\"\n";
   body += plot_command({fmt::format("{} skip 1 using ($2*1000):($3/1000) with points pointtype 7 pointsize 0.35 "
                                     "linecolor rgb \"#a0a0a0\" notitle", data),
                         fmt::format("{} skip 1 using ($2*1000):($4/1000) with lines linestyle 1 notitle", data)});
-  body += grid.panels[1] + fmt::format("  set xlabel {} noenhanced\n", gp_string(time_label)) +
+  body += grid.panels[1] + fmt::format("  set xlabel {} noenhanced\n", quote(time_label)) +
           "  set ylabel \"residual F_{fit} - F [kN]\"\n";
   body += plot_command({fmt::format("{} skip 1 using 1:(($4-$3)/1000) with lines linestyle 2 notitle", data)});
   body += key_plot(grid, {"NaN with points pointtype 7 pointsize 0.8 linecolor rgb \"#a0a0a0\" title \"measured\" noenhanced",
-                          fmt::format("NaN with lines linestyle 1 title {} noenhanced", gp_string(fitted_label))});
+                          fmt::format("NaN with lines linestyle 1 title {} noenhanced", quote(fitted_label))});
   const std::string script = fmt::format(
       "# rocking: a device law fitted to a cyclic test (the paper's Fig. 2, top right).\n"
       "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
@@ -425,16 +466,16 @@ std::vector<fs::path> render_lines(const Figure& fig, int rows, int cols, const 
     for (const Line& l : p.lines)
       if (!l.label.empty() && std::find(labels.begin(), labels.end(), l.label) == labels.end()) {
         labels.push_back(l.label);
-        entries.push_back(fmt::format("NaN {} title {} noenhanced", style(l), gp_string(l.label)));
+        entries.push_back(fmt::format("NaN {} title {} noenhanced", style(l), quote(l.label)));
       }
   const int points = font_points(fig, 550 * cols, 420 * rows);
   const Grid grid = shared_key_grid(fig, rows, cols, points, labels, 1);
-  std::string body = grid.begin + fmt::format("  set grid\n  set xlabel {}\n  set ylabel {}\n", gp_string(xlabel),
-                                               gp_string(ylabel));
+  std::string body = grid.begin + fmt::format("  set grid\n  set xlabel {}\n  set ylabel {}\n", quote(xlabel),
+                                               quote(ylabel));
   for (std::size_t k = 0; k < panels.size() && k < grid.panels.size(); ++k) {
     const LinePanel& panel = panels[k];
     body += grid.panels[k] + "  unset key\n  unset label\n";
-    body += fmt::format("  set title {} noenhanced\n  set xrange [{}]\n  set yrange [{}]\n", gp_string(panel.title),
+    body += fmt::format("  set title {} noenhanced\n  set xrange [{}]\n  set yrange [{}]\n", quote(panel.title),
                         panel.xrange, panel.yrange);
     if (panel.lines.empty()) {
       body += "  set label 1 \"(nothing to show for this variant)\" at graph 0.5,0.5 center\n"
@@ -443,7 +484,7 @@ std::vector<fs::path> render_lines(const Figure& fig, int rows, int cols, const 
     }
     std::vector<std::string> items;
     for (const Line& l : panel.lines)
-      items.push_back(fmt::format("{} skip 1 using 1:2 {} notitle", gp_string(l.file), style(l)));
+      items.push_back(fmt::format("{} skip 1 using 1:2 {} notitle", quote(l.file), style(l)));
     body += plot_command(items);
   }
   body += "  unset title\n  set xrange [*:*]\n  set yrange [*:*]\n";
@@ -471,27 +512,27 @@ std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const
   const Grid grid = shared_key_grid(fig, rows, cols, points, labels);
   std::string body = grid.begin + fmt::format("  set grid\n  set autoscale xfix\n  set offsets 0, 0, graph 0.05, 0\n"
                                                "  set xlabel {}\n{}",
-                                               gp_string(xlabel),
+                                               quote(xlabel),
                                                loglog ? "  set logscale xy\n  set format x \"10^{%T}\"\n"
                                                         "  set format y \"10^{%T}\"\n  set autoscale x\n  set offsets 0, 0, 0, 0\n"
                                                       : "");
   for (std::size_t p = 0; p < panels.size(); ++p) {
     const Panel& panel = panels[p];
     body += grid.panels[p] + "  unset key\n";
-    body += fmt::format("  set ylabel {}\n  set yrange [{}:*]\n", gp_string(panel.ylabel), panel.from_zero ? "0" : "*");
+    body += fmt::format("  set ylabel {}\n  set yrange [{}:*]\n", quote(panel.ylabel), panel.from_zero ? "0" : "*");
     body += "  unset arrow\n  unset label\n";
     if (!panel.xrange.empty()) body += fmt::format("  set xrange {}\n", panel.xrange);
     for (std::size_t m = 0; m < panel.marks.size(); ++m)
       body += fmt::format("  set arrow from first {0:.9g}, graph 0 to first {0:.9g}, graph 1 nohead dashtype 2 "
                           "linecolor rgb \"#555555\"\n  set label {1} {2} at first {0:.9g}, graph 0.97 left offset "
                           "char 0.3,-{3} font \",{4}\" noenhanced\n",
-                          panel.marks[m].x, m + 10, gp_string(panel.marks[m].label), m, std::max(7, points - 3));
+                          panel.marks[m].x, m + 10, quote(panel.marks[m].label), m, std::max(7, points - 3));
     std::vector<std::string> items;
     for (std::size_t i = 0; i < series.size(); ++i) {
       const Series& s = series[i];
       if (std::find(s.absent.begin(), s.absent.end(), p) != s.absent.end()) continue;
-      const std::string file = gp_string(s.file);
-      const std::string title = fmt::format("title {} noenhanced", gp_string(s.label));
+      const std::string file = quote(s.file);
+      const std::string title = fmt::format("title {} noenhanced", quote(s.label));
       if (s.collapse_column == 0) {
         items.push_back(fmt::format("{} skip 1 using ({}):({}) with {} linestyle {} {}", file, panel.x, panel.y,
                                     s.points ? "linespoints" : "lines", i + 1, title));
@@ -526,7 +567,7 @@ std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const
   std::vector<std::string> entries;
   for (std::size_t i = 0; i < series.size(); ++i)
     entries.push_back(fmt::format("NaN with {} linestyle {} title {} noenhanced",
-                                  series[i].points ? "linespoints" : "lines", i + 1, gp_string(series[i].label)));
+                                  series[i].points ? "linespoints" : "lines", i + 1, quote(series[i].label)));
   if (collapses)
     entries.push_back("NaN with points pointtype 2 pointsize 2.6 linewidth 3 linecolor rgb \"#222222\" "
                       "title \"overturns (x: first; o: survives above it)\"");
@@ -551,8 +592,8 @@ std::vector<fs::path> render_spectrum(const Figure& fig, const std::vector<Serie
     for (std::size_t i = 0; i < series.size(); ++i)
       items.push_back(fmt::format("{} skip 1 using {}:($5 > 0 ? ${} : NaN):{}:{}:{}:{} with boxxyerror "
                                   "fillstyle solid 1.0 noborder linecolor rgb \"#{}{}\" title {} noenhanced",
-                                  gp_string(series[i].file), x, y, cell, cell + 1, cell + 2, cell + 3,
-                                  i == 0 ? "70" : "90", palette[i % palette_size], gp_string(series[i].label)));
+                                  quote(series[i].file), x, y, cell, cell + 1, cell + 2, cell + 3,
+                                  i == 0 ? "70" : "90", palette[i % palette_size], quote(series[i].label)));
     return plot_command(items);
   };
   std::vector<std::string> labels;
@@ -560,14 +601,14 @@ std::vector<fs::path> render_spectrum(const Figure& fig, const std::vector<Serie
   const int points = font_points(fig, 1200, 600);
   const Grid grid = shared_key_grid(fig, 1, 2, points, labels);
   std::string body = grid.begin + grid.panels[0] + "  unset key\n  set grid front\n  set autoscale xfix\n  set autoscale yfix\n" +
-                     fmt::format("  set xlabel {}\n  set ylabel {}\n", gp_string(normalised_x), gp_string(normalised_y));
+                     fmt::format("  set xlabel {}\n  set ylabel {}\n", quote(normalised_x), quote(normalised_y));
   body += panel(1, 2, 7);
   body += grid.panels[1] + "  set xlabel \"pulse period T [s]\"\n  set ylabel \"pulse amplitude a_p / g [-]\"\n";
   body += panel(3, 4, 11);
   std::vector<std::string> entries;
   for (std::size_t i = 0; i < series.size(); ++i)
     entries.push_back(fmt::format("NaN with boxes fillstyle solid 1.0 noborder linecolor rgb \"#{}{}\" title {} noenhanced",
-                                  i == 0 ? "70" : "90", palette[i % palette_size], gp_string(series[i].label)));
+                                  i == 0 ? "70" : "90", palette[i % palette_size], quote(series[i].label)));
   body += key_plot(grid, entries);
   const std::string script = fmt::format(
       "# rocking: overturning spectrum (filled: the block overturns).\n"
@@ -583,10 +624,10 @@ std::vector<fs::path> render_modes(const Figure& fig, const std::string& data_fi
     std::vector<std::string> items;
     for (std::size_t i = 0; i < p.labels.size(); ++i) {
       const int colour = i < p.colours.size() ? p.colours[i] : static_cast<int>(i);
-      items.push_back(fmt::format("{} using {}:1 with linespoints linestyle {} title {} noenhanced", gp_string(data_file),
-                                  first_column + i, colour % static_cast<int>(palette_size) + 1, gp_string(p.labels[i])));
+      items.push_back(fmt::format("{} using {}:1 with linespoints linestyle {} title {} noenhanced", quote(data_file),
+                                  first_column + i, colour % static_cast<int>(palette_size) + 1, quote(p.labels[i])));
     }
-    return fmt::format("  set title {} noenhanced\n", gp_string(p.title)) + plot_command(items);
+    return fmt::format("  set title {} noenhanced\n", quote(p.title)) + plot_command(items);
   };
   std::string body = fmt::format(
       "  set multiplot layout 1,2 title {} noenhanced\n"
@@ -595,7 +636,7 @@ std::vector<fs::path> render_modes(const Figure& fig, const std::string& data_fi
       "  set xlabel \"lateral displacement (normalised, top = 1) [-]\"\n"
       "  set ylabel \"height [m]\"\n"
       "  set xzeroaxis\n",
-      gp_string(fig.title));
+      quote(fig.title));
   body += panel(left, 2);
   body += panel(right, 2 + left.labels.size());
   const std::string script = fmt::format(
@@ -603,7 +644,7 @@ std::vector<fs::path> render_modes(const Figure& fig, const std::string& data_fi
       "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
       "# Data: {} (height, then one column per shape).\n"
       "{}{}",
-      fig.name, data_file, style_lines(2, 1), render_loop(fig, body, font_points(fig, 1200, 800)));
+      fig.name, comment(data_file), style_lines(2, 1), render_loop(fig, body, font_points(fig, 1200, 800)));
   return render_script(fig, script);
 }
 

@@ -12,6 +12,7 @@
 module;
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 export module rocking.plot;
@@ -20,11 +21,15 @@ export namespace rocking::plot {
 
 struct Figure {
   std::filesystem::path dir;   // where the figure, its script and data go
-  std::string name;            // file stem: NAME.png, NAME.pdf, NAME.svg, NAME.gp
+  std::string name;            // file stem: NAME.png, NAME.pdf, NAME.svg, NAME.gp (a name, not a path)
   std::string title;
   std::vector<std::string> formats{"png", "pdf", "svg"};
   int width = 1000, height = 1300;  // pixels (PNG, SVG); PDF at 100 px per inch
 };
+
+// InputError naming `option` unless `name` is a file stem that stays in its
+// folder: not empty, no '/', no control character, not "." or "..".
+void check_name(const std::string& name, const std::string& option);
 
 // "png,pdf" -> {"png", "pdf"}; InputError for anything else.
 std::vector<std::string> parse_formats(const std::string& list);
@@ -138,6 +143,23 @@ std::vector<std::filesystem::path> render_fit(const Figure& fig, const std::stri
 // seconds and g on the right.
 std::vector<std::filesystem::path> render_spectrum(const Figure& fig, const std::vector<Series>& series,
                                                    const std::string& normalised_x, const std::string& normalised_y);
+
+// Text from anywhere (a record's header, a file or scene name) as a gnuplot
+// string expression that gnuplot never interprets: single-quoted literals
+// (single quotes stop backquote substitution and escapes; a ' is doubled),
+// joined by "\n" where the text has a newline; other control characters
+// become spaces. Every text a script holds goes through it.
+std::string quote(std::string_view text);
+
+// Text for a gnuplot comment: one line, control characters as spaces.
+std::string comment(std::string_view text);
+
+// Runs a program (argv[0] an absolute path, no shell) in `dir` with its
+// standard output and error going to `log` and standard input from
+// /dev/null; returns its exit status (-1 when it could not start or was
+// killed by a signal).
+int run_program(const std::filesystem::path& dir, const std::vector<std::string>& argv,
+                const std::filesystem::path& log);
 
 // Writes DIR/NAME.gp and runs gnuplot on it in DIR; returns the files
 // NAME.<format> it made, one per fig.formats entry (RunError if any is missing).
