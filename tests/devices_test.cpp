@@ -171,6 +171,13 @@ TEST_CASE("laws by name from their parameters, with one-line errors naming the k
   CHECK_THROWS_WITH_AS(make_law("viscous", [](std::string_view k) -> std::optional<double> {
                          return k == "a" ? std::optional<double>(0.0) : std::nullopt;
                        }),
-                       "viscous law: a = 0: must be > 0 -", InputError);
+                       "viscous law: a = 0: must be > 0 and <= 3 [-]", InputError);
+  CHECK_THROWS_WITH_AS(make_law("bouc-wen", [](std::string_view k) -> std::optional<double> {
+                         if (k == "k") return 1e7;
+                         if (k == "d_y") return 0.02;
+                         if (k == "alpha" || k == "beta") return 0.0;
+                         return std::nullopt;
+                       }),
+                       "bouc-wen law: beta: alpha + beta must be positive (bounded hysteresis)", InputError);
   CHECK_THROWS_AS(make_law("bouc-wen", none), InputError);  // k and d_y have no default
 }

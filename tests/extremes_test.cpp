@@ -41,6 +41,7 @@ RunResult run(const Scene& scene, const GroundMotion& g, double rtol = 1e-6, dou
   RunOptions o;
   o.tolerances.rtol = rtol;
   o.duration = duration;
+  o.initial = {scene.initial.theta, scene.initial.theta_dot, scene.initial.u, scene.initial.u_dot};
   return simulate(make_contact_model(scene, true), g, o);
 }
 
@@ -125,4 +126,40 @@ TEST_CASE("rtol 1e-12 runs to the end and agrees with rtol 1e-9") {
   const RunResult loose = run(chimney(), pulse(), 1e-9);
   CHECK(tight.counts.impacts == loose.counts.impacts);
   CHECK(tight.peak(Quantity::delta_t) == doctest::Approx(loose.peak(Quantity::delta_t)).epsilon(1e-6));
+}
+
+TEST_CASE("released beyond its overturning angle, a structure has overturned at t = 0") {
+  // The rigid block's alpha is 0.269 rad; the chimney's alpha_cg 0.216 rad.
+  // A tilt past it never crosses the overturning guard: the run must say so
+  // at once, not integrate a body falling through the floor.
+  const std::string block_file = std::string(ROCKING_SOURCE_DIR) + "/data/scenes/rigid_block.toml";
+  for (const Scene& scene : {load_scene(block_file, {"initial.theta=0.3", "excitation.kind=none"}),
+                             load_scene(block_file, {"initial.theta=-0.28", "initial.theta_dot=-1", "excitation.kind=none"}),
+                             chimney({"initial.theta=0.5", "excitation.kind=none", "excitation.duration=4"})}) {
+    CAPTURE(scene.initial.theta);
+    const RunResult r = run(scene, default_ground_motion(scene), 1e-6, 4.0);
+    CHECK(r.outcome == Outcome::overturned);
+    CHECK(r.t_end == 0.0);
+    CHECK(r.final_theta == scene.initial.theta);
+  }
+  // Just inside the angle, released from rest, the block rocks back and completes.
+  const Scene inside = load_scene(block_file, {"initial.theta=0.2", "excitation.kind=none"});
+  const RunResult r = run(inside, default_ground_motion(inside), 1e-6, 4.0);
+  CHECK(r.outcome == Outcome::completed);
+  CHECK(r.counts.impacts > 0);
+}
+
+TEST_CASE("plates thin enough to vanish leave the chimney rocking as it does without them") {
+  // thickness 1e-3: stiffness x 1e-9 (0.01 N/m), yield elongation x 1e3
+  // (beyond any chord): the plates carry no force worth the name, so the run
+  // is the run without dampers (same events; peaks to 1e-5 of their size).
+  const RunResult thin = run(chimney({"damper.thickness=1e-3"}), pulse(), 1e-8);
+  const RunResult none = run(chimney({"damper.enabled=false"}), pulse(), 1e-8);
+  check_sound(thin);
+  CHECK(none.counts.uplifts > 0);
+  CHECK(thin.counts.uplifts == none.counts.uplifts);
+  CHECK(thin.counts.impacts == none.counts.impacts);
+  for (Quantity q : {Quantity::theta, Quantity::delta_t, Quantity::delta_e, Quantity::base_moment})
+    CHECK(thin.peak(q) == doctest::Approx(none.peak(q)).epsilon(1e-5));
+  CHECK(thin.peak(Quantity::damper_F) < 1e-3);  // [N]: 0.01 N/m over a few centimetres
 }

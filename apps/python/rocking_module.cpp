@@ -284,7 +284,7 @@ PyResult simulate(const py::object& scene_arg, const py::object& record, double 
   double scene_scale = 1;
   if (record.is_none()) {
     motion = std::make_shared<const rocking::GroundMotion>(rocking::default_ground_motion(scene).scaled(scale));
-    if (!scene.excitation.record.empty()) scene_scale = scene.excitation.record_options.scale;
+    scene_scale = rocking::excitation_scale(scene);
   } else {
     const PyRecord r = py::isinstance<PyRecord>(record) ? record.cast<PyRecord>()
                                                         : record_load(record.cast<std::filesystem::path>(), {}, {},
@@ -366,8 +366,13 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
   if (levels.empty()) throw rocking::InputError("ida: levels: give at least one level");
   for (double l : levels)
     if (!(l > 0) || !std::isfinite(l)) throw rocking::InputError(fmt::format("ida: level {}: must be positive", l));
-  if (threads < 0) throw rocking::InputError(fmt::format("ida: threads {}: must be at least 1 (0: every core)", threads));
-  if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const rocking::WorkerThreads workers = rocking::worker_threads(threads, "ida: threads");
+  if (workers.capped) {
+    const std::string note = fmt::format("ida: threads {}: this machine has {} cores; running {} threads", threads,
+                                         workers.cores, workers.threads);
+    if (PyErr_WarnEx(PyExc_RuntimeWarning, note.c_str(), 1) != 0) throw py::error_already_set();
+  }
+  threads = workers.threads;
   if (!(damping >= 0 && damping < 1)) throw rocking::InputError(fmt::format("ida: damping {}: must be in [0, 1)", damping));
 
   std::vector<rocking::Variant> variants;

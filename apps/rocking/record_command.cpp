@@ -187,8 +187,13 @@ std::vector<plot::Mark> scene_periods(const RecordArgs& a, std::string& scene_na
 int record(const RecordArgs& a) {
   if (!(a.damping >= 0 && a.damping < 1)) throw InputError(fmt::format("--damping {}: must be in [0, 1)", a.damping));
   const std::vector<double> periods = a.periods.empty() ? standard_periods() : number_list("--periods", a.periods);
-  for (double T : periods)
-    if (!(T > 0)) throw InputError(fmt::format("--periods: {} is not a positive period", T));
+  if (periods.size() > 10000)
+    throw InputError(fmt::format("--periods {}: {} periods (at most 10000)", a.periods, periods.size()));
+  for (double T : periods) try {
+      check_period(T);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("--periods {}: {}", a.periods, e.what()));
+    }
   if (!a.out.empty()) plot::parse_formats(a.formats);  // refused before any work
   std::string scene_name;
   const std::vector<plot::Mark> marks = scene_periods(a, scene_name);

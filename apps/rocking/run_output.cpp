@@ -62,15 +62,20 @@ void make_output_dir(const std::filesystem::path& dir) {
 }
 
 void write_text(const std::filesystem::path& file, const std::string& text) {
+  // Written whole beside it, then renamed over it: never a partial file under its name.
   const std::filesystem::path tmp = file.string() + ".tmp";
-  std::ofstream out(tmp);
-  out << text;
-  out.close();
+  std::FILE* out = std::fopen(tmp.c_str(), "w");
+  int error = out == nullptr ? errno : 0;
+  if (out != nullptr) {
+    if (std::fwrite(text.data(), 1, text.size(), out) != text.size() || std::fflush(out) != 0) error = errno;
+    if (std::fclose(out) != 0 && error == 0) error = errno;
+  }
   std::error_code ec;
-  if (out) std::filesystem::rename(tmp, file, ec);
-  if (!out || ec) {
+  if (error == 0) std::filesystem::rename(tmp, file, ec);
+  if (error != 0 || ec) {
+    const std::string why = error != 0 ? std::strerror(error) : ec.message();
     std::filesystem::remove(tmp, ec);
-    throw InputError(fmt::format("{}: cannot write", file.string()));
+    throw RunError(fmt::format("{}: cannot write: {}", file.string(), why));
   }
 }
 
@@ -87,14 +92,9 @@ void Progress::operator()(std::size_t done, std::size_t total) {
 }
 
 int thread_count(int requested) {
-  if (requested < 0) throw InputError(fmt::format("--threads {}: must be at least 1 (0: every core)", requested));
-  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const int most = 4 * cores;  // beyond this, threads only wait for each other
-  if (requested > most) {
-    spdlog::warn("--threads {}: this machine has {} cores; running {} threads", requested, cores, most);
-    return most;
-  }
-  return requested > 0 ? requested : cores;
+  const WorkerThreads w = worker_threads(requested, "--threads");
+  if (w.capped) spdlog::warn("--threads {}: this machine has {} cores; running {} threads", requested, w.cores, w.threads);
+  return w.threads;
 }
 
 }  // namespace rocking::app

@@ -41,7 +41,7 @@ class HistoryCsv : public rocking::Observer {
 void make_output_dir(const std::filesystem::path& dir);
 
 // Writes text to a file through a temporary name (the file is whole or not
-// there) or fails with a one-line InputError naming it.
+// there) or fails with a one-line RunError (exit 3) naming it and the cause.
 void write_text(const std::filesystem::path& file, const std::string& text);
 
 // --- shared by the commands that run many jobs --------------------------------

@@ -86,7 +86,9 @@ rocking::RecordOptions record_options(const RecordFileOptions& opts) {
   ro.format = opts.format;
   ro.component = opts.component;
   if (!opts.units.empty()) ro.unit = parse_acceleration_unit(opts.units);
-  if (opts.dt < 0 || !std::isfinite(opts.dt)) throw InputError(fmt::format("--dt {}: must be positive", opts.dt));
+  // A record's time step: 1 us (records sampled finer are not records) to 10 s.
+  if (opts.dt != 0 && !(opts.dt >= 1e-6 && opts.dt <= 10))
+    throw InputError(fmt::format("--dt {:g}: must be in [1e-06, 10] s", opts.dt));
   ro.dt = opts.dt;
   return ro;
 }
@@ -106,8 +108,7 @@ std::string ScaleFactors::describe() const {
 }
 
 ScaleFactors motion_scale(const rocking::Scene& scene, const MotionOptions& opts) {
-  return {opts.record.empty() && !scene.excitation.record.empty() ? scene.excitation.record_options.scale : 1.0,
-          opts.scale};
+  return {opts.record.empty() ? excitation_scale(scene) : 1.0, opts.scale};
 }
 
 rocking::GroundMotion load_motion(const rocking::Scene& scene, const MotionOptions& opts) {

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <fstream>
 #include <memory>
+#include <tuple>
 
 namespace rocking::app {
 
@@ -37,6 +38,21 @@ int spectrum(const SpectrumArgs& a) {
   const std::vector<double> freqs = number_list("--frequencies", a.frequencies),
                             amps = number_list("--amplitudes", a.amplitudes);
   const std::vector<double> sizes = number_list("--sizes", a.sizes);
+  for (double size : sizes)
+    if (!(size >= 0.01 && size <= 100))
+      throw InputError(fmt::format("--sizes {}: every size factor must be in [0.01, 100] (got {:g})", a.sizes, size));
+  // About a millisecond a pulse: a grid beyond this is hours of work.
+  const double points = static_cast<double>(freqs.size()) * static_cast<double>(amps.size()) *
+                        static_cast<double>(sizes.size());
+  if (points > 200000)
+    throw InputError(fmt::format("--frequencies {} x --amplitudes {} x --sizes {}: {:.3g} pulses (at most 200000); "
+                                 "take coarser grids",
+                                 a.frequencies, a.amplitudes, a.sizes, points));
+  for (const auto& [flag, text, grid] : {std::tuple{"--frequencies", a.frequencies, &freqs},
+                                         std::tuple{"--amplitudes", a.amplitudes, &amps}})
+    for (double v : *grid)
+      if (!(v > 0 && v <= 1000))
+        throw InputError(fmt::format("{} {}: every ratio must be in (0, 1000] (got {:g})", flag, text, v));
   const int threads = thread_count(a.threads);
   const fs::path dir(a.out);
   make_output_dir(dir / "spectrum.data");

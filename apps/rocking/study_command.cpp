@@ -45,6 +45,7 @@ struct StudyArgs {
   bool no_plot = false;
   bool per_record = false;
   bool resume = false;
+  double max_runs = 1e5;  // a ladder beyond it (minutes to hours of runs) needs the option raised
 };
 
 // The levels: --levels, or --scales for the scale factor; 1:20:1 by default
@@ -129,7 +130,7 @@ void study_figures(const StudyArgs& a, const Study& st, const std::vector<std::s
   for (std::size_t r = 0; r < st.records().size(); ++r) {
     std::string stem = ids[r];
     for (char& c : stem)
-      if (c == '/' || c == '#') c = '_';
+      if (c == '/' || c == '#' || static_cast<unsigned char>(c) < 0x20) c = '_';
     stem = fs::path(stem).replace_extension().string();
     const std::string name = kind + "_" + stem;
     make_output_dir(dir / (name + ".data"));
@@ -236,7 +237,12 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
   const std::vector<double> levels = study_levels(a, st.intensity_measure());
   std::vector<Limit> limits{overturning_limit()};
   for (const std::string& l : a.limits) limits.push_back(parse_limit(l));
+  st.check_level(*std::max_element(levels.begin(), levels.end()), a.scales.empty() ? "--levels" : "--scales");
   const std::vector<Job> jobs = st.ladder(levels);
+  if (static_cast<double>(jobs.size()) > a.max_runs)
+    throw InputError(fmt::format("{} runs ({} records x {} levels x {} variants): more than --max-runs {:g}; raise it "
+                                 "to run them all",
+                                 jobs.size(), st.records().size(), levels.size(), st.variants().size(), a.max_runs));
   const std::vector<std::string> ids = record_ids(st.records());
   const int threads = thread_count(a.threads);
   if (!a.no_plot) plot::parse_formats(a.formats);  // refused before any run
@@ -394,6 +400,7 @@ std::string ranges_text(const std::vector<std::pair<double, double>>& ranges) {
 int run_hunt(const StudyArgs& a, const Study& st) {
   const fs::path dir(a.out);
   const HuntOptions o = hunt_options(a, st);
+  st.check_level(o.max, "--hunt-max");
   make_output_dir(dir);
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
   for (std::size_t r = 0; r < st.records().size(); ++r)
@@ -529,6 +536,10 @@ void add_study_options(CLI::App& cmd, StudyArgs& a, const std::string& default_o
                  "has reached every limit")
       ->type_name("Q=V");
   cmd.add_option("--threads", a.threads, "Worker threads (default: every core)")->type_name("N");
+  cmd.add_option("--max-runs", a.max_runs,
+                 "Refuse a ladder of more runs than this before starting (default 1e5:\n"
+                 "minutes on two cores); raise it for a larger study")
+      ->type_name("N");
   cmd.add_option("--out", a.out, fmt::format("Output folder (default {})", default_out))->type_name("DIR");
   cmd.add_option("--formats", a.formats, "Figure formats: png,pdf,svg (default all)")->type_name("LIST");
   cmd.add_flag("--no-plot", a.no_plot, "Write the CSVs and JSON only");

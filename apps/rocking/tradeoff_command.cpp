@@ -223,12 +223,14 @@ int tradeoff(const TradeoffArgs& a) {
   RunOptions base = run_options(scene, solver, a.motion.record.empty());
   base.track_energy = false;
   const ContactModel model = make_contact_model(scene, false);
-  if (a.repeats < 1) throw InputError(fmt::format("--repeats {}: must be at least 1", a.repeats));
+  if (a.repeats < 1 || a.repeats > 100) throw InputError(fmt::format("--repeats {}: must be in [1, 100]", a.repeats));
   std::vector<double> rtols;
   for (double r : number_list("--rtols", a.rtols)) {
-    if (!(r > 0 && r < 1)) throw InputError(fmt::format("--rtols: {} is not in (0, 1)", r));
+    // The reference runs at 1e-12: a tighter rtol would be measured against a coarser run.
+    if (!(r >= 1e-12 && r <= 0.1)) throw InputError(fmt::format("--rtols {}: {:g} is not in [1e-12, 0.1]", a.rtols, r));
     rtols.push_back(r);
   }
+  if (rtols.size() > 50) throw InputError(fmt::format("--rtols {}: {} tolerances (at most 50)", a.rtols, rtols.size()));
   if (!a.scenes.empty()) {
     if (!(a.accuracy > 0 && a.accuracy < 1)) throw InputError(fmt::format("--accuracy {}: must be in (0, 1)", a.accuracy));
     if (!(a.reference_rtol > 0 && a.reference_rtol < 1))

@@ -27,12 +27,13 @@ DeviceLaw make_one(const std::function<std::optional<double>(std::string_view)>&
   std::vector<double> values;
   for (const LawParameter& p : Law::parameters()) {
     const double v = value(p.key).value_or(p.default_value);
-    const bool low = p.minimum_exclusive ? !(v > p.minimum) : !(v >= p.minimum);
-    if (low || !std::isfinite(v))
-      throw InputError(fmt::format("{} law: {} = {}: must be {} {} {}", Law::name, p.key, v,
-                                   p.minimum_exclusive ? ">" : ">=", p.minimum, p.unit));
+    if (!within(p, v))
+      throw InputError(fmt::format("{} law: {} = {}: must be {}", Law::name, p.key, v, bounds_text(p)));
     values.push_back(v);
   }
+  if constexpr (requires { Law::problem(values); })
+    if (const LawProblem why = Law::problem(values); !why.key.empty())
+      throw InputError(fmt::format("{} law: {}: {}", Law::name, why.key, why.why));
   return Law::make(values);
 }
 
@@ -57,8 +58,9 @@ std::optional<DeviceLaw> make_named(std::string_view name,
 
 std::vector<Device> edge_dampers(const Damper& damper, double half_width) {
   BoucWenLaw law;
-  law.damper = scaled_for_thickness(damper);
-  law.d_y = yield_displacement(law.damper, half_width);
+  law.damper = damper;
+  law.damper.stiffness = plate_stiffness(damper);
+  law.d_y = yield_displacement(damper, half_width);
   return {Device{"damper_left", {-half_width, Kinematics::chord, 0}, law, damper.capacity},
           Device{"damper_right", {half_width, Kinematics::chord, 0}, law, damper.capacity}};
 }
@@ -75,6 +77,14 @@ RockingStiffness rocking_stiffness(const std::vector<Device>& devices, double ha
     out.any = true;
   }
   return out;
+}
+
+bool within(const LawParameter& p, double v) {
+  return std::isfinite(v) && (p.minimum_exclusive ? v > p.minimum : v >= p.minimum) && v <= p.maximum;
+}
+
+std::string bounds_text(const LawParameter& p) {
+  return fmt::format("{} {:g} and <= {:g} [{}]", p.minimum_exclusive ? ">" : ">=", p.minimum, p.maximum, p.unit);
 }
 
 std::vector<LawInfo> device_laws() { return all_infos(std::make_index_sequence<std::variant_size_v<DeviceLaw>>()); }

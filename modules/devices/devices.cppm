@@ -125,6 +125,10 @@ struct LawInfo {
   std::vector<LawParameter> parameters;
 };
 std::vector<LawInfo> device_laws();
+// Whether a law parameter takes v (finite, within its bounds), and its bounds
+// in words: "> 0 and <= 1e+13 [N/m]".
+bool within(const LawParameter& p, double v);
+std::string bounds_text(const LawParameter& p);
 // A law by name from its parameters: value(key) gives a parameter's value, or
 // nothing for its default. InputError for an unknown law (listing the laws)
 // or a value out of range (naming the key and its bound).

@@ -17,15 +17,20 @@ struct BoucWenLaw {
   static constexpr const char* name = "bouc-wen";
   static constexpr const char* summary = "Bouc-Wen hysteresis: a yielding metallic damper (the paper's plates)";
   static std::vector<LawParameter> parameters() {
-    return {{"k", "N/m", "pre-yield stiffness", 0, 0, true},
-            {"eps", "-", "post-yield stiffness ratio", 0, 0, false},
-            {"d_y", "m", "yield elongation", 0, 0, true},
+    return {{"k", "N/m", "pre-yield stiffness", 0, 0, true, 1e13},
+            {"eps", "-", "post-yield stiffness ratio", 0, 0, false, 1},
+            {"d_y", "m", "yield elongation", 0, 0, true, 10},
             // (d_y, alpha, beta) and (c d_y, c^n alpha, c^n beta) give the same
             // force for every c > 0 (z scales by 1/c): a fit holds alpha + beta = 1,
             // which makes d_y the yield elongation and |z| <= 1.
-            {"alpha", "-", "Bouc-Wen shape", 0.5, 0, false, "beta"},
-            {"beta", "-", "Bouc-Wen shape", 0.5, 0, false},
-            {"n", "-", "Bouc-Wen sharpness of yield", 1, 0, true}};
+            {"alpha", "-", "Bouc-Wen shape", 0.5, 0, false, 100, "beta"},
+            {"beta", "-", "Bouc-Wen shape", 0.5, 0, false, 100},
+            {"n", "-", "Bouc-Wen sharpness of yield", 1, 0, true, 50}};
+  }
+  // alpha + beta = 0 leaves z' = e' / d_y unbounded: a spring, not a damper.
+  static LawProblem problem(const std::vector<double>& v) {
+    if (!(v[3] + v[4] > 0)) return {"beta", "alpha + beta must be positive (bounded hysteresis)"};
+    return {};
   }
   static BoucWenLaw make(const std::vector<double>& v) {
     BoucWenLaw law;

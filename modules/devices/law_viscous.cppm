@@ -13,8 +13,8 @@ struct ViscousLaw {
   static constexpr const char* name = "viscous";
   static constexpr const char* summary = "F = c sign(e') |e'|^a: a fluid viscous damper (a = 1: a dashpot)";
   static std::vector<LawParameter> parameters() {
-    return {{"c", "N (s/m)^a", "damping coefficient", 0, 0, false},
-            {"a", "-", "velocity exponent (1: linear)", 1, 0, true}};
+    return {{"c", "N (s/m)^a", "damping coefficient", 0, 0, false, 1e12},
+            {"a", "-", "velocity exponent (1: linear)", 1, 0, true, 3}};
   }
   static ViscousLaw make(const std::vector<double>& v) { return {v[0], v[1]}; }
 

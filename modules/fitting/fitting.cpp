@@ -265,6 +265,8 @@ Fit fit_law(const CyclicTest& test, const FitRequest& request) {
       for (const LawParameter& p : info.parameters) keys += (keys.empty() ? "" : ", ") + p.key;
       throw InputError(fmt::format("--fix {}: the {} law has no such parameter (its parameters: {})", key, info.name, keys));
     }
+    if (!within(*it, value))
+      throw InputError(fmt::format("--fix {}={:g}: must be {}", key, value, bounds_text(*it)));
     const std::size_t i = static_cast<std::size_t>(it - info.parameters.begin());
     s.values[i] = value;
     held[i] = true;
@@ -408,15 +410,22 @@ std::vector<std::pair<std::string, double>> scaled_parameters(const Fit& fit, co
   };
   auto k = find("k");
   auto d_y = find("d_y");
-  if (!(scaling.thickness_ratio > 0) || !std::isfinite(scaling.thickness_ratio))
-    throw InputError(fmt::format("--thickness {}: must be a positive ratio", scaling.thickness_ratio));
+  if (!(scaling.thickness_ratio > 0 && scaling.thickness_ratio <= 100))
+    throw InputError(fmt::format("--thickness {:g}: must be a ratio in (0, 100]", scaling.thickness_ratio));
   const double tau = scaling.thickness_ratio;
   k->second *= tau * tau * tau;
   d_y->second /= tau;
   if (scaling.stiffness) k->second = *scaling.stiffness;
   if (scaling.yield_elongation) d_y->second = *scaling.yield_elongation;
-  if (!(k->second > 0) || !(d_y->second > 0))
-    throw InputError("plate scaling: the stiffness and the yield elongation must be positive");
+  // The scaled values go into a scene: they must be values the law takes.
+  const std::vector<LawInfo> laws = device_laws();
+  const auto law = std::find_if(laws.begin(), laws.end(), [&](const LawInfo& l) { return l.name == fit.law; });
+  for (const auto& [key, value] : out)
+    for (const LawParameter& p : law->parameters)
+      if (p.key == key && !within(p, value))
+        throw InputError(fmt::format("plate scaling gives {} = {:g}: it must be {} (check --thickness, --stiffness "
+                                     "and --yield)",
+                                     key, value, bounds_text(p)));
   return out;
 }
 

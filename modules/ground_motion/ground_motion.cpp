@@ -90,6 +90,7 @@ GroundMotion GroundMotion::from_samples(std::string name, std::vector<double> ti
     samples->times = std::move(times);
   }
   samples->values = std::move(accelerations);
+  for (double v : samples->values) samples->peak = std::max(samples->peak, std::abs(v));
   g.samples_ = std::move(samples);
   return g;
 }
@@ -164,16 +165,16 @@ double GroundMotion::max_step() const {
 }
 
 double GroundMotion::peak() const {
-  if (!samples_) return std::abs(amplitude_ * scale_);
-  double m = 0;
-  for (double v : samples_->values) m = std::max(m, std::abs(v));
-  return m * std::abs(scale_);
+  return (samples_ ? samples_->peak : std::abs(amplitude_)) * std::abs(scale_);
 }
 
 GroundMotion GroundMotion::scaled(double factor) const {
   if (!std::isfinite(factor)) throw InputError(fmt::format("scale factor must be finite (got {})", factor));
   GroundMotion g = *this;
   g.scale_ *= factor;
+  if (!(g.peak() <= max_acceleration_g * gravity))
+    throw InputError(fmt::format("scale factor {:g} takes {} to a peak of {:.4g} g, beyond {:g} g", factor, name_,
+                                 g.peak() / gravity, max_acceleration_g));
   return g;
 }
 

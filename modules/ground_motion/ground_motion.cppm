@@ -49,6 +49,11 @@ struct RecordInfo {
 enum class PulseShape { one_sine, ricker };
 PulseShape parse_pulse_shape(std::string_view text);  // "one-sine", "ricker"
 
+// Accelerations beyond this are not ground motion: records holding them are
+// refused at their line, and no scaling may take a motion there.
+inline constexpr double max_acceleration_g = 100;  // |a| [g]
+inline constexpr double max_scale_factor = 1e3;    // |factor| a scene may put on its excitation
+
 class GroundMotion {
  public:
   // Samples at strictly increasing times, accelerations in m/s^2.
@@ -94,6 +99,7 @@ class GroundMotion {
     std::vector<double> times;   // empty when evenly spaced
     std::vector<double> values;  // [m/s^2]
     double dt = 0, inv_dt = 0;   // > 0 when evenly spaced
+    double peak = 0;             // max |value| [m/s^2]
   };
   double time_of(std::size_t i) const;
 
@@ -163,7 +169,6 @@ FormatReader columns_format();
 
 // Records beyond these are not records: refused with their line rather than
 // run into a non-finite state or an absurd amount of work.
-inline constexpr double max_acceleration_g = 100;  // |a| [g]
 inline constexpr double max_record_duration = 1e5; // [s], about 28 hours
 inline constexpr double min_record_dt = 1e-6;      // [s]
 

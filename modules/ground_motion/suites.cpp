@@ -72,7 +72,9 @@ std::vector<std::string> record_paths(const std::string& argument, std::vector<s
   if (!fs::is_regular_file(argument, ec) || is_record_file(argument)) return {argument};
   const auto entries = list_entries(argument);
   const std::string base = fs::path(argument).parent_path().string();
-  const bool list = !entries.empty() && std::all_of(entries.begin(), entries.end(), [&](const auto& e) {
+  // A list when it names some file: the entries it names that are missing
+  // are then reported at their line (read_record_list).
+  const bool list = std::any_of(entries.begin(), entries.end(), [&](const auto& e) {
     return fs::is_regular_file(resolve(e.second, base), ec);
   });
   return list ? read_record_list(argument, base) : std::vector<std::string>{argument};

@@ -27,6 +27,7 @@ std::vector<Line> read_lines(const std::string& path) {
   std::string text;
   for (int n = 1; std::getline(in, text); ++n) {
     if (!text.empty() && text.back() == '\r') text.pop_back();
+    if (n == 1 && text.starts_with("\xEF\xBB\xBF")) text.erase(0, 3);  // a UTF-8 byte-order mark is no content
     lines.push_back({n, std::move(text)});
   }
   return lines;
@@ -221,6 +222,9 @@ void TimedSamples::add(const std::string& path, int line, double t, double a_si)
     fail(path, line, fmt::format("the record starts at t = {:g} s: a run starts at 0, and would lose what "
                                  "comes before it (shift the times)", t));
   if (!t_.empty() && !(t > t_.back())) fail(path, line, fmt::format("times must increase ({} after {})", t, t_.back()));
+  if (!t_.empty() && t - t_.back() < min_record_dt)
+    fail(path, line, fmt::format("t = {:.9g} s is {:g} s after the sample before: below {:g} s, not a record's time step",
+                                 t, t - t_.back(), min_record_dt));
   if (t > max_record_duration)
     fail(path, line, fmt::format("t = {:g} s is beyond {:g} s: not a record's duration", t, max_record_duration));
   check_acceleration(path, line, a_si);

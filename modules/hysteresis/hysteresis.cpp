@@ -4,17 +4,9 @@ module rocking.hysteresis;
 
 namespace rocking {
 
-Damper scaled_for_thickness(const Damper& d) {
-  Damper out = d;
-  const double tau = d.thickness;
-  out.stiffness = d.stiffness * tau * tau * tau;
-  // d_y / tau = 4B sin(theta_y'/2): B cancels.
-  out.theta_y = 2.0 * std::asin(std::sin(0.5 * d.theta_y) / tau);
-  out.thickness = 1.0;
-  return out;
-}
+double plate_stiffness(const Damper& d) { return d.stiffness * d.thickness * d.thickness * d.thickness; }
 
-double yield_displacement(const Damper& d, double B) { return 4.0 * B * std::sin(0.5 * d.theta_y); }
+double yield_displacement(const Damper& d, double B) { return 4.0 * B * std::sin(0.5 * d.theta_y) / d.thickness; }
 
 double pre_yield_rotational_stiffness(const Damper& d, double B) {
   return d.stiffness * 4.0 * B * B;

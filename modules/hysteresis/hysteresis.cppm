@@ -22,11 +22,12 @@ struct Damper {
   double capacity = 0;          // elongation at which a plate fractures [m] (MODEL.md 11); 0: never
 };
 
-// The damper with its thickness scale applied (stiffness x tau^3,
-// theta_y such that d_y x 1/tau), and thickness reset to 1.
-Damper scaled_for_thickness(const Damper& d);
+// The plate's stiffness with its thickness scale: k tau^3 [N/m].
+double plate_stiffness(const Damper& d);
 
-// d_y = 4B sin(theta_y/2) [m]
+// Its yield elongation, d_y = 4B sin(theta_y/2) / tau [m]: theta_y is the
+// as-built plate's; a plate thin enough that d_y exceeds any chord (4B)
+// never yields.
 double yield_displacement(const Damper& d, double half_width);
 
 // Rotational stiffness about a pivot of a damper at lever arm 2B, for the

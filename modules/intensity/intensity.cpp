@@ -34,10 +34,6 @@ void check_damping(double zeta) {
   if (!(zeta >= 0 && zeta < 1)) throw InputError(fmt::format("damping {} must be in [0, 1)", zeta));
 }
 
-void check_period(double T) {
-  if (!(T > 0) || !std::isfinite(T)) throw InputError(fmt::format("period {} s must be positive", T));
-}
-
 // The oscillator's exact step over h for a(tau) = a0 + s tau: the particular
 // solution p + q tau plus the free decay of what is left (y, y').
 class Oscillator {
@@ -248,6 +244,11 @@ std::vector<double> response_spectrum(const GroundMotion& g, const std::vector<d
   return spectrum_of(samples_of(g), periods, damping);
 }
 
+void check_period(double T) {
+  if (!(T >= shortest_period && T <= longest_period))
+    throw InputError(fmt::format("period {:g} s: must be in [{:g}, {:g}] s", T, shortest_period, longest_period));
+}
+
 std::vector<double> standard_periods() {
   return {0.01, 0.02, 0.03, 0.05, 0.075, 0.1, 0.15, 0.2, 0.25, 0.3, 0.4,
           0.5,  0.75, 1.0,  1.5,  2.0,   3.0, 4.0,  5.0, 7.5,  10.0};
@@ -314,6 +315,9 @@ IntensityMeasure parse_intensity_measure(std::string_view text, double damping, 
     if (!(T > 0) || !std::isfinite(T))
       throw InputError(fmt::format("intensity measure '{}': '{}' is not a period in seconds{}", text, p,
                                    first_period > 0 ? " or a multiple of T1" : ""));
+    if (!(T >= shortest_period && T <= longest_period))
+      throw InputError(fmt::format("intensity measure '{}': period {:g} s must be in [{:g}, {:g}] s", text, T,
+                                   shortest_period, longest_period));
     return T;
   };
   const std::string& k = parts[0];

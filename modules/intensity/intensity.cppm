@@ -48,6 +48,12 @@ RecordMeasures measure_record(const GroundMotion& g, const std::vector<double>& 
 double pseudo_spectral_acceleration(const GroundMotion& g, double period, double damping = 0.05);
 std::vector<double> response_spectrum(const GroundMotion& g, const std::vector<double>& periods, double damping = 0.05);
 // The periods of the NGA-West2 spectra from 0.01 to 10 s (21 of them).
+// Oscillator periods the spectra resolve in doubles: from 1 ms (a stiff
+// oscillator follows the ground: PSA -> PGA) to 1000 s.
+inline constexpr double shortest_period = 1e-3, longest_period = 1e3;
+// InputError unless T is in [shortest_period, longest_period].
+void check_period(double T);
+
 std::vector<double> standard_periods();
 // n periods evenly spaced in log T from `from` to `to` (for smooth figures).
 std::vector<double> log_periods(double from, double to, int n);

@@ -152,6 +152,14 @@ constexpr double max_mass = 1e12;      // [kg], a mountain
 constexpr double max_length = 1e4;     // [m] (and m^4 for second moments)
 constexpr double max_modulus = 1e13;   // [Pa], ten times diamond
 constexpr double max_duration = 1e5;   // [s], about 28 hours
+// Lower bounds that keep K and M within the range of doubles and the
+// eigenproblems well posed, far below any structure: a gram, a millimetre.
+constexpr double min_mass = 1e-3;      // [kg]
+constexpr double min_length = 1e-3;    // [m], and between consecutive heights
+constexpr double min_second_moment = 1e-16;  // [m^4]
+constexpr double min_modulus = 1e3;    // [Pa], softer than any rubber
+// Nodes of a structure: its eigenproblems are O(N^3) (1000 nodes: seconds).
+constexpr std::size_t max_nodes = 1000;
 const auto non_negative = [](double v) { return v >= 0; };
 
 void check_known_keys(const toml::table& root, const std::string& file) {
@@ -277,20 +285,23 @@ void apply_override(toml::table& root, const std::string& text, Origins& origins
 Structure read_structure(const toml::table& root, const std::string& file, const Origins& origins) {
   const TableReader t(root, "structure", file, origins);
   Structure s;
-  s.half_width = t.number("half_width", in_range(0, max_length, false), fmt::format("positive and at most {:g} m", max_length));
-  s.heights = t.numbers("heights", in_range(0, max_length, false), fmt::format("positive and at most {:g} m", max_length));
-  s.masses = t.numbers("masses", in_range(0, max_mass, false), fmt::format("positive and at most {:g} kg", max_mass));
+  const std::string length_range = fmt::format("in [{:g}, {:g}] m", min_length, max_length);
+  s.half_width = t.number("half_width", in_range(min_length, max_length, true), length_range);
+  s.heights = t.numbers("heights", in_range(min_length, max_length, true), length_range);
+  if (static_cast<std::size_t>(s.heights.size()) > max_nodes)
+    t.fail(&t.required("heights"), "heights", fmt::format("{} nodes (at most {})", s.heights.size(), max_nodes));
+  s.masses = t.numbers("masses", in_range(min_mass, max_mass, true), fmt::format("in [{:g}, {:g}] kg", min_mass, max_mass));
   s.base_mass = t.number("base_mass", in_range(0, max_mass, true), fmt::format("non-negative and at most {:g} kg", max_mass));
   s.rigid = t.boolean_or("rigid", false);
   const auto n = s.heights.size();
   if (s.masses.size() != n) t.fail(&t.required("masses"), "masses", fmt::format("must have one entry per height ({})", n));
   s.EI_scale = t.number_or("EI_scale", 1.0, [](double v) { return v >= 1e-6 && v <= 1e6; }, "in [1e-6, 1e6]");
   if (!s.rigid || t.has("second_moments")) {  // a rigid block needs no sections
-    const Eigen::VectorXd I = t.numbers("second_moments", in_range(0, max_length, false),
-                                        fmt::format("positive and at most {:g} m^4", max_length));
+    const Eigen::VectorXd I = t.numbers("second_moments", in_range(min_second_moment, max_length, true),
+                                        fmt::format("in [{:g}, {:g}] m^4", min_second_moment, max_length));
     if (I.size() != n) t.fail(&t.required("second_moments"), "second_moments", fmt::format("must have one entry per element ({})", n));
-    s.EI = t.number("youngs_modulus", in_range(0, max_modulus, false),
-                    fmt::format("positive and at most {:g} Pa", max_modulus)) *
+    s.EI = t.number("youngs_modulus", in_range(min_modulus, max_modulus, true),
+                    fmt::format("in [{:g}, {:g}] Pa", min_modulus, max_modulus)) *
            I;
   }
   s.damping_ratio = s.rigid && !t.has("damping_ratio")
@@ -298,9 +309,10 @@ Structure read_structure(const toml::table& root, const std::string& file, const
                         : t.number("damping_ratio", [](double z) { return z >= 0 && z < 1; }, "in [0, 1)");
   const toml::array& h = *t.required("heights").as_array();
   for (Eigen::Index i = 1; i < n; ++i)
-    if (!(s.heights[i] > s.heights[i - 1]))
+    if (!(s.heights[i] >= s.heights[i - 1] + min_length))
       t.fail(h.get(static_cast<std::size_t>(i)), fmt::format("heights[{}]", i),
-             fmt::format("heights must increase (got {} after {})", s.heights[i], s.heights[i - 1]));
+             fmt::format("heights must increase by at least {:g} m (got {} after {})", min_length, s.heights[i],
+                         s.heights[i - 1]));
   return s;
 }
 
@@ -336,13 +348,15 @@ Damper read_damper(const toml::table& root, const std::string& file, const Origi
   const TableReader t(root, "damper", file, origins);
   d.enabled = t.boolean_or("enabled", true);
   if (!d.enabled) return d;  // a disabled damper needs no properties (e.g. --set damper.enabled=false on a scene without one)
-  d.stiffness = t.number("stiffness", positive, "positive");
+  d.stiffness = t.number("stiffness", in_range(0, 1e13, false), "positive and at most 1e+13 [N/m]");
   d.post_yield_ratio = t.number("post_yield_ratio", [](double e) { return e >= 0 && e < 1; }, "in [0, 1)");
-  d.theta_y = t.number("theta_y", positive, "positive");
-  d.alpha = t.number_or("alpha", 1.0, non_negative, "non-negative");
-  d.beta = t.number_or("beta", 0.0, [](double) { return true; }, "a number");
-  d.n = t.number_or("n", 1.0, [](double n) { return n >= 1; }, ">= 1");
-  d.thickness = t.number_or("thickness", 1.0, positive, "positive");
+  // The yield chord 4B sin(theta_y / 2) grows with theta_y up to pi; a
+  // structure tilted by pi/2 lies on its side.
+  d.theta_y = t.number("theta_y", in_range(0, 1.5707963, false), "in (0, pi/2) [rad]");
+  d.alpha = t.number_or("alpha", 1.0, in_range(0, 100, true), "in [0, 100]");
+  d.beta = t.number_or("beta", 0.0, [](double b) { return std::abs(b) <= 100; }, "in [-100, 100]");
+  d.n = t.number_or("n", 1.0, [](double n) { return n >= 1 && n <= 50; }, "in [1, 50]");
+  d.thickness = t.number_or("thickness", 1.0, in_range(0, 100, false), "in (0, 100]");
   d.capacity = t.number_or("capacity", 0.0, positive, "positive [m] (leave it out: never breaks)");
   if (!(d.alpha + d.beta > 0)) t.fail(nullptr, "beta", "alpha + beta must be positive (bounded hysteresis)");
   return d;
@@ -396,12 +410,18 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
       t.fail(&t.required("kinematics"), "kinematics", fmt::format("must be chord or vertical (got '{}')", kinematics));
     }
     const double capacity = t.number_or("capacity", 0.0, positive, "positive [m] (leave it out: never breaks)");
-    const DeviceLaw device_law = make_law(kind, [&](std::string_view key) -> std::optional<double> {
-      if (!t.has(key)) return std::nullopt;
-      const LawParameter& p = *std::ranges::find(law->parameters, key, &LawParameter::key);
-      return t.number(key, [&p](double v) { return p.minimum_exclusive ? v > p.minimum : v >= p.minimum; },
-                      fmt::format("{} {:g} [{}]", p.minimum_exclusive ? ">" : ">=", p.minimum, p.unit));
-    });
+    std::map<std::string, double, std::less<>> given;
+    for (const LawParameter& p : law->parameters)
+      if (t.has(p.key)) given[p.key] = t.number(p.key, [&p](double v) { return within(p, v); }, bounds_text(p));
+    DeviceLaw device_law;
+    try {
+      device_law = make_law(kind, [&](std::string_view key) -> std::optional<double> {
+        const auto v = given.find(key);
+        return v == given.end() ? std::nullopt : std::optional<double>(v->second);
+      });
+    } catch (const InputError& e) {  // values each within bounds that the law refuses together
+      t.fail(nullptr, "", e.what());
+    }
     std::vector<Device> made;
     const toml::node& at = t.required("at");
     if (at.is_string()) {
@@ -440,6 +460,12 @@ Excitation read_excitation(const toml::table& root, const std::string& file, con
     return e;
   }
   if (kind == "record" && !t.has("record")) t.fail(nullptr, "record", "missing key (kind = \"record\")");
+  // A factor on the record or the pulse; its product with the motion's peak
+  // is checked where the motion is built (at most max_acceleration_g).
+  const auto scale = [&t] {
+    return t.number_or("scale", 1.0, [](double v) { return v != 0 && std::abs(v) <= max_scale_factor; },
+                       fmt::format("non-zero and within +-{:g} (kind = \"none\" for no motion)", max_scale_factor));
+  };
   if (t.has("record")) {
     e.record = t.string_or("record", "");
     const std::filesystem::path path(e.record);
@@ -455,16 +481,19 @@ Excitation read_excitation(const toml::table& root, const std::string& file, con
       }
     }
     e.record_options.dt = t.number_or("dt", 0.0, positive, "positive [s]");
-    e.record_options.scale = t.number_or("scale", 1.0, [](double) { return true; }, "a number");
+    e.record_options.scale = scale();
     return e;
   }
+  e.record_options.scale = scale();
   const toml::node& shape = t.required("pulse");
   try {
     e.pulse = parse_pulse_shape(t.string_or("pulse", ""));
   } catch (const InputError& err) {
     t.fail(&shape, "pulse", err.what());
   }
-  e.amplitude = t.number("amplitude_g", [](double) { return true; }, "a number") * to_si(AccelerationUnit::g);
+  e.amplitude = t.number("amplitude_g", [](double a) { return std::abs(a) <= max_acceleration_g; },
+                         fmt::format("within +-{:g} [g]", max_acceleration_g)) *
+                to_si(AccelerationUnit::g);
   e.period = t.number("period", positive, "positive [s]");
   return e;
 }
@@ -572,11 +601,13 @@ ContactModel make_contact_model(const Scene& scene, bool track_energy, std::vect
   return make_contact_model(scene.structure, scene.contact, std::move(devices), track_energy);
 }
 
+double excitation_scale(const Scene& scene) { return scene.excitation.none ? 1.0 : scene.excitation.record_options.scale; }
+
 GroundMotion default_ground_motion(const Scene& scene) {
   const Excitation& e = scene.excitation;
   if (e.none) return GroundMotion::from_samples("no ground motion", {0.0, e.duration}, {0.0, 0.0});
   if (!e.record.empty()) return read_record(e.record, e.record_options);
-  if (e.period > 0) return GroundMotion::pulse(e.pulse, e.amplitude, e.period);
+  if (e.period > 0) return GroundMotion::pulse(e.pulse, e.amplitude, e.period).scaled(e.record_options.scale);
   throw InputError(fmt::format("{}: the scene has no [excitation]; give a record with --record FILE", scene.source));
 }
 

@@ -73,6 +73,8 @@ ContactModel make_contact_model(const Scene& scene, bool track_energy, std::vect
 // The scene's excitation as a ground motion (reads the record if it names one).
 // InputError if the scene has none.
 GroundMotion default_ground_motion(const Scene& scene);
+// The factor [excitation] scale puts on that motion (1 for none).
+double excitation_scale(const Scene& scene);
 
 // Reads a scene file and applies overrides ("table.key=value") in order.
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});

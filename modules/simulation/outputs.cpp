@@ -54,8 +54,10 @@ std::string_view event_name(EventKind k) {
 void check_run_options(const RunOptions& o, std::string_view prefix) {
   auto positive = [](double v) { return v > 0 && std::isfinite(v); };
   const ode::Options& t = o.tolerances;
-  if (!positive(t.rtol) || t.rtol >= 1) throw InputError(fmt::format("{}rtol {}: must be in (0, 1)", prefix, t.rtol));
-  if (!positive(t.atol)) throw InputError(fmt::format("{}atol {}: must be positive", prefix, t.atol));
+  // Beyond these a step's error estimate is round-off (below) or no longer
+  // bounds the state's motion (above: theta and u are of order 1e-3).
+  if (!(t.rtol >= 1e-13 && t.rtol <= 0.1)) throw InputError(fmt::format("{}rtol {:g}: must be in [1e-13, 0.1]", prefix, t.rtol));
+  if (!(t.atol >= 1e-16 && t.atol <= 1e-3)) throw InputError(fmt::format("{}atol {:g}: must be in [1e-16, 1e-3]", prefix, t.atol));
   if (o.duration != 0 && !(o.duration > 0 && o.duration <= 1e5))
     throw InputError(fmt::format("{}duration {}: must be positive and at most 1e5 s (omit it for the whole motion)",
                                  prefix, o.duration));

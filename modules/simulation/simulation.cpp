@@ -176,7 +176,12 @@ class Driver {
     try {
       begin_contact_if_lifting(0.0);
       restart(0.0);
-      loop();
+      if (tilted_beyond_overturning()) {  // released past the point of no return: no crossing to locate
+        announce({EventKind::overturn, 0.0, d_.pivot});
+        result_.outcome = Outcome::overturned;
+      } else {
+        loop();
+      }
     } catch (const RunError& e) {
       result_.outcome = Outcome::failed;
       result_.failure = fmt::format("{} (phase {})", e.what(), phase_name(d_.pivot));
@@ -203,6 +208,10 @@ class Driver {
     begin_rocking(m_, d_, s, y_);
     y_[l.theta] = init.theta;
     y_[l.theta_dot] = init.theta_dot;
+  }
+
+  bool tilted_beyond_overturning() const {
+    return d_.pivot != 0 && std::abs(y_[m_.layout.theta]) >= m_.overturn_angle;
   }
 
   double mechanical() { return mechanical_energy(m_, d_.pivot == 0 ? 1 : d_.pivot, y_); }

@@ -12,6 +12,7 @@ module;
 #include <sstream>
 #include <string>
 #include <vector>
+#include <thread>
 #include <fmt/format.h>
 module rocking.study;
 import rocking.errors;
@@ -90,9 +91,36 @@ JobResult Study::run(const Job& job) const {
     out.run.outcome = Outcome::failed;
     return out;
   }
-  out.run = simulate(*models_[job.variant], motions_[job.record]->scaled(job.scale), options_);
+  try {
+    out.run = simulate(*models_[job.variant], motions_[job.record]->scaled(job.scale), options_);
+  } catch (const InputError& e) {  // a level beyond what check_level allows
+    out.run.outcome = Outcome::failed;
+    out.error = e.what();
+    return out;
+  }
   if (out.run.outcome == Outcome::failed) out.error = out.run.failure;
   return out;
+}
+
+WorkerThreads worker_threads(int requested, std::string_view option) {
+  if (requested < 0) throw InputError(fmt::format("{} {}: must be at least 1 (0: every core)", option, requested));
+  WorkerThreads w;
+  w.cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int most = 4 * w.cores;
+  w.capped = requested > most;
+  w.threads = w.capped ? most : requested > 0 ? requested : w.cores;
+  return w;
+}
+
+void Study::check_level(double level, std::string_view option) const {
+  for (std::size_t r = 0; r < records_.size(); ++r) {
+    if (!motions_[r]) continue;
+    try {
+      (void)motions_[r]->scaled(at_level(r, 0, level).scale);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("{} {:g}: {}: {}", option, level, records_[r], e.what()));
+    }
+  }
 }
 
 bool Study::can_overturn(std::size_t variant) const {
@@ -149,6 +177,10 @@ void check_hunt_options(const HuntOptions& o) {
     throw InputError(fmt::format("--hunt-step {:g}, --fill-step {:g}: up to {:.3g} runs per record and variant (at "
                                  "most 1e5); take larger steps",
                                  o.step, o.fill_step, runs));
+  // Below 1e-9 of the largest level a bisection no longer parts distinct levels.
+  if (o.precision < 1e-9 * o.max)
+    throw InputError(fmt::format("--precision {:g}: at least 1e-9 x --hunt-max ({:g}): finer brackets are round-off",
+                                 o.precision, 1e-9 * o.max));
 }
 
 HuntResult hunt_collapse(const Study& study, std::size_t record, std::size_t variant, const HuntOptions& o) {
@@ -175,6 +207,7 @@ HuntResult hunt_collapse(const Study& study, std::size_t record, std::size_t var
   auto bisect = [&](double low, double high) {
     while (high - low > o.precision) {
       const double mid = 0.5 * (low + high);
+      if (!(mid > low && mid < high)) break;  // the bracket is as narrow as doubles go
       if (!run(mid)) return std::pair{low, high};
       (down_at(mid) ? high : low) = mid;
     }

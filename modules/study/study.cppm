@@ -23,6 +23,7 @@ module;
 #include <array>
 #include <limits>
 #include <map>
+#include <string_view>
 #include <optional>
 #include <string_view>
 #include <string>
@@ -35,6 +36,15 @@ export import rocking.intensity;
 export import rocking.fragility;
 
 export namespace rocking {
+
+// The threads a study runs on: `requested` (0: every core), at most four
+// per core (beyond that they only wait for each other: `capped` says so).
+// InputError naming `option` when negative.
+struct WorkerThreads {
+  int threads = 1, cores = 1;
+  bool capped = false;
+};
+WorkerThreads worker_threads(int requested, std::string_view option);
 
 // Calls work(i) for i in [0, n) on `threads` threads and emit(i, result) on the
 // calling thread in the order 0, 1, 2, ... as results become available.
@@ -126,6 +136,9 @@ class Study {
   Job at_level(std::size_t record, std::size_t variant, double level) const;
   std::vector<Job> ladder(const std::vector<double>& levels) const;  // record-major, then level, then variant
   JobResult run(const Job& job) const;
+  // InputError naming `option`, the level and the record when scaling a
+  // readable record to the level takes it beyond max_acceleration_g.
+  void check_level(double level, std::string_view option) const;
   bool can_overturn(std::size_t variant) const;  // false for a fixed base
   bool has_damper(std::size_t variant) const;
   // The record as read (unscaled), or null when it could not be read.

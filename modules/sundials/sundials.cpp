@@ -102,7 +102,7 @@ class SundialsIntegrator : public Integrator {
   }
   Stats stats() const override {
     Stats s = base_;
-    backend_add_counters(s);
+    if (initialised_) backend_add_counters(s);  // a backend never started has counted nothing (and has no solver to ask)
     s.events = events_;
     return s;
   }

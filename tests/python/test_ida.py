@@ -87,3 +87,11 @@ def test_fragility_equals_the_programs_summary(cli, records, tmp_path):
                 assert mine[fit]["beta"] == pytest.approx(expected[fit]["beta"], rel=1e-12)
     with pytest.raises(ValueError, match="limit 'sideways'"):
         study.fragility("sideways")
+
+
+def test_a_thread_count_beyond_the_machine_is_capped_with_a_warning(elcentro):
+    with pytest.warns(RuntimeWarning, match=r"threads 100000: this machine has \d+ cores; running \d+ threads"):
+        study = rocking.ida(None, [str(elcentro)], levels=[1], variants=["no-damper"], threads=100000)
+    assert len(study.rows) == 1 and study.rows[0]["outcome"] == "completed"
+    with pytest.raises(ValueError, match=r"threads -1: must be at least 1"):
+        rocking.ida(None, [str(elcentro)], levels=[1], threads=-1)
