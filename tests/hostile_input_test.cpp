@@ -195,3 +195,30 @@ TEST_CASE("a CVODE study with a fixed-base variant runs without SUNDIALS' own er
   CHECK_MESSAGE(!contains(r.err, "CVLS"), r.err);
   CHECK_MESSAGE(!contains(r.err, "ERROR"), r.err);
 }
+
+TEST_CASE("a folder of records with notes beside them, a list with a missing entry, and a byte-order mark") {
+  const auto records = records_dir();
+  if (!records) return;
+  const fs::path dir = scratch_dir("hostile_folders");
+  fs::create_directories(dir / "suite");
+  fs::copy_file(*records + "/elcentro_1940_ns.at2", dir / "suite" / "elcentro_1940_ns.at2");
+  // Prose whose first line has commas and a word "a": no table of numbers follows it.
+  std::ofstream(dir / "suite" / "README.md") << "# Records, a suite, and where they come from\n\n"
+                                                "Each file is a record, scaled as the study says.\n";
+  fs::copy_file(*records + "/SOURCES.md", dir / "suite" / "SOURCES.md");
+  const Result folder = run("-q ida --record " + (dir / "suite").string() + " --scales 1 --variants no-damper "
+                            "--no-plot --out " + (dir / "out").string());
+  CHECK_MESSAGE(folder.code == 0, folder.err);
+  CHECK(lines(file_text(dir / "out" / "ida.csv")) == 2);  // the header and El Centro's row
+  // A list naming one file that is missing: that entry, at its line.
+  std::ofstream(dir / "list.txt") << "# suite\n" << *records << "/elcentro_1940_ns.at2\n" << *records << "/no_such.at2\n";
+  refused("ida --record " + (dir / "list.txt").string() + " --scales 1 --out " + (dir / "out2").string(),
+          "list.txt:3: " + *records + "/no_such.at2: record file not found");
+  // A CSV saved with a UTF-8 byte-order mark reads as the same file without it.
+  std::ofstream(dir / "bom.csv") << "\xEF\xBB\xBFtime (s),acc (g)\n0,0\n0.01,0.1\n0.02,0.2\n0.03,0\n";
+  std::ofstream(dir / "plain.csv") << "time (s),acc (g)\n0,0\n0.01,0.1\n0.02,0.2\n0.03,0\n";
+  const Result bom = run("record " + (dir / "bom.csv").string() + " --json");
+  const Result plain = run("record " + (dir / "plain.csv").string() + " --json");
+  CHECK_MESSAGE(bom.code == 0, bom.err);
+  CHECK(bom.out.substr(bom.out.find("pga")) == plain.out.substr(plain.out.find("pga")));
+}

@@ -10,6 +10,7 @@ module;
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -79,8 +80,20 @@ bool detect(const std::string&, const std::vector<Line>& lines) {
   const Line* head = data_line(lines, 0);
   if (!head) return false;
   const std::vector<std::string> names = split_fields(head->text, separator_of(head->text));
-  return std::any_of(names.begin(), names.end(), [](const std::string& s) { return is_acceleration(parse_name(s)); }) &&
-         std::none_of(names.begin(), names.end(), [](const std::string& s) { return whole_number(s).has_value(); });
+  if (!std::any_of(names.begin(), names.end(), [](const std::string& s) { return is_acceleration(parse_name(s)); }) ||
+      std::any_of(names.begin(), names.end(), [](const std::string& s) { return whole_number(s).has_value(); }))
+    return false;
+  // A table of numbers follows its header (prose with a comma and an "a" in
+  // its first line, such as a README, does not).
+  const Line* row = data_line(lines, 1);
+  if (!row) return false;
+  const std::vector<std::string> cells = split_fields(row->text, separator_of(head->text));
+  return cells.size() == names.size() && std::all_of(cells.begin(), cells.end(), [](const std::string& c) {
+           const std::string t = trim(c);
+           char* end = nullptr;
+           std::strtod(t.c_str(), &end);
+           return !t.empty() && end == t.c_str() + t.size();
+         });
 }
 
 GroundMotion read(const std::string& path, const std::vector<Line>& lines, const RecordOptions& o) {
