@@ -100,12 +100,13 @@ TEST_CASE("a full disk under history.csv ends the run with exit 3 naming the fil
     return;
   }
   const fs::path dir = scratch_dir("hostile_full");
-  fs::create_symlink("/dev/full", dir / "history.csv");
+  fs::create_symlink("/dev/full", dir / "history.csv.partial");  // where the rows go until the history is whole
   const Result r = run("-q simulate --out " + dir.string());
   CHECK(r.code == 3);
   CHECK(lines(r.err) == 1);
   CHECK(contains(r.err, (dir / "history.csv").string() + ": cannot write: No space left on device"));
   CHECK(contains(file_text(dir / "summary.json"), "\"outcome\": \"failed\""));
+  CHECK_FALSE(fs::exists(dir / "history.csv"));  // no file under the history's name that looks whole
 }
 
 TEST_CASE("values beyond what the model answers are refused with their key and range, before any run") {

@@ -123,6 +123,19 @@ TEST_CASE("plot failures: no gnuplot, an unwritable folder, an empty history, a 
   CHECK(lines(no_gnuplot.err) == 1);
   CHECK(no_gnuplot.err.find("gnuplot") != std::string::npos);
 
+  // A gnuplot that ends well but leaves the figure cut short (as a disk that
+  // fills does): exit 3 naming the figure, not "wrote" over it.
+  const fs::path fake = dir / "cut_gnuplot";
+  std::ofstream(fake) << "#!/bin/sh\nprintf '\\211PNG cut' > \"${1%.gp}.png\"\n";
+  fs::permissions(fake, fs::perms::owner_all);
+  ::setenv("ROCKING_GNUPLOT", fake.c_str(), 1);
+  const Result cut = run("plot modes --formats png --out " + (dir / "cut").string());
+  ::unsetenv("ROCKING_GNUPLOT");
+  CHECK(cut.code == 3);
+  CHECK(lines(cut.err) == 1);
+  CHECK(cut.err.find("modes.png: gnuplot wrote it incomplete") != std::string::npos);
+  CHECK(cut.out.find("wrote") == std::string::npos);
+
   const Result unwritable = run("plot modes --out /proc/rocking_cannot_write_here");
   CHECK(unwritable.code != 0);
   CHECK(lines(unwritable.err) == 1);

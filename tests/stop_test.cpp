@@ -12,6 +12,8 @@
 #include <string>
 #include <thread>
 #include <vector>
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include "run_program.hpp"
@@ -101,11 +103,57 @@ TEST_CASE("SIGINT and SIGTERM stop a study cleanly, and --resume ends with the C
     CHECK(file_text(out / "ida.csv") == whole);
     CHECK(lines(file_text(out / "timing.csv")) == lines(whole));
   }
-  // A resume of another study is refused, naming the row.
-  const Result other = run("-q ida --record " + record + " --scales 2:8:0.02 --no-plot --out " + (dir / "int").string() +
-                           " --resume");
-  CHECK(other.code == 2);
-  CHECK(other.err.find("ida.csv:2: this row is not job 1 of this study") != std::string::npos);
+  // A resume of another study is refused, naming what differs: the levels,
+  // the scene, the integrator, the tolerance.
+  const std::string again = "-q ida --record " + record + " --no-plot --out " + (dir / "int").string() + " --resume";
+  for (const auto& [change, differs] : {std::pair{std::string(" --scales 2:8:0.02"), "another levels"},
+                                        {" --scales 1:8:0.02 --set damper.thickness=2", "another scene"},
+                                        {" --scales 1:8:0.02 --integrator cvode", "another integrator"},
+                                        {" --scales 1:8:0.02 --rtol 1e-6", "another integrator"}}) {
+    const Result other = run(again + change);
+    CHECK(other.code == 2);
+    CHECK(lines(other.err) == 1);
+    CHECK_MESSAGE(other.err.find(differs) != std::string::npos, other.err);
+  }
+  // Rows of a study killed outright (a second signal) are in the .partial
+  // files, the last one perhaps cut: --resume takes the whole rows from there.
+  const fs::path killed = dir / "killed";
+  fs::create_directories(killed);
+  for (const char* f : {"ida.csv", "timing.csv", "inputs.txt"}) fs::copy_file(dir / "whole" / f, killed / f);
+  fs::rename(killed / "ida.csv", killed / "ida.csv.partial");
+  fs::rename(killed / "timing.csv", killed / "timing.csv.partial");
+  std::string rows = whole.substr(0, whole.find('\n', whole.size() / 2) + 25);  // cut inside a row
+  std::ofstream(killed / "ida.csv.partial", std::ios::trunc) << rows;
+  const Result resumed = run("-q ida --record " + record + " --scales 1:8:0.02 --no-plot --out " + killed.string() +
+                             " --resume");
+  CHECK_MESSAGE(resumed.code == 0, resumed.err);
+  CHECK(file_text(killed / "ida.csv") == whole);
+}
+
+TEST_CASE("one study at a time in a folder, and no folder where a study's file goes") {
+  const fs::path dir = scratch_dir("stop_lock");
+  const std::string record = long_record(dir / "short.txt", 2);
+  const std::string ida = "-q ida --record " + record + " --scales 1,2 --no-plot --out " + (dir / "out").string();
+  fs::create_directories(dir / "out");
+  {
+    // Another study holds the folder (the lock the program takes, taken here).
+    const int fd = ::open((dir / "out" / ".lock").c_str(), O_RDWR | O_CREAT, 0644);
+    REQUIRE(fd >= 0);
+    REQUIRE(::flock(fd, LOCK_EX | LOCK_NB) == 0);
+    const Result busy = run(ida);
+    CHECK(busy.code == 2);
+    CHECK(lines(busy.err) == 1);
+    CHECK(busy.err.find("another study is writing there") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "out" / "ida.csv"));
+    ::close(fd);
+  }
+  CHECK(run(ida).code == 0);  // the lock is gone with its holder
+  // A folder where ida.csv goes is refused before the first run.
+  fs::create_directories(dir / "blocked" / "ida.csv");
+  const Result blocked = run("-q ida --record " + record + " --scales 1,2 --no-plot --out " + (dir / "blocked").string());
+  CHECK(blocked.code == 2);
+  CHECK(blocked.err.find("ida.csv: a folder stands where the study writes this file") != std::string::npos);
+  CHECK_FALSE(fs::exists(dir / "blocked" / "timing.csv.partial"));
 }
 
 TEST_CASE("SIGINT stops a simulation with its history up to there and a summary marked interrupted") {
@@ -113,12 +161,13 @@ TEST_CASE("SIGINT stops a simulation with its history up to there and a summary 
   const std::string record = long_record(dir / "long.txt", 600);
   const int code = run_and_stop({"-q", "simulate", "--record", record, "--rtol", "1e-10", "--integrate-contact", "--out",
                                  dir.string()},
-                                dir / "history.csv", 2000, SIGINT);
+                                dir / "history.csv.partial", 2000, SIGINT);
   CHECK(code == 130);
   const std::string summary = file_text(dir / "summary.json");
   CHECK(summary.find("\"interrupted\": true") != std::string::npos);
   const std::string history = file_text(dir / "history.csv");
   CHECK(history.ends_with("\n"));  // no cut row
+  CHECK_FALSE(fs::exists(dir / "history.csv.partial"));
   CHECK(lines(history) >= 2000);
   CHECK(lines(history) < 60000);
 }

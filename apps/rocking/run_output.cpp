@@ -13,9 +13,13 @@
 namespace rocking::app {
 
 HistoryCsv::HistoryCsv(const std::filesystem::path& file, const GroundMotion& motion, const std::vector<Device>& devices)
-    : path_(file.string()), motion_(motion), devices_(devices.size()) {
-  file_ = std::fopen(path_.c_str(), "w");
-  if (file_ == nullptr) throw InputError(fmt::format("{}: cannot write: {}", path_, std::strerror(errno)));
+    : path_(file.string()), partial_(path_ + ".partial"), motion_(motion), devices_(devices.size()) {
+  std::error_code ec;
+  for (const std::string& p : {path_, partial_})
+    if (std::filesystem::is_directory(p, ec))
+      throw InputError(fmt::format("{}: a folder stands where the history goes; move it or choose another --out", p));
+  file_ = std::fopen(partial_.c_str(), "w");
+  if (file_ == nullptr) throw RunError(fmt::format("{}: cannot write: {}", partial_, std::strerror(errno)));
   std::string header;
   for (const HistoryColumn& c : history_columns(devices))
     header += fmt::format("{}{}{}", header.empty() ? "" : ",", c.name, c.unit.empty() ? "" : " [" + c.unit + "]");
@@ -30,11 +34,12 @@ HistoryCsv::~HistoryCsv() {
 void HistoryCsv::record(const Response& r) {
   // A full disk ends the run (RunError, exit 3) naming the file; the rows
   // written before stay.
-  if (std::ferror(file_) != 0) throw RunError(fmt::format("{}: cannot write: {}", path_, std::strerror(errno)));
+  if (std::ferror(file_) != 0)
+    throw RunError(fmt::format("{}: cannot write: {} (the rows written are in {})", path_, std::strerror(errno), partial_));
   try {
     print_row(r);
   } catch (const std::system_error& e) {
-    throw RunError(fmt::format("{}: cannot write: {}", path_, e.code().message()));
+    throw RunError(fmt::format("{}: cannot write: {} (the rows written are in {})", path_, e.code().message(), partial_));
   }
 }
 
@@ -50,7 +55,11 @@ void HistoryCsv::close() {
   const bool bad = std::ferror(file_) != 0;
   const bool closed = std::fclose(file_) == 0;
   file_ = nullptr;
-  if (bad || !closed) throw RunError(fmt::format("{}: cannot write: {}", path_, std::strerror(errno)));
+  if (bad || !closed)
+    throw RunError(fmt::format("{}: cannot write: {} (the rows written are in {})", path_, std::strerror(errno), partial_));
+  std::error_code ec;
+  std::filesystem::rename(partial_, path_, ec);
+  if (ec) throw RunError(fmt::format("{}: cannot write: {} (the rows are in {})", path_, ec.message(), partial_));
 }
 
 void make_output_dir(const std::filesystem::path& dir) {

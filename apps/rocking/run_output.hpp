@@ -13,7 +13,10 @@ import rocking;
 
 namespace rocking::app {
 
-// Streams every Response to DIR/history.csv (header row with units), with the
+// Streams every Response to DIR/history.csv.partial, renamed to history.csv
+// when closed whole (a run that fails or stops leaves whole rows up to
+// there; a write that fails leaves the .partial file): a header row with
+// units, with the
 // ground acceleration it answers in column 14; with devices, then the moment
 // they exert together (M_dev, signed as theta) and each device's elongation
 // and force, named by the device.
@@ -26,12 +29,12 @@ class HistoryCsv : public rocking::Observer {
   HistoryCsv& operator=(const HistoryCsv&) = delete;
   void record(const rocking::Response& r) override;
   void devices(const std::vector<rocking::DeviceSample>& samples) override { devices_ = samples; }
-  void close();  // flushes; InputError-free, RunError if the disk refused
+  void close();  // flushes and renames; RunError if the disk refused (the .partial file stays)
 
  private:
   void print_row(const rocking::Response& r);
   std::FILE* file_ = nullptr;
-  std::string path_;
+  std::string path_, partial_;
   const rocking::GroundMotion& motion_;
   std::vector<rocking::DeviceSample> devices_;
   std::vector<double> row_;

@@ -5,6 +5,7 @@
 // to a separate timing.csv for that reason. The suite's summaries and figures
 // are study_report.cpp's.
 #include "commands.hpp"
+#include "study_folder.hpp"
 #include "study_report.hpp"
 #include "mpi_jobs.hpp"
 #include "run_output.hpp"
@@ -17,6 +18,7 @@
 #include <sstream>
 #include <fstream>
 #include <memory>
+#include <optional>
 
 namespace rocking::app {
 
@@ -46,7 +48,27 @@ struct StudyArgs {
   bool per_record = false;
   bool resume = false;
   double max_runs = 1e5;  // a ladder beyond it (minutes to hours of runs) needs the option raised
+  std::string scene_text;  // the scene after the overrides every run shares (make_study)
 };
+
+// The inputs that make a study what it is (study_folder.hpp).
+std::string inputs_of(const StudyArgs& a, const Study& st, const std::string& kind) {
+  std::string variants;
+  for (const Variant& v : st.variants()) variants += (variants.empty() ? "" : ",") + v.name;
+  const SolverOptions& s = a.solver;
+  return study_inputs(kind, a.scene_text, st.records(),
+                      {{"record options", fmt::format("format {}, component {}, units {}, dt {}", a.file.format,
+                                                      a.file.component, a.file.units, a.file.dt)},
+                       {"im", fmt::format("{} (damping {})", a.im, a.damping)},
+                       {"levels", a.scales.empty() ? a.levels : "scales " + a.scales},
+                       {"variants", variants},
+                       {"integrator", fmt::format("{}, rtol {}, atol {}, duration {}, max-events {}, max-steps {}{}",
+                                                  s.integrator, s.rtol, s.atol, s.duration_given ? s.duration : 0.0,
+                                                  s.max_events, s.max_steps, s.integrate_contact ? ", integrate-contact" : "")},
+                       {"hunt", a.hunt ? fmt::format("step {}, growth {}, max {}, precision {}, fill {}", a.hunt_step,
+                                                     a.hunt_growth, a.hunt_max, a.precision, a.fill_step)
+                                       : std::string("no")}});
+}
 
 // The levels: --levels, or --scales for the scale factor; 1:20:1 by default
 // for the scale factor, required for any other IM.
@@ -199,11 +221,16 @@ struct Resumed {
 Resumed read_resumed(const fs::path& csv_file, const fs::path& timing_file, const std::vector<Job>& jobs,
                      const std::vector<std::string>& ids, const Study& st) {
   Resumed r;
-  std::ifstream in(csv_file);
+  // A study ended by a second signal (or killed) left its rows in the .partial
+  // files: whole rows, and at most one cut line at the end.
+  std::error_code ec;
+  const bool ended = fs::exists(csv_file, ec);
+  const fs::path rows_file = ended ? csv_file : fs::path(csv_file.string() + ".partial");
+  std::ifstream in(rows_file);
   if (!in) throw InputError(fmt::format("--resume: {} not found: nothing to resume", csv_file.string()));
   std::string line;
   if (!std::getline(in, line) || line + "\n" != csv_header)
-    throw InputError(fmt::format("--resume: {}:1: not a study CSV of this version (header differs)", csv_file.string()));
+    throw InputError(fmt::format("--resume: {}:1: not a study CSV of this version (header differs)", rows_file.string()));
   for (int n = 2; std::getline(in, line); ++n) {
     if (in.eof()) break;  // a last line without its newline was cut: run that job again
     const std::size_t k = r.rows.size();
@@ -212,13 +239,13 @@ Resumed read_resumed(const fs::path& csv_file, const fs::path& timing_file, cons
     if (k >= jobs.size() || f.size() < 20 || !line.starts_with(expected + ","))
       throw InputError(fmt::format("--resume: {}:{}: this row is not job {} of this study ({}): give the same scene, "
                                    "--record, --im, --levels and --variants as the interrupted run",
-                                   csv_file.string(), n, k + 1, expected));
+                                   rows_file.string(), n, k + 1, expected));
     r.rows.push_back(line + "\n");
     std::string data = f[4];
     for (std::size_t c = 6; c <= 13; ++c) data += "," + (f[c].empty() ? std::string("0") : f[c]);
     r.lines.push_back(f[19].empty() ? data + (f[15] == "overturned" ? ",1" : ",0") : std::string());
   }
-  std::ifstream timing(timing_file);
+  std::ifstream timing(ended ? timing_file : fs::path(timing_file.string() + ".partial"));
   if (timing && std::getline(timing, line))
     while (r.timings.size() < r.rows.size() && std::getline(timing, line)) r.timings.push_back(line + "\n");
   return r;
@@ -248,9 +275,16 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
   if (!a.no_plot) plot::parse_formats(a.formats);  // refused before any run
   if (a.resume && world.size > 1) throw InputError("--resume: run it as one process (not under mpirun)");
   const fs::path dir(a.out), csv_file = dir / (kind + ".csv"), timing_file = dir / "timing.csv";
+  std::optional<FolderLock> lock;
+  if (world.rank == 0) {
+    make_output_dir(dir);
+    lock.emplace(dir);
+    check_outputs_free(dir, {kind + ".csv", kind + ".csv.partial", "timing.csv", "timing.csv.partial", "records.csv",
+                             "summary.csv", "fragility.csv", "fragility_points.csv", "summary.json", "inputs.txt"});
+    record_inputs(dir, inputs_of(a, st, kind), a.resume);
+  }
   const Resumed resumed = a.resume ? read_resumed(csv_file, timing_file, jobs, ids, st) : Resumed{};
   const std::size_t first = resumed.rows.size();
-  if (world.rank == 0) make_output_dir(dir);
   if (world.size == 1) catch_stop_signals();
   std::vector<std::size_t> mine;
   for (std::size_t i = first; i < jobs.size(); ++i)
@@ -401,7 +435,11 @@ int run_hunt(const StudyArgs& a, const Study& st) {
   const fs::path dir(a.out);
   const HuntOptions o = hunt_options(a, st);
   st.check_level(o.max, "--hunt-max");
+  if (a.resume) throw InputError("--resume: a hunt starts afresh (only ladders resume)");
   make_output_dir(dir);
+  const FolderLock lock(dir);
+  check_outputs_free(dir, {"hunt.csv", "fragility.csv", "fragility_points.csv", "summary.json", "inputs.txt"});
+  record_inputs(dir, inputs_of(a, st, "ida --hunt"), false);
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
   for (std::size_t r = 0; r < st.records().size(); ++r)
     for (std::size_t v = 0; v < st.variants().size(); ++v) pairs.emplace_back(r, v);
@@ -486,11 +524,12 @@ std::vector<std::string> study_records(const StudyArgs& a) {
   return out;
 }
 
-std::unique_ptr<Study> make_study(const StudyArgs& a, const std::vector<std::string>& overrides,
+std::unique_ptr<Study> make_study(StudyArgs& a, const std::vector<std::string>& overrides,
                                   std::vector<Variant> variants, std::string& scene_name) {
   const std::vector<std::string> records = study_records(a);
   const Scene scene = load_scene(SceneOptions{a.scene.path, overrides});
   scene_name = scene.name;
+  a.scene_text = scene_toml(a.scene.path, overrides);
   const double t1 = scene.structure.rigid ? 0.0 : 1.0 / modal_analysis(scene.structure, scene_devices(scene)).fixed_base_hz[0];
   if (!(a.damping >= 0 && a.damping < 1)) throw InputError(fmt::format("--damping {}: must be in [0, 1)", a.damping));
   const IntensityMeasure im = parse_intensity_measure(a.im, a.damping, t1);

@@ -2,6 +2,7 @@ module;
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -141,6 +142,25 @@ void write_script(const fs::path& file, const std::string& text) {
   if (!out) throw RunError(fmt::format("{}: cannot write the gnuplot script", file.string()));
 }
 
+// Whether a figure file ends as its format ends (a disk that filled while
+// gnuplot wrote it leaves a file cut short): PNG's IEND chunk, PDF's %%EOF,
+// SVG's closing tag, GIF's trailer byte.
+bool complete(const fs::path& file, const std::string& format) {
+  std::ifstream in(file, std::ios::binary);
+  std::error_code ec;
+  const auto size = fs::file_size(file, ec);
+  if (!in || ec || size == 0) return false;
+  const auto tail_size = static_cast<std::streamoff>(std::min<std::uintmax_t>(size, 64));
+  in.seekg(-tail_size, std::ios::end);
+  std::string tail(static_cast<std::size_t>(tail_size), '\0');
+  in.read(tail.data(), tail_size);
+  if (format == "png") return tail.size() >= 8 && tail.compare(tail.size() - 8, 4, "IEND") == 0;
+  if (format == "pdf") return tail.find("%%EOF") != std::string::npos;
+  if (format == "svg") return tail.find("</svg>") != std::string::npos;
+  if (format == "gif") return tail.back() == ';';
+  return true;
+}
+
 bool executable(const fs::path& p) { return ::access(p.c_str(), X_OK) == 0 && fs::is_regular_file(p); }
 
 }  // namespace
@@ -214,6 +234,8 @@ std::vector<fs::path> render_script(const Figure& fig, const std::string& script
   for (const std::string& f : fig.formats) {
     const fs::path out = fig.dir / (fig.name + "." + f);
     if (fs::is_regular_file(out) && fs::file_size(out) > 0) written.push_back(out);
+    if (status == 0 && fs::is_regular_file(out) && !complete(out, f))
+      throw RunError(fmt::format("{}: gnuplot wrote it incomplete (a full disk?)", out.string()));
   }
   if (status != 0 || written.size() != fig.formats.size()) {
     std::ifstream in(log);
