@@ -171,3 +171,35 @@ TEST_CASE("SIGINT stops a simulation with its history up to there and a summary 
   CHECK(lines(history) >= 2000);
   CHECK(lines(history) < 60000);
 }
+
+TEST_CASE("SIGINT stops a hunt with its finished hunts kept whole, and --resume ends with the hunt.csv of an uninterrupted run") {
+  const fs::path dir = scratch_dir("stop_hunt");
+  std::string records;
+  for (int k = 1; k <= 6; ++k) records += " " + long_record(dir / ("r" + std::to_string(k) + ".txt"), 10 + k);
+  const std::string hunt = "-q ida --record" + records + " --hunt --scales 1 --hunt-max 20 --variants damper,no-damper "
+                           "--no-plot --threads 2 --out ";
+  REQUIRE(run(hunt + (dir / "whole").string()).code == 0);
+  const std::string whole = file_text(dir / "whole" / "hunt.csv");
+  REQUIRE(lines(whole) == 1 + 12);
+  std::vector<std::string> args{"-q", "ida", "--record"};
+  for (int k = 1; k <= 6; ++k) args.push_back((dir / ("r" + std::to_string(k) + ".txt")).string());
+  for (const char* a : {"--hunt", "--scales", "1", "--hunt-max", "20", "--variants", "damper,no-damper", "--no-plot",
+                        "--threads", "2", "--out"})
+    args.emplace_back(a);
+  const fs::path out = dir / "stopped";
+  args.push_back(out.string());
+  const int code = run_and_stop(args, out / "hunt.csv.partial", 3, SIGINT);
+  CHECK(code == 130);
+  const std::string note = file_text(out.string() + ".stderr.txt");
+  CHECK(lines(note) == 1);
+  CHECK(note.find("stopped by SIGINT after ") != std::string::npos);
+  CHECK(note.find("--resume") != std::string::npos);
+  const std::string part = file_text(out / "hunt.csv");
+  CHECK(lines(part) >= 3);
+  CHECK(lines(part) < lines(whole));
+  CHECK(whole.starts_with(part));
+  const Result resumed = run(hunt + out.string() + " --resume");
+  CHECK_MESSAGE(resumed.code == 0, resumed.err);
+  CHECK(file_text(out / "hunt.csv") == whole);
+  CHECK(file_text(out / "fragility.csv") == file_text(dir / "whole" / "fragility.csv"));
+}

@@ -431,43 +431,102 @@ std::string ranges_text(const std::vector<std::pair<double, double>>& ranges) {
   return out;
 }
 
+const char* hunt_header =
+    "record,variant,im,collapse_level,survived_level,collapse_scale,record_im,traced_level,fill_step,precision,"
+    "resurrections,runs,error\n";
+
+// The first fields of a hunt's row: which record, variant and IM it is.
+std::string hunt_fields(const std::string& record, const std::string& variant, const IntensityMeasure& im) {
+  return fmt::format("{},{},{},", csv_field(record), csv_field(variant), im.name());
+}
+
+// The hunts an interrupted hunt finished (hunt.csv, or the .partial file a
+// killed one left), in order, each checked against the pair it must be; what
+// the report needs of each read back from its row.
+std::vector<std::pair<std::string, HuntResult>> read_resumed_hunts(
+    const fs::path& file, const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
+    const std::vector<std::string>& ids, const Study& st) {
+  std::error_code ec;
+  const fs::path rows_file = fs::exists(file, ec) ? file : fs::path(file.string() + ".partial");
+  std::ifstream in(rows_file);
+  if (!in) throw InputError(fmt::format("--resume: {} not found: nothing to resume", file.string()));
+  std::string line;
+  if (!std::getline(in, line) || line + "\n" != hunt_header)
+    throw InputError(fmt::format("--resume: {}:1: not a hunt CSV of this version (header differs)", rows_file.string()));
+  std::vector<std::pair<std::string, HuntResult>> out;
+  for (int n = 2; std::getline(in, line); ++n) {
+    if (in.eof()) break;  // a last line without its newline was cut: hunt it again
+    const std::size_t k = out.size();
+    const std::string prefix = k < pairs.size() ? hunt_fields(ids[pairs[k].first], st.variants()[pairs[k].second].name,
+                                                              st.intensity_measure())
+                                                : std::string();
+    const std::string rest = k < pairs.size() && line.starts_with(prefix) ? line.substr(prefix.size()) : std::string();
+    const std::vector<std::string> f = csv_fields(rest);
+    if (f.size() < 10)
+      throw InputError(fmt::format("--resume: {}:{}: this row is not hunt {} of this study", rows_file.string(), n, k + 1));
+    HuntResult h;
+    h.collapsed = !f[0].empty();
+    h.collapse_level = h.collapsed ? std::stod(f[0]) : 0.0;
+    h.survived_level = f[1].empty() ? 0.0 : std::stod(f[1]);
+    h.runs = std::stoi(f[8]);
+    std::size_t at = 0;  // the error, last, may hold commas (quoted)
+    for (int comma = 0; comma < 9; ++comma) at = rest.find(',', at) + 1;
+    h.fixed_base = !st.can_overturn(pairs[k].second);
+    if (!h.fixed_base) h.error = rest.substr(at);  // a fixed base's row says why it was not run
+    out.emplace_back(line + "\n", std::move(h));
+  }
+  return out;
+}
+
 int run_hunt(const StudyArgs& a, const Study& st) {
-  const fs::path dir(a.out);
+  const fs::path dir(a.out), file = dir / "hunt.csv", partial = file.string() + ".partial";
   const HuntOptions o = hunt_options(a, st);
   st.check_level(o.max, "--hunt-max");
-  if (a.resume) throw InputError("--resume: a hunt starts afresh (only ladders resume)");
   make_output_dir(dir);
   const FolderLock lock(dir);
-  check_outputs_free(dir, {"hunt.csv", "fragility.csv", "fragility_points.csv", "summary.json", "inputs.txt"});
-  record_inputs(dir, inputs_of(a, st, "ida --hunt"), false);
+  check_outputs_free(dir, {"hunt.csv", "hunt.csv.partial", "fragility.csv", "fragility_points.csv", "summary.json",
+                           "inputs.txt"});
+  record_inputs(dir, inputs_of(a, st, "ida --hunt"), a.resume);
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
   for (std::size_t r = 0; r < st.records().size(); ++r)
     for (std::size_t v = 0; v < st.variants().size(); ++v) pairs.emplace_back(r, v);
   const std::vector<std::string> ids = record_ids(st.records());
   const IntensityMeasure& im = st.intensity_measure();
   const std::string unit = im.unit().empty() ? "" : " " + im.unit();
-  std::ofstream csv(dir / "hunt.csv");
-  if (!csv) throw InputError(fmt::format("{}: cannot write", (dir / "hunt.csv").string()));
-  csv << "record,variant,im,collapse_level,survived_level,collapse_scale,record_im,traced_level,fill_step,precision,"
-         "resurrections,runs,error\n";
-  spdlog::info("hunt: {} from {:g}{} by a step of {:g} growing x{:g} to {:g}; bracket {:g}; fill below at {:g}", im.name(),
-               o.first, unit, o.step, o.growth, o.max, o.precision, o.fill_step);
-  Progress progress(spdlog::get_level() <= spdlog::level::info);
+  const auto resumed = a.resume ? read_resumed_hunts(file, pairs, ids, st)
+                                : std::vector<std::pair<std::string, HuntResult>>{};
+  const std::size_t first = resumed.size();
+  // Rows stream into the .partial file, renamed when the hunt ends or stops.
+  std::ofstream csv(partial);
+  if (!csv) throw RunError(fmt::format("{}: cannot write", partial.string()));
+  csv << hunt_header;
   std::vector<HuntResult> hunts;
   int failed = 0;
-  parallel_ordered<HuntResult>(
-      pairs.size(), thread_count(a.threads),
-      [&](std::size_t k) { return hunt_collapse(st, pairs[k].first, pairs[k].second, o); },
+  for (const auto& [row, h] : resumed) {
+    csv << row;
+    hunts.push_back(h);
+    failed += h.error.empty() ? 0 : 1;
+  }
+  csv << std::flush;
+  spdlog::info("hunt: {} from {:g}{} by a step of {:g} growing x{:g} to {:g}; bracket {:g}; fill below at {:g}{}",
+               im.name(), o.first, unit, o.step, o.growth, o.max, o.precision, o.fill_step,
+               first > 0 ? fmt::format(" ({} hunts done before, resumed)", first) : "");
+  catch_stop_signals();
+  Progress progress(spdlog::get_level() <= spdlog::level::info);
+  const std::size_t emitted = parallel_ordered<HuntResult>(
+      pairs.size() - first, thread_count(a.threads),
+      [&](std::size_t k) { return hunt_collapse(st, pairs[first + k].first, pairs[first + k].second, o); },
       [&](std::size_t k, const HuntResult& h) {
-        const std::string& record = ids[pairs[k].first];
-        const std::string variant = st.variants()[pairs[k].second].name;
+        const std::string& record = ids[pairs[first + k].first];
+        const std::string variant = st.variants()[pairs[first + k].second].name;
         const std::string error = h.fixed_base ? "fixed base: cannot overturn" : h.error;
         failed += h.error.empty() ? 0 : 1;
-        csv << fmt::format("{},{},{},{},{:.6g},{},{},{},{:g},{:g},{},{},{}\n", csv_field(record), csv_field(variant),
-                           im.name(), h.collapsed ? fmt::format("{:.6g}", h.collapse_level) : "", h.survived_level,
-                           h.collapsed ? exact(h.collapse_level / h.record_im) : "", exact(h.record_im),
+        csv << hunt_fields(record, variant, im)
+            << fmt::format("{},{:.6g},{},{},{},{:g},{:g},{},{},{}\n", h.collapsed ? fmt::format("{:.6g}", h.collapse_level) : "",
+                           h.survived_level, h.collapsed ? exact(h.collapse_level / h.record_im) : "", exact(h.record_im),
                            h.collapsed ? fmt::format("{:.6g}", h.traced_level) : "", o.fill_step, o.precision,
-                           ranges_text(h.resurrections), h.runs, csv_field(error));
+                           ranges_text(h.resurrections), h.runs, csv_field(error))
+            << std::flush;
         std::string what;
         if (!h.error.empty()) what = "error: " + h.error;
         else if (h.fixed_base) what = "a fixed base cannot overturn (not run)";
@@ -480,16 +539,25 @@ int run_hunt(const StudyArgs& a, const Study& st) {
         fmt::print("{} / {}: {}\n", record, variant, what);
         hunts.push_back(h);
       },
-      [&](std::size_t done, std::size_t total) { progress(done, total); });
+      [&](std::size_t done, std::size_t total) { progress(done, total); }, [] { return stop_signal() != 0; });
   csv.close();
+  if (!csv) throw RunError(fmt::format("{}: cannot write", partial.string()));
+  fs::rename(partial, file);
+  if (first + emitted < pairs.size()) {  // stopped by a signal
+    const int signal = stop_signal();
+    fmt::print(stderr, "rocking: stopped by {} after {} of {} hunts; {} holds them; continue with the same command and "
+                       "--resume\n",
+               signal == SIGTERM ? "SIGTERM" : "SIGINT", first + emitted, pairs.size(), file.string());
+    return stop_exit_code(signal);
+  }
   fmt::print("the lowest overturning found, bracketed to {:g}{}; a window narrower than the fill step {:g}{} below it "
              "can be missed\n",
              o.precision, unit, o.fill_step, unit);
   write_hunt_report(dir, st, hunts, ids);
-  fmt::print("wrote {}, {}\n", (dir / "hunt.csv").string(), (dir / "fragility.csv").string());
+  fmt::print("wrote {}, {}\n", file.string(), (dir / "fragility.csv").string());
   if (failed > 0) {
     fmt::print(stderr, "rocking: {} of {} hunts failed{}: see the error column of {}\n", failed, hunts.size(),
-               unreadable(st, ids), (dir / "hunt.csv").string());
+               unreadable(st, ids), file.string());
     return exit_jobs_failed;
   }
   return 0;
