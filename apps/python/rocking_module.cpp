@@ -127,8 +127,22 @@ PyScene loaded_scene(std::string path, std::optional<std::vector<std::string>> o
   return s;
 }
 
+// A Python argument as T, or TypeError naming the argument, what it takes
+// and what it was given (not pybind11's "Unable to cast").
+template <class T>
+T argument(const py::handle& v, const char* name, const char* takes) {
+  try {
+    return v.cast<T>();
+  } catch (const py::cast_error&) {
+    throw py::type_error(fmt::format("{}: expected {}, got {}", name, takes,
+                                     py::str(v.get_type().attr("__name__")).cast<std::string>()));
+  }
+}
+
 // The scene argument: a Scene, or None for the embedded chimney.
-PyScene scene_of(const py::object& o) { return o.is_none() ? loaded_scene("", {}) : o.cast<PyScene>(); }
+PyScene scene_of(const py::object& o) {
+  return o.is_none() ? loaded_scene("", {}) : argument<PyScene>(o, "scene", "a rocking.Scene or None");
+}
 
 // A Python value as the TOML text an override takes.
 std::string toml_value(const py::handle& v) {
@@ -286,9 +300,11 @@ PyResult simulate(const py::object& scene_arg, const py::object& record, double 
     motion = std::make_shared<const rocking::GroundMotion>(rocking::default_ground_motion(scene).scaled(scale));
     scene_scale = rocking::excitation_scale(scene);
   } else {
-    const PyRecord r = py::isinstance<PyRecord>(record) ? record.cast<PyRecord>()
-                                                        : record_load(record.cast<std::filesystem::path>(), {}, {},
-                                                                      "auto", {});
+    const PyRecord r =
+        py::isinstance<PyRecord>(record)
+            ? record.cast<PyRecord>()
+            : record_load(argument<std::filesystem::path>(record, "record", "a rocking.Record, a path or None"), {}, {},
+                          "auto", {});
     motion = std::make_shared<const rocking::GroundMotion>(r.motion->scaled(scale));
     record_path = r.path;
   }
@@ -358,8 +374,11 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
   std::vector<std::string> given;
   if (py::isinstance<py::str>(records_arg) || py::hasattr(records_arg, "__fspath__"))
     given.push_back(path_text(records_arg.cast<std::filesystem::path>()));
+  else if (py::isinstance<py::iterable>(records_arg))
+    for (const auto& r : py::iter(records_arg))
+      given.push_back(path_text(argument<std::filesystem::path>(r, "records", "paths of records, folders or lists")));
   else
-    for (const auto& r : py::iter(records_arg)) given.push_back(path_text(r.cast<std::filesystem::path>()));
+    given.push_back(path_text(argument<std::filesystem::path>(records_arg, "records", "paths of records, folders or lists")));
   for (const std::string& g : given)
     for (std::string& p : rocking::record_paths(g)) records.push_back(std::move(p));
   if (records.empty()) throw rocking::InputError("ida: records: give at least one ground-motion file");

@@ -19,6 +19,12 @@ BAD_OVERRIDES = [
     ["structure.no_such_key=1"],
     ["damper.enabled=maybe"],
     ['device+={kind="no-such-law"}'],
+    ["structure.masses=[1e-300,1,1,1]"],
+    ["damper.theta_y=7"],
+    ["damper.thickness=1e300"],
+    ['device+={name="t", kind="elastic", at=0, kinematics="vertical", free_length=33, P0=1e300, k=5e7}'],
+    ['device+={name="p", kind="bouc-wen", at="edges", k=1e7, eps=0.05, d_y=0.02, alpha=0, beta=0}'],
+    ["excitation.scale=0"],
 ]
 
 
@@ -67,3 +73,14 @@ def test_bad_run_options_and_records_raise_value_error_naming_them(tmp_path):
         rocking.Record([0.0, 0.1], dt=0.01, units="furlongs")
     with pytest.raises(ValueError, match="record file not found|not found"):
         rocking.Record.load(tmp_path / "none.at2")
+
+
+def test_arguments_of_the_wrong_type_raise_type_error_naming_them(elcentro):
+    with pytest.raises(TypeError, match=r"^scene: expected a rocking.Scene or None, got int$"):
+        rocking.simulate(3)
+    with pytest.raises(TypeError, match=r"^record: expected a rocking.Record, a path or None, got float$"):
+        rocking.simulate(None, 2.5)
+    with pytest.raises(TypeError, match=r"^records: expected paths of records, folders or lists, got int$"):
+        rocking.ida(None, [str(elcentro), 7], levels=[1])
+    with pytest.raises(TypeError, match=r"^records: expected paths of records, folders or lists, got float$"):
+        rocking.ida(None, 1.5, levels=[1])
