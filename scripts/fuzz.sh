@@ -15,8 +15,10 @@ declare -A seeds=(
   [set_override]=""
   [number_list]=""
   [cyclic_test]="$here/data/tests"
+  [device_set]=""
+  [option_value]=""
 )
-for target in record scene set_override number_list cyclic_test; do
+for target in record scene set_override number_list cyclic_test device_set option_value; do
   work="$here/build-sanitize/fuzz-corpus/$target"
   mkdir -p "$work"
   dirs=("$work")

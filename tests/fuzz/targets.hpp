@@ -5,6 +5,7 @@
 // corpus and the regression inputs through them on every `make test`.
 // Include after <rocking/eigen.hpp> and before any import.
 #pragma once
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
@@ -12,10 +13,14 @@
 #include <fstream>
 #include <string>
 #include <string_view>
+#include <vector>
 #include <unistd.h>
 import rocking.scene;
 import rocking.study;
 import rocking.fitting;
+import rocking.modal;
+import rocking.intensity;
+import rocking.sundials;
 import rocking.errors;
 
 namespace fuzz {
@@ -56,10 +61,20 @@ inline void scene(const std::uint8_t* data, std::size_t size) {
   std::remove(path.c_str());
 }
 
+// The scene's model and its linearisation, which must be finite for any
+// scene its checks let through.
+inline void model_and_modes(const rocking::Scene& scene) {
+  (void)rocking::make_contact_model(scene, true);
+  const rocking::ModalSummary m = rocking::modal_analysis(scene.structure, rocking::scene_devices(scene));
+  for (double v : {m.rocking_p, m.damper_pre_yield_hz, m.damper_post_yield_p, m.devices[0].at_rest, m.devices[1].at_rest,
+                   m.devices[0].held_moment, m.devices[1].held_moment, m.J_p, m.alpha_cg})
+    if (!std::isfinite(v)) __builtin_trap();
+}
+
 // One --set TABLE.KEY=VALUE on the built-in chimney.
 inline void set_override(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
-  input_or_error([&] { (void)rocking::load_default_scene({text}); });
+  input_or_error([&] { model_and_modes(rocking::load_default_scene({text})); });
 }
 
 // --scales, --levels, --sizes, --rtols: FIRST:LAST:STEP or a comma list.
@@ -82,6 +97,49 @@ inline void cyclic_test(const std::uint8_t* data, std::size_t size) {
     }
   });
   std::remove(path.c_str());
+}
+
+// One key of one [[device]] on the built-in chimney: the first byte picks a
+// registered law, the second one of the keys a device of it reads, the rest is
+// that key's value (the others hold values the law takes). Through the
+// scene's checks, the model and its linearisation, which must be finite.
+inline void device_set(const std::uint8_t* data, std::size_t size) {
+  if (size < 2) return;
+  const std::vector<rocking::LawInfo> laws = rocking::device_laws();
+  const rocking::LawInfo& law = laws[data[0] % laws.size()];
+  std::vector<std::string> keys{"at", "kinematics", "free_length", "capacity", "name"};
+  for (const rocking::LawParameter& p : law.parameters) keys.push_back(p.key);
+  const std::string& key = keys[data[1] % keys.size()];
+  const std::string value(reinterpret_cast<const char*>(data + 2), size - 2);
+  std::string table = "device+={kind=\"" + law.name + "\"";
+  if (key != "at") table += ", at=\"edges\"";
+  for (const rocking::LawParameter& p : law.parameters) {
+    if (p.key == key) continue;
+    const bool fine = rocking::within(p, p.default_value);
+    table += ", " + p.key + "=" + std::to_string(fine ? p.default_value : std::fmin(p.maximum, std::fmax(1.0, 2 * p.minimum)));
+  }
+  table += ", " + key + "=" + value + "}";
+  input_or_error([&] { model_and_modes(rocking::load_default_scene({table})); });
+}
+
+// The parsers behind the subcommands' option values: the first byte picks
+// one (--im, --limit, --integrator, --units, --pulse), the rest is the value.
+inline void option_value(const std::uint8_t* data, std::size_t size) {
+  if (size < 1) return;
+  const std::string text(reinterpret_cast<const char*>(data + 1), size - 1);
+  input_or_error([&] {
+    switch (data[0] % 5) {
+      case 0: {
+        const rocking::IntensityMeasure im = rocking::parse_intensity_measure(text, 0.05, 0.46);
+        if (!std::isfinite(im.t1)) __builtin_trap();
+        break;
+      }
+      case 1: (void)rocking::parse_limit(text); break;
+      case 2: (void)rocking::ode::parse_backend(text); break;
+      case 3: (void)rocking::parse_acceleration_unit(text); break;
+      case 4: (void)rocking::parse_pulse_shape(text); break;
+    }
+  });
 }
 
 }  // namespace fuzz
