@@ -203,3 +203,55 @@ TEST_CASE("SIGINT stops a hunt with its finished hunts kept whole, and --resume 
   CHECK(file_text(out / "hunt.csv") == whole);
   CHECK(file_text(out / "fragility.csv") == file_text(dir / "whole" / "fragility.csv"));
 }
+
+TEST_CASE("SIGINT stops a spectrum with the pulses done kept, and --resume ends with the spectrum of an uninterrupted run") {
+  const fs::path dir = scratch_dir("stop_spectrum");
+  const std::string grid = " --sizes 1,2 --frequencies 0.5:10:0.5 --amplitudes 0.5:8:0.05 --formats png --out ";
+  REQUIRE(run("-q spectrum" + grid + (dir / "whole").string()).code == 0);
+  const fs::path out = dir / "stopped";
+  fs::create_directories(out);  // where run_and_stop puts the program's stderr
+  // Stopped once the first size is written: in the middle of the second.
+  const int code = run_and_stop({"-q", "spectrum", "--sizes", "1,2", "--frequencies", "0.5:10:0.5", "--amplitudes",
+                                 "0.5:8:0.05", "--formats", "png", "--out", out.string()},
+                                out / "spectrum.data" / "size_1.csv", 2, SIGINT);
+  CHECK(code == 130);
+  const std::string note = file_text((out / "spectrum.data").string() + ".stderr.txt");  // beside the file waited on
+  CHECK(lines(note) == 1);
+  CHECK(note.find("stopped by SIGINT after ") != std::string::npos);
+  CHECK(note.find("--resume") != std::string::npos);
+  CHECK_FALSE(fs::exists(out / "spectrum.data" / "size_2.csv"));
+  const std::string part = file_text(out / "spectrum.data" / "size_2.csv.partial");
+  const std::string whole2 = file_text(dir / "whole" / "spectrum.data" / "size_2.csv");
+  CHECK(whole2.starts_with(part));
+  CHECK(lines(part) < lines(whole2));
+  const Result resumed = run("-q spectrum" + grid + out.string() + " --resume");
+  CHECK_MESSAGE(resumed.code == 0, resumed.err);
+  for (const char* f : {"size_1.csv", "size_2.csv"})
+    CHECK(file_text(out / "spectrum.data" / f) == file_text(dir / "whole" / "spectrum.data" / f));
+  CHECK_FALSE(fs::exists(out / "spectrum.data" / "size_2.csv.partial"));
+  CHECK(fs::exists(out / "spectrum.png"));
+  // Another grid is another spectrum: refused.
+  const Result other = run("-q spectrum --sizes 1,2 --frequencies 0.5:10:1 --amplitudes 0.5:8:0.05 --formats png --out " +
+                           out.string() + " --resume");
+  CHECK(other.code == 2);
+  CHECK(other.err.find("another frequencies") != std::string::npos);
+}
+
+TEST_CASE("SIGINT stops a tradeoff with the measurements done kept whole") {
+  const fs::path dir = scratch_dir("stop_tradeoff");
+  const fs::path out = dir / "tradeoff";
+  const int code = run_and_stop({"-q", "tradeoff", "--backends", "rk45,cvode,arkode", "--repeats", "3", "--formats", "png",
+                                 "--out", out.string()},
+                                out / "tradeoff.csv", 3, SIGINT);
+  CHECK(code == 130);
+  const std::string note = file_text(out.string() + ".stderr.txt");
+  CHECK(lines(note) == 1);
+  CHECK(note.find("stopped by SIGINT after ") != std::string::npos);
+  const std::string csv = file_text(out / "tradeoff.csv");
+  CHECK(csv.ends_with("\n"));  // whole rows
+  CHECK(lines(csv) >= 3);
+  CHECK(lines(csv) < 1 + 3 * 8);  // not every measurement
+  CHECK(csv.find("inf") == std::string::npos);
+  CHECK(csv.find("nan") == std::string::npos);
+  CHECK_FALSE(fs::exists(out / "work_precision.png"));
+}

@@ -2,10 +2,14 @@
 // the classic teaching figure, for one or more block sizes.
 #include "commands.hpp"
 #include "run_output.hpp"
+#include "stop_signals.hpp"
+#include "study_folder.hpp"
 #include <spdlog/spdlog.h>
 #include <fmt/format.h>
+#include <csignal>
 #include <fstream>
 #include <memory>
+#include <sstream>
 #include <tuple>
 
 namespace rocking::app {
@@ -23,7 +27,39 @@ struct SpectrumArgs {
   int threads = 0;
   std::string out = "out/spectrum";
   std::string formats = "png,pdf,svg";
+  bool resume = false;
 };
+
+const char* spectrum_header =
+    "frequency_ratio,amplitude_ratio,period_s,amplitude_g,overturned,uplift,frequency_ratio_low,"
+    "frequency_ratio_high,amplitude_ratio_low,amplitude_ratio_high,period_low_s,period_high_s,amplitude_low_g,"
+    "amplitude_high_g\n";
+
+// The outcomes (uplift, overturned) of the points an interrupted spectrum
+// wrote to `file` (or its .partial file), each checked against its grid point.
+std::vector<std::pair<bool, bool>> resumed_points(const fs::path& file, const std::vector<double>& freqs,
+                                                  const std::vector<double>& amps) {
+  std::error_code ec;
+  const fs::path rows = fs::exists(file, ec) ? file : fs::path(file.string() + ".partial");
+  std::vector<std::pair<bool, bool>> out;
+  std::ifstream in(rows);
+  if (!in) return out;  // this size was not begun
+  std::string line;
+  if (!std::getline(in, line) || line + "\n" != spectrum_header)
+    throw InputError(fmt::format("--resume: {}:1: not a spectrum CSV of this version", rows.string()));
+  for (int n = 2; std::getline(in, line) && !in.eof(); ++n) {
+    const std::size_t k = out.size();
+    std::stringstream ss(line);
+    std::vector<std::string> f;
+    for (std::string field; std::getline(ss, field, ',');) f.push_back(field);
+    if (k >= freqs.size() * amps.size() || f.size() != 14 ||
+        f[0] != fmt::format("{:.6g}", freqs[k / amps.size()]) || f[1] != fmt::format("{:.6g}", amps[k % amps.size()]))
+      throw InputError(fmt::format("--resume: {}:{}: this row is not point {} of this spectrum's grid", rows.string(), n,
+                                   k + 1));
+    out.emplace_back(f[5] == "1", f[4] == "1");
+  }
+  return out;
+}
 
 int spectrum(const SpectrumArgs& a) {
   SceneOptions opts = a.scene;
@@ -54,18 +90,28 @@ int spectrum(const SpectrumArgs& a) {
       if (!(v > 0 && v <= 1000))
         throw InputError(fmt::format("{} {}: every ratio must be in (0, 1000] (got {:g})", flag, text, v));
   const int threads = thread_count(a.threads);
+  const std::vector<std::string> formats = plot::parse_formats(a.formats);  // refused before any run
   const fs::path dir(a.out);
   make_output_dir(dir / "spectrum.data");
+  const FolderLock lock(dir);
+  check_outputs_free(dir, {"inputs.txt"});
+  record_inputs(dir,
+                study_inputs("spectrum", scene_toml(opts.path, opts.overrides), {},
+                             {{"pulse", a.pulse}, {"sizes", a.sizes}, {"frequencies", a.frequencies},
+                              {"amplitudes", a.amplitudes}}),
+                a.resume);
+  catch_stop_signals();
   std::vector<plot::Series> series;
   for (double size : sizes) {
-    Progress progress(spdlog::get_level() <= spdlog::level::info);
-    const BlockSpectrum s = overturning_spectrum(scene, size, shape, freqs, amps, threads,
-                                                 [&](std::size_t done, std::size_t total) { progress(done, total); });
     const std::string file = (fs::path("spectrum.data") / fmt::format("size_{}.csv", size)).string();
-    std::ofstream out(dir / file);
-    out << "frequency_ratio,amplitude_ratio,period_s,amplitude_g,overturned,uplift,frequency_ratio_low,"
-           "frequency_ratio_high,amplitude_ratio_low,amplitude_ratio_high,period_low_s,period_high_s,amplitude_low_g,"
-           "amplitude_high_g\n";
+    const fs::path path = dir / file, partial = path.string() + ".partial";
+    check_outputs_free(dir, {file, file + ".partial"});
+    const auto done = a.resume ? resumed_points(path, freqs, amps) : std::vector<std::pair<bool, bool>>{};
+    Progress progress(spdlog::get_level() <= spdlog::level::info);
+    const BlockSpectrum s = overturning_spectrum(
+        scene, size, shape, freqs, amps, threads, [&](std::size_t n, std::size_t total) { progress(n, total); }, done,
+        [] { return stop_signal() != 0; });
+    std::string out = spectrum_header;
     long overturned = 0;
     // Each grid point's cell reaches halfway to its neighbours (as far on the
     // outside), in the normalised axes; in seconds and g through the same map.
@@ -74,17 +120,28 @@ int spectrum(const SpectrumArgs& a) {
       const double above = i + 1 < grid.size() ? grid[i + 1] - grid[i] : below;
       return std::pair{grid[i] - below / 2, grid[i] + above / 2};
     };
-    for (std::size_t k = 0; k < s.points.size(); ++k) {
+    for (std::size_t k = 0; k < s.complete; ++k) {
       const SpectrumPoint& pt = s.points[k];
       const auto [f_lo, f_hi] = cell(freqs, k / amps.size());
       const auto [a_lo, a_hi] = cell(amps, k % amps.size());
       const double to_period = pt.period_s * pt.frequency_ratio, to_g = pt.amplitude_g / pt.amplitude_ratio;
-      out << fmt::format("{:.6g},{:.6g},{:.6g},{:.6g},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n",
+      out += fmt::format("{:.6g},{:.6g},{:.6g},{:.6g},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n",
                          pt.frequency_ratio, pt.amplitude_ratio, pt.period_s, pt.amplitude_g, pt.overturned ? 1 : 0,
                          pt.uplift ? 1 : 0, f_lo, f_hi, a_lo, a_hi, to_period / f_hi, to_period / f_lo, a_lo * to_g,
                          a_hi * to_g);
       overturned += pt.overturned;
     }
+    std::error_code ec;
+    if (s.complete < s.points.size()) {  // stopped: the points done, whole, in the .partial file
+      write_text(partial, out);
+      const int signal = stop_signal();
+      fmt::print(stderr, "rocking: stopped by {} after {} of {} pulses of block x{}; {} holds them; continue with the "
+                         "same command and --resume\n",
+                 signal == SIGTERM ? "SIGTERM" : "SIGINT", s.complete, s.points.size(), size, partial.string());
+      return stop_exit_code(signal);
+    }
+    write_text(path, out);
+    fs::remove(partial, ec);
     const double width = 2 * scene.structure.half_width * size, height = scene.structure.heights.maxCoeff() * size;
     fmt::print("block x{}: {:.2f} m wide, top node at {:.2f} m, p = {:.3f} rad/s, alpha = {:.4f} rad: {} of {} pulses overturn it\n",
                size, width, height, s.p, s.alpha, overturned, s.points.size());
@@ -93,7 +150,7 @@ int spectrum(const SpectrumArgs& a) {
   plot::Figure fig;
   fig.dir = dir;
   fig.name = "spectrum";
-  fig.formats = plot::parse_formats(a.formats);
+  fig.formats = formats;
   fig.width = 1200;
   fig.height = 600;
   fig.title = fmt::format("{}: overturning under {} pulses (shaded: overturns)", scene.name, a.pulse);
@@ -111,7 +168,9 @@ Command add_spectrum_command(CLI::App& app) {
       "pulse amplitude over g tan(alpha) against pulse frequency over p, shaded\n"
       "where the block overturns; with several --sizes (lengths scaled, the same\n"
       "slenderness) also in seconds and g, which shows Housner's size effect.\n"
-      "Default scene: data/scenes/rigid_block.toml (a flexible scene is made rigid).");
+      "Default scene: data/scenes/rigid_block.toml (a flexible scene is made rigid).\n"
+      "Ctrl-C or SIGTERM stops it with the pulses done kept (exit 130 / 143);\n"
+      "--resume continues.");
   auto a = std::make_shared<SpectrumArgs>();
   add_scene_options(*cmd, a->scene);
   cmd->add_option("--pulse", a->pulse, "one-sine (default) or ricker")->type_name("SHAPE");
@@ -121,6 +180,9 @@ Command add_spectrum_command(CLI::App& app) {
   cmd->add_option("--threads", a->threads, "Worker threads (default: every core)")->type_name("N");
   cmd->add_option("--out", a->out, "Output folder (default out/spectrum)")->type_name("DIR");
   cmd->add_option("--formats", a->formats, "Figure formats (default png,pdf,svg)")->type_name("LIST");
+  cmd->add_flag("--resume", a->resume,
+                "Continue a spectrum stopped by Ctrl-C or SIGTERM in the same --out, with the\n"
+                "same inputs (DIR/inputs.txt): the pulses done are kept");
   cmd->footer("Example: rocking spectrum --pulse ricker --sizes 1,2,4 --out plots/spectrum");
   return [a]() { return spectrum(*a); };
 }

@@ -2,11 +2,13 @@
 // what users care about (peaks, event times, impact counts, final state),
 // against a reference run; writes a CSV and a work-precision figure.
 #include "commands.hpp"
+#include "stop_signals.hpp"
 #include "run_output.hpp"
 #include <spdlog/spdlog.h>
 #include <fmt/format.h>
 #include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -82,9 +84,10 @@ RunResult best_of(const ContactModel& m, const GroundMotion& g, RunOptions o, in
                   double budget = std::numeric_limits<double>::infinity()) {
   RunResult best;
   for (int k = 0; k < repeats; ++k) {
+    o.stop = [] { return stop_signal() != 0; };  // Ctrl-C or SIGTERM ends the run in flight
     if (std::isfinite(budget)) {
       const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(budget);
-      o.stop = [deadline] { return std::chrono::steady_clock::now() > deadline; };
+      o.stop = [deadline] { return stop_signal() != 0 || std::chrono::steady_clock::now() > deadline; };
     }
     RunResult r = simulate(m, g, o);
     if (r.outcome == Outcome::failed) return r;
@@ -92,6 +95,21 @@ RunResult best_of(const ContactModel& m, const GroundMotion& g, RunOptions o, in
   }
   return best;
 }
+
+// A measurement that a run stopped by a signal interrupts ends the command:
+// the rows measured so far stay, whole; the rest is not measured (a tradeoff
+// compares timings of one sitting, so it is run again rather than resumed).
+int stopped(const fs::path& csv_file, std::size_t rows) {
+  const int signal = stop_signal();
+  fmt::print(stderr, "rocking: stopped by {} after {} measurements; {} holds them (timings compare within one sitting: "
+                     "run it again for the figure)\n",
+             signal == SIGTERM ? "SIGTERM" : "SIGINT", rows, csv_file.string());
+  return stop_exit_code(signal);
+}
+
+// A relative error or time difference as written: empty where the runs are
+// not comparable (one overturned, one never impacted).
+std::string measured(double x) { return std::isfinite(x) ? fmt::format("{:.3e}", x) : std::string(); }
 
 double relative(double value, double reference) {
   return reference != 0 ? std::abs(value / reference - 1.0) : std::abs(value);
@@ -150,6 +168,8 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
     data.back() << "n,wall_s,rhs,rtol\n";
   }
   std::vector<bool> given_up(names.size(), false);
+  catch_stop_signals();
+  std::size_t rows = 0;
   fmt::print("cost at equal accuracy: peak delta_t within {:.0e} of rosw at rtol {:.0e}; rtols {}\n", a.accuracy,
              a.reference_rtol, a.rtols);
   fmt::print("{:>5} {:<12} {:>7} {:>10} {:>11} {:>9} {:>10}\n", "N", "method", "rtol", "wall [s]", "rhs", "steps",
@@ -167,7 +187,9 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
     solver.duration_given = a.duration != 0;
     RunOptions base = run_options(scene, solver, a.motion.record.empty());
     base.track_energy = false;
+    base.stop = [] { return stop_signal() != 0; };
     const RunResult ref = simulate(model, motion, options_at(base, {ode::Backend::rosw, true}, a.reference_rtol));
+    if (stop_signal() != 0) return stopped(dir / "tradeoff_n.csv", rows);
     if (ref.outcome == Outcome::failed) throw RunError(fmt::format("{}: reference run failed: {}", path, ref.failure));
     const RunResult check = best_of(model, motion, options_at(base, {ode::Backend::rk45, true}, a.reference_rtol), 1,
                                     a.budget);
@@ -185,10 +207,13 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
     for (std::size_t i = 0; i < methods.size(); ++i) {
       if (given_up[i]) continue;
       const CostAtAccuracy c = cost_at_accuracy(model, motion, base, methods[i], rtols, ref, a);
+      if (stop_signal() != 0) return stopped(dir / "tradeoff_n.csv", rows);
       given_up[i] = c.over_budget;
       csv << fmt::format("\"{}\",{},{},{:.0e},{:.6f},{},{},{:.3e},{:.0e},{},{}\n", path, n, names[i], c.rtol,
                          c.run.wall_s, c.run.stats.rhs, c.run.stats.steps, c.error, a.accuracy,
-                         c.met ? "true" : "false", checked);
+                         c.met ? "true" : "false", checked)
+          << std::flush;
+      ++rows;
       if (c.met) data[i] << fmt::format("{},{:.6e},{},{:.0e}\n", n, c.run.wall_s, c.run.stats.rhs, c.rtol);
       fmt::print("{:>5} {:<12} {:>7.0e} {:>10.4g} {:>11} {:>9} {:>10}\n", n, names[i], c.rtol, c.run.wall_s,
                  c.run.stats.rhs, c.run.stats.steps,
@@ -243,8 +268,11 @@ int tradeoff(const TradeoffArgs& a) {
   for (const std::string& name : a.backends) methods.push_back(parse_method(name));  // before the long runs
   // The reference: rk45 at rtol 1e-12, checked against ARKODE's independent
   // implementation of the same method at the same tolerance.
+  catch_stop_signals();
+  base.stop = [] { return stop_signal() != 0; };
   const RunResult ref = simulate(model, motion, options_at(base, {ode::Backend::rk45, false}, 1e-12));
   const RunResult check = simulate(model, motion, options_at(base, {ode::Backend::arkode, false}, 1e-12));
+  if (stop_signal() != 0) return stopped(fs::path(a.out) / "tradeoff.csv", 0);
   if (ref.outcome == Outcome::failed) throw RunError("reference run failed: " + ref.failure);
   const double ref_uncertainty = relative(check.peak(Quantity::delta_t), ref.peak(Quantity::delta_t));
   fmt::print("reference: rk45 at rtol 1e-12 (ARKODE at 1e-12 agrees on peak delta_t to {:.1e}); {} impacts\n",
@@ -254,6 +282,7 @@ int tradeoff(const TradeoffArgs& a) {
   std::ofstream csv(dir / "tradeoff.csv");
   csv << "backend,rtol,atol,wall_s,rhs,steps,err_delta_t,err_theta,err_first_uplift_s,err_first_impact_s,impacts,"
          "impacts_reference,err_final_state,outcome\n";
+  std::size_t rows = 0;
   std::vector<plot::Series> series;
   fmt::print("{:<10} {:>7} {:>10} {:>9} {:>10} {:>10} {:>9}\n", "backend", "rtol", "wall [ms]", "rhs", "err d_t",
              "err theta", "impacts");
@@ -266,15 +295,19 @@ int tradeoff(const TradeoffArgs& a) {
     for (double rtol : rtols) {
       const RunOptions o = options_at(base, b, rtol);
       const RunResult r = best_of(model, motion, o, a.repeats);
+      if (stop_signal() != 0) return stopped(dir / "tradeoff.csv", rows);
       const double e_dt = relative(r.peak(Quantity::delta_t), ref.peak(Quantity::delta_t));
       const double e_th = relative(r.peak(Quantity::theta), ref.peak(Quantity::theta));
       double e_final = std::numeric_limits<double>::infinity();
       if (r.final_state.size() == ref.final_state.size() && r.outcome == ref.outcome)
         e_final = (r.final_state - ref.final_state).norm() / std::max(ref.final_state.norm(), 1e-300);
-      csv << fmt::format("{},{:.0e},{:.0e},{:.6f},{},{},{:.3e},{:.3e},{:.3e},{:.3e},{},{},{:.3e},{}\n", name, rtol,
-                         o.tolerances.atol, r.wall_s, r.stats.rhs, r.stats.steps, e_dt, e_th,
-                         time_error(r.first_uplift, ref.first_uplift), time_error(r.first_impact, ref.first_impact),
-                         r.counts.impacts, ref.counts.impacts, e_final, outcome_name(r.outcome));
+      csv << fmt::format("{},{:.0e},{:.0e},{:.6f},{},{},{},{},{},{},{},{},{},{}\n", name, rtol, o.tolerances.atol,
+                         r.wall_s, r.stats.rhs, r.stats.steps, measured(e_dt), measured(e_th),
+                         measured(time_error(r.first_uplift, ref.first_uplift)),
+                         measured(time_error(r.first_impact, ref.first_impact)), r.counts.impacts, ref.counts.impacts,
+                         measured(e_final), outcome_name(r.outcome))
+          << std::flush;
+      ++rows;
       data << fmt::format("{:.6e},{:.3e},{:.3e},{:.0e}\n", r.wall_s, std::max(e_dt, 1e-16), std::max(e_th, 1e-16), rtol);
       fmt::print("{:<10} {:>7.0e} {:>10.2f} {:>9} {:>10.2e} {:>10.2e} {:>5}/{}\n", name, rtol, 1e3 * r.wall_s,
                  r.stats.rhs, e_dt, e_th, r.counts.impacts, ref.counts.impacts);

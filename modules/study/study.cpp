@@ -265,7 +265,8 @@ Capacity hunt_capacity(const HuntResult& h) {
 BlockSpectrum overturning_spectrum(const Scene& rigid_block, double size, PulseShape pulse,
                                    const std::vector<double>& frequency_ratios,
                                    const std::vector<double>& amplitude_ratios, int threads,
-                                   const std::function<void(std::size_t, std::size_t)>& progress) {
+                                   const std::function<void(std::size_t, std::size_t)>& progress,
+                                   const std::vector<std::pair<bool, bool>>& done, const std::function<bool()>& stop) {
   if (!rigid_block.structure.rigid)
     throw InputError(fmt::format("{}: the overturning spectrum needs a rigid block (structure.rigid = true)",
                                  rigid_block.source));
@@ -290,10 +291,12 @@ BlockSpectrum overturning_spectrum(const Scene& rigid_block, double size, PulseS
       pt.amplitude_g = a * a_uplift / model.body.g;
       out.points.push_back(pt);
     }
-  parallel_ordered<SpectrumPoint>(
-      out.points.size(), threads,
-      [&](std::size_t i) {
-        SpectrumPoint pt = out.points[i];
+  const std::size_t first = std::min(done.size(), out.points.size());
+  for (std::size_t i = 0; i < first; ++i) std::tie(out.points[i].uplift, out.points[i].overturned) = done[i];
+  out.complete = first + parallel_ordered<SpectrumPoint>(
+      out.points.size() - first, threads,
+      [&](std::size_t k) {
+        SpectrumPoint pt = out.points[first + k];
         const GroundMotion g = GroundMotion::pulse(pulse, pt.amplitude_g * model.body.g, pt.period_s);
         RunOptions o;
         o.duration = g.duration() + 20.0 / out.p;  // time enough to fall after the pulse
@@ -302,7 +305,11 @@ BlockSpectrum overturning_spectrum(const Scene& rigid_block, double size, PulseS
         pt.overturned = r.outcome == Outcome::overturned;
         return pt;
       },
-      [&](std::size_t i, const SpectrumPoint& pt) { out.points[i] = pt; }, progress);
+      [&](std::size_t k, const SpectrumPoint& pt) { out.points[first + k] = pt; },
+      [&](std::size_t n, std::size_t total) {
+        if (progress) progress(first + n, first + total);
+      },
+      stop);
   return out;
 }
 

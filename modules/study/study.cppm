@@ -279,11 +279,17 @@ struct SpectrumPoint {
 struct BlockSpectrum {
   double size = 1, p = 0, alpha = 0;
   std::vector<SpectrumPoint> points;  // frequency-major
+  std::size_t complete = 0;           // points [0, complete) are computed (all, unless stopped)
 };
 // rigid_block must be a rigid scene. Runs on `threads` threads; progress(done, total).
+// `done`: the outcomes (uplift, overturned) of the first points from an
+// earlier, stopped computation, taken as they are. When stop() turns true no
+// new point starts; `complete` says how far the points go.
 BlockSpectrum overturning_spectrum(const Scene& rigid_block, double size, PulseShape pulse,
                                    const std::vector<double>& frequency_ratios,
                                    const std::vector<double>& amplitude_ratios, int threads,
-                                   const std::function<void(std::size_t, std::size_t)>& progress = {});
+                                   const std::function<void(std::size_t, std::size_t)>& progress = {},
+                                   const std::vector<std::pair<bool, bool>>& done = {},
+                                   const std::function<bool()>& stop = {});
 
 }  // namespace rocking
