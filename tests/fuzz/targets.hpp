@@ -21,6 +21,7 @@ import rocking.fitting;
 import rocking.modal;
 import rocking.intensity;
 import rocking.sundials;
+import rocking.plot;
 import rocking.errors;
 
 namespace fuzz {
@@ -123,12 +124,20 @@ inline void device_set(const std::uint8_t* data, std::size_t size) {
 }
 
 // The parsers behind the subcommands' option values: the first byte picks
-// one (--im, --limit, --integrator, --units, --pulse), the rest is the value.
+// one (--im, --limit, --integrator, --units, --pulse, --formats, --size,
+// --variants), the rest is the value.
 inline void option_value(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return;
   const std::string text(reinterpret_cast<const char*>(data + 1), size - 1);
   input_or_error([&] {
-    switch (data[0] % 5) {
+    switch (data[0] % 8) {
+      case 5: (void)rocking::plot::parse_formats(text); break;
+      case 6: {
+        const auto [w, h] = rocking::plot::parse_size(text, 200, 200, 10000);
+        if (w < 200 || h < 200 || w > 10000 || h > 10000) __builtin_trap();
+        break;
+      }
+      case 7: (void)rocking::named_variant(text); break;
       case 0: {
         const rocking::IntensityMeasure im = rocking::parse_intensity_measure(text, 0.05, 0.46);
         if (!std::isfinite(im.t1)) __builtin_trap();
