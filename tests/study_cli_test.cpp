@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -198,4 +199,52 @@ TEST_CASE("a folder of records: unrecognised files are skipped, an unreadable re
                                (dir / "x").string());
   CHECK(no_levels.code == 2);
   CHECK(no_levels.err.find("--im pga: give the levels to scale to as --levels") != std::string::npos);
+}
+
+TEST_CASE("the hunt finds the first overturning that a 0.05 g ladder finds, where the growing trace jumps over it") {
+  // christchurch2011_rehs_n02e under Sa(T1): without dampers the trace up
+  // (0.5, 1, 1.75, ..., 10.9, 16.6 g) survives every level it runs below
+  // --hunt-max 25 although a window opens near 7.5 g; with dampers the first
+  // overturning is near 13.9 g. Each hunt's collapse is the ladder's first
+  // overturning to within the fill step (0.05 g), from above.
+  const auto records = records_dir();
+  if (!records) return;
+  const fs::path dir = scratch_dir("study_hunt_windows");
+  const std::string rec = *records + "/christchurch2011_rehs_n02e.at2";
+  const std::string common = "-q ida --record " + rec + " --im sa:T1 --variants damper,no-damper --no-plot --out ";
+  REQUIRE(run(common + (dir / "ladder").string() + " --levels 0.05:14:0.05").code == 0);
+  REQUIRE(run(common + (dir / "hunt").string() + " --levels 0.5 --hunt --hunt-max 25").code == 0);
+  std::map<std::string, double> first;  // variant -> the ladder's first overturning level
+  {
+    std::istringstream rows(file_text(dir / "ladder" / "ida.csv"));
+    std::string line;
+    std::getline(rows, line);
+    while (std::getline(rows, line)) {
+      std::vector<std::string> f;
+      std::istringstream cells(line);
+      for (std::string c; std::getline(cells, c, ',');) f.push_back(c);
+      if (f[15] == "overturned" && !first.contains(f[2])) first[f[2]] = std::stod(f[4]);
+    }
+  }
+  REQUIRE(first.size() == 2);
+  std::istringstream rows(file_text(dir / "hunt" / "hunt.csv"));
+  std::string line;
+  std::getline(rows, line);
+  int hunts = 0;
+  while (std::getline(rows, line)) {
+    std::vector<std::string> f;
+    std::istringstream cells(line);
+    for (std::string c; std::getline(cells, c, ',');) f.push_back(c);
+    CAPTURE(line);
+    REQUIRE(!f[3].empty());  // a collapse level: not censored
+    const double collapse = std::stod(f[3]);
+    CHECK(collapse <= first[f[1]] + 1e-9);
+    CHECK(collapse > first[f[1]] - 0.05 - 1e-9);
+    ++hunts;
+  }
+  CHECK(hunts == 2);
+  // Every level run is listed with its reason, the fill among them.
+  const std::string points = file_text(dir / "hunt" / "hunt_points.csv");
+  CHECK(points.find(",fill,") != std::string::npos);
+  CHECK(points.find(",25,trace,") != std::string::npos);  // the trace tried --hunt-max itself
 }

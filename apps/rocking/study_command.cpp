@@ -484,8 +484,8 @@ int run_hunt(const StudyArgs& a, const Study& st) {
   st.check_level(o.max, "--hunt-max");
   make_output_dir(dir);
   const FolderLock lock(dir);
-  check_outputs_free(dir, {"hunt.csv", "hunt.csv.partial", "fragility.csv", "fragility_points.csv", "summary.json",
-                           "inputs.txt"});
+  check_outputs_free(dir, {"hunt.csv", "hunt.csv.partial", "hunt_points.csv", "hunt_points.csv.partial",
+                           "fragility.csv", "fragility_points.csv", "summary.json", "inputs.txt"});
   record_inputs(dir, inputs_of(a, st, "ida --hunt"), a.resume);
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
   for (std::size_t r = 0; r < st.records().size(); ++r)
@@ -496,10 +496,26 @@ int run_hunt(const StudyArgs& a, const Study& st) {
   const auto resumed = a.resume ? read_resumed_hunts(file, pairs, ids, st)
                                 : std::vector<std::pair<std::string, HuntResult>>{};
   const std::size_t first = resumed.size();
-  // Rows stream into the .partial file, renamed when the hunt ends or stops.
-  std::ofstream csv(partial);
-  if (!csv) throw RunError(fmt::format("{}: cannot write", partial.string()));
+  // Rows stream into the .partial files, renamed when the hunt ends or stops;
+  // hunt_points.csv has every level each hunt ran and why.
+  const fs::path points_file = dir / "hunt_points.csv", points_partial = points_file.string() + ".partial";
+  std::string resumed_points;
+  if (a.resume) {
+    std::error_code ec;
+    std::ifstream old(fs::exists(points_file, ec) ? points_file : points_partial);
+    std::string line;
+    std::getline(old, line);  // the header
+    while (std::getline(old, line) && !old.eof())
+      for (std::size_t k = 0; k < first; ++k)
+        if (line.starts_with(hunt_fields(ids[pairs[k].first], st.variants()[pairs[k].second].name, im))) {
+          resumed_points += line + "\n";
+          break;
+        }
+  }
+  std::ofstream csv(partial), points(points_partial);
+  if (!csv || !points) throw RunError(fmt::format("{}: cannot write", (!csv ? partial : points_partial).string()));
   csv << hunt_header;
+  points << "record,variant,im,level,why,overturned\n" << resumed_points;
   std::vector<HuntResult> hunts;
   int failed = 0;
   for (const auto& [row, h] : resumed) {
@@ -522,11 +538,15 @@ int run_hunt(const StudyArgs& a, const Study& st) {
         const std::string error = h.fixed_base ? "fixed base: cannot overturn" : h.error;
         failed += h.error.empty() ? 0 : 1;
         csv << hunt_fields(record, variant, im)
-            << fmt::format("{},{:.6g},{},{},{},{:g},{:g},{},{},{}\n", h.collapsed ? fmt::format("{:.6g}", h.collapse_level) : "",
-                           h.survived_level, h.collapsed ? exact(h.collapse_level / h.record_im) : "", exact(h.record_im),
-                           h.collapsed ? fmt::format("{:.6g}", h.traced_level) : "", o.fill_step, o.precision,
+            << fmt::format("{},{},{},{},{},{:g},{:g},{},{},{}\n", h.collapsed ? exact(h.collapse_level) : "",
+                           exact(h.survived_level), h.collapsed ? exact(h.collapse_level / h.record_im) : "",
+                           exact(h.record_im), h.collapsed ? exact(h.traced_level) : "", o.fill_step, o.precision,
                            ranges_text(h.resurrections), h.runs, csv_field(error))
             << std::flush;
+        for (const HuntPoint& p : h.points)
+          points << hunt_fields(record, variant, im)
+                 << fmt::format("{:.9g},{},{}\n", p.level, hunt_reason(p.why), p.overturned ? 1 : 0);
+        points << std::flush;
         std::string what;
         if (!h.error.empty()) what = "error: " + h.error;
         else if (h.fixed_base) what = "a fixed base cannot overturn (not run)";
@@ -541,8 +561,10 @@ int run_hunt(const StudyArgs& a, const Study& st) {
       },
       [&](std::size_t done, std::size_t total) { progress(done, total); }, [] { return stop_signal() != 0; });
   csv.close();
-  if (!csv) throw RunError(fmt::format("{}: cannot write", partial.string()));
+  points.close();
+  if (!csv || !points) throw RunError(fmt::format("{}: cannot write", (!csv ? partial : points_partial).string()));
   fs::rename(partial, file);
+  fs::rename(points_partial, points_file);
   if (first + emitted < pairs.size()) {  // stopped by a signal
     const int signal = stop_signal();
     fmt::print(stderr, "rocking: stopped by {} after {} of {} hunts; {} holds them; continue with the same command and "
@@ -696,10 +718,13 @@ Command add_ida_command(CLI::App& app) {
   cmd->add_flag("--hunt", a->hunt,
                 "Hunt and fill (Vamvatsikos & Cornell 2004) for the level at which each\n"
                 "record and variant first overturns: trace up from the first level by\n"
-                "--hunt-step, the step growing x--hunt-growth each run, to --hunt-max,\n"
-                "until a run overturns; bisect between the last survivor and it to\n"
-                "--precision; then fill every level below at --fill-step, and bisect below\n"
-                "the lowest overturning the fill finds. Overturning is not monotonic in\n"
+                "--hunt-step, the step growing x--hunt-growth each run, to --hunt-max\n"
+                "itself, until a run overturns; bisect between the last survivor and it to\n"
+                "--precision; then fill every level below it (below --hunt-max when the\n"
+                "trace met no overturning) at --fill-step, and bisect below the lowest\n"
+                "overturning the fill finds. A record is censored (no overturning up to\n"
+                "--hunt-max) only when no level of the fill overturned either. Every level\n"
+                "run and why is in DIR/hunt_points.csv. Overturning is not monotonic in\n"
                 "the level: a structure that overturns at one level can survive a larger\n"
                 "one (El Centro, with dampers, scaled: overturns at 10.45, survives 10.75\n"
                 "to 13.0). Survivors above the lowest overturning are reported as\n"

@@ -183,6 +183,15 @@ void check_hunt_options(const HuntOptions& o) {
                                  o.precision, 1e-9 * o.max));
 }
 
+std::string_view hunt_reason(HuntPoint::Why why) {
+  switch (why) {
+    case HuntPoint::Why::trace: return "trace";
+    case HuntPoint::Why::bisect: return "bisect";
+    case HuntPoint::Why::fill: return "fill";
+  }
+  return "trace";
+}
+
 HuntResult hunt_collapse(const Study& study, std::size_t record, std::size_t variant, const HuntOptions& o) {
   HuntResult h;
   h.record_im = study.record_intensity(record);
@@ -191,14 +200,14 @@ HuntResult hunt_collapse(const Study& study, std::size_t record, std::size_t var
     return h;
   }
   // Runs the level; false when the run failed (h.error says why).
-  auto run = [&](double level) {
+  auto run = [&](double level, HuntPoint::Why why) {
     const JobResult r = study.run(study.at_level(record, variant, level));
     ++h.runs;
     if (!r.error.empty()) {
       h.error = r.error;
       return false;
     }
-    h.points.push_back({level, r.run.outcome == Outcome::overturned});
+    h.points.push_back({level, r.run.outcome == Outcome::overturned, why});
     return true;
   };
   auto down_at = [&](double level) { return h.points.back().level == level && h.points.back().overturned; };
@@ -208,16 +217,20 @@ HuntResult hunt_collapse(const Study& study, std::size_t record, std::size_t var
     while (high - low > o.precision) {
       const double mid = 0.5 * (low + high);
       if (!(mid > low && mid < high)) break;  // the bracket is as narrow as doubles go
-      if (!run(mid)) return std::pair{low, high};
+      if (!run(mid, HuntPoint::Why::bisect)) return std::pair{low, high};
       (down_at(mid) ? high : low) = mid;
     }
     return std::pair{low, high};
   };
-  // Trace up.
+  // Trace up, the step growing, to --hunt-max itself.
   double low = 0, step = o.step;
   const double tolerance = 1e-9 * o.max;
-  for (double level = o.first; level <= o.max + tolerance; level = decimal(level + step), step *= o.growth) {
-    if (!run(level)) return h;
+  for (double level = o.first;; level = decimal(level + step), step *= o.growth) {
+    if (level > o.max + tolerance) {
+      if (low >= o.max - tolerance) break;  // --hunt-max was the last level run
+      level = o.max;
+    }
+    if (!run(level, HuntPoint::Why::trace)) return h;
     if (down_at(level)) {
       h.collapsed = true;
       h.traced_level = level;
@@ -225,27 +238,33 @@ HuntResult hunt_collapse(const Study& study, std::size_t record, std::size_t var
     }
     low = level;
   }
-  if (!h.collapsed) {
-    h.survived_level = low;
-    return h;
-  }
-  // Bracket, then fill below it.
-  auto [survived, collapse] = bisect(low, h.traced_level);
+  // Bracket the trace's collapse; then fill every level below it, or below
+  // --hunt-max when the trace met none: a window of overturning that the
+  // growing step jumped over is found there.
+  double survived = low, collapse = h.traced_level;
+  if (h.collapsed) std::tie(survived, collapse) = bisect(low, h.traced_level);
   if (!h.error.empty()) return h;
+  const double fill_top = h.collapsed ? survived : o.max;
   for (int k = 1;; ++k) {
     const double level = decimal(o.first + k * o.fill_step);
-    if (level >= survived - tolerance) break;
+    if (level >= fill_top - tolerance) break;
     const bool done = std::any_of(h.points.begin(), h.points.end(),
                                   [&](const HuntPoint& p) { return std::abs(p.level - level) <= tolerance; });
-    if (!done && !run(level)) return h;
+    if (!done && !run(level, HuntPoint::Why::fill)) return h;
   }
-  std::sort(h.points.begin(), h.points.end(), [](const HuntPoint& a, const HuntPoint& b) { return a.level < b.level; });
+  auto by_level = [](const HuntPoint& a, const HuntPoint& b) { return a.level < b.level; };
+  std::sort(h.points.begin(), h.points.end(), by_level);
   const auto lowest = std::find_if(h.points.begin(), h.points.end(), [](const HuntPoint& p) { return p.overturned; });
-  if (lowest->level < collapse) {  // an earlier window: bracket its lower edge too
+  if (lowest == h.points.end()) {  // no level up to --hunt-max overturned at the fill's resolution: censored
+    h.survived_level = h.points.back().level;
+    return h;
+  }
+  if (!h.collapsed || lowest->level < collapse) {  // a window below: bracket its lower edge
+    h.collapsed = true;
     const double below = lowest == h.points.begin() ? 0 : std::prev(lowest)->level;
     std::tie(survived, collapse) = bisect(below, lowest->level);
     if (!h.error.empty()) return h;
-    std::sort(h.points.begin(), h.points.end(), [](const HuntPoint& a, const HuntPoint& b) { return a.level < b.level; });
+    std::sort(h.points.begin(), h.points.end(), by_level);
   }
   h.collapse_level = collapse;
   h.survived_level = survived;

@@ -179,7 +179,12 @@ void check_hunt_options(const HuntOptions& o);
 struct HuntPoint {
   double level = 0;
   bool overturned = false;
+  // Why it was run: the trace up (to --hunt-max itself), a bisection of a
+  // bracket, or the fill at --fill-step below the collapse (below --hunt-max
+  // when the trace met none).
+  enum class Why { trace, bisect, fill } why = Why::trace;
 };
+std::string_view hunt_reason(HuntPoint::Why why);
 struct HuntResult {
   bool collapsed = false;
   bool fixed_base = false;     // a fixed base cannot overturn: nothing was run
