@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <algorithm>
+#include <charconv>
 #include <fstream>
 #include <thread>
 #include <unistd.h>
@@ -28,7 +29,9 @@ HistoryCsv::HistoryCsv(const std::filesystem::path& file, const GroundMotion& mo
 }
 
 HistoryCsv::~HistoryCsv() {
-  if (file_ != nullptr) std::fclose(file_);
+  if (file_ == nullptr) return;  // closed
+  std::fwrite(buffer_.data(), 1, buffer_.size(), file_);  // what a run that threw had reached, into the .partial file
+  std::fclose(file_);
 }
 
 void HistoryCsv::record(const Response& r) {
@@ -43,15 +46,36 @@ void HistoryCsv::record(const Response& r) {
   }
 }
 
+namespace {
+// A value as printf's %.9g writes it (std::to_chars, general, precision 9).
+void append_value(std::string& out, double v) {
+  char digits[40];
+  const auto [end, ec] = std::to_chars(digits, digits + sizeof digits, v, std::chars_format::general, 9);
+  out.append(digits, ec == std::errc() ? end : digits);
+}
+}  // namespace
+
 void HistoryCsv::print_row(const Response& r) {
   history_values(r, motion_.acceleration(r.t), devices_, row_);
-  fmt::print(file_, "{:.9g},{}", row_[0], r.pivot == 0 ? "contact" : r.pivot > 0 ? "rock+" : "rock-");
-  for (std::size_t i = 2; i < row_.size(); ++i) fmt::print(file_, ",{:.9g}", row_[i]);
-  std::fputs("\n", file_);
+  append_value(buffer_, row_[0]);
+  buffer_ += r.pivot == 0 ? ",contact" : r.pivot > 0 ? ",rock+" : ",rock-";
+  for (std::size_t i = 2; i < row_.size(); ++i) {
+    buffer_ += ',';
+    append_value(buffer_, row_[i]);
+  }
+  buffer_ += '\n';
+  if (buffer_.size() >= flush_size) flush();
+}
+
+void HistoryCsv::flush() {
+  if (!buffer_.empty() && std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size())
+    throw RunError(fmt::format("{}: cannot write: {} (the rows written are in {})", path_, std::strerror(errno), partial_));
+  buffer_.clear();
 }
 
 void HistoryCsv::close() {
   if (file_ == nullptr) return;
+  flush();
   const bool bad = std::ferror(file_) != 0;
   const bool closed = std::fclose(file_) == 0;
   file_ = nullptr;

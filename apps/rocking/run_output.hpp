@@ -33,6 +33,9 @@ class HistoryCsv : public rocking::Observer {
 
  private:
   void print_row(const rocking::Response& r);
+  void flush();  // writes the buffered rows; RunError if the disk refused
+  static constexpr std::size_t flush_size = 1 << 16;  // rows leave in blocks of about this many bytes
+  std::string buffer_;
   std::FILE* file_ = nullptr;
   std::string path_, partial_;
   const rocking::GroundMotion& motion_;
