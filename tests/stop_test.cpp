@@ -237,7 +237,7 @@ TEST_CASE("SIGINT stops a spectrum with the pulses done kept, and --resume ends 
   CHECK(other.err.find("another frequencies") != std::string::npos);
 }
 
-TEST_CASE("SIGINT stops a tradeoff with the measurements done kept whole") {
+TEST_CASE("SIGINT stops a tradeoff with the measurements done kept whole, and --resume measures the rest") {
   const fs::path dir = scratch_dir("stop_tradeoff");
   const fs::path out = dir / "tradeoff";
   const int code = run_and_stop({"-q", "tradeoff", "--backends", "rk45,cvode,arkode", "--repeats", "3", "--formats", "png",
@@ -254,4 +254,16 @@ TEST_CASE("SIGINT stops a tradeoff with the measurements done kept whole") {
   CHECK(csv.find("inf") == std::string::npos);
   CHECK(csv.find("nan") == std::string::npos);
   CHECK_FALSE(fs::exists(out / "work_precision.png"));
+  const Result resumed = run("-q tradeoff --backends rk45,cvode,arkode --repeats 3 --formats png --out " + out.string() +
+                             " --resume");
+  CHECK_MESSAGE(resumed.code == 0, resumed.err);
+  const std::string all = file_text(out / "tradeoff.csv");
+  CHECK(all.starts_with(csv));  // the measurements done before, kept as they were
+  CHECK(lines(all) == 1 + 3 * 8);
+  CHECK(fs::exists(out / "work_precision.png"));
+  // Another tolerance ladder is another tradeoff.
+  const Result other = run("-q tradeoff --backends rk45,cvode,arkode --rtols 1e-3,1e-4 --repeats 3 --formats png --out " +
+                           out.string() + " --resume");
+  CHECK(other.code == 2);
+  CHECK(other.err.find("another rtols") != std::string::npos);
 }

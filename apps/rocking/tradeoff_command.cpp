@@ -3,6 +3,7 @@
 // against a reference run; writes a CSV and a work-precision figure.
 #include "commands.hpp"
 #include "stop_signals.hpp"
+#include "study_folder.hpp"
 #include "run_output.hpp"
 #include <spdlog/spdlog.h>
 #include <fmt/format.h>
@@ -12,6 +13,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <map>
 #include <fstream>
 #include <memory>
 #include <string_view>
@@ -38,7 +40,39 @@ struct TradeoffArgs {
   double reference_rtol = 1e-9;
   double budget = 60;           // seconds a run may take before it is stopped
   bool backends_given = false;
+  bool resume = false;
 };
+
+// The rows an interrupted tradeoff measured (--resume), by their key: the
+// first `key_fields` fields of the row (method and rtol; scene, N and method).
+std::map<std::string, std::string> resumed_rows(const fs::path& file, const std::string& header, int key_fields) {
+  std::map<std::string, std::string> out;
+  std::ifstream in(file);
+  if (!in) throw InputError(fmt::format("--resume: {} not found: nothing to resume", file.string()));
+  std::string line;
+  if (!std::getline(in, line) || line + "\n" != header)
+    throw InputError(fmt::format("--resume: {}:1: not a tradeoff CSV of this version (header differs)", file.string()));
+  while (std::getline(in, line) && !in.eof()) {
+    std::size_t at = 0;
+    for (int k = 0; k < key_fields && at != std::string::npos; ++k) at = line.find(',', at + (k > 0 ? 1 : 0));
+    if (at == std::string::npos) continue;
+    out.emplace(line.substr(0, at), line + "\n");
+  }
+  return out;
+}
+
+// Field k of a CSV row (no field holds a comma but the quoted scene path, first).
+std::string field(const std::string& row, std::size_t k) {
+  std::size_t start = row.starts_with('"') ? row.find('"', 1) + 1 : 0;
+  for (std::size_t i = 0; i < k; ++i) start = row.find(',', start) + 1;
+  const std::size_t end = row.find_first_of(",\n", start);
+  return row.substr(start, end - start);
+}
+
+// A measured error as the figure's data file takes it (not comparable: inf).
+double measured_value(const std::string& text) {
+  return text.empty() ? std::numeric_limits<double>::infinity() : std::stod(text);
+}
 
 // "NAME" integrates every phase with backend NAME; "NAME+exact" steps full
 // contact exactly (the default of a run) and integrates the rocking phases.
@@ -97,12 +131,12 @@ RunResult best_of(const ContactModel& m, const GroundMotion& g, RunOptions o, in
 }
 
 // A measurement that a run stopped by a signal interrupts ends the command:
-// the rows measured so far stay, whole; the rest is not measured (a tradeoff
-// compares timings of one sitting, so it is run again rather than resumed).
+// the rows measured so far stay, whole, and --resume measures the rest (their
+// timings then come from two sittings of the machine).
 int stopped(const fs::path& csv_file, std::size_t rows) {
   const int signal = stop_signal();
-  fmt::print(stderr, "rocking: stopped by {} after {} measurements; {} holds them (timings compare within one sitting: "
-                     "run it again for the figure)\n",
+  fmt::print(stderr, "rocking: stopped by {} after {} measurements; {} holds them; continue with the same command and "
+                     "--resume\n",
              signal == SIGTERM ? "SIGTERM" : "SIGINT", rows, csv_file.string());
   return stop_exit_code(signal);
 }
@@ -160,8 +194,10 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
   for (const std::string& name : names) methods.push_back(parse_method(name));
   const fs::path dir(a.out);
   make_output_dir(dir / "tradeoff_n.data");
+  const std::string header = "scene,n,method,rtol,wall_s,rhs,steps,err_delta_t,accuracy,met,reference_check,over_budget\n";
+  const auto resumed = a.resume ? resumed_rows(dir / "tradeoff_n.csv", header, 3) : std::map<std::string, std::string>{};
   std::ofstream csv(dir / "tradeoff_n.csv");
-  csv << "scene,n,method,rtol,wall_s,rhs,steps,err_delta_t,accuracy,met,reference_check\n";
+  csv << header;
   std::vector<std::ofstream> data;
   for (const std::string& name : names) {
     data.emplace_back(dir / "tradeoff_n.data" / (name + ".csv"));
@@ -188,6 +224,29 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
     RunOptions base = run_options(scene, solver, a.motion.record.empty());
     base.track_energy = false;
     base.stop = [] { return stop_signal() != 0; };
+    const long n = static_cast<long>(model.layout.n);
+    auto key = [&](const std::string& name) { return fmt::format("\"{}\",{},{}", path, n, name); };
+    if (first_name.empty()) first_name = scene.name;
+    last_name = scene.name;
+    smallest_n = std::min(smallest_n, n);
+    largest_n = std::max(largest_n, n);
+    // Rows measured before (--resume) are kept as they were.
+    bool all_resumed = true;
+    for (std::size_t i = 0; i < methods.size(); ++i) {
+      if (given_up[i]) continue;
+      const auto row = resumed.find(key(names[i]));
+      if (row == resumed.end()) {
+        all_resumed = false;
+        continue;
+      }
+      csv << row->second << std::flush;
+      ++rows;
+      if (field(row->second, 9) == "true")
+        data[i] << fmt::format("{},{},{},{}\n", n, field(row->second, 4), field(row->second, 5), field(row->second, 3));
+      given_up[i] = field(row->second, 11) == "true";
+      fmt::print("{:>5} {:<12} (measured before, resumed)\n", n, names[i]);
+    }
+    if (all_resumed) continue;
     const RunResult ref = simulate(model, motion, options_at(base, {ode::Backend::rosw, true}, a.reference_rtol));
     if (stop_signal() != 0) return stopped(dir / "tradeoff_n.csv", rows);
     if (ref.outcome == Outcome::failed) throw RunError(fmt::format("{}: reference run failed: {}", path, ref.failure));
@@ -197,21 +256,16 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
         check.outcome == Outcome::failed
             ? std::string("rk45 over budget")
             : fmt::format("{:.1e}", relative(check.peak(Quantity::delta_t), ref.peak(Quantity::delta_t)));
-    const long n = static_cast<long>(model.layout.n);
     fmt::print("N = {}: {}; reference checked by rk45+exact at rtol {:.0e}: {}\n", n, scene.name, a.reference_rtol,
                checked);
-    if (first_name.empty()) first_name = scene.name;
-    last_name = scene.name;
-    smallest_n = std::min(smallest_n, n);
-    largest_n = std::max(largest_n, n);
     for (std::size_t i = 0; i < methods.size(); ++i) {
-      if (given_up[i]) continue;
+      if (given_up[i] || resumed.contains(key(names[i]))) continue;
       const CostAtAccuracy c = cost_at_accuracy(model, motion, base, methods[i], rtols, ref, a);
       if (stop_signal() != 0) return stopped(dir / "tradeoff_n.csv", rows);
       given_up[i] = c.over_budget;
-      csv << fmt::format("\"{}\",{},{},{:.0e},{:.6f},{},{},{:.3e},{:.0e},{},{}\n", path, n, names[i], c.rtol,
-                         c.run.wall_s, c.run.stats.rhs, c.run.stats.steps, c.error, a.accuracy,
-                         c.met ? "true" : "false", checked)
+      csv << fmt::format("{},{:.0e},{:.6f},{},{},{:.3e},{:.0e},{},{},{}\n", key(names[i]), c.rtol, c.run.wall_s,
+                         c.run.stats.rhs, c.run.stats.steps, c.error, a.accuracy, c.met ? "true" : "false", checked,
+                         c.over_budget ? "true" : "false")
           << std::flush;
       ++rows;
       if (c.met) data[i] << fmt::format("{},{:.6e},{},{:.0e}\n", n, c.run.wall_s, c.run.stats.rhs, c.rtol);
@@ -256,6 +310,26 @@ int tradeoff(const TradeoffArgs& a) {
     rtols.push_back(r);
   }
   if (rtols.size() > 50) throw InputError(fmt::format("--rtols {}: {} tolerances (at most 50)", a.rtols, rtols.size()));
+  // The folder: one tradeoff at a time, and what it measures (--resume must match).
+  const fs::path out_dir(a.out);
+  make_output_dir(out_dir);
+  const FolderLock lock(out_dir);
+  check_outputs_free(out_dir, {"tradeoff.csv", "tradeoff_n.csv", "inputs.txt"});
+  {
+    std::string scenes_text = scene_toml(a.scene.path, a.scene.overrides);
+    for (const std::string& path : a.scenes) scenes_text += scene_toml(path, a.scene.overrides);
+    record_inputs(out_dir,
+                  study_inputs(a.scenes.empty() ? "tradeoff" : "tradeoff --scenes", scenes_text,
+                               a.motion.record.empty() ? std::vector<std::string>{} : std::vector{a.motion.record},
+                               {{"rtols", a.rtols},
+                                {"backends", fmt::format("{}", fmt::join(a.backends, ","))},
+                                {"repeats", std::to_string(a.repeats)},
+                                {"duration", fmt::format("{}", a.duration)},
+                                {"scale", fmt::format("{}", a.motion.scale)},
+                                {"accuracy", fmt::format("{} (reference rtol {}, budget {} s)", a.accuracy,
+                                                         a.reference_rtol, a.budget)}}),
+                  a.resume);
+  }
   if (!a.scenes.empty()) {
     if (!(a.accuracy > 0 && a.accuracy < 1)) throw InputError(fmt::format("--accuracy {}: must be in (0, 1)", a.accuracy));
     if (!(a.reference_rtol > 0 && a.reference_rtol < 1))
@@ -279,9 +353,12 @@ int tradeoff(const TradeoffArgs& a) {
              ref_uncertainty, ref.counts.impacts);
   const fs::path dir(a.out);
   make_output_dir(dir / "tradeoff.data");
+  const std::string header =
+      "backend,rtol,atol,wall_s,rhs,steps,err_delta_t,err_theta,err_first_uplift_s,err_first_impact_s,impacts,"
+      "impacts_reference,err_final_state,outcome\n";
+  const auto resumed = a.resume ? resumed_rows(dir / "tradeoff.csv", header, 2) : std::map<std::string, std::string>{};
   std::ofstream csv(dir / "tradeoff.csv");
-  csv << "backend,rtol,atol,wall_s,rhs,steps,err_delta_t,err_theta,err_first_uplift_s,err_first_impact_s,impacts,"
-         "impacts_reference,err_final_state,outcome\n";
+  csv << header;
   std::size_t rows = 0;
   std::vector<plot::Series> series;
   fmt::print("{:<10} {:>7} {:>10} {:>9} {:>10} {:>10} {:>9}\n", "backend", "rtol", "wall [ms]", "rhs", "err d_t",
@@ -293,6 +370,14 @@ int tradeoff(const TradeoffArgs& a) {
     std::ofstream data(dir / file);
     data << "wall_s,err_delta_t,err_theta,rtol\n";
     for (double rtol : rtols) {
+      if (const auto row = resumed.find(fmt::format("{},{:.0e}", name, rtol)); row != resumed.end()) {
+        csv << row->second << std::flush;  // measured before (--resume)
+        ++rows;
+        data << fmt::format("{},{:.3e},{:.3e},{:.0e}\n", field(row->second, 3),
+                            std::max(measured_value(field(row->second, 6)), 1e-16),
+                            std::max(measured_value(field(row->second, 7)), 1e-16), rtol);
+        continue;
+      }
       const RunOptions o = options_at(base, b, rtol);
       const RunResult r = best_of(model, motion, o, a.repeats);
       if (stop_signal() != 0) return stopped(dir / "tradeoff.csv", rows);
@@ -371,6 +456,10 @@ Command add_tradeoff_command(CLI::App& app) {
   cmd->add_option("--duration", a->duration, "Simulated time [s] (default: the motion's)")->type_name("S");
   cmd->add_option("--repeats", a->repeats, "Runs per point; the fastest counts (default 3)")->type_name("N");
   cmd->add_option("--formats", a->formats, "Figure formats (default png,pdf,svg)")->type_name("LIST");
+  cmd->add_flag("--resume", a->resume,
+                "Continue a tradeoff stopped by Ctrl-C or SIGTERM in the same --out with the\n"
+                "same inputs: the measurements done are kept (their timings are of the\n"
+                "first sitting)");
   cmd->footer("Example: rocking tradeoff --record ../shared/data/records/elcentro_1940_ns.at2");
   return [a]() { return tradeoff(*a); };
 }
