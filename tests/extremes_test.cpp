@@ -163,3 +163,19 @@ TEST_CASE("plates thin enough to vanish leave the chimney rocking as it does wit
     CHECK(thin.peak(q) == doctest::Approx(none.peak(q)).epsilon(1e-5));
   CHECK(thin.peak(Quantity::damper_F) < 1e-3);  // [N]: 0.01 N/m over a few centimetres
 }
+
+TEST_CASE("[excitation] scale scales a pulse as it scales a record") {
+  // The scene's factor on its pulse is the same run as the pulse scaled by
+  // the program's --scale (GroundMotion::scaled): x2, and x-1 (the pulse
+  // reversed, which rocks the chimney about the other pivot as far).
+  const RunResult scene_x2 = run(chimney({"excitation.scale=2"}), default_ground_motion(chimney({"excitation.scale=2"})));
+  const RunResult pulse_x2 = run(chimney(), pulse().scaled(2));
+  CHECK(scene_x2.peaks == pulse_x2.peaks);
+  CHECK(scene_x2.counts.uplifts == pulse_x2.counts.uplifts);
+  CHECK(excitation_scale(chimney({"excitation.scale=2"})) == 2);
+  const RunResult x1 = run(chimney(), pulse());
+  CHECK(scene_x2.peak(Quantity::theta) > 1.5 * x1.peak(Quantity::theta));  // not the unscaled run
+  const RunResult reversed = run(chimney({"excitation.scale=-1"}), default_ground_motion(chimney({"excitation.scale=-1"})));
+  CHECK(reversed.peak(Quantity::theta) == doctest::Approx(x1.peak(Quantity::theta)).epsilon(1e-9));
+  CHECK(reversed.final_theta == doctest::Approx(-x1.final_theta).epsilon(1e-6));
+}
