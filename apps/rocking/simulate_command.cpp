@@ -96,7 +96,7 @@ int run(const SimulateOptions& o) {
   if (const int signal = stop_signal(); signal != 0) {
     fmt::print(stderr, "rocking: stopped by {} at t = {:.6g} s; {} holds the history up to there, summary.json says "
                        "interrupted\n",
-               signal == SIGTERM ? "SIGTERM" : "SIGINT", result.t_end, (dir / "history.csv").string());
+               stop_signal_name(signal), result.t_end, (dir / "history.csv").string());
     return stop_exit_code(signal);
   }
   if (result.outcome == Outcome::failed) throw RunError(result.failure);

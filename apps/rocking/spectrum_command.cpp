@@ -6,7 +6,6 @@
 #include "study_folder.hpp"
 #include <spdlog/spdlog.h>
 #include <fmt/format.h>
-#include <csignal>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -39,8 +38,7 @@ const char* spectrum_header =
 // wrote to `file` (or its .partial file), each checked against its grid point.
 std::vector<std::pair<bool, bool>> resumed_points(const fs::path& file, const std::vector<double>& freqs,
                                                   const std::vector<double>& amps) {
-  std::error_code ec;
-  const fs::path rows = fs::exists(file, ec) ? file : fs::path(file.string() + ".partial");
+  const fs::path rows = resume_source(file);
   std::vector<std::pair<bool, bool>> out;
   std::ifstream in(rows);
   if (!in) return out;  // this size was not begun
@@ -137,7 +135,7 @@ int spectrum(const SpectrumArgs& a) {
       const int signal = stop_signal();
       fmt::print(stderr, "rocking: stopped by {} after {} of {} pulses of block x{}; {} holds them; continue with the "
                          "same command and --resume\n",
-                 signal == SIGTERM ? "SIGTERM" : "SIGINT", s.complete, s.points.size(), size, partial.string());
+                 stop_signal_name(signal), s.complete, s.points.size(), size, partial.string());
       return stop_exit_code(signal);
     }
     write_text(path, out);

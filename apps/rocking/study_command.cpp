@@ -223,9 +223,7 @@ Resumed read_resumed(const fs::path& csv_file, const fs::path& timing_file, cons
   Resumed r;
   // A study ended by a second signal (or killed) left its rows in the .partial
   // files: whole rows, and at most one cut line at the end.
-  std::error_code ec;
-  const bool ended = fs::exists(csv_file, ec);
-  const fs::path rows_file = ended ? csv_file : fs::path(csv_file.string() + ".partial");
+  const fs::path rows_file = resume_source(csv_file);
   std::ifstream in(rows_file);
   if (!in) throw InputError(fmt::format("--resume: {} not found: nothing to resume", csv_file.string()));
   std::string line;
@@ -245,7 +243,7 @@ Resumed read_resumed(const fs::path& csv_file, const fs::path& timing_file, cons
     for (std::size_t c = 6; c <= 13; ++c) data += "," + (f[c].empty() ? std::string("0") : f[c]);
     r.lines.push_back(f[19].empty() ? data + (f[15] == "overturned" ? ",1" : ",0") : std::string());
   }
-  std::ifstream timing(ended ? timing_file : fs::path(timing_file.string() + ".partial"));
+  std::ifstream timing(resume_source(timing_file));
   if (timing && std::getline(timing, line))
     while (r.timings.size() < r.rows.size() && std::getline(timing, line)) r.timings.push_back(line + "\n");
   return r;
@@ -381,7 +379,7 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
     const int signal = stop_signal();
     fmt::print(stderr, "rocking: stopped by {} after {} of {} runs; {} holds them; continue with the same command and "
                        "--resume\n",
-               signal == SIGTERM ? "SIGTERM" : "SIGINT", done, jobs.size(), csv_file.string());
+               stop_signal_name(signal), done, jobs.size(), csv_file.string());
     return stop_exit_code(signal);
   }
   std::vector<std::string> figure_lines(keep_lines ? jobs.size() : 0);
@@ -446,8 +444,7 @@ std::string hunt_fields(const std::string& record, const std::string& variant, c
 std::vector<std::pair<std::string, HuntResult>> read_resumed_hunts(
     const fs::path& file, const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
     const std::vector<std::string>& ids, const Study& st) {
-  std::error_code ec;
-  const fs::path rows_file = fs::exists(file, ec) ? file : fs::path(file.string() + ".partial");
+  const fs::path rows_file = resume_source(file);
   std::ifstream in(rows_file);
   if (!in) throw InputError(fmt::format("--resume: {} not found: nothing to resume", file.string()));
   std::string line;
@@ -501,8 +498,7 @@ int run_hunt(const StudyArgs& a, const Study& st) {
   const fs::path points_file = dir / "hunt_points.csv", points_partial = points_file.string() + ".partial";
   std::string resumed_points;
   if (a.resume) {
-    std::error_code ec;
-    std::ifstream old(fs::exists(points_file, ec) ? points_file : points_partial);
+    std::ifstream old(resume_source(points_file));
     std::string line;
     std::getline(old, line);  // the header
     while (std::getline(old, line) && !old.eof())
@@ -569,7 +565,7 @@ int run_hunt(const StudyArgs& a, const Study& st) {
     const int signal = stop_signal();
     fmt::print(stderr, "rocking: stopped by {} after {} of {} hunts; {} holds them; continue with the same command and "
                        "--resume\n",
-               signal == SIGTERM ? "SIGTERM" : "SIGINT", first + emitted, pairs.size(), file.string());
+               stop_signal_name(signal), first + emitted, pairs.size(), file.string());
     return stop_exit_code(signal);
   }
   fmt::print("the lowest overturning found, bracketed to {:g}{}; a window narrower than the fill step {:g}{} below it "

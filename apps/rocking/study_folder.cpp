@@ -96,6 +96,11 @@ void record_inputs(const fs::path& dir, const std::string& inputs, bool resume) 
   }
 }
 
+fs::path resume_source(const fs::path& file) {
+  std::error_code ec;
+  return fs::exists(file, ec) ? file : fs::path(file.string() + ".partial");
+}
+
 void check_outputs_free(const fs::path& dir, const std::vector<std::string>& files) {
   std::error_code ec;
   for (const std::string& f : files)

@@ -34,6 +34,10 @@ std::string study_inputs(const std::string& kind, const std::string& scene_text,
 // missing file).
 void record_inputs(const std::filesystem::path& dir, const std::string& inputs, bool resume);
 
+// Where --resume reads the rows of `file`: the file itself when its run ended
+// (finished or stopped), else the .partial file a killed run left.
+std::filesystem::path resume_source(const std::filesystem::path& file);
+
 // InputError naming the first of `files` (in DIR) that is a folder.
 void check_outputs_free(const std::filesystem::path& dir, const std::vector<std::string>& files);
 

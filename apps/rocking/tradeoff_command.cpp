@@ -9,7 +9,6 @@
 #include <fmt/format.h>
 #include <algorithm>
 #include <chrono>
-#include <csignal>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -137,7 +136,7 @@ int stopped(const fs::path& csv_file, std::size_t rows) {
   const int signal = stop_signal();
   fmt::print(stderr, "rocking: stopped by {} after {} measurements; {} holds them; continue with the same command and "
                      "--resume\n",
-             signal == SIGTERM ? "SIGTERM" : "SIGINT", rows, csv_file.string());
+             stop_signal_name(signal), rows, csv_file.string());
   return stop_exit_code(signal);
 }
 
