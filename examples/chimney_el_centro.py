@@ -31,7 +31,7 @@ fig, (top, tilt) = plt.subplots(2, 1, sharex=True, figsize=(7, 5), constrained_l
 for label, run in runs.items():
     h = run.history
     top.plot(h["t"], 100 * h["delta_t"], lw=0.9, label=label)
-    tilt.plot(h["t"], h["theta/alpha_cg"], lw=0.9, label=label)
+    tilt.plot(h["t"], h["theta_over_alpha"], lw=0.9, label=label)
     print(f"{label:13s} peak delta_t {100 * run.peaks['delta_t']:.3f} %, theta/alpha_cg "
           f"{run.peaks['theta_over_alpha']:.3f}, {run.summary['counts']['uplifts']} uplifts")
 top.set_ylabel(r"top drift $\delta_t$ [%]")

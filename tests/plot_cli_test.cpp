@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 #include "run_program.hpp"
+#include "csv_table.hpp"
 
 namespace fs = std::filesystem;
 
@@ -293,12 +294,18 @@ TEST_CASE("plot response with a tendon and dampers draws each device's loop and 
   // Each device named once, by its dash pattern, in the axis label (no key over the loops).
   CHECK(script.find("(solid damper_left, dashed damper_right, dotted tendon)") != std::string::npos);
   CHECK(script.find("dashtype 3 notitle") != std::string::npos);
-  CHECK(script.find("using 4:($15/1e6)") != std::string::npos);  // M_dev against theta
+  // M_dev against theta, their columns found by name in the run's history.
+  const CsvTable history = csv_table(file_text(dir / "response.data" / "scene.csv"));
+  const std::size_t theta = history.column("theta [rad]") + 1, moment = history.column("M_dev [N m]") + 1;
+  CHECK(script.find("using " + std::to_string(theta) + ":($" + std::to_string(moment) + "*1e-06)") != std::string::npos);
   CHECK(fs::file_size(dir / "response.png") > 1000);
   // Without other devices the figure keeps the paper's one signed damper loop.
   const Result plain = run("plot response --variants scene --formats png --out " + (dir / "plain").string());
   REQUIRE(plain.code == 0);
   CHECK(file_text(dir / "plain" / "response.gp").find("device force F") == std::string::npos);
   // A broken damper (zero force) draws no line along the elongation axis.
-  CHECK(file_text(dir / "plain" / "response.gp").find("$8 == 0 || $9 == 0 ? NaN") != std::string::npos);
+  const CsvTable plain_history = csv_table(file_text(dir / "plain" / "response.data" / "scene.csv"));
+  const std::size_t d = plain_history.column("damper_d [m]") + 1, f = plain_history.column("damper_F [N]") + 1;
+  CHECK(file_text(dir / "plain" / "response.gp").find("$" + std::to_string(d) + " == 0 || $" + std::to_string(f) + " == 0 ? NaN") !=
+        std::string::npos);
 }

@@ -245,7 +245,7 @@ TEST_CASE("a 16-node tower under El Centro: rosw at the default tolerance matche
   REQUIRE(r.outcome == Outcome::completed);
   CHECK(r.integrator == "rosw");
   for (Quantity q : {Quantity::delta_t, Quantity::delta_e, Quantity::theta, Quantity::base_moment}) {
-    CAPTURE(quantity_name(q));
+    CAPTURE(info(q).name);
     CHECK(std::abs(r.peak(q) - ref.peak(q)) < 1e-3 * ref.peak(q));
   }
 }

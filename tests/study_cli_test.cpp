@@ -17,6 +17,7 @@
 #include <vector>
 #include <unistd.h>
 #include "run_program.hpp"
+#include "csv_table.hpp"
 #include "records.hpp"
 import rocking.intensity;
 import rocking.ground_motion;
@@ -110,19 +111,6 @@ TEST_CASE("a sweep writes one line per value of the swept key") {
 
 namespace {
 
-std::vector<std::vector<std::string>> csv_rows(const std::string& text) {
-  std::vector<std::vector<std::string>> out;
-  std::stringstream in(text);
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    std::vector<std::string> f;
-    std::stringstream ss(line);
-    for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
-    out.push_back(f);
-  }
-  return out;
-}
 
 }  // namespace
 
@@ -144,17 +132,17 @@ TEST_CASE("a suite scaled to PGA: rows meet their levels exactly, summaries are 
   const char* outputs[] = {"ida.csv", "summary.csv", "fragility.csv", "fragility_points.csv", "summary.json"};
   for (const char* f : outputs) CHECK_MESSAGE(file_text(dir / "one" / f) == file_text(dir / "two" / f), f);
   // Every row: the record read again and scaled by the row's factor has the row's PGA.
-  const auto rows = csv_rows(file_text(dir / "one" / "ida.csv"));
-  REQUIRE(rows.size() == 3 * 5 * 2);
+  const CsvTable ida = csv_table(file_text(dir / "one" / "ida.csv"));
+  REQUIRE(ida.rows.size() == 3 * 5 * 2);
   const IntensityMeasure pga = parse_intensity_measure("pga");
   std::size_t overturned = 0;
-  for (const auto& f : rows) {
-    CHECK(f[3] == "pga");
-    const GroundMotion g = read_record(*records + "/" + f[0]);
-    const double level = std::stod(f[4]), scale = std::stod(f[1]);
+  for (std::size_t i = 0; i < ida.rows.size(); ++i) {
+    CHECK(ida.at(i, "im") == "pga");
+    const GroundMotion g = read_record(*records + "/" + ida.at(i, "record"));
+    const double level = std::stod(ida.at(i, "level")), scale = std::stod(ida.at(i, "scale"));
     CHECK(intensity(g.scaled(scale), pga) == doctest::Approx(level).epsilon(1e-9));
-    CHECK(std::stod(f[5]) == doctest::Approx(intensity(g, pga)).epsilon(1e-15));
-    overturned += f[15] == "overturned" ? 1 : 0;
+    CHECK(std::stod(ida.at(i, "record_im")) == doctest::Approx(intensity(g, pga)).epsilon(1e-15));
+    overturned += ida.at(i, "outcome") == "overturned" ? 1 : 0;
   }
   CHECK(overturned > 0);
   const std::string summary = file_text(dir / "one" / "summary.csv");
@@ -216,15 +204,10 @@ TEST_CASE("the hunt finds the first overturning that a 0.05 g ladder finds, wher
   REQUIRE(run(common + (dir / "hunt").string() + " --levels 0.5 --hunt --hunt-max 25").code == 0);
   std::map<std::string, double> first;  // variant -> the ladder's first overturning level
   {
-    std::istringstream rows(file_text(dir / "ladder" / "ida.csv"));
-    std::string line;
-    std::getline(rows, line);
-    while (std::getline(rows, line)) {
-      std::vector<std::string> f;
-      std::istringstream cells(line);
-      for (std::string c; std::getline(cells, c, ',');) f.push_back(c);
-      if (f[15] == "overturned" && !first.contains(f[2])) first[f[2]] = std::stod(f[4]);
-    }
+    const CsvTable ladder = csv_table(file_text(dir / "ladder" / "ida.csv"));
+    for (std::size_t i = 0; i < ladder.rows.size(); ++i)
+      if (ladder.at(i, "outcome") == "overturned" && !first.contains(ladder.at(i, "variant")))
+        first[ladder.at(i, "variant")] = std::stod(ladder.at(i, "level"));
   }
   REQUIRE(first.size() == 2);
   std::istringstream rows(file_text(dir / "hunt" / "hunt.csv"));

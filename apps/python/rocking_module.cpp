@@ -240,14 +240,15 @@ py::dict record_measures(const PyRecord& r, std::optional<std::vector<double>> p
 // Keeps the history as columns and the events as they come.
 class Collector : public rocking::Observer {
  public:
-  Collector(const rocking::GroundMotion& g, const std::vector<rocking::Device>& devices, bool keep_history)
-      : g_(g), samples_(devices.size()), keep_(keep_history) {
-    for (const rocking::HistoryColumn& c : rocking::history_columns(devices)) names.push_back(c.name);
+  Collector(const rocking::ContactModel& model, bool keep_history)
+      : layout_(rocking::history_columns(rocking::presence(model), model.devices)),
+        samples_(model.devices.size()), keep_(keep_history) {
+    names = layout_.names();
     columns.resize(names.size());
   }
   void record(const rocking::Response& r) override {
     if (!keep_) return;
-    rocking::history_values(r, g_.acceleration(r.t), samples_, row_);
+    layout_.values(r, samples_, row_);
     for (std::size_t i = 0; i < row_.size(); ++i) columns[i].push_back(row_[i]);
   }
   void devices(const std::vector<rocking::DeviceSample>& samples) override { samples_ = samples; }
@@ -258,7 +259,7 @@ class Collector : public rocking::Observer {
   std::vector<rocking::Event> events;
 
  private:
-  const rocking::GroundMotion& g_;
+  rocking::HistoryColumns layout_;
   std::vector<rocking::DeviceSample> samples_;
   std::vector<double> row_;
   bool keep_;
@@ -329,7 +330,7 @@ PyResult simulate(const py::object& scene_arg, const py::object& record, double 
   const rocking::ContactModel model = rocking::make_contact_model(scene, true);
   auto stop = std::make_shared<std::atomic<bool>>(false);
   ro.stop = [stop] { return stop->load(); };
-  Collector collect(*motion, model.devices, history);
+  Collector collect(model, history);
   const rocking::RunResult result =
       interruptible(*stop, [&] { return rocking::simulate(model, *motion, ro, &collect); });
 
@@ -411,6 +412,7 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
   const rocking::Study study(s.path, s.overrides, records, {}, std::move(variants), ro, im);
   std::sort(levels.begin(), levels.end());
   const std::vector<rocking::Job> jobs = study.ladder(levels);
+  for (const rocking::Limit& l : limits) rocking::check_limit(study, l);
   auto summary = std::make_shared<rocking::StudySummary>(study, levels, limits);
   std::vector<rocking::JobResult> results(jobs.size());
   const std::size_t done = interruptible(*stop, [&] {
@@ -427,6 +429,8 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
   for (const rocking::Limit& l : limits) out.limits.push_back(l.name);
   out.records = study.records();
   out.summary = summary;
+  const rocking::StudyColumns columns = rocking::study_columns(study);
+  const std::vector<std::string> names = columns.names();
   for (std::size_t i = 0; i < done; ++i) {
     const rocking::Job& j = jobs[i];
     const rocking::JobResult& r = results[i];
@@ -439,11 +443,10 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
     } else {
       row["outcome"] = std::string(rocking::outcome_name(r.run.outcome));
       if (r.run.outcome == rocking::Outcome::failed) row["error"] = r.run.failure;
-      for (rocking::Quantity q : rocking::study_quantities) {
-        const bool absent = (rocking::is_force(q) && !r.run.has_forces) ||
-                            ((q == rocking::Quantity::damper_d || q == rocking::Quantity::damper_F) && !r.run.has_damper);
-        row[py::str(std::string(rocking::quantity_name(q)))] = absent ? py::object(py::none()) : py::object(py::float_(r.run.peak(q)));
-      }
+      // The columns of ida.csv, by name (None where the run's model lacks one).
+      const std::vector<double> values = columns.values(r.run);
+      for (std::size_t k = 0; k < names.size(); ++k)
+        row[py::str(names[k])] = std::isnan(values[k]) ? py::object(py::none()) : py::object(py::float_(values[k]));
       row["t_end"] = r.run.t_end;
     }
     out.rows.append(row);
@@ -463,10 +466,7 @@ py::dict lognormal(const rocking::LognormalFit& f) {
   return d;
 }
 
-rocking::Quantity parse_quantity(const std::string& name) {
-  if (const auto q = rocking::study_quantity(name)) return *q;
-  throw rocking::InputError(fmt::format("unknown quantity '{}' (choose from {})", name, rocking::study_quantity_names()));
-}
+rocking::QuantityName parse_quantity(const std::string& name) { return rocking::parse_study_quantity(name); }
 
 std::size_t variant_index(const PyIda& r, const std::string& variant) {
   if (variant.empty()) return 0;
@@ -586,8 +586,9 @@ PYBIND11_MODULE(rocking, m) {
   py::class_<PyResult>(m, "Result", "One run: its summary, history and events.")
       .def_readonly("summary", &PyResult::summary, "The dict of `rocking simulate`'s summary.json.")
       .def_property_readonly("peaks", [](const PyResult& r) { return r.summary["peaks"]; },
-                             "Absolute peaks: delta_t, delta_e, theta, theta_over_alpha, damper_d, damper_F,\n"
-                             "base_shear, base_moment, mid_shear, mid_moment (None where absent).")
+                             "Absolute peaks by quantity name (summary.json's peaks): the schema's peak\n"
+                             "quantities the scene reports and each device's NAME.elongation and NAME.force\n"
+                             "(`rocking simulate --list-quantities` lists them with units).")
       .def_readonly("history", &PyResult::history,
                     "Column name -> NumPy array, the columns of history.csv (units in MODEL.md 7);\n"
                     "'phase' is the pivot: 0 full contact, +1 / -1 rocking on the right / left.")

@@ -124,8 +124,8 @@ int animate(const AnimateArgs& a) {
   if (frames < 2) throw InputError("animation: the run is too short for two frames");
   const double H = scene.structure.heights.maxCoeff(), B = scene.structure.half_width;
   double top = 1e-12;
-  for (const Response& r : main_rec.rows) top = std::max(top, std::abs(r.u_top));
-  for (const Response& r : twin_rec.rows) top = std::max(top, std::abs(r.u_top));
+  for (const Response& r : main_rec.rows) top = std::max(top, std::abs(r[Quantity::u_top]));
+  for (const Response& r : twin_rec.rows) top = std::max(top, std::abs(r[Quantity::u_top]));
   const double k = a.exaggeration > 0 ? a.exaggeration : scene.structure.rigid ? 1.0 : std::max(1.0, nice(0.08 * H / top));
   // The rocking of a tall structure is invisible at true scale: by default its
   // peak angle is drawn at about 0.1 rad (a block's, which is seen, at x1).

@@ -108,13 +108,13 @@ int response(const ResponseArgs& a) {
       ro.output_interval = 0.005;
       const ContactModel model = make_contact_model(scene, false);
       const fs::path csv = data_dir / (key + ".csv");
-      HistoryCsv history(csv, motion, model.devices);
+      HistoryCsv history(csv, model);
       const RunResult r = simulate(model, motion, ro, &history);
       history.close();
       if (r.outcome == Outcome::failed) throw RunError(fmt::format("variant {}: {}", key, r.failure));
       fmt::print("{:<22} top {:7.1f} mm, theta/alpha {:.4f}, M/M_ref {}, {} uplifts, {}\n", label, r.top_total_mm,
                  r.peak(Quantity::theta_over_alpha),
-                 r.has_forces ? fmt::format("{:.3f}", r.peak(Quantity::base_moment)) : "-", r.counts.uplifts,
+                 r.reports(Quantity::base_moment) ? fmt::format("{:.3f}", r.peak(Quantity::base_moment)) : "-", r.counts.uplifts,
                  outcome_name(r.outcome));
       series.push_back({label, (fs::path(a.figure.name + ".data") / (key + ".csv")).string(), model.has_damper,
                         model.kind != ModelKind::fixed_base, model.kind != ModelKind::rigid_block});

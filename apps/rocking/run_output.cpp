@@ -1,5 +1,6 @@
 #include "run_output.hpp"
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 #include <cerrno>
 #include <system_error>
@@ -13,17 +14,16 @@
 
 namespace rocking::app {
 
-HistoryCsv::HistoryCsv(const std::filesystem::path& file, const GroundMotion& motion, const std::vector<Device>& devices)
-    : path_(file.string()), partial_(path_ + ".partial"), motion_(motion), devices_(devices.size()) {
+HistoryCsv::HistoryCsv(const std::filesystem::path& file, const ContactModel& model)
+    : path_(file.string()), partial_(path_ + ".partial"),
+      columns_(history_columns(presence(model), model.devices)), devices_(model.devices.size()) {
   std::error_code ec;
   for (const std::string& p : {path_, partial_})
     if (std::filesystem::is_directory(p, ec))
       throw InputError(fmt::format("{}: a folder stands where the history goes; move it or choose another --out", p));
   file_ = std::fopen(partial_.c_str(), "w");
   if (file_ == nullptr) throw RunError(fmt::format("{}: cannot write: {}", partial_, std::strerror(errno)));
-  std::string header;
-  for (const HistoryColumn& c : history_columns(devices))
-    header += fmt::format("{}{}{}", header.empty() ? "" : ",", c.name, c.unit.empty() ? "" : " [" + c.unit + "]");
+  const std::string header = fmt::format("{}", fmt::join(columns_.headers(), ","));
   std::fputs(header.c_str(), file_);
   std::fputs("\n", file_);
 }
@@ -47,8 +47,10 @@ void HistoryCsv::record(const Response& r) {
 }
 
 namespace {
-// A value as printf's %.9g writes it (std::to_chars, general, precision 9).
+// A value as printf's %.9g writes it (std::to_chars, general, precision 9);
+// nothing for a value that is none (a broken device's).
 void append_value(std::string& out, double v) {
+  if (std::isnan(v)) return;
   char digits[40];
   const auto [end, ec] = std::to_chars(digits, digits + sizeof digits, v, std::chars_format::general, 9);
   out.append(digits, ec == std::errc() ? end : digits);
@@ -56,12 +58,13 @@ void append_value(std::string& out, double v) {
 }  // namespace
 
 void HistoryCsv::print_row(const Response& r) {
-  history_values(r, motion_.acceleration(r.t), devices_, row_);
-  append_value(buffer_, row_[0]);
-  buffer_ += r.pivot == 0 ? ",contact" : r.pivot > 0 ? ",rock+" : ",rock-";
-  for (std::size_t i = 2; i < row_.size(); ++i) {
-    buffer_ += ',';
-    append_value(buffer_, row_[i]);
+  columns_.values(r, devices_, row_);
+  for (std::size_t i = 0; i < row_.size(); ++i) {
+    if (i > 0) buffer_ += ',';
+    const std::string_view label = i < columns_.quantities.size() ? value_label(columns_.quantities[i], row_[i])
+                                                                  : std::string_view();
+    if (label.empty()) append_value(buffer_, row_[i]);
+    else buffer_ += label;
   }
   buffer_ += '\n';
   if (buffer_.size() >= flush_size) flush();

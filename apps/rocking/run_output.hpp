@@ -15,15 +15,13 @@ namespace rocking::app {
 
 // Streams every Response to DIR/history.csv.partial, renamed to history.csv
 // when closed whole (a run that fails or stops leaves whole rows up to
-// there; a write that fails leaves the .partial file): a header row with
-// units, with the
-// ground acceleration it answers in column 14; with devices, then the moment
-// they exert together (M_dev, signed as theta) and each device's elongation
-// and force, named by the device.
+// there; a write that fails leaves the .partial file): a header row of
+// "name [unit]", the columns of rocking::history_columns (the schema's
+// history quantities the model reports, then each device's by its name). A
+// broken device's fields are empty after its fracture.
 class HistoryCsv : public rocking::Observer {
  public:
-  HistoryCsv(const std::filesystem::path& file, const rocking::GroundMotion& motion,
-             const std::vector<rocking::Device>& devices = {});
+  HistoryCsv(const std::filesystem::path& file, const rocking::ContactModel& model);
   ~HistoryCsv() override;
   HistoryCsv(const HistoryCsv&) = delete;
   HistoryCsv& operator=(const HistoryCsv&) = delete;
@@ -38,7 +36,7 @@ class HistoryCsv : public rocking::Observer {
   std::string buffer_;
   std::FILE* file_ = nullptr;
   std::string path_, partial_;
-  const rocking::GroundMotion& motion_;
+  rocking::HistoryColumns columns_;
   std::vector<rocking::DeviceSample> devices_;
   std::vector<double> row_;
 };

@@ -90,13 +90,23 @@ std::vector<double> study_levels(const StudyArgs& a, const IntensityMeasure& im)
   return levels;
 }
 
-const char* csv_header =
-    "record,scale,variant,im,level,record_im,delta_t,delta_e,theta_over_alpha,damper_d_m,base_shear,base_moment,"
-    "mid_shear,mid_moment,top_total_mm,outcome,uplifts,impacts,rhs,error\n";
+std::vector<std::string> csv_fields(const std::string& row);
+
+// The CSV's header: the job's fields, the study's columns (rocking::StudyColumns:
+// the schema's study quantities, then each device's by name), then the run's
+// outcome and cost.
+std::string csv_header(const StudyColumns& columns) {
+  return fmt::format("record,scale,variant,im,level,record_im,{},top_total_mm,outcome,uplifts,impacts,rhs,error\n",
+                     fmt::join(columns.names(), ","));
+}
+constexpr std::size_t job_field_count = 6, run_field_count = 6;  // before and after the columns
 
 // A number as its shortest exact decimal (the scale and IM of a row read back
 // to the same double).
 std::string exact(double v) { return std::isfinite(v) ? fmt::format("{}", v) : std::string(); }
+
+// A peak as the CSV writes it: empty when the run does not report it.
+std::string peak_field(double v) { return std::isnan(v) ? std::string() : fmt::format("{:.9g}", v); }
 
 // The first fields of a job's row: record, scale, variant, im, level, record_im.
 std::string job_fields(const Study& st, const std::vector<std::string>& ids, const Job& job) {
@@ -105,50 +115,64 @@ std::string job_fields(const Study& st, const std::vector<std::string>& ids, con
                      exact(st.record_intensity(job.record)));
 }
 
-std::string row(const Study& st, const std::vector<std::string>& ids, const Job& job, const JobResult& r) {
+std::string row(const Study& st, const StudyColumns& columns, const std::vector<std::string>& ids, const Job& job,
+                const JobResult& r) {
   std::string q;
   const RunResult& run = r.run;
-  for (Quantity k : study_quantities)
-    q += r.error.empty() && (run.has_forces || !is_force(k)) ? fmt::format("{:.9g},", run.peak(k)) : std::string(",");
+  if (r.error.empty())
+    for (double v : columns.values(run)) q += peak_field(v) + ",";
+  else
+    q.assign(columns.size(), ',');
   return fmt::format("{},{}{},{},{},{},{}\n", job_fields(st, ids, job), q,
                      r.error.empty() ? fmt::format("{:.6g}", run.top_total_mm) : "", outcome_name(run.outcome),
                      run.counts.uplifts, fmt::format("{},{}", run.counts.impacts, run.stats.rhs), csv_field(r.error));
 }
 
-// A job's line of figure data: the level, the eight peaks, 1 if it
-// overturned; empty for a job that failed.
-std::string figure_line(const Job& job, const JobResult& r) {
+// A job's line of figure data: the level, the study's columns (empty where
+// not reported), 1 if it overturned; empty for a job that failed.
+std::string figure_line(const StudyColumns& columns, const Job& job, const JobResult& r) {
   if (!r.error.empty()) return {};
   std::string out = fmt::format("{:.9g}", job.level);
-  for (Quantity k : study_quantities) out += fmt::format(",{:.9g}", r.run.peak(k));
+  for (double v : columns.values(r.run)) out += "," + peak_field(v);
   return out + (r.run.outcome == Outcome::overturned ? ",1" : ",0");
 }
 
 // The result a figure line stands for (peaks and outcome), for the summary.
-JobResult line_result(const std::string& line) {
+JobResult line_result(const StudyColumns& columns, const std::string& line) {
   JobResult r;
   if (line.empty()) {
     r.error = "failed";
     return r;
   }
-  std::stringstream ss(line);
-  std::string f;
-  std::getline(ss, f, ',');  // the level
-  for (Quantity k : study_quantities) {
-    std::getline(ss, f, ',');
-    r.run.peaks[static_cast<std::size_t>(k)] = std::stod(f);
-  }
-  std::getline(ss, f, ',');
-  r.run.outcome = f == "1" ? Outcome::overturned : Outcome::completed;
+  const std::vector<std::string> f = csv_fields(line);
+  if (f.size() != columns.size() + 2) throw RunError(fmt::format("figure line with {} fields: expected {}", f.size(), columns.size() + 2));
+  std::vector<double> values;
+  for (std::size_t i = 1; i <= columns.size(); ++i) values.push_back(f[i].empty() ? std::nan("") : std::stod(f[i]));
+  r.run = columns.run(values, f.back() == "1" ? Outcome::overturned : Outcome::completed);
   return r;
 }
 
 // One data file per (record, variant) and one figure per record: peaks
 // against the scale, with each variant's first overturning drawn as collapse.
-void study_figures(const StudyArgs& a, const Study& st, const std::vector<std::string>& ids,
-                   const std::vector<Job>& jobs, const std::vector<std::string>& lines, const std::string& kind,
-                   const std::string& scene_name) {
+void study_figures(const StudyArgs& a, const Study& st, const StudyColumns& columns,
+                   const std::vector<std::string>& ids, const std::vector<Job>& jobs,
+                   const std::vector<std::string>& lines, const std::string& kind, const std::string& scene_name) {
   const fs::path dir(a.out);
+  // One panel per scalar study quantity that some variant reports; the
+  // devices' peaks are in the data files and the CSV.
+  std::vector<std::size_t> shown;  // indices into columns.quantities
+  for (std::size_t k = 0; k < columns.quantities.size(); ++k)
+    for (std::size_t v = 0; v < st.variants().size(); ++v)
+      if (st.reports(v, columns.quantities[k])) {
+        shown.push_back(k);
+        break;
+      }
+  std::vector<plot::Panel> panels;
+  for (std::size_t k : shown) {
+    const QuantityName q(columns.quantities[k]);
+    panels.push_back({"peak " + axis_label(q), "$1", fmt::format("${}*{:.9g}", k + 2, figure_factor(q)), true, ""});
+  }
+  const std::string header = fmt::format("level,{},collapse\n", fmt::join(columns.names(), ","));
   for (std::size_t r = 0; r < st.records().size(); ++r) {
     std::string stem = ids[r];
     for (char& c : stem)
@@ -160,7 +184,7 @@ void study_figures(const StudyArgs& a, const Study& st, const std::vector<std::s
     for (std::size_t v = 0; v < st.variants().size(); ++v) {
       const std::string file = (fs::path(name + ".data") / (fmt::format("{}.csv", v))).string();
       std::ofstream out(dir / file);
-      out << "level,delta_t,delta_e,theta_over_alpha,damper_d,base_shear,base_moment,mid_shear,mid_moment,collapse\n";
+      out << header;
       int rows = 0;
       bool fallen = false;
       for (std::size_t i = 0; i < jobs.size(); ++i) {
@@ -172,9 +196,10 @@ void study_figures(const StudyArgs& a, const Study& st, const std::vector<std::s
         ++rows;
       }
       if (rows == 0) continue;
-      plot::Series s{variant_label(st.variants()[v].name), file, {}, fallen ? 10 : 0};
-      if (!st.can_overturn(v)) s.absent.push_back(2);    // a fixed base does not rock
-      if (!st.has_damper(v)) s.absent.push_back(3);      // nor stretch a damper it has not
+      plot::Series s{variant_label(st.variants()[v].name), file, {}, static_cast<int>(columns.size()) + 2};
+      if (!fallen) s.collapse_column = 0;
+      for (std::size_t p = 0; p < shown.size(); ++p)  // what the variant does not have (a fixed base's rocking)
+        if (!st.reports(v, columns.quantities[shown[p]])) s.absent.push_back(p);
       series.push_back(std::move(s));
     }
     if (series.empty()) continue;
@@ -182,22 +207,14 @@ void study_figures(const StudyArgs& a, const Study& st, const std::vector<std::s
     fig.dir = dir;
     fig.name = name;
     fig.formats = plot::parse_formats(a.formats);
+    const int rows = static_cast<int>((panels.size() + 1) / 2);
     fig.width = 1100;
-    fig.height = 1300;
+    fig.height = 325 * rows;
     const GroundMotion* motion = st.motion(r);
     fig.title = fmt::format("{}: {}\n{}", scene_name,
                             kind == "ida" ? "incremental dynamic analysis" : "parametric study",
                             motion != nullptr ? motion_title(*motion) : ids[r]);
-    const std::vector<plot::Panel> panels = {
-        {"peak total top drift {/Symbol d}_t [%]", "$1", "$2*100", true, ""},
-        {"peak elastic top drift {/Symbol d}_e [%]", "$1", "$3*100", true, ""},
-        {"peak rocking angle {/Symbol q}/{/Symbol a}_{cg} [-]", "$1", "$4", true, ""},
-        {"peak damper elongation d [mm]", "$1", "$5*1000", true, ""},
-        {"peak base shear V/V_{ref} [-]", "$1", "$6", true, ""},
-        {"peak base moment M/M_{ref} [-]", "$1", "$7", true, ""},
-        {"peak mid-height shear V/V_{ref} [-]", "$1", "$8", true, ""},
-        {"peak mid-height moment M/M_{ref} [-]", "$1", "$9", true, ""}};
-    for (const fs::path& f : plot::render_panels(fig, 4, 2, im_axis_label(st.intensity_measure()), panels, series))
+    for (const fs::path& f : plot::render_panels(fig, rows, 2, im_axis_label(st.intensity_measure()), panels, series))
       fmt::print("wrote {}\n", f.string());
   }
 }
@@ -219,7 +236,7 @@ struct Resumed {
   std::vector<std::string> rows, lines, timings;
 };
 Resumed read_resumed(const fs::path& csv_file, const fs::path& timing_file, const std::vector<Job>& jobs,
-                     const std::vector<std::string>& ids, const Study& st) {
+                     const std::vector<std::string>& ids, const Study& st, const StudyColumns& columns) {
   Resumed r;
   // A study ended by a second signal (or killed) left its rows in the .partial
   // files: whole rows, and at most one cut line at the end.
@@ -227,21 +244,23 @@ Resumed read_resumed(const fs::path& csv_file, const fs::path& timing_file, cons
   std::ifstream in(rows_file);
   if (!in) throw InputError(fmt::format("--resume: {} not found: nothing to resume", csv_file.string()));
   std::string line;
-  if (!std::getline(in, line) || line + "\n" != csv_header)
+  if (!std::getline(in, line) || line + "\n" != csv_header(columns))
     throw InputError(fmt::format("--resume: {}:1: not a study CSV of this version (header differs)", rows_file.string()));
   for (int n = 2; std::getline(in, line); ++n) {
     if (in.eof()) break;  // a last line without its newline was cut: run that job again
     const std::size_t k = r.rows.size();
     const std::vector<std::string> f = csv_fields(line);
     const std::string expected = k < jobs.size() ? job_fields(st, ids, jobs[k]) : std::string("(no more jobs)");
-    if (k >= jobs.size() || f.size() < 20 || !line.starts_with(expected + ","))
+    const std::size_t nc = columns.size(), fields = job_field_count + nc + run_field_count;
+    if (k >= jobs.size() || f.size() < fields || !line.starts_with(expected + ","))
       throw InputError(fmt::format("--resume: {}:{}: this row is not job {} of this study ({}): give the same scene, "
                                    "--record, --im, --levels and --variants as the interrupted run",
                                    rows_file.string(), n, k + 1, expected));
     r.rows.push_back(line + "\n");
-    std::string data = f[4];
-    for (std::size_t c = 6; c <= 13; ++c) data += "," + (f[c].empty() ? std::string("0") : f[c]);
-    r.lines.push_back(f[19].empty() ? data + (f[15] == "overturned" ? ",1" : ",0") : std::string());
+    std::string data = f[4];  // the level, then the columns
+    for (std::size_t c = job_field_count; c < job_field_count + nc; ++c) data += "," + f[c];
+    const bool failed = !f[fields - 1].empty(), overturned = f[job_field_count + nc + 1] == "overturned";
+    r.lines.push_back(failed ? std::string() : data + (overturned ? ",1" : ",0"));
   }
   std::ifstream timing(resume_source(timing_file));
   if (timing && std::getline(timing, line))
@@ -261,7 +280,10 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
                const MpiWorld& world) {
   const std::vector<double> levels = study_levels(a, st.intensity_measure());
   std::vector<Limit> limits{overturning_limit()};
-  for (const std::string& l : a.limits) limits.push_back(parse_limit(l));
+  for (const std::string& l : a.limits) {
+    limits.push_back(parse_limit(l));
+    check_limit(st, limits.back());
+  }
   st.check_level(*std::max_element(levels.begin(), levels.end()), a.scales.empty() ? "--levels" : "--scales");
   const std::vector<Job> jobs = st.ladder(levels);
   if (static_cast<double>(jobs.size()) > a.max_runs)
@@ -281,7 +303,8 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
                              "summary.csv", "fragility.csv", "fragility_points.csv", "summary.json", "inputs.txt"});
     record_inputs(dir, inputs_of(a, st, kind), a.resume);
   }
-  const Resumed resumed = a.resume ? read_resumed(csv_file, timing_file, jobs, ids, st) : Resumed{};
+  const StudyColumns columns = study_columns(st);
+  const Resumed resumed = a.resume ? read_resumed(csv_file, timing_file, jobs, ids, st, columns) : Resumed{};
   const std::size_t first = resumed.rows.size();
   if (world.size == 1) catch_stop_signals();
   std::vector<std::size_t> mine;
@@ -303,7 +326,7 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
   std::vector<std::pair<long, std::string>> rows, timings, lines;
   std::size_t failed = 0;
   for (std::size_t i = 0; i < first; ++i) {
-    summary.add(jobs[i], line_result(resumed.lines[i]));
+    summary.add(jobs[i], line_result(columns, resumed.lines[i]));
     failed += resumed.lines[i].empty() ? 1 : 0;
     if (keep_lines) lines.emplace_back(static_cast<long>(i), resumed.lines[i]);
   }
@@ -314,7 +337,7 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
     csv.open(partial);
     timing.open(timing_partial);
     if (!csv || !timing) throw InputError(fmt::format("{}: cannot write", (!csv ? partial : timing_partial).string()));
-    csv << csv_header;
+    csv << csv_header(columns);
     for (const std::string& r : resumed.rows) csv << r;
     csv << std::flush;
     timing << timing_header;
@@ -325,18 +348,18 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
       mine.size(), threads, [&](std::size_t k) { return st.run(jobs[mine[k]]); },
       [&](std::size_t k, const JobResult& r) {
         const std::size_t i = mine[k];
-        const std::string text = row(st, ids, jobs[i], r);
+        const std::string text = row(st, columns, ids, jobs[i], r);
         const std::string time = fmt::format("{},{:.6f}\n", job_fields(st, ids, jobs[i]), r.run.wall_s);
         if (world.size == 1) {
           csv << text << std::flush;
           timing << time;
-          summary.add(jobs[i], line_result(figure_line(jobs[i], r)));  // the numbers a rank sends: one summary
+          summary.add(jobs[i], line_result(columns, figure_line(columns, jobs[i], r)));  // the numbers a rank sends: one summary
           failed += r.error.empty() ? 0 : 1;
         } else {
           rows.emplace_back(static_cast<long>(i), text);
           timings.emplace_back(static_cast<long>(i), time);
         }
-        if (keep_lines) lines.emplace_back(static_cast<long>(i), figure_line(jobs[i], r));
+        if (keep_lines) lines.emplace_back(static_cast<long>(i), figure_line(columns, jobs[i], r));
       },
       [&](std::size_t done, std::size_t total) { progress(done, total); }, [] { return stop_signal() != 0; });
   if (world.size > 1) {
@@ -347,7 +370,7 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
     if (world.rank == 0) {
       csv.open(partial);
       timing.open(timing_partial);
-      csv << csv_header;
+      csv << csv_header(columns);
       for (const auto& [i, text] : all) csv << text;
       timing << timing_header;
       for (const auto& [i, text] : all_timings) timing << text;
@@ -386,14 +409,14 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
   for (auto& [i, text] : lines) figure_lines[static_cast<std::size_t>(i)] = std::move(text);
   if (world.size > 1) {
     failed = static_cast<std::size_t>(std::count(figure_lines.begin(), figure_lines.end(), std::string()));
-    for (std::size_t i = 0; i < jobs.size(); ++i) summary.add(jobs[i], line_result(figure_lines[i]));
+    for (std::size_t i = 0; i < jobs.size(); ++i) summary.add(jobs[i], line_result(columns, figure_lines[i]));
   }
   fmt::print("wrote {} ({} runs)\n", csv_file.string(), jobs.size());
   write_ladder_report(dir, st, summary, ids);
   if (!a.no_plot) {
     // One figure per record for a few records (the paper's Figs. 5-8); the
     // suite's figures (every record, fractiles, fragility) for two or more.
-    if (per_record_figures) study_figures(a, st, ids, jobs, figure_lines, kind, scene_name);
+    if (per_record_figures) study_figures(a, st, columns, ids, jobs, figure_lines, kind, scene_name);
     if (nr >= 2)
       for (const fs::path& f : draw_ladder_report(dir, st, summary, kind, scene_name, plot::parse_formats(a.formats)))
         fmt::print("wrote {}\n", f.string());
@@ -656,9 +679,11 @@ void add_study_options(CLI::App& cmd, StudyArgs& a, const std::string& default_o
   cmd.add_option("--damping", a.damping, "Damping ratio of sa and saavg (default 0.05)")->type_name("ZETA");
   cmd.add_option("--limit", a.limits,
                  "A limit state for a fragility besides overturning: QUANTITY=VALUE, the\n"
-                 "peak at or above VALUE in the CSV's unit (theta_over_alpha=0.5,\n"
-                 "damper_d=0.07 [m], delta_t=0.01); repeat for several. An overturned run\n"
-                 "has reached every limit")
+                 "peak at or above VALUE in the quantity's unit (theta_over_alpha=0.5,\n"
+                 "damper_d=0.07 [m], delta_t=0.01, or a device by its scene name:\n"
+                 "tendon.force=4e6 [N], dampers_left.elongation=0.05 [m]); repeat for\n"
+                 "several. `rocking simulate --list-quantities` lists them with units.\n"
+                 "An overturned run has reached every limit")
       ->type_name("Q=V");
   cmd.add_option("--threads", a.threads, "Worker threads (default: every core)")->type_name("N");
   cmd.add_option("--max-runs", a.max_runs,

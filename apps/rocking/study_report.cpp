@@ -15,29 +15,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct QuantityAxis {
-  Quantity q;
-  const char* label;
-  double factor;  // to the axis unit
-};
-constexpr QuantityAxis quantity_axes[] = {
-    {Quantity::delta_t, "peak total top drift {/Symbol d}_t [%]", 100},
-    {Quantity::delta_e, "peak elastic top drift {/Symbol d}_e [%]", 100},
-    {Quantity::theta_over_alpha, "peak rocking angle {/Symbol q}/{/Symbol a}_{cg} [-]", 1},
-    {Quantity::damper_d, "peak damper elongation d [mm]", 1000},
-    {Quantity::base_shear, "peak base shear V/V_{ref} [-]", 1},
-    {Quantity::base_moment, "peak base moment M/M_{ref} [-]", 1},
-    {Quantity::mid_shear, "peak mid-height shear V/V_{ref} [-]", 1},
-    {Quantity::mid_moment, "peak mid-height moment M/M_{ref} [-]", 1}};
-
 std::string num(double v) { return std::isinf(v) ? "inf" : fmt::format("{:.6g}", v); }
 
 // Whether a variant can reach a limit at all (a fixed base never overturns).
 bool applies(const Study& st, std::size_t variant, const Limit& limit) {
   if (!limit.quantity) return st.can_overturn(variant);
-  if (*limit.quantity == Quantity::theta_over_alpha) return st.can_overturn(variant);
-  if (*limit.quantity == Quantity::damper_d) return st.has_damper(variant);
-  return true;
+  return st.reports(variant, *limit.quantity);
 }
 
 nlohmann::json fit_json(const LognormalFit& f) {
@@ -118,7 +101,7 @@ void write_ladder_report(const fs::path& dir, const Study& st, const StudySummar
   for (std::size_t v = 0; v < st.variants().size(); ++v) {
     const std::string& name = st.variants()[v].name;
     nlohmann::json jv{{"name", name}, {"fractiles", nlohmann::json::object()}, {"fragility", nlohmann::json::array()}};
-    for (Quantity q : study_quantities) {
+    for (const QuantityName& q : study_columns(st).all()) {
       // By column: level, runs, collapsed, p16, p50, p84 (null: a collapse,
       // JSON having no infinity).
       nlohmann::json cols{{"level", nlohmann::json::array()}, {"runs", nlohmann::json::array()},
@@ -126,7 +109,7 @@ void write_ladder_report(const fs::path& dir, const Study& st, const StudySummar
                           {"p50", nlohmann::json::array()}, {"p84", nlohmann::json::array()}};
       const char* keys[] = {"p16", "p50", "p84"};
       for (const StudySummary::FractileRow& row : summary.fractiles(v, q)) {
-        fractiles += fmt::format("{},{},{},{},{},{},{},{},{}\n", csv_field(name), quantity_name(q), im.name(),
+        fractiles += fmt::format("{},{},{},{},{},{},{},{},{}\n", csv_field(name), csv_field(q.name()), im.name(),
                                  num(row.level), row.runs, row.collapsed, num(row.edp[0]), num(row.edp[1]),
                                  num(row.edp[2]));
         cols["level"].push_back(row.level);
@@ -135,7 +118,7 @@ void write_ladder_report(const fs::path& dir, const Study& st, const StudySummar
         for (std::size_t i = 0; i < 3; ++i)
           cols[keys[i]].push_back(std::isinf(row.edp[i]) ? nlohmann::json(nullptr) : nlohmann::json(row.edp[i]));
       }
-      jv["fractiles"][std::string(quantity_name(q))] = std::move(cols);
+      if (!cols["level"].empty()) jv["fractiles"][q.name()] = std::move(cols);
     }
     for (std::size_t l = 0; l < summary.limits().size(); ++l) {
       const Limit& limit = summary.limits()[l];
@@ -194,16 +177,17 @@ std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, c
     fig.height = 470 * rows + 200;
     return fig;
   };
-  for (const QuantityAxis& axis : quantity_axes) {
-    const std::string q(quantity_name(axis.q));
-    auto shows = [&](std::size_t v) {
-      return (axis.q != Quantity::theta_over_alpha || st.can_overturn(v)) && (axis.q != Quantity::damper_d || st.has_damper(v));
-    };
+  // One figure per scalar study quantity (the devices' are in summary.csv).
+  for (Quantity quantity : study_quantities) {
+    const QuantityName axis_q(quantity);
+    const std::string q(info(quantity).name);
+    const double factor = figure_factor(axis_q);
+    auto shows = [&](std::size_t v) { return st.reports(v, axis_q); };
     double x_max = 0;
     for (std::size_t v = 0; v < nv; ++v)
       if (shows(v))
         for (std::size_t r = 0; r < nr; ++r)
-          for (const auto& [level, peak] : summary.curve(r, v, axis.q).points) x_max = std::max(x_max, peak * axis.factor);
+          for (const auto& [level, peak] : summary.curve(r, v, axis_q).points) x_max = std::max(x_max, peak * factor);
     if (!(x_max > 0)) continue;
     x_max *= 1.05;
     std::vector<plot::LinePanel> panels;
@@ -216,11 +200,11 @@ std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, c
       const std::string stem = fmt::format("{}/{}_{}", data, q, v);
       std::string curves = "edp,level\n", crosses = "edp,level\n";
       for (std::size_t r = 0; r < nr; ++r) {
-        const StudySummary::Curve c = summary.curve(r, v, axis.q);
-        for (const auto& [level, peak] : c.points) curves += fmt::format("{:.6g},{:.6g}\n", peak * axis.factor, level);
+        const StudySummary::Curve c = summary.curve(r, v, axis_q);
+        for (const auto& [level, peak] : c.points) curves += fmt::format("{:.6g},{:.6g}\n", peak * factor, level);
         if (!std::isnan(c.collapse_level)) {
           // Flat from the last survivor (V&C's flatline), the overturning crossed above it.
-          const double x = c.points.empty() ? 0 : c.points.back().second * axis.factor;
+          const double x = c.points.empty() ? 0 : c.points.back().second * factor;
           if (!c.points.empty()) curves += fmt::format("{:.6g},{:.6g}\n", x_max, c.points.back().first);
           crosses += fmt::format("{:.6g},{:.6g}\n", x, c.collapse_level);
         }
@@ -230,7 +214,7 @@ std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, c
       write_text(dir / (stem + "_overturns.csv"), crosses);
       panel.lines.push_back({Style::thin_grey, "each record", stem + "_records.csv", 0});
       panel.lines.push_back({Style::crosses, "overturns (x)", stem + "_overturns.csv", 5});
-      const auto rows_f = summary.fractiles(v, axis.q);
+      const auto rows_f = summary.fractiles(v, axis_q);
       const char* names[] = {"16", "50", "84"};
       for (std::size_t i = 0; i < 3; ++i) {
         std::string text = "edp,level\n";
@@ -242,7 +226,7 @@ std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, c
             break;
           }
           last_level = row.level;
-          last_x = row.edp[i] * axis.factor;
+          last_x = row.edp[i] * factor;
           finite = true;
           text += fmt::format("{:.6g},{:.6g}\n", last_x, last_level);
         }
@@ -258,7 +242,7 @@ std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, c
         fmt::format("{}: IDA curves over {} records, by {}\n(thin: each record; bold: fractiles, flat where they "
                     "overturn)",
                     scene_name, nr, im.name()));
-    for (const fs::path& f : plot::render_lines(fig, rows, cols, axis.label, im_axis_label(im), panels)) written.push_back(f);
+    for (const fs::path& f : plot::render_lines(fig, rows, cols, "peak " + axis_label(axis_q), im_axis_label(im), panels)) written.push_back(f);
   }
   // Fragility: one panel per limit state, one colour per variant.
   std::vector<plot::LinePanel> panels;

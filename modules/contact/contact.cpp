@@ -2,6 +2,7 @@ module;
 #include <rocking/eigen.hpp>
 #include <rocking/static_size.hpp>
 #include <algorithm>
+#include <optional>
 #include <cmath>
 #include <string>
 #include <variant>
@@ -203,7 +204,7 @@ ContactModel make_contact_model(const Structure& st, const Contact& contact, std
       m.devices.push_back(std::move(dev));
     }
   }
-  m.has_damper = !m.devices.empty();
+  m.has_damper = std::ranges::any_of(m.devices, &Device::edge_damper);
   if (m.devices.size() > static_cast<std::size_t>(max_device_states))
     throw InputError(fmt::format("{} devices: at most {}", m.devices.size(), max_device_states));
   for (const Device& dev : m.devices)
@@ -219,6 +220,7 @@ ContactModel make_contact_model(const Structure& st, const Contact& contact, std
       const double lever = lever_arm(dev.geometry, st.half_width, s);
       if (!(lever > 0)) continue;
       if (dev.capacity > 0) m.breakable[side(s)].push_back(static_cast<int>(m.acting[side(s)].size()));
+      if (dev.edge_damper && !m.damper[side(s)]) m.damper[side(s)] = m.acting[side(s)].size();
       m.acting[side(s)].push_back({static_cast<int>(k), law_states(dev.law) > 0 ? states[side(s)]++ : -1, lever,
                                    dev.geometry, dev.law, dev.capacity});
     }
@@ -278,8 +280,11 @@ LinearPhase full_contact_matrices(const ContactModel& m) {
 
 DamperState active_damper(const ContactModel& m, const Discrete& d, const Tilt& tilt,
                           Eigen::Ref<const Eigen::VectorXd> y) {
-  if (d.pivot == 0 || m.acting[side(d.pivot)].empty()) return {};
-  const ContactModel::Acting& a = m.acting[side(d.pivot)].front();
+  if (d.pivot == 0) return {};
+  const std::optional<std::size_t>& k = m.damper[side(d.pivot)];
+  if (!k) return {};
+  const ContactModel::Acting& a = m.acting[side(d.pivot)][*k];
+  if (d.broken != 0 && d.is_broken(a.device)) return {};
   return a.state(a, d, m.body.structure.half_width, d.pivot, tilt, theta_dot_of(m, y), y.data());
 }
 
@@ -395,10 +400,14 @@ void Discrete::refresh_held(const ContactModel& m) const {
 void device_samples(const ContactModel& m, const Discrete& d, Eigen::Ref<const Eigen::VectorXd> y,
                     std::vector<DeviceSample>& out) {
   out.assign(m.devices.size(), DeviceSample{});
+  if (d.broken != 0)
+    for (std::size_t k = 0; k < out.size(); ++k)
+      if (d.is_broken(static_cast<int>(k))) out[k] = {std::nan(""), std::nan(""), 0.0};
   if (d.pivot == 0) return;
   const Tilt tilt(y[m.layout.theta]);
   const double thd = y[m.layout.theta_dot];
   for (const ContactModel::Acting& a : m.acting[side(d.pivot)]) {
+    if (d.broken != 0 && d.is_broken(a.device)) continue;
     const DamperState n = a.state(a, d, m.body.structure.half_width, d.pivot, tilt, thd, y.data());
     const double de_dtheta = stretch(a.geometry, m.body.structure.half_width, d.pivot, tilt).de_dtheta;
     out[static_cast<std::size_t>(a.device)] = {n.elongation, n.force, d.pivot * n.force * de_dtheta};

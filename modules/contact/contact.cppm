@@ -24,6 +24,7 @@
 module;
 #include <rocking/eigen.hpp>
 #include <array>
+#include <optional>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -71,7 +72,7 @@ struct DamperState {
 struct ContactModel {
   ModelKind kind = ModelKind::flexible;
   RockingBody body;
-  bool has_damper = false;      // some device acts at the interface
+  bool has_damper = false;      // the paper's [damper] pair is among the devices (Device::edge_damper)
   std::vector<Device> devices;
   struct Acting;
   // What an acting device adds to the rocking right-hand side: F de/d|th|
@@ -100,6 +101,8 @@ struct ContactModel {
   // > 0), in the scene's order, each with what the right-hand side needs of
   // it in one place; and whether some state slot is left unused there.
   std::array<std::vector<Acting>, 2> acting;
+  // Per pivot: which of its acting devices is the paper's damper, if one is.
+  std::array<std::optional<std::size_t>, 2> damper;
   // Per pivot: which of its acting devices can break (each has a fracture guard).
   std::array<std::vector<int>, 2> breakable;
   std::array<bool, 2> idle_slots{false, false};
@@ -204,8 +207,8 @@ class StiffPart {
   double hDz_ = 0;              // at cached_g_: (D h)' z_
 };
 
-// The elongation and force of the first device the current pivot stretches
-// (0 in full contact, or with no device): the paper's damper.
+// The elongation and force of the paper's damper the current pivot stretches
+// (0 in full contact, without such a damper, or once it has broken).
 DamperState active_damper(const ContactModel& m, const Discrete& d, const Tilt& tilt,
                           Eigen::Ref<const Eigen::VectorXd> y);
 
@@ -243,7 +246,8 @@ inline double held_moment(const ContactModel& m, const Discrete& d, int s) {
 }
 
 // Each device's elongation and force in this state (0 for the devices the
-// current pivot does not stretch, and for the broken). out: one per device.
+// current pivot does not stretch; NaN for the broken, which have no
+// elongation of their own after fracture, and exert no moment). out: one per device.
 struct DeviceSample {
   double e = 0, F = 0;  // [m], [N]
   double moment = 0;    // s F de/d|th|: the moment it exerts against the tilt, signed as theta [N m]

@@ -52,6 +52,7 @@ struct Device {
   DeviceGeometry geometry;
   DeviceLaw law;
   double capacity = 0;                   // e_u [m]: fractures there; 0: never
+  bool edge_damper = false;              // one of the paper's [damper] pair: reported also as damper_d, damper_F
 };
 
 // The elongation of a device and its derivative with respect to |theta|
@@ -91,6 +92,9 @@ inline LawResponse law_force_and_rate(const DeviceLaw& law, double e, double e_d
 }
 inline double law_stored_energy(const DeviceLaw& law, double e, double z) {
   return std::visit([&](const auto& l) { return l.stored_energy(e, z); }, law);
+}
+inline const char* law_name(const DeviceLaw& law) {
+  return std::visit([](const auto& l) { return std::decay_t<decltype(l)>::name; }, law);
 }
 inline double law_force_at_rest(const DeviceLaw& law, double z) {
   return std::visit([&](const auto& l) { return l.force_at_rest(z); }, law);

@@ -18,6 +18,7 @@ module;
 module rocking.plot;
 import rocking.errors;
 import rocking.geometry;
+import rocking.quantities;
 
 namespace rocking::plot {
 
@@ -293,6 +294,12 @@ std::string find_gnuplot() {
   return found;
 }
 
+int HistoryContent::column(std::string_view name) const {
+  for (const auto& [n, k] : columns)
+    if (n == name) return k;
+  return 0;
+}
+
 HistoryContent check_history(const fs::path& file) {
   std::ifstream in(file);
   if (!in) throw InputError(fmt::format("{}: history file not found", file.string()));
@@ -300,7 +307,8 @@ HistoryContent check_history(const fs::path& file) {
   int rows = 0;
   HistoryContent content;
   // The value of a column (1-based) of a CSV row, 0 when absent or not a number.
-  auto column = [](const std::string& row, int k) {
+  auto value = [](const std::string& row, int k) {
+    if (k <= 0) return 0.0;
     std::size_t start = 0;
     for (int c = 1; c < k; ++c) {
       start = row.find(',', start);
@@ -310,22 +318,35 @@ HistoryContent check_history(const fs::path& file) {
     const double v = std::strtod(row.c_str() + start, nullptr);
     return std::isfinite(v) ? v : 0.0;
   };
+  const auto name = [](Quantity q) { return info(q).name; };
+  int theta = 0, delta_e = 0, a_g = 0, damper_d = 0;
   for (int n = 1; std::getline(in, line); ++n) {
     if (n == 1) {
-      if (!line.starts_with("t [s]")) throw InputError(fmt::format("{}:1: not a rocking history (header 't [s],...')", file.string()));
-      content.ground = line.find("a_g [m/s2]") != std::string::npos;
-      // Device columns: "NAME e [m],NAME F [N]" pairs after "M_dev [N m]".
+      if (!line.starts_with("t [s],")) throw InputError(fmt::format("{}:1: not a rocking history (header 't [s],...')", file.string()));
       std::stringstream header(line);
-      for (std::string field; std::getline(header, field, ',');)
-        if (field.ends_with(" e [m]")) content.devices.push_back(field.substr(0, field.size() - 6));
+      int k = 0;
+      for (std::string field; std::getline(header, field, ',');) {
+        const auto unit = field.find(" [");
+        content.columns.emplace_back(field.substr(0, unit), ++k);
+      }
+      const std::string elongation = fmt::format(".{}", info(DeviceQuantity::elongation).name);
+      for (const auto& [c, k2] : content.columns)
+        if (c.ends_with(elongation) && content.column(c.substr(0, c.size() - elongation.size()) + "." +
+                                                      std::string(info(DeviceQuantity::force).name)) > 0)
+          content.devices.push_back(c.substr(0, c.size() - elongation.size()));
+      theta = content.column(name(Quantity::theta));
+      delta_e = content.column(name(Quantity::delta_e));
+      a_g = content.column(name(Quantity::a_g));
+      damper_d = content.column(name(Quantity::damper_d));
+      content.ground = a_g > 0;
       continue;
     }
     if (line.empty()) continue;
     ++rows;
-    content.rocks = content.rocks || column(line, 4) != 0;
-    content.elastic = content.elastic || column(line, 7) != 0;
-    content.ground_moves = content.ground_moves || column(line, 14) != 0;
-    content.has_damper = content.has_damper || column(line, 8) != 0;
+    content.rocks = content.rocks || value(line, theta) != 0;
+    content.elastic = content.elastic || value(line, delta_e) != 0;
+    content.ground_moves = content.ground_moves || value(line, a_g) != 0;
+    content.has_damper = content.has_damper || value(line, damper_d) != 0;
   }
   if (rows < 2) throw InputError(fmt::format("{}: empty history ({} rows): nothing to plot", file.string(), rows));
   return content;
@@ -334,11 +355,11 @@ HistoryContent check_history(const fs::path& file) {
 std::vector<fs::path> render_response(const Figure& fig, const std::vector<ResponseSeries>& runs) {
   if (runs.empty()) throw InputError("response figure: no runs to plot");
   bool ground = true, ground_moves = false, any_rocks = false, any_elastic = false, any_damper = false;
-  std::vector<std::vector<std::string>> devices;  // per run
+  std::vector<HistoryContent> contents;  // per run: its columns, found by name
   bool other_devices = false;  // some device besides the paper's edge dampers
   for (const ResponseSeries& r : runs) {
-    const HistoryContent c = check_history(fs::path(r.history).is_absolute() ? fs::path(r.history) : fig.dir / r.history);
-    devices.push_back(c.devices);
+    contents.push_back(check_history(fs::path(r.history).is_absolute() ? fs::path(r.history) : fig.dir / r.history));
+    const HistoryContent& c = contents.back();
     for (const std::string& d : c.devices) other_devices = other_devices || !d.starts_with("damper_");
     ground = ground && c.ground;
     ground_moves = ground_moves || c.ground_moves;
@@ -347,14 +368,29 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
     any_damper = any_damper || r.has_damper;
   }
   ground = ground && ground_moves;  // no panel for a ground that stays still
-  auto curves = [&](const std::string& using_spec, auto&& keep) {
+  // The gnuplot column of a quantity in run i's history (0: it has none).
+  auto col = [&](std::size_t i, std::string_view name) { return contents[i].column(name); };
+  auto qcol = [&](std::size_t i, Quantity q) { return col(i, info(q).name); };
+  // One curve per kept run; spec(i) gives its `using` columns, empty to skip it.
+  auto curves = [&](auto&& spec, auto&& keep) {
     std::vector<std::string> items;
-    for (std::size_t i = 0; i < runs.size(); ++i)
-      if (keep(runs[i]))
-        items.push_back(fmt::format("{} skip 1 using {} with lines linestyle {} title {} noenhanced",
-                                    quote(runs[i].history), using_spec, i + 1, quote(runs[i].label)));
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+      if (!keep(runs[i])) continue;
+      const std::string using_spec = spec(i);
+      if (using_spec.empty()) continue;
+      items.push_back(fmt::format("{} skip 1 using {} with lines linestyle {} title {} noenhanced",
+                                  quote(runs[i].history), using_spec, i + 1, quote(runs[i].label)));
+    }
     return plot_command(items);
   };
+  // A quantity against time, in its figure unit.
+  auto in_time = [&](Quantity q) {
+    return [&, q](std::size_t i) {
+      const int t = qcol(i, Quantity::t), c = qcol(i, q);
+      return t > 0 && c > 0 ? fmt::format("{}:(${}*{:.9g})", t, c, info(q).figure_factor) : std::string();
+    };
+  };
+  auto ylabel = [](Quantity q) { return fmt::format("  set ylabel {}\n", quote(axis_label(q))); };
   auto every = [](const ResponseSeries&) { return true; };
   const bool device_panels = any_damper && other_devices;
   const int panels = 1 + (ground ? 1 : 0) + (any_elastic ? 1 : 0) + (any_rocks ? 1 : 0) + (any_damper ? 1 : 0) +
@@ -363,67 +399,84 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
   for (const ResponseSeries& r : runs) labels.push_back(r.label);
   const int points = font_points(fig, 1000, 1300);
   const Grid grid = shared_key_grid(fig, panels, 1, points, labels);
-  std::string body = grid.begin + "  set grid\n  set autoscale xfix\n  set xlabel \"time t [s]\"\n  unset key\n";
+  std::string body = grid.begin + fmt::format("  set grid\n  set autoscale xfix\n  set xlabel {}\n  unset key\n",
+                                              quote(axis_label(Quantity::t)));
   std::size_t next = 0;
   if (ground) {  // the excitation the response answers, in g
-    body += grid.panels[next++];
-    body += fmt::format("  set ylabel \"ground acceleration a_g [g]\"\n"
-                        "  plot {} skip 1 using 1:($14/{}) with lines linecolor rgb \"#555555\" notitle\n",
-                        quote(runs.front().history), gravity);
+    body += grid.panels[next++] + ylabel(Quantity::a_g);
+    body += fmt::format("  plot {} skip 1 using {} with lines linecolor rgb \"#555555\" notitle\n",
+                        quote(runs.front().history), in_time(Quantity::a_g)(0));
   }
-  body += grid.panels[next++] + "  set ylabel \"total top drift {/Symbol d}_t [%]\"\n";
-  body += curves("1:($6*100)", every);
+  body += grid.panels[next++] + ylabel(Quantity::delta_t);
+  body += curves(in_time(Quantity::delta_t), every);
   if (any_elastic) {
-    body += grid.panels[next++] + "  set ylabel \"elastic top drift {/Symbol d}_e [%]\"\n";
-    body += curves("1:($7*100)", [](const ResponseSeries& r) { return r.elastic; });
+    body += grid.panels[next++] + ylabel(Quantity::delta_e);
+    body += curves(in_time(Quantity::delta_e), [](const ResponseSeries& r) { return r.elastic; });
   }
   if (any_rocks) {
-    body += grid.panels[next++] + "  set ylabel \"rocking angle {/Symbol q}/{/Symbol a}_{cg} [-]\"\n";
-    body += curves("1:5", [](const ResponseSeries& r) { return r.rocks; });
+    body += grid.panels[next++] + ylabel(Quantity::theta_over_alpha);
+    body += curves(in_time(Quantity::theta_over_alpha), [](const ResponseSeries& r) { return r.rocks; });
   }
   if (device_panels) {
     // Each device's force against its elongation, in its run's colour, with
     // one dash pattern per device name (the same in every run), named in the
     // axis label so that no key covers the loops. A zero elongation (not
-    // stretched) or a zero force (broken) breaks the curve.
+    // stretched) or a zero force breaks the curve, as a broken device's empty
+    // fields do.
     static constexpr std::array<const char*, 5> dashes{"solid", "dashed", "dotted", "dash-dot", "dash-dot-dot"};
     std::vector<std::string> names;
-    for (const auto& run_devices : devices)
-      for (const std::string& name : run_devices)
+    for (const HistoryContent& c : contents)
+      for (const std::string& name : c.devices)
         if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
     std::vector<std::string> legend;
     for (std::size_t k = 0; k < names.size(); ++k)
       legend.push_back(fmt::format("{} {}", dashes[k % dashes.size()], names[k]));
+    const DeviceQuantityInfo &e_info = info(DeviceQuantity::elongation), &f_info = info(DeviceQuantity::force);
     body += grid.panels[next++] +
-            fmt::format("  set autoscale x\n  set xlabel {} noenhanced\n", quote(fmt::format(
-                                                                            "device elongation e [mm]   ({})",
-                                                                            fmt::join(legend, ", ")))) +
-            "  set ylabel \"device force F [kN]\"\n";
+            fmt::format("  set autoscale x\n  set xlabel {} noenhanced\n",
+                        quote(fmt::format("device {} {} [{}]   ({})", e_info.words, e_info.symbol, e_info.figure_unit,
+                                          fmt::join(legend, ", ")))) +
+            fmt::format("  set ylabel {}\n", quote(fmt::format("device {} {} [{}]", f_info.words, f_info.symbol,
+                                                                f_info.figure_unit)));
     std::vector<std::string> items;
     for (std::size_t i = 0; i < runs.size(); ++i)
-      for (std::size_t k = 0; k < devices[i].size(); ++k) {
-        const std::size_t e = 16 + 2 * k, f = e + 1;
-        const auto dash = std::find(names.begin(), names.end(), devices[i][k]) - names.begin();
-        items.push_back(fmt::format("{} skip 1 using (${} == 0 || ${} == 0 ? NaN : ${}*1000):(${}/1000) with lines "
+      for (const std::string& device : contents[i].devices) {
+        const int e = col(i, device_quantity_name(device, DeviceQuantity::elongation));
+        const int f = col(i, device_quantity_name(device, DeviceQuantity::force));
+        const auto dash = std::find(names.begin(), names.end(), device) - names.begin();
+        items.push_back(fmt::format("{} skip 1 using (${} == 0 || ${} == 0 ? NaN : ${}*{:.9g}):(${}*{:.9g}) with lines "
                                     "linestyle {} dashtype {} notitle",
-                                    quote(runs[i].history), e, f, e, f, i + 1,
-                                    static_cast<std::size_t>(dash) % dashes.size() + 1));
+                                    quote(runs[i].history), e, f, e, e_info.figure_factor, f, f_info.figure_factor,
+                                    i + 1, static_cast<std::size_t>(dash) % dashes.size() + 1));
       }
     body += plot_command(items);
     // Their moment against the rotation: the rocking interface's hysteresis.
-    body += grid.panels[next++] + "  set autoscale x\n  set xlabel \"rocking angle {/Symbol q} [rad]\" enhanced\n"
-            "  set ylabel \"devices' moment M_{dev} [MN m]\"\n";
-    body += curves("4:($15/1e6)", [&](const ResponseSeries& r) {
-      return r.has_damper && !devices[static_cast<std::size_t>(&r - runs.data())].empty();
-    });
+    body += grid.panels[next++] +
+            fmt::format("  set autoscale x\n  set xlabel {} enhanced\n", quote(axis_label(Quantity::theta))) +
+            ylabel(Quantity::device_moment);
+    body += curves(
+        [&](std::size_t i) {
+          const int th = qcol(i, Quantity::theta), m = qcol(i, Quantity::device_moment);
+          return th > 0 && m > 0 ? fmt::format("{}:(${}*{:.9g})", th, m, info(Quantity::device_moment).figure_factor)
+                                 : std::string();
+        },
+        [&](const ResponseSeries& r) { return r.has_damper; });
   } else if (any_damper) {
-    body += grid.panels[next++] + "  set autoscale x\n  set xlabel \"damper elongation d [mm] (signed by the pivot)\"\n"
-            "  set ylabel \"damper force F_{hd} [kN]\"\n";
+    body += grid.panels[next++] +
+            fmt::format("  set autoscale x\n  set xlabel {}\n", quote(axis_label(Quantity::damper_d))) +
+            ylabel(Quantity::damper_F);
     // Break the loop where no damper is stretched (d = 0: full contact, and the
     // impacts where one edge's damper hands over to the other's) or where it
     // has broken (F = 0).
-    body += curves("($8 == 0 || $9 == 0 ? NaN : $8*1000):($9/1000)",
-                   [](const ResponseSeries& r) { return r.has_damper; });
+    body += curves(
+        [&](std::size_t i) {
+          const int d = qcol(i, Quantity::damper_d), f = qcol(i, Quantity::damper_F);
+          return d > 0 && f > 0 ? fmt::format("(${} == 0 || ${} == 0 ? NaN : ${}*{:.9g}):(${}*{:.9g})", d, f, d,
+                                              info(Quantity::damper_d).figure_factor, f,
+                                              info(Quantity::damper_F).figure_factor)
+                                : std::string();
+        },
+        [](const ResponseSeries& r) { return r.has_damper; });
   }
   std::vector<std::string> entries;
   for (std::size_t i = 0; i < runs.size(); ++i)
@@ -432,9 +485,8 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
   const std::string script = fmt::format(
       "# rocking: response figure in the style of the paper's Fig. 4.\n"
       "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
-      "# Data: rocking simulate history CSV (t, phase, u_N, theta, theta/alpha_cg,\n"
-      "# delta_t, delta_e, d, F_hd, base/mid shear and moment, a_g; with devices\n"
-      "# M_dev, then each device's e and F).\n"
+      "# Data: rocking simulate history CSVs, their columns found by name in\n"
+      "# each header (rocking simulate --list-quantities).\n"
       "set datafile separator \",\"\n"
       "{}{}",
       fig.name, style_lines(1.5, 0.6), render_loop(fig, body, points));

@@ -5,8 +5,8 @@
 // loop, so a user can restyle a figure and re-render it with `gnuplot NAME.gp`
 // without running any simulation again.
 // The response figure (the paper's Fig. 4 style) reads the history CSV that
-// `rocking simulate` writes (columns: 1 t [s], 5 theta/alpha_cg, 6 delta_t,
-// 7 delta_e, 8 d [m], 9 F_hd [N], 14 a_g [m/s2]).
+// `rocking simulate` writes, finding each column by its name in the header
+// (the names of rocking.quantities), never by its position.
 // Keys never cover data: figures whose panels share their series carry one
 // key above the panels; figures whose panels differ carry theirs below each.
 module;
@@ -44,15 +44,17 @@ struct ResponseSeries {
   bool elastic = true;     // draw its elastic drift (a rigid block has none)
 };
 
-// What a history file holds: InputError unless it has the header and at least
-// two rows. rocks / elastic / has_damper: some row has theta / delta_e / a
-// damper elongation other than zero; ground: it has the a_g column, and
-// ground_moves: some a_g is not zero; devices: the names of the devices whose
-// elongation and force follow the devices' moment M_dev (column 15), from
-// column 16 on.
+// What a history file holds: InputError unless it has the header (t first)
+// and at least two rows. columns: each column's name (its header field
+// without the unit) and 1-based number; rocks / elastic / has_damper: some
+// row has theta / delta_e / damper_d other than zero; ground: it has the a_g
+// column, and ground_moves: some a_g is not zero; devices: the names of the
+// devices with NAME.elongation and NAME.force columns.
 struct HistoryContent {
   bool rocks = false, elastic = false, has_damper = false, ground = false, ground_moves = false;
   std::vector<std::string> devices;
+  std::vector<std::pair<std::string, int>> columns;
+  int column(std::string_view name) const;  // its number; 0 when absent
 };
 HistoryContent check_history(const std::filesystem::path& file);
 

@@ -4,6 +4,7 @@ module;
 #include <fmt/format.h>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 module rocking.report;
 
@@ -51,11 +52,11 @@ json block_modal(const BlockSummary& b) {
 
 std::string summary_json(const RunLabel& label, const RunResult& r, int indent) {
   json peaks = json::object();
-  for (std::size_t i = 0; i < quantity_count; ++i) {
-    const auto q = static_cast<Quantity>(i);
-    const bool absent = (is_force(q) && !r.has_forces) ||
-                        ((q == Quantity::damper_d || q == Quantity::damper_F) && !r.has_damper);
-    peaks[std::string(quantity_name(q))] = absent ? json(nullptr) : json(r.peaks[i]);
+  for (Quantity q : peak_quantities)
+    if (r.reports(q)) peaks[std::string(info(q).name)] = r.peak(q);
+  for (const DeviceResult& d : r.devices) {
+    peaks[device_quantity_name(d.name, DeviceQuantity::elongation)] = d.peak_elongation;
+    peaks[device_quantity_name(d.name, DeviceQuantity::force)] = d.peak_force;
   }
   json out = {
       {"scene", label.scene},
@@ -83,10 +84,13 @@ std::string summary_json(const RunLabel& label, const RunResult& r, int indent) 
   json devices = json::array();
   for (const DeviceResult& d : r.devices)
     devices.push_back({{"name", d.name},
+                       {"law", d.law},
+                       {"force_at_rest_N", d.force_at_rest},
                        {"peak_elongation_m", d.peak_elongation},
                        {"peak_force_N", d.peak_force},
                        {"work_J", finite_or_null(d.work)},
-                       {"fracture_s", finite_or_null(d.fracture_time)}});
+                       {"fracture_s", finite_or_null(d.fracture_time)},
+                       {"state", std::isfinite(d.fracture_time) ? "broken" : "intact"}});
   out["devices"] = devices;
   if (r.energy_tracked) {
     const EnergyBalance& e = r.energy;
@@ -108,33 +112,61 @@ std::string describe_motion(const GroundMotion& motion) {
   return motion.description().empty() ? name : fmt::format("{}: {}", name, motion.description());
 }
 
-std::vector<HistoryColumn> history_columns(const std::vector<Device>& devices) {
-  std::vector<HistoryColumn> c = {
-      {"t", "s"},          {"phase", ""},           {"u_N", "m"},          {"theta", "rad"},
-      {"theta/alpha_cg", "-"}, {"delta_t", "-"},    {"delta_e", "-"},      {"d", "m"},
-      {"F_hd", "N"},       {"base_shear", "V_ref"}, {"base_moment", "M_ref"}, {"mid_shear", "V_ref"},
-      {"mid_moment", "M_ref"}, {"a_g", "m/s2"}};
-  if (!devices.empty()) c.push_back({"M_dev", "N m"});
-  for (const Device& d : devices) {
-    c.push_back({d.name + " e", "m"});
-    c.push_back({d.name + " F", "N"});
-  }
+HistoryColumns history_columns(const Presence& presence, const std::vector<Device>& devices) {
+  HistoryColumns c;
+  for (Quantity q : history_quantities)
+    if (presence.has(info(q).needs)) c.quantities.push_back(q);
+  for (const Device& d : devices) c.devices.push_back(d.name);
   return c;
 }
 
-void history_values(const Response& r, double a_g, const std::vector<DeviceSample>& devices, std::vector<double>& out) {
-  using Q = Quantity;
-  out.assign({r.t, static_cast<double>(r.pivot), r.u_top, r[Q::theta], r[Q::theta_over_alpha], r[Q::delta_t],
-              r[Q::delta_e], r[Q::damper_d], r[Q::damper_F], r[Q::base_shear], r[Q::base_moment], r[Q::mid_shear],
-              r[Q::mid_moment], a_g});
-  if (devices.empty()) return;
-  double moment = 0;
-  for (const DeviceSample& d : devices) moment += d.moment;
-  out.push_back(moment);
-  for (const DeviceSample& d : devices) {
-    out.push_back(d.e);
-    out.push_back(d.F);
+std::vector<std::string> HistoryColumns::names() const {
+  std::vector<std::string> out;
+  for (Quantity q : quantities) out.emplace_back(info(q).name);
+  for (const std::string& d : devices)
+    for (const DeviceQuantityInfo& dq : device_quantity_table) out.push_back(device_quantity_name(d, dq.id));
+  return out;
+}
+
+std::vector<std::string> HistoryColumns::headers() const {
+  std::vector<std::string> out;
+  for (Quantity q : quantities) out.push_back(column_header(info(q).name, info(q).unit));
+  for (const std::string& d : devices)
+    for (const DeviceQuantityInfo& dq : device_quantity_table)
+      out.push_back(column_header(device_quantity_name(d, dq.id), dq.unit));
+  return out;
+}
+
+void HistoryColumns::values(const Response& r, const std::vector<DeviceSample>& samples, std::vector<double>& out) const {
+  out.clear();
+  for (Quantity q : quantities) out.push_back(r[q]);
+  static_assert(device_quantity_count == 2, "a device's history values: elongation and force");
+  for (std::size_t k = 0; k < devices.size(); ++k) {
+    out.push_back(samples[k].e);
+    out.push_back(samples[k].F);
   }
+}
+
+std::string quantity_table_text(const ContactModel& m) {
+  const Presence has = presence(m);
+  auto roles = [](bool history, bool peak, bool study) {
+    std::string r;
+    for (const auto& [on, word] : {std::pair{history, "history"}, std::pair{peak, "peak"}, std::pair{study, "study"}})
+      if (on) r += (r.empty() ? "" : ",") + std::string(word);
+    return r;
+  };
+  std::string out = fmt::format("{:<28} {:<7} {:<20} {}\n", "quantity", "unit", "reported as", "what");
+  for (const QuantityInfo& q : quantity_table)
+    out += fmt::format("{:<28} {:<7} {:<20} {}{}\n", q.name, q.unit.empty() ? "-" : q.unit,
+                       roles(q.is(Role::history), q.is(Role::peak), q.is(Role::study)), q.words,
+                       has.has(q.needs) ? "" : " (not in this scene)");
+  for (const Device& d : m.devices)
+    for (const DeviceQuantityInfo& q : device_quantity_table)
+      out += fmt::format("{:<28} {:<7} {:<20} {} of {} ({})\n", device_quantity_name(d.name, q.id), q.unit,
+                         roles(true, true, true), q.words, d.name, law_name(d.law));
+  out += "history: a column of history.csv; peak: in summary.json's peaks; study: an ida/sweep CSV column and a "
+         "--limit.\n";
+  return out;
 }
 
 BlockSummary block_summary(const Scene& scene) {

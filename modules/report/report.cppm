@@ -32,16 +32,26 @@ std::string summary_json(const RunLabel& label, const RunResult& r, int indent =
 std::string describe_motion(const std::string& name);
 std::string describe_motion(const GroundMotion& motion);
 
-// The history's columns: time, phase (the pivot: -1, 0, +1), the response
-// of rocking.simulation, the ground acceleration; with devices the moment
-// they exert together (M_dev, signed as theta) and each device's elongation
-// and force, named by the device.
-struct HistoryColumn {
-  std::string name, unit;
+// The history's columns: the history quantities of rocking.quantities that
+// the model reports, in the schema's order, then each device's quantities
+// under its name ("damper_left.elongation").
+struct HistoryColumns {
+  std::vector<Quantity> quantities;
+  std::vector<std::string> devices;
+  std::vector<std::string> names() const;    // "delta_t", ..., "damper_left.elongation", ...
+  std::vector<std::string> headers() const;  // the same with units: "delta_t [-]"
+  std::size_t size() const { return quantities.size() + devices.size() * device_quantity_count; }
+  // One row's values in the columns' order (out is resized): a broken
+  // device's are NaN.
+  void values(const Response& r, const std::vector<DeviceSample>& devices, std::vector<double>& out) const;
 };
-std::vector<HistoryColumn> history_columns(const std::vector<Device>& devices);
-// One row's values in the columns' order (out is resized).
-void history_values(const Response& r, double a_g, const std::vector<DeviceSample>& devices, std::vector<double>& out);
+HistoryColumns history_columns(const Presence& presence, const std::vector<Device>& devices);
+
+// The schema as a table for people (`rocking simulate --list-quantities`):
+// each quantity's name, unit, roles (history, peak, study: an IDA column and
+// a --limit) and words, those this model lacks marked; then the model's
+// devices' quantities by name.
+std::string quantity_table_text(const ContactModel& m);
 
 // A rigid block's geometry and rocking parameters: p = sqrt(m g R / J_p),
 // uplift at a_g = uplift_g g about the right pivot (the devices' held moment

@@ -2,6 +2,7 @@
 // that an application can `import rocking;` and see the whole public API.
 export module rocking;
 export import rocking.errors;
+export import rocking.quantities;
 export import rocking.geometry;
 export import rocking.beam;
 export import rocking.hysteresis;

@@ -11,25 +11,11 @@ import rocking.errors;
 
 namespace rocking {
 
-std::string_view quantity_name(Quantity q) {
-  switch (q) {
-    case Quantity::delta_t: return "delta_t";
-    case Quantity::delta_e: return "delta_e";
-    case Quantity::theta: return "theta";
-    case Quantity::theta_over_alpha: return "theta_over_alpha";
-    case Quantity::damper_d: return "damper_d";
-    case Quantity::damper_F: return "damper_F";
-    case Quantity::base_shear: return "base_shear";
-    case Quantity::base_moment: return "base_moment";
-    case Quantity::mid_shear: return "mid_shear";
-    case Quantity::mid_moment: return "mid_moment";
-  }
-  return "?";
-}
-
-bool is_force(Quantity q) {
-  return q == Quantity::base_shear || q == Quantity::base_moment || q == Quantity::mid_shear ||
-         q == Quantity::mid_moment;
+Presence presence(const ContactModel& m) {
+  return {.rocking = m.kind != ModelKind::fixed_base,
+          .elasticity = m.layout.u >= 0,
+          .dampers = m.has_damper,
+          .devices = !m.devices.empty()};
 }
 
 std::string_view outcome_name(Outcome o) {
@@ -104,14 +90,17 @@ Response evaluate(const ContactModel& m, const OutputScales& sc, const Discrete&
   Response r;
   r.t = t;
   r.pivot = d.pivot;
+  r[Quantity::t] = t;
+  r[Quantity::phase] = d.pivot;
   const Tilt tilt(l.theta < 0 ? 0.0 : y[l.theta]);
   const double th = tilt.theta, s = th > 0 ? 1.0 : th < 0 ? -1.0 : 0.0;
-  r.u_top = l.u < 0 ? 0.0 : sc.top_row.size() == 0 ? y[l.u + l.n - 1] : sc.top_row.dot(y.segment(l.u, l.n));
+  const double u_top = l.u < 0 ? 0.0 : sc.top_row.size() == 0 ? y[l.u + l.n - 1] : sc.top_row.dot(y.segment(l.u, l.n));
   const double c = tilt.cos(), H = sc.H_N, B = st.half_width;
   const double one_minus_c = 2.0 * tilt.sin_half * tilt.sin_half;  // 1 - cos theta without cancellation
-  auto set = [&](Quantity k, double v) { r.q[static_cast<std::size_t>(k)] = v; };
-  set(Quantity::delta_t, (s * B * one_minus_c + r.u_top * c + H * tilt.sin()) * sc.inverse_H_N);
-  set(Quantity::delta_e, r.u_top * c * sc.inverse_H_N);
+  auto set = [&](Quantity k, double v) { r[k] = v; };
+  set(Quantity::u_top, u_top);
+  set(Quantity::delta_t, (s * B * one_minus_c + u_top * c + H * tilt.sin()) * sc.inverse_H_N);
+  set(Quantity::delta_e, u_top * c * sc.inverse_H_N);
   set(Quantity::theta, th);
   set(Quantity::theta_over_alpha, th * sc.inverse_alpha_cg);
   const DamperState damper = active_damper(m, d, tilt, y);

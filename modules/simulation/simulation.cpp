@@ -28,7 +28,8 @@ namespace {
 class PeakTracker {
   using Lanes = double __attribute__((vector_size(4 * sizeof(double))));
   using Mask = long __attribute__((vector_size(4 * sizeof(long))));  // a comparison's lanes: -1 or 0
-  static constexpr std::size_t lanes = 4, groups = (quantity_count + lanes - 1) / lanes;
+  static constexpr std::size_t tracked = peak_quantities.size();
+  static constexpr std::size_t lanes = 4, groups = (tracked + lanes - 1) / lanes;
   using Group = std::array<Lanes, groups>;
 
  public:
@@ -37,7 +38,7 @@ class PeakTracker {
     Group a{};
     Mask local_max{};  // some lane's middle sample above one neighbour and below neither
     for (std::size_t g = 0; g < groups; ++g) {
-      for (std::size_t j = 0; j < lanes && g * lanes + j < quantity_count; ++j) a[g][j] = r.q[g * lanes + j];
+      for (std::size_t j = 0; j < lanes && g * lanes + j < tracked; ++j) a[g][j] = r.q[index(peak_quantities[g * lanes + j])];
       a[g] = __builtin_elementwise_abs(a[g]);
       const Lanes v1 = v1_[g], v2 = v2_[g];
       local_max |= (v1 >= v2) & (v1 >= a[g]) & ((v1 > v2) | (v1 > a[g]));
@@ -56,7 +57,7 @@ class PeakTracker {
   void break_continuity() { count_ = 0; }
   std::array<double, quantity_count> peaks() const {
     std::array<double, quantity_count> out{};
-    for (std::size_t i = 0; i < quantity_count; ++i) out[i] = peak_[i / lanes][i % lanes];
+    for (std::size_t i = 0; i < tracked; ++i) out[index(peak_quantities[i])] = peak_[i / lanes][i % lanes];
     return out;
   }
 
@@ -163,12 +164,13 @@ class Driver {
     const auto start = std::chrono::steady_clock::now();
     result_.integrator = integrator_->name();
     result_.exact_full_contact = exact_ != nullptr;
-    result_.has_forces = scales_.has_forces;
-    result_.has_damper = m_.has_damper;
-    result_.rocks = m_.kind != ModelKind::fixed_base;
+    result_.presence = presence(m_);
     result_.energy_tracked = m_.layout.energy >= 0;
     for (const Device& dev : m_.devices)
-      result_.devices.push_back({.name = dev.name, .work = result_.energy_tracked ? 0.0 : std::nan("")});
+      result_.devices.push_back({.name = dev.name,
+                                 .law = law_name(dev.law),
+                                 .force_at_rest = law_force_at_rest(dev.law, 0.0),
+                                 .work = result_.energy_tracked ? 0.0 : std::nan("")});
     initial_state();
     result_.energy.initial = mechanical();
     next_output_ = opt_.output_interval;
@@ -321,19 +323,19 @@ class Driver {
     if (observer_ == nullptr || !(opt_.output_interval > 0)) return;
     while (next_output_ <= active_->time()) {
       active_->dense(next_output_, dense_);
-      pass_devices(dense_);
-      observer_->record(evaluate(m_, scales_, d_, next_output_, dense_));
+      observer_->record(history_row(next_output_, dense_));
       pass_displacements(dense_);
       next_output_ = opt_.output_interval * static_cast<double>(++outputs_);
     }
   }
 
-  // Peak elongation and force of the devices the current pivot stretches. A
-  // pivot's first device is the response's damper (d, F_hd), already evaluated.
+  // Peak elongation and force of the devices the current pivot stretches. When
+  // the paper's damper is the only one, it is the response's (d, F_hd), already
+  // evaluated.
   void device_peaks(Eigen::Ref<const Eigen::VectorXd> y, const Response& r) {
     if (d_.pivot == 0 || m_.devices.empty()) return;
     const auto& acting = m_.acting[d_.pivot > 0 ? 1 : 0];
-    if (acting.size() == 1) {
+    if (acting.size() == 1 && m_.devices[static_cast<std::size_t>(acting.front().device)].edge_damper) {
       const int k = acting.front().device;
       if (d_.is_broken(k)) return;
       DeviceResult& out = result_.devices[static_cast<std::size_t>(k)];
@@ -350,10 +352,19 @@ class Driver {
     }
   }
 
-  void pass_devices(Eigen::Ref<const Eigen::VectorXd> y) {
-    if (m_.devices.empty()) return;
-    device_samples(m_, d_, y, samples_);
-    observer_->devices(samples_);
+  // A history row: the response with the ground acceleration and the
+  // devices' moment, the devices' samples handed over first.
+  Response history_row(double t, Eigen::Ref<const Eigen::VectorXd> y) {
+    Response r = evaluate(m_, scales_, d_, t, y);
+    r[Quantity::a_g] = ground_.acceleration(t);
+    if (!m_.devices.empty()) {
+      device_samples(m_, d_, y, samples_);
+      double moment = 0;
+      for (const DeviceSample& s : samples_) moment += s.moment;
+      r[Quantity::device_moment] = moment;
+      observer_->devices(samples_);
+    }
+    return r;
   }
 
   void emit(double t, Eigen::Ref<const Eigen::VectorXd> y, bool also_history) {
@@ -361,8 +372,7 @@ class Driver {
     peaks_.add(r);
     device_peaks(y, r);
     if (also_history && observer_ != nullptr) {
-      pass_devices(y);
-      observer_->record(r);
+      observer_->record(history_row(t, y));
       pass_displacements(y);
     }
   }

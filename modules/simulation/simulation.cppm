@@ -4,10 +4,13 @@
 // restarts, and streams the response to observers. Full contact of a flexible
 // structure under a record is linear with a piecewise-linear input and is
 // stepped exactly instead (RunOptions::exact_full_contact).
-// Outputs (MODEL.md 7): delta_t (Eq. 11) and delta_e (Eq. 12) over H_N, theta
-// and theta / alpha_cg, the active damper's elongation and force (signed by
-// the pivot: + when rocking about the right pivot), and shear and moment of
-// the elastic nodal forces K u at the base and at mid-height over V_ref, M_ref.
+// Outputs (MODEL.md 7), the quantities of rocking.quantities: delta_t (Eq. 11)
+// and delta_e (Eq. 12) over H_N, theta and theta / alpha_cg, the elongation
+// and force of the paper's damper the pivot stretches (signed by the pivot:
+// + when rocking about the right pivot; 0 once it has broken), and shear and
+// moment of the elastic nodal forces K u at the base and at mid-height over
+// V_ref, M_ref; each device's by its name (a broken one's history is empty
+// after its fracture).
 // Peaks are taken on the dense output at the integrator's guard samples
 // (for a flexible structure spaced an eighth of the shortest period of a mode
 // that oscillates, Rayleigh damping ratio below 1:
@@ -30,29 +33,25 @@ module;
 #include <string_view>
 #include <vector>
 export module rocking.simulation;
+export import rocking.quantities;
 export import rocking.contact;
 export import rocking.sundials;
 export import rocking.ground_motion;
 
 export namespace rocking {
 
-enum class Quantity {
-  delta_t, delta_e, theta, theta_over_alpha, damper_d, damper_F,
-  base_shear, base_moment, mid_shear, mid_moment
-};
-inline constexpr std::size_t quantity_count = 10;
-std::string_view quantity_name(Quantity q);  // the JSON key, e.g. "delta_t"
-bool is_force(Quantity q);                   // a section force (none for a rigid block)
-
-// The response at one instant. Forces are normalised (V_ref, M_ref); a rigid
-// block has none (has_forces false, the force entries 0).
+// The response at one instant: every quantity of rocking.quantities. Forces
+// are normalised (V_ref, M_ref); a quantity the model lacks (Presence) is 0.
+// a_g and M_dev are filled for history rows only (the peaks do not need them).
 struct Response {
   double t = 0;
   int pivot = 0;
-  double u_top = 0;  // u_N [m]
   std::array<double, quantity_count> q{};
-  double operator[](Quantity k) const { return q[static_cast<std::size_t>(k)]; }
+  double operator[](Quantity k) const { return q[index(k)]; }
+  double& operator[](Quantity k) { return q[index(k)]; }
 };
+// What a model reports (which quantities mean something for it).
+Presence presence(const ContactModel& m);
 
 // A phase change of a run, located to the tolerance (MODEL.md 6): an uplift
 // onto pivot s, an impact on the pivot s the structure rocked about, an
@@ -132,8 +131,10 @@ struct Counts {
 // What one device did in a run (MODEL.md 11).
 struct DeviceResult {
   std::string name;
-  double peak_elongation = 0;      // max e [m]
-  double peak_force = 0;           // max |F| [N]
+  std::string law;                 // its law's name ("elastic")
+  double force_at_rest = 0;        // F(e = 0) [N]: a tendon's prestress
+  double peak_elongation = 0;      // max e [m], up to its fracture
+  double peak_force = 0;           // max |F| [N], up to its fracture
   double work = std::numeric_limits<double>::quiet_NaN();  // int F de: stored + dissipated [J] (energy tracked)
   double fracture_time = std::numeric_limits<double>::quiet_NaN();  // [s]; NaN: intact
 };
@@ -150,11 +151,9 @@ struct RunResult {
   double t_end = 0;                // where the run ended [s]
   int final_pivot = 0;
   double final_theta = 0;          // theta at t_end [rad]: the residual tilt when the motion has died out
-  std::array<double, quantity_count> peaks{};  // absolute peaks
+  std::array<double, quantity_count> peaks{};  // absolute peaks of the peak quantities (others 0)
   double top_total_mm = 0;         // peak |delta_t| H_N [mm]
-  bool has_forces = true;
-  bool has_damper = false;         // damper peaks mean something
-  bool rocks = true;               // the model can rock (theta peaks mean something)
+  Presence presence;               // which quantities the model reports
   Counts counts;
   std::vector<DeviceResult> devices;  // one per device of the model, in its order
   double first_uplift = std::numeric_limits<double>::quiet_NaN();
@@ -166,7 +165,8 @@ struct RunResult {
   bool exact_full_contact = false;  // full contact was stepped exactly (stats add both)
   double wall_s = 0;
   Eigen::VectorXd final_state;     // the state at t_end, elastic coordinates nodal
-  double peak(Quantity k) const { return peaks[static_cast<std::size_t>(k)]; }
+  double peak(Quantity k) const { return peaks[index(k)]; }
+  bool reports(Quantity k) const { return presence.has(info(k).needs); }
 };
 
 // The normalisation and geometry the outputs need, built once per model.

@@ -127,7 +127,18 @@ bool Study::can_overturn(std::size_t variant) const {
   return !models_[variant] || models_[variant]->kind != ModelKind::fixed_base;
 }
 
-bool Study::has_damper(std::size_t variant) const { return models_[variant] && models_[variant]->has_damper; }
+bool Study::reports(std::size_t variant, const QuantityName& q) const {
+  if (!models_[variant]) return false;
+  if (q.scalar) return presence(*models_[variant]).has(info(*q.scalar).needs);
+  return std::ranges::any_of(models_[variant]->devices, [&](const Device& d) { return d.name == q.device; });
+}
+
+std::vector<std::string> Study::device_names(std::size_t variant) const {
+  std::vector<std::string> out;
+  if (models_[variant])
+    for (const Device& d : models_[variant]->devices) out.push_back(d.name);
+  return out;
+}
 
 std::vector<double> parse_number_list(const std::string& text) {
   auto fail = [&] {

@@ -140,7 +140,11 @@ class Study {
   // readable record to the level takes it beyond max_acceleration_g.
   void check_level(double level, std::string_view option) const;
   bool can_overturn(std::size_t variant) const;  // false for a fixed base
-  bool has_damper(std::size_t variant) const;
+  // Whether the variant's model reports the quantity (a fixed base has no
+  // theta, a variant without a device none of its quantities).
+  bool reports(std::size_t variant, const QuantityName& q) const;
+  // The names of the variant's devices (none when its scene failed to load).
+  std::vector<std::string> device_names(std::size_t variant) const;
   // The record as read (unscaled), or null when it could not be read.
   const GroundMotion* motion(std::size_t record) const {
     return motions_[record] ? &*motions_[record] : nullptr;
@@ -208,22 +212,40 @@ Capacity hunt_capacity(const HuntResult& h);
 // A limit state for fragility (MODEL.md 13): overturning, or a peak quantity
 // at or above a value. An overturned run has reached every limit.
 struct Limit {
-  std::string name;                  // "overturning", "theta_over_alpha>=0.5"
-  std::optional<Quantity> quantity;  // none: overturning
+  std::string name;                      // "overturning", "theta_over_alpha>=0.5", "plates.elongation>=0.07"
+  std::optional<QuantityName> quantity;  // none: overturning
   double value = 0;
 };
 Limit overturning_limit();
-// "theta_over_alpha=0.5", "damper_d=0.07" (the quantity's unit: damper_d in
-// m, drifts as fractions, forces over V_ref and M_ref); InputError naming the
-// text and the quantities otherwise.
+// "theta_over_alpha=0.5", "damper_d=0.07", "plates.elongation=0.07" (in the
+// quantity's unit of rocking.quantities: m, N, drifts as fractions, forces
+// over V_ref and M_ref); InputError naming the text and the quantities
+// otherwise. A device's quantity is checked against the study's devices by
+// check_limit.
 Limit parse_limit(const std::string& text);
-// The peak quantities a study reports, in the order of its CSV columns.
-inline constexpr std::array<Quantity, 8> study_quantities = {
-    Quantity::delta_t,    Quantity::delta_e,     Quantity::theta_over_alpha, Quantity::damper_d,
-    Quantity::base_shear, Quantity::base_moment, Quantity::mid_shear,        Quantity::mid_moment};
-// The study quantity of that name (quantity_name), if any; and the names, for messages.
-std::optional<Quantity> study_quantity(std::string_view name);
-std::string study_quantity_names();  // "delta_t, delta_e, ..."
+// InputError when a limit names a device that no variant of the study has.
+void check_limit(const Study& study, const Limit& limit);
+// A study quantity by name (a scalar one of Role::study, or a device's);
+// InputError naming the text and the choices otherwise.
+QuantityName parse_study_quantity(std::string_view text);
+std::string study_quantity_names();  // "delta_t, delta_e, ..., or DEVICE.elongation, DEVICE.force"
+
+// The columns of a study's results (CSV, figure data, Python rows): the
+// schema's study quantities that some variant reports, then each device's
+// quantities, the devices taken over every variant in order of first appearance.
+struct StudyColumns {
+  std::vector<Quantity> quantities;
+  std::vector<std::string> devices;
+  std::vector<QuantityName> all() const;
+  std::vector<std::string> names() const;
+  std::size_t size() const { return quantities.size() + devices.size() * device_quantity_count; }
+  // A run's peaks in the columns' order: NaN where its model does not report one.
+  std::vector<double> values(const RunResult& run) const;
+  // The run a row of values stands for (peaks and devices; NaN where absent),
+  // its outcome given.
+  RunResult run(const std::vector<double>& values, Outcome outcome) const;
+};
+StudyColumns study_columns(const Study& study);
 
 // What a suite study reports (MODEL.md 13), gathered job by job: a few
 // numbers per job are kept, never a run's history. Failed jobs are left out.
@@ -240,14 +262,14 @@ class StudySummary {
     std::size_t runs = 0, collapsed = 0;
     std::array<double, 3> edp{};  // 16, 50, 84 %
   };
-  std::vector<FractileRow> fractiles(std::size_t variant, Quantity q) const;
+  std::vector<FractileRow> fractiles(std::size_t variant, const QuantityName& q) const;
   // A record's IDA curve: (level, peak) up to its first overturning, and the
   // level of that overturning (NaN if none).
   struct Curve {
     std::vector<std::pair<double, double>> points;
     double collapse_level = std::numeric_limits<double>::quiet_NaN();
   };
-  Curve curve(std::size_t record, std::size_t variant, Quantity q) const;
+  Curve curve(std::size_t record, std::size_t variant, const QuantityName& q) const;
   // Per record that ran: the lowest level at which it reached the limit, or
   // the highest level it ran to without, censored.
   std::vector<std::pair<std::size_t, Capacity>> capacities(std::size_t variant, std::size_t limit) const;
@@ -256,9 +278,10 @@ class StudySummary {
 
  private:
   struct Cell {
-    std::array<double, quantity_count> peaks{};
+    std::vector<double> peaks;  // in the order of columns_ (NaN: not reported)
     bool ran = false, overturned = false;
   };
+  double value(const Cell& c, const QuantityName& q) const;
   const Cell& cell(std::size_t record, std::size_t variant, std::size_t level) const {
     return cells_[(record * variants_ + variant) * levels_.size() + level];
   }
@@ -266,6 +289,7 @@ class StudySummary {
   std::size_t records_ = 0, variants_ = 0;
   std::vector<double> levels_;
   std::vector<Limit> limits_;
+  StudyColumns columns_;
   std::vector<Cell> cells_;  // [record][variant][level]
 };
 

@@ -10,6 +10,7 @@ module;
 #include <string>
 #include <vector>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 module rocking.study;
 import rocking.errors;
 
@@ -17,25 +18,25 @@ namespace rocking {
 
 Limit overturning_limit() { return {"overturning", std::nullopt, 0}; }
 
-std::optional<Quantity> study_quantity(std::string_view name) {
-  for (Quantity q : study_quantities)
-    if (name == quantity_name(q)) return q;
-  return std::nullopt;
+std::string study_quantity_names() {
+  return fmt::format("{}, or DEVICE.elongation, DEVICE.force", quantity_names(Role::study));
 }
 
-std::string study_quantity_names() {
-  std::string names;
-  for (Quantity q : study_quantities) names += (names.empty() ? "" : ", ") + std::string(quantity_name(q));
-  return names;
+QuantityName parse_study_quantity(std::string_view text) {
+  const std::optional<QuantityName> q = parse_quantity_name(text);
+  if (!q || (q->scalar && !info(*q->scalar).is(Role::study)))
+    throw InputError(fmt::format("unknown quantity '{}' (choose from {})", text, study_quantity_names()));
+  return *q;
 }
 
 Limit parse_limit(const std::string& text) {
   const auto eq = text.find('=');
   const std::string key = text.substr(0, eq);
-  const std::optional<Quantity> quantity = study_quantity(key);
+  std::optional<QuantityName> quantity = parse_quantity_name(key);
+  if (quantity && quantity->scalar && !info(*quantity->scalar).is(Role::study)) quantity.reset();
   if (eq == std::string::npos || !quantity)
     throw InputError(fmt::format("--limit '{}': expected QUANTITY=VALUE with QUANTITY one of {} (e.g. "
-                                 "theta_over_alpha=0.5, damper_d=0.07)",
+                                 "theta_over_alpha=0.5, damper_d=0.07, plates.elongation=0.07)",
                                  text, study_quantity_names()));
   const std::string number = text.substr(eq + 1);
   std::size_t used = 0;
@@ -50,9 +51,79 @@ Limit parse_limit(const std::string& text) {
   return {fmt::format("{}>={:g}", key, value), quantity, value};
 }
 
+void check_limit(const Study& study, const Limit& limit) {
+  if (!limit.quantity || limit.quantity->scalar) return;
+  std::vector<std::string> names;
+  for (std::size_t v = 0; v < study.variants().size(); ++v)
+    for (const std::string& d : study.device_names(v))
+      if (std::ranges::find(names, d) == names.end()) names.push_back(d);
+  if (std::ranges::find(names, limit.quantity->device) == names.end())
+    throw InputError(fmt::format("--limit '{}': no device '{}' in the study's scene (devices: {})", limit.name,
+                                 limit.quantity->device, names.empty() ? "none" : fmt::format("{}", fmt::join(names, ", "))));
+}
+
+std::vector<QuantityName> StudyColumns::all() const {
+  std::vector<QuantityName> out;
+  for (Quantity q : quantities) out.emplace_back(q);
+  for (const std::string& d : devices)
+    for (const DeviceQuantityInfo& i : device_quantity_table) out.emplace_back(d, i.id);
+  return out;
+}
+
+std::vector<std::string> StudyColumns::names() const {
+  std::vector<std::string> out;
+  for (const QuantityName& q : all()) out.push_back(q.name());
+  return out;
+}
+
+std::vector<double> StudyColumns::values(const RunResult& run) const {
+  std::vector<double> out;
+  out.reserve(size());
+  for (Quantity q : quantities) out.push_back(run.reports(q) ? run.peak(q) : std::nan(""));
+  for (const std::string& d : devices) {
+    const auto it = std::ranges::find(run.devices, d, &DeviceResult::name);
+    static_assert(device_quantity_count == 2, "a device's study values: elongation and force");
+    out.push_back(it == run.devices.end() ? std::nan("") : it->peak_elongation);
+    out.push_back(it == run.devices.end() ? std::nan("") : it->peak_force);
+  }
+  return out;
+}
+
+RunResult StudyColumns::run(const std::vector<double>& values, Outcome outcome) const {
+  RunResult r;
+  r.outcome = outcome;
+  // Every quantity counts as reported: an absent one's value is NaN.
+  r.presence = {.rocking = true, .elasticity = true, .dampers = true, .devices = true};
+  for (std::size_t i = 0; i < quantities.size(); ++i) r.peaks[index(quantities[i])] = values.at(i);
+  for (std::size_t k = 0; k < devices.size(); ++k) {
+    const double e = values.at(quantities.size() + 2 * k), f = values.at(quantities.size() + 2 * k + 1);
+    if (std::isnan(e)) continue;  // the run's model has no such device
+    DeviceResult d;
+    d.name = devices[k];
+    d.peak_elongation = e;
+    d.peak_force = f;
+    r.devices.push_back(std::move(d));
+  }
+  return r;
+}
+
+StudyColumns study_columns(const Study& study) {
+  StudyColumns c;
+  for (Quantity q : study_quantities)  // those some variant reports (no damper_d without the paper's dampers)
+    for (std::size_t v = 0; v < study.variants().size(); ++v)
+      if (study.reports(v, q)) {
+        c.quantities.push_back(q);
+        break;
+      }
+  for (std::size_t v = 0; v < study.variants().size(); ++v)
+    for (const std::string& d : study.device_names(v))
+      if (std::ranges::find(c.devices, d) == c.devices.end()) c.devices.push_back(d);
+  return c;
+}
+
 StudySummary::StudySummary(const Study& study, std::vector<double> levels, std::vector<Limit> limits)
     : records_(study.records().size()), variants_(study.variants().size()), levels_(std::move(levels)),
-      limits_(std::move(limits)) {
+      limits_(std::move(limits)), columns_(study_columns(study)) {
   std::sort(levels_.begin(), levels_.end());
   levels_.erase(std::unique(levels_.begin(), levels_.end()), levels_.end());
   cells_.resize(records_ * variants_ * levels_.size());
@@ -65,14 +136,26 @@ void StudySummary::add(const Job& job, const JobResult& result) {
   Cell& c = cells_[(job.record * variants_ + job.variant) * levels_.size() + static_cast<std::size_t>(at - levels_.begin())];
   c.ran = true;
   c.overturned = result.run.outcome == Outcome::overturned;
-  c.peaks = result.run.peaks;
+  c.peaks = columns_.values(result.run);
 }
 
+double StudySummary::value(const Cell& c, const QuantityName& q) const {
+  if (q.scalar) {
+    const auto at = std::ranges::find(columns_.quantities, *q.scalar);
+    return at == columns_.quantities.end() ? std::nan("") : c.peaks[static_cast<std::size_t>(at - columns_.quantities.begin())];
+  }
+  const auto at = std::ranges::find(columns_.devices, q.device);
+  if (at == columns_.devices.end()) return std::nan("");
+  return c.peaks[columns_.quantities.size() + device_quantity_count * static_cast<std::size_t>(at - columns_.devices.begin()) +
+                 static_cast<std::size_t>(q.of)];
+}
+
+// A quantity the run does not report (NaN) never reaches a limit.
 bool StudySummary::reached(const Cell& c, const Limit& l) const {
-  return c.overturned || (l.quantity && c.peaks[static_cast<std::size_t>(*l.quantity)] >= l.value);
+  return c.overturned || (l.quantity && value(c, *l.quantity) >= l.value);
 }
 
-std::vector<StudySummary::FractileRow> StudySummary::fractiles(std::size_t variant, Quantity q) const {
+std::vector<StudySummary::FractileRow> StudySummary::fractiles(std::size_t variant, const QuantityName& q) const {
   std::vector<FractileRow> rows;
   for (std::size_t k = 0; k < levels_.size(); ++k) {
     FractileRow row;
@@ -81,8 +164,10 @@ std::vector<StudySummary::FractileRow> StudySummary::fractiles(std::size_t varia
     for (std::size_t r = 0; r < records_; ++r) {
       const Cell& c = cell(r, variant, k);
       if (!c.ran) continue;
+      const double v = c.overturned ? std::numeric_limits<double>::infinity() : value(c, q);
+      if (std::isnan(v)) continue;  // not reported by this variant
       row.collapsed += c.overturned ? 1 : 0;
-      edp.push_back(c.overturned ? std::numeric_limits<double>::infinity() : c.peaks[static_cast<std::size_t>(q)]);
+      edp.push_back(v);
     }
     row.runs = edp.size();
     if (edp.empty()) continue;
@@ -93,7 +178,7 @@ std::vector<StudySummary::FractileRow> StudySummary::fractiles(std::size_t varia
   return rows;
 }
 
-StudySummary::Curve StudySummary::curve(std::size_t record, std::size_t variant, Quantity q) const {
+StudySummary::Curve StudySummary::curve(std::size_t record, std::size_t variant, const QuantityName& q) const {
   Curve out;
   for (std::size_t k = 0; k < levels_.size(); ++k) {
     const Cell& c = cell(record, variant, k);
@@ -102,7 +187,7 @@ StudySummary::Curve StudySummary::curve(std::size_t record, std::size_t variant,
       out.collapse_level = levels_[k];
       break;
     }
-    out.points.emplace_back(levels_[k], c.peaks[static_cast<std::size_t>(q)]);
+    if (const double v = value(c, q); !std::isnan(v)) out.points.emplace_back(levels_[k], v);
   }
   return out;
 }

@@ -138,3 +138,14 @@ def test_to_pandas_gives_the_history_or_says_what_it_needs():
         frame = result.to_pandas()
         assert list(frame.columns) == list(result.history)
         assert len(frame) == len(result.history["t"])
+
+
+def test_the_walls_devices_are_reported_under_their_names():
+    from conftest import SCENES
+    wall = rocking.Scene.load(str(SCENES / "controlled_rocking_wall.toml"))
+    result = rocking.simulate(wall, every=0.0005)
+    assert "damper_d" not in result.peaks and "damper_d" not in result.history
+    for name in ("tendon", "dampers_left", "dampers_right"):
+        peak = result.peaks[name + ".elongation"]
+        assert np.nanmax(np.abs(result.history[name + ".elongation"])) == pytest.approx(peak, rel=2e-3)
+    assert result.peaks["tendon.force"] > result.peaks["dampers_left.force"]

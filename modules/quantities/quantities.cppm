@@ -1,0 +1,183 @@
+// rocking.quantities: the schema of what a run reports (MODEL.md 7 and 11).
+// Each quantity is declared once, here: its name (history.csv's column,
+// summary.json's peak key, an IDA/sweep CSV column, a `--limit` and a Python
+// key), its unit, its words and symbol for figures and the text summary, what
+// a model must have for it to mean something, and whether it is a history
+// column, a tracked peak and a study quantity (IDA columns, limit states,
+// fractiles). How each is computed lives beside the response it belongs to
+// (rocking.simulation's evaluate); every output lists quantities from this
+// table, never by hand. Devices report under their own scene names:
+// NAME.elongation [m] and NAME.force [N] (DeviceQuantity).
+// A new quantity: its entry in Quantity and in quantity_table (the same
+// order), and its computation.
+module;
+#include <array>
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+export module rocking.quantities;
+
+export namespace rocking {
+
+// Every scalar quantity of a run's response, in the order of history.csv.
+enum class Quantity : unsigned char {
+  t, phase, u_top, theta, theta_over_alpha, delta_t, delta_e, damper_d, damper_F,
+  base_shear, base_moment, mid_shear, mid_moment, a_g, device_moment,
+  count_
+};
+inline constexpr std::size_t quantity_count = static_cast<std::size_t>(Quantity::count_);
+
+// What a model must have for a quantity to mean something.
+enum class Needs : unsigned char {
+  always,
+  rocking,     // the model can rock (theta)
+  elasticity,  // a flexible structure (elastic displacements and section forces)
+  dampers,     // the paper's [damper] pair (MODEL.md 5)
+  devices,     // any device at the rocking interface
+};
+
+// What a model has, for Needs.
+struct Presence {
+  bool rocking = true, elasticity = true, dampers = true, devices = true;
+  constexpr bool has(Needs n) const {
+    switch (n) {
+      case Needs::always: return true;
+      case Needs::rocking: return rocking;
+      case Needs::elasticity: return elasticity;
+      case Needs::dampers: return dampers;
+      case Needs::devices: return devices;
+    }
+    return false;
+  }
+};
+
+enum Role : unsigned char {
+  history = 1,  // a column of history.csv (and of Python's history)
+  peak = 2,     // its absolute peak is tracked on the dense output (summary.json's peaks)
+  study = 4,    // a column of IDA and sweep results, a limit state, a fractile
+};
+
+struct QuantityInfo {
+  Quantity id;
+  std::string_view name;    // "delta_t"
+  std::string_view unit;    // "m", "rad", "-", "V_ref", "M_ref", ...
+  std::string_view words;   // "total top drift"
+  std::string_view symbol;  // gnuplot enhanced text, "{/Symbol d}_t"
+  double figure_factor;     // figures draw value x factor ...
+  std::string_view figure_unit;  // ... in this unit ("%")
+  Needs needs;
+  unsigned char roles;      // Role bits
+  constexpr bool is(Role r) const { return (roles & r) != 0; }
+};
+
+inline constexpr std::array<QuantityInfo, quantity_count> quantity_table = {{
+    {Quantity::t, "t", "s", "time", "t", 1, "s", Needs::always, history},
+    {Quantity::phase, "phase", "", "phase (pivot: -1 left, 0 full contact, +1 right)", "phase", 1, "", Needs::always,
+     history},
+    {Quantity::u_top, "u_N", "m", "elastic top displacement", "u_N", 1000, "mm", Needs::elasticity, history},
+    {Quantity::theta, "theta", "rad", "rocking angle", "{/Symbol q}", 1, "rad", Needs::rocking, history | peak},
+    {Quantity::theta_over_alpha, "theta_over_alpha", "-", "rocking angle over slenderness",
+     "{/Symbol q}/{/Symbol a}_{cg}", 1, "-", Needs::rocking, history | peak | study},
+    {Quantity::delta_t, "delta_t", "-", "total top drift", "{/Symbol d}_t", 100, "%", Needs::always,
+     history | peak | study},
+    {Quantity::delta_e, "delta_e", "-", "elastic top drift", "{/Symbol d}_e", 100, "%", Needs::elasticity,
+     history | peak | study},
+    {Quantity::damper_d, "damper_d", "m", "damper elongation (signed by the pivot)", "d", 1000, "mm", Needs::dampers,
+     history | peak | study},
+    {Quantity::damper_F, "damper_F", "N", "damper force (signed by the pivot)", "F_{hd}", 1e-3, "kN", Needs::dampers,
+     history | peak},
+    {Quantity::base_shear, "base_shear", "V_ref", "base shear", "V/V_{ref}", 1, "-", Needs::elasticity,
+     history | peak | study},
+    {Quantity::base_moment, "base_moment", "M_ref", "base moment", "M/M_{ref}", 1, "-", Needs::elasticity,
+     history | peak | study},
+    {Quantity::mid_shear, "mid_shear", "V_ref", "mid-height shear", "V/V_{ref}", 1, "-", Needs::elasticity,
+     history | peak | study},
+    {Quantity::mid_moment, "mid_moment", "M_ref", "mid-height moment", "M/M_{ref}", 1, "-", Needs::elasticity,
+     history | peak | study},
+    {Quantity::a_g, "a_g", "m/s2", "ground acceleration", "a_g", 1 / 9.81, "g", Needs::always, history},
+    {Quantity::device_moment, "M_dev", "N m", "devices' moment (signed as theta)", "M_{dev}", 1e-6, "MN m",
+     Needs::devices, history},
+}};
+
+constexpr const QuantityInfo& info(Quantity q) { return quantity_table[static_cast<std::size_t>(q)]; }
+constexpr std::size_t index(Quantity q) { return static_cast<std::size_t>(q); }
+
+namespace detail {
+constexpr bool table_in_order() {
+  for (std::size_t i = 0; i < quantity_count; ++i)
+    if (static_cast<std::size_t>(quantity_table[i].id) != i) return false;
+  return true;
+}
+static_assert(table_in_order(), "quantity_table must list the quantities in the order of Quantity");
+template <Role R>
+constexpr std::size_t count_with() {
+  std::size_t n = 0;
+  for (const QuantityInfo& q : quantity_table) n += q.is(R) ? 1 : 0;
+  return n;
+}
+template <Role R>
+constexpr auto list_with() {
+  std::array<Quantity, count_with<R>()> out{};
+  std::size_t k = 0;
+  for (const QuantityInfo& q : quantity_table)
+    if (q.is(R)) out[k++] = q.id;
+  return out;
+}
+}  // namespace detail
+
+// The quantities with a role, in the table's order.
+inline constexpr auto peak_quantities = detail::list_with<peak>();
+inline constexpr auto study_quantities = detail::list_with<study>();
+inline constexpr auto history_quantities = detail::list_with<history>();
+
+// A quantity by its name; the names of those with a role, for messages ("delta_t, delta_e, ...").
+std::optional<Quantity> find_quantity(std::string_view name);
+std::string quantity_names(Role role);
+
+// What each device reports, under its scene name: "plates.elongation".
+enum class DeviceQuantity : unsigned char { elongation, force, count_ };
+inline constexpr std::size_t device_quantity_count = static_cast<std::size_t>(DeviceQuantity::count_);
+struct DeviceQuantityInfo {
+  DeviceQuantity id;
+  std::string_view name, unit, words, symbol;
+  double figure_factor;
+  std::string_view figure_unit;
+};
+inline constexpr std::array<DeviceQuantityInfo, device_quantity_count> device_quantity_table = {{
+    {DeviceQuantity::elongation, "elongation", "m", "elongation", "e", 1000, "mm"},
+    {DeviceQuantity::force, "force", "N", "force", "F", 1e-3, "kN"},
+}};
+constexpr const DeviceQuantityInfo& info(DeviceQuantity q) { return device_quantity_table[static_cast<std::size_t>(q)]; }
+std::string device_quantity_name(std::string_view device, DeviceQuantity q);  // "plates.elongation"
+
+// A reported quantity by name: a scalar one, or one of a named device's.
+struct QuantityName {
+  QuantityName(Quantity q) : scalar(q) {}  // NOLINT: a scalar quantity is its own name
+  QuantityName(std::string device_name, DeviceQuantity which) : device(std::move(device_name)), of(which) {}
+  std::optional<Quantity> scalar;  // set for a scalar quantity
+  std::string device;              // else the device's name ...
+  DeviceQuantity of = DeviceQuantity::elongation;  // ... and which of its quantities
+  std::string name() const;
+  std::string_view unit() const;
+};
+// A figure's axis for the quantity, in gnuplot's enhanced text: its words,
+// symbol and figure unit ("total top drift {/Symbol d}_t [%]"; a device's
+// prefixed by its name), and the factor from its unit to the figure's.
+std::string axis_label(const QuantityName& q);
+double figure_factor(const QuantityName& q);
+
+// "delta_t" or "NAME.elongation" / "NAME.force" (the device is not checked
+// here: a scene's devices are not known); nothing for another text.
+std::optional<QuantityName> parse_quantity_name(std::string_view text);
+
+// The word a categorical quantity's value stands for ("contact", "rock+",
+// "rock-" for the phase), empty for a number: history.csv writes it.
+std::string_view value_label(Quantity q, double v);
+
+// "name [unit]" (a history header field; "phase" alone).
+std::string column_header(std::string_view name, std::string_view unit);
+
+}  // namespace rocking

@@ -1,0 +1,127 @@
+// What a run reports, as a user reads it (issue 39): every quantity under the
+// name the schema (rocking.quantities) gives it, every device under its scene
+// name with the numbers of its own history, and nothing a scene lacks.
+#include <doctest/doctest.h>
+#include "temp_path.hpp"
+#include <nlohmann/json.hpp>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+#include "run_program.hpp"
+#include "csv_table.hpp"
+#include "records.hpp"
+
+namespace fs = std::filesystem;
+using namespace cli;
+
+namespace {
+
+const std::string wall = std::string(ROCKING_SOURCE_DIR) + "/data/scenes/controlled_rocking_wall.toml";
+
+// The largest |value| of a history column (its empty fields skipped).
+double column_peak(const CsvTable& t, const std::string& header) {
+  const std::size_t k = t.column(header);
+  double peak = 0;
+  for (const auto& row : t.rows)
+    if (k < row.size() && !row[k].empty()) peak = std::max(peak, std::abs(std::stod(row[k])));
+  return peak;
+}
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+
+}  // namespace
+
+TEST_CASE("the wall reports its tendon and each damper under their names, with the peaks of their own histories") {
+  const fs::path dir = scratch_dir("outputs_wall");
+  // A fine history, so that its maxima come close to the peaks taken on the dense output.
+  const Result r = run("simulate " + wall + " --every 0.0005 --json --out " + dir.string());
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const auto j = nlohmann::json::parse(r.out);
+  const CsvTable history = csv_table(file_text(dir / "history.csv"));
+  // The wall has no [damper]: no damper_d or damper_F anywhere.
+  CHECK(!j["peaks"].contains("damper_d"));
+  CHECK(!j["peaks"].contains("damper_F"));
+  CHECK(!history.has("damper_d [m]"));
+  REQUIRE(j["devices"].size() == 3);
+  for (const auto& d : j["devices"]) {
+    const std::string name = d["name"].get<std::string>();
+    CAPTURE(name);
+    const double e = d["peak_elongation_m"].get<double>(), f = d["peak_force_N"].get<double>();
+    CHECK(j["peaks"][name + ".elongation"].get<double>() == e);
+    CHECK(j["peaks"][name + ".force"].get<double>() == f);
+    // The reported peak is its own history's maximum, to the history's sampling.
+    CHECK(column_peak(history, name + ".elongation [m]") == doctest::Approx(e).epsilon(2e-3));
+    CHECK(column_peak(history, name + ".force [N]") == doctest::Approx(f).epsilon(2e-3));
+  }
+  // The tendon is no damper: its force is its prestress and more, its law named.
+  const auto& tendon = j["devices"][0];
+  CHECK(tendon["name"] == "tendon");
+  CHECK(tendon["law"] == "elastic");
+  CHECK(tendon["peak_force_N"].get<double>() > tendon["force_at_rest_N"].get<double>());
+  CHECK(j["devices"][1]["peak_elongation_m"].get<double>() > tendon["peak_elongation_m"].get<double>());
+  // The text summary names each with its law, the tendon with its prestress.
+  const Result text = run("simulate " + wall + " --out " + dir.string());
+  REQUIRE(text.code == 0);
+  CHECK(contains(text.out, "  tendon            elastic, prestress 2.6e+06 N: peak e "));
+  CHECK(contains(text.out, "  dampers_left      bouc-wen: peak e "));
+  CHECK(!contains(text.out, "damper_d"));
+}
+
+TEST_CASE("a broken device reports its peak up to fracture, its fracture time, and no elongation after") {
+  const fs::path dir = scratch_dir("outputs_broken");
+  // The chimney's plates under three times its pulse break at e_u = 0.07 m.
+  const Result r = run("simulate --scale 3 --set damper.capacity=0.07 --json --out " + dir.string());
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const auto j = nlohmann::json::parse(r.out);
+  const CsvTable history = csv_table(file_text(dir / "history.csv"));
+  CHECK(j["peaks"]["damper_d"].get<double>() <= 0.07 * (1 + 1e-6));  // not the anchor's chord after fracture
+  for (const auto& d : j["devices"]) {
+    const std::string name = d["name"].get<std::string>();
+    CAPTURE(name);
+    REQUIRE(d["fracture_s"].is_number());
+    CHECK(d["state"] == "broken");
+    CHECK(d["peak_elongation_m"].get<double>() == doctest::Approx(0.07).epsilon(1e-6));
+    // Its history's fields are empty from its fracture on, and only then (t
+    // is written to 9 digits).
+    const double broke = d["fracture_s"].get<double>();
+    const std::size_t e = history.column(name + ".elongation [m]"), t = history.column("t [s]");
+    for (const auto& row : history.rows) CHECK(row[e].empty() == (std::stod(row[t]) >= broke * (1 - 1e-8)));
+  }
+}
+
+TEST_CASE("--list-quantities names what a scene reports, with units, and what it lacks") {
+  const Result r = run("simulate " + wall + " --list-quantities");
+  REQUIRE(r.code == 0);
+  CHECK(contains(r.out, "tendon.force                 N       history,peak,study"));
+  CHECK(contains(r.out, "damper_d                     m       history,peak,study   damper elongation (signed by the "
+                        "pivot) (not in this scene)"));
+  CHECK(contains(r.out, "delta_t                      -       history,peak,study   total top drift\n"));
+}
+
+TEST_CASE("IDA columns and --limit take each device by its name") {
+  const auto records = records_dir();
+  if (!records) return;
+  const fs::path dir = scratch_dir("outputs_ida");
+  const std::string rec = *records + "/elcentro_1940_ns.at2";
+  const Result r = run("-q ida " + wall + " --record " + rec + " --scales 1,3 --variants scene,without:tendon "
+                       "--limit dampers_left.elongation=0.01 --duration 12 --no-plot --out " + dir.string());
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const CsvTable ida = csv_table(file_text(dir / "ida.csv"));
+  REQUIRE(ida.rows.size() == 4);
+  CHECK(!ida.has("damper_d"));
+  for (std::size_t i = 0; i < ida.rows.size(); ++i) {
+    CAPTURE(i);
+    CHECK(!ida.at(i, "dampers_left.elongation").empty());
+    CHECK(ida.at(i, "tendon.force").empty() == (ida.at(i, "variant") == "without:tendon"));
+  }
+  CHECK(contains(file_text(dir / "fragility.csv"), "scene,dampers_left.elongation>=0.01,sf,"));
+  CHECK(contains(file_text(dir / "summary.csv"), "scene,tendon.force,sf,1,1,"));
+  // A device the scene lacks is refused before any run, in one line.
+  const Result typo = run("-q ida " + wall + " --record " + rec + " --scales 1 --limit plates.elongation=0.07 "
+                          "--no-plot --out " + (dir / "typo").string());
+  CHECK(typo.code == 2);
+  CHECK(lines(typo.err) == 1);
+  CHECK(contains(typo.err, "no device 'plates' in the study's scene (devices: tendon, dampers_left, dampers_right)"));
+}
