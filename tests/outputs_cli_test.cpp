@@ -125,3 +125,30 @@ TEST_CASE("IDA columns and --limit take each device by its name") {
   CHECK(lines(typo.err) == 1);
   CHECK(contains(typo.err, "no device 'plates' in the study's scene (devices: tendon, dampers_left, dampers_right)"));
 }
+
+TEST_CASE("theta_dot: a block released from a tilt reaches sqrt(2 p^2 (cos(alpha - theta0) - cos alpha)) at its first impact") {
+  // Energy: m g R (cos(alpha - theta0) - cos alpha) = J_p theta_dot^2 / 2, p^2 = m g R / J_p.
+  const std::string block = std::string(ROCKING_SOURCE_DIR) + "/data/scenes/rigid_block.toml";
+  const Result modal = run("modal " + block + " --json");
+  REQUIRE(modal.code == 0);
+  const auto m = nlohmann::json::parse(modal.out);
+  const double p = m["p"].get<double>(), alpha = m["alpha_cg"].get<double>(), theta0 = 0.1;
+  const fs::path dir = scratch_dir("outputs_theta_dot");
+  const Result r = run("simulate " + block + " --set initial.theta=0.1 --set excitation.kind=none --duration 2 --json "
+                       "--out " + dir.string());
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const auto j = nlohmann::json::parse(r.out);
+  const double expected = std::sqrt(2 * p * p * (std::cos(alpha - theta0) - std::cos(alpha)));
+  CHECK(j["peaks"]["theta_dot"].get<double>() == doctest::Approx(expected).epsilon(1e-5));
+  // The same quantity is a history column, an IDA column and a limit state.
+  CHECK(csv_table(file_text(dir / "history.csv")).has("theta_dot [rad/s]"));
+  const auto records = records_dir();
+  if (!records) return;
+  const Result study = run("-q ida " + block + " --record " + *records + "/elcentro_1940_ns.at2 --scales 1,2 "
+                           "--variants scene --limit theta_dot=0.1 --duration 10 --no-plot --out " + (dir / "ida").string());
+  REQUIRE_MESSAGE(study.code == 0, study.err);
+  const CsvTable ida = csv_table(file_text(dir / "ida" / "ida.csv"));
+  REQUIRE(ida.rows.size() == 2);
+  CHECK(std::stod(ida.at(1, "theta_dot")) > 0);
+  CHECK(file_text(dir / "ida" / "fragility.csv").find("scene,theta_dot>=0.1,sf,") != std::string::npos);
+}

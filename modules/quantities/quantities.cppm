@@ -24,7 +24,7 @@ export namespace rocking {
 
 // Every scalar quantity of a run's response, in the order of history.csv.
 enum class Quantity : unsigned char {
-  t, phase, u_top, theta, theta_over_alpha, delta_t, delta_e, damper_d, damper_F,
+  t, phase, u_top, theta, theta_over_alpha, theta_dot, delta_t, delta_e, damper_d, damper_F,
   base_shear, base_moment, mid_shear, mid_moment, a_g, device_moment,
   count_
 };
@@ -81,6 +81,8 @@ inline constexpr std::array<QuantityInfo, quantity_count> quantity_table = {{
     {Quantity::theta, "theta", "rad", "rocking angle", "{/Symbol q}", 1, "rad", Needs::rocking, history | peak},
     {Quantity::theta_over_alpha, "theta_over_alpha", "-", "rocking angle over slenderness",
      "{/Symbol q}/{/Symbol a}_{cg}", 1, "-", Needs::rocking, history | peak | study},
+    {Quantity::theta_dot, "theta_dot", "rad/s", "rocking velocity", "d{/Symbol q}/dt", 1, "rad/s", Needs::rocking,
+     history | peak | study},
     {Quantity::delta_t, "delta_t", "-", "total top drift", "{/Symbol d}_t", 100, "%", Needs::always,
      history | peak | study},
     {Quantity::delta_e, "delta_e", "-", "elastic top drift", "{/Symbol d}_e", 100, "%", Needs::elasticity,

@@ -103,6 +103,7 @@ Response evaluate(const ContactModel& m, const OutputScales& sc, const Discrete&
   set(Quantity::delta_e, u_top * c * sc.inverse_H_N);
   set(Quantity::theta, th);
   set(Quantity::theta_over_alpha, th * sc.inverse_alpha_cg);
+  set(Quantity::theta_dot, l.theta_dot < 0 ? 0.0 : y[l.theta_dot]);
   const DamperState damper = active_damper(m, d, tilt, y);
   set(Quantity::damper_d, d.pivot * damper.elongation);
   set(Quantity::damper_F, d.pivot * damper.force);

@@ -5,7 +5,7 @@
 // structure under a record is linear with a piecewise-linear input and is
 // stepped exactly instead (RunOptions::exact_full_contact).
 // Outputs (MODEL.md 7), the quantities of rocking.quantities: delta_t (Eq. 11)
-// and delta_e (Eq. 12) over H_N, theta and theta / alpha_cg, the elongation
+// and delta_e (Eq. 12) over H_N, theta, theta / alpha_cg and theta', the elongation
 // and force of the paper's damper the pivot stretches (signed by the pivot:
 // + when rocking about the right pivot; 0 once it has broken), and shear and
 // moment of the elastic nodal forces K u at the base and at mid-height over
