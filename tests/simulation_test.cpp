@@ -412,9 +412,13 @@ TEST_CASE("a run in modal coordinates is the nodal run: same events, peaks and e
   CHECK(modal.counts.impacts == nodal.counts.impacts);
   CHECK(modal.first_uplift == doctest::Approx(nodal.first_uplift).epsilon(1e-9));
   CHECK(modal.first_impact == doctest::Approx(nodal.first_impact).epsilon(1e-9));
+  // The top's acceleration weighs each mode by omega^2 (K u / m_N): the
+  // highest modes, whose amplitudes the two runs share only to atol, count
+  // (omega_N / omega_1)^2 more than in the displacements; 1e-6 for it.
   for (std::size_t k = 0; k < quantity_count; ++k) {
-    CAPTURE(info(static_cast<Quantity>(k)).name);
-    CHECK(modal.peaks[k] == doctest::Approx(nodal.peaks[k]).epsilon(1e-7));
+    const auto q = static_cast<Quantity>(k);
+    CAPTURE(info(q).name);
+    CHECK(modal.peaks[k] == doctest::Approx(nodal.peaks[k]).epsilon(q == Quantity::a_top ? 1e-6 : 1e-7));
   }
   // final_state is nodal in both
   CHECK((modal.final_state - nodal.final_state).norm() <= 1e-6 * nodal.final_state.norm());

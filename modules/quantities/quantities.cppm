@@ -25,7 +25,7 @@ export namespace rocking {
 // Every scalar quantity of a run's response, in the order of history.csv.
 enum class Quantity : unsigned char {
   t, phase, u_top, theta, theta_over_alpha, theta_dot, delta_t, delta_e, damper_d, damper_F,
-  base_shear, base_moment, mid_shear, mid_moment, a_g, device_moment,
+  base_shear, base_moment, mid_shear, mid_moment, a_top, a_g, device_moment,
   count_
 };
 inline constexpr std::size_t quantity_count = static_cast<std::size_t>(Quantity::count_);
@@ -99,6 +99,8 @@ inline constexpr std::array<QuantityInfo, quantity_count> quantity_table = {{
      history | peak | study},
     {Quantity::mid_moment, "mid_moment", "M_ref", "mid-height moment", "M/M_{ref}", 1, "-", Needs::elasticity,
      history | peak | study},
+    {Quantity::a_top, "a_N", "m/s2", "top absolute acceleration (along the structure's width)", "a_N", 1 / 9.81, "g",
+     Needs::elasticity, history | peak | study},
     {Quantity::a_g, "a_g", "m/s2", "ground acceleration", "a_g", 1 / 9.81, "g", Needs::always, history},
     {Quantity::device_moment, "M_dev", "N m", "devices' moment (signed as theta)", "M_{dev}", 1e-6, "MN m",
      Needs::devices, history},

@@ -75,9 +75,14 @@ OutputScales output_scales(const ContactModel& m) {
     w.row(2) = above.matrix().transpose() / sc.V_ref;
     w.row(3) = (above * (st.heights.array() - mid)).matrix().transpose() / sc.M_ref;
     sc.force_rows = w * m.body.matrices.K;
+    const double top_mass = st.masses[n - 1];
+    sc.top_stiffness_row = -m.body.matrices.K.row(n - 1) / top_mass;
+    sc.top_damping_row = -m.body.matrices.C.row(n - 1) / top_mass;
     if (m.body.coordinates == ElasticCoordinates::modal) {
       sc.force_rows = sc.force_rows * m.body.modes.Phi;
       sc.top_row = m.body.modes.Phi.row(n - 1);
+      sc.top_stiffness_row = sc.top_stiffness_row * m.body.modes.Phi;
+      sc.top_damping_row = sc.top_damping_row * m.body.modes.Phi;
     }
   }
   return sc;
@@ -116,6 +121,8 @@ Response evaluate(const ContactModel& m, const OutputScales& sc, const Discrete&
     set(Quantity::base_moment, f[1]);
     set(Quantity::mid_shear, f[2]);
     set(Quantity::mid_moment, f[3]);
+    set(Quantity::a_top, sc.top_stiffness_row.dot(y.segment(l.u, l.n)) + sc.top_damping_row.dot(y.segment(l.u_dot, l.n)) +
+                             gravity * tilt.sin());
   }
   return r;
 }

@@ -9,7 +9,10 @@
 // and force of the paper's damper the pivot stretches (signed by the pivot:
 // + when rocking about the right pivot; 0 once it has broken), and shear and
 // moment of the elastic nodal forces K u at the base and at mid-height over
-// V_ref, M_ref; each device's by its name (a broken one's history is empty
+// V_ref, M_ref; the top node's absolute acceleration along the structure's
+// width e1 = (cos th, -sin th), Newton's law at node N of MODEL.md 4's
+// u-equation: m_N a_N = -(K u + C u')_N + m_N g sin th (in full contact the
+// horizontal absolute acceleration a_g + u_N''); each device's by its name (a broken one's history is empty
 // after its fracture).
 // Peaks are taken on the dense output at the integrator's guard samples
 // (for a flexible structure spaced an eighth of the shortest period of a mode
@@ -179,6 +182,8 @@ struct OutputScales {
   // nodal forces K u.
   Eigen::Matrix<double, 4, Eigen::Dynamic> force_rows;
   Eigen::RowVectorXd top_row;  // u_N from modal coordinates; empty when nodal (u_N is the last)
+  // -(K u)_N / m_N and -(C u')_N / m_N as rows on the elastic coordinates and their rates.
+  Eigen::RowVectorXd top_stiffness_row, top_damping_row;
 };
 OutputScales output_scales(const ContactModel& m);
 Response evaluate(const ContactModel& m, const OutputScales& sc, const Discrete& d, double t,
