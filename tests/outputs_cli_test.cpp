@@ -177,3 +177,35 @@ TEST_CASE("a_N: on a fixed base the top's absolute acceleration is a_g + u_N'' o
   const auto j = nlohmann::json::parse(r.out);
   CHECK(j["peaks"]["a_N"].get<double>() == doctest::Approx(peak).epsilon(1e-3));
 }
+
+TEST_CASE("--history chooses the history's columns from the schema; a wrong choice is one line before any run") {
+  const fs::path dir = scratch_dir("outputs_history");
+  const Result all = run("simulate --json --out " + (dir / "all").string());
+  REQUIRE(all.code == 0);
+  const Result some = run("simulate --history theta,a_N,damper_left.force,delta_t --out " + (dir / "some").string());
+  REQUIRE_MESSAGE(some.code == 0, some.err);
+  const CsvTable full = csv_table(file_text(dir / "all" / "history.csv"));
+  const CsvTable chosen = csv_table(file_text(dir / "some" / "history.csv"));
+  CHECK(chosen.header == std::vector<std::string>{"t [s]", "theta [rad]", "a_N [m/s2]", "damper_left.force [N]",
+                                                  "delta_t [-]"});
+  REQUIRE(chosen.rows.size() == full.rows.size());
+  for (const std::string& h : chosen.header)  // the same numbers as the full history's, column by column
+    for (std::size_t i = 0; i < chosen.rows.size(); ++i) CHECK(chosen.at(i, h) == full.at(i, h));
+  struct Bad {
+    std::string choice, says;
+  };
+  for (const Bad& b : {Bad{"nope", "--history nope: unknown quantity"},
+                       Bad{"theta,theta", "--history theta: named twice"},
+                       Bad{"plates.force", "--history plates.force: no device 'plates' in this scene"}}) {
+    CAPTURE(b.choice);
+    const Result r = run("simulate --history " + b.choice + " --out " + (dir / "bad").string());
+    CHECK(r.code == 2);
+    CHECK(lines(r.err) == 1);
+    CHECK(contains(r.err, b.says));
+    CHECK(!fs::exists(dir / "bad"));  // refused before any output
+  }
+  const Result block = run("simulate " + std::string(ROCKING_SOURCE_DIR) + "/data/scenes/rigid_block.toml --history "
+                           "base_shear --out " + (dir / "bad").string());
+  CHECK(block.code == 2);
+  CHECK(contains(block.err, "--history base_shear: this scene does not report it"));
+}

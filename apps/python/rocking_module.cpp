@@ -240,9 +240,8 @@ py::dict record_measures(const PyRecord& r, std::optional<std::vector<double>> p
 // Keeps the history as columns and the events as they come.
 class Collector : public rocking::Observer {
  public:
-  Collector(const rocking::ContactModel& model, bool keep_history)
-      : layout_(rocking::history_columns(rocking::presence(model), model.devices)),
-        samples_(model.devices.size()), keep_(keep_history) {
+  Collector(const rocking::ContactModel& model, rocking::HistoryColumns layout, bool keep_history)
+      : layout_(std::move(layout)), samples_(model.devices.size()), keep_(keep_history) {
     names = layout_.names();
     columns.resize(names.size());
   }
@@ -289,7 +288,8 @@ py::object to_pandas(const py::dict& columns) {
 
 PyResult simulate(const py::object& scene_arg, const py::object& record, double scale, double rtol, double atol,
                   const std::string& integrator, double every, std::optional<double> duration, long max_events,
-                  long max_steps, bool integrate_contact, bool history) {
+                  long max_steps, bool integrate_contact, bool history,
+                  const std::optional<std::vector<std::string>>& columns) {
   const PyScene s = scene_of(scene_arg);
   const rocking::Scene& scene = *s.scene;
   if (!std::isfinite(scale)) throw rocking::InputError(fmt::format("scale {}: must be a finite number", scale));
@@ -330,7 +330,10 @@ PyResult simulate(const py::object& scene_arg, const py::object& record, double 
   const rocking::ContactModel model = rocking::make_contact_model(scene, true);
   auto stop = std::make_shared<std::atomic<bool>>(false);
   ro.stop = [stop] { return stop->load(); };
-  Collector collect(model, history);
+  Collector collect(model,
+                    columns ? rocking::history_columns(rocking::presence(model), model.devices, *columns, "columns")
+                            : rocking::history_columns(rocking::presence(model), model.devices),
+                    history);
   const rocking::RunResult result =
       interruptible(*stop, [&] { return rocking::simulate(model, *motion, ro, &collect); });
 
@@ -605,8 +608,10 @@ PYBIND11_MODULE(rocking, m) {
   m.def("simulate", &simulate, "scene"_a = py::none(), "record"_a = py::none(), "scale"_a = 1.0, "rtol"_a = 1e-4,
         "atol"_a = 1e-7, "integrator"_a = "auto", "every"_a = 0.01, "duration"_a = py::none(),
         "max_events"_a = 100000L, "max_steps"_a = 10'000'000L, "integrate_contact"_a = false, "history"_a = true,
+        "columns"_a = py::none(),
         "Runs a scene under a record (a Record, or a file path; None: the scene's own\n"
         "excitation), scaled by scale, as `rocking simulate` does with the same defaults.\n"
+        "columns: the history's quantities by name (as --history; None: all the scene reports).\n"
         "Returns a Result; raises ValueError for bad input, rocking.RunError (with\n"
         ".result) when the run cannot finish, KeyboardInterrupt on Ctrl-C.");
 

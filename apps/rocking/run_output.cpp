@@ -14,9 +14,8 @@
 
 namespace rocking::app {
 
-HistoryCsv::HistoryCsv(const std::filesystem::path& file, const ContactModel& model)
-    : path_(file.string()), partial_(path_ + ".partial"),
-      columns_(history_columns(presence(model), model.devices)), devices_(model.devices.size()) {
+HistoryCsv::HistoryCsv(const std::filesystem::path& file, const ContactModel& model, HistoryColumns columns)
+    : path_(file.string()), partial_(path_ + ".partial"), columns_(std::move(columns)), devices_(model.devices.size()) {
   std::error_code ec;
   for (const std::string& p : {path_, partial_})
     if (std::filesystem::is_directory(p, ec))
@@ -61,8 +60,8 @@ void HistoryCsv::print_row(const Response& r) {
   columns_.values(r, devices_, row_);
   for (std::size_t i = 0; i < row_.size(); ++i) {
     if (i > 0) buffer_ += ',';
-    const std::string_view label = i < columns_.quantities.size() ? value_label(columns_.quantities[i], row_[i])
-                                                                  : std::string_view();
+    const auto& q = columns_.columns[i].quantity;
+    const std::string_view label = q ? value_label(*q, row_[i]) : std::string_view();
     if (label.empty()) append_value(buffer_, row_[i]);
     else buffer_ += label;
   }

@@ -17,11 +17,14 @@ namespace rocking::app {
 // when closed whole (a run that fails or stops leaves whole rows up to
 // there; a write that fails leaves the .partial file): a header row of
 // "name [unit]", the columns of rocking::history_columns (the schema's
-// history quantities the model reports, then each device's by its name). A
-// broken device's fields are empty after its fracture.
+// history quantities the model reports, then each device's by its name; or
+// those chosen). A broken device's fields are empty after its fracture.
 class HistoryCsv : public rocking::Observer {
  public:
-  HistoryCsv(const std::filesystem::path& file, const rocking::ContactModel& model);
+  // The model's default columns unless given (rocking::history_columns).
+  HistoryCsv(const std::filesystem::path& file, const rocking::ContactModel& model)
+      : HistoryCsv(file, model, rocking::history_columns(rocking::presence(model), model.devices)) {}
+  HistoryCsv(const std::filesystem::path& file, const rocking::ContactModel& model, rocking::HistoryColumns columns);
   ~HistoryCsv() override;
   HistoryCsv(const HistoryCsv&) = delete;
   HistoryCsv& operator=(const HistoryCsv&) = delete;

@@ -23,6 +23,7 @@ struct SimulateOptions {
   double output_interval = 0.01;
   bool json = false;
   bool list_quantities = false;
+  std::vector<std::string> history;  // chosen columns (empty: the scene's default)
 };
 
 // The summary in words: one line per peak the scene reports, named and
@@ -77,9 +78,11 @@ int run(const SimulateOptions& o) {
   const ContactModel model = make_contact_model(scene, true);
   catch_stop_signals();
   ro.stop = [] { return stop_signal() != 0; };
+  HistoryColumns columns = o.history.empty() ? history_columns(presence(model), model.devices)
+                                             : history_columns(presence(model), model.devices, o.history);
   const std::filesystem::path dir(o.out);
   make_output_dir(dir);
-  HistoryCsv history(dir / "history.csv", model);
+  HistoryCsv history(dir / "history.csv", model, std::move(columns));
   const ScaleFactors scale = motion_scale(scene, o.motion);
   spdlog::info("simulating '{}' under {} ({}) with {}", scene.name, motion.name(), scale.describe(), o.solver.integrator);
   const RunResult result = simulate(model, motion, ro, &history);
@@ -131,6 +134,12 @@ Command add_simulate_command(CLI::App& app) {
   cmd->add_option("--out", o->out, "Output folder (default out/simulate)")->type_name("DIR");
   cmd->add_option("--every", o->output_interval, "History interval [s] (default 0.01)")->type_name("S");
   cmd->add_flag("--json", o->json, "Print the summary as JSON on stdout");
+  cmd->add_option("--history", o->history,
+                  "The history's columns, by name (t always first; comma-separated or\n"
+                  "repeated): theta,delta_t,a_N,tendon.force (default: every quantity the\n"
+                  "scene reports; --list-quantities names them)")
+      ->delimiter(',')
+      ->type_name("Q,...");
   cmd->add_flag("--list-quantities", o->list_quantities,
                 "List the quantities this scene reports (the names of history.csv's\n"
                 "columns, summary.json's peaks, ida.csv's columns and --limit), with\n"
@@ -142,7 +151,8 @@ Command add_simulate_command(CLI::App& app) {
       "  rocking simulate --set damper.enabled=false --scale 3 --record FILE\n"
       "  rocking simulate --set contact.rocking=false   (the same chimney on a fixed base)\n"
       "  rocking simulate data/scenes/rigid_block.toml --json\n"
-      "  rocking simulate data/scenes/controlled_rocking_wall.toml --list-quantities");
+      "  rocking simulate data/scenes/controlled_rocking_wall.toml --list-quantities\n"
+      "  rocking simulate --history theta,delta_t,a_N,damper_left.force");
   return [o]() { return run(*o); };
 }
 

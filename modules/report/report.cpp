@@ -2,11 +2,15 @@ module;
 #include <rocking/eigen.hpp>
 #include <nlohmann/json.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <algorithm>
+#include <optional>
 #include <cmath>
 #include <string>
 #include <utility>
 #include <vector>
 module rocking.report;
+import rocking.errors;
 
 namespace rocking {
 
@@ -115,35 +119,66 @@ std::string describe_motion(const GroundMotion& motion) {
 HistoryColumns history_columns(const Presence& presence, const std::vector<Device>& devices) {
   HistoryColumns c;
   for (Quantity q : history_quantities)
-    if (presence.has(info(q).needs)) c.quantities.push_back(q);
-  for (const Device& d : devices) c.devices.push_back(d.name);
+    if (presence.has(info(q).needs)) c.columns.push_back({.quantity = q});
+  for (std::size_t k = 0; k < devices.size(); ++k) {
+    c.device_names.push_back(devices[k].name);
+    for (const DeviceQuantityInfo& dq : device_quantity_table) c.columns.push_back({.device = k, .of = dq.id});
+  }
+  return c;
+}
+
+HistoryColumns history_columns(const Presence& presence, const std::vector<Device>& devices,
+                               const std::vector<std::string>& chosen, std::string_view option) {
+  HistoryColumns c;
+  for (const Device& d : devices) c.device_names.push_back(d.name);
+  c.columns.push_back({.quantity = Quantity::t});
+  for (const std::string& text : chosen) {
+    const std::optional<QuantityName> q = parse_quantity_name(text);
+    if (!q) throw InputError(fmt::format("{} {}: unknown quantity (rocking simulate --list-quantities lists them)", option, text));
+    HistoryColumns::Column col;
+    if (q->scalar) {
+      const QuantityInfo& i = info(*q->scalar);
+      if (!i.is(Role::history)) throw InputError(fmt::format("{} {}: not a history quantity", option, text));
+      if (!presence.has(i.needs)) throw InputError(fmt::format("{} {}: this scene does not report it", option, text));
+      if (*q->scalar == Quantity::t) continue;  // always first
+      col.quantity = q->scalar;
+    } else {
+      const auto at = std::ranges::find(c.device_names, q->device);
+      if (at == c.device_names.end())
+        throw InputError(fmt::format("{} {}: no device '{}' in this scene (devices: {})", option, text, q->device,
+                                     c.device_names.empty() ? "none" : fmt::format("{}", fmt::join(c.device_names, ", "))));
+      col.device = static_cast<std::size_t>(at - c.device_names.begin());
+      col.of = q->of;
+    }
+    const bool again = std::ranges::any_of(c.columns, [&](const HistoryColumns::Column& o) {
+      return o.quantity == col.quantity && (col.quantity || (o.device == col.device && o.of == col.of));
+    });
+    if (again) throw InputError(fmt::format("{} {}: named twice", option, text));
+    c.columns.push_back(col);
+  }
   return c;
 }
 
 std::vector<std::string> HistoryColumns::names() const {
   std::vector<std::string> out;
-  for (Quantity q : quantities) out.emplace_back(info(q).name);
-  for (const std::string& d : devices)
-    for (const DeviceQuantityInfo& dq : device_quantity_table) out.push_back(device_quantity_name(d, dq.id));
+  for (const Column& c : columns)
+    out.push_back(c.quantity ? std::string(info(*c.quantity).name) : device_quantity_name(device_names[c.device], c.of));
   return out;
 }
 
 std::vector<std::string> HistoryColumns::headers() const {
   std::vector<std::string> out;
-  for (Quantity q : quantities) out.push_back(column_header(info(q).name, info(q).unit));
-  for (const std::string& d : devices)
-    for (const DeviceQuantityInfo& dq : device_quantity_table)
-      out.push_back(column_header(device_quantity_name(d, dq.id), dq.unit));
+  const std::vector<std::string> n = names();
+  for (std::size_t k = 0; k < columns.size(); ++k)
+    out.push_back(column_header(n[k], columns[k].quantity ? info(*columns[k].quantity).unit : info(columns[k].of).unit));
   return out;
 }
 
 void HistoryColumns::values(const Response& r, const std::vector<DeviceSample>& samples, std::vector<double>& out) const {
   out.clear();
-  for (Quantity q : quantities) out.push_back(r[q]);
-  static_assert(device_quantity_count == 2, "a device's history values: elongation and force");
-  for (std::size_t k = 0; k < devices.size(); ++k) {
-    out.push_back(samples[k].e);
-    out.push_back(samples[k].F);
+  for (const Column& c : columns) {
+    if (c.quantity) out.push_back(r[*c.quantity]);
+    else out.push_back(c.of == DeviceQuantity::elongation ? samples[c.device].e : samples[c.device].F);
   }
 }
 

@@ -7,7 +7,9 @@
 // depends on how it is built.
 module;
 #include <rocking/eigen.hpp>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 export module rocking.report;
 export import rocking.simulation;
@@ -32,20 +34,32 @@ std::string summary_json(const RunLabel& label, const RunResult& r, int indent =
 std::string describe_motion(const std::string& name);
 std::string describe_motion(const GroundMotion& motion);
 
-// The history's columns: the history quantities of rocking.quantities that
-// the model reports, in the schema's order, then each device's quantities
-// under its name ("damper_left.elongation").
+// The history's columns. By default the history quantities of
+// rocking.quantities that the model reports, in the schema's order, then each
+// device's quantities under its name ("damper_left.elongation"); or the
+// quantities a user chose (`simulate --history`), t always first.
 struct HistoryColumns {
-  std::vector<Quantity> quantities;
-  std::vector<std::string> devices;
+  struct Column {
+    std::optional<Quantity> quantity;               // a scalar quantity, or ...
+    std::size_t device = 0;                         // ... the model's device (index) ...
+    DeviceQuantity of = DeviceQuantity::elongation;  // ... and which of its quantities
+  };
+  std::vector<Column> columns;
+  std::vector<std::string> device_names;  // the model's devices, by index
   std::vector<std::string> names() const;    // "delta_t", ..., "damper_left.elongation", ...
   std::vector<std::string> headers() const;  // the same with units: "delta_t [-]"
-  std::size_t size() const { return quantities.size() + devices.size() * device_quantity_count; }
+  std::size_t size() const { return columns.size(); }
   // One row's values in the columns' order (out is resized): a broken
   // device's are NaN.
   void values(const Response& r, const std::vector<DeviceSample>& devices, std::vector<double>& out) const;
 };
 HistoryColumns history_columns(const Presence& presence, const std::vector<Device>& devices);
+// The chosen quantities by name (each a schema name or NAME.elongation /
+// NAME.force), t first whether named or not; InputError naming a quantity
+// that is unknown, not a history quantity, or that this model does not report
+// (the message names the choice after `option`).
+HistoryColumns history_columns(const Presence& presence, const std::vector<Device>& devices,
+                               const std::vector<std::string>& chosen, std::string_view option = "--history");
 
 // The schema as a table for people (`rocking simulate --list-quantities`):
 // each quantity's name, unit, roles (history, peak, study: an IDA column and

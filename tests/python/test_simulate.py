@@ -149,3 +149,13 @@ def test_the_walls_devices_are_reported_under_their_names():
         peak = result.peaks[name + ".elongation"]
         assert np.nanmax(np.abs(result.history[name + ".elongation"])) == pytest.approx(peak, rel=2e-3)
     assert result.peaks["tendon.force"] > result.peaks["dampers_left.force"]
+
+
+def test_columns_choose_the_history_as_history_does_on_the_command_line():
+    full = rocking.simulate()
+    chosen = rocking.simulate(columns=["theta", "a_N", "damper_left.force"])
+    assert list(chosen.history) == ["t", "theta", "a_N", "damper_left.force"]
+    for name in chosen.history:
+        np.testing.assert_array_equal(chosen.history[name], full.history[name])
+    with pytest.raises(ValueError, match="columns nope: unknown quantity"):
+        rocking.simulate(columns=["nope"])
