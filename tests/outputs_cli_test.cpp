@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 #include "run_program.hpp"
@@ -208,4 +210,36 @@ TEST_CASE("--history chooses the history's columns from the schema; a wrong choi
                            "base_shear --out " + (dir / "bad").string());
   CHECK(block.code == 2);
   CHECK(contains(block.err, "--history base_shear: this scene does not report it"));
+}
+
+TEST_CASE("plot response finds its series by name: a column inserted in the middle of a history moves nothing") {
+  // A history with an extra column before delta_t, as a new quantity inserted
+  // in the middle of the schema would write: the figure still draws delta_t,
+  // theta_over_alpha and the damper's loop from their own columns.
+  const fs::path dir = scratch_dir("outputs_inserted");
+  REQUIRE(run("-q simulate --out " + (dir / "run").string()).code == 0);
+  const std::string text = file_text(dir / "run" / "history.csv");
+  const CsvTable plain = csv_table(text);
+  const std::size_t at = plain.column("delta_t [-]");
+  std::string shifted;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> f = csv_split(line);
+    f.insert(f.begin() + static_cast<long>(at), shifted.empty() ? "inserted [m]" : "0.5");
+    for (std::size_t k = 0; k < f.size(); ++k) shifted += (k ? "," : "") + f[k];
+    shifted += "\n";
+  }
+  fs::create_directories(dir / "moved");
+  std::ofstream(dir / "moved" / "history.csv") << shifted;
+  const Result r = run("-q plot response --from " + (dir / "moved").string() + " --formats png --out " +
+                       (dir / "fig").string());
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const std::string gp = file_text(dir / "fig" / "response.gp");
+  const CsvTable moved = csv_table(shifted);
+  auto col = [&](const char* header) { return std::to_string(moved.column(header) + 1); };
+  CHECK(moved.column("delta_t [-]") == at + 1);
+  CHECK(contains(gp, "using " + col("t [s]") + ":($" + col("delta_t [-]") + "*100)"));
+  CHECK(contains(gp, ":($" + col("theta_over_alpha [-]") + "*1)"));
+  CHECK(contains(gp, "($" + col("damper_d [m]") + " == 0 || $" + col("damper_F [N]") + " == 0 ? NaN"));
+  CHECK(!contains(gp, "$" + std::to_string(at + 1) + "*100"));  // not the inserted column
 }
