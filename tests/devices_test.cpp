@@ -181,3 +181,28 @@ TEST_CASE("laws by name from their parameters, with one-line errors naming the k
                        "bouc-wen law: beta: alpha + beta must be positive (bounded hysteresis)", InputError);
   CHECK_THROWS_AS(make_law("bouc-wen", none), InputError);  // k and d_y have no default
 }
+
+TEST_CASE("every registered law: its stiffness at rest is the slope of its force from rest, as the modal analysis takes it") {
+  // The laws from the registry (device_laws), each as its example device.
+  // Loaded from rest by a tiny elongation delta at zero rate (the internal
+  // state carried along the path, z' per unit e'), the force grows by
+  // law_stiffness x delta: the rocking stiffness of MODEL.md 8 and 11.
+  for (const LawInfo& info : device_laws()) {
+    CAPTURE(info.name);
+    const DeviceLaw law = make_law(info.name, [&](std::string_view key) -> std::optional<double> {
+      for (const LawParameter& p : info.parameters)
+        if (p.key == key) return p.example;
+      return std::nullopt;
+    });
+    const double delta = 1e-9;
+    const int steps = 1000;
+    double z = 0;
+    for (int i = 0; i < steps; ++i) {  // midpoint rule along e = 0 .. delta
+      const double e = (i + 0.5) * delta / steps;
+      if (law_states(law) > 0) z += law_rate(law, e, 1.0, z) * delta / steps;
+    }
+    const double slope = (law_force(law, delta, 0.0, z) - law_force(law, 0.0, 0.0, 0.0)) / delta;
+    CHECK(slope == doctest::Approx(law_stiffness(law)).epsilon(1e-6).scale(1.0));
+    CHECK(law_force(law, 0.0, 0.0, 0.0) == doctest::Approx(law_force_at_rest(law, 0.0)));
+  }
+}

@@ -9,6 +9,8 @@
 #include <doctest/doctest.h>
 #include <algorithm>
 #include <cmath>
+#include <sstream>
+#include <iomanip>
 #include <string>
 #include <vector>
 #include "housner.hpp"
@@ -352,18 +354,28 @@ TEST_CASE("the energy balance closes to 1e-6 of the input for every device law, 
   RecordOptions ro;
   ro.scale = 3.0;  // El Centro NS at about 1 g: the chimney rocks and the devices work
   const GroundMotion elcentro = read_record(*dir + "/elcentro_1940_ns.at2", ro);
-  const std::string bouc_wen = R"(device+={name="plates", kind="bouc-wen", at="edges", k=1e7, eps=0.06, d_y=0.0185, alpha=1, beta=0})";
-  const std::string tendon = fmt_tendon(2e6, 5e7, 0);
-  const std::string dashpot = R"(device+={name="dashpot", kind="viscous", at="edges", c=2e6, a=1})";
-  const std::string fluid = R"(device+={name="fluid", kind="viscous", at="edges", c=3e5, a=0.3})";
-  const std::string friction = R"(device+={name="slip", kind="friction", at="edges", F_s=5e4})";
+  // Every registered law (device_laws: a new law is covered by its
+  // registration alone) as its example device at both edges, each alone,
+  // then all together with a prestressed tendon.
   struct Case {
-    const char* what;
+    std::string what;
     std::vector<std::string> sets;
   };
-  for (const Case& c : {Case{"bouc-wen", {bouc_wen}}, Case{"elastic with prestress", {tendon}},
-                        Case{"viscous, a = 1", {dashpot}}, Case{"viscous, a = 0.3", {fluid}},
-                        Case{"friction", {friction}}, Case{"all together", {bouc_wen, tendon, dashpot, fluid, friction}}}) {
+  std::vector<Case> cases;
+  std::vector<std::string> all{fmt_tendon(2e6, 5e7, 0)};
+  for (const LawInfo& law : device_laws()) {
+    std::string set = "device+={name=\"" + law.name + "\", kind=\"" + law.name + "\", at=\"edges\"";
+    for (const LawParameter& p : law.parameters) {
+      std::ostringstream value;
+      value << std::setprecision(17) << p.example;
+      set += ", " + p.key + "=" + value.str();
+    }
+    set += "}";
+    cases.push_back({law.name, {set}});
+    all.push_back(set);
+  }
+  cases.push_back({"all together", all});
+  for (const Case& c : cases) {
     CAPTURE(c.what);
     std::vector<std::string> sets{"damper.enabled=false"};
     sets.insert(sets.end(), c.sets.begin(), c.sets.end());

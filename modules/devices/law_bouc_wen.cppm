@@ -17,15 +17,16 @@ struct BoucWenLaw {
   static constexpr const char* name = "bouc-wen";
   static constexpr const char* summary = "Bouc-Wen hysteresis: a yielding metallic damper (the paper's plates)";
   static std::vector<LawParameter> parameters() {
-    return {{"k", "N/m", "pre-yield stiffness", 0, 0, true, 1e13},
-            {"eps", "-", "post-yield stiffness ratio", 0, 0, false, 1},
-            {"d_y", "m", "yield elongation", 0, 0, true, 10},
+    using R = ParameterRole;
+    return {{"k", "N/m", "pre-yield stiffness", R::stiffness, 2e7, 0, 0, true, 1e13},
+            {"eps", "-", "post-yield stiffness ratio", R::hardening_ratio, 0.05, 0, 0, false, 1},
+            {"d_y", "m", "yield elongation", R::yield_elongation, 0.004, 0, 0, true, 10},
             // (d_y, alpha, beta) and (c d_y, c^n alpha, c^n beta) give the same
             // force for every c > 0 (z scales by 1/c): a fit holds alpha + beta = 1,
             // which makes d_y the yield elongation and |z| <= 1.
-            {"alpha", "-", "Bouc-Wen shape", 0.5, 0, false, 100, "beta"},
-            {"beta", "-", "Bouc-Wen shape", 0.5, 0, false, 100},
-            {"n", "-", "Bouc-Wen sharpness of yield", 1, 0, true, 50}};
+            {"alpha", "-", "Bouc-Wen shape", R::shape, 0.7, 0.5, 0, false, 100, "beta"},
+            {"beta", "-", "Bouc-Wen shape", R::shape, 0.3, 0.5, 0, false, 100},
+            {"n", "-", "Bouc-Wen sharpness of yield", R::shape, 1.5, 1, 0, true, 50}};
   }
   // alpha + beta = 0 leaves z' = e' / d_y unbounded: a spring, not a damper.
   static LawProblem problem(const std::vector<double>& v) {

@@ -13,8 +13,9 @@ struct ElasticLaw {
   static constexpr const char* name = "elastic";
   static constexpr const char* summary = "F = P0 + k e, tension only: a post-tensioned tendon or a spring";
   static std::vector<LawParameter> parameters() {
-    return {{"P0", "N", "prestress: the force at zero elongation", 0, 0, false, 1e10},
-            {"k", "N/m", "stiffness (a tendon: E A / free length)", 0, 0, false, 1e13}};
+    using R = ParameterRole;
+    return {{"P0", "N", "prestress: the force at zero elongation", R::force, 5e4, 0, 0, false, 1e10},
+            {"k", "N/m", "stiffness (a tendon: E A / free length)", R::stiffness, 3e6, 0, 0, false, 1e13}};
   }
   static ElasticLaw make(const std::vector<double>& v) { return {v[0], v[1]}; }
 

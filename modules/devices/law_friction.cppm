@@ -17,8 +17,10 @@ struct FrictionLaw {
   static constexpr const char* name = "friction";
   static constexpr const char* summary = "F = F_s tanh(e'/v_r): a friction damper slipping at F_s";
   static std::vector<LawParameter> parameters() {
-    return {{"F_s", "N", "slip force", 0, 0, false, 1e10},
-            {"v_r", "m/s", "regularising velocity: the force reaches 76 % of F_s at e' = v_r", 1e-3, 0, true, 10}};
+    using R = ParameterRole;
+    return {{"F_s", "N", "slip force", R::force, 8e4, 0, 0, false, 1e10},
+            {"v_r", "m/s", "regularising velocity: the force reaches 76 % of F_s at e' = v_r", R::reference_rate, 0.004,
+             1e-3, 0, true, 10}};
   }
   static FrictionLaw make(const std::vector<double>& v) { return {v[0], v[1]}; }
 

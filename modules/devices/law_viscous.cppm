@@ -13,8 +13,9 @@ struct ViscousLaw {
   static constexpr const char* name = "viscous";
   static constexpr const char* summary = "F = c sign(e') |e'|^a: a fluid viscous damper (a = 1: a dashpot)";
   static std::vector<LawParameter> parameters() {
-    return {{"c", "N (s/m)^a", "damping coefficient", 0, 0, false, 1e12},
-            {"a", "-", "velocity exponent (1: linear)", 1, 0, true, 3}};
+    using R = ParameterRole;
+    return {{"c", "N (s/m)^a", "damping coefficient", R::rate_coefficient, 2e5, 0, 0, false, 1e12},
+            {"a", "-", "velocity exponent (1: linear)", R::rate_exponent, 0.4, 1, 0, true, 3}};
   }
   static ViscousLaw make(const std::vector<double>& v) { return {v[0], v[1]}; }
 

@@ -20,10 +20,13 @@ namespace rocking {
 
 namespace {
 
-// A law's parameter depends on time when its unit involves seconds.
+bool has_role(const LawInfo& info, ParameterRole role) {
+  return std::any_of(info.parameters.begin(), info.parameters.end(), [&](const LawParameter& p) { return p.role == role; });
+}
+
+// A law depends on time when a parameter of it is a rate's.
 bool rate_dependent(const LawInfo& info) {
-  return std::any_of(info.parameters.begin(), info.parameters.end(),
-                     [](const LawParameter& p) { return p.unit.find('s') != std::string::npos; });
+  return has_role(info, ParameterRole::rate_coefficient) || has_role(info, ParameterRole::reference_rate);
 }
 
 const LawInfo& law_info(const std::string& name) {
@@ -87,6 +90,7 @@ double slope(const CyclicTest& test, std::size_t a, std::size_t b) {
 // What the data say about a yielding law (see the top of fitting.cppm).
 struct DataScales {
   double k0 = 0, k2 = 0, d_y = 0, force = 0, rate = 0;
+  double onset = 0;  // |e| where |F| first exceeds 2 % of its peak
   double loop_area = 0;  // |closed integral of F de| / (peak F x elongation range)
 };
 DataScales data_scales(const CyclicTest& test) {
@@ -94,6 +98,11 @@ DataScales data_scales(const CyclicTest& test) {
   DataScales s;
   s.force = peak_of(test.F);
   s.rate = peak_of(rates(test));
+  for (std::size_t i = 0; i < n; ++i)
+    if (std::abs(test.F[i]) > 0.02 * s.force) {
+      s.onset = std::abs(test.e[i]);
+      break;
+    }
   double area = 0;
   for (std::size_t i = 1; i < n; ++i) area += 0.5 * (test.F[i] + test.F[i - 1]) * (test.e[i] - test.e[i - 1]);
   area += 0.5 * (test.F[0] + test.F[n - 1]) * (test.e[0] - test.e[n - 1]);  // closes the path
@@ -141,16 +150,20 @@ DataScales data_scales(const CyclicTest& test) {
   return s;
 }
 
-// The start of parameter p from the data (see the top of fitting.cppm).
+// The start of parameter p from the data, by its role (see the top of fitting.cppm).
 double starting_value(const LawParameter& p, const DataScales& s, double exponent) {
   double v = p.default_value;
-  if (p.unit == "N/m") v = s.k0;
-  else if (p.unit == "m") v = s.d_y;
-  else if (p.unit == "N") v = 0.5 * s.force;
-  else if (p.unit == "m/s") v = 0.05 * s.rate;
-  else if (p.unit.starts_with("N (s/m)")) v = s.force / std::pow(std::max(s.rate, 1e-300), exponent);
-  else if (p.unit == "-" && p.key == "eps") v = std::clamp(s.k2 / s.k0, 0.01, 0.5);
-  else if (p.unit == "-" && v == 0) v = 0.1;
+  switch (p.role) {
+    case ParameterRole::stiffness: v = s.k0; break;
+    case ParameterRole::yield_elongation: v = s.d_y; break;
+    case ParameterRole::onset_elongation: v = s.onset; break;
+    case ParameterRole::force: v = 0.5 * s.force; break;
+    case ParameterRole::reference_rate: v = 0.05 * s.rate; break;
+    case ParameterRole::rate_coefficient: v = s.force / std::pow(std::max(s.rate, 1e-300), exponent); break;
+    case ParameterRole::hardening_ratio: v = std::clamp(s.k2 / s.k0, 0.01, 0.5); break;
+    case ParameterRole::rate_exponent:
+    case ParameterRole::shape: v = v == 0 ? 0.1 : v; break;
+  }
   return std::max(v, p.minimum + (std::abs(v) > 0 ? 1e-3 * std::abs(v) : 1e-3));
 }
 
@@ -315,15 +328,15 @@ Fit fit_law(const CyclicTest& test, const FitRequest& request) {
                                  info.name));
   const DataScales scales = data_scales(test);
   if (!(scales.force > 0)) throw InputError(fmt::format("{}: the force is zero throughout: nothing to fit", src));
-  const bool yielding = std::any_of(info.parameters.begin(), info.parameters.end(),
-                                    [](const LawParameter& p) { return p.unit == "m"; });
+  const bool yielding = has_role(info, ParameterRole::yield_elongation);
   if (yielding && scales.loop_area < 0.01)
     throw InputError(fmt::format("{}: the test never yields (its loops enclose {:.2g} % of peak force x elongation "
                                  "range): fit --law elastic, or use a test that goes past yield",
                                  src, 100 * scales.loop_area));
   double exponent = 1;
   for (std::size_t i = 0; i < info.parameters.size(); ++i)
-    if (info.parameters[i].key == "a") exponent = held[i] ? s.values[i] : info.parameters[i].default_value;
+    if (info.parameters[i].role == ParameterRole::rate_exponent)
+      exponent = held[i] ? s.values[i] : info.parameters[i].default_value;
   std::vector<double> start(s.free.size());
   for (std::size_t k = 0; k < s.free.size(); ++k) {
     const LawParameter& p = info.parameters[s.free[k]];
@@ -386,12 +399,12 @@ Fit fit_law(const CyclicTest& test, const FitRequest& request) {
   fit.peak_force = scales.force;
   for (std::size_t i = 0; i < info.parameters.size(); ++i) {
     const LawParameter& lp = info.parameters[i];
-    fit.parameters.push_back({lp.key, lp.unit, lp.doc, values[i], errors[i], held[i],
+    fit.parameters.push_back({lp.key, lp.unit, lp.doc, lp.role, values[i], errors[i], held[i],
                               derived[i] >= 0 ? info.parameters[static_cast<std::size_t>(derived[i])].key : ""});
   }
   if (yielding)
     for (const FittedParameter& fp : fit.parameters)
-      if (fp.unit == "m" && !fp.fixed && fp.value > e_range)
+      if (fp.role == ParameterRole::yield_elongation && !fp.fixed && fp.value > e_range)
         throw InputError(fmt::format("{}: the test never yields (the fitted {} = {:.4g} m exceeds the elongation range "
                                      "{:.4g} m): fit --law elastic, or use a test that goes past yield",
                                      src, fp.key, fp.value, e_range));

@@ -24,9 +24,11 @@
 //   slope of the first branch (least squares over its first tenth), a
 //   post-yield stiffness the slope of that branch's last third, the yield
 //   elongation the intersection of the two lines; a force scale is the peak
-//   force, a velocity scale the peak rate. Each parameter starts from the one
-//   its unit names (N/m, m, N, m/s, N (s/m)^a); a dimensionless one from its
-//   default (0.1 when that is 0), or from the post-yield ratio.
+//   force, a velocity scale the peak rate, an onset elongation where the
+//   force first exceeds 2 % of its peak. Each parameter starts from the one
+//   its role names (rocking.devices' ParameterRole: stiffness, yield or onset
+//   elongation, force, rate coefficient, reference rate, hardening ratio); a
+//   shape or an exponent from its default (0.1 when that is 0).
 // - Plate scaling (MODEL.md 5): a tapered plate of thickness x tau has
 //   stiffness x tau^3 and yield force x tau^2, so d_y x 1/tau; the shape
 //   (eps, alpha, beta, n) is kept.
@@ -67,6 +69,7 @@ struct FitRequest {
 };
 struct FittedParameter {
   std::string key, unit, doc;
+  ParameterRole role = ParameterRole::shape;
   double value = 0;
   double standard_error = 0;  // 0 for a fixed parameter
   bool fixed = false;
