@@ -221,7 +221,9 @@ TEST_CASE("a wrong [[device]] is a one-line error naming the device, the key and
   const int tendon_line = line_of(path, "name = \"tendon\"");
   const auto error = [&](const std::vector<std::string>& sets) { return error_of(path, sets); };
   CHECK(error({"device[0].k=-1"}) == "--set device[0].k=-1: device[0].k: must be >= 0 and <= 1e+13 [N/m] (got -1)");
-  CHECK(error({"device[0].kind=spring"}).find("device[0].kind: unknown law 'spring' (laws: bouc-wen, elastic, viscous, friction)") !=
+  std::string laws;  // every registered law, in registry order
+  for (const LawInfo& l : device_laws()) laws += (laws.empty() ? "" : ", ") + l.name;
+  CHECK(error({"device[0].kind=spring"}).find("device[0].kind: unknown law 'spring' (laws: " + laws + ")") !=
         std::string::npos);
   CHECK(error({"device[0].at=4"}).find("device[0].at: must be on the base, -B <= x <= B = 3.3 [m] (got 4)") !=
         std::string::npos);

@@ -122,7 +122,8 @@ HistoryColumns history_columns(const Presence& presence, const std::vector<Devic
     if (presence.has(info(q).needs)) c.columns.push_back({.quantity = q});
   for (std::size_t k = 0; k < devices.size(); ++k) {
     c.device_names.push_back(devices[k].name);
-    for (const DeviceQuantityInfo& dq : device_quantity_table) c.columns.push_back({.device = k, .of = dq.id});
+    for (const DeviceQuantityInfo& dq : device_quantity_table)
+      c.columns.push_back({.quantity = std::nullopt, .device = k, .of = dq.id});
   }
   return c;
 }
