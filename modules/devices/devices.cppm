@@ -32,12 +32,13 @@ export import :bouc_wen;
 export import :elastic;
 export import :viscous;
 export import :friction;
+export import :gap;
 
 export namespace rocking {
 
 // The registered laws. A new law: its file law_NAME.cppm, its
 // `export import :NAME;` above and its type here.
-using DeviceLaw = std::variant<BoucWenLaw, ElasticLaw, ViscousLaw, FrictionLaw>;
+using DeviceLaw = std::variant<BoucWenLaw, ElasticLaw, ViscousLaw, FrictionLaw, GapLaw>;
 
 enum class Kinematics { chord, vertical };
 
