@@ -615,6 +615,20 @@ PYBIND11_MODULE(rocking, m) {
         "Returns a Result; raises ValueError for bad input, rocking.RunError (with\n"
         ".result) when the run cannot finish, KeyboardInterrupt on Ctrl-C.");
 
+  m.def("quantities",
+        [](const py::object& s) {
+          py::list out;
+          for (const rocking::QuantityRow& q : rocking::quantity_rows(rocking::make_contact_model(*scene_of(s).scene, false)))
+            out.append(py::dict("name"_a = q.name, "unit"_a = q.unit, "words"_a = q.words, "history"_a = q.history,
+                                "peak"_a = q.peak, "study"_a = q.study, "reported"_a = q.reported));
+          return out;
+        },
+        "scene"_a = py::none(),
+        "What the scene reports (`rocking simulate --list-quantities`): one dict per\n"
+        "quantity of the schema, then per quantity of each device (NAME.elongation,\n"
+        "NAME.force): name, unit, words, whether it is a history column, a peak and a\n"
+        "study quantity (ida columns, limits, fractiles), and whether this scene reports it.");
+
   m.def("modal", [](const py::object& s) { return json_loads(rocking::modal_json(*scene_of(s).scene)); },
         "scene"_a = py::none(),
         "The dict of `rocking modal --json`: fixed-base and rocking frequencies [Hz], p,\n"

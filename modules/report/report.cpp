@@ -183,23 +183,28 @@ void HistoryColumns::values(const Response& r, const std::vector<DeviceSample>& 
   }
 }
 
-std::string quantity_table_text(const ContactModel& m) {
+std::vector<QuantityRow> quantity_rows(const ContactModel& m) {
   const Presence has = presence(m);
-  auto roles = [](bool history, bool peak, bool study) {
-    std::string r;
-    for (const auto& [on, word] : {std::pair{history, "history"}, std::pair{peak, "peak"}, std::pair{study, "study"}})
-      if (on) r += (r.empty() ? "" : ",") + std::string(word);
-    return r;
-  };
-  std::string out = fmt::format("{:<28} {:<7} {:<20} {}\n", "quantity", "unit", "reported as", "what");
+  std::vector<QuantityRow> rows;
   for (const QuantityInfo& q : quantity_table)
-    out += fmt::format("{:<28} {:<7} {:<20} {}{}\n", q.name, q.unit.empty() ? "-" : q.unit,
-                       roles(q.is(Role::history), q.is(Role::peak), q.is(Role::study)), q.words,
-                       has.has(q.needs) ? "" : " (not in this scene)");
+    rows.push_back({std::string(q.name), std::string(q.unit), std::string(q.words), q.is(Role::history),
+                    q.is(Role::peak), q.is(Role::study), has.has(q.needs)});
   for (const Device& d : m.devices)
     for (const DeviceQuantityInfo& q : device_quantity_table)
-      out += fmt::format("{:<28} {:<7} {:<20} {} of {} ({})\n", device_quantity_name(d.name, q.id), q.unit,
-                         roles(true, true, true), q.words, d.name, law_name(d.law));
+      rows.push_back({device_quantity_name(d.name, q.id), std::string(q.unit),
+                      fmt::format("{} of {} ({})", q.words, d.name, law_name(d.law)), true, true, true, true});
+  return rows;
+}
+
+std::string quantity_table_text(const ContactModel& m) {
+  std::string out = fmt::format("{:<28} {:<7} {:<20} {}\n", "quantity", "unit", "reported as", "what");
+  for (const QuantityRow& q : quantity_rows(m)) {
+    std::string roles;
+    for (const auto& [on, word] : {std::pair{q.history, "history"}, std::pair{q.peak, "peak"}, std::pair{q.study, "study"}})
+      if (on) roles += (roles.empty() ? "" : ",") + std::string(word);
+    out += fmt::format("{:<28} {:<7} {:<20} {}{}\n", q.name, q.unit.empty() ? "-" : q.unit, roles, q.words,
+                       q.reported ? "" : " (not in this scene)");
+  }
   out += "history: a column of history.csv; peak: in summary.json's peaks; study: an ida/sweep CSV column and a "
          "--limit.\n";
   return out;

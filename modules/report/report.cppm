@@ -61,10 +61,16 @@ HistoryColumns history_columns(const Presence& presence, const std::vector<Devic
 HistoryColumns history_columns(const Presence& presence, const std::vector<Device>& devices,
                                const std::vector<std::string>& chosen, std::string_view option = "--history");
 
-// The schema as a table for people (`rocking simulate --list-quantities`):
-// each quantity's name, unit, roles (history, peak, study: an IDA column and
-// a --limit) and words, those this model lacks marked; then the model's
-// devices' quantities by name.
+// The schema as this model reports it: each quantity's name, unit, roles
+// (history, peak, study: an IDA column and a --limit), words and whether the
+// model has it; then the model's devices' quantities by name. As rows (the
+// Python module's dicts) and as a table for people (`rocking simulate
+// --list-quantities`).
+struct QuantityRow {
+  std::string name, unit, words;
+  bool history = false, peak = false, study = false, reported = false;
+};
+std::vector<QuantityRow> quantity_rows(const ContactModel& m);
 std::string quantity_table_text(const ContactModel& m);
 
 // A rigid block's geometry and rocking parameters: p = sqrt(m g R / J_p),

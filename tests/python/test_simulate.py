@@ -159,3 +159,14 @@ def test_columns_choose_the_history_as_history_does_on_the_command_line():
         np.testing.assert_array_equal(chosen.history[name], full.history[name])
     with pytest.raises(ValueError, match="columns nope: unknown quantity"):
         rocking.simulate(columns=["nope"])
+
+
+def test_quantities_name_what_a_run_reports():
+    from conftest import SCENES
+    wall = rocking.Scene.load(str(SCENES / "controlled_rocking_wall.toml"))
+    listed = {q["name"]: q for q in rocking.quantities(wall)}
+    assert listed["tendon.force"]["unit"] == "N" and listed["tendon.force"]["study"]
+    assert not listed["damper_d"]["reported"]
+    result = rocking.simulate(wall, history=True)
+    assert list(result.history) == [n for n, q in listed.items() if q["history"] and q["reported"]]
+    assert set(result.peaks) == {n for n, q in listed.items() if q["peak"] and q["reported"]}
