@@ -196,8 +196,7 @@ void study_figures(const StudyArgs& a, const Study& st, const StudyColumns& colu
         ++rows;
       }
       if (rows == 0) continue;
-      plot::Series s{variant_label(st.variants()[v].name), file, {}, static_cast<int>(columns.size()) + 2};
-      if (!fallen) s.collapse_column = 0;
+      plot::Series s{variant_label(st.variants()[v].name), file, {}, fallen ? static_cast<int>(columns.size()) + 2 : 0};
       for (std::size_t p = 0; p < shown.size(); ++p)  // what the variant does not have (a fixed base's rocking)
         if (!st.reports(v, columns.quantities[shown[p]])) s.absent.push_back(p);
       series.push_back(std::move(s));

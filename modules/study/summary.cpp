@@ -53,10 +53,7 @@ Limit parse_limit(const std::string& text) {
 
 void check_limit(const Study& study, const Limit& limit) {
   if (!limit.quantity || limit.quantity->scalar) return;
-  std::vector<std::string> names;
-  for (std::size_t v = 0; v < study.variants().size(); ++v)
-    for (const std::string& d : study.device_names(v))
-      if (std::ranges::find(names, d) == names.end()) names.push_back(d);
+  const std::vector<std::string> names = study_columns(study).devices;  // every variant's, in order
   if (std::ranges::find(names, limit.quantity->device) == names.end())
     throw InputError(fmt::format("--limit '{}': no device '{}' in the study's scene (devices: {})", limit.name,
                                  limit.quantity->device, names.empty() ? "none" : fmt::format("{}", fmt::join(names, ", "))));
