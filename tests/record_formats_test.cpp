@@ -297,8 +297,10 @@ TEST_CASE("a file of no known format says what it looks like and which formats e
   const std::string odd = write_temp("odd.txt", "Station list for 2020\nA B C\n");
   const std::string e = error_of(odd);
   CHECK(e.starts_with(odd + ":1: not a record format this program reads: it starts with text 'Station list for 2020'"));
-  CHECK(e.find("formats: geonet, knet, cosmos, at2, csv, columns; --format forces one") != std::string::npos);
-  CHECK(error_of(odd, {.format = "sac"}).starts_with("--format sac: unknown record format (choose auto, geonet,"));
+  std::string names;
+  for (const RecordFormatInfo& f : record_formats()) names += (names.empty() ? "" : ", ") + f.name;
+  CHECK(e.find("formats: " + names + "; --format forces one") != std::string::npos);
+  CHECK(error_of(odd, {.format = "sac"}) == "--format sac: unknown record format (choose auto, " + names + ")");
   // A format forced on a file of another: that reader's own error.
   const std::string at2 = write_temp("x.at2", "PEER NGA\nX\nUNITS OF G\nNPTS= 2, DT= .01 SEC\n0.1 0.2\n");
   CHECK(error_of(at2, {.format = "knet"}) == at2 + ":1: expected the K-NET header line 'Origin Time' (line 1 of 17)");
@@ -328,4 +330,49 @@ TEST_CASE("GeoNet V1A: uncorrected, the sampling rate in the header, values in u
   CHECK(g.sample_count() == 12);
   CHECK(g.acceleration(0.005) == doctest::Approx(-20.0 * 2.0 * 1e-3));
   CHECK(g.peak() == doctest::Approx(0.2));  // stated peak -200 mm/s/s = 2 x the largest reading
+}
+
+// The tests below take the formats from the registry (record_formats()): a
+// new format is covered by its example with no test edited.
+
+TEST_CASE("every registered format reads its own example: detected, forced, with the example's samples") {
+  const ExampleRecord e = example_record();
+  for (const RecordFormatInfo& f : record_formats()) {
+    CAPTURE(f.name);
+    const std::string path = write_temp("example_" + f.name + ".txt", f.example);
+    CHECK(is_record_file(path));
+    const GroundMotion g = read_record(path);
+    CHECK(g.info().format == f.name);
+    REQUIRE(g.sample_count() == e.values.size());
+    CHECK(g.sample_interval() == doctest::Approx(e.dt).epsilon(1e-12));
+    const std::vector<double> a = g.sample_values();
+    // To the coarsest format's printed resolution (K-NET's count, 1e-4 g).
+    for (std::size_t i = 0; i < a.size(); ++i) CHECK(std::abs(a[i] / gravity - e.values[i]) <= 5.1e-5);
+    CHECK(read_record(path, {.format = f.name}).sample_values() == a);
+  }
+}
+
+TEST_CASE("every registered format, forced on what is not its file, reads it or refuses in one line naming it") {
+  const std::vector<RecordFormatInfo> formats = record_formats();
+  const std::string empty = write_temp("empty_record.txt", "");
+  for (const RecordFormatInfo& f : formats) {
+    CAPTURE(f.name);
+    CHECK(error_of(empty, {.format = f.name}).starts_with(empty + ":"));
+    for (const RecordFormatInfo& other : formats) {
+      CAPTURE(other.name);
+      // Another format's example, and this format's own cut after half its lines.
+      const std::string cut = f.example.substr(0, f.example.find('\n', f.example.size() / 2));
+      for (const std::string& text : {other.example, cut}) {
+        const std::string path = write_temp("forced_" + f.name + "_" + other.name + ".txt", text);
+        try {
+          const GroundMotion g = read_record(path, {.format = f.name});
+          CHECK(g.sample_count() >= 2);
+        } catch (const InputError& x) {
+          const std::string what = x.what();
+          CHECK_MESSAGE(what.find('\n') == std::string::npos, what);
+          CHECK_MESSAGE(what.starts_with(path + ":"), what);
+        }
+      }
+    }
+  }
 }

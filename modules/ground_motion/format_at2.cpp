@@ -91,10 +91,22 @@ GroundMotion read(const std::string& path, const std::vector<Line>& lines, const
   return evenly_sampled(path, at, std::move(values), dt, std::move(info));
 }
 
+// An NGA-West2 file: the database, the record, the units, NPTS and DT, then
+// five values a line in g.
+std::string example() {
+  const ExampleRecord e = example_record();
+  std::string s = "PEER NGA STRONG MOTION DATABASE RECORD\nExample Event, 1/1/2000, Example Station, 90\n"
+                  "ACCELERATION TIME SERIES IN UNITS OF G\n";
+  s += fmt::format("NPTS=  {}, DT=   .0100 SEC\n", e.values.size());
+  for (std::size_t i = 0; i < e.values.size(); ++i)
+    s += fmt::format("{:15.7E}{}", e.values[i], i % 5 == 4 || i + 1 == e.values.size() ? "\n" : "");
+  return s;
+}
+
 }  // namespace
 
 FormatReader at2_format() {
-  return {"at2", "PEER .AT2 (NPTS and DT on a header line, values in g)", detect, read};
+  return {"at2", "PEER .AT2 (NPTS and DT on a header line, values in g)", detect, read, example};
 }
 
 }  // namespace rocking::records

@@ -51,10 +51,18 @@ GroundMotion read(const std::string& path, const std::vector<Line>& lines, const
   return std::move(samples).record(path, lines.back().number, std::move(info));
 }
 
+// Time [s] and acceleration [g], a comment first.
+std::string example() {
+  const ExampleRecord e = example_record();
+  std::string s = "# t [s]  a_g [g]\n";
+  for (std::size_t i = 0; i < e.values.size(); ++i) s += fmt::format("{:.2f} {:.9f}\n", e.dt * static_cast<double>(i), e.values[i]);
+  return s;
+}
+
 }  // namespace
 
 FormatReader columns_format() {
-  return {"columns", "bare numbers: time and acceleration, or acceleration alone with --dt", detect, read};
+  return {"columns", "bare numbers: time and acceleration, or acceleration alone with --dt", detect, read, example};
 }
 
 }  // namespace rocking::records

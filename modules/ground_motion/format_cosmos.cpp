@@ -182,10 +182,38 @@ GroundMotion read(const std::string& path, const std::vector<Line>& lines, const
   return evenly_sampled(path, data_line.number, std::move(values), dt, std::move(info), resolution);
 }
 
+// A V2c file: 13 text lines, 100 integer and 100 real header values (the
+// time step in ms at field 62), a comment, then the data in cm/s2, 8F10.3.
+std::string example() {
+  const ExampleRecord e = example_record();
+  std::vector<double> cm;
+  double peak = 0;
+  for (double g : e.values) {
+    cm.push_back(std::round(g * 981000.0) / 1000.0);
+    peak = std::abs(cm.back()) > std::abs(peak) ? cm.back() : peak;
+  }
+  std::string s = "Corrected acceleration    (Format v01.20 with 13 text lines)\n"
+                  "Record of Example Earthquake of Sat Jan 1, 2000 00:00 UTC\nHypocenter: 0 0 H= 10km Mw=6.0\n"
+                  "Origin: 2000/01/01 00:00:00 UTC\nStatn No: 01-00001 Code:XX-EXM  NET  Example Site\n"
+                  "Coords: 0 0  Site geology:\nRecorder: example\nRcrd start time: 2000/01/01 00:00:01 UTC\n"
+                  "Sta Chan   1:N00E\nRaw record length = 1.000 sec\n";
+  s += fmt::format("Processed:2000-01-02, EXAMPLE, Max = {:10.3f} cm/sec2 at 0.060 sec\n", peak);
+  s += "Record filtered below 0.1 Hz\nValues used when parameter or data value is unknown/unspecified:   -999, -999.00\n";
+  s += " 100 Integer-header values follow on  10 lines, Format= (10I8)\n";
+  for (int i = 0; i < 100; ++i) s += fmt::format("{:8}{}", -999, i % 10 == 9 ? "\n" : "");
+  s += " 100 Real-header values follow on  20 lines, Format= (5F15.6)\n";
+  for (int i = 0; i < 100; ++i) s += fmt::format("{:15.6f}{}", i == 61 ? 1000 * e.dt : -999.0, i % 5 == 4 ? "\n" : "");
+  s += "   1 Comment line(s) follow, each starting with a \"|\":\n|<SCNL>EXM.HN1.XX.--\n";
+  s += fmt::format("{:8} acceleration pts, approx   1 secs, units=cm/sec2(04),Format=(8F10.3)\n", cm.size());
+  for (std::size_t i = 0; i < cm.size(); ++i) s += fmt::format("{:10.3f}{}", cm[i], i % 8 == 7 || i + 1 == cm.size() ? "\n" : "");
+  s += "End-of-data for Chan  1 acceleration\n";
+  return s;
+}
+
 }  // namespace
 
 FormatReader cosmos_format() {
-  return {"cosmos", "COSMOS V1/V2 (V2c; units and time step from its headers)", detect, read};
+  return {"cosmos", "COSMOS V1/V2 (V2c; units and time step from its headers)", detect, read, example};
 }
 
 }  // namespace rocking::records

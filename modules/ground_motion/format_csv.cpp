@@ -174,10 +174,18 @@ GroundMotion read(const std::string& path, const std::vector<Line>& lines, const
   return std::move(samples).record(path, lines.back().number, std::move(info));
 }
 
+// A header row naming time and acceleration with units, then the rows.
+std::string example() {
+  const ExampleRecord e = example_record();
+  std::string s = "time (s),acc (g)\n";
+  for (std::size_t i = 0; i < e.values.size(); ++i) s += fmt::format("{:.2f},{:.9f}\n", e.dt * static_cast<double>(i), e.values[i]);
+  return s;
+}
+
 }  // namespace
 
 FormatReader csv_format() {
-  return {"csv", "a table with a header row naming the time and acceleration columns and units", detect, read};
+  return {"csv", "a table with a header row naming the time and acceleration columns and units", detect, read, example};
 }
 
 }  // namespace rocking::records

@@ -163,10 +163,53 @@ GroundMotion read(const std::string& path, const std::vector<Line>& lines, const
   return evenly_sampled(path, lines[s + 13].number, std::move(values), dt, std::move(info), resolution);
 }
 
+// A V2A file of three components (N10E: the example; N80W: its negative;
+// Up: half of it), each its 16 text lines, the integer and real headers and
+// acceleration, velocity and displacement in ten 8.1 fields a line (mm/s2).
+std::string example() {
+  const ExampleRecord e = example_record();
+  auto rows = [](const std::vector<double>& v, const char* format) {
+    std::string out;
+    for (std::size_t i = 0; i < v.size(); ++i)
+      out += fmt::format(fmt::runtime(format), v[i]) + (i % 10 == 9 || i + 1 == v.size() ? "\n" : "");
+    return out;
+  };
+  auto component = [&](const char* name, double factor) {
+    std::vector<double> mm;
+    double peak = 0;
+    for (double g : e.values) {
+      mm.push_back(std::round(factor * g * 98100.0) / 10.0);
+      peak = std::abs(mm.back()) > std::abs(peak) ? mm.back() : peak;
+    }
+    const std::size_t n = mm.size();
+    std::string s = "Corrected accelerogram 20000101_000000_EXMS_20 GNS Science\n"
+                    "Site EXMS      41 00 00S  174 00 00E     Cusp file:  20000101_000000_EXMS\n"
+                    "Example Station Road\nInstrument Cusp_1\n"
+                    "Resolution: 18-bit   Instr Period: 0.0050 s   Damping: 0.700\n"
+                    "Accelerogram 20000101_000000_EXMS_20                 Processed 2000 January 02\n"
+                    "10 km north of Example\n2000 January 01         00:00:00 UT\n"
+                    "Epicentre  41 00 00S 174 00 00E  Bearing N00E  Dist   10km  Depth   10km Mw 6.10\n";
+    s += fmt::format("Number of points  {}    Duration {:.2f} sec\n", n, e.dt * static_cast<double>(n));
+    s += fmt::format("Instrument corrected data at {:.3f} sec intervals\n", e.dt);
+    s += "Band-pass filter transition bands are .10-.25 Hz and 24.50-25.50 Hz\n";
+    s += fmt::format("Component {}  Longitudinal Accelerometer Axis\n", name);
+    s += fmt::format("Acceleration:  peak  {:.1f} mm/s/s at   0.06 sec     rms    1.0 mm/s/s\n", peak);
+    s += "Velocity:      peak    1.00 mm/s   at   1.00 sec     rms    1.00 mm/s\n"
+         "Displacement:  peak   1.000 mm     at   1.00 sec     rms    1.000 mm\n";
+    std::vector<double> ints(40, 0.0), reals(60, 0.0);
+    ints[33] = ints[34] = ints[35] = static_cast<double>(n);
+    reals[0] = 1 / e.dt;
+    reals[25] = e.dt;
+    return s + rows(ints, "{:8.0f}") + rows(reals, "{:8.4f}") + rows(mm, "{:8.1f}") +
+           rows(std::vector<double>(n, 0.0), "{:8.1f}") + rows(std::vector<double>(n, 0.0), "{:8.1f}");
+  };
+  return component("N10E", 1) + component("N80W", -1) + component("Up", 0.5);
+}
+
 }  // namespace
 
 FormatReader geonet_format() {
-  return {"geonet", "GeoNet V1A/V2A (New Zealand; three components, mm/s2; --component picks one)", detect, read};
+  return {"geonet", "GeoNet V1A/V2A (New Zealand; three components, mm/s2; --component picks one)", detect, read, example};
 }
 
 }  // namespace rocking::records

@@ -6,7 +6,9 @@
 // factor, with the record's mean removed, as the format requires; the stated
 // Max. Acc. is the peak of that.
 module;
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -89,10 +91,31 @@ GroundMotion read(const std::string& path, const std::vector<Line>& lines, const
                         printed_resolution(max_text) * to_si(unit));
 }
 
+// The 17 header lines, then counts of 0.0981 gal (1e-4 g), eight a line.
+std::string example() {
+  const ExampleRecord e = example_record();
+  std::vector<long> counts;
+  long peak = 0;
+  for (double g : e.values) {
+    counts.push_back(std::lround(g * 1e4));
+    peak = std::max(peak, std::abs(counts.back()));
+  }
+  std::string s = "Origin Time       2000/01/01 00:00:00\nLat.              35.000\nLong.             139.000\n"
+                  "Depth. (km)       10\nMag.              5.5\nStation Code      XXX000\nStation Lat.      35.100\n"
+                  "Station Long.     139.100\nStation Height(m) 10\nRecord Time       2000/01/01 00:00:10\n"
+                  "Sampling Freq(Hz) 100Hz\nDuration Time(s)  1\nDir.              N-S\n"
+                  "Scale Factor      981(gal)/10000\n";
+  s += fmt::format("Max. Acc. (gal)   {:.3f}\n", static_cast<double>(peak) * 0.0981);
+  s += "Last Correction   2000/01/01 00:00:10\nMemo.\n";
+  for (std::size_t i = 0; i < counts.size(); ++i)
+    s += fmt::format("{:9}{}", counts[i], i % 8 == 7 || i + 1 == counts.size() ? "\n" : "");
+  return s;
+}
+
 }  // namespace
 
 FormatReader knet_format() {
-  return {"knet", "K-NET/KiK-net ASCII (Japan; counts x Scale Factor in gal, mean removed)", detect, read};
+  return {"knet", "K-NET/KiK-net ASCII (Japan; counts x Scale Factor in gal, mean removed)", detect, read, example};
 }
 
 }  // namespace rocking::records

@@ -1,10 +1,11 @@
 // The record formats read_record knows, and the detection that picks one
 // from a file's content. A new format is a format_NAME.cpp defining its
-// FormatReader (declared in ground_motion.cppm) and one line in `readers`.
+// FormatReader NAME_format(), declared and listed in `readers` here.
 module;
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 #include <fmt/format.h>
@@ -12,6 +13,16 @@ module rocking.ground_motion;
 import rocking.errors;
 
 namespace rocking {
+
+// Each reader's definition (format_NAME.cpp), declared where it is registered.
+namespace records {
+FormatReader geonet_format();
+FormatReader knet_format();
+FormatReader cosmos_format();
+FormatReader at2_format();
+FormatReader csv_format();
+FormatReader columns_format();
+}  // namespace records
 
 namespace {
 
@@ -35,8 +46,14 @@ std::string format_names() {
 
 std::vector<RecordFormatInfo> record_formats() {
   std::vector<RecordFormatInfo> out;
-  for (const records::FormatReader& r : readers()) out.push_back({r.name, r.description});
+  for (const records::FormatReader& r : readers()) out.push_back({r.name, r.description, r.example()});
   return out;
+}
+
+ExampleRecord example_record() {
+  ExampleRecord e;
+  for (int i = 0; i < 100; ++i) e.values.push_back(0.3 * std::sin(2 * std::numbers::pi * i / 25.0));
+  return e;
 }
 
 GroundMotion read_record(const std::string& path, const RecordOptions& o) {

@@ -121,7 +121,18 @@ struct RecordOptions {
 
 struct RecordFormatInfo {
   std::string name, description;
+  // A small file of this format holding example_record() in the format's
+  // unit, its headers stating what that format states: what a new file of
+  // the format looks like, and what the tests that cover every format read.
+  std::string example;
 };
+// The samples every format's example holds: 0.3 g sin(2 pi i / 25) for
+// i = 0 .. 99, 0.01 s apart (four whole cycles: a mean of zero).
+struct ExampleRecord {
+  double dt = 0.01;             // [s]
+  std::vector<double> values;   // [g]
+};
+ExampleRecord example_record();
 // Every format read_record knows, in the order detection tries them.
 std::vector<RecordFormatInfo> record_formats();
 
@@ -144,7 +155,7 @@ std::vector<std::string> read_record_list(const std::string& list, const std::st
 
 // The readers' shared parts, seen by this module's own units only (not
 // exported). A format is one file, format_NAME.cpp, defining its
-// FormatReader, and one line in formats.cpp registering it.
+// FormatReader NAME_format(), and its line in formats.cpp registering it.
 namespace rocking::records {
 
 struct Line {
@@ -158,14 +169,9 @@ struct FormatReader {
   // Whether `lines` look like this format (only the first few are needed).
   bool (*detect)(const std::string& path, const std::vector<Line>& lines);
   GroundMotion (*read)(const std::string& path, const std::vector<Line>& lines, const RecordOptions& options);
+  // A file of this format holding example_record() (RecordFormatInfo::example).
+  std::string (*example)();
 };
-
-FormatReader at2_format();
-FormatReader geonet_format();
-FormatReader knet_format();
-FormatReader cosmos_format();
-FormatReader csv_format();
-FormatReader columns_format();
 
 // Records beyond these are not records: refused with their line rather than
 // run into a non-finite state or an absurd amount of work.
