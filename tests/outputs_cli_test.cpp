@@ -243,3 +243,143 @@ TEST_CASE("plot response finds its series by name: a column inserted in the midd
   CHECK(contains(gp, "($" + col("damper_d [m]") + " == 0 || $" + col("damper_F [N]") + " == 0 ? NaN"));
   CHECK(!contains(gp, "$" + std::to_string(at + 1) + "*100"));  // not the inserted column
 }
+
+TEST_CASE("node and element recorders agree with the schema's own quantities and with statics") {
+  // The chimney under its pulse: element E spans node E-1 to E; its shear and
+  // end moments come from f = K u, so element1's are the base's, element2's
+  // shear is the mid-height shear (16.5 m lies in element 2) and the moment,
+  // linear along an element with no load between its nodes, interpolates to
+  // the mid-height moment. Node 4 is the top: u_N, delta_t H_N and a_N.
+  const fs::path dir = scratch_dir("outputs_members");
+  const Result modal = run("modal --json");
+  REQUIRE(modal.code == 0);
+  const auto m = nlohmann::json::parse(modal.out);
+  const double V_ref = m["V_ref"].get<double>(), M_ref = m["M_ref"].get<double>();
+  const Result r = run("simulate --history u_N,delta_t,a_N,base_shear,base_moment,mid_shear,mid_moment,node4.u,"
+                       "node4.x,node4.a_abs,node4.x_abs,x_g,node1.y,element1.V,element1.M_bottom,element2.V,"
+                       "element2.M_bottom,element2.M_top --out " + dir.string());
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const CsvTable h = csv_table(file_text(dir / "history.csv"));
+  REQUIRE(h.rows.size() > 100);
+  auto v = [&](std::size_t i, const char* col) { return std::stod(h.at(i, col)); };
+  const double H_N = 33.05, H_1 = 10.4, H_2 = 17.95, mid = H_N / 2;
+  double peak_V = 0, peak_M = 0, uplift = 0;
+  for (std::size_t i = 0; i < h.rows.size(); ++i) {
+    CAPTURE(i);
+    peak_V = std::max(peak_V, std::abs(v(i, "element1.V [N]")));
+    peak_M = std::max(peak_M, std::abs(v(i, "element1.M_bottom [N m]")));
+    uplift = std::max(uplift, v(i, "node1.y [m]"));
+    // 9 significant digits in the file: agreement to 1e-8 of the values.
+    CHECK(v(i, "element1.V [N]") / V_ref == doctest::Approx(v(i, "base_shear [V_ref]")).epsilon(1e-7).scale(1e-6));
+    CHECK(v(i, "element1.M_bottom [N m]") / M_ref == doctest::Approx(v(i, "base_moment [M_ref]")).epsilon(1e-7).scale(1e-6));
+    CHECK(v(i, "element2.V [N]") / V_ref == doctest::Approx(v(i, "mid_shear [V_ref]")).epsilon(1e-7).scale(1e-6));
+    const double w = (mid - H_1) / (H_2 - H_1);
+    const double M_mid = (1 - w) * v(i, "element2.M_bottom [N m]") + w * v(i, "element2.M_top [N m]");
+    CHECK(M_mid / M_ref == doctest::Approx(v(i, "mid_moment [M_ref]")).epsilon(1e-7).scale(1e-6));
+    CHECK(v(i, "node4.u [m]") == v(i, "u_N [m]"));
+    CHECK(v(i, "node4.x [m]") / H_N == doctest::Approx(v(i, "delta_t [-]")).epsilon(1e-7).scale(1e-9));
+    CHECK(v(i, "node4.a_abs [m/s2]") == doctest::Approx(v(i, "a_N [m/s2]")).epsilon(1e-7).scale(1e-6));
+    const double x = v(i, "node4.x [m]"), x_g = v(i, "x_g [m]"), x_abs = v(i, "node4.x_abs [m]");
+    CHECK(std::abs(x_abs - x - x_g) <= 1e-8 * (std::abs(x) + std::abs(x_g) + std::abs(x_abs)));
+  }
+  CHECK(peak_V > 0.1 * V_ref);  // the comparisons above saw real forces
+  CHECK(peak_M > 0.1 * M_ref);
+  CHECK(uplift > 1e-4);  // the pulse makes it rock: node 1 lifts
+}
+
+TEST_CASE("x_g: the ground's displacement is a_g integrated twice (the one-sine pulse's closed form)") {
+  // The chimney's pulse: A sin(w t) on [0, T] from rest gives
+  // x_g = A / w (t - sin(w t) / w), then A T / w at rest after it.
+  const fs::path dir = scratch_dir("outputs_x_g");
+  const Result r = run("simulate --set excitation.kind=pulse --set excitation.pulse=one-sine "
+                       "--set excitation.amplitude_g=0.5 --set excitation.period=0.8 --set excitation.duration=2 "
+                       "--history a_g,x_g --out " + dir.string());
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const CsvTable h = csv_table(file_text(dir / "history.csv"));
+  const double A = 0.5 * 9.81, T = 0.8, w = 2 * 3.141592653589793 / T;
+  REQUIRE(h.rows.size() > 100);
+  for (std::size_t i = 0; i < h.rows.size(); ++i) {
+    const double t = std::stod(h.at(i, "t [s]")), tt = std::min(t, T);
+    CAPTURE(t);
+    CHECK(std::stod(h.at(i, "x_g [m]")) == doctest::Approx(A / w * (tt - std::sin(w * tt) / w)).epsilon(1e-8).scale(1e-9));
+  }
+}
+
+TEST_CASE("x_g under a record: the trapezoidal double integral of the history's own a_g") {
+  // El Centro, sampled every 0.02 s, recorded every 2 ms: a_g is linear
+  // between rows, so v by the trapezoid rule is exact and x's trapezoid errs
+  // by h^3 / 12 |a'| a row (about 1e-5 m over 10 s).
+  const auto records = records_dir();
+  if (!records) return;
+  const fs::path dir = scratch_dir("outputs_x_g_record");
+  const Result r = run("simulate --record " + *records + "/elcentro_1940_ns.at2 --duration 10 --every 0.002 "
+                       "--history a_g,x_g --out " + dir.string());
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const CsvTable h = csv_table(file_text(dir / "history.csv"));
+  double v = 0, x = 0, worst = 0, peak = 0;
+  for (std::size_t i = 1; i < h.rows.size(); ++i) {
+    const double dt = std::stod(h.at(i, "t [s]")) - std::stod(h.at(i - 1, "t [s]"));
+    if (dt <= 0) continue;  // an event's row repeats no time, but may fall between
+    const double v_next = v + dt * (std::stod(h.at(i - 1, "a_g [m/s2]")) + std::stod(h.at(i, "a_g [m/s2]"))) / 2;
+    x += dt * (v + v_next) / 2;
+    v = v_next;
+    worst = std::max(worst, std::abs(x - std::stod(h.at(i, "x_g [m]"))));
+    peak = std::max(peak, std::abs(x));
+  }
+  CHECK(peak > 0.02);
+  CHECK(worst < 1e-3 * peak);
+}
+
+TEST_CASE("recorders refuse what the structure lacks, in one line") {
+  const fs::path dir = scratch_dir("outputs_members_bad");
+  const std::string block = std::string(ROCKING_SOURCE_DIR) + "/data/scenes/rigid_block.toml";
+  struct Bad {
+    std::string scene, choice, says;
+  };
+  for (const Bad& b : {Bad{"", "node5.x", "--history node5.x: no node 5 (this structure's nodes are 1 to 4)"},
+                       Bad{"", "element0.V", "--history element0.V: no element 0"},
+                       Bad{"", "node4.v", "--history node4.v: unknown quantity"},
+                       Bad{block, "node1.u", "--history node1.u: this scene does not report it"},
+                       Bad{block, "element1.M_top", "--history element1.M_top: this scene does not report it"}}) {
+    CAPTURE(b.choice);
+    const Result r = run("simulate " + b.scene + " --history " + b.choice + " --out " + (dir / "bad").string());
+    CHECK(r.code == 2);
+    CHECK(lines(r.err) == 1);
+    CHECK(contains(r.err, b.says));
+    CHECK(!fs::exists(dir / "bad"));
+  }
+  // A rigid block's nodes still move as the block does: the top's x is delta_t H.
+  const Result ok = run("simulate " + block + " --history delta_t,node1.x,node1.y --out " + (dir / "block").string());
+  REQUIRE_MESSAGE(ok.code == 0, ok.err);
+  const CsvTable h = csv_table(file_text(dir / "block" / "history.csv"));
+  REQUIRE(!h.rows.empty());
+}
+
+TEST_CASE("a scene's [output] table chooses the history's columns and interval, and the options replace it") {
+  const fs::path dir = scratch_dir("outputs_scene_table");
+  const std::string chimney = std::string(ROCKING_SOURCE_DIR) + "/data/scenes/christchurch_chimney.toml";
+  const std::string set = " --set 'output.history=[\"theta\",\"node4.x_abs\",\"element1.V\"]' --set output.interval=0.05";
+  const Result r = run("simulate " + chimney + set + " --out " + (dir / "scene").string());
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const CsvTable h = csv_table(file_text(dir / "scene" / "history.csv"));
+  CHECK(h.header == std::vector<std::string>{"t [s]", "theta [rad]", "node4.x_abs [m]", "element1.V [N]"});
+  REQUIRE(h.rows.size() > 3);
+  CHECK(std::stod(h.at(1, "t [s]")) == doctest::Approx(0.05));
+  const Result replaced = run("simulate " + chimney + set + " --history delta_t --every 0.02 --out " + (dir / "opt").string());
+  REQUIRE_MESSAGE(replaced.code == 0, replaced.err);
+  const CsvTable o = csv_table(file_text(dir / "opt" / "history.csv"));
+  CHECK(o.header == std::vector<std::string>{"t [s]", "delta_t [-]"});
+  CHECK(std::stod(o.at(1, "t [s]")) == doctest::Approx(0.02));
+  // A wrong name is refused where it stands; one the scene cannot report names the table.
+  const fs::path file = dir / "bad.toml";
+  std::ofstream(file) << file_text(chimney) << "\n[output]\nhistory = [\"theta\", \"nodes.x\"]\n";
+  const Result bad = run("simulate " + file.string() + " --out " + (dir / "bad").string());
+  CHECK(bad.code == 2);
+  CHECK(lines(bad.err) == 1);
+  CHECK(contains(bad.err, file.string() + ":"));
+  CHECK(contains(bad.err, "output.history[1]: 'nodes.x': unknown quantity"));
+  const Result lacks = run("simulate " + chimney +  " --set structure.rigid=true --set 'output.history=[\"node2.u\"]' --out " +
+                           (dir / "bad").string());
+  CHECK(lacks.code == 2);
+  CHECK(contains(lacks.err, "output.history node2.u: this scene does not report it"));
+}

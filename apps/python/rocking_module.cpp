@@ -238,29 +238,28 @@ py::dict record_measures(const PyRecord& r, std::optional<std::vector<double>> p
 // ---- runs -------------------------------------------------------------------
 
 // Keeps the history as columns and the events as they come.
-class Collector : public rocking::Observer {
+class Collector : public rocking::HistoryObserver {
  public:
   Collector(const rocking::ContactModel& model, rocking::HistoryColumns layout, bool keep_history)
-      : layout_(std::move(layout)), samples_(model.devices.size()), keep_(keep_history) {
-    names = layout_.names();
-    columns.resize(names.size());
+      : HistoryObserver(model, std::move(layout)), keep_(keep_history) {
+    names = columns().names();
+    history.resize(names.size());
   }
   void record(const rocking::Response& r) override {
-    if (!keep_) return;
-    layout_.values(r, samples_, row_);
-    for (std::size_t i = 0; i < row_.size(); ++i) columns[i].push_back(row_[i]);
+    if (keep_) HistoryObserver::record(r);
   }
-  void devices(const std::vector<rocking::DeviceSample>& samples) override { samples_ = samples; }
   void event(const rocking::Event& e) override { events.push_back(e); }
 
   std::vector<std::string> names;
-  std::vector<std::vector<double>> columns;
+  std::vector<std::vector<double>> history;
   std::vector<rocking::Event> events;
 
+ protected:
+  void row(const rocking::Response&, const std::vector<double>& values) override {
+    for (std::size_t i = 0; i < values.size(); ++i) history[i].push_back(values[i]);
+  }
+
  private:
-  rocking::HistoryColumns layout_;
-  std::vector<rocking::DeviceSample> samples_;
-  std::vector<double> row_;
   bool keep_;
 };
 
@@ -287,7 +286,7 @@ py::object to_pandas(const py::dict& columns) {
 }
 
 PyResult simulate(const py::object& scene_arg, const py::object& record, double scale, double rtol, double atol,
-                  const std::string& integrator, double every, std::optional<double> duration, long max_events,
+                  const std::string& integrator, std::optional<double> every_given, std::optional<double> duration, long max_events,
                   long max_steps, bool integrate_contact, bool history,
                   const std::optional<std::vector<std::string>>& columns) {
   const PyScene s = scene_of(scene_arg);
@@ -319,6 +318,7 @@ PyResult simulate(const py::object& scene_arg, const py::object& record, double 
                                           "motion)", *duration));
   ro.max_events = max_events;
   ro.tolerances.max_steps = max_steps;
+  const double every = rocking::history_interval(scene, every_given);
   ro.output_interval = every;
   ro.exact_full_contact = !integrate_contact;
   ro.initial = {scene.initial.theta, scene.initial.theta_dot, scene.initial.u, scene.initial.u_dot};
@@ -330,9 +330,7 @@ PyResult simulate(const py::object& scene_arg, const py::object& record, double 
   const rocking::ContactModel model = rocking::make_contact_model(scene, true);
   auto stop = std::make_shared<std::atomic<bool>>(false);
   ro.stop = [stop] { return stop->load(); };
-  Collector collect(model,
-                    columns ? rocking::history_columns(rocking::presence(model), model.devices, *columns, "columns")
-                            : rocking::history_columns(rocking::presence(model), model.devices),
+  Collector collect(model, rocking::history_columns(scene, model, columns.value_or(std::vector<std::string>{}), "columns"),
                     history);
   const rocking::RunResult result =
       interruptible(*stop, [&] { return rocking::simulate(model, *motion, ro, &collect); });
@@ -343,7 +341,7 @@ PyResult simulate(const py::object& scene_arg, const py::object& record, double 
   out.summary = json_loads(rocking::summary_json(label, result)).cast<py::dict>();
   out.outcome = std::string(rocking::outcome_name(result.outcome));
   for (std::size_t i = 0; i < collect.names.size(); ++i)
-    out.history[py::str(collect.names[i])] = to_numpy(std::move(collect.columns[i]));
+    out.history[py::str(collect.names[i])] = to_numpy(std::move(collect.history[i]));
   for (const rocking::Event& e : collect.events) {
     py::dict d("kind"_a = std::string(rocking::event_name(e.kind)), "t"_a = e.t, "pivot"_a = e.pivot);
     if (e.kind == rocking::EventKind::fracture) d["device"] = model.devices[static_cast<std::size_t>(e.device)].name;
@@ -606,12 +604,14 @@ PYBIND11_MODULE(rocking, m) {
       });
 
   m.def("simulate", &simulate, "scene"_a = py::none(), "record"_a = py::none(), "scale"_a = 1.0, "rtol"_a = 1e-4,
-        "atol"_a = 1e-7, "integrator"_a = "auto", "every"_a = 0.01, "duration"_a = py::none(),
+        "atol"_a = 1e-7, "integrator"_a = "auto", "every"_a = py::none(), "duration"_a = py::none(),
         "max_events"_a = 100000L, "max_steps"_a = 10'000'000L, "integrate_contact"_a = false, "history"_a = true,
         "columns"_a = py::none(),
         "Runs a scene under a record (a Record, or a file path; None: the scene's own\n"
         "excitation), scaled by scale, as `rocking simulate` does with the same defaults.\n"
-        "columns: the history's quantities by name (as --history; None: all the scene reports).\n"
+        "columns: the history's quantities by name (as --history: also node4.x_abs,\n"
+        "element1.V, x_g; None: the scene's [output] history, else all it reports).\n"
+        "every: the history interval [s] (None: the scene's [output] interval, else 0.01).\n"
         "Returns a Result; raises ValueError for bad input, rocking.RunError (with\n"
         ".result) when the run cannot finish, KeyboardInterrupt on Ctrl-C.");
 
@@ -620,7 +620,8 @@ PYBIND11_MODULE(rocking, m) {
           py::list out;
           for (const rocking::QuantityRow& q : rocking::quantity_rows(rocking::make_contact_model(*scene_of(s).scene, false)))
             out.append(py::dict("name"_a = q.name, "unit"_a = q.unit, "words"_a = q.words, "history"_a = q.history,
-                                "peak"_a = q.peak, "study"_a = q.study, "reported"_a = q.reported));
+                                "peak"_a = q.peak, "study"_a = q.study, "reported"_a = q.reported,
+                                "on_request"_a = q.on_request));
           return out;
         },
         "scene"_a = py::none(),

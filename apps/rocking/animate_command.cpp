@@ -36,17 +36,17 @@ struct FrameRecorder : Observer {
   double interval;
   std::vector<Response> rows;
   std::vector<Eigen::VectorXd> u;
-  bool take = false;
+  Eigen::VectorXd next_u;  // the displacements of the row about to be recorded
   explicit FrameRecorder(double dt) : interval(dt) {}
   void record(const Response& r) override {
     // Keep the grid rows only (event rows fall between them).
     const double k = r.t / interval;
-    take = std::abs(k - std::round(k)) < 1e-6 && (rows.empty() || r.t > rows.back().t);
-    if (take) rows.push_back(r);
+    if (std::abs(k - std::round(k)) < 1e-6 && (rows.empty() || r.t > rows.back().t)) {
+      rows.push_back(r);
+      u.push_back(next_u);
+    }
   }
-  void displacements(Eigen::Ref<const Eigen::VectorXd> v) override {
-    if (take) u.emplace_back(v);
-  }
+  void nodal(Eigen::Ref<const Eigen::VectorXd> v, Eigen::Ref<const Eigen::VectorXd>) override { next_u = v; }
 };
 
 double nice(double x) {  // 1, 2 or 5 x 10^k, not above x

@@ -14,15 +14,15 @@
 
 namespace rocking::app {
 
-HistoryCsv::HistoryCsv(const std::filesystem::path& file, const ContactModel& model, HistoryColumns columns)
-    : path_(file.string()), partial_(path_ + ".partial"), columns_(std::move(columns)), devices_(model.devices.size()) {
+HistoryCsv::HistoryCsv(const std::filesystem::path& file, const ContactModel& model, HistoryColumns chosen)
+    : HistoryObserver(model, std::move(chosen)), path_(file.string()), partial_(path_ + ".partial") {
   std::error_code ec;
   for (const std::string& p : {path_, partial_})
     if (std::filesystem::is_directory(p, ec))
       throw InputError(fmt::format("{}: a folder stands where the history goes; move it or choose another --out", p));
   file_ = std::fopen(partial_.c_str(), "w");
   if (file_ == nullptr) throw RunError(fmt::format("{}: cannot write: {}", partial_, std::strerror(errno)));
-  const std::string header = fmt::format("{}", fmt::join(columns_.headers(), ","));
+  const std::string header = fmt::format("{}", fmt::join(columns().headers(), ","));
   std::fputs(header.c_str(), file_);
   std::fputs("\n", file_);
 }
@@ -33,13 +33,13 @@ HistoryCsv::~HistoryCsv() {
   std::fclose(file_);
 }
 
-void HistoryCsv::record(const Response& r) {
+void HistoryCsv::row(const Response&, const std::vector<double>& values) {
   // A full disk ends the run (RunError, exit 3) naming the file; the rows
   // written before stay.
   if (std::ferror(file_) != 0)
     throw RunError(fmt::format("{}: cannot write: {} (the rows written are in {})", path_, std::strerror(errno), partial_));
   try {
-    print_row(r);
+    print_row(values);
   } catch (const std::system_error& e) {
     throw RunError(fmt::format("{}: cannot write: {} (the rows written are in {})", path_, e.code().message(), partial_));
   }
@@ -56,13 +56,12 @@ void append_value(std::string& out, double v) {
 }
 }  // namespace
 
-void HistoryCsv::print_row(const Response& r) {
-  columns_.values(r, devices_, row_);
-  for (std::size_t i = 0; i < row_.size(); ++i) {
+void HistoryCsv::print_row(const std::vector<double>& values) {
+  for (std::size_t i = 0; i < values.size(); ++i) {
     if (i > 0) buffer_ += ',';
-    const auto& q = columns_.columns[i].quantity;
-    const std::string_view label = q ? value_label(*q, row_[i]) : std::string_view();
-    if (label.empty()) append_value(buffer_, row_[i]);
+    const auto& q = columns().columns[i].quantity;
+    const std::string_view label = q ? value_label(*q, values[i]) : std::string_view();
+    if (label.empty()) append_value(buffer_, values[i]);
     else buffer_ += label;
   }
   buffer_ += '\n';

@@ -19,29 +19,27 @@ namespace rocking::app {
 // "name [unit]", the columns of rocking::history_columns (the schema's
 // history quantities the model reports, then each device's by its name; or
 // those chosen). A broken device's fields are empty after its fracture.
-class HistoryCsv : public rocking::Observer {
+class HistoryCsv : public rocking::HistoryObserver {
  public:
   // The model's default columns unless given (rocking::history_columns).
   HistoryCsv(const std::filesystem::path& file, const rocking::ContactModel& model)
-      : HistoryCsv(file, model, rocking::history_columns(rocking::presence(model), model.devices)) {}
+      : HistoryCsv(file, model, rocking::history_columns(model)) {}
   HistoryCsv(const std::filesystem::path& file, const rocking::ContactModel& model, rocking::HistoryColumns columns);
   ~HistoryCsv() override;
   HistoryCsv(const HistoryCsv&) = delete;
   HistoryCsv& operator=(const HistoryCsv&) = delete;
-  void record(const rocking::Response& r) override;
-  void devices(const std::vector<rocking::DeviceSample>& samples) override { devices_ = samples; }
   void close();  // flushes and renames; RunError if the disk refused (the .partial file stays)
 
+ protected:
+  void row(const rocking::Response& r, const std::vector<double>& values) override;
+
  private:
-  void print_row(const rocking::Response& r);
+  void print_row(const std::vector<double>& values);
   void flush();  // writes the buffered rows; RunError if the disk refused
   static constexpr std::size_t flush_size = 1 << 16;  // rows leave in blocks of about this many bytes
   std::string buffer_;
   std::FILE* file_ = nullptr;
   std::string path_, partial_;
-  rocking::HistoryColumns columns_;
-  std::vector<rocking::DeviceSample> devices_;
-  std::vector<double> row_;
 };
 
 // Creates DIR (and parents) or fails with a one-line InputError.

@@ -7,6 +7,7 @@
 #include <csignal>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 namespace rocking::app {
 
@@ -20,7 +21,7 @@ struct SimulateOptions {
   MotionOptions motion;
   SolverOptions solver;
   std::string out = "out/simulate";
-  double output_interval = 0.01;
+  std::optional<double> output_interval;  // none: the scene's [output] interval, or 0.01 s
   bool json = false;
   bool list_quantities = false;
   std::vector<std::string> history;  // chosen columns (empty: the scene's default)
@@ -67,19 +68,18 @@ int run(const SimulateOptions& o) {
   }
   const GroundMotion motion = load_motion(scene, o.motion);
   RunOptions ro = run_options(scene, o.solver, o.motion.record.empty());
-  if (!(o.output_interval > 0) || !std::isfinite(o.output_interval))
-    throw InputError(fmt::format("--every {}: must be positive", o.output_interval));
+  const double every = history_interval(scene, o.output_interval);
+  if (!(every > 0) || !std::isfinite(every)) throw InputError(fmt::format("--every {}: must be positive", every));
   const double duration = ro.duration > 0 ? ro.duration : motion.duration();
-  if (duration / o.output_interval > max_history_rows)
+  if (duration / every > max_history_rows)
     throw InputError(fmt::format("--every {:g}: {:.3g} rows of history for {:g} s (at most {:g}); choose a larger "
                                  "interval",
-                                 o.output_interval, duration / o.output_interval, duration, max_history_rows));
-  ro.output_interval = o.output_interval;
+                                 every, duration / every, duration, max_history_rows));
+  ro.output_interval = every;
   const ContactModel model = make_contact_model(scene, true);
   catch_stop_signals();
   ro.stop = [] { return stop_signal() != 0; };
-  HistoryColumns columns = o.history.empty() ? history_columns(presence(model), model.devices)
-                                             : history_columns(presence(model), model.devices, o.history);
+  HistoryColumns columns = history_columns(scene, model, o.history, "--history");
   const std::filesystem::path dir(o.out);
   make_output_dir(dir);
   HistoryCsv history(dir / "history.csv", model, std::move(columns));
@@ -132,12 +132,15 @@ Command add_simulate_command(CLI::App& app) {
   add_motion_options(*cmd, o->motion);
   add_solver_options(*cmd, o->solver);
   cmd->add_option("--out", o->out, "Output folder (default out/simulate)")->type_name("DIR");
-  cmd->add_option("--every", o->output_interval, "History interval [s] (default 0.01)")->type_name("S");
+  cmd->add_option("--every", o->output_interval, "History interval [s] (default: the scene's [output]\n"
+                                                 "interval, else 0.01)")->type_name("S");
   cmd->add_flag("--json", o->json, "Print the summary as JSON on stdout");
   cmd->add_option("--history", o->history,
                   "The history's columns, by name (t always first; comma-separated or\n"
-                  "repeated): theta,delta_t,a_N,tendon.force (default: every quantity the\n"
-                  "scene reports; --list-quantities names them)")
+                  "repeated): theta,delta_t,a_N,tendon.force, a node's node4.x_abs,\n"
+                  "node2.a_abs, an element's element1.V, element2.M_top, the ground's\n"
+                  "x_g (default: the scene's [output] history, else every quantity the\n"
+                  "scene reports; --list-quantities names them all)")
       ->delimiter(',')
       ->type_name("Q,...");
   cmd->add_flag("--list-quantities", o->list_quantities,
@@ -152,7 +155,8 @@ Command add_simulate_command(CLI::App& app) {
       "  rocking simulate --set contact.rocking=false   (the same chimney on a fixed base)\n"
       "  rocking simulate data/scenes/rigid_block.toml --json\n"
       "  rocking simulate data/scenes/controlled_rocking_wall.toml --list-quantities\n"
-      "  rocking simulate --history theta,delta_t,a_N,damper_left.force");
+      "  rocking simulate --history theta,delta_t,a_N,damper_left.force\n"
+      "  rocking simulate --history node4.x_abs,node4.a_abs,element1.V,element1.M_bottom");
   return [o]() { return run(*o); };
 }
 

@@ -179,3 +179,43 @@ GroundMotion GroundMotion::scaled(double factor) const {
 }
 
 }  // namespace rocking
+
+namespace rocking {
+
+GroundTravel::State GroundTravel::at(double t) {
+  const GroundMotion& g = *g_;
+  if (!g.samples_) {
+    const double A = g.amplitude_ * g.scale_, T = g.period_;
+    if (t <= 0) return {};
+    if (g.shape_ == PulseShape::one_sine) {
+      const double w = 2 * std::numbers::pi / T, tt = std::min(t, T);
+      const double v = A / w * (1 - std::cos(w * tt)), d_end = A / w * (tt - std::sin(w * tt) / w);
+      return {t <= T ? v : 0.0, d_end};  // at rest after the pulse: v(T) = 0
+    }
+    const double b2 = std::pow(std::numbers::pi / T, 2), tau0 = -1.5 * T, tau = t - 1.5 * T;
+    const double e0 = std::exp(-b2 * tau0 * tau0), e = std::exp(-b2 * tau * tau);
+    return {A * (tau * e - tau0 * e0), A * ((e0 - e) / (2 * b2) - tau0 * e0 * t)};
+  }
+  const GroundMotion::Samples& sm = *g.samples_;
+  const std::size_t n = sm.values.size();
+  const double k = g.scale_;
+  if (next_ > 0 && t < g.time_of(next_ - 1)) *this = GroundTravel(g);  // earlier than the walk: again from rest
+  if (next_ == 0) {
+    if (t < g.time_of(0)) return {};
+    next_ = 1;
+  }
+  // Sample next_ - 1 is at or before t: walk on over the samples not after t.
+  while (next_ < n && g.time_of(next_) <= t) {
+    const double h = g.time_of(next_) - g.time_of(next_ - 1), a0 = k * sm.values[next_ - 1];
+    const double s = (k * sm.values[next_] - a0) / h;
+    d_ = d_ + v_ * h + a0 * h * h / 2 + s * h * h * h / 6;
+    v_ = v_ + a0 * h + s * h * h / 2;
+    ++next_;
+  }
+  const double tau = t - g.time_of(next_ - 1);
+  if (next_ == n) return {v_, d_ + v_ * tau};  // at rest after the record's end: a_g = 0
+  const double a0 = k * sm.values[next_ - 1], s = (k * sm.values[next_] - a0) / (g.time_of(next_) - g.time_of(next_ - 1));
+  return {v_ + a0 * tau + s * tau * tau / 2, d_ + v_ * tau + a0 * tau * tau / 2 + s * tau * tau * tau / 6};
+}
+
+}  // namespace rocking

@@ -93,6 +93,7 @@ class GroundMotion {
   GroundMotion scaled(double factor) const;  // a_g x factor; shares the samples
 
  private:
+  friend class GroundTravel;
   // A record's samples, shared by its scaled copies (a study runs many).
   // Evenly spaced from t = 0 (as records are), times are i dt and not stored.
   struct Samples {
@@ -109,6 +110,29 @@ class GroundMotion {
   double duration_ = 0;
   PulseShape shape_ = PulseShape::one_sine;
   double amplitude_ = 0, period_ = 0, scale_ = 1;
+};
+
+// The ground's velocity and displacement from rest at t = 0 (before a
+// record's first sample the ground is at rest): a record's exact integrals of
+// its piecewise-linear a_g (v quadratic and d cubic between samples; no
+// baseline correction), a pulse's closed forms (one-sine:
+// v = A / w (1 - cos w t), d = A / w (t - sin(w t) / w) on [0, T]; Ricker:
+// v = A [tau e^(-b^2 tau^2)] and d = A [-e^(-b^2 tau^2) / (2 b^2)] + ... from
+// t = 0, tau = t - t0, b = pi / T). Asked at times that do not decrease (a
+// history's rows), it walks a record's samples once in all; an earlier time
+// starts the walk again.
+class GroundTravel {
+ public:
+  explicit GroundTravel(const GroundMotion& g) : g_(&g) {}
+  struct State {
+    double v = 0, d = 0;  // [m/s], [m]
+  };
+  State at(double t);
+
+ private:
+  const GroundMotion* g_;
+  std::size_t next_ = 0;          // the walk has passed samples 0 .. next_ - 1
+  double v_ = 0, d_ = 0;          // at sample next_ - 1
 };
 
 struct RecordOptions {

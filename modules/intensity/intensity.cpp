@@ -164,12 +164,13 @@ GroundHistory integrate_record(const GroundMotion& g) {
   GroundHistory h;
   h.t = r.t;
   h.a = r.a;
-  h.v.assign(r.t.size(), 0.0);
-  h.d.assign(r.t.size(), 0.0);
-  for (std::size_t i = 0; i + 1 < r.t.size(); ++i) {
-    const double dt = r.t[i + 1] - r.t[i], s = (r.a[i + 1] - r.a[i]) / dt;
-    h.v[i + 1] = h.v[i] + r.a[i] * dt + s * dt * dt / 2;
-    h.d[i + 1] = h.d[i] + h.v[i] * dt + r.a[i] * dt * dt / 2 + s * dt * dt * dt / 6;
+  h.v.resize(r.t.size());
+  h.d.resize(r.t.size());
+  GroundTravel travel(g);
+  for (std::size_t i = 0; i < r.t.size(); ++i) {
+    const GroundTravel::State s = travel.at(r.t[i]);
+    h.v[i] = s.v;
+    h.d[i] = s.d;
   }
   return h;
 }

@@ -2,6 +2,7 @@ module;
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <fmt/format.h>
 module rocking.quantities;
 
@@ -49,6 +50,46 @@ std::optional<QuantityName> parse_quantity_name(std::string_view text) {
   for (const DeviceQuantityInfo& d : device_quantity_table)
     if (d.name == what) return QuantityName(std::string(text.substr(0, dot)), d.id);
   return std::nullopt;
+}
+
+const MemberQuantityInfo& MemberQuantityName::info() const {
+  return of == Of::node ? rocking::info(node_quantity()) : rocking::info(element_quantity());
+}
+
+std::string MemberQuantityName::name() const {
+  return fmt::format("{}{}.{}", of == Of::node ? "node" : "element", index, info().name);
+}
+
+std::optional<MemberQuantityName> parse_member_quantity(std::string_view text) {
+  MemberQuantityName q;
+  std::string_view rest;
+  for (const auto& [word, of] : {std::pair{std::string_view("node"), MemberQuantityName::Of::node},
+                                 std::pair{std::string_view("element"), MemberQuantityName::Of::element}})
+    if (text.starts_with(word)) {
+      q.of = of;
+      rest = text.substr(word.size());
+    }
+  const auto dot = rest.find('.');
+  if (rest.empty() || dot == 0 || dot == std::string_view::npos || dot > 4 || (rest[0] == '0' && dot > 1)) return std::nullopt;
+  int index = 0;
+  for (char c : rest.substr(0, dot)) {
+    if (c < '0' || c > '9') return std::nullopt;
+    index = 10 * index + (c - '0');
+  }
+  if (index > 1000) return std::nullopt;
+  q.index = index;
+  const std::string_view what = rest.substr(dot + 1);
+  const auto find = [&](const auto& table) -> bool {
+    for (std::size_t k = 0; k < table.size(); ++k)
+      if (table[k].name == what) {
+        q.which = static_cast<unsigned char>(k);
+        return true;
+      }
+    return false;
+  };
+  if (!(q.of == MemberQuantityName::Of::node ? find(node_quantity_table) : find(element_quantity_table)))
+    return std::nullopt;
+  return q;
 }
 
 std::string_view value_label(Quantity q, double v) {

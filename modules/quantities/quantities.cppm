@@ -25,7 +25,7 @@ export namespace rocking {
 // Every scalar quantity of a run's response, in the order of history.csv.
 enum class Quantity : unsigned char {
   t, phase, u_top, theta, theta_over_alpha, theta_dot, delta_t, delta_e, damper_d, damper_F,
-  base_shear, base_moment, mid_shear, mid_moment, a_top, a_g, device_moment,
+  base_shear, base_moment, mid_shear, mid_moment, a_top, a_g, device_moment, x_g,
   count_
 };
 inline constexpr std::size_t quantity_count = static_cast<std::size_t>(Quantity::count_);
@@ -58,6 +58,7 @@ enum Role : unsigned char {
   history = 1,  // a column of history.csv (and of Python's history)
   peak = 2,     // its absolute peak is tracked on the dense output (summary.json's peaks)
   study = 4,    // a column of IDA and sweep results, a limit state, a fractile
+  on_request = 8,  // a column of history.csv when asked for (--history, [output] history), not by default
 };
 
 struct QuantityInfo {
@@ -104,6 +105,8 @@ inline constexpr std::array<QuantityInfo, quantity_count> quantity_table = {{
     {Quantity::a_g, "a_g", "m/s2", "ground acceleration", "a_g", 1 / 9.81, "g", Needs::always, history},
     {Quantity::device_moment, "M_dev", "N m", "devices' moment (signed as theta)", "M_{dev}", 1e-6, "MN m",
      Needs::devices, history},
+    {Quantity::x_g, "x_g", "m", "ground displacement (a_g integrated from rest, no baseline correction)", "x_g", 1000,
+     "mm", Needs::always, on_request},
 }};
 
 constexpr const QuantityInfo& info(Quantity q) { return quantity_table[static_cast<std::size_t>(q)]; }
@@ -156,6 +159,61 @@ inline constexpr std::array<DeviceQuantityInfo, device_quantity_count> device_qu
 }};
 constexpr const DeviceQuantityInfo& info(DeviceQuantity q) { return device_quantity_table[static_cast<std::size_t>(q)]; }
 std::string device_quantity_name(std::string_view device, DeviceQuantity q);  // "plates.elongation"
+
+// What each node of the structure reports (nodes 1..N of MODEL.md 1), under "nodeK.NAME": recorders a user chooses, history
+// columns on request. x and y are the node's displacement from its place at
+// rest, horizontal and vertical (MODEL.md 7's delta_t H_N at the top):
+//   x = s B (1 - cos th) + u_K cos th + H_K sin th,
+//   y = -H_K (1 - cos th) - u_K sin th + s B sin th;
+// x_abs adds the ground's displacement x_g (as OpenSees' absolute
+// displacement adds its time series' integral); a_abs is the absolute
+// acceleration along the structure's width (a_N's law at node K).
+enum class NodeQuantity : unsigned char { u, x, y, x_abs, a_abs, count_ };
+inline constexpr std::size_t node_quantity_count = static_cast<std::size_t>(NodeQuantity::count_);
+// What each element reports (element E spans node E-1 to node E), under
+// "elementE.NAME": its shear and its end moments from the elastic nodal forces
+// f = K u (MODEL.md 7: V = sum of f_i above, M = sum f_i (H_i - h)), in N and
+// N m as OpenSees' element recorders give them (base_shear and base_moment
+// are element1's V and M_bottom over V_ref and M_ref).
+enum class ElementQuantity : unsigned char { V, M_bottom, M_top, count_ };
+inline constexpr std::size_t element_quantity_count = static_cast<std::size_t>(ElementQuantity::count_);
+
+struct MemberQuantityInfo {
+  std::string_view name, unit, words, symbol;
+  double figure_factor;
+  std::string_view figure_unit;
+  Needs needs;
+};
+inline constexpr std::array<MemberQuantityInfo, node_quantity_count> node_quantity_table = {{
+    {"u", "m", "elastic displacement (in the foundation's frame)", "u", 1000, "mm", Needs::elasticity},
+    {"x", "m", "horizontal displacement (from rest, relative to the ground)", "x", 1000, "mm", Needs::always},
+    {"y", "m", "vertical displacement (from rest)", "y", 1000, "mm", Needs::always},
+    {"x_abs", "m", "absolute horizontal displacement (x + x_g)", "x_{abs}", 1000, "mm", Needs::always},
+    {"a_abs", "m/s2", "absolute acceleration (along the structure's width)", "a", 1 / 9.81, "g", Needs::elasticity},
+}};
+inline constexpr std::array<MemberQuantityInfo, element_quantity_count> element_quantity_table = {{
+    {"V", "N", "shear", "V", 1e-3, "kN", Needs::elasticity},
+    {"M_bottom", "N m", "lower-end moment", "M_{bottom}", 1e-3, "kN m", Needs::elasticity},
+    {"M_top", "N m", "upper-end moment", "M_{top}", 1e-3, "kN m", Needs::elasticity},
+}};
+constexpr const MemberQuantityInfo& info(NodeQuantity q) { return node_quantity_table[static_cast<std::size_t>(q)]; }
+constexpr const MemberQuantityInfo& info(ElementQuantity q) {
+  return element_quantity_table[static_cast<std::size_t>(q)];
+}
+
+// A node's or an element's quantity by name: "node3.x", "element1.V". The
+// index is not checked against a structure here (1 .. 1000 parse).
+struct MemberQuantityName {
+  enum class Of : unsigned char { node, element } of = Of::node;
+  int index = 1;
+  unsigned char which = 0;  // a NodeQuantity or an ElementQuantity
+  NodeQuantity node_quantity() const { return static_cast<NodeQuantity>(which); }
+  ElementQuantity element_quantity() const { return static_cast<ElementQuantity>(which); }
+  const MemberQuantityInfo& info() const;
+  std::string name() const;  // "node3.x"
+  bool operator==(const MemberQuantityName&) const = default;
+};
+std::optional<MemberQuantityName> parse_member_quantity(std::string_view text);
 
 // A reported quantity by name: a scalar one, or one of a named device's.
 struct QuantityName {

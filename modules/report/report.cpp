@@ -5,6 +5,7 @@ module;
 #include <fmt/ranges.h>
 #include <algorithm>
 #include <optional>
+#include <span>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -116,43 +117,57 @@ std::string describe_motion(const GroundMotion& motion) {
   return motion.description().empty() ? name : fmt::format("{}: {}", name, motion.description());
 }
 
-HistoryColumns history_columns(const Presence& presence, const std::vector<Device>& devices) {
+HistoryColumns history_columns(const ContactModel& m) {
+  const Presence has = presence(m);
   HistoryColumns c;
   for (Quantity q : history_quantities)
-    if (presence.has(info(q).needs)) c.columns.push_back({.quantity = q});
-  for (std::size_t k = 0; k < devices.size(); ++k) {
-    c.device_names.push_back(devices[k].name);
+    if (has.has(info(q).needs)) c.columns.push_back({.quantity = q, .member = std::nullopt});
+  for (std::size_t k = 0; k < m.devices.size(); ++k) {
+    c.device_names.push_back(m.devices[k].name);
     for (const DeviceQuantityInfo& dq : device_quantity_table)
-      c.columns.push_back({.quantity = std::nullopt, .device = k, .of = dq.id});
+      c.columns.push_back({.quantity = std::nullopt, .member = std::nullopt, .device = k, .of = dq.id});
   }
   return c;
 }
 
-HistoryColumns history_columns(const Presence& presence, const std::vector<Device>& devices,
-                               const std::vector<std::string>& chosen, std::string_view option) {
+HistoryColumns history_columns(const ContactModel& m, const std::vector<std::string>& chosen, std::string_view option) {
+  const Presence has = presence(m);
+  const int nodes = static_cast<int>(m.body.structure.heights.size());
   HistoryColumns c;
-  for (const Device& d : devices) c.device_names.push_back(d.name);
-  c.columns.push_back({.quantity = Quantity::t});
+  for (const Device& d : m.devices) c.device_names.push_back(d.name);
+  c.columns.push_back({.quantity = Quantity::t, .member = std::nullopt});
   for (const std::string& text : chosen) {
-    const std::optional<QuantityName> q = parse_quantity_name(text);
-    if (!q) throw InputError(fmt::format("{} {}: unknown quantity (rocking simulate --list-quantities lists them)", option, text));
     HistoryColumns::Column col;
-    if (q->scalar) {
+    const std::optional<QuantityName> q = parse_quantity_name(text);
+    if (q && q->scalar) {
       const QuantityInfo& i = info(*q->scalar);
-      if (!i.is(Role::history)) throw InputError(fmt::format("{} {}: not a history quantity", option, text));
-      if (!presence.has(i.needs)) throw InputError(fmt::format("{} {}: this scene does not report it", option, text));
+      if (!i.is(Role::history) && !i.is(Role::on_request))
+        throw InputError(fmt::format("{} {}: not a history quantity", option, text));
+      if (!has.has(i.needs)) throw InputError(fmt::format("{} {}: this scene does not report it", option, text));
       if (*q->scalar == Quantity::t) continue;  // always first
       col.quantity = q->scalar;
-    } else {
+    } else if (const std::optional<MemberQuantityName> member = parse_member_quantity(text)) {
+      const char* what = member->of == MemberQuantityName::Of::node ? "node" : "element";
+      if (member->index < 1 || member->index > nodes)
+        throw InputError(fmt::format("{} {}: no {} {} (this structure's {}s are 1 to {})", option, text, what,
+                                     member->index, what, nodes));
+      if (!has.has(member->info().needs))
+        throw InputError(fmt::format("{} {}: this scene does not report it (a rigid structure has no elastic {})",
+                                     option, text, member->of == MemberQuantityName::Of::node ? "displacement" : "forces"));
+      col.member = member;
+    } else if (q) {
       const auto at = std::ranges::find(c.device_names, q->device);
       if (at == c.device_names.end())
         throw InputError(fmt::format("{} {}: no device '{}' in this scene (devices: {})", option, text, q->device,
                                      c.device_names.empty() ? "none" : fmt::format("{}", fmt::join(c.device_names, ", "))));
       col.device = static_cast<std::size_t>(at - c.device_names.begin());
       col.of = q->of;
+    } else {
+      throw InputError(fmt::format("{} {}: unknown quantity (rocking simulate --list-quantities lists them)", option, text));
     }
     const bool again = std::ranges::any_of(c.columns, [&](const HistoryColumns::Column& o) {
-      return o.quantity == col.quantity && (col.quantity || (o.device == col.device && o.of == col.of));
+      return o.quantity == col.quantity && o.member == col.member &&
+             (col.quantity || col.member || (o.device == col.device && o.of == col.of));
     });
     if (again) throw InputError(fmt::format("{} {}: named twice", option, text));
     c.columns.push_back(col);
@@ -160,27 +175,65 @@ HistoryColumns history_columns(const Presence& presence, const std::vector<Devic
   return c;
 }
 
+HistoryColumns history_columns(const Scene& scene, const ContactModel& m, const std::vector<std::string>& chosen,
+                               std::string_view option) {
+  if (!chosen.empty()) return history_columns(m, chosen, option);
+  if (!scene.output.history.empty()) return history_columns(m, scene.output.history, scene.output.origin);
+  return history_columns(m);
+}
+
+double history_interval(const Scene& scene, std::optional<double> given) {
+  return given ? *given : scene.output.interval > 0 ? scene.output.interval : default_history_interval;
+}
+
 std::vector<std::string> HistoryColumns::names() const {
   std::vector<std::string> out;
   for (const Column& c : columns)
-    out.push_back(c.quantity ? std::string(info(*c.quantity).name) : device_quantity_name(device_names[c.device], c.of));
+    out.push_back(c.quantity ? std::string(info(*c.quantity).name)
+                  : c.member ? c.member->name()
+                             : device_quantity_name(device_names[c.device], c.of));
   return out;
 }
 
 std::vector<std::string> HistoryColumns::headers() const {
   std::vector<std::string> out;
   const std::vector<std::string> n = names();
-  for (std::size_t k = 0; k < columns.size(); ++k)
-    out.push_back(column_header(n[k], columns[k].quantity ? info(*columns[k].quantity).unit : info(columns[k].of).unit));
+  for (std::size_t k = 0; k < columns.size(); ++k) {
+    const Column& c = columns[k];
+    out.push_back(column_header(n[k], c.quantity ? info(*c.quantity).unit : c.member ? c.member->info().unit : info(c.of).unit));
+  }
   return out;
 }
 
-void HistoryColumns::values(const Response& r, const std::vector<DeviceSample>& samples, std::vector<double>& out) const {
+bool HistoryColumns::has_members() const {
+  return std::ranges::any_of(columns, [](const Column& c) { return c.member.has_value(); });
+}
+
+void HistoryColumns::values(const ContactModel& m, const Response& r, const std::vector<DeviceSample>& samples,
+                            Eigen::Ref<const Eigen::VectorXd> u, Eigen::Ref<const Eigen::VectorXd> u_dot,
+                            std::vector<double>& out) const {
   out.clear();
   for (const Column& c : columns) {
     if (c.quantity) out.push_back(r[*c.quantity]);
+    else if (c.member && c.member->of == MemberQuantityName::Of::node)
+      out.push_back(node_value(m, c.member->node_quantity(), c.member->index, r, u, u_dot));
+    else if (c.member) out.push_back(element_value(m, c.member->element_quantity(), c.member->index, u));
     else out.push_back(c.of == DeviceQuantity::elongation ? samples[c.device].e : samples[c.device].F);
   }
+}
+
+HistoryObserver::HistoryObserver(const ContactModel& m, HistoryColumns columns)
+    : model_(&m), columns_(std::move(columns)), members_(columns_.has_members()), devices_(m.devices.size()) {}
+
+void HistoryObserver::nodal(Eigen::Ref<const Eigen::VectorXd> u, Eigen::Ref<const Eigen::VectorXd> u_dot) {
+  if (!members_) return;
+  u_ = u;
+  u_dot_ = u_dot;
+}
+
+void HistoryObserver::record(const Response& r) {
+  columns_.values(*model_, r, devices_, u_, u_dot_, values_);
+  row(r, values_);
 }
 
 std::vector<QuantityRow> quantity_rows(const ContactModel& m) {
@@ -188,11 +241,18 @@ std::vector<QuantityRow> quantity_rows(const ContactModel& m) {
   std::vector<QuantityRow> rows;
   for (const QuantityInfo& q : quantity_table)
     rows.push_back({std::string(q.name), std::string(q.unit), std::string(q.words), q.is(Role::history),
-                    q.is(Role::peak), q.is(Role::study), has.has(q.needs)});
+                    q.is(Role::peak), q.is(Role::study), has.has(q.needs), q.is(Role::on_request)});
   for (const Device& d : m.devices)
     for (const DeviceQuantityInfo& q : device_quantity_table)
       rows.push_back({device_quantity_name(d.name, q.id), std::string(q.unit),
                       fmt::format("{} of {} ({})", q.words, d.name, law_name(d.law)), true, true, true, true});
+  const std::size_t n = static_cast<std::size_t>(m.body.structure.heights.size());
+  using Members = std::pair<const char*, std::span<const MemberQuantityInfo>>;
+  for (const auto& [word, table] : {Members{"node", node_quantity_table}, Members{"element", element_quantity_table}})
+    for (const MemberQuantityInfo& q : table)
+      rows.push_back({fmt::format("{}K.{}", word, q.name), std::string(q.unit),
+                      fmt::format("{} of {} K (K = 1 to {})", q.words, word, n), false, false, false, has.has(q.needs),
+                      true});
   return rows;
 }
 
@@ -200,13 +260,14 @@ std::string quantity_table_text(const ContactModel& m) {
   std::string out = fmt::format("{:<28} {:<7} {:<20} {}\n", "quantity", "unit", "reported as", "what");
   for (const QuantityRow& q : quantity_rows(m)) {
     std::string roles;
-    for (const auto& [on, word] : {std::pair{q.history, "history"}, std::pair{q.peak, "peak"}, std::pair{q.study, "study"}})
+    for (const auto& [on, word] : {std::pair{q.history, "history"}, std::pair{q.peak, "peak"},
+                                   std::pair{q.study, "study"}, std::pair{q.on_request, "on request"}})
       if (on) roles += (roles.empty() ? "" : ",") + std::string(word);
     out += fmt::format("{:<28} {:<7} {:<20} {}{}\n", q.name, q.unit.empty() ? "-" : q.unit, roles, q.words,
                        q.reported ? "" : " (not in this scene)");
   }
   out += "history: a column of history.csv; peak: in summary.json's peaks; study: an ida/sweep CSV column and a "
-         "--limit.\n";
+         "--limit; on request: a column of history.csv when chosen (--history, a scene's [output] history).\n";
   return out;
 }
 

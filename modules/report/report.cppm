@@ -37,11 +37,14 @@ std::string describe_motion(const GroundMotion& motion);
 // The history's columns. By default the history quantities of
 // rocking.quantities that the model reports, in the schema's order, then each
 // device's quantities under its name ("damper_left.elongation"); or the
-// quantities a user chose (`simulate --history`), t always first.
+// quantities a user chose (`simulate --history`, a scene's [output] history,
+// Python's columns=): any history or on-request quantity, a device's, a
+// node's or an element's ("node4.x_abs", "element1.M_bottom"), t always first.
 struct HistoryColumns {
   struct Column {
-    std::optional<Quantity> quantity;               // a scalar quantity, or ...
-    std::size_t device = 0;                         // ... the model's device (index) ...
+    std::optional<Quantity> quantity;                // a scalar quantity, or ...
+    std::optional<MemberQuantityName> member;        // ... a node's or an element's, or ...
+    std::size_t device = 0;                          // ... the model's device (index) ...
     DeviceQuantity of = DeviceQuantity::elongation;  // ... and which of its quantities
   };
   std::vector<Column> columns;
@@ -49,26 +52,65 @@ struct HistoryColumns {
   std::vector<std::string> names() const;    // "delta_t", ..., "damper_left.elongation", ...
   std::vector<std::string> headers() const;  // the same with units: "delta_t [-]"
   std::size_t size() const { return columns.size(); }
+  bool has_members() const;  // some column is a node's or an element's
   // One row's values in the columns' order (out is resized): a broken
-  // device's are NaN.
-  void values(const Response& r, const std::vector<DeviceSample>& devices, std::vector<double>& out) const;
+  // device's are NaN. u, u_dot: the nodal elastic displacements and
+  // velocities (Observer::nodal), read by node and element columns only.
+  void values(const ContactModel& m, const Response& r, const std::vector<DeviceSample>& devices,
+              Eigen::Ref<const Eigen::VectorXd> u, Eigen::Ref<const Eigen::VectorXd> u_dot,
+              std::vector<double>& out) const;
 };
-HistoryColumns history_columns(const Presence& presence, const std::vector<Device>& devices);
-// The chosen quantities by name (each a schema name or NAME.elongation /
-// NAME.force), t first whether named or not; InputError naming a quantity
-// that is unknown, not a history quantity, or that this model does not report
-// (the message names the choice after `option`).
-HistoryColumns history_columns(const Presence& presence, const std::vector<Device>& devices,
-                               const std::vector<std::string>& chosen, std::string_view option = "--history");
+HistoryColumns history_columns(const ContactModel& m);
+// The chosen quantities by name, t first whether named or not; InputError
+// naming a quantity that is unknown, not a history quantity, that this model
+// does not report or a node or element it does not have (the message names
+// the choice after `option`).
+HistoryColumns history_columns(const ContactModel& m, const std::vector<std::string>& chosen,
+                               std::string_view option = "--history");
+
+// A run's history as the scene and the caller choose it: the columns the
+// caller names (`option`: "--history", "columns"), else the scene's [output]
+// history, else the default; the row interval given, else the scene's
+// [output] interval, else 0.01 s.
+HistoryColumns history_columns(const Scene& scene, const ContactModel& m, const std::vector<std::string>& chosen,
+                               std::string_view option);
+inline constexpr double default_history_interval = 0.01;  // [s]
+double history_interval(const Scene& scene, std::optional<double> given);
+
+// An observer that turns each response into its history columns' values
+// (with the devices' samples and nodal displacements handed over before the
+// row) and hands them to row(): what history.csv and Python's arrays share.
+class HistoryObserver : public Observer {
+ public:
+  HistoryObserver(const ContactModel& m, HistoryColumns columns);
+  const HistoryColumns& columns() const { return columns_; }
+  void record(const Response& r) override;
+  void devices(const std::vector<DeviceSample>& samples) override { devices_ = samples; }
+  void nodal(Eigen::Ref<const Eigen::VectorXd> u, Eigen::Ref<const Eigen::VectorXd> u_dot) override;
+  bool wants_velocities() const override { return members_; }
+
+ protected:
+  virtual void row(const Response& r, const std::vector<double>& values) = 0;
+
+ private:
+  const ContactModel* model_;
+  HistoryColumns columns_;
+  bool members_ = false;
+  std::vector<DeviceSample> devices_;
+  Eigen::VectorXd u_, u_dot_;
+  std::vector<double> values_;
+};
 
 // The schema as this model reports it: each quantity's name, unit, roles
-// (history, peak, study: an IDA column and a --limit), words and whether the
-// model has it; then the model's devices' quantities by name. As rows (the
+// (history, peak, study: an IDA column and a --limit; on request), words and
+// whether the model has it; then the model's devices' quantities by name,
+// then its nodes' and elements' ("nodeK.x" for K = 1 .. N, on request). As rows (the
 // Python module's dicts) and as a table for people (`rocking simulate
 // --list-quantities`).
 struct QuantityRow {
   std::string name, unit, words;
   bool history = false, peak = false, study = false, reported = false;
+  bool on_request = false;  // a history column when chosen (--history), not by default
 };
 std::vector<QuantityRow> quantity_rows(const ContactModel& m);
 std::string quantity_table_text(const ContactModel& m);

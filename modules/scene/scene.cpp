@@ -35,6 +35,7 @@ const std::map<std::string, std::set<std::string, std::less<>>, std::less<>> sch
     {"initial", {"theta", "theta_dot", "u", "u_dot"}},
     {"damper", {"enabled", "stiffness", "post_yield_ratio", "theta_y", "alpha", "beta", "n",
                 "thickness", "capacity"}},
+    {"output", {"history", "interval"}},
 };
 
 std::string where(const toml::source_region& src, std::string_view fallback) {
@@ -65,6 +66,11 @@ class TableReader {
   bool has(std::string_view key) const { return table_->get(key) != nullptr; }
 
   [[noreturn]] void fail(const toml::node* node, std::string_view key, std::string_view what) const {
+    throw InputError(fmt::format("{}: {}", origin(node, key), what));
+  }
+
+  // "where: table.key": the file and line of `node`, or the --set that gave it.
+  std::string origin(const toml::node* node, std::string_view key) const {
     const std::string name = key.empty() ? table_name_ : fmt::format("{}.{}", table_name_, key);
     // The --set that gave the key, the array holding it, or its whole table.
     const auto bracket = name.rfind('['), dot = name.rfind('.');
@@ -76,7 +82,7 @@ class TableReader {
                            : node                ? where(node->source(), file_)
                            : table_              ? where(table_->source(), file_)
                                                  : file_;
-    throw InputError(fmt::format("{}: {}: {}", at, name, what));
+    return fmt::format("{}: {}", at, name);
   }
 
   const toml::node& required(std::string_view key) const {
@@ -525,6 +531,36 @@ Initial read_initial(const toml::table& root, const std::string& file, const Ori
   return init;
 }
 
+// [output]: the history's columns by name (rocking.quantities) and its row
+// interval. A name must be a quantity of the schema, a device's or a node's
+// or element's of this structure; whether the scene reports it is checked
+// where the columns are made (report's history_columns), naming `origin`.
+Output read_output(const toml::table& root, const std::string& file, const Origins& origins, const Structure& s) {
+  Output out;
+  if (!root.contains("output")) return out;
+  const TableReader t(root, "output", file, origins);
+  out.interval = t.number_or("interval", 0.0, [](double v) { return v >= 1e-6 && v <= 1e4; }, "in [1e-6, 1e4] [s]");
+  if (!t.has("history")) return out;
+  const toml::node& node = t.required("history");
+  const toml::array* array = node.as_array();
+  if (array == nullptr || array->empty())
+    t.fail(&node, "history", "must be a non-empty array of quantity names (rocking simulate --list-quantities)");
+  for (std::size_t i = 0; i < array->size(); ++i) {
+    const std::string key = fmt::format("history[{}]", i);
+    const toml::node& name = (*array)[i];
+    if (!name.is_string()) t.fail(&name, key, "must be a quantity's name (a string)");
+    const std::string text = *name.value<std::string>();
+    const auto member = parse_member_quantity(text);
+    if (!member && !parse_quantity_name(text))
+      t.fail(&name, key, fmt::format("'{:.60}': unknown quantity (rocking simulate --list-quantities lists them)", text));
+    if (member && (member->index < 1 || member->index > s.heights.size()))
+      t.fail(&name, key, fmt::format("{}: this structure's nodes and elements are 1 to {}", text, s.heights.size()));
+    out.history.push_back(text);
+  }
+  out.origin = t.origin(&node, "history");
+  return out;
+}
+
 Scene read_scene(toml::table root, const std::string& file, const std::vector<std::string>& overrides) {
   Origins origins;
   for (const std::string& o : overrides) apply_override(root, o, origins);
@@ -543,6 +579,7 @@ Scene read_scene(toml::table root, const std::string& file, const std::vector<st
   scene.devices = read_devices(root, file, origins, scene.structure, scene.damper);
   scene.excitation = read_excitation(root, file, origins);
   scene.initial = read_initial(root, file, origins, scene.structure, scene.contact);
+  scene.output = read_output(root, file, origins, scene.structure);
   if (scene.structure.rigid && !scene.contact.rocking)
     throw InputError(fmt::format("{}: structure.rigid = true with contact.rocking = false: a rigid "
                                  "block on a fixed base has no motion to compute", file));

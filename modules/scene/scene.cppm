@@ -5,8 +5,9 @@
 // rocking interface ([[device]] tables: kind = a law of rocking.devices, at =
 // x [m] or "edges", kinematics, free_length, capacity, name, and the law's
 // keys) and its default excitation ([excitation]:
-// an analytic pulse, a record file, or none) and its initial state
-// ([initial]: a release from a tilt, initial velocities and displacements);
+// an analytic pulse, a record file, or none), its initial state
+// ([initial]: a release from a tilt, initial velocities and displacements)
+// and what a run reports ([output]: the history's columns and interval);
 // see data/scenes/*.toml for the keys,
 // which are SI throughout. Any key can be overridden with `--set table.key=value`
 // (the value is read as TOML, or as a bare string such as eq10); devices with
@@ -24,6 +25,7 @@ export import rocking.hysteresis;
 export import rocking.devices;
 export import rocking.contact;
 export import rocking.ground_motion;
+export import rocking.quantities;
 
 export namespace rocking {
 
@@ -50,6 +52,15 @@ struct Initial {
   Eigen::VectorXd u, u_dot;                  // [m], [m/s]
 };
 
+// What a run of the scene reports ([output]): the history's columns by name
+// (empty: the default columns; `simulate --history` replaces them) and the
+// interval of its rows (0: the program's default; `--every` replaces it).
+struct Output {
+  std::vector<std::string> history;
+  std::string origin;  // where history was given ("scene.toml:12: output.history"), for messages
+  double interval = 0;  // [s]
+};
+
 struct Scene {
   std::string name;
   std::string description;
@@ -60,6 +71,7 @@ struct Scene {
   std::vector<Device> devices;  // the [[device]] tables, in order
   Excitation excitation;
   Initial initial;
+  Output output;
 };
 
 // Every device of the scene: the [damper]'s two (edge_dampers) then the

@@ -127,4 +127,43 @@ Response evaluate(const ContactModel& m, const OutputScales& sc, const Discrete&
   return r;
 }
 
+double node_value(const ContactModel& m, NodeQuantity q, int node, const Response& r,
+                  Eigen::Ref<const Eigen::VectorXd> u, Eigen::Ref<const Eigen::VectorXd> u_dot) {
+  const Structure& st = m.body.structure;
+  const Eigen::Index i = node - 1;
+  const Tilt tilt(r[Quantity::theta]);
+  const double th = tilt.theta, s = th > 0 ? 1.0 : th < 0 ? -1.0 : 0.0, B = st.half_width, H = st.heights[i];
+  const double ui = u.size() > 0 ? u[i] : 0.0;
+  const double one_minus_c = 2.0 * tilt.sin_half * tilt.sin_half;
+  const double x = s * B * one_minus_c + ui * tilt.cos() + H * tilt.sin();
+  switch (q) {
+    case NodeQuantity::u: return ui;
+    case NodeQuantity::x: return x;
+    case NodeQuantity::y: return -H * one_minus_c - ui * tilt.sin() + s * B * tilt.sin();
+    case NodeQuantity::x_abs: return x + r[Quantity::x_g];
+    case NodeQuantity::a_abs: {
+      if (u.size() == 0) return 0.0;
+      const StructuralMatrices& k = m.body.matrices;
+      return (-k.K.row(i).dot(u) - k.C.row(i).dot(u_dot)) / st.masses[i] + gravity * tilt.sin();
+    }
+    case NodeQuantity::count_: break;
+  }
+  return 0.0;
+}
+
+double element_value(const ContactModel& m, ElementQuantity q, int element, Eigen::Ref<const Eigen::VectorXd> u) {
+  if (u.size() == 0) return 0.0;
+  const Structure& st = m.body.structure;
+  const Eigen::Index n = u.size(), first = element - 1;  // the nodes above the element's lower end
+  // The end's height: the lower end's node E-1 (the base for element 1), the upper's node E.
+  const Eigen::Index from = q == ElementQuantity::M_top ? first + 1 : first;
+  const double h = q == ElementQuantity::M_top ? st.heights[first] : first == 0 ? 0.0 : st.heights[first - 1];
+  double sum = 0;
+  for (Eigen::Index j = from; j < n; ++j) {
+    const double f = m.body.matrices.K.row(j).dot(u);
+    sum += q == ElementQuantity::V ? f : f * (st.heights[j] - h);
+  }
+  return sum;
+}
+
 }  // namespace rocking

@@ -324,7 +324,6 @@ class Driver {
     while (next_output_ <= active_->time()) {
       active_->dense(next_output_, dense_);
       observer_->record(history_row(next_output_, dense_));
-      pass_displacements(dense_);
       next_output_ = opt_.output_interval * static_cast<double>(++outputs_);
     }
   }
@@ -352,11 +351,14 @@ class Driver {
     }
   }
 
-  // A history row: the response with the ground acceleration and the
-  // devices' moment, the devices' samples handed over first.
+  // A history row: the response with the ground's acceleration and
+  // displacement and the devices' moment, the devices' samples and the nodal
+  // displacements handed over first.
   Response history_row(double t, Eigen::Ref<const Eigen::VectorXd> y) {
     Response r = evaluate(m_, scales_, d_, t, y);
     r[Quantity::a_g] = ground_.acceleration(t);
+    r[Quantity::x_g] = travel_.at(t).d;
+    pass_nodal(y);
     if (!m_.devices.empty()) {
       device_samples(m_, d_, y, samples_);
       double moment = 0;
@@ -373,18 +375,20 @@ class Driver {
     device_peaks(y, r);
     if (also_history && observer_ != nullptr) {
       observer_->record(history_row(t, y));
-      pass_displacements(y);
     }
   }
 
-  void pass_displacements(Eigen::Ref<const Eigen::VectorXd> y) {
-    if (m_.layout.u < 0) {
-      observer_->displacements(y.head(0));
-    } else {
-      nodal_.resize(m_.layout.n);
-      to_nodal(m_.body, y.segment(m_.layout.u, m_.layout.n), nodal_);
-      observer_->displacements(nodal_);
+  void pass_nodal(Eigen::Ref<const Eigen::VectorXd> y) {
+    const Layout& l = m_.layout;
+    if (l.u < 0) {
+      observer_->nodal(y.head(0), y.head(0));
+      return;
     }
+    nodal_.resize(l.n);
+    to_nodal(m_.body, y.segment(l.u, l.n), nodal_);
+    nodal_dot_.resize(observer_->wants_velocities() ? l.n : 0);
+    if (nodal_dot_.size() > 0) to_nodal(m_.body, y.segment(l.u_dot, l.n), nodal_dot_);
+    observer_->nodal(nodal_, nodal_dot_);
   }
 
   // Without an accumulator per device (no pivot stretches two), the work on
@@ -441,8 +445,9 @@ class Driver {
   OutputScales scales_;
   Workspace work_;
   Discrete d_;
-  Eigen::VectorXd y_, dense_, nodal_;
+  Eigen::VectorXd y_, dense_, nodal_, nodal_dot_;
   std::vector<DeviceSample> samples_;
+  GroundTravel travel_{ground_};                         // x_g at the history's rows
   std::unique_ptr<StiffPart> stiff_;                     // rosw's linear solves
   std::unique_ptr<ode::Integrator> integrator_, exact_;  // the backend; full contact under a record
   ode::Integrator* active_ = nullptr;                    // the one stepping the current phase

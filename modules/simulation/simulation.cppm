@@ -45,7 +45,7 @@ export namespace rocking {
 
 // The response at one instant: every quantity of rocking.quantities. Forces
 // are normalised (V_ref, M_ref); a quantity the model lacks (Presence) is 0.
-// a_g and M_dev are filled for history rows only (the peaks do not need them).
+// a_g, M_dev and x_g are filled for history rows only (the peaks do not need them).
 struct Response {
   double t = 0;
   int pivot = 0;
@@ -73,9 +73,15 @@ class Observer {
  public:
   virtual ~Observer() = default;
   virtual void record(const Response& r) = 0;
-  // The elastic displacements u (nodes 1..N; empty for a rigid block) at the
-  // instant of the last record(), for observers that draw the structure.
-  virtual void displacements(Eigen::Ref<const Eigen::VectorXd> u) { (void)u; }
+  // The elastic displacements u and velocities u' (nodes 1..N; empty for a
+  // rigid block) at the instant of the next record(), called just before it,
+  // for observers that draw the structure or record its nodes and elements
+  // (node_value, element_value). u' is filled only when wants_velocities().
+  virtual void nodal(Eigen::Ref<const Eigen::VectorXd> u, Eigen::Ref<const Eigen::VectorXd> u_dot) {
+    (void)u;
+    (void)u_dot;
+  }
+  virtual bool wants_velocities() const { return false; }
   // Each device's elongation and force (in the model's order) at the instant
   // of the next record(), called just before it when the model has devices.
   virtual void devices(const std::vector<DeviceSample>& samples) { (void)samples; }
@@ -188,6 +194,15 @@ struct OutputScales {
 OutputScales output_scales(const ContactModel& m);
 Response evaluate(const ContactModel& m, const OutputScales& sc, const Discrete& d, double t,
                   Eigen::Ref<const Eigen::VectorXd> y);
+
+// A node's (1..N) or an element's (1..N) quantity of rocking.quantities at
+// the instant of the response `r` (its theta and x_g), from the nodal elastic
+// displacements and velocities (empty for a rigid block; u' is read by a_abs
+// only). The index is in range and the model reports the quantity (the
+// callers check both).
+double node_value(const ContactModel& m, NodeQuantity q, int node, const Response& r,
+                  Eigen::Ref<const Eigen::VectorXd> u, Eigen::Ref<const Eigen::VectorXd> u_dot);
+double element_value(const ContactModel& m, ElementQuantity q, int element, Eigen::Ref<const Eigen::VectorXd> u);
 
 // The integrator an automatic run uses: rosw (Rosenbrock-W, linearly implicit
 // in the elastic forces) for a flexible structure whose fastest mode would

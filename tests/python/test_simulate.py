@@ -170,3 +170,23 @@ def test_quantities_name_what_a_run_reports():
     result = rocking.simulate(wall, history=True)
     assert list(result.history) == [n for n, q in listed.items() if q["history"] and q["reported"]]
     assert set(result.peaks) == {n for n, q in listed.items() if q["peak"] and q["reported"]}
+
+
+def test_nodes_elements_and_the_scenes_output_table_as_on_the_command_line(cli, tmp_path):
+    chosen = ["node4.x_abs", "element1.V", "x_g", "node4.x"]
+    result = rocking.simulate(columns=chosen, every=0.02)
+    assert list(result.history) == ["t"] + chosen
+    h = result.history
+    np.testing.assert_allclose(h["node4.x_abs"], h["node4.x"] + h["x_g"], rtol=0, atol=1e-12)
+    out = tmp_path / "run"
+    assert cli.run("simulate", "--history", ",".join(chosen), "--every", "0.02", "--out", out).returncode == 0
+    header = (out / "history.csv").read_text().splitlines()[0]
+    assert header == "t [s],node4.x_abs [m],element1.V [N],x_g [m],node4.x [m]"
+    # The scene's [output] table: its columns and interval unless columns= and every= are given.
+    scene = rocking.Scene.default().set("output.history", ["theta", "node2.u"]).set("output.interval", 0.05)
+    own = rocking.simulate(scene)
+    assert list(own.history) == ["t", "theta", "node2.u"]
+    assert own.history["t"][1] == pytest.approx(0.05)
+    assert list(rocking.simulate(scene, columns=["delta_t"]).history) == ["t", "delta_t"]
+    with pytest.raises(ValueError, match="columns node9.u: no node 9"):
+        rocking.simulate(columns=["node9.u"])
