@@ -14,12 +14,14 @@
 #include <pybind11/stl/filesystem.h>
 #include <rocking/eigen.hpp>
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <csignal>
 #include <memory>
 #include <optional>
@@ -95,7 +97,28 @@ auto interruptible(std::atomic<bool>& stop, F work) -> decltype(work()) {
   return std::move(*result);
 }
 
-py::object json_loads(const std::string& text) { return py::module_::import("json").attr("loads")(text); }
+// A JSON value as the Python objects json.loads would give, built directly.
+py::object to_python(const nlohmann::json& j) {
+  switch (j.type()) {
+    case nlohmann::json::value_t::null: return py::none();
+    case nlohmann::json::value_t::boolean: return py::bool_(j.get<bool>());
+    case nlohmann::json::value_t::number_integer: return py::int_(j.get<long long>());
+    case nlohmann::json::value_t::number_unsigned: return py::int_(j.get<unsigned long long>());
+    case nlohmann::json::value_t::number_float: return py::float_(j.get<double>());
+    case nlohmann::json::value_t::string: return py::str(j.get_ref<const std::string&>());
+    case nlohmann::json::value_t::array: {
+      py::list out;
+      for (const nlohmann::json& v : j) out.append(to_python(v));
+      return out;
+    }
+    case nlohmann::json::value_t::object: {
+      py::dict out;
+      for (const auto& [key, v] : j.items()) out[py::str(key)] = to_python(v);
+      return out;
+    }
+    default: return py::none();
+  }
+}
 
 // A NumPy array that owns the vector's storage (no copy).
 py::array_t<double> to_numpy(std::vector<double>&& v) {
@@ -290,61 +313,39 @@ PyResult simulate(const py::object& scene_arg, const py::object& record, double 
                   long max_steps, bool integrate_contact, bool history,
                   const std::optional<std::vector<std::string>>& columns) {
   const PyScene s = scene_of(scene_arg);
-  const rocking::Scene& scene = *s.scene;
-  if (!std::isfinite(scale)) throw rocking::InputError(fmt::format("scale {}: must be a finite number", scale));
-  // The motion and its label as `rocking simulate` has them.
-  std::shared_ptr<const rocking::GroundMotion> motion;
-  std::string record_path;
-  double scene_scale = 1;
-  if (record.is_none()) {
-    motion = std::make_shared<const rocking::GroundMotion>(rocking::default_ground_motion(scene).scaled(scale));
-    scene_scale = rocking::excitation_scale(scene);
-  } else {
+  // The run as `rocking simulate` describes it (rocking.run), its choices named as here.
+  rocking::RunSpec spec{.scene = *s.scene, .prefix = "", .columns_name = "columns"};
+  spec.motion.scale = scale;
+  if (!record.is_none()) {
     const PyRecord r =
         py::isinstance<PyRecord>(record)
             ? record.cast<PyRecord>()
             : record_load(argument<std::filesystem::path>(record, "record", "a rocking.Record, a path or None"), {}, {},
                           "auto", {});
-    motion = std::make_shared<const rocking::GroundMotion>(r.motion->scaled(scale));
-    record_path = r.path;
+    spec.motion.given = r.motion;
+    spec.motion.given_path = r.path;
   }
-  rocking::RunOptions ro;
-  ro.backend = rocking::ode::parse_backend(integrator);
-  ro.tolerances.rtol = rtol;
-  ro.tolerances.atol = atol;
-  ro.duration = duration ? *duration : record.is_none() ? scene.excitation.duration : 0.0;
-  if (duration && !(*duration > 0))
-    throw rocking::InputError(fmt::format("duration {}: must be positive and at most 1e5 s (omit it for the whole "
-                                          "motion)", *duration));
-  ro.max_events = max_events;
-  ro.tolerances.max_steps = max_steps;
-  const double every = rocking::history_interval(scene, every_given);
-  ro.output_interval = every;
-  ro.exact_full_contact = !integrate_contact;
-  ro.initial = {scene.initial.theta, scene.initial.theta_dot, scene.initial.u, scene.initial.u_dot};
-  rocking::check_run_options(ro, "");
-  const double length = ro.duration > 0 ? ro.duration : motion->duration();
-  if (history && length / every > 1e7)
-    throw rocking::InputError(fmt::format("every {:g}: {:.3g} rows of history for {:g} s (at most 1e7); choose a "
-                                          "larger interval", every, length / every, length));
-  const rocking::ContactModel model = rocking::make_contact_model(scene, true);
+  spec.solver = {.integrator = integrator, .rtol = rtol, .atol = atol, .duration = duration, .max_events = max_events,
+                 .max_steps = max_steps, .integrate_contact = integrate_contact};
+  // Without a history no rows are kept, so none bounds the interval.
+  spec.history = {.columns = columns.value_or(std::vector<std::string>{}), .every = history ? every_given : std::nullopt};
+  const rocking::PreparedRun run = rocking::prepare_run(spec);
+  rocking::RunOptions ro = run.options;
+  if (!history) ro.output_interval = std::numeric_limits<double>::infinity();
   auto stop = std::make_shared<std::atomic<bool>>(false);
   ro.stop = [stop] { return stop->load(); };
-  Collector collect(model, rocking::history_columns(scene, model, columns.value_or(std::vector<std::string>{}), "columns"),
-                    history);
+  Collector collect(run.model, run.columns, history);
   const rocking::RunResult result =
-      interruptible(*stop, [&] { return rocking::simulate(model, *motion, ro, &collect); });
+      interruptible(*stop, [&] { return rocking::simulate(run.model, run.motion, ro, &collect); });
 
-  const rocking::RunLabel label{scene.name,   scene.source, rocking::describe_motion(*motion), record_path,
-                                scene_scale * scale, scene_scale, scale, rtol, atol};
   PyResult out;
-  out.summary = json_loads(rocking::summary_json(label, result)).cast<py::dict>();
+  out.summary = to_python(rocking::run_summary(run.label, result)).cast<py::dict>();
   out.outcome = std::string(rocking::outcome_name(result.outcome));
   for (std::size_t i = 0; i < collect.names.size(); ++i)
     out.history[py::str(collect.names[i])] = to_numpy(std::move(collect.history[i]));
   for (const rocking::Event& e : collect.events) {
     py::dict d("kind"_a = std::string(rocking::event_name(e.kind)), "t"_a = e.t, "pivot"_a = e.pivot);
-    if (e.kind == rocking::EventKind::fracture) d["device"] = model.devices[static_cast<std::size_t>(e.device)].name;
+    if (e.kind == rocking::EventKind::fracture) d["device"] = run.model.devices[static_cast<std::size_t>(e.device)].name;
     out.events.append(d);
   }
   if (result.outcome == rocking::Outcome::failed) {
@@ -403,11 +404,8 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
   const double t1 =
       scene.structure.rigid ? 0.0 : 1.0 / rocking::modal_analysis(scene.structure, rocking::scene_devices(scene)).fixed_base_hz[0];
   const rocking::IntensityMeasure im = rocking::parse_intensity_measure(im_text, damping, t1);
-  rocking::RunOptions ro;
-  ro.backend = rocking::ode::parse_backend(integrator);
-  ro.tolerances.rtol = rtol;
-  ro.tolerances.atol = atol;
-  rocking::check_run_options(ro, "");
+  // The runs as `rocking ida` describes them (rocking.run).
+  rocking::RunOptions ro = rocking::run_options(scene, {.integrator = integrator, .rtol = rtol, .atol = atol}, false, "");
   auto stop = std::make_shared<std::atomic<bool>>(false);
   ro.stop = [stop] { return stop->load(); };
   const rocking::Study study(s.path, s.overrides, records, {}, std::move(variants), ro, im);
@@ -630,7 +628,7 @@ PYBIND11_MODULE(rocking, m) {
         "NAME.force): name, unit, words, whether it is a history column, a peak and a\n"
         "study quantity (ida columns, limits, fractiles), and whether this scene reports it.");
 
-  m.def("modal", [](const py::object& s) { return json_loads(rocking::modal_json(*scene_of(s).scene)); },
+  m.def("modal", [](const py::object& s) { return to_python(rocking::modal_summary(*scene_of(s).scene)); },
         "scene"_a = py::none(),
         "The dict of `rocking modal --json`: fixed-base and rocking frequencies [Hz], p,\n"
         "the devices' rocking stiffness, r of Eq. 10, M_ref, V_ref; for a rigid block its\n"

@@ -25,16 +25,10 @@ rocking::Scene load_scene(const SceneOptions& opts);
 // The same, refusing a rigid block (it has no elastic modes) in one line.
 rocking::Scene load_elastic_scene(const SceneOptions& opts);
 
-// --format, --component, --units, --dt: how record files are read.
-struct RecordFileOptions {
-  std::string format = "auto";
-  std::string component;
-  std::string units;  // empty: the file's own (g where a file states none)
-  double dt = 0;
-  bool given() const { return format != "auto" || !component.empty() || !units.empty() || dt != 0; }
-};
+// --format, --component, --units, --dt: how record files are read
+// (rocking.run's RecordFileChoice, bound to the options).
+using RecordFileOptions = rocking::RecordFileChoice;
 void add_record_file_options(CLI::App& cmd, RecordFileOptions& opts);
-rocking::RecordOptions record_options(const RecordFileOptions& opts);
 // Record ids for rows, tables and figures: a file's name, or as many of its
 // last path components as make it unique ("x/a.at2", "y/a.at2"); the same
 // file given twice becomes "a.at2" and "a.at2#2".
@@ -43,36 +37,16 @@ std::vector<std::string> record_ids(const std::vector<std::string>& paths);
 std::string record_formats_help();
 
 // --record FILE [--format] [--component] [--units] [--dt] [--scale]: the
-// ground motion of a run.
-struct MotionOptions {
-  std::string record;  // empty: the scene's [excitation]
-  RecordFileOptions file;
-  double scale = 1;
-};
+// ground motion of a run (rocking.run's MotionChoice; load_motion and
+// motion_scale are the library's).
+using MotionOptions = rocking::MotionChoice;
 void add_motion_options(CLI::App& cmd, MotionOptions& opts);
-// The factors a run's ground motion is scaled by: the scene's [excitation]
-// scale (its own record only) times --scale.
-struct ScaleFactors {
-  double scene = 1, option = 1;
-  double total() const { return scene * option; }
-  std::string describe() const;  // "x3", or "x6 (scene 2 x --scale 3)"
-};
-ScaleFactors motion_scale(const rocking::Scene& scene, const MotionOptions& opts);
-rocking::GroundMotion load_motion(const rocking::Scene& scene, const MotionOptions& opts);
 
-// --integrator, --rtol, --atol, --duration: how a run is integrated.
-struct SolverOptions {
-  std::string integrator = "auto";
-  double rtol = 1e-4, atol = 1e-7;  // RunOptions' defaults: the measured knee
-  double duration = 0;           // with duration_given: --duration
-  bool duration_given = false;
-  long max_events = 100000;
-  long max_steps = 10'000'000;
-  bool integrate_contact = false;  // full contact by the backend, not exact steps
-};
+// --integrator, --rtol, --atol, --duration, --max-events, --max-steps,
+// --integrate-contact: how a run is integrated (rocking.run's SolverChoice;
+// run_options is the library's).
+using SolverOptions = rocking::SolverChoice;
 void add_solver_options(CLI::App& cmd, SolverOptions& opts);
-// scene_excitation: the run uses the scene's [excitation] (and its duration).
-rocking::RunOptions run_options(const rocking::Scene& scene, const SolverOptions& opts, bool scene_excitation);
 
 Command add_modal_command(CLI::App& app);
 Command add_simulate_command(CLI::App& app);

@@ -92,7 +92,7 @@ Command add_modal_command(CLI::App& app) {
   return [opts, json]() {
     const Scene scene = load_scene(*opts);
     if (*json) {
-      std::cout << modal_json(scene) << '\n';
+      std::cout << modal_summary(scene).dump(2) << '\n';
       return 0;
     }
     if (scene.structure.rigid) return rigid_block(scene);

@@ -81,18 +81,6 @@ void add_record_file_options(CLI::App& cmd, RecordFileOptions& opts) {
   cmd.add_option("--dt", opts.dt, "Sample interval of a one-column record or a CSV without time [s]")->type_name("S");
 }
 
-rocking::RecordOptions record_options(const RecordFileOptions& opts) {
-  RecordOptions ro;
-  ro.format = opts.format;
-  ro.component = opts.component;
-  if (!opts.units.empty()) ro.unit = parse_acceleration_unit(opts.units);
-  // A record's time step: 1 us (records sampled finer are not records) to 10 s.
-  if (opts.dt != 0 && !(opts.dt >= 1e-6 && opts.dt <= 10))
-    throw InputError(fmt::format("--dt {:g}: must be in [1e-06, 10] s", opts.dt));
-  ro.dt = opts.dt;
-  return ro;
-}
-
 void add_motion_options(CLI::App& cmd, MotionOptions& opts) {
   cmd.add_option("--record", opts.record,
                  "Ground-motion file in any format --format lists (PEER .AT2, GeoNet,\n"
@@ -100,27 +88,6 @@ void add_motion_options(CLI::App& cmd, MotionOptions& opts) {
       ->type_name("FILE");
   add_record_file_options(cmd, opts.file);
   cmd.add_option("--scale", opts.scale, "Scale factor on the ground acceleration (default 1)")->type_name("SF");
-}
-
-std::string ScaleFactors::describe() const {
-  if (scene == 1) return fmt::format("x{:g}", total());
-  return fmt::format("x{:g} (scene {:g} x --scale {:g})", total(), scene, option);
-}
-
-ScaleFactors motion_scale(const rocking::Scene& scene, const MotionOptions& opts) {
-  return {opts.record.empty() ? excitation_scale(scene) : 1.0, opts.scale};
-}
-
-rocking::GroundMotion load_motion(const rocking::Scene& scene, const MotionOptions& opts) {
-  if (!std::isfinite(opts.scale)) throw InputError(fmt::format("--scale {}: must be a finite number", opts.scale));
-  if (opts.record.empty()) {
-    if (opts.file.given())
-      throw InputError("--format, --component, --units and --dt describe a --record file; none was given");
-    return default_ground_motion(scene).scaled(opts.scale);
-  }
-  RecordOptions ro = record_options(opts.file);
-  ro.scale = opts.scale;
-  return read_record(opts.record, ro);
 }
 
 void add_solver_options(CLI::App& cmd, SolverOptions& opts) {
@@ -135,10 +102,7 @@ void add_solver_options(CLI::App& cmd, SolverOptions& opts) {
   cmd.add_option("--atol", opts.atol, "Absolute tolerance (default 1e-7)")->type_name("Y");
   cmd.add_option_function<double>(
          "--duration",
-         [&opts](double v) {
-           opts.duration = v;
-           opts.duration_given = true;
-         },
+         [&opts](double v) { opts.duration = v; },
                  "Simulated time [s] (default: the length of --record, else the\n"
                  "scene's excitation.duration)")
       ->type_name("S");
@@ -153,23 +117,6 @@ void add_solver_options(CLI::App& cmd, SolverOptions& opts) {
                "flexible structure in full contact under a record is stepped exactly\n"
                "(the phase is linear and the record piecewise linear; runs that track\n"
                "energy, and pulses, are always integrated)");
-}
-
-rocking::RunOptions run_options(const rocking::Scene& scene, const SolverOptions& opts, bool scene_excitation) {
-  RunOptions ro;
-  ro.backend = ode::parse_backend(opts.integrator);
-  if (opts.duration_given && !(opts.duration > 0))
-    throw InputError(fmt::format("--duration {}: must be positive and at most 1e5 s (omit it for the whole motion)",
-                                 opts.duration));
-  ro.tolerances.rtol = opts.rtol;
-  ro.tolerances.atol = opts.atol;
-  ro.duration = opts.duration_given ? opts.duration : scene_excitation ? scene.excitation.duration : 0.0;
-  ro.max_events = opts.max_events;
-  ro.tolerances.max_steps = opts.max_steps;
-  check_run_options(ro, "--");
-  ro.exact_full_contact = !opts.integrate_contact;
-  ro.initial = {scene.initial.theta, scene.initial.theta_dot, scene.initial.u, scene.initial.u_dot};
-  return ro;
 }
 
 // A record as rows and figures name it: its file name, or as many of its

@@ -13,9 +13,6 @@ namespace rocking::app {
 
 namespace {
 
-// About 1.5 GB of history.csv: more is a mistake, not a study.
-constexpr double max_history_rows = 1e7;
-
 struct SimulateOptions {
   SceneOptions scene;
   MotionOptions motion;
@@ -66,26 +63,17 @@ int run(const SimulateOptions& o) {
     fmt::print("{}", quantity_table_text(make_contact_model(scene, false)));
     return 0;
   }
-  const GroundMotion motion = load_motion(scene, o.motion);
-  RunOptions ro = run_options(scene, o.solver, o.motion.record.empty());
-  const double every = history_interval(scene, o.output_interval);
-  if (!(every > 0) || !std::isfinite(every)) throw InputError(fmt::format("--every {}: must be positive", every));
-  const double duration = ro.duration > 0 ? ro.duration : motion.duration();
-  if (duration / every > max_history_rows)
-    throw InputError(fmt::format("--every {:g}: {:.3g} rows of history for {:g} s (at most {:g}); choose a larger "
-                                 "interval",
-                                 every, duration / every, duration, max_history_rows));
-  ro.output_interval = every;
-  const ContactModel model = make_contact_model(scene, true);
+  const PreparedRun prepared = prepare_run({.scene = scene, .motion = o.motion, .solver = o.solver,
+                                       .history = {.columns = o.history, .every = o.output_interval}});
   catch_stop_signals();
+  RunOptions ro = prepared.options;
   ro.stop = [] { return stop_signal() != 0; };
-  HistoryColumns columns = history_columns(scene, model, o.history, "--history");
   const std::filesystem::path dir(o.out);
   make_output_dir(dir);
-  HistoryCsv history(dir / "history.csv", model, std::move(columns));
-  const ScaleFactors scale = motion_scale(scene, o.motion);
-  spdlog::info("simulating '{}' under {} ({}) with {}", scene.name, motion.name(), scale.describe(), o.solver.integrator);
-  const RunResult result = simulate(model, motion, ro, &history);
+  HistoryCsv history(dir / "history.csv", prepared.model, prepared.columns);
+  spdlog::info("simulating '{}' under {} ({}) with {}", scene.name, prepared.motion.name(), prepared.scale.describe(),
+               o.solver.integrator);
+  const RunResult result = simulate(prepared.model, prepared.motion, ro, &history);
   if (result.outcome == Outcome::failed) {  // the history may be what failed: keep what it holds, say why
     try {
       history.close();
@@ -94,10 +82,7 @@ int run(const SimulateOptions& o) {
   } else {
     history.close();
   }
-  const RunLabel label{scene.name,    scene.source,       describe_motion(motion), o.motion.record,
-                       scale.total(), scale.scene,         scale.option,                   ro.tolerances.rtol,
-                       ro.tolerances.atol};
-  nlohmann::json summary = nlohmann::json::parse(summary_json(label, result));
+  nlohmann::json summary = run_summary(prepared.label, result);
   if (stop_signal() != 0) {
     summary["interrupted"] = true;
     summary["outcome"] = "interrupted";

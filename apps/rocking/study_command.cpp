@@ -63,7 +63,7 @@ std::string inputs_of(const StudyArgs& a, const Study& st, const std::string& ki
                        {"levels", a.scales.empty() ? a.levels : "scales " + a.scales},
                        {"variants", variants},
                        {"integrator", fmt::format("{}, rtol {}, atol {}, duration {}, max-events {}, max-steps {}{}",
-                                                  s.integrator, s.rtol, s.atol, s.duration_given ? s.duration : 0.0,
+                                                  s.integrator, s.rtol, s.atol, s.duration.value_or(0.0),
                                                   s.max_events, s.max_steps, s.integrate_contact ? ", integrate-contact" : "")},
                        {"hunt", a.hunt ? fmt::format("step {}, growth {}, max {}, precision {}, fill {}", a.hunt_step,
                                                      a.hunt_growth, a.hunt_max, a.precision, a.fill_step)

@@ -218,8 +218,7 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
     if (model.layout.n == 0)
       throw InputError(fmt::format("--scenes {}: a rigid block has no nodes to put on the N axis", path));
     SolverOptions solver;
-    solver.duration = a.duration;
-    solver.duration_given = a.duration != 0;
+    if (a.duration != 0) solver.duration = a.duration;
     RunOptions base = run_options(scene, solver, a.motion.record.empty());
     base.track_energy = false;
     base.stop = [] { return stop_signal() != 0; };
@@ -296,8 +295,7 @@ int tradeoff(const TradeoffArgs& a) {
   const Scene scene = load_scene(a.scene);
   const GroundMotion motion = load_motion(scene, a.motion);
   SolverOptions solver;
-  solver.duration = a.duration;
-  solver.duration_given = a.duration != 0;
+  if (a.duration != 0) solver.duration = a.duration;
   RunOptions base = run_options(scene, solver, a.motion.record.empty());
   base.track_energy = false;
   const ContactModel model = make_contact_model(scene, false);

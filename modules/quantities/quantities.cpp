@@ -31,13 +31,18 @@ std::string QuantityName::name() const {
 
 std::string_view QuantityName::unit() const { return scalar ? info(*scalar).unit : info(of).unit; }
 
+std::string_view axis_words(std::string_view words) {
+  const std::size_t note = words.find(" (");
+  return note == std::string_view::npos ? words : words.substr(0, note);
+}
+
 std::string axis_label(const QuantityName& q) {
   if (q.scalar) {
     const QuantityInfo& i = info(*q.scalar);
-    return fmt::format("{} {} [{}]", i.words, i.symbol, i.figure_unit);
+    return fmt::format("{} {} [{}]", axis_words(i.words), i.symbol, i.figure_unit);
   }
   const DeviceQuantityInfo& i = info(q.of);
-  return fmt::format("{} {} {} [{}]", q.device, i.words, i.symbol, i.figure_unit);
+  return fmt::format("{} {} {} [{}]", q.device, axis_words(i.words), i.symbol, i.figure_unit);
 }
 
 double figure_factor(const QuantityName& q) { return q.scalar ? info(*q.scalar).figure_factor : info(q.of).figure_factor; }

@@ -225,9 +225,11 @@ struct QuantityName {
   std::string name() const;
   std::string_view unit() const;
 };
-// A figure's axis for the quantity, in gnuplot's enhanced text: its words,
-// symbol and figure unit ("total top drift {/Symbol d}_t [%]"; a device's
-// prefixed by its name), and the factor from its unit to the figure's.
+// A figure's axis for the quantity, in gnuplot's enhanced text: its words
+// without their note in parentheses, symbol and figure unit ("total top
+// drift {/Symbol d}_t [%]", "damper elongation d [mm]"; a device's prefixed
+// by its name), and the factor from its unit to the figure's.
+std::string_view axis_words(std::string_view words);  // "damper force (signed by the pivot)" -> "damper force"
 std::string axis_label(const QuantityName& q);
 double figure_factor(const QuantityName& q);
 

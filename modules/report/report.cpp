@@ -55,7 +55,7 @@ json block_modal(const BlockSummary& b) {
 
 }  // namespace
 
-std::string summary_json(const RunLabel& label, const RunResult& r, int indent) {
+json run_summary(const RunLabel& label, const RunResult& r) {
   json peaks = json::object();
   for (Quantity q : peak_quantities)
     if (r.reports(q)) peaks[std::string(info(q).name)] = r.peak(q);
@@ -103,7 +103,7 @@ std::string summary_json(const RunLabel& label, const RunResult& r, int indent) 
                        {"viscous", e.viscous}, {"damper", e.damper}, {"impacts", e.impacts},
                        {"balance_residual", e.residual()}};
   }
-  return out.dump(indent);
+  return out;
 }
 
 std::string describe_motion(const std::string& name) {
@@ -287,9 +287,9 @@ BlockSummary block_summary(const Scene& scene) {
   return b;
 }
 
-std::string modal_json(const Scene& scene, int indent) {
-  if (scene.structure.rigid) return block_modal(block_summary(scene)).dump(indent);
-  return flexible_modal(modal_analysis(scene.structure, scene_devices(scene))).dump(indent);
+json modal_summary(const Scene& scene) {
+  if (scene.structure.rigid) return block_modal(block_summary(scene));
+  return flexible_modal(modal_analysis(scene.structure, scene_devices(scene)));
 }
 
 }  // namespace rocking

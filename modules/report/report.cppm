@@ -3,10 +3,11 @@
 // run's summary (summary.json: peaks, counts, outcome, energy balance,
 // devices, cost), the columns of its history, the modal summary of a scene
 // (MODEL.md 8; for a rigid block its geometry, p and r, Housner 1963) and the
-// names records go by. JSON is handed over as text, so that no front end
-// depends on how it is built.
+// names records go by. JSON is handed over as nlohmann::json values (a run's
+// summary) or as text.
 module;
 #include <rocking/eigen.hpp>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -26,8 +27,10 @@ struct RunLabel {
   double rtol = 0, atol = 0;
 };
 
-// The run's summary as JSON text (the keys of `rocking simulate --json`).
-std::string summary_json(const RunLabel& label, const RunResult& r, int indent = 2);
+// The run's summary (the keys of `rocking simulate --json` and
+// summary.json), as a JSON value: front ends write it as text or build their
+// own objects from it (Python's dict).
+nlohmann::json run_summary(const RunLabel& label, const RunResult& r);
 
 // A record's name for titles and summaries (the stand-in record says so),
 // and the same with what its header says it is (event, station, PGA).
@@ -126,6 +129,6 @@ BlockSummary block_summary(const Scene& scene);
 
 // `rocking modal --json`: the modal summary of an elastic scene, or the block
 // summary of a rigid one ("rigid": true).
-std::string modal_json(const Scene& scene, int indent = 2);
+nlohmann::json modal_summary(const Scene& scene);
 
 }  // namespace rocking

@@ -22,3 +22,4 @@ export import rocking.plot;
 export import rocking.study;
 export import rocking.drawing;
 export import rocking.report;
+export import rocking.run;

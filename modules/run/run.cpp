@@ -1,0 +1,94 @@
+module;
+#include <cmath>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <fmt/format.h>
+module rocking.run;
+import rocking.errors;
+
+namespace rocking {
+
+RecordOptions record_options(const RecordFileChoice& c, std::string_view prefix) {
+  RecordOptions ro;
+  ro.format = c.format;
+  ro.component = c.component;
+  if (!c.units.empty()) ro.unit = parse_acceleration_unit(c.units);
+  // A record's time step: 1 us (records sampled finer are not records) to 10 s.
+  if (c.dt != 0 && !(c.dt >= 1e-6 && c.dt <= 10))
+    throw InputError(fmt::format("{}dt {:g}: must be in [1e-06, 10] s", prefix, c.dt));
+  ro.dt = c.dt;
+  return ro;
+}
+
+std::string ScaleFactors::describe() const {
+  if (scene == 1) return fmt::format("x{:g}", total());
+  return fmt::format("x{:g} (scene {:g} x --scale {:g})", total(), scene, option);
+}
+
+ScaleFactors motion_scale(const Scene& scene, const MotionChoice& c) {
+  return {c.scene_excitation() ? excitation_scale(scene) : 1.0, c.scale};
+}
+
+GroundMotion load_motion(const Scene& scene, const MotionChoice& c, std::string_view prefix) {
+  if (!std::isfinite(c.scale)) throw InputError(fmt::format("{}scale {}: must be a finite number", prefix, c.scale));
+  if (c.given) return c.given->scaled(c.scale);
+  if (c.record.empty()) {
+    if (c.file.given())
+      throw InputError(fmt::format("{0}format, {0}component, {0}units and {0}dt describe a {0}record file; none was given",
+                                   prefix));
+    return default_ground_motion(scene).scaled(c.scale);
+  }
+  RecordOptions ro = record_options(c.file, prefix);
+  ro.scale = c.scale;
+  return read_record(c.record, ro);
+}
+
+RunOptions run_options(const Scene& scene, const SolverChoice& c, bool scene_excitation, std::string_view prefix) {
+  RunOptions ro;
+  ro.backend = ode::parse_backend(c.integrator);
+  if (c.duration && !(*c.duration > 0))
+    throw InputError(fmt::format("{}duration {}: must be positive and at most 1e5 s (omit it for the whole motion)",
+                                 prefix, *c.duration));
+  ro.tolerances.rtol = c.rtol;
+  ro.tolerances.atol = c.atol;
+  ro.duration = c.duration ? *c.duration : scene_excitation ? scene.excitation.duration : 0.0;
+  ro.max_events = c.max_events;
+  ro.tolerances.max_steps = c.max_steps;
+  check_run_options(ro, prefix);
+  ro.exact_full_contact = !c.integrate_contact;
+  ro.initial = {scene.initial.theta, scene.initial.theta_dot, scene.initial.u, scene.initial.u_dot};
+  return ro;
+}
+
+PreparedRun prepare_run(const RunSpec& spec) {
+  const Scene& scene = spec.scene;
+  GroundMotion motion = load_motion(scene, spec.motion, spec.prefix);
+  RunOptions ro = run_options(scene, spec.solver, spec.motion.scene_excitation(), spec.prefix);
+  const double every = history_interval(scene, spec.history.every);
+  if (!(every > 0) || !std::isfinite(every))
+    throw InputError(fmt::format("{}every {}: must be positive", spec.prefix, every));
+  const double duration = ro.duration > 0 ? ro.duration : motion.duration();
+  if (duration / every > max_history_rows)
+    throw InputError(fmt::format("{}every {:g}: {:.3g} rows of history for {:g} s (at most {:g}); choose a larger "
+                                 "interval",
+                                 spec.prefix, every, duration / every, duration, max_history_rows));
+  ro.output_interval = every;
+  ContactModel model = make_contact_model(scene, true);
+  HistoryColumns columns =
+      history_columns(scene, model, spec.history.columns, spec.prefix + spec.columns_name);
+  const ScaleFactors scale = motion_scale(scene, spec.motion);
+  RunLabel label{scene.name,
+                 scene.source,
+                 describe_motion(motion),
+                 spec.motion.given ? spec.motion.given_path : spec.motion.record,
+                 scale.total(),
+                 scale.scene,
+                 scale.option,
+                 ro.tolerances.rtol,
+                 ro.tolerances.atol};
+  return {std::move(motion), scale, std::move(ro), std::move(model), std::move(columns), std::move(label)};
+}
+
+}  // namespace rocking
