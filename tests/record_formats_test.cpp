@@ -339,7 +339,7 @@ TEST_CASE("every registered format reads its own example: detected, forced, with
   const ExampleRecord e = example_record();
   for (const RecordFormatInfo& f : record_formats()) {
     CAPTURE(f.name);
-    const std::string path = write_temp("example_" + f.name + ".txt", f.example);
+    const std::string path = write_temp("example_" + f.name + ".txt", f.example());
     CHECK(is_record_file(path));
     const GroundMotion g = read_record(path);
     CHECK(g.info().format == f.name);
@@ -361,8 +361,9 @@ TEST_CASE("every registered format, forced on what is not its file, reads it or 
     for (const RecordFormatInfo& other : formats) {
       CAPTURE(other.name);
       // Another format's example, and this format's own cut after half its lines.
-      const std::string cut = f.example.substr(0, f.example.find('\n', f.example.size() / 2));
-      for (const std::string& text : {other.example, cut}) {
+      const std::string own = f.example();
+      const std::string cut = own.substr(0, own.find('\n', own.size() / 2));
+      for (const std::string& text : {other.example(), cut}) {
         const std::string path = write_temp("forced_" + f.name + "_" + other.name + ".txt", text);
         try {
           const GroundMotion g = read_record(path, {.format = f.name});

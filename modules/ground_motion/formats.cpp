@@ -46,7 +46,7 @@ std::string format_names() {
 
 std::vector<RecordFormatInfo> record_formats() {
   std::vector<RecordFormatInfo> out;
-  for (const records::FormatReader& r : readers()) out.push_back({r.name, r.description, r.example()});
+  for (const records::FormatReader& r : readers()) out.push_back({r.name, r.description, r.example});
   return out;
 }
 

@@ -147,8 +147,9 @@ struct RecordFormatInfo {
   std::string name, description;
   // A small file of this format holding example_record() in the format's
   // unit, its headers stating what that format states: what a new file of
-  // the format looks like, and what the tests that cover every format read.
-  std::string example;
+  // the format looks like, and what the tests that cover every format read
+  // (made when asked: listing the formats, as every --help does, makes none).
+  std::string (*example)() = nullptr;
 };
 // The samples every format's example holds: 0.3 g sin(2 pi i / 25) for
 // i = 0 .. 99, 0.01 s apart (four whole cycles: a mean of zero).
