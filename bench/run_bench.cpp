@@ -93,8 +93,8 @@ double rocking_rhs_ns(const ContactModel& m, const GroundMotion& ground) {
   Discrete d;
   Eigen::VectorXd y = Eigen::VectorXd::Constant(m.layout.size, 1e-3), dydt(m.layout.size);
   begin_rocking(m, d, +1, y);
-  y[m.layout.theta] = 0.01;
-  y[m.layout.theta_dot] = 0.02;
+  y[m.layout.theta.start] = 0.01;
+  y[m.layout.theta_dot.start] = 0.02;
   Workspace work(m);
   const ode::Rhs rhs = [&](double t, Eigen::Ref<const Eigen::VectorXd> x, Eigen::Ref<Eigen::VectorXd> f) {
     phase_rhs(m, d, ground.acceleration(t), x, f, work);
@@ -105,7 +105,7 @@ double rocking_rhs_ns(const ContactModel& m, const GroundMotion& ground) {
     const auto t0 = std::chrono::steady_clock::now();
     for (int i = 0; i < batch; ++i) {
       rhs(1.0 + 1e-6 * i, y, dydt);
-      sink += dydt[m.layout.theta_dot];
+      sink += dydt[m.layout.theta_dot.start];
     }
     best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() / batch);
   }

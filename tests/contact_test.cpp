@@ -25,7 +25,7 @@ TEST_CASE("each scene's state holds only what it models") {
   const ContactModel fixed = make_contact_model(chimney({"contact.rocking=false"}), false);
   CHECK(fixed.kind == ModelKind::fixed_base);
   CHECK(fixed.layout.size == 2 * n);  // u, u' only: linear, no events
-  CHECK(guard_directions(fixed, 0).empty());
+  CHECK(phase_guards(fixed, 0).empty());
   const ContactModel rigid = make_contact_model(chimney({"structure.rigid=true"}), false);
   CHECK(rigid.kind == ModelKind::rigid_block);
   CHECK(rigid.layout.size == 3);  // theta, theta', z
@@ -67,11 +67,11 @@ TEST_CASE("uplift of the flexible chimney needs both the moment (Eq. 2) and L_s 
   const Eigen::VectorXd phi = m.body.matrices.fixed_base.shapes.col(0);
   const double c = reference_forces(m.body.structure, m.body.matrices).base_moment /
                    m.body.structure.heights.dot(m.body.matrices.K * phi);
-  y.segment(l.u, l.n) = 1.2 * c * phi;
+  y.segment(l.u.start, l.n) = 1.2 * c * phi;
   CHECK(uplift_now(m, d, 0.0, y) == 0);  // at rest: L_s = 0, not > 0
-  y.segment(l.u_dot, l.n) = 0.01 * phi;     // still moving right
+  y.segment(l.u_dot.start, l.n) = 0.01 * phi;     // still moving right
   CHECK(uplift_now(m, d, 0.0, y) == +1);
-  y.segment(l.u_dot, l.n) = -0.01 * phi;    // already coming back
+  y.segment(l.u_dot.start, l.n) = -0.01 * phi;    // already coming back
   CHECK(uplift_now(m, d, 0.0, y) == 0);
 }
 
@@ -84,7 +84,7 @@ TEST_CASE("guards say truly whether they read a_g (callers skip the record looku
     for (int pivot : {0, +1, -1}) {
       Discrete d;
       Eigen::VectorXd y = Eigen::VectorXd::Constant(m.layout.size, 0.01);
-      if (pivot != 0) begin_rocking(m, d, pivot, y), y[m.layout.theta] = 0.01 * pivot;
+      if (pivot != 0) begin_rocking(m, d, pivot, y), y[m.layout.theta.start] = 0.01 * pivot;
       Eigen::VectorXd g0(2), g3(2);
       guard_values(m, d, 0.0, y, g0);
       guard_values(m, d, 3.0, y, g3);
@@ -106,9 +106,9 @@ TEST_CASE("uplift guards equal Eq. 2 and Eq. 3 written out, at 4 nodes (unrolled
     d.set_z(0, 0.3);
     d.set_z(1, -0.2);
     Eigen::VectorXd y = Eigen::VectorXd::Zero(l.size);
-    y.segment(l.u, l.n) = Eigen::VectorXd::LinSpaced(l.n, 1e-3, 2e-2);
-    y.segment(l.u_dot, l.n) = Eigen::VectorXd::LinSpaced(l.n, -0.05, 0.1);
-    const auto u = y.segment(l.u, l.n), u_dot = y.segment(l.u_dot, l.n);
+    y.segment(l.u.start, l.n) = Eigen::VectorXd::LinSpaced(l.n, 1e-3, 2e-2);
+    y.segment(l.u_dot.start, l.n) = Eigen::VectorXd::LinSpaced(l.n, -0.05, 0.1);
+    const auto u = y.segment(l.u.start, l.n), u_dot = y.segment(l.u_dot.start, l.n);
     const double moment = st.heights.dot(m.body.matrices.K * u + m.body.matrices.C * u_dot);
     const double momentum = st.heights.dot(st.masses.asDiagonal() * u_dot);
     Eigen::VectorXd g(2);
@@ -131,26 +131,26 @@ TEST_CASE("impact: continued rocking takes r and keeps u'; full contact keeps th
   Eigen::VectorXd y = Eigen::VectorXd::Zero(l.size);
   Discrete d;
   begin_rocking(m, d, +1, y);
-  y[l.theta_dot] = -0.05;  // falling back onto the left pivot
-  y.segment(l.u_dot, l.n).setConstant(0.001);
-  y[l.z] = 0.4;
+  y[l.theta_dot.start] = -0.05;  // falling back onto the left pivot
+  y.segment(l.u_dot.start, l.n).setConstant(0.001);
+  y[l.z.start] = 0.4;
   d.set_z(1, -0.3);  // what the other damper kept from its last cycle
   const ImpactResult r = impact(m, d, y);
   CHECK(r.continues);
   CHECK(d.pivot == -1);
-  CHECK(y[l.theta_dot] == doctest::Approx(0.9 * -0.05).epsilon(1e-15));
-  CHECK(y.segment(l.u_dot, l.n).isApproxToConstant(0.001));
-  CHECK(y[l.z] == -0.3);               // the left-pivot damper resumes its own z
+  CHECK(y[l.theta_dot.start] == doctest::Approx(0.9 * -0.05).epsilon(1e-15));
+  CHECK(y.segment(l.u_dot.start, l.n).isApproxToConstant(0.001));
+  CHECK(y[l.z.start] == -0.3);               // the left-pivot damper resumes its own z
   CHECK(d.z(0) == 0.4);       // and the other keeps its z for later
 
   // Below theta_dot_min the structure settles: th' = 0 and u' gains H th'-.
-  y[l.theta_dot] = 0.001;  // rocking about -1, falling back (s th' > 0 means -th decreasing)
-  const Eigen::VectorXd u_dot_before = y.segment(l.u_dot, l.n);
+  y[l.theta_dot.start] = 0.001;  // rocking about -1, falling back (s th' > 0 means -th decreasing)
+  const Eigen::VectorXd u_dot_before = y.segment(l.u_dot.start, l.n);
   const ImpactResult settle = impact(m, d, y);
   CHECK_FALSE(settle.continues);
   CHECK(d.pivot == 0);
-  CHECK(y[l.theta_dot] == 0.0);
-  CHECK((y.segment(l.u_dot, l.n) - (u_dot_before + m.body.structure.heights * 0.001)).norm() < 1e-15);
+  CHECK(y[l.theta_dot.start] == 0.0);
+  CHECK((y.segment(l.u_dot.start, l.n) - (u_dot_before + m.body.structure.heights * 0.001)).norm() < 1e-15);
 }
 
 TEST_CASE("Eq. 9 restitution equals Eq. 10 for an undeformed structure and stays in [0, 1]") {
@@ -159,16 +159,16 @@ TEST_CASE("Eq. 9 restitution equals Eq. 10 for an undeformed structure and stays
   Eigen::VectorXd y = Eigen::VectorXd::Zero(l.size);
   Discrete d;
   begin_rocking(eq9, d, +1, y);
-  y[l.theta_dot] = -0.05;
+  y[l.theta_dot.start] = -0.05;
   const ImpactResult r = impact(eq9, d, y);
   CHECK(r.r == doctest::Approx(eq9.r_eq10).epsilon(1e-12));
   // A deformed, moving structure: the ratio of the momenta about the new and
   // the old pivot, computed here from Eq. 9 as printed (upper sign: s = +1).
   begin_rocking(eq9, d, +1, y);
   const double th_dot = -0.05, u = 0.02, u_dot = -0.01;
-  y[l.theta_dot] = th_dot;
-  y.segment(l.u, l.n).setConstant(u);
-  y.segment(l.u_dot, l.n).setConstant(u_dot);
+  y[l.theta_dot.start] = th_dot;
+  y.segment(l.u.start, l.n).setConstant(u);
+  y.segment(l.u_dot.start, l.n).setConstant(u_dot);
   const Structure& st = eq9.body.structure;
   const double M1 = st.masses.sum(), uMu = M1 * u * u, HMu_dot = st.heights.dot(st.masses) * u_dot;
   const double B = st.half_width, J_p = pivot_inertia(st);
@@ -198,14 +198,14 @@ TEST_CASE("modal coordinates: rhs, guards, energy, outputs and resets equal the 
     // q = Phi^-1 u, and the whole state mapped
     const auto to_modal = [&](const Eigen::VectorXd& y) {
       Eigen::VectorXd out = y;
-      from_nodal(modal.body, y.segment(l.u, l.n), out.segment(l.u, l.n));
-      from_nodal(modal.body, y.segment(l.u_dot, l.n), out.segment(l.u_dot, l.n));
+      from_nodal(modal.body, y.segment(l.u.start, l.n), out.segment(l.u.start, l.n));
+      from_nodal(modal.body, y.segment(l.u_dot.start, l.n), out.segment(l.u_dot.start, l.n));
       return out;
     };
     const auto to_nodal_state = [&](const Eigen::VectorXd& y) {
       Eigen::VectorXd out = y;
-      out.segment(l.u, l.n) = Phi * y.segment(l.u, l.n);
-      out.segment(l.u_dot, l.n) = Phi * y.segment(l.u_dot, l.n);
+      out.segment(l.u.start, l.n) = Phi * y.segment(l.u.start, l.n);
+      out.segment(l.u_dot.start, l.n) = Phi * y.segment(l.u_dot.start, l.n);
       return out;
     };
     const auto close = [](const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
@@ -224,11 +224,11 @@ TEST_CASE("modal coordinates: rhs, guards, energy, outputs and resets equal the 
       Eigen::VectorXd y = Eigen::VectorXd::Zero(l.size);
       if (pivot != 0) {
         begin_rocking(nodal, d, pivot, y);
-        y[l.theta] = 0.004 * pivot;
-        y[l.theta_dot] = -0.03 * pivot;
+        y[l.theta.start] = 0.004 * pivot;
+        y[l.theta_dot.start] = -0.03 * pivot;
       }
-      y.segment(l.u, l.n) = Eigen::VectorXd::LinSpaced(l.n, 1e-3, 2e-2);
-      y.segment(l.u_dot, l.n) = Eigen::VectorXd::LinSpaced(l.n, -0.05, 0.1);
+      y.segment(l.u.start, l.n) = Eigen::VectorXd::LinSpaced(l.n, 1e-3, 2e-2);
+      y.segment(l.u_dot.start, l.n) = Eigen::VectorXd::LinSpaced(l.n, -0.05, 0.1);
       const Eigen::VectorXd q = to_modal(y);
       Eigen::VectorXd fn(l.size), fm(l.size);
       phase_rhs(nodal, d, 1.3, y, fn, wn);
@@ -236,7 +236,7 @@ TEST_CASE("modal coordinates: rhs, guards, energy, outputs and resets equal the 
       CHECK(close(to_nodal_state(fm), fn));
       CHECK(mechanical_energy(modal, pivot == 0 ? 1 : pivot, q) ==
             doctest::Approx(mechanical_energy(nodal, pivot == 0 ? 1 : pivot, y)).epsilon(1e-9));
-      const std::size_t guards = guard_directions(nodal, pivot).size();
+      const std::size_t guards = phase_guards(nodal, pivot).size();
       Eigen::VectorXd gn(guards), gm(guards);
       guard_values(nodal, d, 1.3, y, gn);
       guard_values(modal, d, 1.3, q, gm);
@@ -252,7 +252,7 @@ TEST_CASE("modal coordinates: rhs, guards, energy, outputs and resets equal the 
         // an impact (Eq. 9 continued rocking), then one that settles (u' + H th')
         for (double theta_dot : {-0.03 * pivot, -0.001 * pivot}) {
           Eigen::VectorXd yn = y, ym = q;
-          yn[l.theta_dot] = ym[l.theta_dot] = theta_dot;
+          yn[l.theta_dot.start] = ym[l.theta_dot.start] = theta_dot;
           Discrete dn = d, dm = d;
           const ImpactResult in = impact(nodal, dn, yn), im = impact(modal, dm, ym);
           CHECK(in.continues == im.continues);
@@ -296,24 +296,24 @@ TEST_CASE("each acting device's kernels are its law and kinematics: terms, z' an
         Discrete d;
         Eigen::VectorXd y = Eigen::VectorXd::LinSpaced(l.size, 0.002, 0.02);
         begin_rocking(m, d, s, y);
-        y[l.theta] = 0.01 * s;
-        y[l.theta_dot] = 0.05 * s;
-        if (a.slot >= 0) y[a.slot] = 0.3;
+        y[l.theta.start] = 0.01 * s;
+        y[l.theta_dot.start] = 0.05 * s;
+        if (a.slot) y[*a.slot] = 0.3;
         if (broken) fracture(d, a.device);
-        const Tilt tilt(y[l.theta]);
-        const double thd = y[l.theta_dot];
+        const Tilt tilt(y[l.theta.start]);
+        const double thd = y[l.theta_dot.start];
         Eigen::VectorXd dydt = Eigen::VectorXd::Constant(l.size, 7.0);
         const ContactModel::DeviceTerms t = a.terms(a, d, B, s, tilt, thd, y.data(), dydt.data());
         const DamperState state = a.state(a, d, B, s, tilt, thd, y.data());
         const Stretch st = stretch(a.geometry, B, s, tilt);
-        const double e_dot = st.de_dtheta * s * thd, z = a.slot >= 0 ? y[a.slot] : 0.0;
+        const double e_dot = st.de_dtheta * s * thd, z = a.slot ? y[*a.slot] : 0.0;
         const LawResponse r = law_force_and_rate(a.law, st.e, e_dot, z);
         const bool chord = a.geometry.kinematics == Kinematics::chord;
         CHECK(state.elongation == st.e);
         CHECK(state.force == (broken ? 0.0 : law_force(a.law, st.e, e_dot, z)));
         CHECK(t.moment == (broken ? 0.0 : chord ? r.F * a.lever * tilt.cos_half : r.F * st.de_dtheta));
         CHECK(t.power == (broken ? 0.0 : r.F * e_dot));
-        if (a.slot >= 0) CHECK(dydt[a.slot] == (broken ? 0.0 : r.rate));
+        if (a.slot) CHECK(dydt[*a.slot] == (broken ? 0.0 : r.rate));
         CHECK(st.e > 0);
       }
     }

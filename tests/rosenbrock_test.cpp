@@ -163,7 +163,7 @@ TEST_CASE("StiffPart: T is the Jacobian of the modal equations of motion at rest
     // The Jacobian's columns of u and u' by central differences of the rhs.
     Eigen::MatrixXd T = Eigen::MatrixXd::Zero(l.size, l.size);
     Vec fp(l.size), fm(l.size);
-    for (Eigen::Index j = l.u; j < l.u + 2 * l.n; ++j) {
+    for (Eigen::Index j = l.u.start; j < l.u.start + 2 * l.n; ++j) {
       const double h = 1e-7;
       Vec yp = y, ym = y;
       yp[j] += h;
@@ -173,7 +173,7 @@ TEST_CASE("StiffPart: T is the Jacobian of the modal equations of motion at rest
       T.col(j) = (fp - fm) / (2 * h);
     }
     // T's rows are those of u, u' and (rocking) theta': leave out the rest.
-    if (l.theta >= 0) T.row(l.theta).setZero();
+    if (l.theta.present()) T.row(l.theta.start).setZero();
     const double g = 3e-3;
     Vec b = Vec::LinSpaced(l.size, -1.0, 2.0), x(l.size);
     stiff.solve(pivot, g, b, x);

@@ -314,7 +314,7 @@ PyResult simulate(const py::object& scene_arg, const py::object& record, double 
                   const std::optional<std::vector<std::string>>& columns) {
   const PyScene s = scene_of(scene_arg);
   // The run as `rocking simulate` describes it (rocking.run), its choices named as here.
-  rocking::RunSpec spec{.scene = *s.scene, .prefix = "", .columns_name = "columns"};
+  rocking::RunSpec spec{.scene = *s.scene, .motion = {}, .solver = {}, .history = {}, .prefix = "", .columns_name = "columns"};
   spec.motion.scale = scale;
   if (!record.is_none()) {
     const PyRecord r =
@@ -345,7 +345,7 @@ PyResult simulate(const py::object& scene_arg, const py::object& record, double 
     out.history[py::str(collect.names[i])] = to_numpy(std::move(collect.history[i]));
   for (const rocking::Event& e : collect.events) {
     py::dict d("kind"_a = std::string(rocking::event_name(e.kind)), "t"_a = e.t, "pivot"_a = e.pivot);
-    if (e.kind == rocking::EventKind::fracture) d["device"] = run.model.devices[static_cast<std::size_t>(e.device)].name;
+    if (e.device) d["device"] = run.model.devices[static_cast<std::size_t>(*e.device)].name;
     out.events.append(d);
   }
   if (result.outcome == rocking::Outcome::failed) {
@@ -405,7 +405,11 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
       scene.structure.rigid ? 0.0 : 1.0 / rocking::modal_analysis(scene.structure, rocking::scene_devices(scene)).fixed_base_hz[0];
   const rocking::IntensityMeasure im = rocking::parse_intensity_measure(im_text, damping, t1);
   // The runs as `rocking ida` describes them (rocking.run).
-  rocking::RunOptions ro = rocking::run_options(scene, {.integrator = integrator, .rtol = rtol, .atol = atol}, false, "");
+  rocking::SolverChoice solver;
+  solver.integrator = integrator;
+  solver.rtol = rtol;
+  solver.atol = atol;
+  rocking::RunOptions ro = rocking::run_options(scene, solver, false, "");
   auto stop = std::make_shared<std::atomic<bool>>(false);
   ro.stop = [stop] { return stop->load(); };
   const rocking::Study study(s.path, s.overrides, records, {}, std::move(variants), ro, im);

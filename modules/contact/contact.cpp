@@ -20,23 +20,23 @@ Layout make_layout(ModelKind kind, Eigen::Index n, Eigen::Index z_count, Eigen::
   Eigen::Index next = 0;
   if (kind != ModelKind::rigid_block) {
     l.n = n;
-    l.u = next;
-    l.u_dot = next + n;
+    l.u = {next, n};
+    l.u_dot = {next + n, n};
     next += 2 * n;
   }
   if (kind != ModelKind::fixed_base) {
-    l.theta = next++;
-    l.theta_dot = next++;
+    l.theta = {next++, 1};
+    l.theta_dot = {next++, 1};
     if (z_count > 0) {
-      l.z = next;
-      l.z_count = z_count;
+      l.z.start = next;
+      l.z.count = z_count;
       next += z_count;
     }
   }
   if (energy) {
-    l.energy = next;
-    l.energy_count = 3 + devices;
-    next += l.energy_count;
+    l.energy.start = next;
+    l.energy.count = 3 + devices;
+    next += l.energy.count;
   }
   l.size = next;
   return l;
@@ -57,15 +57,15 @@ template <class Law, bool Chord>
 ContactModel::DeviceTerms device_terms(const ContactModel::Acting& a, const Discrete& d, double half_width, int s,
                                        const Tilt& tilt, double thd, const double* y, double* dydt) {
   if (d.broken != 0 && d.is_broken(a.device)) {
-    if constexpr (Law::states > 0) dydt[a.slot] = 0.0;
+    if constexpr (Law::states > 0) dydt[*a.slot] = 0.0;
     return {};
   }
   const Law& law = *std::get_if<Law>(&a.law);
   const Stretch st = stretch_of<Chord>(a, half_width, s, tilt);
   const double e_dot = st.de_dtheta * s * thd;
-  const double z = Law::states > 0 ? y[a.slot] : 0.0;  // a law with a state has a slot
+  const double z = Law::states > 0 ? y[*a.slot] : 0.0;  // a law with a state has a slot
   const double F = law.force(st.e, e_dot, z);
-  if constexpr (Law::states > 0) dydt[a.slot] = law.rate(st.e, e_dot, z);
+  if constexpr (Law::states > 0) dydt[*a.slot] = law.rate(st.e, e_dot, z);
   return {Chord ? F * a.lever * tilt.cos_half : F * st.de_dtheta, F * e_dot};
 }
 
@@ -75,7 +75,7 @@ DamperState device_state(const ContactModel::Acting& a, const Discrete& d, doubl
   const Stretch st = stretch_of<Chord>(a, half_width, s, tilt);
   if (d.broken != 0 && d.is_broken(a.device)) return {st.e, 0.0};
   const double e_dot = st.de_dtheta * s * thd;
-  return {st.e, std::get_if<Law>(&a.law)->force(st.e, e_dot, Law::states > 0 ? y[a.slot] : 0.0)};
+  return {st.e, std::get_if<Law>(&a.law)->force(st.e, e_dot, Law::states > 0 ? y[*a.slot] : 0.0)};
 }
 
 template <std::size_t I = 0>
@@ -90,20 +90,20 @@ void choose_kernels(ContactModel::Acting& a) {
 }
 
 double theta_of(const ContactModel& m, Eigen::Ref<const Eigen::VectorXd> y) {
-  return m.layout.theta < 0 ? 0.0 : y[m.layout.theta];
+  return !m.layout.theta.present() ? 0.0 : y[m.layout.theta.start];
 }
 double theta_dot_of(const ContactModel& m, Eigen::Ref<const Eigen::VectorXd> y) {
-  return m.layout.theta_dot < 0 ? 0.0 : y[m.layout.theta_dot];
+  return !m.layout.theta_dot.present() ? 0.0 : y[m.layout.theta_dot.start];
 }
 
 // The elastic displacements and velocities of a state (zeros for a rigid block).
 Eigen::Ref<const Eigen::VectorXd> u_of(const ContactModel& m, Eigen::Ref<const Eigen::VectorXd> y) {
-  if (m.layout.u < 0) return m.zero_motion;
-  return y.segment(m.layout.u, m.layout.n);
+  if (!m.layout.u.present()) return m.zero_motion;
+  return y.segment(m.layout.u.start, m.layout.n);
 }
 Eigen::Ref<const Eigen::VectorXd> u_dot_of(const ContactModel& m, Eigen::Ref<const Eigen::VectorXd> y) {
-  if (m.layout.u < 0) return m.zero_motion;
-  return y.segment(m.layout.u_dot, m.layout.n);
+  if (!m.layout.u.present()) return m.zero_motion;
+  return y.segment(m.layout.u_dot.start, m.layout.n);
 }
 
 // H'M u' (momentum moment of the elastic velocities).
@@ -113,7 +113,7 @@ double moment_of_velocities(const ContactModel& m, Eigen::Ref<const Eigen::Vecto
 
 // The rows of the uplift guards' dot products on [q; q'] (contact.cppm).
 void set_guard_rows(ContactModel& m) {
-  if (m.layout.u < 0) return;
+  if (!m.layout.u.present()) return;
   const Eigen::Index n = m.layout.n;
   const RockingBody& b = m.body;
   const bool modal = b.coordinates == ElasticCoordinates::modal;
@@ -133,9 +133,9 @@ struct UpliftTerms {
   double momentum = 0;  // H'M u' [kg m^2/s]
 };
 UpliftTerms uplift_terms(const ContactModel& m, double a_g, Eigen::Ref<const Eigen::VectorXd> y) {
-  if (m.layout.u < 0) return {-a_g * m.body.HM1, 0.0, 0.0};
+  if (!m.layout.u.present()) return {-a_g * m.body.HM1, 0.0, 0.0};
   UpliftTerms t;
-  const double* x = y.data() + m.layout.u;  // [u; u'], adjacent in the layout
+  const double* x = y.data() + m.layout.u.start;  // [u; u'], adjacent in the layout
   const double *r0 = m.body.moment_row.data(), *r1 = m.mass_row.data(), *r2 = m.momentum_row.data();
   with_static_size(2 * m.layout.n, [&](auto size) {
     constexpr int S = decltype(size)::value;
@@ -164,7 +164,7 @@ double uplift_guard(const ContactModel& m, const Discrete& d, int s, const Uplif
   const double B = st.half_width;
   const double restoring = m.body.g * (B * m.body.total_mass - s * t.Mu);
   const double gs = s * t.moment - (restoring + held_moment(m, d, s));
-  if (m.layout.u < 0) return gs;
+  if (!m.layout.u.present()) return gs;
   return std::min(gs, s * t.momentum);
 }
 
@@ -221,7 +221,7 @@ ContactModel make_contact_model(const Structure& st, const Contact& contact, std
       if (!(lever > 0)) continue;
       if (dev.capacity > 0) m.breakable[side(s)].push_back(static_cast<int>(m.acting[side(s)].size()));
       if (dev.edge_damper && !m.damper[side(s)]) m.damper[side(s)] = m.acting[side(s)].size();
-      m.acting[side(s)].push_back({static_cast<int>(k), law_states(dev.law) > 0 ? states[side(s)]++ : -1, lever,
+      m.acting[side(s)].push_back({static_cast<int>(k), law_states(dev.law) > 0 ? std::optional<Eigen::Index>(states[side(s)]++) : std::nullopt, lever,
                                    dev.geometry, dev.law, dev.capacity});
     }
   // The work on each device needs its own accumulator only where a pivot
@@ -232,10 +232,10 @@ ContactModel make_contact_model(const Structure& st, const Contact& contact, std
                          split ? static_cast<Eigen::Index>(m.devices.size()) : 0, track_energy);
   for (int s : {-1, +1}) {
     for (ContactModel::Acting& a : m.acting[side(s)]) {
-      if (a.slot >= 0) a.slot += m.layout.z;
+      if (a.slot) *a.slot += m.layout.z.start;
       choose_kernels(a);
     }
-    m.idle_slots[side(s)] = states[side(s)] < m.layout.z_count;
+    m.idle_slots[side(s)] = states[side(s)] < m.layout.z.count;
   }
   set_guard_rows(m);
   return m;
@@ -256,11 +256,11 @@ Workspace::Workspace(const ContactModel& m)
 
 LinearPhase full_contact_matrices(const ContactModel& m) {
   const Eigen::Index n = m.layout.n;
-  if (m.layout.u < 0) throw InputError("full_contact_matrices: a rigid block has no elastic coordinates");
+  if (!m.layout.u.present()) throw InputError("full_contact_matrices: a rigid block has no elastic coordinates");
   const StructuralMatrices& sm = m.body.matrices;
   const Eigen::VectorXd minus_inverse_mass = -m.body.structure.masses.cwiseInverse();
   LinearPhase sys;
-  sys.first = m.layout.u;  // u_dot follows u
+  sys.first = m.layout.u.start;  // u_dot follows u
   sys.A = Eigen::MatrixXd::Zero(2 * n, 2 * n);
   sys.A.topRightCorner(n, n).setIdentity();
   if (m.body.coordinates == ElasticCoordinates::modal) {  // q'' = -(k q + c q') - r a_g
@@ -300,9 +300,9 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, const Eigen
   double device_moment = 0, damper_power = 0;
   if (s != 0) {
     if (m.idle_slots[side(s)])  // a slot this pivot leaves unused rests
-      for (Eigen::Index k = 0; k < l.z_count; ++k) dydt[l.z + k] = 0.0;
-    const bool split_work = l.energy_count > 3;
-    if (split_work) std::fill(dydt.data() + l.energy + 3, dydt.data() + l.energy + l.energy_count, 0.0);
+      for (Eigen::Index k = 0; k < l.z.count; ++k) dydt[l.z.start + k] = 0.0;
+    const bool split_work = l.energy.count > 3;
+    if (split_work) std::fill(dydt.data() + l.energy.start + 3, dydt.data() + l.energy.start + l.energy.count, 0.0);
     const std::vector<ContactModel::Acting>& acting = m.acting[side(s)];
     if (acting.size() == 1 && !split_work) {  // the paper's case: one damper per pivot
       const ContactModel::Acting& a = acting.front();
@@ -314,49 +314,44 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, const Eigen
         const ContactModel::DeviceTerms t = a.terms(a, d, B, s, tilt, thd, y.data(), dydt.data());
         device_moment += t.moment;
         damper_power += t.power;
-        if (split_work) dydt[l.energy + 3 + a.device] = t.power;
+        if (split_work) dydt[l.energy.start + 3 + a.device] = t.power;
       }
     }
   }
   if (s != 0) {
-    dydt[l.theta] = thd;
-    if (l.u < 0) {
-      dydt[l.theta_dot] = rigid_rocking_acceleration(m.body, s, a_g, device_moment, tilt);
+    dydt[l.theta.start] = thd;
+    if (!l.u.present()) {
+      dydt[l.theta_dot.start] = rigid_rocking_acceleration(m.body, s, a_g, device_moment, tilt);
     } else {
-      const Coordinates q{y.segment(l.u, l.n), y.segment(l.u_dot, l.n), tilt, thd};
-      dydt[l.theta_dot] = rocking_acceleration(m.body, s, a_g, device_moment, q, dydt.segment(l.u, 2 * l.n));
+      const Coordinates q{y.segment(l.u.start, l.n), y.segment(l.u_dot.start, l.n), tilt, thd};
+      dydt[l.theta_dot.start] = rocking_acceleration(m.body, s, a_g, device_moment, q, dydt.segment(l.u.start, 2 * l.n));
     }
 
   } else {
-    if (l.theta >= 0)  // theta, theta', z, device work rest
-      std::fill(dydt.data() + l.theta, dydt.data() + l.size, 0.0);
-    if (l.u >= 0)
-      full_contact_acceleration(m.body, a_g, y.segment(l.u, l.n), y.segment(l.u_dot, l.n), dydt.segment(l.u, 2 * l.n));
+    if (l.theta.present())  // theta, theta', z, device work rest
+      std::fill(dydt.data() + l.theta.start, dydt.data() + l.size, 0.0);
+    if (l.u.present())
+      full_contact_acceleration(m.body, a_g, y.segment(l.u.start, l.n), y.segment(l.u_dot.start, l.n), dydt.segment(l.u.start, 2 * l.n));
   }
-  if (l.energy >= 0) {
+  if (l.energy.present()) {
     double input = 0, viscous = 0;
     const Coordinates q{u_of(m, y), u_dot_of(m, y), tilt, thd};
     input = ground_input_power(m.body, s == 0 ? 1 : s, a_g, q);
     viscous = viscous_power(m.body, q.u_dot, w.b);
-    dydt[l.energy] = input;
-    dydt[l.energy + 1] = viscous;
-    dydt[l.energy + 2] = damper_power;
+    dydt[l.energy.start] = input;
+    dydt[l.energy.start + 1] = viscous;
+    dydt[l.energy.start + 2] = damper_power;
   }
 }
 
-std::vector<Crossing> guard_directions(const ContactModel& m, int pivot) {
+std::vector<PhaseGuard> phase_guards(const ContactModel& m, int pivot) {
   if (m.kind == ModelKind::fixed_base) return {};
-  if (pivot == 0) return {Crossing::rising, Crossing::rising};
-  std::vector<Crossing> out{Crossing::falling, Crossing::rising};
-  out.resize(2 + m.breakable[side(pivot)].size(), Crossing::rising);
-  return out;
-}
-
-GuardMeaning guard_meaning(const ContactModel& m, int pivot, int index) {
-  if (pivot == 0) return {index == 0 ? Guard::uplift_right : Guard::uplift_left};
-  if (index < 2) return {index == 0 ? Guard::impact : Guard::overturn};
+  if (pivot == 0) return {{Guard::uplift_right, Crossing::rising, {}}, {Guard::uplift_left, Crossing::rising, {}}};
+  std::vector<PhaseGuard> out{{Guard::impact, Crossing::falling, {}}, {Guard::overturn, Crossing::rising, {}}};
   const auto& acting = m.acting[side(pivot)];
-  return {Guard::fracture, acting[static_cast<std::size_t>(m.breakable[side(pivot)][static_cast<std::size_t>(index - 2)])].device};
+  for (int i : m.breakable[side(pivot)])
+    out.push_back({Guard::fracture, Crossing::rising, acting[static_cast<std::size_t>(i)].device});
+  return out;
 }
 
 void guard_values(const ContactModel& m, const Discrete& d, double a_g, const Eigen::Ref<const Eigen::VectorXd>& y,
@@ -367,12 +362,12 @@ void guard_values(const ContactModel& m, const Discrete& d, double a_g, const Ei
     g[0] = uplift_guard(m, d, +1, t);
     g[1] = uplift_guard(m, d, -1, t);
   } else {
-    const double st = d.pivot * y[m.layout.theta];
+    const double st = d.pivot * y[m.layout.theta.start];
     g[0] = st;
     g[1] = st - m.overturn_angle;
     const auto& breakable = m.breakable[side(d.pivot)];
     if (breakable.empty()) return;
-    const Tilt tilt(y[m.layout.theta]);
+    const Tilt tilt(y[m.layout.theta.start]);
     Eigen::Index k = 2;
     for (int i : breakable) {
       const ContactModel::Acting& a = m.acting[side(d.pivot)][static_cast<std::size_t>(i)];
@@ -404,8 +399,8 @@ void device_samples(const ContactModel& m, const Discrete& d, Eigen::Ref<const E
     for (std::size_t k = 0; k < out.size(); ++k)
       if (d.is_broken(static_cast<int>(k))) out[k] = {std::nan(""), std::nan(""), 0.0};
   if (d.pivot == 0) return;
-  const Tilt tilt(y[m.layout.theta]);
-  const double thd = y[m.layout.theta_dot];
+  const Tilt tilt(y[m.layout.theta.start]);
+  const double thd = y[m.layout.theta_dot.start];
   for (const ContactModel::Acting& a : m.acting[side(d.pivot)]) {
     if (d.broken != 0 && d.is_broken(a.device)) continue;
     const DamperState n = a.state(a, d, m.body.structure.half_width, d.pivot, tilt, thd, y.data());
@@ -431,18 +426,18 @@ namespace {
 // their slots, or back.
 void load_states(const ContactModel& m, const Discrete& d, int s, Eigen::Ref<Eigen::VectorXd> y) {
   for (const ContactModel::Acting& a : m.acting[side(s)])
-    if (a.slot >= 0) y[a.slot] = d.z(a.device);
+    if (a.slot) y[*a.slot] = d.z(a.device);
 }
 void save_states(const ContactModel& m, Discrete& d, int s, Eigen::Ref<const Eigen::VectorXd> y) {
   for (const ContactModel::Acting& a : m.acting[side(s)])
-    if (a.slot >= 0) d.set_z(a.device, y[a.slot]);
+    if (a.slot) d.set_z(a.device, y[*a.slot]);
 }
 }  // namespace
 
 void begin_rocking(const ContactModel& m, Discrete& d, int s, Eigen::Ref<Eigen::VectorXd> y) {
   d.pivot = d.last_pivot = s;
-  y[m.layout.theta] = 0.0;
-  y[m.layout.theta_dot] = 0.0;
+  y[m.layout.theta.start] = 0.0;
+  y[m.layout.theta_dot.start] = 0.0;
   load_states(m, d, s, y);
 }
 
@@ -450,9 +445,9 @@ ImpactResult impact(const ContactModel& m, Discrete& d, Eigen::Ref<Eigen::Vector
   const Layout& l = m.layout;
   const Structure& st = m.body.structure;
   const int s = d.pivot;
-  const double B = st.half_width, theta_dot = y[l.theta_dot];
+  const double B = st.half_width, theta_dot = y[l.theta_dot.start];
   save_states(m, d, s, y);  // the stretched devices keep their z for their next cycle
-  y[l.theta] = 0.0;
+  y[l.theta.start] = 0.0;
   // L_new = (J_p - 2 (1'M1 + m0) B^2 + u'Mu) th'- + H'M u' (momentum about the new pivot)
   const double uMu = mass_norm(m.body, u_of(m, y));
   const double l_new = (pivot_inertia(st) - 2.0 * total_mass(st) * B * B + uMu) * theta_dot +
@@ -461,12 +456,12 @@ ImpactResult impact(const ContactModel& m, Discrete& d, Eigen::Ref<Eigen::Vector
   out.continues = -s * l_new >= 0 && std::abs(theta_dot) > m.contact.theta_dot_min;
   if (out.continues) {
     out.r = restitution(m, s, y, l_new, theta_dot);
-    y[l.theta_dot] = out.r * theta_dot;
+    y[l.theta_dot.start] = out.r * theta_dot;
     d.pivot = d.last_pivot = -s;
     load_states(m, d, -s, y);
   } else {
-    if (l.u >= 0) y.segment(l.u_dot, l.n) += heights_in_coordinates(m.body) * theta_dot;
-    y[l.theta_dot] = 0.0;
+    if (l.u.present()) y.segment(l.u_dot.start, l.n) += heights_in_coordinates(m.body) * theta_dot;
+    y[l.theta_dot.start] = 0.0;
     d.pivot = 0;
   }
   return out;

@@ -49,16 +49,24 @@ struct Contact {
 
 enum class ModelKind { rigid_block, fixed_base, flexible };
 
-// Where each coordinate sits in the ODE state; -1 when the model lacks it.
-// u and u_dot hold the elastic coordinates in the body's coordinates: the
-// nodal displacements, or the fixed-base modes' amplitudes (rocking.dynamics).
+// A part of the ODE state: `count` coordinates from `start`. A count of zero
+// is a part the model lacks.
+struct StateRange {
+  Eigen::Index start = 0, count = 0;
+  bool present() const { return count > 0; }
+};
+
+// Where each part of the ODE state sits. u and u_dot hold the elastic
+// coordinates in the body's coordinates: the nodal displacements, or the
+// fixed-base modes' amplitudes (rocking.dynamics); none for a rigid block.
+// theta and theta_dot: one each, none on a fixed base.
 struct Layout {
   Eigen::Index n = 0;  // elastic coordinates (N, or 0 for a rigid block)
-  Eigen::Index u = -1, u_dot = -1, theta = -1, theta_dot = -1;
-  Eigen::Index z = -1, z_count = 0;  // the states of the devices the current pivot stretches
+  StateRange u, u_dot, theta, theta_dot;
+  StateRange z;  // the states of the devices the current pivot stretches
   // [ground input, viscous, work on all devices, and when some pivot
   // stretches several devices the work on device 0, 1, ...] [J]
-  Eigen::Index energy = -1, energy_count = 0;
+  StateRange energy;
   Eigen::Index size = 0;
 };
 
@@ -89,7 +97,7 @@ struct ContactModel {
                                   double theta_dot, const double* y);
   struct Acting {
     int device = 0;
-    Eigen::Index slot = -1;  // of its state z; -1: stateless
+    std::optional<Eigen::Index> slot;  // of its state z; none: stateless
     double lever = 0;        // l = B - s x [m]
     DeviceGeometry geometry;
     DeviceLaw law;
@@ -212,17 +220,20 @@ class StiffPart {
 DamperState active_damper(const ContactModel& m, const Discrete& d, const Tilt& tilt,
                           Eigen::Ref<const Eigen::VectorXd> y);
 
-// Guards of the phase (see the top of this file) and the directions in which
-// their crossings count. While rocking, a device with a capacity that the
-// pivot stretches has a fracture guard e - e_u (rising; -1 once broken).
+// The guards of a phase (see the top of this file), each with what its
+// crossing means and the direction in which it counts: in full contact the
+// uplifts about +1 and -1 (rising); rocking, the impact (falling), the
+// overturning (rising) and, for each device with a capacity that the pivot
+// stretches, its fracture e - e_u (rising; -1 once broken).
 enum class Guard { uplift_right, uplift_left, impact, overturn, fracture };
 enum class Crossing { rising, falling };
-std::vector<Crossing> guard_directions(const ContactModel& m, int pivot);
-struct GuardMeaning {
+struct PhaseGuard {
   Guard what = Guard::impact;
-  int device = -1;  // the device of a fracture guard
+  Crossing crossing = Crossing::rising;
+  std::optional<int> device;  // the device a fracture guard watches
 };
-GuardMeaning guard_meaning(const ContactModel& m, int pivot, int index);
+std::vector<PhaseGuard> phase_guards(const ContactModel& m, int pivot);
+// The guards' values in the order of phase_guards (g holds one per guard).
 void guard_values(const ContactModel& m, const Discrete& d, double a_g, const Eigen::Ref<const Eigen::VectorXd>& y,
                   Eigen::Ref<Eigen::VectorXd> g);
 // Whether the guards of this phase depend on a_g (only a rigid block's uplift

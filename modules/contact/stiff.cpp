@@ -10,12 +10,12 @@ namespace rocking {
 
 StiffPart::StiffPart(const ContactModel& m) : m_(&m) {
   const Layout& l = m.layout;
-  if (l.u < 0) return;
+  if (!l.u.present()) return;
   if (m.body.coordinates != ElasticCoordinates::modal)
     throw InputError("StiffPart: the linear solve needs the model in modal coordinates (in_modal_coordinates)");
   const Structure& st = m.body.structure;
   const double B = st.half_width, mu = m.body.modes.mu;
-  if (l.theta >= 0) a_ = mu / (m.body.base_inertia + B * B * mu);
+  if (l.theta.present()) a_ = mu / (m.body.base_inertia + B * B * mu);
 }
 
 void StiffPart::prepare(double g) {
@@ -34,19 +34,19 @@ void StiffPart::prepare(double g) {
 void StiffPart::solve(int pivot, double g, Eigen::Ref<const Eigen::VectorXd> b, Eigen::Ref<Eigen::VectorXd> x) {
   x = b;
   const Layout& l = m_->layout;
-  if (l.u < 0) return;
+  if (!l.u.present()) return;
   prepare(g);
   const ModalBasis& md = m_->body.modes;
   const double a = pivot == 0 ? 0.0 : a_;
-  const auto bu = b.segment(l.u, l.n), bv = b.segment(l.u_dot, l.n);
-  auto xu = x.segment(l.u, l.n), xv = x.segment(l.u_dot, l.n);
+  const auto bu = b.segment(l.u.start, l.n), bv = b.segment(l.u_dot.start, l.n);
+  auto xu = x.segment(l.u.start, l.n), xv = x.segment(l.u_dot.start, l.n);
   // y0 = E^-1 (b_v - g P k b_u), E = I + D, P (k b_u) = k b_u + a h (hk'b_u)
   const double hkb = a != 0 ? md.hk.dot(bu) : 0.0;
   xv.array() = e_.array() * (bv.array() - g * md.k.array() * bu.array() - (g * a * hkb) * md.h.array());
   // Sherman-Morrison for the rank-one term a h (D h)'; then x_u and th'
   if (a != 0) xv -= (a * Dh_.dot(xv) / (1.0 + a * hDz_)) * z_;
   xu = bu + g * xv;
-  if (pivot != 0) x[l.theta_dot] = b[l.theta_dot] + g * a * (md.hk.dot(xu) + md.hc.dot(xv));
+  if (pivot != 0) x[l.theta_dot.start] = b[l.theta_dot.start] + g * a * (md.hk.dot(xu) + md.hc.dot(xv));
 }
 
 }  // namespace rocking

@@ -13,7 +13,7 @@ namespace rocking {
 
 Presence presence(const ContactModel& m) {
   return {.rocking = m.kind != ModelKind::fixed_base,
-          .elasticity = m.layout.u >= 0,
+          .elasticity = m.layout.u.present(),
           .dampers = m.has_damper,
           .devices = !m.devices.empty()};
 }
@@ -60,7 +60,7 @@ OutputScales output_scales(const ContactModel& m) {
   sc.alpha_cg = slenderness(st);
   sc.inverse_H_N = 1.0 / sc.H_N;
   sc.inverse_alpha_cg = 1.0 / sc.alpha_cg;
-  sc.has_forces = m.layout.u >= 0;
+  sc.has_forces = m.layout.u.present();
   if (sc.has_forces) {
     const ReferenceForces ref = reference_forces(st, m.body.matrices);
     sc.V_ref = ref.base_shear;
@@ -97,9 +97,9 @@ Response evaluate(const ContactModel& m, const OutputScales& sc, const Discrete&
   r.pivot = d.pivot;
   r[Quantity::t] = t;
   r[Quantity::phase] = d.pivot;
-  const Tilt tilt(l.theta < 0 ? 0.0 : y[l.theta]);
+  const Tilt tilt(!l.theta.present() ? 0.0 : y[l.theta.start]);
   const double th = tilt.theta, s = th > 0 ? 1.0 : th < 0 ? -1.0 : 0.0;
-  const double u_top = l.u < 0 ? 0.0 : sc.top_row.size() == 0 ? y[l.u + l.n - 1] : sc.top_row.dot(y.segment(l.u, l.n));
+  const double u_top = !l.u.present() ? 0.0 : sc.top_row.size() == 0 ? y[l.u.start + l.n - 1] : sc.top_row.dot(y.segment(l.u.start, l.n));
   const double c = tilt.cos(), H = sc.H_N, B = st.half_width;
   const double one_minus_c = 2.0 * tilt.sin_half * tilt.sin_half;  // 1 - cos theta without cancellation
   auto set = [&](Quantity k, double v) { r[k] = v; };
@@ -108,20 +108,20 @@ Response evaluate(const ContactModel& m, const OutputScales& sc, const Discrete&
   set(Quantity::delta_e, u_top * c * sc.inverse_H_N);
   set(Quantity::theta, th);
   set(Quantity::theta_over_alpha, th * sc.inverse_alpha_cg);
-  set(Quantity::theta_dot, l.theta_dot < 0 ? 0.0 : y[l.theta_dot]);
+  set(Quantity::theta_dot, !l.theta_dot.present() ? 0.0 : y[l.theta_dot.start]);
   const DamperState damper = active_damper(m, d, tilt, y);
   set(Quantity::damper_d, d.pivot * damper.elongation);
   set(Quantity::damper_F, d.pivot * damper.force);
   if (sc.has_forces) {
     Eigen::Vector4d f = Eigen::Vector4d::Zero();  // a column at a time: N is a handful
-    if (l.n > max_static_size) f.noalias() = sc.force_rows * y.segment(l.u, l.n);
+    if (l.n > max_static_size) f.noalias() = sc.force_rows * y.segment(l.u.start, l.n);
     else
-      for (Eigen::Index j = 0; j < l.n; ++j) f += sc.force_rows.col(j) * y[l.u + j];
+      for (Eigen::Index j = 0; j < l.n; ++j) f += sc.force_rows.col(j) * y[l.u.start + j];
     set(Quantity::base_shear, f[0]);
     set(Quantity::base_moment, f[1]);
     set(Quantity::mid_shear, f[2]);
     set(Quantity::mid_moment, f[3]);
-    set(Quantity::a_top, sc.top_stiffness_row.dot(y.segment(l.u, l.n)) + sc.top_damping_row.dot(y.segment(l.u_dot, l.n)) +
+    set(Quantity::a_top, sc.top_stiffness_row.dot(y.segment(l.u.start, l.n)) + sc.top_damping_row.dot(y.segment(l.u_dot.start, l.n)) +
                              gravity * tilt.sin());
   }
   return r;

@@ -5,6 +5,7 @@ module;
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <new>
 #include <numbers>
 #include <string>
@@ -101,7 +102,7 @@ double shortest_period(const ContactModel& m) {
 // coordinates) with this backend: a modal copy when the model is nodal and
 // the run wants the modes; null when the model serves as it is.
 std::unique_ptr<const ContactModel> recast(const ContactModel& m, ode::Backend backend, const RunOptions& o) {
-  if (m.layout.u < 0 || m.body.coordinates == ElasticCoordinates::modal) return nullptr;
+  if (!m.layout.u.present() || m.body.coordinates == ElasticCoordinates::modal) return nullptr;
   const bool modal = backend == ode::Backend::rosw ||
                      o.coordinates.value_or(ElasticCoordinates::nodal) == ElasticCoordinates::modal;
   if (!modal) return nullptr;
@@ -123,14 +124,14 @@ class Driver {
     tolerances.max_step = std::min(tolerances.max_step, ground.max_step());
     // The per-device work accumulators (the tail of the state) are sums that
     // nothing depends on: they do not steer the steps.
-    if (m_.layout.energy >= 0) tolerances.error_components = m_.layout.size - (m_.layout.energy_count - 3);
+    if (m_.layout.energy.present()) tolerances.error_components = m_.layout.size - (m_.layout.energy.count - 3);
     // Guards and peaks sampled 8 times in the shortest period of a mode that
     // oscillates (the exact steps below do the same), not more densely when
     // steps are short.
-    if (m_.layout.u >= 0) tolerances.sample_spacing = shortest_period(m_) / 8;
+    if (m_.layout.u.present()) tolerances.sample_spacing = shortest_period(m_) / 8;
     // rosw solves with the stiff elastic part of the current phase.
     ode::LinearSolve stiff;
-    if (backend_ == ode::Backend::rosw && m_.layout.u >= 0) {
+    if (backend_ == ode::Backend::rosw && m_.layout.u.present()) {
       stiff_ = std::make_unique<StiffPart>(m_);
       stiff = [this](double g, Eigen::Ref<const Eigen::VectorXd> b, Eigen::Ref<Eigen::VectorXd> x) {
         stiff_->solve(d_.pivot, g, b, x);
@@ -144,7 +145,7 @@ class Driver {
     // not bound by the highest modes, and it then costs less than the exact
     // steps, which sample every oscillating period (`rocking tradeoff --scenes`).
     const bool auto_rosw = o.backend == ode::Backend::automatic && backend_ == ode::Backend::rosw;
-    if (o.exact_full_contact && !auto_rosw && m_.layout.u >= 0 && m_.layout.energy < 0 && ground.piecewise_linear()) {
+    if (o.exact_full_contact && !auto_rosw && m_.layout.u.present() && !m_.layout.energy.present() && ground.piecewise_linear()) {
       ode::Options exact;
       // Steps from sample to sample of the record (up to 16 spacings), with
       // guards and peaks sampled 8 times in the shortest oscillating period.
@@ -165,7 +166,7 @@ class Driver {
     result_.integrator = integrator_->name();
     result_.exact_full_contact = exact_ != nullptr;
     result_.presence = presence(m_);
-    result_.energy_tracked = m_.layout.energy >= 0;
+    result_.energy_tracked = m_.layout.energy.present();
     for (const Device& dev : m_.devices)
       result_.devices.push_back({.name = dev.name,
                                  .law = law_name(dev.law),
@@ -179,7 +180,7 @@ class Driver {
       begin_contact_if_lifting(0.0);
       restart(0.0);
       if (tilted_beyond_overturning()) {  // released past the point of no return: no crossing to locate
-        announce({EventKind::overturn, 0.0, d_.pivot});
+        announce({EventKind::overturn, 0.0, d_.pivot, std::nullopt});
         result_.outcome = Outcome::overturned;
       } else {
         loop();
@@ -197,7 +198,7 @@ class Driver {
   void initial_state() {
     const InitialState& init = opt_.initial;
     const Layout& l = m_.layout;
-    for (const auto& [v, at, what] : {std::tuple{&init.u, l.u, "u"}, std::tuple{&init.u_dot, l.u_dot, "u_dot"}}) {
+    for (const auto& [v, at, what] : {std::tuple{&init.u, l.u.start, "u"}, std::tuple{&init.u_dot, l.u_dot.start, "u_dot"}}) {
       if (v->size() == 0) continue;
       if (at < 0 || v->size() != l.n)
         throw InputError(fmt::format("initial {}: {} entries for a model with {} elastic coordinates", what, v->size(), l.n));
@@ -208,12 +209,12 @@ class Driver {
       throw InputError("an initial tilt needs a rocking scene (contact.rocking = true)");
     const int s = init.theta > 0 ? 1 : init.theta < 0 ? -1 : (init.theta_dot > 0 ? 1 : -1);
     begin_rocking(m_, d_, s, y_);
-    y_[l.theta] = init.theta;
-    y_[l.theta_dot] = init.theta_dot;
+    y_[l.theta.start] = init.theta;
+    y_[l.theta_dot.start] = init.theta_dot;
   }
 
   bool tilted_beyond_overturning() const {
-    return d_.pivot != 0 && std::abs(y_[m_.layout.theta]) >= m_.overturn_angle;
+    return d_.pivot != 0 && std::abs(y_[m_.layout.theta.start]) >= m_.overturn_angle;
   }
 
   double mechanical() { return mechanical_energy(m_, d_.pivot == 0 ? 1 : d_.pivot, y_); }
@@ -229,7 +230,7 @@ class Driver {
   void lift(int s, double t) {
     begin_rocking(m_, d_, s, y_);
     if (result_.counts.uplifts++ == 0) result_.first_uplift = t;
-    announce({EventKind::uplift, t, s});
+    announce({EventKind::uplift, t, s, std::nullopt});
   }
 
   void announce(const Event& e) {
@@ -238,8 +239,9 @@ class Driver {
 
   void restart(double t) {
     ode::Guards guards;
-    for (Crossing c : guard_directions(m_, d_.pivot))
-      guards.directions.push_back(c == Crossing::rising ? ode::Direction::rising : ode::Direction::falling);
+    guards_ = phase_guards(m_, d_.pivot);
+    for (const PhaseGuard& g : guards_)
+      guards.directions.push_back(g.crossing == Crossing::rising ? ode::Direction::rising : ode::Direction::falling);
     if (!guards.directions.empty())
       guards.fn = [this, with_a_g = guards_use_ground_acceleration(m_, d_.pivot)](
                       double tg, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& g) {
@@ -257,17 +259,17 @@ class Driver {
       const ode::StepReport rep = active_->step(t_end_);
       sample_step();
       if (rep.reason == ode::Stop::event) {
-        if (!handle_event(guard_meaning(m_, d_.pivot, rep.guard), rep.t)) return;
-      } else if (d_.pivot != 0 && d_.pivot * active_->state()[m_.layout.theta] < 0) {
+        if (!handle_event(guards_[static_cast<std::size_t>(rep.guard)], rep.t)) return;
+      } else if (d_.pivot != 0 && d_.pivot * active_->state()[m_.layout.theta.start] < 0) {
         // Only round-off right after an uplift can put theta on the wrong side
         // without a crossing: treat it as the impact it is.
-        if (!handle_event({Guard::impact}, active_->time())) return;
+        if (!handle_event({Guard::impact, Crossing::falling, {}}, active_->time())) return;
       }
     }
   }
 
   // Returns false when the run ends (overturning).
-  bool handle_event(GuardMeaning meaning, double t) {
+  bool handle_event(PhaseGuard meaning, double t) {
     const Guard what = meaning.what;
     y_ = active_->state();
     attribute_work();
@@ -280,7 +282,7 @@ class Driver {
         lift(what == Guard::uplift_right ? 1 : -1, t);
         break;
       case Guard::impact: {
-        announce({EventKind::impact, t, d_.pivot});
+        announce({EventKind::impact, t, d_.pivot, std::nullopt});
         const double before = mechanical();
         impact(m_, d_, y_);
         result_.energy.impacts += before - mechanical();
@@ -289,14 +291,16 @@ class Driver {
         break;
       }
       case Guard::overturn:
-        announce({EventKind::overturn, t, d_.pivot});
+        announce({EventKind::overturn, t, d_.pivot, std::nullopt});
         result_.outcome = Outcome::overturned;
         return false;
-      case Guard::fracture:
-        announce({EventKind::fracture, t, d_.pivot, meaning.device});
-        fracture(d_, meaning.device);
-        result_.devices[static_cast<std::size_t>(meaning.device)].fracture_time = t;
+      case Guard::fracture: {
+        const int device = meaning.device.value();  // a fracture guard always names its device
+        announce({EventKind::fracture, t, d_.pivot, device});
+        fracture(d_, device);
+        result_.devices[static_cast<std::size_t>(device)].fracture_time = t;
         break;
+      }
     }
     peaks_.break_continuity();
     restart(t);
@@ -380,14 +384,14 @@ class Driver {
 
   void pass_nodal(Eigen::Ref<const Eigen::VectorXd> y) {
     const Layout& l = m_.layout;
-    if (l.u < 0) {
+    if (!l.u.present()) {
       observer_->nodal(y.head(0), y.head(0));
       return;
     }
     nodal_.resize(l.n);
-    to_nodal(m_.body, y.segment(l.u, l.n), nodal_);
+    to_nodal(m_.body, y.segment(l.u.start, l.n), nodal_);
     nodal_dot_.resize(observer_->wants_velocities() ? l.n : 0);
-    if (nodal_dot_.size() > 0) to_nodal(m_.body, y.segment(l.u_dot, l.n), nodal_dot_);
+    if (nodal_dot_.size() > 0) to_nodal(m_.body, y.segment(l.u_dot.start, l.n), nodal_dot_);
     observer_->nodal(nodal_, nodal_dot_);
   }
 
@@ -395,8 +399,8 @@ class Driver {
   // the devices done since the last event is the one acting device's.
   void attribute_work() {
     const Layout& l = m_.layout;
-    if (l.energy < 0 || l.energy_count > 3) return;
-    const double total = y_[l.energy + 2];
+    if (!l.energy.present() || l.energy.count > 3) return;
+    const double total = y_[l.energy.start + 2];
     if (d_.pivot != 0)
       for (const ContactModel::Acting& a : m_.acting[d_.pivot > 0 ? 1 : 0])
         result_.devices[static_cast<std::size_t>(a.device)].work += total - work_at_event_;
@@ -408,12 +412,12 @@ class Driver {
     attribute_work();
     result_.t_end = active_->time();
     result_.final_pivot = d_.pivot;
-    result_.final_theta = m_.layout.theta >= 0 ? y_[m_.layout.theta] : 0.0;
+    result_.final_theta = m_.layout.theta.present() ? y_[m_.layout.theta.start] : 0.0;
     result_.final_state = y_;
     const Layout& l = m_.layout;
-    if (l.u >= 0) {
-      to_nodal(m_.body, y_.segment(l.u, l.n), result_.final_state.segment(l.u, l.n));
-      to_nodal(m_.body, y_.segment(l.u_dot, l.n), result_.final_state.segment(l.u_dot, l.n));
+    if (l.u.present()) {
+      to_nodal(m_.body, y_.segment(l.u.start, l.n), result_.final_state.segment(l.u.start, l.n));
+      to_nodal(m_.body, y_.segment(l.u_dot.start, l.n), result_.final_state.segment(l.u_dot.start, l.n));
     }
     result_.peaks = peaks_.peaks();
     result_.top_total_mm = result_.peak(Quantity::delta_t) * scales_.H_N * 1000.0;
@@ -427,12 +431,12 @@ class Driver {
       result_.stats.guards += e.guards;
     }
     result_.energy.final = mechanical();
-    if (m_.layout.energy >= 0) {
-      result_.energy.ground = y_[m_.layout.energy];
-      result_.energy.viscous = y_[m_.layout.energy + 1];
-      result_.energy.damper = y_[m_.layout.energy + 2];
-      for (std::size_t k = 0; k < result_.devices.size() && m_.layout.energy_count > 3; ++k)
-        result_.devices[k].work = y_[m_.layout.energy + 3 + static_cast<Eigen::Index>(k)];
+    if (m_.layout.energy.present()) {
+      result_.energy.ground = y_[m_.layout.energy.start];
+      result_.energy.viscous = y_[m_.layout.energy.start + 1];
+      result_.energy.damper = y_[m_.layout.energy.start + 2];
+      for (std::size_t k = 0; k < result_.devices.size() && m_.layout.energy.count > 3; ++k)
+        result_.devices[k].work = y_[m_.layout.energy.start + 3 + static_cast<Eigen::Index>(k)];
     }
   }
 
@@ -447,6 +451,7 @@ class Driver {
   Discrete d_;
   Eigen::VectorXd y_, dense_, nodal_, nodal_dot_;
   std::vector<DeviceSample> samples_;
+  std::vector<PhaseGuard> guards_;                       // the current phase's, in the integrator's order
   GroundTravel travel_{ground_};                         // x_g at the history's rows
   std::unique_ptr<StiffPart> stiff_;                     // rosw's linear solves
   std::unique_ptr<ode::Integrator> integrator_, exact_;  // the backend; full contact under a record
@@ -462,7 +467,7 @@ class Driver {
 
 ode::Backend choose_backend(const ContactModel& m, const GroundMotion& ground, ode::Backend requested) {
   if (requested != ode::Backend::automatic) return requested;
-  if (m.layout.u < 0) return ode::Backend::rk45;
+  if (!m.layout.u.present()) return ode::Backend::rk45;
   const Rayleigh& ray = m.body.matrices.rayleigh;
   double fastest = 0;
   for (double w : m.body.matrices.fixed_base.omega) {

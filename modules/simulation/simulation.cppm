@@ -65,7 +65,7 @@ struct Event {
   EventKind kind = EventKind::uplift;
   double t = 0;
   int pivot = 0;
-  int device = -1;
+  std::optional<int> device;  // a fracture's device
 };
 
 // Receives the response as it is computed (history files, plots, tests).
