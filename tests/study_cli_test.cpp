@@ -109,10 +109,22 @@ TEST_CASE("a sweep writes one line per value of the swept key") {
   CHECK(lines(two.err) == 1);
 }
 
-namespace {
-
-
-}  // namespace
+TEST_CASE("bad fragility options are refused in one line before any run") {
+  const fs::path dir = scratch_dir("study_cli_fragility_options");
+  const std::string study = "-q ida --record " + pulse_record(dir) + " --scales 1,2 --no-plot --out " + (dir / "x").string();
+  for (const auto& [option, says] : {std::pair{"--resurrection sometimes", "--resurrection 'sometimes'"},
+                                     std::pair{"--bootstrap -5", "--bootstrap -5"},
+                                     std::pair{"--bootstrap 2000000", "--bootstrap 2000000"},
+                                     std::pair{"--beta-modelling -0.2", "--beta-modelling -0.2"},
+                                     std::pair{"--beta-modelling nan", "--beta-modelling"}}) {
+    CAPTURE(option);
+    const Result r = run(study + " " + option);
+    CHECK(r.code == 2);
+    CHECK(lines(r.err) == 1);
+    CHECK(r.err.find(says) != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "x" / "ida.csv"));
+  }
+}
 
 TEST_CASE("a suite scaled to PGA: rows meet their levels exactly, summaries are the same on 1, 2 threads and 2 ranks") {
   const auto records = records_dir();

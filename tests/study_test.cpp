@@ -5,6 +5,7 @@
 // fractiles, capacities and stripes match what is worked by hand.
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
 #include "temp_path.hpp"
 #include <algorithm>
 #include <cmath>
@@ -238,21 +239,38 @@ TEST_CASE("on El Centro the hunt finds the first overturning of a 0.01-step ladd
   CHECK(damper.collapse_level < 10.5);
 }
 
-TEST_CASE("the summary's fractiles, capacities and stripes, worked by hand") {
-  // Three copies of one record; the results are set by hand, not run.
-  const std::string rec = pulse_record();
-  const Study study(rigid_block(), {}, {rec, rec, rec}, RecordOptions{}, {named_variant("scene")}, RunOptions{});
-  StudySummary summary(study, {2.0, 1.0, 3.0}, {overturning_limit(), parse_limit("theta_over_alpha=0.5")});
-  CHECK(summary.levels() == std::vector<double>{1.0, 2.0, 3.0});
-  // theta/alpha by record (rows) and level (columns); -1 marks an overturning.
-  const double theta[3][3] = {{0.1, 0.3, 0.6}, {0.2, -1, 0.4}, {0.3, 0.7, -1}};
+namespace {
+
+// A summary of three copies of one record at levels 1, 2, 3 whose results are
+// set by hand, not run. theta/alpha by record (rows) and level (columns); -1
+// marks an overturning. Record 1 overturns at 2 and survives 3 (a resurrection).
+const double hand_theta[3][3] = {{0.1, 0.3, 0.6}, {0.2, -1, 0.4}, {0.3, 0.7, -1}};
+
+StudySummary hand_summary(const Study& study, Resurrection convention) {
+  StudySummary summary(study, {2.0, 1.0, 3.0}, {overturning_limit(), parse_limit("theta_over_alpha=0.5")}, convention);
   for (std::size_t r = 0; r < 3; ++r)
     for (std::size_t k = 0; k < 3; ++k) {
       JobResult res;
-      res.run.outcome = theta[r][k] < 0 ? Outcome::overturned : Outcome::completed;
-      res.run.peaks[static_cast<std::size_t>(Quantity::theta_over_alpha)] = theta[r][k] < 0 ? 1.0 : theta[r][k];
+      res.run.outcome = hand_theta[r][k] < 0 ? Outcome::overturned : Outcome::completed;
+      res.run.peaks[static_cast<std::size_t>(Quantity::theta_over_alpha)] = hand_theta[r][k] < 0 ? 1.0 : hand_theta[r][k];
       summary.add(study.at_level(r, 0, 1.0 + static_cast<double>(k)), res);
     }
+  return summary;
+}
+
+std::vector<std::size_t> reached_counts(const std::vector<Stripe>& stripes) {
+  std::vector<std::size_t> out;
+  for (const Stripe& s : stripes) out.push_back(s.reached);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("the summary's fractiles, capacities and stripes, worked by hand") {
+  const std::string rec = pulse_record();
+  const Study study(rigid_block(), {}, {rec, rec, rec}, RecordOptions{}, {named_variant("scene")}, RunOptions{});
+  const StudySummary summary = hand_summary(study, Resurrection::first);
+  CHECK(summary.levels() == std::vector<double>{1.0, 2.0, 3.0});
   const auto rows = summary.fractiles(0, Quantity::theta_over_alpha);
   REQUIRE(rows.size() == 3);
   // Level 1: 0.1 0.2 0.3 -> 16 %: 0.1 + 0.32 x 0.1; 50 %: 0.2; 84 %: 0.2 + 0.68 x 0.1.
@@ -277,9 +295,6 @@ TEST_CASE("the summary's fractiles, capacities and stripes, worked by hand") {
   CHECK(half[2].second.im == 2.0);
   const auto stripes = summary.stripes(0, 0);
   REQUIRE(stripes.size() == 3);
-  CHECK(stripes[0].reached == 0);
-  CHECK(stripes[1].reached == 1);
-  CHECK(stripes[2].reached == 1);  // record 1 survives level 3: a resurrection
   CHECK(stripes[2].runs == 3);
   // A record's IDA curve stops at its first overturning.
   const auto curve = summary.curve(1, 0, Quantity::theta_over_alpha);
@@ -289,4 +304,99 @@ TEST_CASE("the summary's fractiles, capacities and stripes, worked by hand") {
   CHECK_THROWS_AS(parse_limit("damper_d=-1"), InputError);
   CHECK_THROWS_AS(parse_limit("damper_d"), InputError);
   CHECK(parse_limit("damper_d=0.07").name == "damper_d>=0.07");
+}
+
+TEST_CASE("resurrections: the first-collapse convention against each level as it ran, worked by hand") {
+  const std::string rec = pulse_record();
+  const Study study(rigid_block(), {}, {rec, rec, rec}, RecordOptions{}, {named_variant("scene")}, RunOptions{});
+  const StudySummary first = hand_summary(study, Resurrection::first), keep = hand_summary(study, Resurrection::keep);
+  // Level 3 as it ran: 0.6, 0.4 (record 1 stands again), inf -> 16 %: 0.4 +
+  // 0.32 x 0.2, 50 %: 0.6, 84 %: inf, one collapsed.
+  const auto k3 = keep.fractiles(0, Quantity::theta_over_alpha)[2];
+  CHECK(k3.collapsed == 1);
+  CHECK(k3.edp[0] == doctest::Approx(0.464));
+  CHECK(k3.edp[1] == doctest::Approx(0.6));
+  CHECK(std::isinf(k3.edp[2]));
+  // Record 1 collapsed from level 2 on: 0.6, inf, inf -> every fractile past
+  // position 0 falls on a collapse; two collapsed.
+  const auto f3 = first.fractiles(0, Quantity::theta_over_alpha)[2];
+  CHECK(f3.collapsed == 2);
+  CHECK(std::isinf(f3.edp[0]));
+  CHECK(std::isinf(f3.edp[1]));
+  // Levels 1 and 2 are the same either way.
+  for (std::size_t k = 0; k < 2; ++k) {
+    CHECK(first.fractiles(0, Quantity::theta_over_alpha)[k].edp == keep.fractiles(0, Quantity::theta_over_alpha)[k].edp);
+    CHECK(first.fractiles(0, Quantity::theta_over_alpha)[k].collapsed == keep.fractiles(0, Quantity::theta_over_alpha)[k].collapsed);
+  }
+  // Stripes of overturning: 0, 1, 2 collapsed from the first on; 0, 1, 1 as run.
+  CHECK(reached_counts(first.stripes(0, 0)) == std::vector<std::size_t>{0, 1, 2});
+  CHECK(reached_counts(keep.stripes(0, 0)) == std::vector<std::size_t>{0, 1, 1});
+  // theta/alpha >= 0.5: at level 3 record 0 (0.6), record 1 (reached at 2), record 2 (overturned).
+  CHECK(reached_counts(first.stripes(0, 1)) == std::vector<std::size_t>{0, 2, 3});
+  CHECK(reached_counts(keep.stripes(0, 1)) == std::vector<std::size_t>{0, 2, 2});
+  // Capacities are the first level at the limit under both.
+  for (std::size_t l = 0; l < 2; ++l) {
+    const auto a = first.capacities(0, l), b = keep.capacities(0, l);
+    REQUIRE(a.size() == b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) CHECK((a[i].second.im == b[i].second.im && a[i].second.reached == b[i].second.reached));
+  }
+  // The one resurrection, reported under both.
+  for (const StudySummary* s : {&first, &keep}) {
+    const auto res = s->resurrections(0);
+    REQUIRE(res.size() == 1);
+    CHECK(res[0].record == 1);
+    CHECK(res[0].first_overturning == 2.0);
+    CHECK(res[0].survived == std::vector<double>{3.0});
+  }
+  CHECK(parse_resurrection("keep") == Resurrection::keep);
+  CHECK_THROWS_WITH_AS(parse_resurrection("last"), doctest::Contains("--resurrection 'last'"), InputError);
+}
+
+TEST_CASE("a suite's fragility: the bootstrap resamples records, the same seed gives the same intervals") {
+  // Eight copies of one record at levels 1..6, each overturning first at a
+  // level set by hand (record 7 never: censored at 6); results set, not run.
+  const std::string rec = pulse_record();
+  const std::vector<std::string> records(8, rec);
+  const Study study(rigid_block(), {}, records, RecordOptions{}, {named_variant("scene")}, RunOptions{});
+  const std::vector<double> levels{1, 2, 3, 4, 5, 6};
+  StudySummary summary(study, levels, {overturning_limit()});
+  const int first_overturning[8] = {2, 3, 3, 4, 4, 5, 6, 99};
+  for (std::size_t r = 0; r < 8; ++r)
+    for (double level : levels) {
+      JobResult res;
+      res.run.outcome = level >= first_overturning[r] ? Outcome::overturned : Outcome::completed;
+      summary.add(study.at_level(r, 0, level), res);
+    }
+  FragilityOptions o;
+  o.bootstrap = {400, 11, 0.9};
+  const LimitFragility a = summary.fragility(0, 0, o), b = summary.fragility(0, 0, o);
+  REQUIRE(a.capacity_fit.fitted);
+  CHECK(a.capacity_fit.method == "censored-mle");
+  REQUIRE(a.capacity_bootstrap.computed());
+  REQUIRE(a.stripes_bootstrap.computed());
+  CHECK((a.capacity_bootstrap.median == b.capacity_bootstrap.median));
+  CHECK((a.stripes_bootstrap.beta == b.stripes_bootstrap.beta));
+  // The capacities' bootstrap is that of the capacities themselves (each
+  // resample's search started from the whole sample's fit).
+  std::vector<Capacity> caps;
+  for (const auto& c : a.capacities) caps.push_back(c.second);
+  const FitBootstrap direct = bootstrap_fit(caps.size(), [&](const std::vector<std::size_t>& s) {
+    std::vector<Capacity> x;
+    for (std::size_t i : s) x.push_back(caps[i]);
+    return fit_capacities(x, &a.capacity_fit);
+  }, o.bootstrap);
+  CHECK((direct.median == a.capacity_bootstrap.median));
+  CHECK((direct.beta == a.capacity_bootstrap.beta));
+  // Each interval holds its fit.
+  CHECK((a.capacity_bootstrap.median[0] < a.capacity_fit.median && a.capacity_fit.median < a.capacity_bootstrap.median[1]));
+  CHECK((a.stripes_bootstrap.median[0] < a.stripes_fit.median && a.stripes_fit.median < a.stripes_bootstrap.median[1]));
+  // Modelling dispersion: beta_total in the JSON, the median unchanged.
+  o.beta_modelling = 0.3;
+  const nlohmann::json j = fragility_json(summary.fragility(0, 0, o), records);
+  CHECK(j["capacity_fit"]["beta_total"].get<double>() ==
+        doctest::Approx(std::hypot(a.capacity_fit.beta, 0.3)));
+  CHECK(j["capacity_fit"]["median"].get<double>() == a.capacity_fit.median);
+  CHECK(j["capacity_fit"]["bootstrap"]["draws"].get<std::size_t>() == 400);
+  o.beta_modelling = -1;
+  CHECK_THROWS_WITH_AS(summary.fragility(0, 0, o), doctest::Contains("--beta-modelling"), InputError);
 }

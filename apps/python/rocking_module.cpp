@@ -369,7 +369,8 @@ struct PyIda {
 
 PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std::string& im_text, std::vector<double> levels,
           std::optional<std::vector<std::string>> variant_names, int threads, double rtol, double atol,
-          const std::string& integrator, double damping, std::optional<std::vector<std::string>> limit_texts) {
+          const std::string& integrator, double damping, std::optional<std::vector<std::string>> limit_texts,
+          const std::string& resurrection) {
   const PyScene s = scene_of(scene_arg);
   std::vector<rocking::Limit> limits{rocking::overturning_limit()};
   for (const std::string& l : limit_texts.value_or(std::vector<std::string>{})) limits.push_back(rocking::parse_limit(l));
@@ -416,7 +417,7 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
   std::sort(levels.begin(), levels.end());
   const std::vector<rocking::Job> jobs = study.ladder(levels);
   for (const rocking::Limit& l : limits) rocking::check_limit(study, l);
-  auto summary = std::make_shared<rocking::StudySummary>(study, levels, limits);
+  auto summary = std::make_shared<rocking::StudySummary>(study, levels, limits, rocking::parse_resurrection(resurrection));
   std::vector<rocking::JobResult> results(jobs.size());
   const std::size_t done = interruptible(*stop, [&] {
     return rocking::parallel_ordered<rocking::JobResult>(
@@ -456,20 +457,6 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
   }
   return out;
 }
-
-py::dict lognormal(const rocking::LognormalFit& f) {
-  py::dict d("fitted"_a = f.fitted, "method"_a = f.method, "note"_a = f.note, "records"_a = f.records,
-             "reached"_a = f.reached);
-  if (f.fitted) {
-    d["median"] = f.median;
-    d["beta"] = f.beta;
-    d["log_median_se"] = f.log_median_se;
-    d["beta_se"] = f.beta_se;
-  }
-  return d;
-}
-
-rocking::QuantityName parse_quantity(const std::string& name) { return rocking::parse_study_quantity(name); }
 
 std::size_t variant_index(const PyIda& r, const std::string& variant) {
   if (variant.empty()) return 0;
@@ -647,7 +634,7 @@ PYBIND11_MODULE(rocking, m) {
           "fractiles",
           [](const PyIda& r, const std::string& quantity, const std::string& variant) {
             py::list out;
-            for (const auto& f : r.summary->fractiles(variant_index(r, variant), parse_quantity(quantity)))
+            for (const auto& f : r.summary->fractiles(variant_index(r, variant), rocking::parse_study_quantity(quantity)))
               out.append(py::dict("level"_a = f.level, "runs"_a = f.runs, "collapsed"_a = f.collapsed,
                                   "p16"_a = f.edp[0], "p50"_a = f.edp[1], "p84"_a = f.edp[2]));
             return out;
@@ -658,39 +645,45 @@ PYBIND11_MODULE(rocking, m) {
       .def_readonly("limits", &PyIda::limits)
       .def(
           "fragility",
-          [](const PyIda& r, const std::string& limit, const std::string& variant) {
+          [](const PyIda& r, const std::string& limit, const std::string& variant, long bootstrap,
+             unsigned long seed, double beta_modelling) {
             const auto it = std::find(r.limits.begin(), r.limits.end(), limit);
             if (it == r.limits.end())
               throw rocking::InputError(fmt::format("limit '{}' is not one of this study's (give it to ida as limits=)", limit));
+            if (bootstrap < 0) throw rocking::InputError(fmt::format("bootstrap {}: must be 0 (none) or a number of resamples", bootstrap));
+            rocking::FragilityOptions o;
+            o.bootstrap.draws = static_cast<std::size_t>(bootstrap);
+            o.bootstrap.seed = seed;
+            o.beta_modelling = beta_modelling;
             const auto l = static_cast<std::size_t>(it - r.limits.begin());
-            const std::size_t v = variant_index(r, variant);
-            py::list capacities, stripes;
-            std::vector<rocking::Capacity> values;
-            for (const auto& [record, c] : r.summary->capacities(v, l)) {
-              capacities.append(py::dict("record"_a = r.records[record], "level"_a = c.im, "reached"_a = c.reached));
-              values.push_back(c);
+            rocking::LimitFragility f;
+            {
+              py::gil_scoped_release unlocked;
+              f = r.summary->fragility(variant_index(r, variant), l, o);
             }
-            const std::vector<rocking::Stripe> stripe_list = r.summary->stripes(v, l);
-            for (const rocking::Stripe& st : stripe_list)
-              stripes.append(py::dict("level"_a = st.im, "runs"_a = st.runs, "reached"_a = st.reached));
-            return py::dict("limit"_a = limit, "capacities"_a = capacities, "stripes"_a = stripes,
-                            "capacity_fit"_a = lognormal(rocking::fit_capacities(values)),
-                            "stripes_fit"_a = lognormal(rocking::fit_stripes(stripe_list)));
+            return to_python(rocking::fragility_json(f, r.records));
           },
-          "limit"_a = "overturning", "variant"_a = "",
+          "limit"_a = "overturning", "variant"_a = "", "bootstrap"_a = 1000L, "seed"_a = 20020101UL,
+          "beta_modelling"_a = 0.0,
           "MODEL.md 13 for a limit state (overturning, or one given to ida as limits=) and a\n"
-          "variant: each record's capacity (the lowest level that reached it, or the highest\n"
-          "it ran to without, censored), the stripes (runs and how many reached it per level),\n"
-          "and the lognormal fragility fitted to each (median, beta, their standard errors).")
+          "variant, as summary.json's fragility entries: each record's capacity (the lowest\n"
+          "level that reached it, or the highest it ran to without, censored), the stripes\n"
+          "(runs and how many reached it per level, counted by ida's resurrection=), and\n"
+          "the lognormal fragility fitted to each (median, beta, their standard errors;\n"
+          "the 90 % intervals of a bootstrap of `bootstrap` resamples of the records\n"
+          "from `seed`, as --bootstrap and --seed; beta_total with beta_modelling, as\n"
+          "--beta-modelling).")
       .def("to_pandas", [](const PyIda& r) { return to_pandas_rows(r.rows); });
 
   m.def("ida", &ida, "scene"_a, "records"_a, "im"_a = "sf", "levels"_a, "variants"_a = py::none(), "threads"_a = 0,
         "rtol"_a = 1e-4, "atol"_a = 1e-7, "integrator"_a = "auto", "damping"_a = 0.05,
-        "limits"_a = py::none(),
+        "limits"_a = py::none(), "resurrection"_a = "first",
         "Incremental dynamic analysis as `rocking ida`: every record (files, folders or\n"
         "list files) scaled to each level of the intensity measure im (sf, pga, pgv,\n"
         "sa:T, sa:T1, saavg:T1:T2) for each variant (damper, no-damper, fixed-base,\n"
         "scene, no-devices, without:NAME, or KEY=VALUE). Runs on threads (0: every\n"
         "core); Ctrl-C stops it (KeyboardInterrupt). limits: limit states beside overturning\n"
-        "for fragility(), as --limit takes them (\"theta_over_alpha=0.5\").");
+        "for fragility(), as --limit takes them (\"theta_over_alpha=0.5\"). resurrection:\n"
+        "first (a record counts as overturned from its first overturning on, Vamvatsikos\n"
+        "& Cornell 2002) or keep (each level as it ran), as --resurrection.");
 }

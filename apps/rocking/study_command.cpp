@@ -36,6 +36,10 @@ struct StudyArgs {
   std::string levels, scales;
   std::vector<std::string> variants;
   std::vector<std::string> limits;
+  std::string resurrection = "first";
+  long bootstrap = 1000;
+  unsigned long seed = 20020101;
+  double beta_modelling = 0;
   int threads = 0;
   std::string out;
   SolverOptions solver;
@@ -50,6 +54,16 @@ struct StudyArgs {
   double max_runs = 1e5;  // a ladder beyond it (minutes to hours of runs) needs the option raised
   std::string scene_text;  // the scene after the overrides every run shares (make_study)
 };
+
+FragilityOptions fragility_options(const StudyArgs& a) {
+  if (a.bootstrap < 0) throw InputError(fmt::format("--bootstrap {}: must be 0 (none) or a number of resamples", a.bootstrap));
+  FragilityOptions o;
+  o.bootstrap.draws = static_cast<std::size_t>(a.bootstrap);
+  o.bootstrap.seed = a.seed;
+  o.beta_modelling = a.beta_modelling;
+  check_fragility_options(o);
+  return o;
+}
 
 // The inputs that make a study what it is (study_folder.hpp).
 std::string inputs_of(const StudyArgs& a, const Study& st, const std::string& kind) {
@@ -278,6 +292,8 @@ std::string unreadable(const Study& st, const std::vector<std::string>& ids) {
 int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, const std::string& scene_name,
                const MpiWorld& world) {
   const std::vector<double> levels = study_levels(a, st.intensity_measure());
+  const FragilityOptions fragility_opts = fragility_options(a);  // refused before any run
+  const Resurrection resurrection = parse_resurrection(a.resurrection);
   std::vector<Limit> limits{overturning_limit()};
   for (const std::string& l : a.limits) {
     limits.push_back(parse_limit(l));
@@ -321,7 +337,7 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
   const std::size_t nr = st.records().size();
   const bool per_record_figures = !a.no_plot && (nr <= 3 || a.per_record);
   const bool keep_lines = per_record_figures || world.size > 1;
-  StudySummary summary(st, levels, limits);
+  StudySummary summary(st, levels, limits, resurrection);
   std::vector<std::pair<long, std::string>> rows, timings, lines;
   std::size_t failed = 0;
   for (std::size_t i = 0; i < first; ++i) {
@@ -411,13 +427,14 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
     for (std::size_t i = 0; i < jobs.size(); ++i) summary.add(jobs[i], line_result(columns, figure_lines[i]));
   }
   fmt::print("wrote {} ({} runs)\n", csv_file.string(), jobs.size());
-  write_ladder_report(dir, st, summary, ids);
+  const SuiteFragility fragility = suite_fragility(st, summary, fragility_opts, threads);
+  write_ladder_report(dir, st, summary, fragility, ids);
   if (!a.no_plot) {
     // One figure per record for a few records (the paper's Figs. 5-8); the
     // suite's figures (every record, fractiles, fragility) for two or more.
     if (per_record_figures) study_figures(a, st, columns, ids, jobs, figure_lines, kind, scene_name);
     if (nr >= 2)
-      for (const fs::path& f : draw_ladder_report(dir, st, summary, kind, scene_name, plot::parse_formats(a.formats)))
+      for (const fs::path& f : draw_ladder_report(dir, st, summary, fragility, kind, scene_name, plot::parse_formats(a.formats)))
         fmt::print("wrote {}\n", f.string());
   }
   if (failed > 0) {
@@ -500,6 +517,7 @@ std::vector<std::pair<std::string, HuntResult>> read_resumed_hunts(
 int run_hunt(const StudyArgs& a, const Study& st) {
   const fs::path dir(a.out), file = dir / "hunt.csv", partial = file.string() + ".partial";
   const HuntOptions o = hunt_options(a, st);
+  const FragilityOptions fragility_opts = fragility_options(a);
   st.check_level(o.max, "--hunt-max");
   make_output_dir(dir);
   const FolderLock lock(dir);
@@ -593,7 +611,7 @@ int run_hunt(const StudyArgs& a, const Study& st) {
   fmt::print("the lowest overturning found, bracketed to {:g}{}; a window narrower than the fill step {:g}{} below it "
              "can be missed\n",
              o.precision, unit, o.fill_step, unit);
-  write_hunt_report(dir, st, hunts, ids);
+  write_hunt_report(dir, st, hunts, ids, fragility_opts);
   fmt::print("wrote {}, {}\n", file.string(), (dir / "fragility.csv").string());
   if (failed > 0) {
     fmt::print(stderr, "rocking: {} of {} hunts failed{}: see the error column of {}\n", failed, hunts.size(),
@@ -684,6 +702,26 @@ void add_study_options(CLI::App& cmd, StudyArgs& a, const std::string& default_o
                  "several. `rocking simulate --list-quantities` lists them with units.\n"
                  "An overturned run has reached every limit")
       ->type_name("Q=V");
+  cmd.add_option("--resurrection", a.resurrection,
+                 "How a record that survives a level above its first overturning counts\n"
+                 "there: first (default; Vamvatsikos & Cornell 2002: its IDA curve is\n"
+                 "collapsed from its first overturning on, and a limit once reached stays\n"
+                 "reached, in the fractiles and the stripes) or keep (each level counts as\n"
+                 "it ran). Capacities are each record's first level at the limit either way;\n"
+                 "the summary lists the records that stand again")
+      ->type_name("first|keep");
+  cmd.add_option("--bootstrap", a.bootstrap,
+                 "Resamples of the records for the 90 % intervals of each fragility's median\n"
+                 "and beta (BCa bootstrap, Efron & Tibshirani 1993; default 1000, 0: none)")
+      ->type_name("N");
+  cmd.add_option("--seed", a.seed, "Seed of the bootstrap's resampling (default 20020101): the same seed, the\n"
+                                   "same intervals on every machine")
+      ->type_name("N");
+  cmd.add_option("--beta-modelling", a.beta_modelling,
+                 "Modelling dispersion added to every fitted beta as sqrt(beta^2 + X^2)\n"
+                 "(FEMA P-695; e.g. 0.2-0.5): fragility.csv's beta_total, the figures'\n"
+                 "capacity fits (default 0)")
+      ->type_name("X");
   cmd.add_option("--threads", a.threads, "Worker threads (default: every core)")->type_name("N");
   cmd.add_option("--max-runs", a.max_runs,
                  "Refuse a ladder of more runs than this before starting (default 1e5:\n"
@@ -718,11 +756,16 @@ Command add_ida_command(CLI::App& app) {
       "overturning fragility (and of each --limit) fitted two ways: to each record's\n"
       "first level at the limit (moments of ln IM; censored MLE when some records\n"
       "never reach it) and to the stripes, the count at each level (binomial MLE,\n"
-      "Baker 2015); DIR/fragility_points.csv their data; DIR/summary.json all of it.\n"
+      "Baker 2015), each with 90 % intervals on median and beta from a bootstrap\n"
+      "over records (--bootstrap) and beta_total with --beta-modelling;\n"
+      "DIR/fragility_points.csv their data; DIR/summary.json all of it, and the\n"
+      "records that survive above their first overturning. A record counts as\n"
+      "overturned from its first overturning on (--resurrection).\n"
       "Figures: with up to three records, one per record (peaks against the level,\n"
       "one line per variant); with two or more, one per peak quantity across the\n"
-      "suite (every record thin and grey, fractiles bold, overturning crossed) and\n"
-      "one of the fragility curves with their data.\n"
+      "suite (every record thin and grey, fractiles bold, overturning crossed), one\n"
+      "of the fragility curves with their data and intervals, and with --limit one\n"
+      "of the damage states (every limit's fit in one panel per variant).\n"
       "Under `mpirun -np N` the jobs are split across the N processes and rank 0\n"
       "writes the same CSVs. Overturning is an outcome (the collapse point), not an\n"
       "error; a job that fails is reported in its row and the others go on.\n"

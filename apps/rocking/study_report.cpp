@@ -23,25 +23,27 @@ bool applies(const Study& st, std::size_t variant, const Limit& limit) {
   return st.reports(variant, *limit.quantity);
 }
 
-nlohmann::json fit_json(const LognormalFit& f) {
-  nlohmann::json j{{"method", f.method}, {"fitted", f.fitted}, {"records", f.records}, {"reached", f.reached},
-                   {"note", f.note}};
-  if (f.fitted) {
-    j["median"] = f.median;
-    j["beta"] = f.beta;
-    j["log_median_se"] = f.log_median_se;
-    j["beta_se"] = f.beta_se;
-  }
-  return j;
+std::string interval(const std::array<double, 2>& i) {
+  return std::isnan(i[0]) ? std::string(",") : fmt::format("{},{}", num(i[0]), num(i[1]));
 }
 
-std::string fit_row(const std::string& variant, const std::string& limit, const std::string& im, const LognormalFit& f) {
-  return fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", csv_field(variant), csv_field(limit), im, f.method,
-                     f.fitted ? num(f.median) : "", f.fitted ? num(f.beta) : "", f.fitted ? num(f.log_median_se) : "",
-                     f.fitted ? num(f.beta_se) : "", f.records, f.reached, csv_field(f.note));
+std::string fit_row(const std::string& variant, const std::string& limit, const std::string& im, const LognormalFit& f,
+                    const FitBootstrap& b, double beta_modelling) {
+  const auto total = [&](double beta) { return std::isnan(beta) ? beta : total_beta(beta, beta_modelling); };
+  return fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", csv_field(variant), csv_field(limit), im,
+                     f.method, f.fitted ? num(f.median) : "", f.fitted ? num(f.beta) : "",
+                     f.fitted ? num(f.log_median_se) : "", f.fitted ? num(f.beta_se) : "",
+                     f.fitted ? interval(b.median) : ",", f.fitted ? interval(b.beta) : ",",
+                     f.fitted ? num(total(f.beta)) : "", f.fitted ? interval({total(b.beta[0]), total(b.beta[1])}) : ",",
+                     b.draws, b.fitted, f.records, f.reached, csv_field(f.note));
 }
 
-const char* fragility_header = "variant,limit,im,method,median,beta,log_median_se,beta_se,records,reached,note\n";
+// fragility.csv: each fit with its bootstrap's 90 % intervals (empty when
+// not computed), beta_total with modelling dispersion, the resamples drawn
+// and fitted.
+const char* fragility_header =
+    "variant,limit,im,method,median,beta,log_median_se,beta_se,median_low,median_high,beta_low,beta_high,beta_total,"
+    "beta_total_low,beta_total_high,bootstrap_draws,bootstrap_fitted,records,reached,note\n";
 const char* points_header = "variant,limit,im,source,record,level,fraction,runs,reached\n";
 
 // The capacity points: each record's capacity, the reached ones with their
@@ -61,13 +63,40 @@ std::string capacity_points(const std::string& variant, const std::string& limit
   return out;
 }
 
-void print_fit(const std::string& variant, const std::string& limit, const IntensityMeasure& im, const LognormalFit& f) {
-  if (f.fitted)
-    fmt::print("{}: {} median {} {:.4g}{} (beta {:.3f}; {} of {} {}; {})\n", variant, limit, im.name(), f.median,
-               im.unit().empty() ? "" : " " + im.unit(), f.beta, f.reached, f.records,
-               f.method == "stripes-mle" ? "runs" : "records", f.method);
-  else
+void print_fit(const std::string& variant, const std::string& limit, const IntensityMeasure& im, const LognormalFit& f,
+               const FitBootstrap& b, double beta_modelling) {
+  if (!f.fitted) {
     fmt::print("{}: {}: no {} fit: {}\n", variant, limit, f.method, f.note);
+    return;
+  }
+  const std::string unit = im.unit().empty() ? "" : " " + im.unit();
+  const std::string median_ci = b.computed() ? fmt::format(" [{:.3g}, {:.3g}]", b.median[0], b.median[1]) : "";
+  const std::string beta_ci = b.computed() ? fmt::format(" [{:.3f}, {:.3f}]", b.beta[0], b.beta[1]) : "";
+  const std::string total =
+      beta_modelling > 0 ? fmt::format(", beta_total {:.3f} with modelling {:g}", total_beta(f.beta, beta_modelling), beta_modelling)
+                         : "";
+  fmt::print("{}: {} median {} {:.4g}{}{}, beta {:.3f}{}{} ({}{} of {} {}; {})\n", variant, limit, im.name(), f.median,
+             unit, median_ci, f.beta, beta_ci, total,
+             b.computed() ? fmt::format("{:g} % intervals by bootstrap; ", b.level * 100) : "", f.reached, f.records,
+             f.method == "stripes-mle" ? "runs" : "records", f.method);
+}
+
+bool any_modelling(const SuiteFragility& fragility) {
+  for (const auto& v : fragility)
+    for (const auto& f : v)
+      if (f && f->beta_modelling > 0) return true;
+  return false;
+}
+
+// A limit state in words: "overturning", "rocking angle over alpha_cg >= 0.5".
+std::string limit_title(const Limit& limit) {
+  if (!limit.quantity) return limit.name;
+  const QuantityName& q = *limit.quantity;
+  const double factor = figure_factor(q);
+  const std::string unit(q.scalar ? info(*q.scalar).figure_unit : info(q.of).figure_unit);
+  const std::string words =
+      q.scalar ? std::string(axis_words(info(*q.scalar).words)) : q.device + " " + std::string(axis_words(info(q.of).words));
+  return fmt::format("{} ≥ {:g}{}", words, limit.value * factor, unit == "-" ? "" : " " + unit);
 }
 
 }  // namespace
@@ -91,13 +120,33 @@ std::string im_axis_label(const IntensityMeasure& im) {
   return im.name();
 }
 
+SuiteFragility suite_fragility(const Study& st, const StudySummary& summary, const FragilityOptions& options,
+                               int threads) {
+  const std::size_t nv = st.variants().size(), nl = summary.limits().size();
+  SuiteFragility out(nv, std::vector<std::optional<LimitFragility>>(nl));
+  // Each (variant, limit) is one task: its bootstrap is the work.
+  const std::function<std::optional<LimitFragility>(std::size_t)> work = [&](std::size_t i) {
+    const std::size_t v = i / nl, l = i % nl;
+    if (!applies(st, v, summary.limits()[l])) return std::optional<LimitFragility>();
+    return std::optional<LimitFragility>(summary.fragility(v, l, options));
+  };
+  parallel_ordered<std::optional<LimitFragility>>(
+      nv * nl, threads, work, [&](std::size_t i, const std::optional<LimitFragility>& f) { out[i / nl][i % nl] = f; });
+  return out;
+}
+
 void write_ladder_report(const fs::path& dir, const Study& st, const StudySummary& summary,
-                         const std::vector<std::string>& ids) {
+                         const SuiteFragility& fragility_of, const std::vector<std::string>& ids) {
   const IntensityMeasure& im = st.intensity_measure();
   std::string fractiles = "variant,quantity,im,level,runs,collapsed,p16,p50,p84\n";
   std::string fragility = fragility_header, points = points_header;
-  nlohmann::json json{{"im", im.name()}, {"unit", im.unit()}, {"damping", im.damping}, {"levels", summary.levels()},
-                      {"records", ids}, {"variants", nlohmann::json::array()}};
+  nlohmann::json json{{"im", im.name()},
+                      {"unit", im.unit()},
+                      {"damping", im.damping},
+                      {"levels", summary.levels()},
+                      {"resurrection", summary.resurrection() == Resurrection::first ? "first" : "keep"},
+                      {"records", ids},
+                      {"variants", nlohmann::json::array()}};
   for (std::size_t v = 0; v < st.variants().size(); ++v) {
     const std::string& name = st.variants()[v].name;
     nlohmann::json jv{{"name", name}, {"fractiles", nlohmann::json::object()}, {"fragility", nlohmann::json::array()}};
@@ -121,30 +170,37 @@ void write_ladder_report(const fs::path& dir, const Study& st, const StudySummar
       if (!cols["level"].empty()) jv["fractiles"][q.name()] = std::move(cols);
     }
     for (std::size_t l = 0; l < summary.limits().size(); ++l) {
-      const Limit& limit = summary.limits()[l];
-      if (!applies(st, v, limit)) continue;
-      const auto caps = summary.capacities(v, l);
-      std::vector<Capacity> values;
-      for (const auto& c : caps) values.push_back(c.second);
-      const std::vector<Stripe> stripes = summary.stripes(v, l);
-      const LognormalFit by_capacity = fit_capacities(values), by_stripes = fit_stripes(stripes);
-      fragility += fit_row(name, limit.name, im.name(), by_capacity) + fit_row(name, limit.name, im.name(), by_stripes);
-      points += capacity_points(name, limit.name, im.name(), caps, ids);
-      nlohmann::json jc = nlohmann::json::array(), js = nlohmann::json::array();
-      for (const auto& [r, c] : caps) jc.push_back({{"record", ids[r]}, {"level", c.im}, {"reached", c.reached}});
-      for (const Stripe& s : stripes) {
+      if (!fragility_of[v][l]) continue;
+      const LimitFragility& f = *fragility_of[v][l];
+      const Limit& limit = f.limit;
+      fragility += fit_row(name, limit.name, im.name(), f.capacity_fit, f.capacity_bootstrap, f.beta_modelling) +
+                   fit_row(name, limit.name, im.name(), f.stripes_fit, f.stripes_bootstrap, f.beta_modelling);
+      points += capacity_points(name, limit.name, im.name(), f.capacities, ids);
+      for (const Stripe& s : f.stripes)
         points += fmt::format("{},{},{},stripe,,{},{},{},{}\n", csv_field(name), csv_field(limit.name), im.name(),
                               num(s.im), num(static_cast<double>(s.reached) / static_cast<double>(s.runs)), s.runs,
                               s.reached);
-        js.push_back({{"level", s.im}, {"runs", s.runs}, {"reached", s.reached}});
-      }
-      jv["fragility"].push_back({{"limit", limit.name}, {"capacity_fit", fit_json(by_capacity)},
-                                 {"stripes_fit", fit_json(by_stripes)}, {"capacities", jc}, {"stripes", js}});
+      jv["fragility"].push_back(fragility_json(f, ids));
       if (!limit.quantity) {
-        print_fit(name, limit.name, im, by_capacity);
-        print_fit(name, limit.name, im, by_stripes);
+        print_fit(name, limit.name, im, f.capacity_fit, f.capacity_bootstrap, f.beta_modelling);
+        print_fit(name, limit.name, im, f.stripes_fit, f.stripes_bootstrap, f.beta_modelling);
       }
     }
+    // Records that stand again above their first overturning.
+    nlohmann::json jr = nlohmann::json::array();
+    std::size_t levels_survived = 0;
+    const auto resurrections = summary.resurrections(v);
+    for (const StudySummary::Resurrections& r : resurrections) {
+      jr.push_back({{"record", ids[r.record]}, {"first_overturning", r.first_overturning}, {"survived", r.survived}});
+      levels_survived += r.survived.size();
+    }
+    jv["resurrections"] = std::move(jr);
+    if (!resurrections.empty())
+      fmt::print("{}: {} of {} records survive {} level(s) above their first overturning; {}\n", name,
+                 resurrections.size(), ids.size(), levels_survived,
+                 summary.resurrection() == Resurrection::first
+                     ? "counted as overturned there (--resurrection first)"
+                     : "counted as standing there (--resurrection keep)");
     json["variants"].push_back(jv);
   }
   write_text(dir / "summary.csv", fractiles);
@@ -156,7 +212,7 @@ void write_ladder_report(const fs::path& dir, const Study& st, const StudySummar
 }
 
 std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, const StudySummary& summary,
-                                         const std::string& kind, const std::string& scene_name,
+                                         const SuiteFragility& fragility_of, const std::string& kind, const std::string& scene_name,
                                          const std::vector<std::string>& formats) {
   using Style = plot::Line::Style;
   const IntensityMeasure& im = st.intensity_measure();
@@ -244,50 +300,79 @@ std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, c
                     scene_name, nr, im.name()));
     for (const fs::path& f : plot::render_lines(fig, rows, cols, "peak " + axis_label(axis_q), im_axis_label(im), panels)) written.push_back(f);
   }
+  // The fitted CDF (the capacity fit with its total dispersion) and its band
+  // at 200 levels up to the top of the axis.
+  const double top = summary.levels().empty() ? 1 : summary.levels().back() * 1.1;
+  auto fit_curve = [&](const LognormalFit& f, double beta_modelling) {
+    std::string text = "im,p\n";
+    if (f.fitted)
+      for (int k = 1; k <= 200; ++k) {
+        const double x = top * k / 200.0;
+        text += fmt::format("{:.6g},{:.6g}\n", x, lognormal_cdf(x, f.median, total_beta(f.beta, beta_modelling)));
+      }
+    return text;
+  };
+  auto band = [&](const FitBootstrap& b, double beta_modelling) {
+    std::string text = "im,low,high\n";
+    if (b.computed())
+      for (int k = 1; k <= 200; ++k) {
+        const double x = top * k / 200.0;
+        const auto [low, high] = cdf_band(b, x, beta_modelling);
+        text += fmt::format("{:.6g},{:.6g},{:.6g}\n", x, low, high);
+      }
+    return text;
+  };
+  const std::string interval_words =
+      fragility_of.empty() || fragility_of[0].empty() || !fragility_of[0][0]
+          ? std::string()
+          : fmt::format("{:g} % interval", fragility_of[0][0]->capacity_bootstrap.level * 100);
   // Fragility: one panel per limit state, one colour per variant.
   std::vector<plot::LinePanel> panels;
-  const double top = summary.levels().empty() ? 1 : summary.levels().back() * 1.1;
+  bool banded = false;
+  std::vector<bool> keyed(nv, false);
   for (std::size_t l = 0; l < summary.limits().size(); ++l) {
     const Limit& limit = summary.limits()[l];
-    plot::LinePanel panel{limit.name == "overturning" ? std::string("overturning") : limit.name, {}, "0:1.02",
-                          fmt::format("0:{:.6g}", top)};
+    plot::LinePanel panel{"limit state: " + limit_title(limit), {}, "0:1.02", fmt::format("0:{:.6g}", top)};
     for (std::size_t v = 0; v < nv; ++v) {
-      if (!applies(st, v, limit)) continue;
+      if (!fragility_of[v][l]) continue;
+      const LimitFragility& f = *fragility_of[v][l];
       const std::string label = variant_label(st.variants()[v].name);
       const std::string stem = fmt::format("{}/fragility_{}_{}", data, l, v);
-      const auto caps = summary.capacities(v, l);
-      std::vector<Capacity> values;
-      for (const auto& c : caps) values.push_back(c.second);
-      const LognormalFit fit = fit_capacities(values);
-      const std::vector<Stripe> stripes = summary.stripes(v, l);
       std::vector<double> reached;
-      for (const Capacity& c : values)
+      for (const auto& [r, c] : f.capacities)
         if (c.reached) reached.push_back(c.im);
       std::sort(reached.begin(), reached.end());
-      // The fitted CDF at 200 levels up to the top of the axis.
-      auto fit_curve = [&](const LognormalFit& f) {
-        std::string text = "im,p\n";
-        if (f.fitted)
-          for (int k = 1; k <= 200; ++k) {
-            const double x = top * k / 200.0;
-            text += fmt::format("{:.6g},{:.6g}\n", x, lognormal_cdf(x, f.median, f.beta));
-          }
-        return text;
-      };
       std::string ecdf = "im,p\n", stripe_text = "im,p\n";
       for (std::size_t k = 0; k < reached.size(); ++k)
-        ecdf += fmt::format("{:.6g},{:.6g}\n", reached[k], static_cast<double>(k + 1) / static_cast<double>(values.size()));
-      for (const Stripe& s : stripes)
+        ecdf += fmt::format("{:.6g},{:.6g}\n", reached[k],
+                            static_cast<double>(k + 1) / static_cast<double>(f.capacities.size()));
+      for (const Stripe& s : f.stripes)
         stripe_text += fmt::format("{:.6g},{:.6g}\n", s.im, static_cast<double>(s.reached) / static_cast<double>(s.runs));
       write_text(dir / (stem + "_records.csv"), ecdf);
       write_text(dir / (stem + "_stripes.csv"), stripe_text);
-      write_text(dir / (stem + "_fit.csv"), fit_curve(fit));
+      write_text(dir / (stem + "_fit.csv"), fit_curve(f.capacity_fit, f.beta_modelling));
+      write_text(dir / (stem + "_band.csv"), band(f.capacity_bootstrap, f.beta_modelling));
+      write_text(dir / (stem + "_stripes_fit.csv"), fit_curve(f.stripes_fit, 0));
       const int colour = static_cast<int>(v);
-      panel.lines.push_back({Style::bold, label + ": fit to the records", stem + "_fit.csv", colour});
-      panel.lines.push_back({Style::circles, label + ": each record", stem + "_records.csv", colour});
-      panel.lines.push_back({Style::squares, label + ": fraction at each level", stem + "_stripes.csv", colour});
-      write_text(dir / (stem + "_stripes_fit.csv"), fit_curve(fit_stripes(stripes)));
-      panel.lines.push_back({Style::bold_dashed, label + ": fit to the fractions", stem + "_stripes_fit.csv", colour});
+      if (f.capacity_bootstrap.computed()) panel.lines.push_back({Style::band, "", stem + "_band.csv", colour});
+      panel.lines.push_back({Style::bold, "", stem + "_fit.csv", colour});
+      panel.lines.push_back({Style::circles, "", stem + "_records.csv", colour});
+      panel.lines.push_back({Style::squares, "", stem + "_stripes.csv", colour});
+      panel.lines.push_back({Style::bold_dashed, "", stem + "_stripes_fit.csv", colour});
+      // The key: a colour per variant, then a style per series (alike in every panel).
+      if (!keyed[v]) panel.lines.push_back({Style::bold, label, "", colour});
+      keyed[v] = true;
+      banded = banded || f.capacity_bootstrap.computed();
+    }
+    if (l + 1 == summary.limits().size()) {
+      const bool modelling = any_modelling(fragility_of);
+      panel.lines.push_back({Style::bold,
+                             modelling ? "fit to first levels, beta with modelling" : "fit to first levels",
+                             "", -1});
+      if (banded) panel.lines.push_back({Style::band, interval_words + " of that fit (bootstrap)", "", -1});
+      panel.lines.push_back({Style::circles, "each record's first level at the limit", "", -1});
+      panel.lines.push_back({Style::squares, "fraction at each level", "", -1});
+      panel.lines.push_back({Style::bold_dashed, "fit to the fractions", "", -1});
     }
     panels.push_back(panel);
   }
@@ -295,19 +380,53 @@ std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, c
     const int fc = static_cast<int>(std::min<std::size_t>(panels.size(), 2));
     const int fr = static_cast<int>((panels.size() + 1) / 2);
     plot::Figure fig = figure(kind + "_fragility",
-                              fmt::format("{}: fragility over {} records\n(circles: the level at which each record "
-                                          "first reaches the limit; squares: the fraction at each level)",
+                              fmt::format("{}: fragility over {} records, by limit state\n(first levels: the level "
+                                          "at which each record first reaches the limit)",
                                           scene_name, nr));
     fig.width = std::max(1100, 640 * fc + 120);
     fig.height = 560 * fr + 300;
     for (const fs::path& f : plot::render_lines(fig, fr, fc, im_axis_label(im), "P(limit reached | IM) [-]", panels))
       written.push_back(f);
   }
+  // Damage states: every limit's fit and band in one panel per variant, the
+  // limits told apart by dash and colour.
+  if (summary.limits().size() >= 2 && nr >= 2) {
+    std::vector<plot::LinePanel> states;
+    for (std::size_t v = 0; v < nv; ++v) {
+      plot::LinePanel panel{variant_label(st.variants()[v].name), {}, "0:1.02", fmt::format("0:{:.6g}", top)};
+      for (std::size_t l = 0; l < summary.limits().size(); ++l) {
+        if (!fragility_of[v][l] || !fragility_of[v][l]->capacity_fit.fitted) continue;
+        const LimitFragility& f = *fragility_of[v][l];
+        const std::string stem = fmt::format("{}/fragility_{}_{}", data, l, v);
+        const std::string title = limit_title(f.limit);
+        const int colour = static_cast<int>(l);
+        if (f.capacity_bootstrap.computed()) {
+          panel.lines.push_back({Style::band, "", stem + "_band.csv", colour});
+          banded = true;
+        }
+        panel.lines.push_back({Style::bold, title, stem + "_fit.csv", colour, static_cast<int>(l)});
+      }
+      if (v + 1 == nv && banded)
+        panel.lines.push_back({Style::band, interval_words + " (bootstrap)", "", -1});
+      states.push_back(panel);
+    }
+    const int fc = static_cast<int>(std::min<std::size_t>(states.size(), 2));
+    const int fr = static_cast<int>((states.size() + 1) / 2);
+    plot::Figure fig = figure(kind + "_damage_states",
+                              fmt::format("{}: damage states over {} records\n(lognormal fits to the level at which "
+                                          "each record first reaches each limit{})",
+                                          scene_name, nr, interval_words.empty() ? "" : "; bands: " + interval_words +
+                                                                                             " by bootstrap over records"));
+    fig.width = std::max(1100, 640 * fc + 120);
+    fig.height = 560 * fr + 300;
+    for (const fs::path& f : plot::render_lines(fig, fr, fc, im_axis_label(im), "P(limit reached | IM) [-]", states))
+      written.push_back(f);
+  }
   return written;
 }
 
 void write_hunt_report(const fs::path& dir, const Study& st, const std::vector<HuntResult>& hunts,
-                       const std::vector<std::string>& ids) {
+                       const std::vector<std::string>& ids, const FragilityOptions& options) {
   const IntensityMeasure& im = st.intensity_measure();
   const std::size_t nv = st.variants().size();
   std::string fragility = fragility_header, points = points_header;
@@ -317,21 +436,23 @@ void write_hunt_report(const fs::path& dir, const Study& st, const std::vector<H
     const std::string& name = st.variants()[v].name;
     if (!st.can_overturn(v)) continue;
     std::vector<std::pair<std::size_t, Capacity>> caps;
-    std::vector<Capacity> values;
-    nlohmann::json jc = nlohmann::json::array();
+    nlohmann::json jr = nlohmann::json::array();
     for (std::size_t r = 0; r < st.records().size(); ++r) {
       const HuntResult& h = hunts[r * nv + v];
       if (!h.error.empty() || h.runs == 0) continue;
       caps.emplace_back(r, hunt_capacity(h));
-      values.push_back(caps.back().second);
-      jc.push_back({{"record", ids[r]}, {"level", values.back().im}, {"reached", values.back().reached}});
+      if (!h.resurrections.empty()) {
+        nlohmann::json ranges = nlohmann::json::array();
+        for (const auto& [from, to] : h.resurrections) ranges.push_back({from, to});
+        jr.push_back({{"record", ids[r]}, {"first_overturning", h.collapse_level}, {"survived", ranges}});
+      }
     }
-    const LognormalFit fit = fit_capacities(values);
-    fragility += fit_row(name, "overturning", im.name(), fit);
+    const LimitFragility f = capacity_fragility(overturning_limit(), caps, options);
+    fragility += fit_row(name, "overturning", im.name(), f.capacity_fit, f.capacity_bootstrap, f.beta_modelling);
     points += capacity_points(name, "overturning", im.name(), caps, ids);
-    json["variants"].push_back({{"name", name}, {"fragility", {{{"limit", "overturning"}, {"capacity_fit", fit_json(fit)},
-                                                                {"capacities", jc}}}}});
-    if (st.records().size() >= 2) print_fit(name, "overturning", im, fit);
+    json["variants"].push_back({{"name", name}, {"fragility", {fragility_json(f, ids)}}, {"resurrections", jr}});
+    if (st.records().size() >= 2)
+      print_fit(name, "overturning", im, f.capacity_fit, f.capacity_bootstrap, f.beta_modelling);
   }
   write_text(dir / "fragility.csv", fragility);
   write_text(dir / "fragility_points.csv", points);

@@ -6,6 +6,7 @@
 #pragma once
 #include "commands.hpp"
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,20 +18,31 @@ std::string csv_field(const std::string& s);
 // The axis label of an intensity measure ("PGA [g]", "scale factor [-]").
 std::string im_axis_label(const rocking::IntensityMeasure& im);
 
+// Each variant's fragility for each limit state that applies to it ([variant][limit];
+// none where it does not apply), the (variant, limit) pairs on `threads` threads.
+using SuiteFragility = std::vector<std::vector<std::optional<rocking::LimitFragility>>>;
+SuiteFragility suite_fragility(const rocking::Study& st, const rocking::StudySummary& summary,
+                               const rocking::FragilityOptions& options, int threads);
+
 // Writes the summary files of a ladder into dir; prints each variant's
-// overturning fragility in one line.
+// overturning fragility in one line, and its records that survive above
+// their first overturning.
 void write_ladder_report(const std::filesystem::path& dir, const rocking::Study& st,
-                         const rocking::StudySummary& summary, const std::vector<std::string>& ids);
-// The suite figures of a ladder (IDA curves with fractiles per quantity, and
-// the fragility curves); returns the files written.
+                         const rocking::StudySummary& summary, const SuiteFragility& fragility,
+                         const std::vector<std::string>& ids);
+// The suite figures of a ladder (IDA curves with fractiles per quantity, the
+// fragility curves with their bootstrap bands, and with two or more limit
+// states the damage states in one panel per variant); returns the files written.
 std::vector<std::filesystem::path> draw_ladder_report(const std::filesystem::path& dir, const rocking::Study& st,
-                                                      const rocking::StudySummary& summary, const std::string& kind,
+                                                      const rocking::StudySummary& summary,
+                                                      const SuiteFragility& fragility, const std::string& kind,
                                                       const std::string& scene_name,
                                                       const std::vector<std::string>& formats);
 
 // The overturning fragility of hunts, one per (record, variant) in order:
 // fragility.csv, fragility_points.csv and summary.json in dir.
 void write_hunt_report(const std::filesystem::path& dir, const rocking::Study& st,
-                       const std::vector<rocking::HuntResult>& hunts, const std::vector<std::string>& ids);
+                       const std::vector<rocking::HuntResult>& hunts, const std::vector<std::string>& ids,
+                       const rocking::FragilityOptions& options);
 
 }  // namespace rocking::app

@@ -2,7 +2,9 @@ module;
 #include <gsl/gsl_cdf.h>
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_multimin.h>
+#include <gsl/gsl_rng.h>
 #include <gsl/gsl_sf_erf.h>
+#include <memory>
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -19,12 +21,17 @@ namespace {
 constexpr double inf = std::numeric_limits<double>::infinity();
 
 // ln Phi(z) and ln(1 - Phi(z)), accurate far in the tails.
-double log_phi_cdf(double z) { return gsl_sf_log_erfc(-z / std::numbers::sqrt2) - std::numbers::ln2; }
+// libm's erfc where it does not underflow (z > -30: erfc > 1e-200), GSL's
+// log_erfc in the far tail.
+double log_phi_cdf(double z) {
+  return z > -30 ? std::log(0.5 * std::erfc(-z / std::numbers::sqrt2))
+                 : gsl_sf_log_erfc(-z / std::numbers::sqrt2) - std::numbers::ln2;
+}
 double log_phi_upper(double z) { return log_phi_cdf(-z); }
 
 // The minimum of f(ln median, ln beta) from a start, by GSL's simplex; false
 // when it did not converge.
-bool minimise(const std::function<double(double, double)>& f, double& x0, double& x1) {
+bool minimise(const std::function<double(double, double)>& f, double& x0, double& x1, double first_step) {
   struct Data {
     const std::function<double(double, double)>* f;
   } data{&f};
@@ -39,7 +46,7 @@ bool minimise(const std::function<double(double, double)>& f, double& x0, double
   gsl_vector* step = gsl_vector_alloc(2);
   gsl_vector_set(x, 0, x0);
   gsl_vector_set(x, 1, x1);
-  gsl_vector_set_all(step, 0.2);
+  gsl_vector_set_all(step, first_step);
   gsl_multimin_fminimizer* s = gsl_multimin_fminimizer_alloc(gsl_multimin_fminimizer_nmsimplex2, 2);
   gsl_multimin_fminimizer_set(s, &fn, x, step);
   int status = GSL_CONTINUE;
@@ -63,9 +70,11 @@ bool minimise(const std::function<double(double, double)>& f, double& x0, double
 // A maximum-likelihood fit: minimise the negative log-likelihood nll(ln
 // median, beta), then standard errors from its Hessian.
 void fit_by_likelihood(LognormalFit& fit, const std::function<double(double, double)>& nll, double log_median,
-                       double beta) {
-  double x0 = log_median, x1 = std::log(beta);
-  const bool converged = minimise([&](double a, double b) { return nll(a, std::exp(b)); }, x0, x1);
+                       double beta, const LognormalFit* near) {
+  // From a fit of similar data (a resample's), a smaller simplex suffices.
+  const bool warm = near && near->fitted;
+  double x0 = warm ? std::log(near->median) : log_median, x1 = std::log(warm ? near->beta : beta);
+  const bool converged = minimise([&](double a, double b) { return nll(a, std::exp(b)); }, x0, x1, warm ? 0.05 : 0.2);
   const double b = std::exp(x1);
   if (b < 1e-3) {
     fit.note = "the data separate perfectly: beta -> 0, no dispersion can be estimated";
@@ -115,7 +124,7 @@ double lognormal_cdf(double im, double median, double beta) {
   return gsl_cdf_ugaussian_P(std::log(im / median) / beta);
 }
 
-LognormalFit fit_capacities(const std::vector<Capacity>& capacities) {
+LognormalFit fit_capacities(const std::vector<Capacity>& capacities, const LognormalFit* near) {
   LognormalFit fit;
   fit.records = capacities.size();
   double sum = 0, sum2 = 0;
@@ -151,23 +160,26 @@ LognormalFit fit_capacities(const std::vector<Capacity>& capacities) {
   }
   fit.method = "censored-mle";
   const std::size_t censored = fit.records - fit.reached;
+  std::vector<double> log_im;
+  for (const Capacity& c : capacities) log_im.push_back(std::log(c.im));
   auto nll = [&](double log_median, double b) {
     if (!(b > 0)) return inf;
+    const double log_b = std::log(b);
     double s = 0;
-    for (const Capacity& c : capacities) {
-      const double z = (std::log(c.im) - log_median) / b;
-      s -= c.reached ? -0.5 * z * z - std::log(b) : log_phi_upper(z);
+    for (std::size_t i = 0; i < capacities.size(); ++i) {
+      const double z = (log_im[i] - log_median) / b;
+      s -= capacities[i].reached ? -0.5 * z * z - log_b : log_phi_upper(z);
     }
     return s;
   };
-  fit_by_likelihood(fit, nll, mean, beta > 0 ? beta : 0.3);
+  fit_by_likelihood(fit, nll, mean, beta > 0 ? beta : 0.3, near);
   if (fit.fitted)
     fit.note = fmt::format("{} of {} records did not reach the limit: censored at the highest IM they were run to",
                            censored, fit.records);
   return fit;
 }
 
-LognormalFit fit_stripes(const std::vector<Stripe>& stripes) {
+LognormalFit fit_stripes(const std::vector<Stripe>& stripes, const LognormalFit* near) {
   LognormalFit fit;
   fit.method = "stripes-mle";
   for (const Stripe& s : stripes) {
@@ -204,19 +216,125 @@ LognormalFit fit_stripes(const std::vector<Stripe>& stripes) {
       start = s.im;
       break;
     }
+  std::vector<double> log_im;
+  for (const Stripe& s : stripes) log_im.push_back(std::log(s.im));
   auto nll = [&](double log_median, double b) {
     if (!(b > 0)) return inf;
     double sum = 0;
-    for (const Stripe& s : stripes) {
+    for (std::size_t i = 0; i < stripes.size(); ++i) {
+      const Stripe& s = stripes[i];
       if (s.runs == 0) continue;
-      const double z = (std::log(s.im) - log_median) / b;
+      const double z = (log_im[i] - log_median) / b;
       if (s.reached > 0) sum -= static_cast<double>(s.reached) * log_phi_cdf(z);
       if (s.runs > s.reached) sum -= static_cast<double>(s.runs - s.reached) * log_phi_upper(z);
     }
     return sum;
   };
-  fit_by_likelihood(fit, nll, std::log(start), 0.4);
+  fit_by_likelihood(fit, nll, std::log(start), 0.4, near);
   return fit;
+}
+
+double total_beta(double beta, double modelling) {
+  if (!(modelling >= 0) || !std::isfinite(modelling))
+    throw InputError(fmt::format("--beta-modelling {}: must be a finite number >= 0", modelling));
+  return std::hypot(beta, modelling);
+}
+
+void check_bootstrap_options(const BootstrapOptions& o) {
+  if (o.draws > 1000000) throw InputError(fmt::format("--bootstrap {}: at most 1000000 resamples", o.draws));
+  if (!(o.level > 0 && o.level < 1)) throw InputError(fmt::format("bootstrap level {}: must lie in (0, 1)", o.level));
+}
+
+namespace {
+
+// The central interval at `level` of finite values.
+std::array<double, 2> central(const std::vector<double>& values, double level) {
+  return {fractile(values, (1 - level) / 2), fractile(values, (1 + level) / 2)};
+}
+
+// The bias-corrected and accelerated (BCa) interval at `level` (Efron &
+// Tibshirani 1993, 14.3) of an estimate `full` from its values over the
+// resamples and over the leave-one-out samples (the jackknife, which gives
+// the acceleration; none: no acceleration).
+std::array<double, 2> bca(const std::vector<double>& values, double full, const std::vector<double>& jackknife,
+                          double level) {
+  const double b = static_cast<double>(values.size());
+  double below = 0;
+  for (double v : values) below += v < full ? 1 : v == full ? 0.5 : 0;
+  const double z0 = gsl_cdf_ugaussian_Pinv(std::clamp(below / b, 0.5 / b, 1 - 0.5 / b));
+  double a = 0;
+  if (jackknife.size() >= 2) {
+    double mean = 0;
+    for (double v : jackknife) mean += v / static_cast<double>(jackknife.size());
+    double s2 = 0, s3 = 0;
+    for (double v : jackknife) {
+      s2 += (mean - v) * (mean - v);
+      s3 += (mean - v) * (mean - v) * (mean - v);
+    }
+    if (s2 > 0) a = s3 / (6 * std::pow(s2, 1.5));
+  }
+  auto adjusted = [&](double alpha) {
+    const double z = z0 + gsl_cdf_ugaussian_Pinv(alpha);
+    return std::clamp(gsl_cdf_ugaussian_P(z0 + z / (1 - a * z)), 0.0, 1.0);
+  };
+  return {fractile(values, adjusted((1 - level) / 2)), fractile(values, adjusted((1 + level) / 2))};
+}
+
+}  // namespace
+
+FitBootstrap bootstrap_fit(std::size_t n, const std::function<LognormalFit(const std::vector<std::size_t>&)>& fit,
+                           const BootstrapOptions& o) {
+  check_bootstrap_options(o);
+  FitBootstrap out;
+  out.level = o.level;
+  out.seed = o.seed;
+  if (n == 0 || o.draws == 0) return out;
+  std::vector<std::size_t> sample(n);
+  for (std::size_t i = 0; i < n; ++i) sample[i] = i;
+  const LognormalFit whole = fit(sample);
+  if (!whole.fitted) return out;
+  // The jackknife: every sample that leaves one record out.
+  std::vector<double> jack_median, jack_beta;
+  for (std::size_t left = 0; left < n && n >= 3; ++left) {
+    std::vector<std::size_t> rest;
+    for (std::size_t i = 0; i < n; ++i)
+      if (i != left) rest.push_back(i);
+    const LognormalFit f = fit(rest);
+    if (!f.fitted) {
+      jack_median.clear();
+      jack_beta.clear();
+      break;
+    }
+    jack_median.push_back(std::log(f.median));
+    jack_beta.push_back(f.beta);
+  }
+  const std::unique_ptr<gsl_rng, decltype(&gsl_rng_free)> rng(gsl_rng_alloc(gsl_rng_mt19937), gsl_rng_free);
+  gsl_rng_set(rng.get(), o.seed);
+  std::vector<double> medians, betas;
+  for (std::size_t d = 0; d < o.draws; ++d) {
+    for (std::size_t& i : sample) i = gsl_rng_uniform_int(rng.get(), n);
+    ++out.draws;
+    const LognormalFit f = fit(sample);
+    if (!f.fitted) continue;
+    out.fits.push_back({f.median, f.beta});
+    medians.push_back(std::log(f.median));
+    betas.push_back(f.beta);
+  }
+  out.fitted = out.fits.size();
+  if (out.computed()) {
+    const auto m = bca(medians, std::log(whole.median), jack_median, o.level);
+    out.median = {std::exp(m[0]), std::exp(m[1])};
+    out.beta = bca(betas, whole.beta, jack_beta, o.level);
+  }
+  return out;
+}
+
+std::array<double, 2> cdf_band(const FitBootstrap& b, double im, double beta_modelling) {
+  if (!b.computed()) return {FitBootstrap::none, FitBootstrap::none};
+  std::vector<double> p;
+  p.reserve(b.fits.size());
+  for (const auto& [median, beta] : b.fits) p.push_back(lognormal_cdf(im, median, total_beta(beta, beta_modelling)));
+  return central(p, b.level);
 }
 
 }  // namespace rocking

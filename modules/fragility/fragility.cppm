@@ -20,8 +20,19 @@
 //   simplex; standard errors come from the inverse of the negative
 //   log-likelihood's Hessian (finite differences) at the optimum, or, for the
 //   moment fit, from se(ln median) = beta / sqrt(n), se(beta) = beta / sqrt(2 (n - 1)).
+// - Their uncertainty by a bootstrap over records (Efron & Tibshirani 1993,
+//   percentile intervals): the records are resampled with replacement, each
+//   resample is fitted as the records were, and the interval is the central
+//   fractiles of the fitted medians and betas. The resamples are drawn by
+//   GSL's MT19937 from a stated seed, so the intervals are the same on every
+//   machine.
+// - The total dispersion with modelling uncertainty, FEMA P-695 (2009) 7.3:
+//   beta_total = sqrt(beta^2 + beta_modelling^2), the median unchanged.
 module;
+#include <array>
 #include <cstddef>
+#include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 export module rocking.fragility;
@@ -53,13 +64,46 @@ struct Capacity {
   double im = 0;
   bool reached = false;
 };
-LognormalFit fit_capacities(const std::vector<Capacity>& capacities);
+// near: a fit of similar data (the whole sample's, for a resample) to start
+// the likelihood's search from.
+LognormalFit fit_capacities(const std::vector<Capacity>& capacities, const LognormalFit* near = nullptr);
 
 // One stripe: `runs` records run at IM `im`, `reached` of them at the limit.
 struct Stripe {
   double im = 0;
   std::size_t runs = 0, reached = 0;
 };
-LognormalFit fit_stripes(const std::vector<Stripe>& stripes);
+LognormalFit fit_stripes(const std::vector<Stripe>& stripes, const LognormalFit* near = nullptr);
+
+// sqrt(beta^2 + modelling^2) (FEMA P-695); InputError naming
+// --beta-modelling unless modelling is finite and >= 0.
+double total_beta(double beta, double modelling);
+
+struct BootstrapOptions {
+  std::size_t draws = 1000;
+  unsigned long seed = 20020101;
+  double level = 0.9;  // of the central intervals
+};
+// InputError naming the option unless draws is in [0, 1e6] (0: no bootstrap)
+// and level in (0, 1).
+void check_bootstrap_options(const BootstrapOptions& o);
+struct FitBootstrap {
+  std::size_t draws = 0;   // resamples drawn
+  std::size_t fitted = 0;  // of which the fit gave numbers (others say why in their notes)
+  double level = 0.9;
+  unsigned long seed = 0;
+  static constexpr double none = std::numeric_limits<double>::quiet_NaN();
+  std::array<double, 2> median{none, none}, beta{none, none};  // low, high; NaN when fewer than two fitted
+  std::vector<std::array<double, 2>> fits;                      // (median, beta) of each fitted resample
+  bool computed() const { return fitted >= 2; }
+};
+// Draws o.draws resamples of the indices 0..n-1 with replacement and fits
+// each with fit(sample).
+FitBootstrap bootstrap_fit(std::size_t n, const std::function<LognormalFit(const std::vector<std::size_t>&)>& fit,
+                           const BootstrapOptions& o);
+// The central interval (at the bootstrap's level) of P(capacity <= im) over
+// the resamples' fits, optionally with modelling dispersion added to each:
+// the band drawn around a fragility curve. NaN when not computed.
+std::array<double, 2> cdf_band(const FitBootstrap& b, double im, double beta_modelling = 0);
 
 }  // namespace rocking

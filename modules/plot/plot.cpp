@@ -519,19 +519,24 @@ std::vector<fs::path> render_fit(const Figure& fig, const std::string& data_file
   return render_script(fig, script);
 }
 
+std::string_view line_colour(const Line& l) {
+  return l.colour < 0 ? "404040" : palette[static_cast<std::size_t>(l.colour) % palette_size];
+}
+
 std::vector<fs::path> render_lines(const Figure& fig, int rows, int cols, const std::string& xlabel,
                                    const std::string& ylabel, const std::vector<LinePanel>& panels) {
   using Style = Line::Style;
   // How each style draws; the key entry of a label is its first line's.
   auto style = [](const Line& l) -> std::string {
-    const std::string colour = fmt::format("linecolor rgb \"#{}\"", palette[static_cast<std::size_t>(l.colour) % palette_size]);
+    const std::string colour = fmt::format("linecolor rgb \"#{}\"", line_colour(l));
     switch (l.style) {
       case Style::thin_grey: return "with lines linewidth 0.6 linecolor rgb \"#a0a0a0\"";
-      case Style::bold: return "with lines linewidth 3 " + colour;
+      case Style::bold: return fmt::format("with lines linewidth 3 dashtype {} {}", l.dash + 1, colour);
       case Style::bold_dashed: return "with lines linewidth 2.2 dashtype 2 " + colour;
       case Style::circles: return "with points pointtype 6 pointsize 1.1 linewidth 1.5 " + colour;
       case Style::squares: return "with points pointtype 4 pointsize 1.1 linewidth 1.5 " + colour;
       case Style::crosses: return "with points pointtype 2 pointsize 1.3 linewidth 1.5 " + colour;
+      case Style::band: return "with filledcurves fillstyle transparent solid 0.22 noborder " + colour;
     }
     return "with lines";
   };
@@ -540,7 +545,12 @@ std::vector<fs::path> render_lines(const Figure& fig, int rows, int cols, const 
     for (const Line& l : p.lines)
       if (!l.label.empty() && std::find(labels.begin(), labels.end(), l.label) == labels.end()) {
         labels.push_back(l.label);
-        entries.push_back(fmt::format("NaN {} title {} noenhanced", style(l), quote(l.label)));
+        // A key sample of a band: a line with no length drawn as a filled box.
+        entries.push_back(l.style == Style::band
+                              ? fmt::format("NaN with boxes fillstyle transparent solid 0.22 noborder linecolor rgb "
+                                            "\"#{}\" title {} noenhanced",
+                                            line_colour(l), quote(l.label))
+                              : fmt::format("NaN {} title {} noenhanced", style(l), quote(l.label)));
       }
   const int points = font_points(fig, 550 * cols, 420 * rows);
   const Grid grid = shared_key_grid(fig, rows, cols, points, labels, 1);
@@ -551,14 +561,16 @@ std::vector<fs::path> render_lines(const Figure& fig, int rows, int cols, const 
     body += grid.panels[k] + "  unset key\n  unset label\n";
     body += fmt::format("  set title {} noenhanced\n  set xrange [{}]\n  set yrange [{}]\n", quote(panel.title),
                         panel.xrange, panel.yrange);
-    if (panel.lines.empty()) {
+    if (std::ranges::all_of(panel.lines, [](const Line& l) { return l.file.empty(); })) {
       body += "  set label 1 \"(nothing to show for this variant)\" at graph 0.5,0.5 center\n"
               "  plot [0:1] [0:1] NaN notitle\n  unset label 1\n";
       continue;
     }
     std::vector<std::string> items;
     for (const Line& l : panel.lines)
-      items.push_back(fmt::format("{} skip 1 using 1:2 {} notitle", quote(l.file), style(l)));
+      if (!l.file.empty())
+        items.push_back(fmt::format("{} skip 1 using {} {} notitle", quote(l.file),
+                                    l.style == Line::Style::band ? "1:2:3" : "1:2", style(l)));
     body += plot_command(items);
   }
   body += "  unset title\n  set xrange [*:*]\n  set yrange [*:*]\n";

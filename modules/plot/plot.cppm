@@ -116,11 +116,16 @@ std::vector<std::filesystem::path> render_panels(const Figure& fig, int rows, in
 // crossed) and fragility curves with their data points. A file is CSV with a
 // header row, x in column 1 and y in column 2; a blank line breaks a line (one
 // file can hold many curves). One key above the panels lists each label once.
+// A band is a translucent area between columns 2 and 3 (an interval around
+// a curve). A line with no file is a key entry only: with many series, the
+// key can name colours (one entry per colour) and styles (one per style, in
+// dark grey: colour -1) apart instead of every pair.
 struct Line {
-  enum class Style { thin_grey, bold, bold_dashed, circles, squares, crosses } style = Style::bold;
+  enum class Style { thin_grey, bold, bold_dashed, circles, squares, crosses, band } style = Style::bold;
   std::string label;  // empty: no key entry
-  std::string file;   // relative to the figure's folder, or absolute
-  int colour = 0;     // palette index (not for thin_grey)
+  std::string file;   // relative to the figure's folder, or absolute; empty: a key entry only
+  int colour = 0;     // palette index (not for thin_grey); -1: dark grey
+  int dash = 0;       // bold: gnuplot dash type - 1 (0 solid), to tell curves apart in greyscale
 };
 struct LinePanel {
   std::string title;

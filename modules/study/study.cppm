@@ -14,6 +14,7 @@
 // for each limit state, and their lognormal fragilities (rocking.fragility).
 module;
 #include <rocking/eigen.hpp>
+#include <nlohmann/json.hpp>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -247,16 +248,63 @@ struct StudyColumns {
 };
 StudyColumns study_columns(const Study& study);
 
+// How a record that survives a level above its first overturning (a
+// "resurrection") counts there. first, the convention of Vamvatsikos &
+// Cornell (2002) and the default: a record's IDA curve is collapsed from its
+// first overturning on (its capacity), and a limit state once reached stays
+// reached at every higher level. keep: each level counts as it ran.
+enum class Resurrection { first, keep };
+// "first" or "keep"; InputError naming --resurrection otherwise.
+Resurrection parse_resurrection(std::string_view text);
+
+// How fragilities are fitted beyond the data: the bootstrap over records
+// (draws 0: none) and the modelling dispersion added to beta (FEMA P-695).
+struct FragilityOptions {
+  BootstrapOptions bootstrap;
+  double beta_modelling = 0;
+};
+// InputError naming --bootstrap or --beta-modelling.
+void check_fragility_options(const FragilityOptions& o);
+
+// A limit state's fragility over a suite: each record's capacity, the stripes,
+// both lognormal fits and their bootstrap over records (rocking.fragility).
+struct LimitFragility {
+  Limit limit;
+  std::vector<std::pair<std::size_t, Capacity>> capacities;  // (record, capacity) of each record that ran
+  std::vector<Stripe> stripes;
+  LognormalFit capacity_fit, stripes_fit;
+  FitBootstrap capacity_bootstrap, stripes_bootstrap;
+  double beta_modelling = 0;
+};
+// The fragility of capacities alone (a hunt's): the capacity fit and its
+// bootstrap; no stripes.
+LimitFragility capacity_fragility(const Limit& limit, std::vector<std::pair<std::size_t, Capacity>> capacities,
+                                  const FragilityOptions& options);
+// A fit as JSON (summary.json's capacity_fit and stripes_fit, Python's
+// dicts): method, fitted, records, reached, note; when fitted, median, beta,
+// log_median_se, beta_se, beta_modelling and beta_total = sqrt(beta^2 +
+// beta_modelling^2); when bootstrapped, median_interval, beta_interval and
+// beta_total_interval ([low, high]) and bootstrap {draws, fitted, level, seed}.
+nlohmann::json fit_json(const LognormalFit& fit, const FitBootstrap& bootstrap, double beta_modelling);
+// limit, capacity_fit, stripes_fit, capacities ({record: ids[r], level,
+// reached}) and stripes ({level, runs, reached}); no stripes_fit and stripes
+// for capacities alone.
+nlohmann::json fragility_json(const LimitFragility& f, const std::vector<std::string>& ids);
+
 // What a suite study reports (MODEL.md 13), gathered job by job: a few
 // numbers per job are kept, never a run's history. Failed jobs are left out.
 class StudySummary {
  public:
-  StudySummary(const Study& study, std::vector<double> levels, std::vector<Limit> limits);
+  StudySummary(const Study& study, std::vector<double> levels, std::vector<Limit> limits,
+               Resurrection resurrection = Resurrection::first);
   void add(const Job& job, const JobResult& result);
   const std::vector<double>& levels() const { return levels_; }  // ascending
   const std::vector<Limit>& limits() const { return limits_; }
+  Resurrection resurrection() const { return resurrection_; }
   // At each level, the 16/50/84 % fractiles of a peak over the records that
-  // ran there, an overturned run counted as +inf (a +inf fractile is a collapse).
+  // ran there, an overturned run counted as +inf (a +inf fractile is a
+  // collapse); under Resurrection::first a record that overturned at a lower
+  // level counts as overturned.
   struct FractileRow {
     double level = 0;
     std::size_t runs = 0, collapsed = 0;
@@ -273,8 +321,20 @@ class StudySummary {
   // Per record that ran: the lowest level at which it reached the limit, or
   // the highest level it ran to without, censored.
   std::vector<std::pair<std::size_t, Capacity>> capacities(std::size_t variant, std::size_t limit) const;
-  // Per level: how many records ran, how many reached the limit.
+  // Per level: how many records ran, how many reached the limit (as the
+  // convention counts them).
   std::vector<Stripe> stripes(std::size_t variant, std::size_t limit) const;
+  // Capacities, stripes, their fits and (bootstrap.draws > 0) their
+  // bootstrap over the records that ran.
+  LimitFragility fragility(std::size_t variant, std::size_t limit, const FragilityOptions& options) const;
+  // The records that overturned and then survived a higher level: each with
+  // its first overturning and the levels above it that it survived.
+  struct Resurrections {
+    std::size_t record = 0;
+    double first_overturning = 0;
+    std::vector<double> survived;
+  };
+  std::vector<Resurrections> resurrections(std::size_t variant) const;
 
  private:
   struct Cell {
@@ -286,9 +346,17 @@ class StudySummary {
     return cells_[(record * variants_ + variant) * levels_.size() + level];
   }
   bool reached(const Cell& c, const Limit& l) const;
+  // Whether the record counts as overturned at level k, by the convention.
+  bool overturned_at(std::size_t record, std::size_t variant, std::size_t k) const;
+  // [record][level]: -1 not run, 1 at the limit (by the convention), 0 not.
+  std::vector<std::vector<signed char>> limit_table(std::size_t variant, std::size_t limit) const;
+  // The stripes over these records (repeats counted).
+  std::vector<Stripe> stripes_of(const std::vector<std::vector<signed char>>& table,
+                                 const std::vector<std::size_t>& records) const;
   std::size_t records_ = 0, variants_ = 0;
   std::vector<double> levels_;
   std::vector<Limit> limits_;
+  Resurrection resurrection_ = Resurrection::first;
   StudyColumns columns_;
   std::vector<Cell> cells_;  // [record][variant][level]
 };

@@ -2,6 +2,7 @@
 // level) hold each job's peaks and whether it overturned; fractiles,
 // capacities and stripes are read from them.
 module;
+#include <nlohmann/json.hpp>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -118,9 +119,18 @@ StudyColumns study_columns(const Study& study) {
   return c;
 }
 
-StudySummary::StudySummary(const Study& study, std::vector<double> levels, std::vector<Limit> limits)
+Resurrection parse_resurrection(std::string_view text) {
+  if (text == "first") return Resurrection::first;
+  if (text == "keep") return Resurrection::keep;
+  throw InputError(fmt::format("--resurrection '{}': choose first (a record is collapsed from its first overturning "
+                               "on) or keep (each level counts as it ran)",
+                               text));
+}
+
+StudySummary::StudySummary(const Study& study, std::vector<double> levels, std::vector<Limit> limits,
+                           Resurrection resurrection)
     : records_(study.records().size()), variants_(study.variants().size()), levels_(std::move(levels)),
-      limits_(std::move(limits)), columns_(study_columns(study)) {
+      limits_(std::move(limits)), resurrection_(resurrection), columns_(study_columns(study)) {
   std::sort(levels_.begin(), levels_.end());
   levels_.erase(std::unique(levels_.begin(), levels_.end()), levels_.end());
   cells_.resize(records_ * variants_ * levels_.size());
@@ -152,6 +162,13 @@ bool StudySummary::reached(const Cell& c, const Limit& l) const {
   return c.overturned || (l.quantity && value(c, *l.quantity) >= l.value);
 }
 
+bool StudySummary::overturned_at(std::size_t record, std::size_t variant, std::size_t k) const {
+  if (resurrection_ == Resurrection::keep) return cell(record, variant, k).overturned;
+  for (std::size_t j = 0; j <= k; ++j)
+    if (const Cell& c = cell(record, variant, j); c.ran && c.overturned) return true;
+  return false;
+}
+
 std::vector<StudySummary::FractileRow> StudySummary::fractiles(std::size_t variant, const QuantityName& q) const {
   std::vector<FractileRow> rows;
   for (std::size_t k = 0; k < levels_.size(); ++k) {
@@ -161,9 +178,10 @@ std::vector<StudySummary::FractileRow> StudySummary::fractiles(std::size_t varia
     for (std::size_t r = 0; r < records_; ++r) {
       const Cell& c = cell(r, variant, k);
       if (!c.ran) continue;
-      const double v = c.overturned ? std::numeric_limits<double>::infinity() : value(c, q);
+      const bool overturned = overturned_at(r, variant, k);
+      const double v = overturned ? std::numeric_limits<double>::infinity() : value(c, q);
       if (std::isnan(v)) continue;  // not reported by this variant
-      row.collapsed += c.overturned ? 1 : 0;
+      row.collapsed += overturned ? 1 : 0;
       edp.push_back(v);
     }
     row.runs = edp.size();
@@ -207,17 +225,127 @@ std::vector<std::pair<std::size_t, Capacity>> StudySummary::capacities(std::size
   return out;
 }
 
-std::vector<Stripe> StudySummary::stripes(std::size_t variant, std::size_t limit) const {
+std::vector<std::vector<signed char>> StudySummary::limit_table(std::size_t variant, std::size_t limit) const {
+  std::vector<std::vector<signed char>> t(records_, std::vector<signed char>(levels_.size(), -1));
+  for (std::size_t r = 0; r < records_; ++r) {
+    bool once = false;
+    for (std::size_t k = 0; k < levels_.size(); ++k) {
+      const Cell& c = cell(r, variant, k);
+      if (!c.ran) continue;
+      const bool now = reached(c, limits_[limit]);
+      once = once || now;
+      t[r][k] = (resurrection_ == Resurrection::first ? once : now) ? 1 : 0;
+    }
+  }
+  return t;
+}
+
+std::vector<Stripe> StudySummary::stripes_of(const std::vector<std::vector<signed char>>& table,
+                                             const std::vector<std::size_t>& records) const {
   std::vector<Stripe> out;
   for (std::size_t k = 0; k < levels_.size(); ++k) {
     Stripe s{levels_[k], 0, 0};
-    for (std::size_t r = 0; r < records_; ++r) {
-      const Cell& c = cell(r, variant, k);
-      if (!c.ran) continue;
+    for (std::size_t r : records) {
+      if (table[r][k] < 0) continue;
       ++s.runs;
-      s.reached += reached(c, limits_[limit]) ? 1 : 0;
+      s.reached += static_cast<std::size_t>(table[r][k]);
     }
     if (s.runs > 0) out.push_back(s);
+  }
+  return out;
+}
+
+std::vector<Stripe> StudySummary::stripes(std::size_t variant, std::size_t limit) const {
+  std::vector<std::size_t> every(records_);
+  for (std::size_t r = 0; r < records_; ++r) every[r] = r;
+  return stripes_of(limit_table(variant, limit), every);
+}
+
+void check_fragility_options(const FragilityOptions& o) {
+  check_bootstrap_options(o.bootstrap);
+  total_beta(0, o.beta_modelling);
+}
+
+nlohmann::json fit_json(const LognormalFit& f, const FitBootstrap& b, double beta_modelling) {
+  nlohmann::json j{{"method", f.method}, {"fitted", f.fitted}, {"records", f.records}, {"reached", f.reached},
+                   {"note", f.note}};
+  if (!f.fitted) return j;
+  j["median"] = f.median;
+  j["beta"] = f.beta;
+  j["log_median_se"] = f.log_median_se;
+  j["beta_se"] = f.beta_se;
+  j["beta_modelling"] = beta_modelling;
+  j["beta_total"] = total_beta(f.beta, beta_modelling);
+  if (b.draws == 0) return j;
+  j["bootstrap"] = {{"draws", b.draws}, {"fitted", b.fitted}, {"level", b.level}, {"seed", b.seed}};
+  if (!b.computed()) return j;
+  j["median_interval"] = b.median;
+  j["beta_interval"] = b.beta;
+  j["beta_total_interval"] = {total_beta(b.beta[0], beta_modelling), total_beta(b.beta[1], beta_modelling)};
+  return j;
+}
+
+nlohmann::json fragility_json(const LimitFragility& f, const std::vector<std::string>& ids) {
+  nlohmann::json jc = nlohmann::json::array(), js = nlohmann::json::array();
+  for (const auto& [r, c] : f.capacities) jc.push_back({{"record", ids.at(r)}, {"level", c.im}, {"reached", c.reached}});
+  for (const Stripe& s : f.stripes) js.push_back({{"level", s.im}, {"runs", s.runs}, {"reached", s.reached}});
+  nlohmann::json j{{"limit", f.limit.name},
+                   {"capacity_fit", fit_json(f.capacity_fit, f.capacity_bootstrap, f.beta_modelling)},
+                   {"capacities", jc}};
+  if (f.stripes_fit.method.empty()) return j;  // capacities alone
+  j["stripes_fit"] = fit_json(f.stripes_fit, f.stripes_bootstrap, f.beta_modelling);
+  j["stripes"] = js;
+  return j;
+}
+
+LimitFragility capacity_fragility(const Limit& limit, std::vector<std::pair<std::size_t, Capacity>> capacities,
+                                  const FragilityOptions& options) {
+  check_fragility_options(options);
+  LimitFragility f;
+  f.limit = limit;
+  f.beta_modelling = options.beta_modelling;
+  f.capacities = std::move(capacities);
+  std::vector<Capacity> values;
+  for (const auto& c : f.capacities) values.push_back(c.second);
+  f.capacity_fit = fit_capacities(values);
+  if (options.bootstrap.draws > 0)
+    f.capacity_bootstrap = bootstrap_fit(values.size(), [&](const std::vector<std::size_t>& sample) {
+      std::vector<Capacity> s;
+      s.reserve(sample.size());
+      for (std::size_t i : sample) s.push_back(values[i]);
+      return fit_capacities(s, &f.capacity_fit);
+    }, options.bootstrap);
+  return f;
+}
+
+LimitFragility StudySummary::fragility(std::size_t variant, std::size_t limit, const FragilityOptions& options) const {
+  LimitFragility f = capacity_fragility(limits_.at(limit), capacities(variant, limit), options);
+  f.stripes = stripes(variant, limit);
+  f.stripes_fit = fit_stripes(f.stripes);
+  if (options.bootstrap.draws == 0) return f;
+  std::vector<std::size_t> ran;  // the records that ran, which the bootstrap resamples
+  for (const auto& c : f.capacities) ran.push_back(c.first);
+  const auto table = limit_table(variant, limit);
+  f.stripes_bootstrap = bootstrap_fit(ran.size(), [&](const std::vector<std::size_t>& sample) {
+    std::vector<std::size_t> records;
+    records.reserve(sample.size());
+    for (std::size_t i : sample) records.push_back(ran[i]);
+    return fit_stripes(stripes_of(table, records), &f.stripes_fit);
+  }, options.bootstrap);
+  return f;
+}
+
+std::vector<StudySummary::Resurrections> StudySummary::resurrections(std::size_t variant) const {
+  std::vector<Resurrections> out;
+  for (std::size_t r = 0; r < records_; ++r) {
+    std::optional<Resurrections> rec;
+    for (std::size_t k = 0; k < levels_.size(); ++k) {
+      const Cell& c = cell(r, variant, k);
+      if (!c.ran) continue;
+      if (!rec && c.overturned) rec = Resurrections{r, levels_[k], {}};
+      else if (rec && !c.overturned) rec->survived.push_back(levels_[k]);
+    }
+    if (rec && !rec->survived.empty()) out.push_back(*rec);
   }
   return out;
 }

@@ -83,10 +83,46 @@ def test_fragility_equals_the_programs_summary(cli, records, tmp_path):
         for fit in ("capacity_fit", "stripes_fit"):
             assert mine[fit]["fitted"] == expected[fit]["fitted"]
             if mine[fit]["fitted"]:
-                assert mine[fit]["median"] == pytest.approx(expected[fit]["median"], rel=1e-12)
-                assert mine[fit]["beta"] == pytest.approx(expected[fit]["beta"], rel=1e-12)
+                for key in ("median", "beta", "beta_total"):
+                    assert mine[fit][key] == pytest.approx(expected[fit][key], rel=1e-12)
+                # The same bootstrap (1000 resamples, the same seed): the same intervals.
+                assert mine[fit]["bootstrap"] == expected[fit]["bootstrap"]
+                for key in ("median_interval", "beta_interval"):
+                    assert (key in mine[fit]) == (key in expected[fit])
+                    if key in mine[fit]:
+                        assert mine[fit][key] == pytest.approx(expected[fit][key], rel=1e-12)
     with pytest.raises(ValueError, match="limit 'sideways'"):
         study.fragility("sideways")
+    with pytest.raises(ValueError, match="--beta-modelling"):
+        study.fragility("overturning", beta_modelling=-0.1)
+    wider = study.fragility("overturning", "damper", beta_modelling=0.4)["capacity_fit"]
+    if wider["fitted"]:
+        assert wider["beta_total"] == pytest.approx((wider["beta"] ** 2 + 0.4 ** 2) ** 0.5)
+
+
+def test_resurrections_count_as_the_program_counts_them(cli, records, tmp_path):
+    """The first-collapse convention and 'keep' give the program's stripes and fractiles."""
+    files = [records / "elcentro_1940_ns.at2", records / "christchurch2011_rehs_n02e.at2"]
+    levels = [2, 4, 6, 8, 10, 12, 14]
+    for convention in ("first", "keep"):
+        out = tmp_path / convention
+        r = cli.run("ida", "--record", *files, "--scales", ",".join(map(str, levels)), "--variants", "no-damper",
+                    "--resurrection", convention, "--bootstrap", "0", "--out", out, "--no-plot")
+        assert r.returncode == 0, r.stderr
+        theirs = json.loads((out / "summary.json").read_text())
+        assert theirs["resurrection"] == convention
+        study = rocking.ida(None, [str(f) for f in files], levels=levels, variants=["no-damper"],
+                            resurrection=convention)
+        mine = study.fragility("overturning", bootstrap=0)
+        assert mine["stripes"] == theirs["variants"][0]["fragility"][0]["stripes"]
+        collapsed = [f["collapsed"] for f in study.fractiles("theta_over_alpha")]
+        assert collapsed == theirs["variants"][0]["fractiles"]["theta_over_alpha"]["collapsed"]
+        if convention == "first":
+            assert collapsed == sorted(collapsed)  # once overturned, overturned
+        else:
+            assert collapsed != sorted(collapsed)  # Christchurch REHS stands again at 10 after overturning at 8
+    with pytest.raises(ValueError, match="--resurrection 'sometimes'"):
+        rocking.ida(None, [str(files[0])], levels=[1], variants=["no-damper"], resurrection="sometimes")
 
 
 def test_a_thread_count_beyond_the_machine_is_capped_with_a_warning(elcentro):
