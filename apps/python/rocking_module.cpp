@@ -127,6 +127,14 @@ py::array_t<double> to_numpy(std::vector<double>&& v) {
   return py::array_t<double>(static_cast<py::ssize_t>(owned->size()), owned->data(), free);
 }
 
+// The same, read-only: a fresh copy of what an object holds, where a write
+// would change nothing the object keeps.
+py::array_t<double> read_only(std::vector<double>&& v) {
+  py::array_t<double> a = to_numpy(std::move(v));
+  a.attr("setflags")("write"_a = false);
+  return a;
+}
+
 std::string path_text(const std::filesystem::path& p) { return p.string(); }
 
 // ---- scenes -----------------------------------------------------------------
@@ -250,12 +258,10 @@ PyRecord record_from_array(const py::array_t<double, py::array::c_style | py::ar
           ""};
 }
 
-py::dict record_measures(const PyRecord& r, std::optional<std::vector<double>> periods, double damping) {
+py::object record_measures(const PyRecord& r, std::optional<std::vector<double>> periods, double damping) {
   const rocking::RecordMeasures m =
       rocking::measure_record(*r.motion, periods ? *periods : rocking::standard_periods(), damping);
-  return py::dict("pga"_a = m.pga, "pga_time"_a = m.pga_time, "pgv"_a = m.pgv, "pgd"_a = m.pgd, "arias"_a = m.arias,
-                  "d5_95"_a = m.d5_95, "cav"_a = m.cav, "damping"_a = m.damping,
-                  "periods"_a = to_numpy(std::vector<double>(m.periods)), "psa"_a = to_numpy(std::vector<double>(m.psa)));
+  return to_python(rocking::record_summary(r.path.empty() ? r.motion->name() : r.path, r.path, *r.motion, m));
 }
 
 // ---- runs -------------------------------------------------------------------
@@ -364,27 +370,57 @@ struct PyIda {
   std::vector<std::string> variants;
   std::vector<std::string> records;
   std::vector<std::string> limits;
-  std::shared_ptr<rocking::StudySummary> summary;
+  std::shared_ptr<rocking::StudySummary> summary;  // a ladder's (null for a hunt)
+  // A hunt's: one result per (record, variant), record-major, and its rows.
+  std::vector<rocking::HuntResult> hunts;
+  py::list hunt_rows;
 };
+
+// A hunt's row: the columns of hunt.csv and the levels it ran (hunt_points.csv).
+py::dict hunt_row(const rocking::HuntResult& h, const std::string& record, const std::string& variant,
+                  const rocking::IntensityMeasure& im, const rocking::HuntOptions& o) {
+  auto maybe = [](bool has, double v) { return has ? py::object(py::float_(v)) : py::object(py::none()); };
+  py::list resurrections, points;
+  for (const auto& [from, to] : h.resurrections) resurrections.append(py::make_tuple(from, to));
+  for (const rocking::HuntPoint& p : h.points)
+    points.append(py::dict("level"_a = p.level, "why"_a = std::string(rocking::hunt_reason(p.why)),
+                           "overturned"_a = p.overturned));
+  const std::string error = h.fixed_base ? "fixed base: cannot overturn" : h.error;
+  return py::dict("record"_a = record, "variant"_a = variant, "im"_a = im.name(),
+                  "collapse_level"_a = maybe(h.collapsed, h.collapse_level), "survived_level"_a = h.survived_level,
+                  "collapse_scale"_a = maybe(h.collapsed, h.collapse_level / h.record_im), "record_im"_a = h.record_im,
+                  "traced_level"_a = maybe(h.collapsed, h.traced_level), "fill_step"_a = o.fill_step,
+                  "precision"_a = o.precision, "resurrections"_a = resurrections, "runs"_a = h.runs,
+                  "error"_a = error.empty() ? py::object(py::none()) : py::object(py::str(error)), "points"_a = points);
+}
 
 PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std::string& im_text, std::vector<double> levels,
           std::optional<std::vector<std::string>> variant_names, int threads, double rtol, double atol,
           const std::string& integrator, double damping, std::optional<std::vector<std::string>> limit_texts,
-          const std::string& resurrection) {
+          const std::string& resurrection, bool hunt, std::optional<double> hunt_step, double hunt_growth,
+          std::optional<double> hunt_max, std::optional<double> precision, std::optional<double> fill_step) {
   const PyScene s = scene_of(scene_arg);
   std::vector<rocking::Limit> limits{rocking::overturning_limit()};
   for (const std::string& l : limit_texts.value_or(std::vector<std::string>{})) limits.push_back(rocking::parse_limit(l));
-  std::vector<std::string> records;
-  std::vector<std::string> given;
-  if (py::isinstance<py::str>(records_arg) || py::hasattr(records_arg, "__fspath__"))
-    given.push_back(path_text(records_arg.cast<std::filesystem::path>()));
+  // Records: Record objects (kept as they are in memory) and paths of files,
+  // folders or list files (read as the program reads them).
+  std::vector<rocking::StudyRecord> records;
+  auto add = [&](const py::handle& r) {
+    if (py::isinstance<PyRecord>(r)) {
+      const PyRecord rec = r.cast<PyRecord>();
+      records.push_back({rec.path.empty() ? rec.motion->name() : rec.path, rec.motion});
+      return;
+    }
+    const std::string g = path_text(
+        argument<std::filesystem::path>(r, "records", "rocking.Record objects or paths of records, folders or lists"));
+    for (std::string& p : rocking::record_paths(g)) records.push_back({std::move(p), nullptr});
+  };
+  if (py::isinstance<py::str>(records_arg) || py::hasattr(records_arg, "__fspath__") || py::isinstance<PyRecord>(records_arg))
+    add(records_arg);
   else if (py::isinstance<py::iterable>(records_arg))
-    for (const auto& r : py::iter(records_arg))
-      given.push_back(path_text(argument<std::filesystem::path>(r, "records", "paths of records, folders or lists")));
+    for (const auto& r : py::iter(records_arg)) add(r);
   else
-    given.push_back(path_text(argument<std::filesystem::path>(records_arg, "records", "paths of records, folders or lists")));
-  for (const std::string& g : given)
-    for (std::string& p : rocking::record_paths(g)) records.push_back(std::move(p));
+    add(records_arg);
   if (records.empty()) throw rocking::InputError("ida: records: give at least one ground-motion file");
   if (levels.empty()) throw rocking::InputError("ida: levels: give at least one level");
   for (double l : levels)
@@ -415,9 +451,30 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
   ro.stop = [stop] { return stop->load(); };
   const rocking::Study study(s.path, s.overrides, records, {}, std::move(variants), ro, im);
   std::sort(levels.begin(), levels.end());
-  const std::vector<rocking::Job> jobs = study.ladder(levels);
   for (const rocking::Limit& l : limits) rocking::check_limit(study, l);
-  auto summary = std::make_shared<rocking::StudySummary>(study, levels, limits, rocking::parse_resurrection(resurrection));
+  const rocking::Resurrection convention = rocking::parse_resurrection(resurrection);
+  PyIda out;
+  for (const rocking::Variant& v : study.variants()) out.variants.push_back(v.name);
+  for (const rocking::Limit& l : limits) out.limits.push_back(l.name);
+  out.records = study.records();
+  if (hunt) {
+    // `rocking ida --hunt`: the hunt from the lowest level for each (record, variant).
+    if (limits.size() > 1) throw rocking::InputError("ida: limits: a hunt looks for overturning only; run a ladder for limits");
+    const rocking::HuntOptions o = rocking::hunt_options(levels.front(), hunt_step, hunt_growth, hunt_max, precision, fill_step);
+    study.check_level(o.max, "hunt_max");
+    const std::size_t nv = study.variants().size(), pairs = study.records().size() * nv;
+    interruptible(*stop, [&] {
+      return rocking::parallel_ordered<rocking::HuntResult>(
+          pairs, threads, [&](std::size_t k) { return rocking::hunt_collapse(study, k / nv, k % nv, o); },
+          [&](std::size_t, const rocking::HuntResult& h) { out.hunts.push_back(h); }, {},
+          [stop] { return stop->load(); });
+    });
+    for (std::size_t k = 0; k < out.hunts.size(); ++k)  // with the GIL held again
+      out.hunt_rows.append(hunt_row(out.hunts[k], study.records()[k / nv], study.variants()[k % nv].name, im, o));
+    return out;
+  }
+  const std::vector<rocking::Job> jobs = study.ladder(levels);
+  auto summary = std::make_shared<rocking::StudySummary>(study, levels, limits, convention);
   std::vector<rocking::JobResult> results(jobs.size());
   const std::size_t done = interruptible(*stop, [&] {
     return rocking::parallel_ordered<rocking::JobResult>(
@@ -428,10 +485,6 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
         },
         {}, [stop] { return stop->load(); });
   });
-  PyIda out;
-  for (const rocking::Variant& v : study.variants()) out.variants.push_back(v.name);
-  for (const rocking::Limit& l : limits) out.limits.push_back(l.name);
-  out.records = study.records();
   out.summary = summary;
   const rocking::StudyColumns columns = rocking::study_columns(study);
   const std::vector<std::string> names = columns.names();
@@ -523,14 +576,18 @@ PYBIND11_MODULE(rocking, m) {
       .def("to_toml", [](const PyScene& s) { return rocking::scene_toml(s.path, s.overrides); },
            "The scene file with the overrides applied, as TOML text.")
       .def("copy", [](const PyScene& s) { return s; }, "An independent copy (set() on it leaves this one alone).")
-      .def_property_readonly("name", [](const PyScene& s) { return s.scene->name; })
-      .def_property_readonly("description", [](const PyScene& s) { return s.scene->description; })
-      .def_property_readonly("source", [](const PyScene& s) { return s.scene->source; })
+      .def_property_readonly("name", [](const PyScene& s) { return s.scene->name; }, "The scene's name (its name key).")
+      .def_property_readonly("description", [](const PyScene& s) { return s.scene->description; },
+                             "What the scene models, in words (its description key).")
+      .def_property_readonly("source", [](const PyScene& s) { return s.scene->source; },
+                             "Where the scene came from: its file, or the embedded default.")
       .def_property_readonly("path", [](const PyScene& s) -> py::object {
         return s.path.empty() ? py::object(py::none()) : py::object(py::str(s.path));
-      })
-      .def_property_readonly("overrides", [](const PyScene& s) { return s.overrides; })
-      .def_property_readonly("rigid", [](const PyScene& s) { return s.scene->structure.rigid; })
+      }, "The scene file; None for the embedded chimney.")
+      .def_property_readonly("overrides", [](const PyScene& s) { return s.overrides; },
+                             "The KEY=VALUE overrides applied to the file, in order (as --set).")
+      .def_property_readonly("rigid", [](const PyScene& s) { return s.scene->structure.rigid; },
+                             "Whether the structure is a rigid block (no elastic modes).")
       .def_property_readonly("devices", [](const PyScene& s) {
         std::vector<std::string> names;
         for (const rocking::Device& d : rocking::scene_devices(*s.scene)) names.push_back(d.name);
@@ -554,19 +611,30 @@ PYBIND11_MODULE(rocking, m) {
         return PyRecord{std::make_shared<const rocking::GroundMotion>(r.motion->scaled(f)), r.path};
       }, "factor"_a, "The record with every acceleration times factor.")
       .def("measures", &record_measures, "periods"_a = py::none(), "damping"_a = 0.05,
-           "PGA [m/s2] and its time, PGV [m/s], PGD [m], Arias intensity [m/s], D5-95 [s],\n"
-           "CAV [m/s] and PSA [m/s2] at the periods (default: the 21 NGA-West2 periods).")
-      .def_property_readonly("name", [](const PyRecord& r) { return r.motion->name(); })
-      .def_property_readonly("description", [](const PyRecord& r) { return r.motion->description(); })
+           "The dict of `rocking record --json` for this record, each key naming its unit:\n"
+           "pga_g and pga_time_s, pgv_m_s, pgd_m, arias_m_s, d5_95_s, cav_m_s, and psa_g\n"
+           "at periods_s (default: the 21 NGA-West2 periods) for the damping ratio; and\n"
+           "the file's metadata (id, file, format, event, station, component, units, dt_s,\n"
+           "npts, duration_s; None where the file does not say).")
+      .def_property_readonly("name", [](const PyRecord& r) { return r.motion->name(); },
+                             "The record's name (its file's, or the one given).")
+      .def_property_readonly("description", [](const PyRecord& r) { return r.motion->description(); },
+                             "What the record is, in words (event, station, component when the file says).")
       .def_property_readonly("path", [](const PyRecord& r) -> py::object {
         return r.path.empty() ? py::object(py::none()) : py::object(py::str(r.path));
-      })
-      .def_property_readonly("dt", [](const PyRecord& r) { return r.motion->sample_interval(); })
-      .def_property_readonly("duration", [](const PyRecord& r) { return r.motion->duration(); })
-      .def_property_readonly("pga", [](const PyRecord& r) { return r.motion->peak(); }, "max |a| [m/s2]")
-      .def_property_readonly("times", [](const PyRecord& r) { return to_numpy(r.motion->sample_times()); })
-      .def_property_readonly("acceleration", [](const PyRecord& r) { return to_numpy(r.motion->sample_values()); },
-                             "The samples [m/s2], as scaled.")
+      }, "The file it was read from; None when it was built from an array.")
+      .def_property_readonly("dt", [](const PyRecord& r) { return r.motion->sample_interval(); },
+                             "The sample interval [s].")
+      .def_property_readonly("duration", [](const PyRecord& r) { return r.motion->duration(); },
+                             "From the first sample to the last [s].")
+      .def_property_readonly("pga_g", [](const PyRecord& r) { return r.motion->peak() / rocking::gravity; },
+                             "The peak ground acceleration, max |a| [g] (summary.json's and\n"
+                             "`rocking record --json`'s pga_g).")
+      .def_property_readonly("times", [](const PyRecord& r) { return read_only(r.motion->sample_times()); },
+                             "The sample times [s] (a read-only copy).")
+      .def_property_readonly("acceleration", [](const PyRecord& r) { return read_only(r.motion->sample_values()); },
+                             "The samples [m/s2], as scaled (a read-only copy: build a new Record\n"
+                             "to change them).")
       .def("__len__", [](const PyRecord& r) { return r.motion->sample_count(); })
       .def("__repr__", [](const PyRecord& r) {
         return fmt::format("<rocking.Record '{}': {} samples, dt {:g} s, PGA {:.3g} g>", r.motion->name(),
@@ -629,10 +697,17 @@ PYBIND11_MODULE(rocking, m) {
       .def_readonly("rows", &PyIda::rows,
                     "Dicts of record, variant, im, level, scale, record_im, outcome, the peaks and\n"
                     "t_end (error instead when the job could not run).")
-      .def_readonly("variants", &PyIda::variants)
+      .def_readonly("variants", &PyIda::variants, "The variants' names, in the order of the rows.")
+      .def_readonly("records", &PyIda::records, "The records' paths (or names, for Record objects from arrays).")
+      .def_readonly("hunts", &PyIda::hunt_rows,
+                    "With hunt=True: one dict per (record, variant), record-major, with hunt.csv's\n"
+                    "columns (collapse_level None when no level up to hunt_max overturned; error\n"
+                    "None unless the hunt could not run) and points, every level it ran and why\n"
+                    "(hunt_points.csv's trace, bisect, fill).")
       .def(
           "fractiles",
           [](const PyIda& r, const std::string& quantity, const std::string& variant) {
+            if (!r.summary) throw rocking::InputError("fractiles: a hunt has none; run a ladder (hunt=False)");
             py::list out;
             for (const auto& f : r.summary->fractiles(variant_index(r, variant), rocking::parse_study_quantity(quantity)))
               out.append(py::dict("level"_a = f.level, "runs"_a = f.runs, "collapsed"_a = f.collapsed,
@@ -642,12 +717,23 @@ PYBIND11_MODULE(rocking, m) {
           "quantity"_a = "theta_over_alpha", "variant"_a = "",
           "At each level, the 16/50/84 % fractiles of a peak over the records (an overturned\n"
           "run counts as +inf), for a variant (default: the first).")
-      .def_readonly("limits", &PyIda::limits)
+      .def_readonly("limits", &PyIda::limits,
+                    "The limit states' names for fragility(): overturning, then those given as\n"
+                    "limits= (\"theta_over_alpha>=0.5\").")
       .def(
           "fragility",
           [](const PyIda& r, const std::string& limit, const std::string& variant, long bootstrap,
              unsigned long seed, double beta_modelling) {
-            const auto it = std::find(r.limits.begin(), r.limits.end(), limit);
+            // By its name ("theta_over_alpha>=0.5") or as it was given ("theta_over_alpha=0.5").
+            auto it = std::find(r.limits.begin(), r.limits.end(), limit);
+            if (it == r.limits.end() && limit.find('=') != std::string::npos && limit.find(">=") == std::string::npos) {
+              std::string name;
+              try {
+                name = rocking::parse_limit(limit).name;
+              } catch (const rocking::InputError&) {
+              }
+              it = std::find(r.limits.begin(), r.limits.end(), name);
+            }
             if (it == r.limits.end())
               throw rocking::InputError(fmt::format("limit '{}' is not one of this study's (give it to ida as limits=)", limit));
             if (bootstrap < 0) throw rocking::InputError(fmt::format("bootstrap {}: must be 0 (none) or a number of resamples", bootstrap));
@@ -656,16 +742,26 @@ PYBIND11_MODULE(rocking, m) {
             o.bootstrap.seed = seed;
             o.beta_modelling = beta_modelling;
             const auto l = static_cast<std::size_t>(it - r.limits.begin());
+            const std::size_t v = variant_index(r, variant);
             rocking::LimitFragility f;
             {
               py::gil_scoped_release unlocked;
-              f = r.summary->fragility(variant_index(r, variant), l, o);
+              if (r.summary) {
+                f = r.summary->fragility(v, l, o);
+              } else {  // a hunt's capacities: each record's lowest overturning, or censored
+                std::vector<std::pair<std::size_t, rocking::Capacity>> caps;
+                const std::size_t nv = r.variants.size();
+                for (std::size_t k = v; k < r.hunts.size(); k += nv)
+                  if (r.hunts[k].error.empty() && r.hunts[k].runs > 0) caps.emplace_back(k / nv, rocking::hunt_capacity(r.hunts[k]));
+                f = rocking::capacity_fragility(rocking::overturning_limit(), std::move(caps), o);
+              }
             }
             return to_python(rocking::fragility_json(f, r.records));
           },
           "limit"_a = "overturning", "variant"_a = "", "bootstrap"_a = 1000L, "seed"_a = 20020101UL,
           "beta_modelling"_a = 0.0,
-          "MODEL.md 13 for a limit state (overturning, or one given to ida as limits=) and a\n"
+          "MODEL.md 13 for a limit state (overturning, or one given to ida as limits=, by\n"
+          "its name \"theta_over_alpha>=0.5\" or as given \"theta_over_alpha=0.5\") and a\n"
           "variant, as summary.json's fragility entries: each record's capacity (the lowest\n"
           "level that reached it, or the highest it ran to without, censored), the stripes\n"
           "(runs and how many reached it per level, counted by ida's resurrection=), and\n"
@@ -673,11 +769,13 @@ PYBIND11_MODULE(rocking, m) {
           "the 90 % intervals of a bootstrap of `bootstrap` resamples of the records\n"
           "from `seed`, as --bootstrap and --seed; beta_total with beta_modelling, as\n"
           "--beta-modelling).")
-      .def("to_pandas", [](const PyIda& r) { return to_pandas_rows(r.rows); });
+      .def("to_pandas", [](const PyIda& r) { return to_pandas_rows(r.rows); },
+           "The rows as a pandas DataFrame (needs pandas; the project does not).");
 
   m.def("ida", &ida, "scene"_a, "records"_a, "im"_a = "sf", "levels"_a, "variants"_a = py::none(), "threads"_a = 0,
         "rtol"_a = 1e-4, "atol"_a = 1e-7, "integrator"_a = "auto", "damping"_a = 0.05,
-        "limits"_a = py::none(), "resurrection"_a = "first",
+        "limits"_a = py::none(), "resurrection"_a = "first", "hunt"_a = false, "hunt_step"_a = py::none(),
+        "hunt_growth"_a = 1.5, "hunt_max"_a = py::none(), "precision"_a = py::none(), "fill_step"_a = py::none(),
         "Incremental dynamic analysis as `rocking ida`: every record (files, folders or\n"
         "list files) scaled to each level of the intensity measure im (sf, pga, pgv,\n"
         "sa:T, sa:T1, saavg:T1:T2) for each variant (damper, no-damper, fixed-base,\n"
@@ -685,5 +783,10 @@ PYBIND11_MODULE(rocking, m) {
         "core); Ctrl-C stops it (KeyboardInterrupt). limits: limit states beside overturning\n"
         "for fragility(), as --limit takes them (\"theta_over_alpha=0.5\"). resurrection:\n"
         "first (a record counts as overturned from its first overturning on, Vamvatsikos\n"
-        "& Cornell 2002) or keep (each level as it ran), as --resurrection.");
+        "& Cornell 2002) or keep (each level as it ran), as --resurrection.\n"
+        "records: rocking.Record objects (from files or arrays) and paths of files,\n"
+        "folders or list files. hunt=True: `rocking ida --hunt` from the lowest level\n"
+        "(hunt_step, hunt_growth, hunt_max, precision, fill_step as --hunt-step ...;\n"
+        "None: the program's defaults): .hunts has each record's and variant's first\n"
+        "overturning, .fragility() their overturning fragility, .rows is empty.");
 }

@@ -38,35 +38,6 @@ struct Measured {
   RecordMeasures m;
 };
 
-nlohmann::json to_json(const Measured& r) {
-  const RecordInfo& i = r.motion.info();
-  auto text = [](const std::string& s) { return s.empty() ? nlohmann::json(nullptr) : nlohmann::json(s); };
-  std::vector<double> psa_g;
-  for (double v : r.m.psa) psa_g.push_back(v / gravity);
-  return {{"id", r.id},
-          {"file", r.path},
-          {"format", i.format},
-          {"event", text(i.event)},
-          {"date", text(i.date)},
-          {"station", text(i.station)},
-          {"component", text(i.component)},
-          {"units", text(i.units)},
-          {"dt_s", i.dt > 0 ? nlohmann::json(i.dt) : nlohmann::json(nullptr)},
-          {"npts", r.motion.sample_count()},
-          {"duration_s", r.motion.duration()},
-          {"stated_peak_g", i.stated_peak ? nlohmann::json(*i.stated_peak / gravity) : nlohmann::json(nullptr)},
-          {"pga_g", r.m.pga / gravity},
-          {"pga_time_s", r.m.pga_time},
-          {"pgv_m_s", r.m.pgv},
-          {"pgd_m", r.m.pgd},
-          {"arias_m_s", r.m.arias},
-          {"d5_95_s", r.m.d5_95},
-          {"cav_m_s", r.m.cav},
-          {"damping", r.m.damping},
-          {"periods_s", r.m.periods},
-          {"psa_g", psa_g}};
-}
-
 // One column per record, one row per measure.
 void print_table(const std::vector<Measured>& rs) {
   std::size_t width = 12;
@@ -206,7 +177,7 @@ int record(const RecordArgs& a) {
     rs.push_back({ids[i], a.files[i], std::move(g), std::move(m)});
   }
   nlohmann::json all = nlohmann::json::array();
-  for (const Measured& r : rs) all.push_back(to_json(r));
+  for (const Measured& r : rs) all.push_back(record_summary(r.id, r.path, r.motion, r.m));
   if (a.json) std::cout << all.dump(2) << '\n';
   else print_table(rs);
   if (!a.out.empty()) {

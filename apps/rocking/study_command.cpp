@@ -449,16 +449,9 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
 // multiples of it (step = first, precision = first / 20, fill = first / 10,
 // max = 50 x first).
 HuntOptions hunt_options(const StudyArgs& a, const Study& st) {
-  HuntOptions o;
-  o.first = study_levels(a, st.intensity_measure()).front();
-  auto given = [](double v, double otherwise) { return std::isnan(v) ? otherwise : v; };
-  o.step = given(a.hunt_step, o.first);
-  o.precision = given(a.precision, o.step / 20);
-  o.fill_step = given(a.fill_step, o.step / 10);
-  o.max = given(a.hunt_max, 50 * o.first);
-  o.growth = a.hunt_growth;
-  check_hunt_options(o);
-  return o;
+  auto given = [](double v) { return std::isnan(v) ? std::nullopt : std::optional<double>(v); };
+  return rocking::hunt_options(study_levels(a, st.intensity_measure()).front(), given(a.hunt_step), a.hunt_growth,
+                               given(a.hunt_max), given(a.precision), given(a.fill_step));
 }
 
 std::string ranges_text(const std::vector<std::pair<double, double>>& ranges) {

@@ -292,4 +292,34 @@ json modal_summary(const Scene& scene) {
   return flexible_modal(modal_analysis(scene.structure, scene_devices(scene)));
 }
 
+nlohmann::json record_summary(const std::string& id, const std::string& file, const GroundMotion& motion,
+                              const RecordMeasures& m) {
+  const RecordInfo& i = motion.info();
+  auto text = [](const std::string& s) { return s.empty() ? nlohmann::json(nullptr) : nlohmann::json(s); };
+  std::vector<double> psa_g;
+  for (double v : m.psa) psa_g.push_back(v / gravity);
+  return {{"id", id},
+          {"file", text(file)},
+          {"format", text(i.format)},
+          {"event", text(i.event)},
+          {"date", text(i.date)},
+          {"station", text(i.station)},
+          {"component", text(i.component)},
+          {"units", text(i.units)},
+          {"dt_s", i.dt > 0 ? nlohmann::json(i.dt) : nlohmann::json(nullptr)},
+          {"npts", motion.sample_count()},
+          {"duration_s", motion.duration()},
+          {"stated_peak_g", i.stated_peak ? nlohmann::json(*i.stated_peak / gravity) : nlohmann::json(nullptr)},
+          {"pga_g", m.pga / gravity},
+          {"pga_time_s", m.pga_time},
+          {"pgv_m_s", m.pgv},
+          {"pgd_m", m.pgd},
+          {"arias_m_s", m.arias},
+          {"d5_95_s", m.d5_95},
+          {"cav_m_s", m.cav},
+          {"damping", m.damping},
+          {"periods_s", m.periods},
+          {"psa_g", psa_g}};
+}
+
 }  // namespace rocking

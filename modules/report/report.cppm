@@ -16,6 +16,7 @@ export module rocking.report;
 export import rocking.simulation;
 export import rocking.scene;
 export import rocking.modal;
+export import rocking.intensity;
 
 export namespace rocking {
 
@@ -31,6 +32,14 @@ struct RunLabel {
 // summary.json), as a JSON value: front ends write it as text or build their
 // own objects from it (Python's dict).
 nlohmann::json run_summary(const RunLabel& label, const RunResult& r);
+
+// A record's metadata and measures (`rocking record --json`, Python's
+// Record.measures()), each key naming its unit: id, file, format, event, date,
+// station, component, units, dt_s, npts, duration_s, stated_peak_g, pga_g,
+// pga_time_s, pgv_m_s, pgd_m, arias_m_s, d5_95_s, cav_m_s, damping,
+// periods_s, psa_g (null where the file does not say).
+nlohmann::json record_summary(const std::string& id, const std::string& file, const GroundMotion& motion,
+                              const RecordMeasures& m);
 
 // A record's name for titles and summaries (the stand-in record says so),
 // and the same with what its header says it is (event, station, PGA).

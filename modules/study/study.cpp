@@ -35,17 +35,35 @@ Variant named_variant(const std::string& name) {
                                "without:NAME)", name));
 }
 
+namespace {
+
+std::vector<StudyRecord> files(const std::vector<std::string>& paths) {
+  std::vector<StudyRecord> out;
+  for (const std::string& p : paths) out.push_back({p, nullptr});
+  return out;
+}
+
+}  // namespace
+
 Study::Study(const std::string& scene_path, const std::vector<std::string>& common_overrides,
              std::vector<std::string> records, RecordOptions record_options, std::vector<Variant> variants,
              RunOptions run_options, IntensityMeasure im)
-    : records_(std::move(records)), variants_(std::move(variants)), im_(im), options_(run_options) {
+    : Study(scene_path, common_overrides, files(records), record_options, std::move(variants), run_options, im) {}
+
+Study::Study(const std::string& scene_path, const std::vector<std::string>& common_overrides,
+             const std::vector<StudyRecord>& records, RecordOptions record_options, std::vector<Variant> variants,
+             RunOptions run_options, IntensityMeasure im)
+    : variants_(std::move(variants)), im_(im), options_(run_options) {
   options_.track_energy = false;
-  for (const std::string& r : records_) {
+  for (const StudyRecord& rec : records) {
+    const std::string& r = rec.name;
+    records_.push_back(r);
     motions_.emplace_back(std::nullopt);
     record_errors_.emplace_back();
     record_im_.push_back(std::numeric_limits<double>::quiet_NaN());
     try {
-      motions_.back().emplace(read_record(r, record_options));
+      if (rec.motion) motions_.back().emplace(*rec.motion);
+      else motions_.back().emplace(read_record(r, record_options));
       const double own = intensity(*motions_.back(), im_);
       if (!(own > 0) || !std::isfinite(own))
         throw InputError(fmt::format("{}: its {} is {:g}: it cannot be scaled to a level", r, im_.name(), own));
@@ -192,6 +210,19 @@ void check_hunt_options(const HuntOptions& o) {
   if (o.precision < 1e-9 * o.max)
     throw InputError(fmt::format("--precision {:g}: at least 1e-9 x --hunt-max ({:g}): finer brackets are round-off",
                                  o.precision, 1e-9 * o.max));
+}
+
+HuntOptions hunt_options(double first, std::optional<double> step, double growth, std::optional<double> max,
+                         std::optional<double> precision, std::optional<double> fill_step) {
+  HuntOptions o;
+  o.first = first;
+  o.step = step.value_or(first);
+  o.precision = precision.value_or(o.step / 20);
+  o.fill_step = fill_step.value_or(o.step / 10);
+  o.max = max.value_or(50 * first);
+  o.growth = growth;
+  check_hunt_options(o);
+  return o;
 }
 
 std::string_view hunt_reason(HuntPoint::Why why) {

@@ -24,6 +24,7 @@ module;
 #include <array>
 #include <limits>
 #include <map>
+#include <memory>
 #include <string_view>
 #include <optional>
 #include <string_view>
@@ -118,13 +119,22 @@ struct JobResult {
   std::string error;  // non-empty: the job could not run (bad record, bad variant)
 };
 
-// A study: records (paths; a bad one gives error rows, never a stop), the
-// variants, and how each run is integrated.
+// A record of a study: a file to read, or a motion already in memory under a name.
+struct StudyRecord {
+  std::string name;                            // the path read, or the given motion's name
+  std::shared_ptr<const GroundMotion> motion;  // null: read the file `name`
+};
+
+// A study: records (paths or motions; a bad one gives error rows, never a
+// stop), the variants, and how each run is integrated.
 class Study {
  public:
   // im: what the levels measure (the scale factor unless given).
   Study(const std::string& scene_path, const std::vector<std::string>& common_overrides,
         std::vector<std::string> records, RecordOptions record_options, std::vector<Variant> variants,
+        RunOptions run_options, IntensityMeasure im = {});
+  Study(const std::string& scene_path, const std::vector<std::string>& common_overrides,
+        const std::vector<StudyRecord>& records, RecordOptions record_options, std::vector<Variant> variants,
         RunOptions run_options, IntensityMeasure im = {});
   const std::vector<std::string>& records() const { return records_; }
   const std::vector<Variant>& variants() const { return variants_; }
@@ -181,6 +191,11 @@ struct HuntOptions {
 // InputError unless every option is positive and finite, growth >= 1 and
 // first <= max, or when the hunt could take more than 1e5 runs.
 void check_hunt_options(const HuntOptions& o);
+// The options from the first level and those given (none: the default):
+// step the first level, precision step / 20, fill_step step / 10, max 50 x
+// the first level; checked.
+HuntOptions hunt_options(double first, std::optional<double> step, double growth, std::optional<double> max,
+                         std::optional<double> precision, std::optional<double> fill_step);
 struct HuntPoint {
   double level = 0;
   bool overturned = false;

@@ -80,7 +80,34 @@ def test_arguments_of_the_wrong_type_raise_type_error_naming_them(elcentro):
         rocking.simulate(3)
     with pytest.raises(TypeError, match=r"^record: expected a rocking.Record, a path or None, got float$"):
         rocking.simulate(None, 2.5)
-    with pytest.raises(TypeError, match=r"^records: expected paths of records, folders or lists, got int$"):
+    with pytest.raises(TypeError, match=r"^records: expected rocking.Record objects or paths of records, folders or lists, got int$"):
         rocking.ida(None, [str(elcentro), 7], levels=[1])
-    with pytest.raises(TypeError, match=r"^records: expected paths of records, folders or lists, got float$"):
+    with pytest.raises(TypeError, match=r"^records: expected rocking.Record objects or paths of records, folders or lists, got float$"):
         rocking.ida(None, 1.5, levels=[1])
+
+
+def test_every_public_function_class_and_property_says_what_it_does():
+    """Read from the module itself: a new function or property without a docstring fails."""
+    import inspect
+
+    def described(obj):
+        doc = inspect.getdoc(obj) or ""
+        # pybind11 puts the signature on the first line of a function's docstring.
+        lines = [line for line in doc.splitlines() if line.strip() and not line.startswith(getattr(obj, "__name__", "?") + "(")]
+        return bool(lines)
+
+    missing = []
+    for name, obj in vars(rocking).items():
+        if name.startswith("_") or inspect.ismodule(obj):
+            continue
+        if inspect.isclass(obj):
+            if not described(obj):
+                missing.append(name)
+            for attr, member in vars(obj).items():
+                if attr.startswith("_") or not (isinstance(member, property) or callable(member)):
+                    continue
+                if not described(member):
+                    missing.append(f"{name}.{attr}")
+        elif callable(obj) and not described(obj):
+            missing.append(name)
+    assert missing == []

@@ -7,6 +7,7 @@ import signal
 import threading
 import time
 
+import numpy as np
 import pytest
 
 import rocking
@@ -93,6 +94,8 @@ def test_fragility_equals_the_programs_summary(cli, records, tmp_path):
                         assert mine[fit][key] == pytest.approx(expected[fit][key], rel=1e-12)
     with pytest.raises(ValueError, match="limit 'sideways'"):
         study.fragility("sideways")
+    # A limit is found as it was given to ida too.
+    assert study.fragility("theta_over_alpha=0.01", "damper") == study.fragility("theta_over_alpha>=0.01", "damper")
     with pytest.raises(ValueError, match="--beta-modelling"):
         study.fragility("overturning", beta_modelling=-0.1)
     wider = study.fragility("overturning", "damper", beta_modelling=0.4)["capacity_fit"]
@@ -131,3 +134,60 @@ def test_a_thread_count_beyond_the_machine_is_capped_with_a_warning(elcentro):
     assert len(study.rows) == 1 and study.rows[0]["outcome"] == "completed"
     with pytest.raises(ValueError, match=r"threads -1: must be at least 1"):
         rocking.ida(None, [str(elcentro)], levels=[1], threads=-1)
+
+
+def test_an_ida_of_records_from_numpy_arrays_equals_the_ida_of_their_files_row_for_row(records):
+    files = [records / "elcentro_1940_ns.at2", records / "kobe1995_kjma_000.at2"]
+    arrays = []
+    for f in files:
+        loaded = rocking.Record.load(f)
+        arrays.append(rocking.Record(np.array(loaded.acceleration), loaded.dt, units="m/s2", name=f.stem))
+    from_files = rocking.ida(None, [str(f) for f in files], im="pga", levels=[0.5, 1.5], variants=["damper", "no-damper"])
+    from_arrays = rocking.ida(None, arrays, im="pga", levels=[0.5, 1.5], variants=["damper", "no-damper"])
+    assert from_arrays.records == [f.stem for f in files]
+    assert len(from_files.rows) == len(from_arrays.rows) == 2 * 2 * 2
+    for a, b in zip(from_files.rows, from_arrays.rows):
+        assert {k: v for k, v in a.items() if k != "record"} == {k: v for k, v in b.items() if k != "record"}
+    # Record objects read from files keep their paths as names.
+    loaded = rocking.ida(None, [rocking.Record.load(f) for f in files], im="pga", levels=[0.5], variants=["damper"])
+    assert loaded.records == [str(f) for f in files]
+    with pytest.raises(TypeError, match="records: expected rocking.Record objects or paths"):
+        rocking.ida(None, [3.5], levels=[1])
+
+
+def test_a_hunt_through_python_equals_the_programs_hunt_csv(cli, records, tmp_path):
+    files = [records / "elcentro_1940_ns.at2", records / "christchurch2011_rehs_n02e.at2"]
+    out = tmp_path / "hunt"
+    r = cli.run("ida", "--record", *files, "--im", "pga", "--levels", "0.5", "--hunt", "--hunt-max", "6",
+                "--variants", "damper,no-damper", "--bootstrap", "200", "--out", out, "--no-plot")
+    assert r.returncode == 0, r.stderr
+    with open(out / "hunt.csv") as f:
+        theirs = list(csv.DictReader(f))
+    with open(out / "hunt_points.csv") as f:
+        their_points = list(csv.DictReader(f))
+    study = rocking.ida(None, [str(f) for f in files], im="pga", levels=[0.5], variants=["damper", "no-damper"],
+                        hunt=True, hunt_max=6)
+    assert study.rows == []
+    assert len(study.hunts) == len(theirs) == 4
+    for mine, row in zip(study.hunts, theirs):
+        assert pathlib.Path(mine["record"]).name == row["record"]
+        assert mine["variant"] == row["variant"]
+        assert mine["runs"] == int(row["runs"])
+        for key in ("collapse_level", "survived_level", "traced_level", "collapse_scale"):
+            assert (mine[key] is None) == (row[key] == ""), key
+            if mine[key] is not None:
+                assert mine[key] == float(row[key]), key
+        points = [p for p in their_points if p["record"] == row["record"] and p["variant"] == row["variant"]]
+        # hunt_points.csv has 9 significant digits.
+        assert [(p["why"], p["overturned"]) for p in mine["points"]] == \
+            [(p["why"], bool(int(p["overturned"]))) for p in points]
+        assert [p["level"] for p in mine["points"]] == pytest.approx([float(p["level"]) for p in points], rel=1e-8)
+    summary = json.loads((out / "summary.json").read_text())
+    for v, variant in enumerate(["damper", "no-damper"]):
+        fit = study.fragility("overturning", variant, bootstrap=200)["capacity_fit"]
+        expected = summary["variants"][v]["fragility"][0]["capacity_fit"]
+        assert fit["fitted"] == expected["fitted"]
+        if fit["fitted"]:
+            assert fit["median"] == pytest.approx(expected["median"], rel=1e-12)
+    with pytest.raises(ValueError, match="a hunt has none"):
+        study.fractiles("theta_over_alpha")
