@@ -108,14 +108,26 @@ std::string csv_field(const std::string& s) {
   return out + "\"";
 }
 
+std::string im_words(const IntensityMeasure& im) {
+  const std::string damping = fmt::format("{:g} %", im.damping * 100);
+  switch (im.kind) {
+    case IntensityMeasure::Kind::scale_factor: return "the scale factor on the record";
+    case IntensityMeasure::Kind::pga: return "PGA";
+    case IntensityMeasure::Kind::pgv: return "PGV";
+    case IntensityMeasure::Kind::sa: return fmt::format("Sa({:.3g} s), {}", im.t1, damping);
+    case IntensityMeasure::Kind::saavg: return fmt::format("Sa,avg({:.3g}-{:.3g} s), {}", im.t1, im.t2, damping);
+  }
+  return im.name();
+}
+
 std::string im_axis_label(const IntensityMeasure& im) {
   const std::string damping = im.damping == 0.05 ? "" : fmt::format(", {:g} %", im.damping * 100);
   switch (im.kind) {
     case IntensityMeasure::Kind::scale_factor: return "scale factor on the record [-]";
     case IntensityMeasure::Kind::pga: return "PGA [g]";
     case IntensityMeasure::Kind::pgv: return "PGV [m/s]";
-    case IntensityMeasure::Kind::sa: return fmt::format("S_a({:.4g} s{}) [g]", im.t1, damping);
-    case IntensityMeasure::Kind::saavg: return fmt::format("S_{{a,avg}}({:.4g}-{:.4g} s{}) [g]", im.t1, im.t2, damping);
+    case IntensityMeasure::Kind::sa: return fmt::format("S_a({:.3g} s{}) [g]", im.t1, damping);
+    case IntensityMeasure::Kind::saavg: return fmt::format("S_{{a,avg}}({:.3g}-{:.3g} s{}) [g]", im.t1, im.t2, damping);
   }
   return im.name();
 }
@@ -288,8 +300,9 @@ std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, c
         }
         const std::string file = fmt::format("{}_p{}.csv", stem, names[i]);
         write_text(dir / file, text);
-        panel.lines.push_back({i == 1 ? Style::bold : Style::bold_dashed,
-                               i == 1 ? "50 % fractile" : "16 % and 84 % fractiles", file, i == 1 ? 0 : 1});
+        // Told apart in greyscale: 50 % solid, 16 % dashed, 84 % dotted.
+        panel.lines.push_back({Style::bold, fmt::format("{} % fractile", names[i]), file, i == 1 ? 0 : 1,
+                               i == 1 ? 0 : i == 0 ? 1 : 2});
       }
       panels.push_back(panel);
     }
@@ -297,7 +310,7 @@ std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, c
         fmt::format("{}_{}", kind, q),
         fmt::format("{}: IDA curves over {} records, by {}\n(thin: each record; bold: fractiles, flat where they "
                     "overturn)",
-                    scene_name, nr, im.name()));
+                    scene_name, nr, im_words(im)));
     for (const fs::path& f : plot::render_lines(fig, rows, cols, "peak " + axis_label(axis_q), im_axis_label(im), panels)) written.push_back(f);
   }
   // The fitted CDF (the capacity fit with its total dispersion) and its band

@@ -15,6 +15,9 @@ namespace rocking::app {
 // A CSV field: quoted (with "" for ") when it holds a comma, quote or newline.
 std::string csv_field(const std::string& s);
 
+// An intensity measure in words for titles ("PGA", "Sa(0.46 s), 5 %").
+std::string im_words(const rocking::IntensityMeasure& im);
+
 // The axis label of an intensity measure ("PGA [g]", "scale factor [-]").
 std::string im_axis_label(const rocking::IntensityMeasure& im);
 
