@@ -501,14 +501,18 @@ std::vector<fs::path> render_fit(const Figure& fig, const std::string& data_file
   const std::string data = quote(data_file);
   std::string body = grid.begin + "  set grid\n  unset key\n";
   body += grid.panels[0] + "  set xlabel \"elongation e [mm]\"\n  set ylabel \"force F [kN]\"\n";
-  body += plot_command({fmt::format("{} skip 1 using ($2*1000):($3/1000) with points pointtype 7 pointsize 0.35 "
-                                    "linecolor rgb \"#a0a0a0\" notitle", data),
-                        fmt::format("{} skip 1 using ($2*1000):($4/1000) with lines linestyle 1 notitle", data)});
+  // The fitted line first and thin, the measured points over it, open and
+  // dark: both stay visible where they agree.
+  body += plot_command({fmt::format("{} skip 1 using ($2*1000):($4/1000) with lines linestyle 1 linewidth 1.1 notitle", data),
+                        fmt::format("{} skip 1 using ($2*1000):($3/1000) with points pointtype 6 pointsize 0.45 "
+                                    "linewidth 0.8 linecolor rgb \"#303030\" notitle",
+                                    data)});
   body += grid.panels[1] + fmt::format("  set xlabel {} noenhanced\n", quote(time_label)) +
           "  set ylabel \"residual F_{fit} - F [kN]\"\n";
   body += plot_command({fmt::format("{} skip 1 using 1:(($4-$3)/1000) with lines linestyle 2 notitle", data)});
-  body += key_plot(grid, {"NaN with points pointtype 7 pointsize 0.8 linecolor rgb \"#a0a0a0\" title \"measured\" noenhanced",
-                          fmt::format("NaN with lines linestyle 1 title {} noenhanced", quote(fitted_label))});
+  body += key_plot(grid, {"NaN with points pointtype 6 pointsize 0.8 linewidth 0.8 linecolor rgb \"#303030\" title "
+                          "\"measured\" noenhanced",
+                          fmt::format("NaN with lines linestyle 1 linewidth 1.1 title {} noenhanced", quote(fitted_label))});
   const std::string script = fmt::format(
       "# rocking: a device law fitted to a cyclic test (the paper's Fig. 2, top right).\n"
       "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
