@@ -174,6 +174,15 @@ TEST_CASE("spectrum writes the overturning figure and one data file per block si
   check_png(dir / "spectrum.png", 1200, 600);
   CHECK(lines(file_text(dir / "spectrum.data" / "size_1.csv")) == 1 + 5 * 8);
   CHECK(r.out.find("block x2") != std::string::npos);
+  // The spectrum's p is the block's Housner p that `rocking modal` prints.
+  const Result modal = run("-q modal " + std::string(ROCKING_SOURCE_DIR) + "/data/scenes/rigid_block.toml --json");
+  REQUIRE(modal.code == 0);
+  const auto key = modal.out.find("\"p\": ");
+  REQUIRE(key != std::string::npos);
+  const double p = std::stod(modal.out.substr(key + 5));
+  const auto printed = r.out.find("p = ", r.out.find("block x1"));
+  REQUIRE(printed != std::string::npos);
+  CHECK(std::stod(r.out.substr(printed + 4)) == doctest::Approx(p).epsilon(2e-4));
   const Result bad = run("spectrum --pulse square --out " + dir.string());
   CHECK(bad.code == 2);
   CHECK(lines(bad.err) == 1);

@@ -19,7 +19,9 @@ struct SceneOptions {
   std::string path;  // empty: the embedded Christchurch chimney
   std::vector<std::string> overrides;
 };
-void add_scene_options(CLI::App& cmd, SceneOptions& opts);
+// without: what runs when no scene is given, in words.
+void add_scene_options(CLI::App& cmd, SceneOptions& opts,
+                       const std::string& without = "the Christchurch chimney built into the program");
 // The scene the options name (the embedded chimney when no path is given).
 rocking::Scene load_scene(const SceneOptions& opts);
 // The same, refusing a rigid block (it has no elastic modes) in one line.

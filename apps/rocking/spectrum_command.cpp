@@ -166,11 +166,12 @@ Command add_spectrum_command(CLI::App& app) {
       "pulse amplitude over g tan(alpha) against pulse frequency over p, shaded\n"
       "where the block overturns; with several --sizes (lengths scaled, the same\n"
       "slenderness) also in seconds and g, which shows Housner's size effect.\n"
-      "Default scene: data/scenes/rigid_block.toml (a flexible scene is made rigid).\n"
+      "A flexible scene is made rigid. p = sqrt(m g R / J_p) is Housner's frequency\n"
+      "parameter (R from the pivot to the centre of gravity), as `rocking modal` prints.\n"
       "Ctrl-C or SIGTERM stops it with the pulses done kept (exit 130 / 143);\n"
       "--resume continues.");
   auto a = std::make_shared<SpectrumArgs>();
-  add_scene_options(*cmd, a->scene);
+  add_scene_options(*cmd, a->scene, "data/scenes/rigid_block.toml");
   cmd->add_option("--pulse", a->pulse, "one-sine (default) or ricker")->type_name("SHAPE");
   cmd->add_option("--sizes", a->sizes, "Block size factors (default 1,4)")->type_name("LIST");
   cmd->add_option("--frequencies", a->frequencies, "omega_p / p grid (default 0.5:10:0.25)")->type_name("SPEC");

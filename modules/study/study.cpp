@@ -341,7 +341,10 @@ BlockSpectrum overturning_spectrum(const Scene& rigid_block, double size, PulseS
   BlockSpectrum out;
   out.size = size;
   out.alpha = slenderness(st);
-  out.p = std::sqrt(model.body.g * st.heights.dot(st.masses) / pivot_inertia(st));
+  // Housner's frequency parameter p^2 = m g R / J_p, R from the pivot to the
+  // centre of gravity (what rocking.report's block summary gives).
+  const double R = std::hypot(st.half_width, centre_of_gravity_height(st));
+  out.p = std::sqrt(model.body.g * total_mass(st) * R / pivot_inertia(st));
   const double a_uplift = model.body.g * std::tan(out.alpha);
   for (double f : frequency_ratios)
     for (double a : amplitude_ratios) {

@@ -379,8 +379,9 @@ class StudySummary {
 // The overturning spectrum of a rigid block under pulses (Housner 1963;
 // Makris & Roussos 2000; Zhang & Makris 2001), the classic teaching figure:
 // on a grid of pulse frequency over p and amplitude over g tan(alpha), does
-// the block lift, and does it overturn? p^2 = g H'M1 / J_p is the block's
-// frequency parameter. The block's lengths are scaled by `size` (the same
+// the block lift, and does it overturn? p^2 = m g R / J_p is the block's
+// frequency parameter (Housner 1963; R from the pivot to the centre of
+// gravity). The block's lengths are scaled by `size` (the same
 // slenderness, p ~ 1/sqrt(size)): by similarity, outcomes in the normalised
 // axes do not depend on size, while in seconds the larger block survives more.
 struct SpectrumPoint {
