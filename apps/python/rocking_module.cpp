@@ -749,11 +749,8 @@ PYBIND11_MODULE(rocking, m) {
               if (r.summary) {
                 f = r.summary->fragility(v, l, o);
               } else {  // a hunt's capacities: each record's lowest overturning, or censored
-                std::vector<std::pair<std::size_t, rocking::Capacity>> caps;
-                const std::size_t nv = r.variants.size();
-                for (std::size_t k = v; k < r.hunts.size(); k += nv)
-                  if (r.hunts[k].error.empty() && r.hunts[k].runs > 0) caps.emplace_back(k / nv, rocking::hunt_capacity(r.hunts[k]));
-                f = rocking::capacity_fragility(rocking::overturning_limit(), std::move(caps), o);
+                f = rocking::capacity_fragility(rocking::overturning_limit(),
+                                                rocking::hunt_capacities(r.hunts, r.variants.size(), v), o);
               }
             }
             return to_python(rocking::fragility_json(f, r.records));

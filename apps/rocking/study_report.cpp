@@ -448,12 +448,10 @@ void write_hunt_report(const fs::path& dir, const Study& st, const std::vector<H
   for (std::size_t v = 0; v < nv; ++v) {
     const std::string& name = st.variants()[v].name;
     if (!st.can_overturn(v)) continue;
-    std::vector<std::pair<std::size_t, Capacity>> caps;
+    const auto caps = hunt_capacities(hunts, nv, v);
     nlohmann::json jr = nlohmann::json::array();
-    for (std::size_t r = 0; r < st.records().size(); ++r) {
+    for (const auto& [r, capacity] : caps) {
       const HuntResult& h = hunts[r * nv + v];
-      if (!h.error.empty() || h.runs == 0) continue;
-      caps.emplace_back(r, hunt_capacity(h));
       if (!h.resurrections.empty()) {
         nlohmann::json ranges = nlohmann::json::array();
         for (const auto& [from, to] : h.resurrections) ranges.push_back({from, to});

@@ -323,6 +323,14 @@ Capacity hunt_capacity(const HuntResult& h) {
   return h.collapsed ? Capacity{h.collapse_level, true} : Capacity{h.survived_level, false};
 }
 
+std::vector<std::pair<std::size_t, Capacity>> hunt_capacities(const std::vector<HuntResult>& hunts,
+                                                              std::size_t variants, std::size_t variant) {
+  std::vector<std::pair<std::size_t, Capacity>> out;
+  for (std::size_t k = variant; k < hunts.size(); k += variants)
+    if (hunts[k].error.empty() && hunts[k].runs > 0) out.emplace_back(k / variants, hunt_capacity(hunts[k]));
+  return out;
+}
+
 BlockSpectrum overturning_spectrum(const Scene& rigid_block, double size, PulseShape pulse,
                                    const std::vector<double>& frequency_ratios,
                                    const std::vector<double>& amplitude_ratios, int threads,

@@ -224,6 +224,11 @@ HuntResult hunt_collapse(const Study& study, std::size_t record, std::size_t var
 // A hunt's overturning capacity: the collapse level, or (none found) the
 // highest level it survived, censored.
 Capacity hunt_capacity(const HuntResult& h);
+// The (record, capacity) of a variant's hunts, from hunts of every (record,
+// variant) in record-major order; records whose hunt ran nothing or failed are
+// left out.
+std::vector<std::pair<std::size_t, Capacity>> hunt_capacities(const std::vector<HuntResult>& hunts,
+                                                              std::size_t variants, std::size_t variant);
 
 // A limit state for fragility (MODEL.md 13): overturning, or a peak quantity
 // at or above a value. An overturned run has reached every limit.
@@ -361,10 +366,8 @@ class StudySummary {
     return cells_[(record * variants_ + variant) * levels_.size() + level];
   }
   bool reached(const Cell& c, const Limit& l) const;
-  // Whether the record counts as overturned at level k, by the convention.
-  bool overturned_at(std::size_t record, std::size_t variant, std::size_t k) const;
   // [record][level]: -1 not run, 1 at the limit (by the convention), 0 not.
-  std::vector<std::vector<signed char>> limit_table(std::size_t variant, std::size_t limit) const;
+  std::vector<std::vector<signed char>> limit_table(std::size_t variant, const Limit& limit) const;
   // The stripes over these records (repeats counted).
   std::vector<Stripe> stripes_of(const std::vector<std::vector<signed char>>& table,
                                  const std::vector<std::size_t>& records) const;

@@ -162,15 +162,9 @@ bool StudySummary::reached(const Cell& c, const Limit& l) const {
   return c.overturned || (l.quantity && value(c, *l.quantity) >= l.value);
 }
 
-bool StudySummary::overturned_at(std::size_t record, std::size_t variant, std::size_t k) const {
-  if (resurrection_ == Resurrection::keep) return cell(record, variant, k).overturned;
-  for (std::size_t j = 0; j <= k; ++j)
-    if (const Cell& c = cell(record, variant, j); c.ran && c.overturned) return true;
-  return false;
-}
-
 std::vector<StudySummary::FractileRow> StudySummary::fractiles(std::size_t variant, const QuantityName& q) const {
   std::vector<FractileRow> rows;
+  const auto overturned_at = limit_table(variant, overturning_limit());  // by the convention
   for (std::size_t k = 0; k < levels_.size(); ++k) {
     FractileRow row;
     row.level = levels_[k];
@@ -178,7 +172,7 @@ std::vector<StudySummary::FractileRow> StudySummary::fractiles(std::size_t varia
     for (std::size_t r = 0; r < records_; ++r) {
       const Cell& c = cell(r, variant, k);
       if (!c.ran) continue;
-      const bool overturned = overturned_at(r, variant, k);
+      const bool overturned = overturned_at[r][k] == 1;
       const double v = overturned ? std::numeric_limits<double>::infinity() : value(c, q);
       if (std::isnan(v)) continue;  // not reported by this variant
       row.collapsed += overturned ? 1 : 0;
@@ -225,14 +219,14 @@ std::vector<std::pair<std::size_t, Capacity>> StudySummary::capacities(std::size
   return out;
 }
 
-std::vector<std::vector<signed char>> StudySummary::limit_table(std::size_t variant, std::size_t limit) const {
+std::vector<std::vector<signed char>> StudySummary::limit_table(std::size_t variant, const Limit& limit) const {
   std::vector<std::vector<signed char>> t(records_, std::vector<signed char>(levels_.size(), -1));
   for (std::size_t r = 0; r < records_; ++r) {
     bool once = false;
     for (std::size_t k = 0; k < levels_.size(); ++k) {
       const Cell& c = cell(r, variant, k);
       if (!c.ran) continue;
-      const bool now = reached(c, limits_[limit]);
+      const bool now = reached(c, limit);
       once = once || now;
       t[r][k] = (resurrection_ == Resurrection::first ? once : now) ? 1 : 0;
     }
@@ -258,7 +252,7 @@ std::vector<Stripe> StudySummary::stripes_of(const std::vector<std::vector<signe
 std::vector<Stripe> StudySummary::stripes(std::size_t variant, std::size_t limit) const {
   std::vector<std::size_t> every(records_);
   for (std::size_t r = 0; r < records_; ++r) every[r] = r;
-  return stripes_of(limit_table(variant, limit), every);
+  return stripes_of(limit_table(variant, limits_.at(limit)), every);
 }
 
 void check_fragility_options(const FragilityOptions& o) {
@@ -325,7 +319,7 @@ LimitFragility StudySummary::fragility(std::size_t variant, std::size_t limit, c
   if (options.bootstrap.draws == 0) return f;
   std::vector<std::size_t> ran;  // the records that ran, which the bootstrap resamples
   for (const auto& c : f.capacities) ran.push_back(c.first);
-  const auto table = limit_table(variant, limit);
+  const auto table = limit_table(variant, limits_.at(limit));
   f.stripes_bootstrap = bootstrap_fit(ran.size(), [&](const std::vector<std::size_t>& sample) {
     std::vector<std::size_t> records;
     records.reserve(sample.size());
