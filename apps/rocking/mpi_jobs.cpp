@@ -1,8 +1,10 @@
 #include "mpi_jobs.hpp"
-#include <mpi.h>
+#include <dlfcn.h>
+#include <fmt/format.h>
 #include <cstdlib>
-#include <cstring>
+#include <filesystem>
 #include <string>
+import rocking;
 
 namespace rocking::app {
 
@@ -12,54 +14,37 @@ bool launched_by_mpirun() {
     if (std::getenv(var) != nullptr) return true;
   return false;
 }
+
+// librocking_mpi.so from the program's own folder, opened once; it stays
+// loaded until the process ends (OpenMPI must not be unloaded after
+// MPI_Finalize).
+const MpiFunctions& mpi_functions() {
+  static const MpiFunctions* functions = [] {
+    std::error_code ec;
+    const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+    const std::string object = (self.parent_path() / "librocking_mpi.so").string();
+    void* handle = dlopen(object.c_str(), RTLD_NOW | RTLD_GLOBAL);
+    if (handle == nullptr)
+      throw RunError(fmt::format("started by mpirun, but MPI cannot be loaded: {}", dlerror()));
+    auto* entry = reinterpret_cast<const MpiFunctions* (*)()>(dlsym(handle, "rocking_mpi_interface"));
+    if (entry == nullptr) throw RunError(fmt::format("{}: no rocking_mpi_interface: {}", object, dlerror()));
+    return entry();
+  }();
+  return *functions;
+}
 }  // namespace
 
 MpiSession::MpiSession() {
-  if (!launched_by_mpirun()) return;
-  int provided = 0;
-  MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
-  MPI_Comm_rank(MPI_COMM_WORLD, &world_.rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &world_.size);
-  world_.active = true;
+  if (launched_by_mpirun()) world_ = mpi_functions().start();
 }
 
 MpiSession::~MpiSession() {
-  if (world_.active) MPI_Finalize();
+  if (world_.active) mpi_functions().finish();
 }
 
-std::vector<std::pair<long, std::string>> gather_rows(const MpiWorld& w,
-                                                      const std::vector<std::pair<long, std::string>>& mine) {
+MpiRows gather_rows(const MpiWorld& w, const MpiRows& mine) {
   if (!w.active || w.size == 1) return mine;
-  // Pack: index, length, bytes ... as one char buffer per rank.
-  std::string packed;
-  for (const auto& [index, text] : mine) {
-    const long header[2] = {index, static_cast<long>(text.size())};
-    packed.append(reinterpret_cast<const char*>(header), sizeof header);
-    packed += text;
-  }
-  int length = static_cast<int>(packed.size());
-  std::vector<int> lengths(static_cast<std::size_t>(w.size)), offsets(static_cast<std::size_t>(w.size));
-  MPI_Gather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
-  std::string all;
-  if (w.rank == 0) {
-    int total = 0;
-    for (int r = 0; r < w.size; ++r) {
-      offsets[static_cast<std::size_t>(r)] = total;
-      total += lengths[static_cast<std::size_t>(r)];
-    }
-    all.resize(static_cast<std::size_t>(total));
-  }
-  MPI_Gatherv(packed.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR, 0,
-              MPI_COMM_WORLD);
-  std::vector<std::pair<long, std::string>> out;
-  for (std::size_t at = 0; w.rank == 0 && at < all.size();) {
-    long header[2];
-    std::memcpy(header, all.data() + at, sizeof header);
-    at += sizeof header;
-    out.emplace_back(header[0], all.substr(at, static_cast<std::size_t>(header[1])));
-    at += static_cast<std::size_t>(header[1]);
-  }
-  return out;
+  return mpi_functions().gather(w, mine);
 }
 
 }  // namespace rocking::app

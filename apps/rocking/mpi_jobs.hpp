@@ -2,7 +2,9 @@
 // the jobs i with i % size == rank on its threads, and rank 0 gathers the rows
 // and writes them in job order, so the output equals that of one process.
 // MPI is initialised only when the program was started by mpirun (its
-// environment says so); otherwise everything runs in this process.
+// environment says so); otherwise everything runs in this process, and
+// OpenMPI is never loaded: its calls live in librocking_mpi.so beside the
+// program (mpi_plugin.cpp), opened on demand.
 #pragma once
 #include <string>
 #include <utility>
@@ -15,7 +17,18 @@ struct MpiWorld {
   bool active = false;
 };
 
+using MpiRows = std::vector<std::pair<long, std::string>>;
+
+// What librocking_mpi.so provides: start MPI (the world it finds), finalise,
+// and gather every rank's rows on rank 0.
+struct MpiFunctions {
+  MpiWorld (*start)();
+  void (*finish)();
+  MpiRows (*gather)(const MpiWorld&, const MpiRows&);
+};
+
 // Starts MPI when launched by mpirun/mpiexec; finalises on destruction.
+// Throws RunError naming the object when MPI is asked for and cannot be loaded.
 class MpiSession {
  public:
   MpiSession();
@@ -29,7 +42,6 @@ class MpiSession {
 };
 
 // Rank 0 receives every rank's (job index, text) pairs, the others get nothing.
-std::vector<std::pair<long, std::string>> gather_rows(const MpiWorld& w,
-                                                      const std::vector<std::pair<long, std::string>>& mine);
+MpiRows gather_rows(const MpiWorld& w, const MpiRows& mine);
 
 }  // namespace rocking::app
