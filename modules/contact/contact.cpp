@@ -254,12 +254,40 @@ std::string phase_name(int pivot) {
 Workspace::Workspace(const ContactModel& m)
     : a(node_count(m.body.structure)), b(node_count(m.body.structure)) {}
 
+namespace {
+// The full-contact power forms of LinearPhase on z = (u, u'): the input power
+// is linear in z at a_g = 1 (its entries are its values at the unit vectors),
+// the viscous power a quadratic form in u' (its entries by polarisation).
+void full_contact_power(const ContactModel& m, LinearPhase& sys) {
+  const Eigen::Index n = m.layout.n;
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
+  Eigen::VectorXd e = zero, f = zero, scratch(n);
+  sys.ground = Eigen::VectorXd::Zero(2 * n);
+  sys.viscous = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    e.setZero();
+    e[i] = 1;
+    sys.ground[i] = ground_input_power(m.body, 1, 1.0, Coordinates{e, zero, Tilt(0.0), 0.0});
+    sys.ground[n + i] = ground_input_power(m.body, 1, 1.0, Coordinates{zero, e, Tilt(0.0), 0.0});
+    sys.viscous(n + i, n + i) = viscous_power(m.body, e, scratch);
+  }
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index j = i + 1; j < n; ++j) {
+      f.setZero();
+      f[i] = f[j] = 1;
+      const double v = 0.5 * (viscous_power(m.body, f, scratch) - sys.viscous(n + i, n + i) - sys.viscous(n + j, n + j));
+      sys.viscous(n + i, n + j) = sys.viscous(n + j, n + i) = v;
+    }
+}
+}  // namespace
+
 LinearPhase full_contact_matrices(const ContactModel& m) {
   const Eigen::Index n = m.layout.n;
   if (!m.layout.u.present()) throw InputError("full_contact_matrices: a rigid block has no elastic coordinates");
   const StructuralMatrices& sm = m.body.matrices;
   const Eigen::VectorXd minus_inverse_mass = -m.body.structure.masses.cwiseInverse();
   LinearPhase sys;
+  full_contact_power(m, sys);
   sys.first = m.layout.u.start;  // u_dot follows u
   sys.A = Eigen::MatrixXd::Zero(2 * n, 2 * n);
   sys.A.topRightCorner(n, n).setIdentity();

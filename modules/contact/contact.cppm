@@ -185,6 +185,11 @@ struct LinearPhase {
   Eigen::MatrixXd A;
   Eigen::VectorXd b;
   Eigen::Index first = 0;
+  // The energy accumulators' rates in full contact, on the same z: the
+  // ground's power a_g ground' z and the viscous power z' viscous z (read off
+  // ground_input_power and viscous_power, which phase_rhs integrates).
+  Eigen::VectorXd ground;
+  Eigen::MatrixXd viscous;
 };
 LinearPhase full_contact_matrices(const ContactModel& m);
 

@@ -186,6 +186,16 @@ struct LinearSystem {
   Eigen::MatrixXd A;
   Eigen::VectorXd b;
   std::function<double(double)> forcing;
+  // Integrals carried alongside (the work of a linear phase's forces): the
+  // component `at` of y, outside z, grows at z' Q z + a(t) c' z, integrated in
+  // closed form. They are exact at every step's end and at a located event;
+  // dense output and guard samples hold their values at the step's start.
+  struct Quadrature {
+    Eigen::Index at = 0;
+    Eigen::MatrixXd Q;  // symmetric; empty: no quadratic term
+    Eigen::VectorXd c;  // empty: no input term
+  };
+  std::vector<Quadrature> quadratures;
 };
 // Exact steps of y' = A z + b a(t) (see linear.cpp); a step ends at a
 // breakpoint or after Options::max_step, which sets how densely the guards are

@@ -15,6 +15,16 @@
 // its fixed-base modes: one block (q_i, q_i') per mode) is solved block by
 // block, so that a sample costs the sum of the blocks' squares, not the
 // square of their sum.
+// Quadratures (LinearSystem::quadratures), W' = z' Q z + a(t) c' z, are
+// integrated in the same eigen form: with w_j = E_j alpha_j + p_j + q_j tau
+// (E_j = e^(lambda_j tau), the particular solution p + q tau of the ramp,
+// alpha = w0 - p) and z = V w, z' Q z = w' G w with G = V^T Q V, so the
+// integral is a sum of integrals of e^(mu s) and s e^(mu s) (mu = lambda_j,
+// or lambda_j + lambda_k) and of polynomials, each in closed form:
+//   int_0^tau e^(mu s) ds = tau phi1(mu tau),  phi1(x) = (e^x - 1) / x,
+//   int_0^tau s e^(mu s) ds = tau^2 phi2(mu tau),  phi2(x) = ((x - 1) e^x + 1) / x^2,
+// by their series for |x| <= 1/2. Over the usual step length the integral is
+// a quadratic form in (z0, a0, a'), cached as its matrix.
 module;
 #include <rocking/eigen.hpp>
 #include <rocking/static_size.hpp>
@@ -42,6 +52,8 @@ constexpr int max_samples_per_step = 16;
 // its indices in increasing order. A structure in nodal coordinates is one
 // block; in its fixed-base modes, one block of (q_i, q_i') per mode.
 std::vector<std::vector<Eigen::Index>> independent_blocks(const Eigen::MatrixXd& A) {
+  // (A stands for the pattern of every coupling: the system's matrix and the
+  // quadratures' Q.)
   const auto m = static_cast<std::size_t>(A.rows());
   std::vector<std::size_t> root(m);  // union-find with path halving
   for (std::size_t i = 0; i < m; ++i) root[i] = i;
@@ -63,6 +75,34 @@ std::vector<std::vector<Eigen::Index>> independent_blocks(const Eigen::MatrixXd&
     blocks[b].push_back(static_cast<Eigen::Index>(i));
   }
   return blocks;
+}
+
+// (e^x - 1) / x and ((x - 1) e^x + 1) / x^2, given e^x; their series
+// sum x^n / (n + 1)! and sum x^n / (n! (n + 2)) near 0.
+// (Magnitudes compared squared, and u / x as u conj(x) / |x|^2: no hypot,
+// no library division, in the inner loop of the quadratures.)
+Complex over(Complex u, Complex x) { return u * std::conj(x) / std::norm(x); }
+
+Complex phi1(Complex x, Complex ex) {
+  if (std::norm(x) > 0.25) return over(ex - 1.0, x);
+  Complex term = 1.0, sum = 1.0;
+  for (int n = 1; n < 40 && std::norm(term) > 1e-36 * std::norm(sum); ++n) {
+    term *= x / static_cast<double>(n + 1);
+    sum += term;
+  }
+  return sum;
+}
+
+Complex phi2(Complex x, Complex ex) {
+  if (std::norm(x) > 0.25) return over((x - 1.0) * ex + 1.0, x * x);
+  Complex power = 1.0, sum = 0.5;
+  for (int n = 1; n < 40; ++n) {
+    power *= x / static_cast<double>(n);
+    const Complex term = power / static_cast<double>(n + 2);
+    sum += term;
+    if (std::norm(term) <= 1e-36 * std::norm(sum)) break;
+  }
+  return sum;
 }
 
 // The exact solution of one block, z' = A z + b a(t), over a step from z0
@@ -90,6 +130,79 @@ class BlockSolution {
   }
 
   Eigen::Index size() const { return z0_.size(); }
+
+  // A quadrature's terms on this block (its part of Q and c; either may be empty).
+  void add_quadrature(const Eigen::MatrixXd& Q, const Eigen::VectorXd& c) {
+    Quad q;
+    if (Q.size() > 0 && !Q.isZero(0)) q.G = V_.transpose() * Q.cast<Complex>() * V_;
+    if (c.size() > 0 && !c.isZero(0)) q.h = V_.transpose() * c.cast<Complex>();
+    quads_.push_back(std::move(q));
+  }
+
+  // Each quadrature's integral over [0, tau] of the current step, in closed
+  // form, added to sums[i].
+  void add_integrals(double tau, double* sums) const {
+    bool any_G = false, any = false;
+    for (const Quad& q : quads_) {
+      any_G = any_G || q.G.size() > 0;
+      any = any || q.G.size() > 0 || q.h.size() > 0;
+    }
+    if (!any) return;
+    const Eigen::Index m = z0_.size();
+    Eigen::VectorXcd E(m), alpha(m), p(m), r(m), J0(m), J1(m);
+    const Eigen::VectorXcd w0 = V_inv_ * z0_.cast<Complex>();
+    for (Eigen::Index j = 0; j < m; ++j) {
+      const Complex x = lambda_[j] * tau;
+      E[j] = std::exp(x);
+      r[j] = -beta_[j] * slope_ * inv_lambda_[j];       // q_j
+      p[j] = (r[j] - beta_[j] * a0_) * inv_lambda_[j];  // p_j
+      alpha[j] = w0[j] - p[j];
+      J0[j] = tau * phi1(x, E[j]);
+      J1[j] = tau * tau * phi2(x, E[j]);
+    }
+    // alpha_j alpha_k int e^((lambda_j + lambda_k) s) ds, symmetric: its upper triangle
+    Eigen::MatrixXcd pairs;
+    if (any_G) {
+      pairs.resize(m, m);
+      for (Eigen::Index k = 0; k < m; ++k)
+        for (Eigen::Index j = 0; j <= k; ++j)
+          pairs(j, k) = alpha[j] * alpha[k] * tau * phi1((lambda_[j] + lambda_[k]) * tau, E[j] * E[k]);
+    }
+    for (std::size_t i = 0; i < quads_.size(); ++i) {
+      const Quad& q = quads_[i];
+      Complex sum = 0.0;
+      if (q.G.size() > 0) {
+        for (Eigen::Index k = 0; k < m; ++k) {
+          for (Eigen::Index j = 0; j < k; ++j) sum += 2.0 * q.G(j, k) * pairs(j, k);
+          sum += q.G(k, k) * pairs(k, k);
+        }
+        const Eigen::VectorXcd Gp = q.G * p, Gr = q.G * r;
+        for (Eigen::Index j = 0; j < m; ++j) sum += 2.0 * alpha[j] * (J0[j] * Gp[j] + J1[j] * Gr[j]);
+        sum += tau * (p.transpose() * Gp)(0) + tau * tau * (p.transpose() * Gr)(0) +
+               tau * tau * tau / 3.0 * (r.transpose() * Gr)(0);
+      }
+      if (q.h.size() > 0)
+        for (Eigen::Index j = 0; j < m; ++j)
+          sum += q.h[j] * (alpha[j] * (a0_ * J0[j] + slope_ * J1[j]) + a0_ * p[j] * tau +
+                           (a0_ * r[j] + slope_ * p[j]) * tau * tau / 2.0 + slope_ * r[j] * tau * tau * tau / 3.0);
+      sums[i] += sum.real();
+    }
+  }
+
+  // Quadrature i's integral over the cached step: xi' N xi, xi = (z0, a0, a').
+  double cached_integral(std::size_t i) const {
+    const Eigen::MatrixXd& N = quads_[i].N;
+    const Eigen::Index m = z0_.size();
+    double sum = 0;
+    for (Eigen::Index k = 0; k < m + 2; ++k) {
+      const double xk = k < m ? z0_[k] : k == m ? a0_ : slope_;
+      double column = 0;
+      for (Eigen::Index j = 0; j < m; ++j) column += N(j, k) * z0_[j];
+      column += N(m, k) * a0_ + N(m + 1, k) * slope_;
+      sum += column * xk;
+    }
+    return sum;
+  }
   // A new step from the block's components `at` of z, under a0 + slope tau.
   void start(const double* z, const std::vector<Eigen::Index>& at, double a0, double slope) {
     for (std::size_t i = 0; i < at.size(); ++i) z0_[static_cast<Eigen::Index>(i)] = z[at[i]];
@@ -132,9 +245,50 @@ class BlockSolution {
     }
   }
 
-  // The real matrices of `count` samples of a step of length h.
+  // The real matrices of `count` samples of a step of length h, and each
+  // quadrature's over the whole step (its quadratic form in (z0, a0, a'),
+  // read off the closed form by polarisation).
   void build_cache(double h, int count) {
     const Eigen::Index m = z0_.size();
+    if (!quads_.empty()) {
+      const Eigen::VectorXd z_saved = z0_;
+      const double a0_saved = a0_, slope_saved = slope_;
+      auto set = [&](Eigen::Index i, Eigen::Index j) {  // xi = e_i + e_j (or e_i alone when j < 0)
+        z0_.setZero();
+        a0_ = slope_ = 0;
+        for (const Eigen::Index k : {i, j}) {
+          if (k < 0) continue;
+          if (k < m) z0_[k] += 1;
+          else if (k == m) a0_ += 1;
+          else slope_ += 1;
+        }
+      };
+      const std::size_t count_q = quads_.size();
+      std::vector<double> sums(count_q);
+      auto integrals = [&]() {
+        std::fill(sums.begin(), sums.end(), 0.0);
+        add_integrals(h, sums.data());
+        return sums;
+      };
+      for (Quad& q : quads_) q.N.setZero(m + 2, m + 2);
+      for (Eigen::Index i = 0; i < m + 2; ++i) {
+        set(i, -1);
+        const std::vector<double> one = integrals();
+        for (std::size_t qi = 0; qi < count_q; ++qi) quads_[qi].N(i, i) = one[qi];
+      }
+      for (Eigen::Index i = 0; i < m + 2; ++i)
+        for (Eigen::Index j = i + 1; j < m + 2; ++j) {
+          set(i, j);
+          const std::vector<double> both = integrals();
+          for (std::size_t qi = 0; qi < count_q; ++qi) {
+            Eigen::MatrixXd& N = quads_[qi].N;
+            N(i, j) = N(j, i) = 0.5 * (both[qi] - N(i, i) - N(j, j));
+          }
+        }
+      z0_ = z_saved;
+      a0_ = a0_saved;
+      slope_ = slope_saved;
+    }
     Eigen::VectorXcd e(m), f0(m), f1(m);
     for (int k = 0; k < count; ++k) {
       const double tau = h * (k + 1) / count;
@@ -184,6 +338,12 @@ class BlockSolution {
   Eigen::MatrixXd Vr_, Vi_;  // V's real and imaginary parts
   std::vector<Mode> modes_;
   Eigen::VectorXd z0_;
+  struct Quad {
+    Eigen::MatrixXcd G;  // V^T Q V
+    Eigen::VectorXcd h;  // V^T c
+    Eigen::MatrixXd N;   // over the cached step, in (z0, a0, a')
+  };
+  std::vector<Quad> quads_;
   Eigen::MatrixXd phi_[max_samples_per_step];
   Eigen::VectorXd g0_[max_samples_per_step], g1_[max_samples_per_step];
   double a0_ = 0, slope_ = 0;
@@ -198,14 +358,28 @@ class ExactLinear final : public Integrator {
       throw IntegrationError(IntegrationError::Kind::backend, 0, "inconsistent linear system");
     // Within the unrolled sizes one product per sample costs less than a
     // few tiny ones: such a system is stepped whole.
+    for (const LinearSystem::Quadrature& q : sys_.quadratures)
+      if ((q.Q.size() > 0 && (q.Q.rows() != m || q.Q.cols() != m)) || (q.c.size() > 0 && q.c.size() != m) ||
+          q.at < 0 || q.at >= sys_.size || (q.at >= sys_.first && q.at < sys_.first + m))
+        throw IntegrationError(IntegrationError::Kind::backend, 0, "inconsistent quadrature of the linear system");
     std::vector<std::vector<Eigen::Index>> blocks(1);
-    if (m > max_static_size) blocks = independent_blocks(sys_.A);
-    else
+    if (m > max_static_size) {
+      Eigen::MatrixXd pattern = sys_.A.cwiseAbs();
+      for (const LinearSystem::Quadrature& q : sys_.quadratures)
+        if (q.Q.size() > 0) pattern += q.Q.cwiseAbs();
+      blocks = independent_blocks(pattern);
+    } else {
       for (Eigen::Index i = 0; i < m; ++i) blocks.front().push_back(i);
+    }
     for (std::vector<Eigen::Index>& at : blocks) {
       BlockSolution solution(sys_.A(at, at), sys_.b(at));
+      for (const LinearSystem::Quadrature& q : sys_.quadratures)
+        solution.add_quadrature(q.Q.size() > 0 ? Eigen::MatrixXd(q.Q(at, at)) : Eigen::MatrixXd(),
+                                q.c.size() > 0 ? Eigen::VectorXd(q.c(at)) : Eigen::VectorXd());
       blocks_.push_back({std::move(at), std::move(solution)});
     }
+    quad_start_.setZero(static_cast<Eigen::Index>(sys_.quadratures.size()));
+    quad_sums_.assign(sys_.quadratures.size(), 0.0);
     whole_ = blocks_.size() == 1;
     y_.setZero(sys_.size);
     scratch_.setZero(m);
@@ -242,6 +416,7 @@ class ExactLinear final : public Integrator {
     if (!y_.allFinite()) throw IntegrationError(IntegrationError::Kind::non_finite_state, t_, "");
     if (GuardScanner::Crossing c{}; scanner_.scan(*this, count_, c)) {
       dense(c.t, y_);
+      add_quadratures(c.t - t_prev_, false);
       t_ = c.t;
       samples_valid_ = false;  // the step now ends at the event
       scanner_.restart_at(c, y_);
@@ -260,6 +435,8 @@ class ExactLinear final : public Integrator {
     y = y_;
     if (h_ == 0) return;  // no step since the reset: the state is all there is
     for (Block& b : blocks_) at_time(b, t - t_prev_, y);
+    for (std::size_t i = 0; i < sys_.quadratures.size(); ++i)
+      y[sys_.quadratures[i].at] = quad_start_[static_cast<Eigen::Index>(i)];
   }
 
   const Eigen::VectorXd& sample(int k, int count) override {
@@ -291,7 +468,13 @@ class ExactLinear final : public Integrator {
     forcing_value_ = sys_.forcing(t_new);
     const double slope = (forcing_value_ - a0) / h_;
     for (Block& b : blocks_) b.solution.start(y_.data() + sys_.first, b.at, a0, slope);
-    if (std::abs(h_ - cached_h_) <= 1e-10 * cached_h_ && count_ == cached_count_) {
+    for (std::size_t i = 0; i < sys_.quadratures.size(); ++i) {
+      const Eigen::Index at = sys_.quadratures[i].at;
+      quad_start_[static_cast<Eigen::Index>(i)] = y_[at];
+      for (int k = 0; k < count_; ++k) samples_[k][at] = y_[at];
+    }
+    const bool cached = std::abs(h_ - cached_h_) <= 1e-10 * cached_h_ && count_ == cached_count_;
+    if (cached) {
       // The usual step: within 1e-10 of the cached length (consecutive sample
       // times differ by round-off), a shift far below the state's accuracy.
       for (Block& b : blocks_)
@@ -326,7 +509,22 @@ class ExactLinear final : public Integrator {
     samples_valid_ = true;
     t_ = t_new;
     y_.segment(sys_.first, sys_.A.rows()) = samples_[count_ - 1].segment(sys_.first, sys_.A.rows());
+    add_quadratures(h_, cached);
     ++stats_.steps;
+  }
+
+  // The quadratures at tau into the step: their values at its start plus the
+  // integrals over [0, tau] (from the cached forms over a usual step).
+  void add_quadratures(double tau, bool cached) {
+    const std::size_t count = sys_.quadratures.size();
+    if (count == 0) return;
+    for (std::size_t i = 0; i < count; ++i) quad_sums_[i] = quad_start_[static_cast<Eigen::Index>(i)];
+    for (const Block& b : blocks_) {
+      if (!cached) b.solution.add_integrals(tau, quad_sums_.data());
+      else
+        for (std::size_t i = 0; i < count; ++i) quad_sums_[i] += b.solution.cached_integral(i);
+    }
+    for (std::size_t i = 0; i < count; ++i) y_[sys_.quadratures[i].at] = quad_sums_[i];
   }
 
   // Block b's components of y at tau into the step, from the eigen form.
@@ -346,6 +544,8 @@ class ExactLinear final : public Integrator {
   std::vector<Block> blocks_;
   bool whole_ = true;          // one block: its values are the system's, in place
   Eigen::VectorXd y_, scratch_;
+  Eigen::VectorXd quad_start_;  // the quadratures at the step's start
+  std::vector<double> quad_sums_;
   // The state at the step's guard samples (only the system's part changes in a step).
   std::array<Eigen::VectorXd, max_samples_per_step> samples_;
   int count_ = guard_samples(0, std::numeric_limits<double>::infinity(), 1, max_samples_per_step),

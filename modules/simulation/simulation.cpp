@@ -122,9 +122,10 @@ class Driver {
     };
     ode::Options tolerances = o.tolerances;
     tolerances.max_step = std::min(tolerances.max_step, ground.max_step());
-    // The per-device work accumulators (the tail of the state) are sums that
-    // nothing depends on: they do not steer the steps.
-    if (m_.layout.energy.present()) tolerances.error_components = m_.layout.size - (m_.layout.energy.count - 3);
+    // The energy accumulators (the tail of the state) are integrals that
+    // nothing depends on: they do not steer the steps, so that a run that
+    // tracks the energy balance steps as one that does not, to the same peaks.
+    if (m_.layout.energy.present()) tolerances.error_components = m_.layout.energy.start;
     // Guards and peaks sampled 8 times in the shortest period of a mode that
     // oscillates (the exact steps below do the same), not more densely when
     // steps are short.
@@ -145,7 +146,7 @@ class Driver {
     // not bound by the highest modes, and it then costs less than the exact
     // steps, which sample every oscillating period (`rocking tradeoff --scenes`).
     const bool auto_rosw = o.backend == ode::Backend::automatic && backend_ == ode::Backend::rosw;
-    if (o.exact_full_contact && !auto_rosw && m_.layout.u.present() && !m_.layout.energy.present() && ground.piecewise_linear()) {
+    if (o.exact_full_contact && !auto_rosw && m_.layout.u.present() && ground.piecewise_linear()) {
       ode::Options exact;
       // Steps from sample to sample of the record (up to 16 spacings), with
       // guards and peaks sampled 8 times in the shortest oscillating period.
@@ -153,7 +154,13 @@ class Driver {
       exact.max_steps = tolerances.max_steps;
       LinearPhase phase = full_contact_matrices(m_);
       ode::LinearSystem system{m_.layout.size, phase.first, std::move(phase.A), std::move(phase.b),
-                               [this](double t) { return ground_.acceleration(t); }};
+                               [this](double t) { return ground_.acceleration(t); }, {}};
+      // The ground's and the viscous work, integrated with the exact steps
+      // (the work on the devices does not grow in full contact).
+      if (m_.layout.energy.present()) {
+        system.quadratures.push_back({m_.layout.energy.start, Eigen::MatrixXd(), std::move(phase.ground)});
+        system.quadratures.push_back({m_.layout.energy.start + 1, std::move(phase.viscous), Eigen::VectorXd()});
+      }
       exact_ = ode::make_exact_linear(std::move(system), exact);
       exact_->set_breakpoints(next_sample);
     }

@@ -108,9 +108,9 @@ struct RunOptions {
   // Full contact is linear (Eq. 1) and a record is linear between samples, so
   // a flexible structure in full contact under a record is stepped exactly
   // (ode::make_exact_linear) and the backend integrates the rocking phases
-  // only. Not used when the model carries energy accumulators (quadratic in
-  // the state), under an analytic pulse, or when an automatic backend chose
-  // rosw (choose_backend).
+  // only; the energy accumulators are integrated with those steps in closed
+  // form. Not used under an analytic pulse, or when an automatic backend
+  // chose rosw (choose_backend).
   bool exact_full_contact = true;
   long max_events = 100000;      // more phase changes than this: the run fails (chattering)
   // The elastic coordinates of the integrated state (rocking.dynamics): by
