@@ -1,4 +1,5 @@
 #include "run_output.hpp"
+#include <rocking/decimal.hpp>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
@@ -7,7 +8,6 @@
 #include <cmath>
 #include <cstring>
 #include <algorithm>
-#include <charconv>
 #include <fstream>
 #include <thread>
 #include <unistd.h>
@@ -29,7 +29,7 @@ HistoryCsv::HistoryCsv(const std::filesystem::path& file, const ContactModel& mo
 
 HistoryCsv::~HistoryCsv() {
   if (file_ == nullptr) return;  // closed
-  std::fwrite(buffer_.data(), 1, buffer_.size(), file_);  // what a run that threw had reached, into the .partial file
+  std::fwrite(buffer_.data(), 1, used_, file_);  // what a run that threw had reached, into the .partial file
   std::fclose(file_);
 }
 
@@ -45,33 +45,32 @@ void HistoryCsv::row(const Response&, const std::vector<double>& values) {
   }
 }
 
-namespace {
-// A value as printf's %.9g writes it (std::to_chars, general, precision 9);
-// nothing for a value that is none (a broken device's).
-void append_value(std::string& out, double v) {
-  if (std::isnan(v)) return;
-  char digits[40];
-  const auto [end, ec] = std::to_chars(digits, digits + sizeof digits, v, std::chars_format::general, 9);
-  out.append(digits, ec == std::errc() ? end : digits);
-}
-}  // namespace
-
 void HistoryCsv::print_row(const std::vector<double>& values) {
+  // Room for the widest row: every value at its widest, or its label.
+  const std::size_t room = values.size() * (g9_max_chars + 1) + 1;
+  if (buffer_.size() - used_ < room) buffer_.resize(std::max(2 * buffer_.size(), used_ + room + flush_size));
+  char* const start = buffer_.data() + used_;
+  char* p = start;
   for (std::size_t i = 0; i < values.size(); ++i) {
-    if (i > 0) buffer_ += ',';
+    if (i > 0) *p++ = ',';
     const auto& q = columns().columns[i].quantity;
     const std::string_view label = q ? value_label(*q, values[i]) : std::string_view();
-    if (label.empty()) append_value(buffer_, values[i]);
-    else buffer_ += label;
+    if (!label.empty()) {
+      std::memcpy(p, label.data(), label.size());
+      p += label.size();
+    } else if (!std::isnan(values[i])) {  // nothing for a value that is none (a broken device's)
+      p = write_g9(p, values[i]);
+    }
   }
-  buffer_ += '\n';
-  if (buffer_.size() >= flush_size) flush();
+  *p++ = '\n';
+  used_ += static_cast<std::size_t>(p - start);
+  if (used_ >= flush_size) flush();
 }
 
 void HistoryCsv::flush() {
-  if (!buffer_.empty() && std::fwrite(buffer_.data(), 1, buffer_.size(), file_) != buffer_.size())
+  if (used_ > 0 && std::fwrite(buffer_.data(), 1, used_, file_) != used_)
     throw RunError(fmt::format("{}: cannot write: {} (the rows written are in {})", path_, std::strerror(errno), partial_));
-  buffer_.clear();
+  used_ = 0;
 }
 
 void HistoryCsv::close() {

@@ -37,7 +37,8 @@ class HistoryCsv : public rocking::HistoryObserver {
   void print_row(const std::vector<double>& values);
   void flush();  // writes the buffered rows; RunError if the disk refused
   static constexpr std::size_t flush_size = 1 << 16;  // rows leave in blocks of about this many bytes
-  std::string buffer_;
+  std::vector<char> buffer_;  // rows not yet written: its first used_ bytes
+  std::size_t used_ = 0;
   std::FILE* file_ = nullptr;
   std::string path_, partial_;
 };
