@@ -109,6 +109,8 @@ Complex phi2(Complex x, Complex ex) {
 // with a(t0 + tau) = a0 + slope tau: in the eigen form at any tau, and from
 // cached real matrices at the guard samples of the usual step length.
 class BlockSolution {
+  struct Quad;
+
  public:
   BlockSolution(const Eigen::MatrixXd& A, const Eigen::VectorXd& b) {
     const Eigen::Index m = A.rows();
@@ -189,6 +191,52 @@ class BlockSolution {
     }
   }
 
+  // Quadrature q's integral over a step of length tau as the symmetric matrix
+  // N of a quadratic form in xi = (z0, a0, a'): add_integrals' terms with
+  // alpha, p and q (r here) written as linear maps of xi,
+  //   w0 = V^-1 z0,  p = -beta (a0 / lambda + a' / lambda^2),  r = -beta a' / lambda,  alpha = w0 - p.
+  Eigen::MatrixXd quadratic_form(const Quad& q, double tau) const {
+    const Eigen::Index m = z0_.size(), K = m + 2;
+    Eigen::MatrixXd N = Eigen::MatrixXd::Zero(K, K);
+    if (q.G.size() == 0 && q.h.size() == 0) return N;
+    Eigen::MatrixXcd Ap = Eigen::MatrixXcd::Zero(m, K), Ar = Eigen::MatrixXcd::Zero(m, K), Aa(m, K);
+    Eigen::VectorXcd E(m), J0(m), J1(m);
+    for (Eigen::Index j = 0; j < m; ++j) {
+      Ap(j, m) = -beta_[j] * inv_lambda_[j];
+      Ap(j, m + 1) = -beta_[j] * inv_lambda_[j] * inv_lambda_[j];
+      Ar(j, m + 1) = -beta_[j] * inv_lambda_[j];
+      const Complex x = lambda_[j] * tau;
+      E[j] = std::exp(x);
+      J0[j] = tau * phi1(x, E[j]);
+      J1[j] = tau * tau * phi2(x, E[j]);
+    }
+    Aa.leftCols(m) = V_inv_;
+    Aa.rightCols(2).setZero();
+    Aa -= Ap;
+    Eigen::MatrixXcd B = Eigen::MatrixXcd::Zero(K, K);  // N = Re(B + B^T) / 2
+    if (q.G.size() > 0) {
+      Eigen::MatrixXcd GP(m, m);  // G o P, P_jk = tau phi1((lambda_j + lambda_k) tau)
+      for (Eigen::Index k = 0; k < m; ++k)
+        for (Eigen::Index j = 0; j < m; ++j)
+          GP(j, k) = q.G(j, k) * tau * phi1((lambda_[j] + lambda_[k]) * tau, E[j] * E[k]);
+      B += Aa.transpose() * GP * Aa;
+      B += 2.0 * Aa.transpose() * (J0.asDiagonal() * (q.G * Ap) + J1.asDiagonal() * (q.G * Ar));
+      B += tau * Ap.transpose() * q.G * Ap + tau * tau * Ap.transpose() * q.G * Ar +
+           tau * tau * tau / 3.0 * Ar.transpose() * q.G * Ar;
+    }
+    if (q.h.size() > 0) {
+      const Eigen::VectorXcd on_a0 = Aa.transpose() * q.h.cwiseProduct(J0) + tau * Ap.transpose() * q.h +
+                                     tau * tau / 2.0 * Ar.transpose() * q.h;
+      const Eigen::VectorXcd on_slope = Aa.transpose() * q.h.cwiseProduct(J1) +
+                                        tau * tau / 2.0 * Ap.transpose() * q.h +
+                                        tau * tau * tau / 3.0 * Ar.transpose() * q.h;
+      B.col(m) += on_a0;
+      B.col(m + 1) += on_slope;
+    }
+    N = 0.5 * (B + B.transpose()).real();
+    return N;
+  }
+
   // Quadrature i's integral over the cached step: xi' N xi, xi = (z0, a0, a').
   double cached_integral(std::size_t i) const {
     const Eigen::MatrixXd& N = quads_[i].N;
@@ -246,49 +294,10 @@ class BlockSolution {
   }
 
   // The real matrices of `count` samples of a step of length h, and each
-  // quadrature's over the whole step (its quadratic form in (z0, a0, a'),
-  // read off the closed form by polarisation).
+  // quadrature's over the whole step (its quadratic form in (z0, a0, a')).
   void build_cache(double h, int count) {
     const Eigen::Index m = z0_.size();
-    if (!quads_.empty()) {
-      const Eigen::VectorXd z_saved = z0_;
-      const double a0_saved = a0_, slope_saved = slope_;
-      auto set = [&](Eigen::Index i, Eigen::Index j) {  // xi = e_i + e_j (or e_i alone when j < 0)
-        z0_.setZero();
-        a0_ = slope_ = 0;
-        for (const Eigen::Index k : {i, j}) {
-          if (k < 0) continue;
-          if (k < m) z0_[k] += 1;
-          else if (k == m) a0_ += 1;
-          else slope_ += 1;
-        }
-      };
-      const std::size_t count_q = quads_.size();
-      std::vector<double> sums(count_q);
-      auto integrals = [&]() {
-        std::fill(sums.begin(), sums.end(), 0.0);
-        add_integrals(h, sums.data());
-        return sums;
-      };
-      for (Quad& q : quads_) q.N.setZero(m + 2, m + 2);
-      for (Eigen::Index i = 0; i < m + 2; ++i) {
-        set(i, -1);
-        const std::vector<double> one = integrals();
-        for (std::size_t qi = 0; qi < count_q; ++qi) quads_[qi].N(i, i) = one[qi];
-      }
-      for (Eigen::Index i = 0; i < m + 2; ++i)
-        for (Eigen::Index j = i + 1; j < m + 2; ++j) {
-          set(i, j);
-          const std::vector<double> both = integrals();
-          for (std::size_t qi = 0; qi < count_q; ++qi) {
-            Eigen::MatrixXd& N = quads_[qi].N;
-            N(i, j) = N(j, i) = 0.5 * (both[qi] - N(i, i) - N(j, j));
-          }
-        }
-      z0_ = z_saved;
-      a0_ = a0_saved;
-      slope_ = slope_saved;
-    }
+    for (Quad& q : quads_) q.N = quadratic_form(q, h);
     Eigen::VectorXcd e(m), f0(m), f1(m);
     for (int k = 0; k < count; ++k) {
       const double tau = h * (k + 1) / count;
