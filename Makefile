@@ -55,6 +55,8 @@ bench: build
 	@build/bin/integrators_bench --benchmark_counters_tabular=true
 	@echo "command: build/bin/run_bench"
 	@build/bin/run_bench
+	@echo "command: build/bin/command_bench"
+	@build/bin/command_bench
 	@echo "command: build/bin/study_bench"
 	@build/bin/study_bench
 	@echo "command: build/bin/records_bench"

@@ -2,12 +2,11 @@
 // data/scenes/towers (scripts/make_towers.py: the chimney's height, mass and
 // mean stiffness over N masses) under El Centro N-S at the default tolerance,
 // one run each, in two set-ups: as `rocking simulate` runs (energy balance
-// tracked, so full contact is integrated by the backend too) and as a study
-// runs (no energy accumulators: full contact stepped exactly under rk45, and
-// integrated by an automatic rosw). A run past its
+// tracked) and as a study runs (no energy accumulators); in both, full
+// contact is stepped exactly under rk45 and integrated by an automatic rosw. A run past its
 // budget is stopped (RunOptions::stop) and reported with the time it reached.
 // Each integrator named is timed on every tower (auto: the default choice,
-// rosw for these towers; rk45 for the explicit method it replaces).
+// rk45 for 8 nodes and rosw from 16; rk45 for the explicit method).
 // The exponent between consecutive N is log(cost ratio) / log(N ratio).
 // --peaks then measures the default run's accuracy: its peaks of delta_t,
 // delta_e, theta and base moment against rk45 at rtol 1e-8 (N <= 32, where it
