@@ -12,6 +12,7 @@
 #include <memory>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 #include "records.hpp"
 import rocking.simulation;
@@ -54,6 +55,27 @@ Eigen::Vector2d exact(double t) {
 }
 
 Eigen::VectorXd start() { return Eigen::Vector3d(1, 0, 42); }
+
+// `copies` of the oscillator laid out as a structure's modes, [x; v] (x_c and
+// v_c 9 apart), copy c's omega^2 scaled by 1 + spread c, each damped by
+// damping v, plus one constant component at the end.
+LinearSystem oscillators(int copies, double spread, double damping) {
+  const LinearSystem one = oscillator();
+  LinearSystem many;
+  many.size = 2 * copies + 1;
+  many.first = 0;
+  many.A = Eigen::MatrixXd::Zero(2 * copies, 2 * copies);
+  many.b = Eigen::VectorXd::Zero(2 * copies);
+  for (int c = 0; c < copies; ++c) {
+    const int x = c, v = copies + c;
+    many.A(x, v) = one.A(0, 1);
+    many.A(v, x) = one.A(1, 0) * (1 + spread * c);
+    many.A(v, v) = -damping;
+    many.b[v] = one.b[1];
+  }
+  many.forcing = one.forcing;
+  return many;
+}
 
 // The oscillator's exact integrator, with the input's kink at t = 1 as a
 // breakpoint, started from start().
@@ -111,19 +133,7 @@ TEST_CASE("9 independent oscillators laid out as a structure's modes, [x; v], ar
   // 18 components > max_static_size, and A splits into nine 2 x 2 blocks
   // (x_c, v_c) whose components lie 9 apart: each block is solved alone.
   const int copies = 9;
-  const LinearSystem one = oscillator();
-  LinearSystem many;
-  many.size = 2 * copies + 1;
-  many.first = 0;
-  many.A = Eigen::MatrixXd::Zero(2 * copies, 2 * copies);
-  many.b = Eigen::VectorXd::Zero(2 * copies);
-  for (int c = 0; c < copies; ++c) {
-    const int x = c, v = copies + c;
-    many.A(x, v) = one.A(0, 1);
-    many.A(v, x) = one.A(1, 0);
-    many.b[v] = one.b[1];
-  }
-  many.forcing = one.forcing;
+  const LinearSystem many = oscillators(copies, 0, 0);
   Options o;
   o.max_step = 0.1;
   auto integ = make_exact_linear(many, o);
@@ -278,19 +288,7 @@ TEST_CASE("quadratures on 9 oscillators stepped block by block: a Q that couples
   // W' = v_0 v_5 + a(t) (v_0 + v_8): Q couples copies 0 and 5 (they are then
   // solved as one block); against Simpson's rule on the dense output.
   const int copies = 9;
-  const LinearSystem one = oscillator();
-  LinearSystem many;
-  many.size = 2 * copies + 1;
-  many.first = 0;
-  many.A = Eigen::MatrixXd::Zero(2 * copies, 2 * copies);
-  many.b = Eigen::VectorXd::Zero(2 * copies);
-  for (int c = 0; c < copies; ++c) {
-    many.A(c, copies + c) = one.A(0, 1);
-    many.A(copies + c, c) = one.A(1, 0) * (1 + 0.1 * c);  // distinct frequencies
-    many.A(copies + c, copies + c) = -0.3;
-    many.b[copies + c] = one.b[1];
-  }
-  many.forcing = one.forcing;
+  LinearSystem many = oscillators(copies, 0.1, 0.3);  // distinct frequencies, damped
   Eigen::MatrixXd Q = Eigen::MatrixXd::Zero(2 * copies, 2 * copies);
   Q(copies, copies + 5) = Q(copies + 5, copies) = 0.5;
   Eigen::VectorXd c = Eigen::VectorXd::Zero(2 * copies);
@@ -325,16 +323,25 @@ TEST_CASE("a singular linear system is refused with a typed error") {
   CHECK_THROWS_AS(make_exact_linear(s, Options{}), IntegrationError);
 }
 
+namespace {
+
+// The chimney under g at rtol 1e-10: with exact full contact, and with rk45 in every phase.
+std::pair<RunResult, RunResult> exact_and_integrated(const ContactModel& m, const GroundMotion& g) {
+  RunOptions tight;
+  tight.tolerances = {.rtol = 1e-10, .atol = 1e-13};
+  RunOptions rk45_only = tight;
+  rk45_only.exact_full_contact = false;
+  return {simulate(m, g, tight), simulate(m, g, rk45_only)};
+}
+
+}  // namespace
+
 TEST_CASE("El Centro: exact full contact agrees with rk45 throughout, and is as accurate at the default tolerance") {
   const auto dir = records_dir();
   if (!dir) return;
   const GroundMotion g = read_record(*dir + "/elcentro_1940_ns.at2");
   const ContactModel m = make_contact_model(load_default_scene(), false);
-  RunOptions tight;
-  tight.tolerances = {.rtol = 1e-10, .atol = 1e-13};
-  RunOptions rk45_only = tight;
-  rk45_only.exact_full_contact = false;
-  const RunResult a = simulate(m, g, tight), b = simulate(m, g, rk45_only);
+  const auto [a, b] = exact_and_integrated(m, g);
   REQUIRE(a.outcome == Outcome::completed);
   CHECK(a.exact_full_contact);
   CHECK_FALSE(b.exact_full_contact);
@@ -353,11 +360,7 @@ TEST_CASE("El Centro with the energy balance: full contact is stepped exactly, a
   if (!dir) return;
   const GroundMotion g = read_record(*dir + "/elcentro_1940_ns.at2");
   const ContactModel m = make_contact_model(load_default_scene(), true);
-  RunOptions tight;
-  tight.tolerances = {.rtol = 1e-10, .atol = 1e-13};
-  RunOptions rk45_only = tight;
-  rk45_only.exact_full_contact = false;
-  const RunResult a = simulate(m, g, tight), b = simulate(m, g, rk45_only);
+  const auto [a, b] = exact_and_integrated(m, g);
   REQUIRE(a.outcome == Outcome::completed);
   REQUIRE(a.energy_tracked);
   CHECK(a.exact_full_contact);
