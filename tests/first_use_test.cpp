@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <cstdio>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -158,6 +159,27 @@ TEST_CASE("IDA figures draw collapse as collapse, start peaks at zero, and name 
   CHECK(contains(gp, "$" + std::to_string(collapse) + " == 1"));
   CHECK(contains(gp, "set yrange [0:*]"));  // peaks from zero
   CHECK(contains(gp, "'rocking, no damper'"));
+  // The key explains the collapse markers some variant draws, and no other;
+  // variant v's markers stand 0.2 (v - 1) level spacings (2 here) aside.
+  bool drawn[4] = {false, false, false, false};
+  for (int v = 0; v < 3; ++v) {
+    std::ifstream variant(dir / "ida" / "ida_p.data" / (std::to_string(v) + ".csv"));
+    bool collapses = false;
+    std::string line;
+    for (std::getline(variant, line); std::getline(variant, line);) {
+      const int code = line.back() - '0';
+      drawn[code] = true;
+      collapses = collapses || code > 0;
+    }
+    char shifted[64];
+    std::snprintf(shifted, sizeof shifted, "(($1) + %.9g)", 0.2 * 2 * (v - 1));
+    CHECK_MESSAGE(contains(gp, shifted) == collapses, v);
+  }
+  CHECK(drawn[1]);
+  CHECK(drawn[2]);
+  CHECK(contains(gp, "title \"first overturning\""));
+  CHECK(contains(gp, "title \"overturned again\"") == drawn[2]);
+  CHECK(contains(gp, "title \"standing again after overturning\"") == drawn[3]);
   const Result sweep = run("-q sweep --record " + rec + " --scales 1 --set structure.EI_scale=0.25,1 --formats png "
                            "--out " + (dir / "sweep").string());
   REQUIRE_MESSAGE(sweep.code == 0, sweep.err);

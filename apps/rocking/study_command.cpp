@@ -201,16 +201,27 @@ void study_figures(const StudyArgs& a, const Study& st, const StudyColumns& colu
       out << header;
       int rows = 0;
       bool fallen = false;
+      unsigned codes = 0;
+      std::vector<double> levels;
       for (std::size_t i = 0; i < jobs.size(); ++i) {
         if (jobs[i].record != r || jobs[i].variant != v || lines[i].empty()) continue;
         const bool down = lines[i].ends_with(",1");
         const int code = down ? (fallen ? 2 : 1) : (fallen ? 3 : 0);
         fallen = fallen || down;
+        codes |= code > 0 ? 1u << code : 0u;
+        levels.push_back(jobs[i].level);
         out << lines[i].substr(0, lines[i].size() - 1) << code << '\n';
         ++rows;
       }
       if (rows == 0) continue;
       plot::Series s{variant_label(st.variants()[v].name), file, {}, fallen ? static_cast<int>(columns.size()) + 2 : 0};
+      s.collapse_codes = codes;
+      // The variants' collapse markers side by side: a fifth of the levels' spacing apart.
+      std::ranges::sort(levels);
+      double spacing = 0;
+      for (std::size_t i = 1; i < levels.size(); ++i)
+        if (const double d = levels[i] - levels[i - 1]; d > 0 && (spacing == 0 || d < spacing)) spacing = d;
+      s.dodge = 0.2 * spacing * (static_cast<double>(v) - 0.5 * static_cast<double>(st.variants().size() - 1));
       for (std::size_t p = 0; p < shown.size(); ++p)  // what the variant does not have (a fixed base's rocking)
         if (!st.reports(v, columns.quantities[shown[p]])) s.absent.push_back(p);
       series.push_back(std::move(s));

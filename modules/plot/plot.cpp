@@ -128,7 +128,7 @@ std::string key_plot(const Grid& g, const std::vector<std::string>& entries) {
              "  set tmargin at screen {:.4f}\n  set bmargin at screen {:.4f}\n"
              "  unset border\n  unset tics\n  unset xlabel\n  unset ylabel\n  unset grid\n  unset logscale\n"
              "  set xrange [0:1]\n  set yrange [0:1]\n"
-             "  set key center center {} maxcols {} nobox noopaque samplen 2.5\n",
+             "  set key center center {} maxcols {} nobox noopaque samplen 2.5 width 2\n",
              // One column laid out "horizontal" loses its entries ("difficulty
              // fitting plot titles into key"); "vertical" draws the same column.
              g.key_top, g.key_bottom, g.key_columns == 1 ? "vertical" : "horizontal", g.key_columns) +
@@ -591,13 +591,24 @@ std::vector<fs::path> render_lines(const Figure& fig, int rows, int cols, const 
 std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const std::string& xlabel,
                                     const std::vector<Panel>& panels, const std::vector<Series>& series, bool loglog) {
   if (series.empty()) throw InputError("figure: no series to plot");
+  // The collapse markers the key explains: those some series draws.
+  struct Marker {
+    unsigned code;
+    const char* style;
+    const char* words;
+  };
+  static constexpr std::array<Marker, 3> markers{
+      Marker{1, "pointtype 2 pointsize 2.6 linewidth 3", "first overturning"},
+      Marker{2, "pointtype 2 pointsize 1.2", "overturned again"},
+      Marker{3, "pointtype 6 pointsize 1.2", "standing again after overturning"}};
   std::vector<std::string> labels;
-  bool collapses = false;
+  unsigned codes = 0;
   for (const Series& s : series) {
     labels.push_back(s.label);
-    collapses = collapses || s.collapse_column > 0;
+    if (s.collapse_column > 0) codes |= s.collapse_codes;
   }
-  if (collapses) labels.push_back("overturns (x: first; o: survives above it)");
+  for (const Marker& m : markers)
+    if ((codes >> m.code & 1u) != 0) labels.push_back(m.words);
   const int points = font_points(fig, 550 * cols, 320 * rows);
   const Grid grid = shared_key_grid(fig, rows, cols, points, labels);
   std::string body = grid.begin + fmt::format("  set grid\n  set autoscale xfix\n  set offsets 0, 0, graph 0.05, 0\n"
@@ -630,15 +641,11 @@ std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const
         const std::string code = fmt::format("${}", s.collapse_column);
         items.push_back(fmt::format("{} skip 1 using ({}):({} == 0 ? {} : NaN) with linespoints linestyle {} {}", file,
                                     panel.x, code, panel.y, i + 1, title));
-        items.push_back(fmt::format("{} skip 1 using ({}):({} == 1 ? {} : NaN) with points linestyle {} pointtype 2 "
-                                    "pointsize 2.6 linewidth 3 notitle",
-                                    file, panel.x, code, panel.y, i + 1));
-        items.push_back(fmt::format("{} skip 1 using ({}):({} == 2 ? {} : NaN) with points linestyle {} pointtype 2 "
-                                    "pointsize 1.2 notitle",
-                                    file, panel.x, code, panel.y, i + 1));
-        items.push_back(fmt::format("{} skip 1 using ({}):({} == 3 ? {} : NaN) with points linestyle {} pointtype 6 "
-                                    "pointsize 1.2 notitle",
-                                    file, panel.x, code, panel.y, i + 1));
+        for (const Marker& m : markers)
+          if ((s.collapse_codes >> m.code & 1u) != 0)
+            items.push_back(fmt::format("{} skip 1 using (({}) + {:.9g}):({} == {} ? {} : NaN) with points linestyle {} "
+                                        "{} notitle",
+                                        file, panel.x, s.dodge, code, m.code, panel.y, i + 1, m.style));
       }
       if (!panel.point_label.empty())
         items.push_back(fmt::format("{} skip 1 using ({}):({}):({}) with labels offset char 0,0.9 font \",{}\" "
@@ -658,9 +665,9 @@ std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const
   for (std::size_t i = 0; i < series.size(); ++i)
     entries.push_back(fmt::format("NaN with {} linestyle {} title {} noenhanced",
                                   series[i].points ? "linespoints" : "lines", i + 1, quote(series[i].label)));
-  if (collapses)
-    entries.push_back("NaN with points pointtype 2 pointsize 2.6 linewidth 3 linecolor rgb \"#222222\" "
-                      "title \"overturns (x: first; o: survives above it)\"");
+  for (const Marker& m : markers)
+    if ((codes >> m.code & 1u) != 0)
+      entries.push_back(fmt::format("NaN with points {} linecolor rgb \"#222222\" title \"{}\"", m.style, m.words));
   body += key_plot(grid, entries);
   const std::string script = fmt::format(
       "# rocking: study figure (peaks against the scale factor or a parameter).\n"

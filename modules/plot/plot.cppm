@@ -104,6 +104,11 @@ struct Series {
   // cross, the line ends before it), 2 a later collapse (a small cross),
   // 3 a survivor above a collapse (an open point, not joined).
   int collapse_column = 0;
+  // The codes above 0 that occur (bit k for code k): the key explains those.
+  unsigned collapse_codes = 0;
+  // Added to x at this series' collapse markers, so that the markers of
+  // series that collapse at the same point stand side by side (data units).
+  double dodge = 0;
   bool points = true;  // false: a line only (time histories, spectra)
 };
 // loglog: both axes logarithmic (work-precision diagrams).
