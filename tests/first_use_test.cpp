@@ -296,6 +296,36 @@ TEST_CASE("figure scripts: time axes end at the run's end, fixed bases draw no r
   CHECK_FALSE(contains(panel("damper elongation"), "1.csv"));  // nor the variant without a damper
   CHECK(contains(panel("damper elongation"), "0.csv"));
   CHECK(contains(panel("base moment"), "2.csv"));
+  // --log auto: the base shear's panel is logarithmic exactly when its peaks
+  // over the variants (column base_shear of ida.csv) span more than a decade;
+  // --log on makes every force-like panel logarithmic and no drift panel,
+  // --log off none.
+  const CsvTable ida = csv_table(file_text(dir / "ida" / "ida.csv"));
+  double low = 1e300, high = 0;
+  for (std::size_t i = 0; i < ida.rows.size(); ++i)
+    if (const std::string& field = ida.at(i, "base_shear"); !field.empty() && std::stod(field) > 0) {
+      const double v = std::stod(field);
+      low = std::min(low, v);
+      high = std::max(high, v);
+    }
+  REQUIRE(high > 0);
+  // ("\n  set logscale y": "unset logscale y" opens every other panel)
+  CHECK(contains(panel("base shear"), "\n  set logscale y") == (high > 10 * low));
+  CHECK_FALSE(contains(panel("total top drift"), "\n  set logscale y"));
+  for (const std::string mode : {"on", "off"}) {
+    const fs::path out = dir / ("log_" + mode);
+    REQUIRE(run("-q ida --record " + rec + " --scales 1,2 --formats png --log " + mode + " --out " + out.string())
+                .code == 0);
+    const std::string script = file_text(out / "ida_p.gp");
+    const std::size_t shear = script.find("peak base shear"), drift = script.find("peak total top drift");
+    REQUIRE(shear != std::string::npos);
+    REQUIRE(drift != std::string::npos);
+    const bool shear_log = script.substr(shear, 120).find("\n  set logscale y") != std::string::npos;
+    const bool drift_log = script.substr(drift, 120).find("\n  set logscale y") != std::string::npos;
+    CHECK(shear_log == (mode == "on"));
+    CHECK_FALSE(drift_log);
+  }
+  CHECK(run("-q ida --record " + rec + " --scales 1 --log sometimes --out " + (dir / "bad").string()).code == 2);
   REQUIRE(run("-q spectrum --sizes 1,2 --frequencies 1:3:1 --amplitudes 1:3:1 --formats png --out " +
               (dir / "sp").string()).code == 0);
   const std::string sp = file_text(dir / "sp" / "spectrum.gp");

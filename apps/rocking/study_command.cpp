@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <csignal>
 #include <sstream>
 #include <fstream>
@@ -48,6 +49,7 @@ struct StudyArgs {
   double hunt_step = std::nan(""), hunt_max = std::nan(""), precision = std::nan(""), fill_step = std::nan("");
   double hunt_growth = 1.5;
   std::string formats = "png,pdf,svg";
+  std::string log_axes = "auto";
   bool no_plot = false;
   bool per_record = false;
   bool resume = false;
@@ -182,9 +184,12 @@ void study_figures(const StudyArgs& a, const Study& st, const StudyColumns& colu
         break;
       }
   std::vector<plot::Panel> panels;
+  std::vector<bool> force_like;  // forces, moments, accelerations: the panels --log may make logarithmic
   for (std::size_t k : shown) {
     const QuantityName q(columns.quantities[k]);
     panels.push_back({"peak " + axis_label(q), "$1", fmt::format("${}*{:.9g}", k + 2, figure_factor(q)), true, ""});
+    const std::string_view unit = q.unit();
+    force_like.push_back(unit == "V_ref" || unit == "M_ref" || unit == "N" || unit == "N m" || unit == "m/s2");
   }
   const std::string header = fmt::format("level,{},collapse\n", fmt::join(columns.names(), ","));
   for (std::size_t r = 0; r < st.records().size(); ++r) {
@@ -227,6 +232,24 @@ void study_figures(const StudyArgs& a, const Study& st, const StudyColumns& colu
       series.push_back(std::move(s));
     }
     if (series.empty()) continue;
+    // --log auto: a force-like panel whose positive peaks over every variant
+    // of this record span more than a decade.
+    std::vector<plot::Panel> record_panels = panels;
+    for (std::size_t p = 0; p < shown.size(); ++p) {
+      if (!force_like[p] || a.log_axes == "off") continue;
+      double low = std::numeric_limits<double>::infinity(), high = 0;
+      for (std::size_t i = 0; i < jobs.size(); ++i) {
+        if (jobs[i].record != r || lines[i].empty()) continue;
+        const std::vector<std::string> f = csv_fields(lines[i]);
+        if (shown[p] + 1 >= f.size() || f[shown[p] + 1].empty()) continue;
+        const double v = std::abs(std::stod(f[shown[p] + 1]));
+        if (v > 0 && std::isfinite(v)) {
+          low = std::min(low, v);
+          high = std::max(high, v);
+        }
+      }
+      record_panels[p].log_y = a.log_axes == "on" ? high > 0 : high > 10 * low;
+    }
     plot::Figure fig;
     fig.dir = dir;
     fig.name = name;
@@ -238,7 +261,7 @@ void study_figures(const StudyArgs& a, const Study& st, const StudyColumns& colu
     fig.title = fmt::format("{}: {}\n{}", scene_name,
                             kind == "ida" ? "incremental dynamic analysis" : "parametric study",
                             motion != nullptr ? motion_title(*motion) : ids[r]);
-    for (const fs::path& f : plot::render_panels(fig, rows, 2, im_axis_label(st.intensity_measure()), panels, series))
+    for (const fs::path& f : plot::render_panels(fig, rows, 2, im_axis_label(st.intensity_measure()), record_panels, series))
       fmt::print("wrote {}\n", f.string());
   }
 }
@@ -734,6 +757,12 @@ void add_study_options(CLI::App& cmd, StudyArgs& a, const std::string& default_o
   cmd.add_option("--out", a.out, fmt::format("Output folder (default {})", default_out))->type_name("DIR");
   cmd.add_option("--formats", a.formats, "Figure formats: png,pdf,svg (default all)")->type_name("LIST");
   cmd.add_flag("--no-plot", a.no_plot, "Write the CSVs and JSON only");
+  cmd.add_option("--log", a.log_axes,
+                 "Logarithmic axes for the peaks of forces, moments and accelerations in the\n"
+                 "per-record figures: auto (default: where the variants' peaks span more than\n"
+                 "a decade, as a fixed base's beside rocking ones), on, off")
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->type_name("auto|on|off");
   cmd.add_flag("--per-record", a.per_record,
                "Draw one figure per record also for more than three records");
   cmd.add_flag("--resume", a.resume,

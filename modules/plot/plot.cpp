@@ -620,7 +620,10 @@ std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const
   for (std::size_t p = 0; p < panels.size(); ++p) {
     const Panel& panel = panels[p];
     body += grid.panels[p] + "  unset key\n";
-    body += fmt::format("  set ylabel {}\n  set yrange [{}:*]\n", quote(panel.ylabel), panel.from_zero ? "0" : "*");
+    body += fmt::format("  set ylabel {}\n  set yrange [{}:*]\n", quote(panel.ylabel),
+                        panel.from_zero && !panel.log_y ? "0" : "*");
+    if (!loglog)
+      body += panel.log_y ? "  set logscale y\n  set format y \"10^{%T}\"\n" : "  unset logscale y\n  set format y \"% h\"\n";
     body += "  unset arrow\n  unset label\n";
     if (!panel.xrange.empty()) body += fmt::format("  set xrange {}\n", panel.xrange);
     for (std::size_t m = 0; m < panel.marks.size(); ++m)
@@ -629,28 +632,30 @@ std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const
                           "char 0.3,-{3} font \",{4}\" noenhanced\n",
                           panel.marks[m].x, m + 10, quote(panel.marks[m].label), m, std::max(7, points - 3));
     std::vector<std::string> items;
+    // On a logarithmic axis a value <= 0 has no place: not drawn (gnuplot would warn).
+    const std::string y = panel.log_y ? fmt::format("(({0}) > 0 ? ({0}) : NaN)", panel.y) : panel.y;
     for (std::size_t i = 0; i < series.size(); ++i) {
       const Series& s = series[i];
       if (std::find(s.absent.begin(), s.absent.end(), p) != s.absent.end()) continue;
       const std::string file = quote(s.file);
       const std::string title = fmt::format("title {} noenhanced", quote(s.label));
       if (s.collapse_column == 0) {
-        items.push_back(fmt::format("{} skip 1 using ({}):({}) with {} linestyle {} {}", file, panel.x, panel.y,
+        items.push_back(fmt::format("{} skip 1 using ({}):({}) with {} linestyle {} {}", file, panel.x, y,
                                     s.points ? "linespoints" : "lines", i + 1, title));
       } else {
         const std::string code = fmt::format("${}", s.collapse_column);
         items.push_back(fmt::format("{} skip 1 using ({}):({} == 0 ? {} : NaN) with linespoints linestyle {} {}", file,
-                                    panel.x, code, panel.y, i + 1, title));
+                                    panel.x, code, y, i + 1, title));
         for (const Marker& m : markers)
           if ((s.collapse_codes >> m.code & 1u) != 0)
             items.push_back(fmt::format("{} skip 1 using (({}) + {:.9g}):({} == {} ? {} : NaN) with points linestyle {} "
                                         "{} notitle",
-                                        file, panel.x, s.dodge, code, m.code, panel.y, i + 1, m.style));
+                                        file, panel.x, s.dodge, code, m.code, y, i + 1, m.style));
       }
       if (!panel.point_label.empty())
         items.push_back(fmt::format("{} skip 1 using ({}):({}):({}) with labels offset char 0,0.9 font \",{}\" "
                                     "textcolor rgb \"#{}\" notitle",
-                                    file, panel.x, panel.y, panel.point_label, std::max(7, points - 3),
+                                    file, panel.x, y, panel.point_label, std::max(7, points - 3),
                                     palette[i % palette_size]));
     }
     if (items.empty()) {  // an empty panel that says so

@@ -92,6 +92,7 @@ struct Panel {
   std::string point_label;  // non-empty: a text at every point (e.g. "sprintf('%.0e', $4)")
   std::vector<Mark> marks = {};
   std::string xrange = {};  // non-empty: the x axis's range, e.g. "[6:170]" (else autoscaled)
+  bool log_y = false;       // a logarithmic y axis (from_zero ignored; values <= 0 not drawn)
 };
 struct Series {
   std::string label;
