@@ -196,6 +196,9 @@ TEST_CASE("mode shapes: one colour per mode in both panels, and no internal docu
   CHECK(contains(gp, "using 2:1 with linespoints linestyle 1 title 'mode 1:"));
   CHECK(contains(gp, "using 7:1 with linespoints linestyle 1 title 'mode 1:"));
   CHECK(contains(gp, "using 6:1 with linespoints linestyle 6 title 'R:"));
+  // The keys sit below the panels, kept clear of the axis label by its empty second line.
+  CHECK(contains(gp, "set key outside below"));
+  CHECK(contains(gp, "set xlabel \"lateral displacement (normalised, top = 1) [-]\\n\""));
 }
 
 TEST_CASE("the program's own words: --version, a mistyped subcommand, -q after it, singulars, absent dampers") {

@@ -734,8 +734,9 @@ std::vector<fs::path> render_modes(const Figure& fig, const std::string& data_fi
   std::string body = fmt::format(
       "  set multiplot layout 1,2 title {} noenhanced\n"
       "  set grid\n"
-      "  set key outside below center vertical maxrows 3 nobox\n"
-      "  set xlabel \"lateral displacement (normalised, top = 1) [-]\"\n"
+      // The axis label's second (empty) line keeps the key below clear of it.
+      "  set key outside below center vertical maxrows 3 width 1 nobox\n"
+      "  set xlabel \"lateral displacement (normalised, top = 1) [-]\\n\"\n"
       "  set ylabel \"height [m]\"\n"
       "  set xzeroaxis\n",
       quote(fig.title));
