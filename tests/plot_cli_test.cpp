@@ -242,6 +242,10 @@ TEST_CASE("animate writes a valid animated GIF with one image per frame, both st
   CHECK(gp.find("main.dat") != std::string::npos);
   CHECK(gp.find("twin.dat") != std::string::npos);
   CHECK(gp.find("set arrow 1 from t") != std::string::npos);  // the time cursor
+  // The base moments' key above their panel, not over the traces; the twin dashed.
+  CHECK(gp.find("set key outside top") != std::string::npos);
+  CHECK(gp.find("set key top right") == std::string::npos);
+  CHECK(gp.find("using 1:4 with lines dashtype 2") != std::string::npos);
   const Result bad = run("animate --out " + (dir / "a.avi").string());
   CHECK(bad.code == 2);
   CHECK(lines(bad.err) == 1);

@@ -171,9 +171,11 @@ int animate(const AnimateArgs& a) {
   const std::string right_trace =
       alone ? std::string("  set ylabel \"rocking angle {/Symbol q}/{/Symbol a}_{cg}\"\n"
                           "  plot d.\"traces.dat\" using 1:5 with lines lc rgb \"#1f4e9c\" notitle\n")
-            : fmt::format("  set ylabel \"base moment M/M_{{ref}}\"\n  set key top right\n"
+            // the key above the panel, off the traces; the twin dashed (greyscale print)
+            : fmt::format("  set ylabel \"base moment M/M_{{ref}}\"\n"
+                          "  set key outside top center horizontal nobox samplen 2.5 width 1\n"
                           "  plot d.\"traces.dat\" using 1:3 with lines lc rgb \"#1f4e9c\" title \"rocking\", "
-                          "'' using 1:4 with lines lc rgb \"#27864a\" title {}\n",
+                          "'' using 1:4 with lines dashtype 2 lc rgb \"#27864a\" title {}\n",
                           plot::quote(twin_label));
   const double span = std::max(3 * B, 0.5 * H);
   std::string script = fmt::format(
