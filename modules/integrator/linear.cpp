@@ -141,6 +141,26 @@ class BlockSolution {
     quads_.push_back(std::move(q));
   }
 
+  // Per mode over [0, tau]: E = e^(lambda tau), J0 = int e^(lambda s) ds and
+  // J1 = int s e^(lambda s) ds; and of a pair of modes, int e^((lambda_j + lambda_k) s) ds.
+  struct ModeIntegrals {
+    Eigen::VectorXcd E, J0, J1;
+  };
+  ModeIntegrals mode_integrals(double tau) const {
+    const Eigen::Index m = z0_.size();
+    ModeIntegrals t{Eigen::VectorXcd(m), Eigen::VectorXcd(m), Eigen::VectorXcd(m)};
+    for (Eigen::Index j = 0; j < m; ++j) {
+      const Complex x = lambda_[j] * tau;
+      t.E[j] = std::exp(x);
+      t.J0[j] = tau * phi1(x, t.E[j]);
+      t.J1[j] = tau * tau * phi2(x, t.E[j]);
+    }
+    return t;
+  }
+  Complex pair_integral(const ModeIntegrals& t, Eigen::Index j, Eigen::Index k, double tau) const {
+    return tau * phi1((lambda_[j] + lambda_[k]) * tau, t.E[j] * t.E[k]);
+  }
+
   // Each quadrature's integral over [0, tau] of the current step, in closed
   // form, added to sums[i].
   void add_integrals(double tau, double* sums) const {
@@ -151,24 +171,22 @@ class BlockSolution {
     }
     if (!any) return;
     const Eigen::Index m = z0_.size();
-    Eigen::VectorXcd E(m), alpha(m), p(m), r(m), J0(m), J1(m);
+    Eigen::VectorXcd alpha(m), p(m), r(m);
     const Eigen::VectorXcd w0 = V_inv_ * z0_.cast<Complex>();
     for (Eigen::Index j = 0; j < m; ++j) {
-      const Complex x = lambda_[j] * tau;
-      E[j] = std::exp(x);
       r[j] = -beta_[j] * slope_ * inv_lambda_[j];       // q_j
       p[j] = (r[j] - beta_[j] * a0_) * inv_lambda_[j];  // p_j
       alpha[j] = w0[j] - p[j];
-      J0[j] = tau * phi1(x, E[j]);
-      J1[j] = tau * tau * phi2(x, E[j]);
     }
+    const ModeIntegrals t = mode_integrals(tau);
+    const Eigen::VectorXcd &J0 = t.J0, &J1 = t.J1;
     // alpha_j alpha_k int e^((lambda_j + lambda_k) s) ds, symmetric: its upper triangle
     Eigen::MatrixXcd pairs;
     if (any_G) {
       pairs.resize(m, m);
       for (Eigen::Index k = 0; k < m; ++k)
         for (Eigen::Index j = 0; j <= k; ++j)
-          pairs(j, k) = alpha[j] * alpha[k] * tau * phi1((lambda_[j] + lambda_[k]) * tau, E[j] * E[k]);
+          pairs(j, k) = alpha[j] * alpha[k] * pair_integral(t, j, k, tau);
     }
     for (std::size_t i = 0; i < quads_.size(); ++i) {
       const Quad& q = quads_[i];
@@ -200,16 +218,13 @@ class BlockSolution {
     Eigen::MatrixXd N = Eigen::MatrixXd::Zero(K, K);
     if (q.G.size() == 0 && q.h.size() == 0) return N;
     Eigen::MatrixXcd Ap = Eigen::MatrixXcd::Zero(m, K), Ar = Eigen::MatrixXcd::Zero(m, K), Aa(m, K);
-    Eigen::VectorXcd E(m), J0(m), J1(m);
     for (Eigen::Index j = 0; j < m; ++j) {
       Ap(j, m) = -beta_[j] * inv_lambda_[j];
       Ap(j, m + 1) = -beta_[j] * inv_lambda_[j] * inv_lambda_[j];
       Ar(j, m + 1) = -beta_[j] * inv_lambda_[j];
-      const Complex x = lambda_[j] * tau;
-      E[j] = std::exp(x);
-      J0[j] = tau * phi1(x, E[j]);
-      J1[j] = tau * tau * phi2(x, E[j]);
     }
+    const ModeIntegrals t = mode_integrals(tau);
+    const Eigen::VectorXcd &J0 = t.J0, &J1 = t.J1;
     Aa.leftCols(m) = V_inv_;
     Aa.rightCols(2).setZero();
     Aa -= Ap;
@@ -218,7 +233,7 @@ class BlockSolution {
       Eigen::MatrixXcd GP(m, m);  // G o P, P_jk = tau phi1((lambda_j + lambda_k) tau)
       for (Eigen::Index k = 0; k < m; ++k)
         for (Eigen::Index j = 0; j < m; ++j)
-          GP(j, k) = q.G(j, k) * tau * phi1((lambda_[j] + lambda_[k]) * tau, E[j] * E[k]);
+          GP(j, k) = q.G(j, k) * pair_integral(t, j, k, tau);
       B += Aa.transpose() * GP * Aa;
       B += 2.0 * Aa.transpose() * (J0.asDiagonal() * (q.G * Ap) + J1.asDiagonal() * (q.G * Ar));
       B += tau * Ap.transpose() * q.G * Ap + tau * tau * Ap.transpose() * q.G * Ar +
