@@ -92,7 +92,7 @@ Memory peak_memory(double seconds, const ContactModel& m) {
 double rocking_rhs_ns(const ContactModel& m, const GroundMotion& ground) {
   Discrete d;
   Eigen::VectorXd y = Eigen::VectorXd::Constant(m.layout.size, 1e-3), dydt(m.layout.size);
-  begin_rocking(m, d, +1, y);
+  begin_rocking(m, d, Pivot::right, y);
   y[m.layout.theta.start] = 0.01;
   y[m.layout.theta_dot.start] = 0.02;
   Workspace work(m);

@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 import rocking.contact;
@@ -16,6 +17,7 @@ using namespace rocking;
 
 namespace {
 Scene chimney(std::vector<std::string> overrides = {}) { return load_default_scene(overrides); }
+const Phase all_phases[] = {Phase::full_contact(), Phase::rocking(Pivot::right), Phase::rocking(Pivot::left)};
 }  // namespace
 
 TEST_CASE("each scene's state holds only what it models") {
@@ -25,7 +27,7 @@ TEST_CASE("each scene's state holds only what it models") {
   const ContactModel fixed = make_contact_model(chimney({"contact.rocking=false"}), false);
   CHECK(fixed.kind == ModelKind::fixed_base);
   CHECK(fixed.layout.size == 2 * n);  // u, u' only: linear, no events
-  CHECK(phase_guards(fixed, 0).empty());
+  CHECK(phase_guards(fixed, Phase::full_contact()).empty());
   const ContactModel rigid = make_contact_model(chimney({"structure.rigid=true"}), false);
   CHECK(rigid.kind == ModelKind::rigid_block);
   CHECK(rigid.layout.size == 3);  // theta, theta', z
@@ -39,10 +41,10 @@ TEST_CASE("a rigid block lifts when the ground acceleration exceeds g tan(alpha)
   Discrete d;
   const Eigen::VectorXd y = Eigen::VectorXd::Zero(m.layout.size);
   const double a_up = m.body.g * std::tan(slenderness(m.body.structure));
-  CHECK(uplift_now(m, d, -1.001 * a_up, y) == +1);  // ground pushed left: tips right
-  CHECK(uplift_now(m, d, +1.001 * a_up, y) == -1);
-  CHECK(uplift_now(m, d, 0.999 * a_up, y) == 0);
-  CHECK(uplift_now(m, d, -0.999 * a_up, y) == 0);
+  CHECK(uplift_now(m, d, -1.001 * a_up, y) == Pivot::right);  // ground pushed left: tips right
+  CHECK(uplift_now(m, d, +1.001 * a_up, y) == Pivot::left);
+  CHECK(uplift_now(m, d, 0.999 * a_up, y) == std::nullopt);
+  CHECK(uplift_now(m, d, -0.999 * a_up, y) == std::nullopt);
 }
 
 TEST_CASE("a damper's residual force enters the uplift condition of the edge it holds") {
@@ -50,11 +52,11 @@ TEST_CASE("a damper's residual force enters the uplift condition of the edge it 
   const Eigen::VectorXd y = Eigen::VectorXd::Zero(m.layout.size);
   const double a_up = m.body.g * std::tan(slenderness(m.body.structure));
   Discrete d;
-  CHECK(uplift_now(m, d, -1.001 * a_up, y) == +1);
+  CHECK(uplift_now(m, d, -1.001 * a_up, y) == Pivot::right);
   d.set_z(0, 1.0);  // the damper that rocking about +1 stretches is already in tension
-  CHECK(uplift_now(m, d, -1.001 * a_up, y) == 0);
+  CHECK(uplift_now(m, d, -1.001 * a_up, y) == std::nullopt);
   d.set_z(0, -1.0);  // ... or pushing the edge up: lifts below the rigid threshold
-  CHECK(uplift_now(m, d, -0.999 * a_up, y) == +1);
+  CHECK(uplift_now(m, d, -0.999 * a_up, y) == Pivot::right);
 }
 
 TEST_CASE("uplift of the flexible chimney needs both the moment (Eq. 2) and L_s > 0 (Eq. 3)") {
@@ -68,11 +70,11 @@ TEST_CASE("uplift of the flexible chimney needs both the moment (Eq. 2) and L_s 
   const double c = reference_forces(m.body.structure, m.body.matrices).base_moment /
                    m.body.structure.heights.dot(m.body.matrices.K * phi);
   y.segment(l.u.start, l.n) = 1.2 * c * phi;
-  CHECK(uplift_now(m, d, 0.0, y) == 0);  // at rest: L_s = 0, not > 0
+  CHECK(uplift_now(m, d, 0.0, y) == std::nullopt);  // at rest: L_s = 0, not > 0
   y.segment(l.u_dot.start, l.n) = 0.01 * phi;     // still moving right
-  CHECK(uplift_now(m, d, 0.0, y) == +1);
+  CHECK(uplift_now(m, d, 0.0, y) == Pivot::right);
   y.segment(l.u_dot.start, l.n) = -0.01 * phi;    // already coming back
-  CHECK(uplift_now(m, d, 0.0, y) == 0);
+  CHECK(uplift_now(m, d, 0.0, y) == std::nullopt);
 }
 
 TEST_CASE("guards say truly whether they read a_g (callers skip the record lookup when not)") {
@@ -81,16 +83,16 @@ TEST_CASE("guards say truly whether they read a_g (callers skip the record looku
   for (const auto& overrides : std::vector<std::vector<std::string>>{
            {}, {"structure.rigid=true"}, {"damper.enabled=false"}, {"structure.rigid=true", "damper.enabled=false"}}) {
     const ContactModel m = make_contact_model(chimney(overrides), false);
-    for (int pivot : {0, +1, -1}) {
+    for (Phase phase : all_phases) {
       Discrete d;
       Eigen::VectorXd y = Eigen::VectorXd::Constant(m.layout.size, 0.01);
-      if (pivot != 0) begin_rocking(m, d, pivot, y), y[m.layout.theta.start] = 0.01 * pivot;
+      if (const std::optional<Pivot> p = phase.pivot()) begin_rocking(m, d, *p, y), y[m.layout.theta.start] = 0.01 * sign(*p);
       Eigen::VectorXd g0(2), g3(2);
       guard_values(m, d, 0.0, y, g0);
       guard_values(m, d, 3.0, y, g3);
-      CAPTURE(pivot);
+      CAPTURE(phase_name(phase));
       CAPTURE(m.layout.size);
-      CHECK(guards_use_ground_acceleration(m, pivot) == (g0 != g3));
+      CHECK(guards_use_ground_acceleration(m, phase) == (g0 != g3));
     }
   }
 }
@@ -130,14 +132,14 @@ TEST_CASE("impact: continued rocking takes r and keeps u'; full contact keeps th
   const Layout& l = m.layout;
   Eigen::VectorXd y = Eigen::VectorXd::Zero(l.size);
   Discrete d;
-  begin_rocking(m, d, +1, y);
+  begin_rocking(m, d, Pivot::right, y);
   y[l.theta_dot.start] = -0.05;  // falling back onto the left pivot
   y.segment(l.u_dot.start, l.n).setConstant(0.001);
   y[l.z.start] = 0.4;
   d.set_z(1, -0.3);  // what the other damper kept from its last cycle
   const ImpactResult r = impact(m, d, y);
   CHECK(r.continues);
-  CHECK(d.pivot == -1);
+  CHECK(d.phase == Phase::rocking(Pivot::left));
   CHECK(y[l.theta_dot.start] == doctest::Approx(0.9 * -0.05).epsilon(1e-15));
   CHECK(y.segment(l.u_dot.start, l.n).isApproxToConstant(0.001));
   CHECK(y[l.z.start] == -0.3);               // the left-pivot damper resumes its own z
@@ -148,7 +150,7 @@ TEST_CASE("impact: continued rocking takes r and keeps u'; full contact keeps th
   const Eigen::VectorXd u_dot_before = y.segment(l.u_dot.start, l.n);
   const ImpactResult settle = impact(m, d, y);
   CHECK_FALSE(settle.continues);
-  CHECK(d.pivot == 0);
+  CHECK(d.phase == Phase::full_contact());
   CHECK(y[l.theta_dot.start] == 0.0);
   CHECK((y.segment(l.u_dot.start, l.n) - (u_dot_before + m.body.structure.heights * 0.001)).norm() < 1e-15);
 }
@@ -158,13 +160,13 @@ TEST_CASE("Eq. 9 restitution equals Eq. 10 for an undeformed structure and stays
   const Layout& l = eq9.layout;
   Eigen::VectorXd y = Eigen::VectorXd::Zero(l.size);
   Discrete d;
-  begin_rocking(eq9, d, +1, y);
+  begin_rocking(eq9, d, Pivot::right, y);
   y[l.theta_dot.start] = -0.05;
   const ImpactResult r = impact(eq9, d, y);
   CHECK(r.r == doctest::Approx(eq9.r_eq10).epsilon(1e-12));
   // A deformed, moving structure: the ratio of the momenta about the new and
   // the old pivot, computed here from Eq. 9 as printed (upper sign: s = +1).
-  begin_rocking(eq9, d, +1, y);
+  begin_rocking(eq9, d, Pivot::right, y);
   const double th_dot = -0.05, u = 0.02, u_dot = -0.01;
   y[l.theta_dot.start] = th_dot;
   y.segment(l.u.start, l.n).setConstant(u);
@@ -215,15 +217,16 @@ TEST_CASE("modal coordinates: rhs, guards, energy, outputs and resets equal the 
                 Eigen::VectorXd::LinSpaced(l.size, -1, 1)));
     const OutputScales sn = output_scales(nodal), sm = output_scales(modal);
     Workspace wn(nodal), wm(modal);
-    for (int pivot : {0, 1, -1}) {
+    for (Phase phase : all_phases) {
       CAPTURE(nodes);
-      CAPTURE(pivot);
+      CAPTURE(phase_name(phase));
+      const int pivot = phase.sign();
       Discrete d;
       d.set_z(0, 0.3);
       d.set_z(1, -0.2);
       Eigen::VectorXd y = Eigen::VectorXd::Zero(l.size);
-      if (pivot != 0) {
-        begin_rocking(nodal, d, pivot, y);
+      if (phase.is_rocking()) {
+        begin_rocking(nodal, d, *phase.pivot(), y);
         y[l.theta.start] = 0.004 * pivot;
         y[l.theta_dot.start] = -0.03 * pivot;
       }
@@ -234,9 +237,8 @@ TEST_CASE("modal coordinates: rhs, guards, energy, outputs and resets equal the 
       phase_rhs(nodal, d, 1.3, y, fn, wn);
       phase_rhs(modal, d, 1.3, q, fm, wm);
       CHECK(close(to_nodal_state(fm), fn));
-      CHECK(mechanical_energy(modal, pivot == 0 ? 1 : pivot, q) ==
-            doctest::Approx(mechanical_energy(nodal, pivot == 0 ? 1 : pivot, y)).epsilon(1e-9));
-      const std::size_t guards = phase_guards(nodal, pivot).size();
+      CHECK(mechanical_energy(modal, phase, q) == doctest::Approx(mechanical_energy(nodal, phase, y)).epsilon(1e-9));
+      const std::size_t guards = phase_guards(nodal, phase).size();
       Eigen::VectorXd gn(guards), gm(guards);
       guard_values(nodal, d, 1.3, y, gn);
       guard_values(modal, d, 1.3, q, gm);
@@ -248,7 +250,7 @@ TEST_CASE("modal coordinates: rhs, guards, energy, outputs and resets equal the 
       view(modal, q, vm);
       CHECK(close(vm.u, vn.u));
       CHECK(close(vm.u_dot, vn.u_dot));
-      if (pivot != 0) {
+      if (phase.is_rocking()) {
         // an impact (Eq. 9 continued rocking), then one that settles (u' + H th')
         for (double theta_dot : {-0.03 * pivot, -0.001 * pivot}) {
           Eigen::VectorXd yn = y, ym = q;
@@ -257,7 +259,7 @@ TEST_CASE("modal coordinates: rhs, guards, energy, outputs and resets equal the 
           const ImpactResult in = impact(nodal, dn, yn), im = impact(modal, dm, ym);
           CHECK(in.continues == im.continues);
           CHECK(im.r == doctest::Approx(in.r).epsilon(1e-9));
-          CHECK(dn.pivot == dm.pivot);
+          CHECK(dn.phase == dm.phase);
           CHECK(close(to_nodal_state(ym), yn));
         }
       }
@@ -288,14 +290,15 @@ TEST_CASE("each acting device's kernels are its law and kinematics: terms, z' an
     const ContactModel m = make_contact_model(chimney({"damper.enabled=false", device}), false);
     const Layout& l = m.layout;
     const double B = m.body.structure.half_width;
-    for (int s : {1, -1}) {
+    for (Pivot p : pivots) {
+      const int s = sign(p);
       for (bool broken : {false, true}) {
         CAPTURE(s);
         CAPTURE(broken);
-        const ContactModel::Acting& a = m.acting[s > 0 ? 1 : 0].front();
+        const ContactModel::Acting& a = m.acting[index(p)].front();
         Discrete d;
         Eigen::VectorXd y = Eigen::VectorXd::LinSpaced(l.size, 0.002, 0.02);
-        begin_rocking(m, d, s, y);
+        begin_rocking(m, d, p, y);
         y[l.theta.start] = 0.01 * s;
         y[l.theta_dot.start] = 0.05 * s;
         if (a.slot) y[*a.slot] = 0.3;

@@ -12,7 +12,7 @@ using namespace rocking;
 
 TEST_CASE("the drawn chimney at rest has its pivots at +-B and its nodes at the heights H") {
   const Structure s = load_default_scene().structure;
-  const Outline o = outline(s, 0, 0.3, Eigen::VectorXd::Zero(4), 100.0);
+  const Outline o = outline(s, Phase::full_contact(), 0.3, Eigen::VectorXd::Zero(4), 100.0);
   CHECK(o.left_corner == Point{-3.3, 0.0});
   CHECK(o.right_corner == Point{3.3, 0.0});
   REQUIRE(o.axis.size() == 5);
@@ -28,7 +28,7 @@ TEST_CASE("rocking about the right pivot: the pivot stays, the top moves by Eq. 
   Eigen::VectorXd u(4);
   u << 0.001, 0.002, 0.003, 0.004;
   const double k = 50.0;
-  const Outline o = outline(s, +1, th, u, k);
+  const Outline o = outline(s, Phase::rocking(Pivot::right), th, u, k);
   CHECK(o.right_corner.first == doctest::Approx(B));
   CHECK(o.right_corner.second == doctest::Approx(0.0).epsilon(1e-15));
   CHECK(o.left_corner.first == doctest::Approx(B - 2 * B * std::cos(th)));
@@ -40,7 +40,7 @@ TEST_CASE("rocking about the right pivot: the pivot stays, the top moves by Eq. 
   const double dx = o.damper_end.first - o.damper_anchor.first, dy = o.damper_end.second - o.damper_anchor.second;
   CHECK(std::hypot(dx, dy) == doctest::Approx(damper_elongation(B, th)));
   // About the left pivot, the mirror image.
-  const Outline m = outline(s, -1, -th, Eigen::VectorXd::Zero(4), k);
+  const Outline m = outline(s, Phase::rocking(Pivot::left), -th, Eigen::VectorXd::Zero(4), k);
   CHECK(m.left_corner.first == doctest::Approx(-B));
   CHECK(m.right_corner.first == doctest::Approx(-B + 2 * B * std::cos(th)));
   CHECK(m.right_corner.second == doctest::Approx(2 * B * std::sin(th)));

@@ -6,6 +6,7 @@
 // equations of motion at rest, and its solve exact.
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
+#include <optional>
 #include <gsl/gsl_sf_ellint.h>
 #include <cmath>
 #include <initializer_list>
@@ -155,11 +156,11 @@ TEST_CASE("StiffPart: T is the Jacobian of the modal equations of motion at rest
   const Layout& l = m.layout;
   Workspace w(m);
   StiffPart stiff(m);
-  for (int pivot : {0, 1, -1}) {
-    CAPTURE(pivot);
+  for (Phase phase : {Phase::full_contact(), Phase::rocking(Pivot::right), Phase::rocking(Pivot::left)}) {
+    CAPTURE(phase_name(phase));
     Discrete d;
     Vec y = Vec::Zero(l.size);
-    if (pivot != 0) begin_rocking(m, d, pivot, y);
+    if (const std::optional<Pivot> p = phase.pivot()) begin_rocking(m, d, *p, y);
     // The Jacobian's columns of u and u' by central differences of the rhs.
     Eigen::MatrixXd T = Eigen::MatrixXd::Zero(l.size, l.size);
     Vec fp(l.size), fm(l.size);
@@ -176,13 +177,13 @@ TEST_CASE("StiffPart: T is the Jacobian of the modal equations of motion at rest
     if (l.theta.present()) T.row(l.theta.start).setZero();
     const double g = 3e-3;
     Vec b = Vec::LinSpaced(l.size, -1.0, 2.0), x(l.size);
-    stiff.solve(pivot, g, b, x);
+    stiff.solve(phase, g, b, x);
     const Vec residual = (Eigen::MatrixXd::Identity(l.size, l.size) - g * T) * x - b;
     CHECK(residual.norm() < 1e-6 * b.norm());
     // The same g again (the cached factors) and another g.
-    stiff.solve(pivot, g, b, x);
+    stiff.solve(phase, g, b, x);
     CHECK(((Eigen::MatrixXd::Identity(l.size, l.size) - g * T) * x - b).norm() < 1e-6 * b.norm());
-    stiff.solve(pivot, 0.5, b, x);
+    stiff.solve(phase, 0.5, b, x);
     CHECK(((Eigen::MatrixXd::Identity(l.size, l.size) - 0.5 * T) * x - b).norm() < 1e-6 * b.norm());
   }
 }
@@ -200,7 +201,7 @@ TEST_CASE("StiffPart refuses a flexible model in nodal coordinates, and solves n
   StiffPart stiff(block);
   const Vec b = Vec::LinSpaced(block.layout.size, -1.0, 2.0);
   Vec x(block.layout.size);
-  stiff.solve(1, 0.1, b, x);
+  stiff.solve(Phase::rocking(Pivot::right), 0.1, b, x);
   CHECK(x == b);
 }
 

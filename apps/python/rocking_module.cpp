@@ -350,7 +350,7 @@ PyResult simulate(const py::object& scene_arg, const py::object& record, double 
   for (std::size_t i = 0; i < collect.names.size(); ++i)
     out.history[py::str(collect.names[i])] = to_numpy(std::move(collect.history[i]));
   for (const rocking::Event& e : collect.events) {
-    py::dict d("kind"_a = std::string(rocking::event_name(e.kind)), "t"_a = e.t, "pivot"_a = e.pivot);
+    py::dict d("kind"_a = std::string(rocking::event_name(e.kind)), "t"_a = e.t, "pivot"_a = rocking::sign(e.pivot));
     if (e.device) d["device"] = run.model.devices[static_cast<std::size_t>(*e.device)].name;
     out.events.append(d);
   }

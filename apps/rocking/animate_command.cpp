@@ -66,7 +66,7 @@ void write_frames(const fs::path& file, const Structure& s, const FrameRecorder&
     const std::size_t i = f * static_cast<std::size_t>(m);
     const Response& r = rec.rows[i];
     const Eigen::VectorXd u = i < rec.u.size() ? rec.u[i] : Eigen::VectorXd();
-    const Outline o = outline(s, r.pivot, kr * r[Quantity::theta], u, k);
+    const Outline o = outline(s, r.phase, kr * r[Quantity::theta], u, k);
     for (const Point& p : o.axis) out << p.first << ' ' << p.second << " 0\n";
     out << '\n' << o.left_corner.first << ' ' << o.left_corner.second << " 0\n"
         << o.right_corner.first << ' ' << o.right_corner.second << " 0\n\n"

@@ -42,8 +42,6 @@ Layout make_layout(ModelKind kind, Eigen::Index n, Eigen::Index z_count, Eigen::
   return l;
 }
 
-std::size_t side(int s) { return s > 0 ? 1 : 0; }
-
 // The kernels of an acting device (ContactModel::TermsFn and StateFn) for
 // its law and kinematics: the chord's stretch with its lever arm l = a.lever,
 // else stretch(); the law's force and z' at (e, e', z); nothing once broken.
@@ -159,11 +157,12 @@ UpliftTerms uplift_terms(const ContactModel& m, double a_g, Eigen::Ref<const Eig
 // The uplift guard about s: min(g_s, L_s) crosses zero upwards when both
 // become positive, g_s being Eq. 2 as a smooth moment guard [N m] (MODEL.md 6)
 // and L_s = s H'M u' Eq. 3. A rigid block has no elastic momentum: g_s alone.
-double uplift_guard(const ContactModel& m, const Discrete& d, int s, const UpliftTerms& t) {
+double uplift_guard(const ContactModel& m, const Discrete& d, Pivot p, const UpliftTerms& t) {
+  const int s = sign(p);
   const Structure& st = m.body.structure;
   const double B = st.half_width;
   const double restoring = m.body.g * (B * m.body.total_mass - s * t.Mu);
-  const double gs = s * t.moment - (restoring + held_moment(m, d, s));
+  const double gs = s * t.moment - (restoring + held_moment(m, d, p));
   if (!m.layout.u.present()) return gs;
   return std::min(gs, s * t.momentum);
 }
@@ -214,15 +213,16 @@ ContactModel make_contact_model(const Structure& st, const Contact& contact, std
   m.r_eq10 = restitution_eq10(st);
   m.overturn_angle = contact.overturn_angle > 0 ? contact.overturn_angle : slenderness(st);
   std::array<Eigen::Index, 2> states{0, 0};
-  for (int s : {-1, +1})
+  for (Pivot p : pivots)
     for (std::size_t k = 0; k < m.devices.size(); ++k) {
       const Device& dev = m.devices[k];
-      const double lever = lever_arm(dev.geometry, st.half_width, s);
+      const double lever = lever_arm(dev.geometry, st.half_width, sign(p));
       if (!(lever > 0)) continue;
-      if (dev.capacity > 0) m.breakable[side(s)].push_back(static_cast<int>(m.acting[side(s)].size()));
-      if (dev.edge_damper && !m.damper[side(s)]) m.damper[side(s)] = m.acting[side(s)].size();
-      m.acting[side(s)].push_back({static_cast<int>(k), law_states(dev.law) > 0 ? std::optional<Eigen::Index>(states[side(s)]++) : std::nullopt, lever,
-                                   dev.geometry, dev.law, dev.capacity});
+      const std::size_t i = index(p);
+      if (dev.capacity > 0) m.breakable[i].push_back(static_cast<int>(m.acting[i].size()));
+      if (dev.edge_damper && !m.damper[i]) m.damper[i] = m.acting[i].size();
+      m.acting[i].push_back({static_cast<int>(k), law_states(dev.law) > 0 ? std::optional<Eigen::Index>(states[i]++) : std::nullopt, lever,
+                             dev.geometry, dev.law, dev.capacity});
     }
   // The work on each device needs its own accumulator only where a pivot
   // stretches several; with one at most, the total's increase over a rocking
@@ -230,12 +230,12 @@ ContactModel make_contact_model(const Structure& st, const Contact& contact, std
   const bool split = m.acting[0].size() > 1 || m.acting[1].size() > 1;
   m.layout = make_layout(m.kind, node_count(st), std::max(states[0], states[1]),
                          split ? static_cast<Eigen::Index>(m.devices.size()) : 0, track_energy);
-  for (int s : {-1, +1}) {
-    for (ContactModel::Acting& a : m.acting[side(s)]) {
+  for (std::size_t i : {0, 1}) {
+    for (ContactModel::Acting& a : m.acting[i]) {
       if (a.slot) *a.slot += m.layout.z.start;
       choose_kernels(a);
     }
-    m.idle_slots[side(s)] = states[side(s)] < m.layout.z.count;
+    m.idle_slots[i] = states[i] < m.layout.z.count;
   }
   set_guard_rows(m);
   return m;
@@ -245,10 +245,6 @@ ContactModel in_modal_coordinates(ContactModel m) {
   m.body = in_modal_coordinates(std::move(m.body));
   set_guard_rows(m);
   return m;
-}
-
-std::string phase_name(int pivot) {
-  return pivot == 0 ? "full_contact" : pivot > 0 ? "rocking(+1)" : "rocking(-1)";
 }
 
 Workspace::Workspace(const ContactModel& m)
@@ -308,18 +304,19 @@ LinearPhase full_contact_matrices(const ContactModel& m) {
 
 DamperState active_damper(const ContactModel& m, const Discrete& d, const Tilt& tilt,
                           Eigen::Ref<const Eigen::VectorXd> y) {
-  if (d.pivot == 0) return {};
-  const std::optional<std::size_t>& k = m.damper[side(d.pivot)];
+  const std::optional<Pivot> p = d.phase.pivot();
+  if (!p) return {};
+  const std::optional<std::size_t>& k = m.damper[index(*p)];
   if (!k) return {};
-  const ContactModel::Acting& a = m.acting[side(d.pivot)][*k];
+  const ContactModel::Acting& a = m.acting[index(*p)][*k];
   if (d.broken != 0 && d.is_broken(a.device)) return {};
-  return a.state(a, d, m.body.structure.half_width, d.pivot, tilt, theta_dot_of(m, y), y.data());
+  return a.state(a, d, m.body.structure.half_width, sign(*p), tilt, theta_dot_of(m, y), y.data());
 }
 
 void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, const Eigen::Ref<const Eigen::VectorXd>& y,
                Eigen::Ref<Eigen::VectorXd> dydt, Workspace& w) {
   const Layout& l = m.layout;
-  const int s = d.pivot;
+  const int s = d.phase.sign();
   const double B = m.body.structure.half_width;
   const Tilt tilt(theta_of(m, y));  // the only trig of the evaluation
   const double thd = theta_dot_of(m, y);
@@ -327,11 +324,12 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, const Eigen
   // (a chord device's as (F l) cos(th/2)), their state rates and their power.
   double device_moment = 0, damper_power = 0;
   if (s != 0) {
-    if (m.idle_slots[side(s)])  // a slot this pivot leaves unused rests
+    const std::size_t i = index(*d.phase.pivot());
+    if (m.idle_slots[i])  // a slot this pivot leaves unused rests
       for (Eigen::Index k = 0; k < l.z.count; ++k) dydt[l.z.start + k] = 0.0;
     const bool split_work = l.energy.count > 3;
     if (split_work) std::fill(dydt.data() + l.energy.start + 3, dydt.data() + l.energy.start + l.energy.count, 0.0);
-    const std::vector<ContactModel::Acting>& acting = m.acting[side(s)];
+    const std::vector<ContactModel::Acting>& acting = m.acting[i];
     if (acting.size() == 1 && !split_work) {  // the paper's case: one damper per pivot
       const ContactModel::Acting& a = acting.front();
       const ContactModel::DeviceTerms t = a.terms(a, d, B, s, tilt, thd, y.data(), dydt.data());
@@ -372,12 +370,13 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, const Eigen
   }
 }
 
-std::vector<PhaseGuard> phase_guards(const ContactModel& m, int pivot) {
+std::vector<PhaseGuard> phase_guards(const ContactModel& m, Phase phase) {
   if (m.kind == ModelKind::fixed_base) return {};
-  if (pivot == 0) return {{Guard::uplift_right, Crossing::rising, {}}, {Guard::uplift_left, Crossing::rising, {}}};
+  const std::optional<Pivot> p = phase.pivot();
+  if (!p) return {{Guard::uplift_right, Crossing::rising, {}}, {Guard::uplift_left, Crossing::rising, {}}};
   std::vector<PhaseGuard> out{{Guard::impact, Crossing::falling, {}}, {Guard::overturn, Crossing::rising, {}}};
-  const auto& acting = m.acting[side(pivot)];
-  for (int i : m.breakable[side(pivot)])
+  const auto& acting = m.acting[index(*p)];
+  for (int i : m.breakable[index(*p)])
     out.push_back({Guard::fracture, Crossing::rising, acting[static_cast<std::size_t>(i)].device});
   return out;
 }
@@ -385,22 +384,23 @@ std::vector<PhaseGuard> phase_guards(const ContactModel& m, int pivot) {
 void guard_values(const ContactModel& m, const Discrete& d, double a_g, const Eigen::Ref<const Eigen::VectorXd>& y,
                   Eigen::Ref<Eigen::VectorXd> g) {
   if (m.kind == ModelKind::fixed_base) return;
-  if (d.pivot == 0) {
+  const std::optional<Pivot> p = d.phase.pivot();
+  if (!p) {
     const UpliftTerms t = uplift_terms(m, a_g, y);
-    g[0] = uplift_guard(m, d, +1, t);
-    g[1] = uplift_guard(m, d, -1, t);
+    g[0] = uplift_guard(m, d, Pivot::right, t);
+    g[1] = uplift_guard(m, d, Pivot::left, t);
   } else {
-    const double st = d.pivot * y[m.layout.theta.start];
+    const double st = sign(*p) * y[m.layout.theta.start];
     g[0] = st;
     g[1] = st - m.overturn_angle;
-    const auto& breakable = m.breakable[side(d.pivot)];
+    const auto& breakable = m.breakable[index(*p)];
     if (breakable.empty()) return;
     const Tilt tilt(y[m.layout.theta.start]);
     Eigen::Index k = 2;
     for (int i : breakable) {
-      const ContactModel::Acting& a = m.acting[side(d.pivot)][static_cast<std::size_t>(i)];
+      const ContactModel::Acting& a = m.acting[index(*p)][static_cast<std::size_t>(i)];
       g[k++] = d.is_broken(a.device) ? -1.0
-                                     : stretch(a.geometry, m.body.structure.half_width, d.pivot, tilt).e - a.capacity;
+                                     : stretch(a.geometry, m.body.structure.half_width, sign(*p), tilt).e - a.capacity;
     }
   }
 }
@@ -411,11 +411,11 @@ void fracture(Discrete& d, int device) {
 }
 
 void Discrete::refresh_held(const ContactModel& m) const {
-  for (int p : {-1, +1}) {
+  for (std::size_t i : {0, 1}) {
     double held = 0;
-    for (const ContactModel::Acting& a : m.acting[side(p)])
+    for (const ContactModel::Acting& a : m.acting[i])
       if (!is_broken(a.device)) held += law_force_at_rest(a.law, z(a.device)) * a.lever;
-    held_[side(p)] = held;
+    held_[i] = held;
   }
   held_fresh_ = true;
 }
@@ -426,55 +426,59 @@ void device_samples(const ContactModel& m, const Discrete& d, Eigen::Ref<const E
   if (d.broken != 0)
     for (std::size_t k = 0; k < out.size(); ++k)
       if (d.is_broken(static_cast<int>(k))) out[k] = {std::nan(""), std::nan(""), 0.0};
-  if (d.pivot == 0) return;
+  const std::optional<Pivot> p = d.phase.pivot();
+  if (!p) return;
+  const int s = sign(*p);
   const Tilt tilt(y[m.layout.theta.start]);
   const double thd = y[m.layout.theta_dot.start];
-  for (const ContactModel::Acting& a : m.acting[side(d.pivot)]) {
+  for (const ContactModel::Acting& a : m.acting[index(*p)]) {
     if (d.broken != 0 && d.is_broken(a.device)) continue;
-    const DamperState n = a.state(a, d, m.body.structure.half_width, d.pivot, tilt, thd, y.data());
-    const double de_dtheta = stretch(a.geometry, m.body.structure.half_width, d.pivot, tilt).de_dtheta;
-    out[static_cast<std::size_t>(a.device)] = {n.elongation, n.force, d.pivot * n.force * de_dtheta};
+    const DamperState n = a.state(a, d, m.body.structure.half_width, s, tilt, thd, y.data());
+    const double de_dtheta = stretch(a.geometry, m.body.structure.half_width, s, tilt).de_dtheta;
+    out[static_cast<std::size_t>(a.device)] = {n.elongation, n.force, s * n.force * de_dtheta};
   }
 }
 
-bool guards_use_ground_acceleration(const ContactModel& m, int pivot) {
-  return pivot == 0 && m.kind == ModelKind::rigid_block;
+bool guards_use_ground_acceleration(const ContactModel& m, Phase phase) {
+  return !phase.is_rocking() && m.kind == ModelKind::rigid_block;
 }
 
-int uplift_now(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y) {
-  if (m.kind == ModelKind::fixed_base) return 0;
+std::optional<Pivot> uplift_now(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y) {
+  if (m.kind == ModelKind::fixed_base) return std::nullopt;
   const UpliftTerms t = uplift_terms(m, a_g, y);
-  for (int s : {+1, -1})
-    if (uplift_guard(m, d, s, t) > 0) return s;
-  return 0;
+  for (Pivot p : pivots)
+    if (uplift_guard(m, d, p, t) > 0) return p;
+  return std::nullopt;
 }
 
 namespace {
-// The states of the devices pivot s stretches, from the discrete state into
+// The states of the devices pivot p stretches, from the discrete state into
 // their slots, or back.
-void load_states(const ContactModel& m, const Discrete& d, int s, Eigen::Ref<Eigen::VectorXd> y) {
-  for (const ContactModel::Acting& a : m.acting[side(s)])
+void load_states(const ContactModel& m, const Discrete& d, Pivot p, Eigen::Ref<Eigen::VectorXd> y) {
+  for (const ContactModel::Acting& a : m.acting[index(p)])
     if (a.slot) y[*a.slot] = d.z(a.device);
 }
-void save_states(const ContactModel& m, Discrete& d, int s, Eigen::Ref<const Eigen::VectorXd> y) {
-  for (const ContactModel::Acting& a : m.acting[side(s)])
+void save_states(const ContactModel& m, Discrete& d, Pivot p, Eigen::Ref<const Eigen::VectorXd> y) {
+  for (const ContactModel::Acting& a : m.acting[index(p)])
     if (a.slot) d.set_z(a.device, y[*a.slot]);
 }
 }  // namespace
 
-void begin_rocking(const ContactModel& m, Discrete& d, int s, Eigen::Ref<Eigen::VectorXd> y) {
-  d.pivot = d.last_pivot = s;
+void begin_rocking(const ContactModel& m, Discrete& d, Pivot p, Eigen::Ref<Eigen::VectorXd> y) {
+  d.phase = Phase::rocking(p);
+  d.last_pivot = p;
   y[m.layout.theta.start] = 0.0;
   y[m.layout.theta_dot.start] = 0.0;
-  load_states(m, d, s, y);
+  load_states(m, d, p, y);
 }
 
 ImpactResult impact(const ContactModel& m, Discrete& d, Eigen::Ref<Eigen::VectorXd> y) {
   const Layout& l = m.layout;
   const Structure& st = m.body.structure;
-  const int s = d.pivot;
+  const Pivot p = *d.phase.pivot();
+  const int s = sign(p);
   const double B = st.half_width, theta_dot = y[l.theta_dot.start];
-  save_states(m, d, s, y);  // the stretched devices keep their z for their next cycle
+  save_states(m, d, p, y);  // the stretched devices keep their z for their next cycle
   y[l.theta.start] = 0.0;
   // L_new = (J_p - 2 (1'M1 + m0) B^2 + u'Mu) th'- + H'M u' (momentum about the new pivot)
   const double uMu = mass_norm(m.body, u_of(m, y));
@@ -485,17 +489,19 @@ ImpactResult impact(const ContactModel& m, Discrete& d, Eigen::Ref<Eigen::Vector
   if (out.continues) {
     out.r = restitution(m, s, y, l_new, theta_dot);
     y[l.theta_dot.start] = out.r * theta_dot;
-    d.pivot = d.last_pivot = -s;
-    load_states(m, d, -s, y);
+    d.phase = Phase::rocking(opposite(p));
+    d.last_pivot = opposite(p);
+    load_states(m, d, opposite(p), y);
   } else {
     if (l.u.present()) y.segment(l.u_dot.start, l.n) += heights_in_coordinates(m.body) * theta_dot;
     y[l.theta_dot.start] = 0.0;
-    d.pivot = 0;
+    d.phase = Phase::full_contact();
   }
   return out;
 }
 
-double mechanical_energy(const ContactModel& m, int s, Eigen::Ref<const Eigen::VectorXd> y) {
+double mechanical_energy(const ContactModel& m, Phase phase, Eigen::Ref<const Eigen::VectorXd> y) {
+  const int s = phase.is_rocking() ? phase.sign() : 1;  // theta = 0 in full contact: either pivot's
   const Coordinates q{u_of(m, y), u_dot_of(m, y), Tilt(theta_of(m, y)), theta_dot_of(m, y)};
   return mechanical_energy(m.body, s, q);
 }

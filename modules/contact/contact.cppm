@@ -13,8 +13,8 @@
 // [damper] is a Bouc-Wen chord device at each edge (x = -B, stretched about
 // pivot +1; x = +B, about -1). A device with a capacity e_u fractures when its
 // elongation reaches it (a located event) and exerts nothing after.
-// Phases: full contact (pivot 0) or rocking about pivot s = +1 (right, theta > 0)
-// or -1. Guards: uplift about s (both Eq. 2 as the smooth moment guard g_s and
+// Phases (rocking.geometry's Phase): full contact, or rocking about a pivot,
+// s = +1 (right, theta > 0) or -1 (left). Guards: uplift about s (both Eq. 2 as the smooth moment guard g_s and
 // Eq. 3, L_s > 0: the guard is min(g_s, L_s), rising); impact (s theta falling
 // through 0); overturning (s theta rising through the overturn angle).
 // Resets: uplift (theta = theta' = 0, the stretched devices resume their z);
@@ -105,7 +105,7 @@ struct ContactModel {
     TermsFn terms = nullptr;
     StateFn state = nullptr;
   };
-  // Per pivot ([0]: s = -1, [1]: s = +1): the devices it stretches (lever arm
+  // Per pivot (index(Pivot): [0] left, [1] right): the devices it stretches (lever arm
   // > 0), in the scene's order, each with what the right-hand side needs of
   // it in one place; and whether some state slot is left unused there.
   std::array<std::vector<Acting>, 2> acting;
@@ -146,8 +146,8 @@ inline constexpr int max_device_states = 16;
 // devices hold at rest about each pivot (a sum over the devices, needed at
 // every uplift-guard sample) is computed once per change of them.
 struct Discrete {
-  int pivot = 0;                   // 0: full contact; +1 / -1: rocking about that pivot
-  int last_pivot = 1;              // the pivot of the last rocking phase
+  Phase phase;                     // full contact, or rocking about a pivot
+  Pivot last_pivot = Pivot::right;  // the pivot of the last rocking phase
   std::uint32_t broken = 0;        // bit k: device k has fractured (exerts nothing for the rest of the run)
   bool is_broken(int device) const { return ((broken >> device) & 1u) != 0; }
   // z of each device (by device index) while not stretched.
@@ -159,13 +159,12 @@ struct Discrete {
 
  private:
   friend void fracture(Discrete& d, int device);
-  friend double held_moment(const ContactModel& m, const Discrete& d, int s);
+  friend double held_moment(const ContactModel& m, const Discrete& d, Pivot p);
   void refresh_held(const ContactModel& m) const;
   std::array<double, max_device_states> z_{};
-  mutable std::array<double, 2> held_{};  // per pivot ([0]: s = -1), valid while held_fresh_
+  mutable std::array<double, 2> held_{};  // per pivot (index(Pivot)), valid while held_fresh_
   mutable bool held_fresh_ = false;
 };
-std::string phase_name(int pivot);  // "full_contact", "rocking(+1)", "rocking(-1)"
 
 // Scratch space so that the right-hand side allocates nothing.
 struct Workspace {
@@ -208,7 +207,7 @@ LinearPhase full_contact_matrices(const ContactModel& m);
 class StiffPart {
  public:
   explicit StiffPart(const ContactModel& m);
-  void solve(int pivot, double g, Eigen::Ref<const Eigen::VectorXd> b, Eigen::Ref<Eigen::VectorXd> x);
+  void solve(Phase phase, double g, Eigen::Ref<const Eigen::VectorXd> b, Eigen::Ref<Eigen::VectorXd> x);
 
  private:
   void prepare(double g);
@@ -237,28 +236,28 @@ struct PhaseGuard {
   Crossing crossing = Crossing::rising;
   std::optional<int> device;  // the device a fracture guard watches
 };
-std::vector<PhaseGuard> phase_guards(const ContactModel& m, int pivot);
+std::vector<PhaseGuard> phase_guards(const ContactModel& m, Phase phase);
 // The guards' values in the order of phase_guards (g holds one per guard).
 void guard_values(const ContactModel& m, const Discrete& d, double a_g, const Eigen::Ref<const Eigen::VectorXd>& y,
                   Eigen::Ref<Eigen::VectorXd> g);
 // Whether the guards of this phase depend on a_g (only a rigid block's uplift
 // does: a flexible structure's inertia forces are K u + C u'), so that a
 // caller may pass 0 without looking a_g up.
-bool guards_use_ground_acceleration(const ContactModel& m, int pivot);
+bool guards_use_ground_acceleration(const ContactModel& m, Phase phase);
 
 // The pivot about which the structure in full contact lifts at this instant
-// (both conditions of MODEL.md 6 hold), or 0.
-int uplift_now(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y);
+// (both conditions of MODEL.md 6 hold), if any.
+std::optional<Pivot> uplift_now(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y);
 
 // A device reaching its capacity fractures: it exerts nothing from now on.
 void fracture(Discrete& d, int device);
 
-// sum F_rest l over the intact devices pivot s stretches: the moment they
-// hold against uplift about s (a tendon's prestress, a damper's stored force) [N m].
+// sum F_rest l over the intact devices pivot p stretches: the moment they
+// hold against uplift about p (a tendon's prestress, a damper's stored force) [N m].
 // Inline: every uplift-guard sample reads it.
-inline double held_moment(const ContactModel& m, const Discrete& d, int s) {
+inline double held_moment(const ContactModel& m, const Discrete& d, Pivot p) {
   if (!d.held_fresh_) d.refresh_held(m);
-  return d.held_[s > 0 ? 1 : 0];
+  return d.held_[index(p)];
 }
 
 // Each device's elongation and force in this state (0 for the devices the
@@ -271,8 +270,8 @@ struct DeviceSample {
 void device_samples(const ContactModel& m, const Discrete& d, Eigen::Ref<const Eigen::VectorXd> y,
                     std::vector<DeviceSample>& out);
 
-// Uplift about pivot s: theta = theta' = 0, the devices s stretches resume their z.
-void begin_rocking(const ContactModel& m, Discrete& d, int s, Eigen::Ref<Eigen::VectorXd> y);
+// Uplift about pivot p: theta = theta' = 0, the devices p stretches resume their z.
+void begin_rocking(const ContactModel& m, Discrete& d, Pivot p, Eigen::Ref<Eigen::VectorXd> y);
 
 // Impact while rocking: the reset of MODEL.md 6. Returns the r applied (0 when
 // full contact begins).
@@ -282,8 +281,8 @@ struct ImpactResult {
 };
 ImpactResult impact(const ContactModel& m, Discrete& d, Eigen::Ref<Eigen::VectorXd> y);
 
-// Kinetic + gravity + elastic energy of a state about pivot s (any when theta = 0) [J].
-double mechanical_energy(const ContactModel& m, int s, Eigen::Ref<const Eigen::VectorXd> y);
+// Kinetic + gravity + elastic energy of a state in this phase [J].
+double mechanical_energy(const ContactModel& m, Phase phase, Eigen::Ref<const Eigen::VectorXd> y);
 
 // Coordinates (u, u', theta, theta') of a state, nodal, zeros where the model has none.
 struct StateView {

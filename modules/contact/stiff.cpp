@@ -31,13 +31,13 @@ void StiffPart::prepare(double g) {
 
 // Whole-vector expressions: Eigen vectorises their dot products with several
 // partial sums, where a loop's sum would be one chain of dependent additions.
-void StiffPart::solve(int pivot, double g, Eigen::Ref<const Eigen::VectorXd> b, Eigen::Ref<Eigen::VectorXd> x) {
+void StiffPart::solve(Phase phase, double g, Eigen::Ref<const Eigen::VectorXd> b, Eigen::Ref<Eigen::VectorXd> x) {
   x = b;
   const Layout& l = m_->layout;
   if (!l.u.present()) return;
   prepare(g);
   const ModalBasis& md = m_->body.modes;
-  const double a = pivot == 0 ? 0.0 : a_;
+  const double a = phase.is_rocking() ? a_ : 0.0;
   const auto bu = b.segment(l.u.start, l.n), bv = b.segment(l.u_dot.start, l.n);
   auto xu = x.segment(l.u.start, l.n), xv = x.segment(l.u_dot.start, l.n);
   // y0 = E^-1 (b_v - g P k b_u), E = I + D, P (k b_u) = k b_u + a h (hk'b_u)
@@ -46,7 +46,7 @@ void StiffPart::solve(int pivot, double g, Eigen::Ref<const Eigen::VectorXd> b, 
   // Sherman-Morrison for the rank-one term a h (D h)'; then x_u and th'
   if (a != 0) xv -= (a * Dh_.dot(xv) / (1.0 + a * hDz_)) * z_;
   xu = bu + g * xv;
-  if (pivot != 0) x[l.theta_dot.start] = b[l.theta_dot.start] + g * a * (md.hk.dot(xu) + md.hc.dot(xv));
+  if (phase.is_rocking()) x[l.theta_dot.start] = b[l.theta_dot.start] + g * a * (md.hk.dot(xu) + md.hc.dot(xv));
 }
 
 }  // namespace rocking

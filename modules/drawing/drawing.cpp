@@ -6,10 +6,11 @@ module rocking.drawing;
 
 namespace rocking {
 
-Outline outline(const Structure& s, int pivot, double theta, const Eigen::VectorXd& u, double exaggeration) {
+Outline outline(const Structure& s, Phase phase, double theta, const Eigen::VectorXd& u, double exaggeration) {
   const double B = s.half_width;
-  const double th = pivot == 0 ? 0.0 : theta;
-  const double px = pivot == 0 ? 0.0 : pivot * B;  // rotation centre
+  const int pivot = phase.sign();
+  const double th = phase.is_rocking() ? theta : 0.0;
+  const double px = pivot * B;  // rotation centre
   const double c = std::cos(th), sn = std::sin(th);
   // A body point (x, y) rotated clockwise by theta about (px, 0).
   auto place = [&](double x, double y) -> Point {

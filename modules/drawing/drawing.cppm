@@ -22,7 +22,7 @@ struct Outline {
   Point damper_anchor, damper_end;  // equal when no edge is lifted
 };
 
-// pivot: +1 / -1 while rocking, 0 in full contact (theta ignored).
-Outline outline(const Structure& s, int pivot, double theta, const Eigen::VectorXd& u, double exaggeration);
+// theta is ignored in full contact.
+Outline outline(const Structure& s, Phase phase, double theta, const Eigen::VectorXd& u, double exaggeration);
 
 }  // namespace rocking

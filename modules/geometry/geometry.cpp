@@ -3,9 +3,17 @@ module;
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 module rocking.geometry;
 
 namespace rocking {
+
+std::string_view pivot_name(Pivot p) { return p == Pivot::right ? "right" : "left"; }
+
+std::string_view phase_name(Phase p) {
+  if (!p.is_rocking()) return "full_contact";
+  return *p.pivot() == Pivot::right ? "rocking(+1)" : "rocking(-1)";
+}
 
 namespace {
 

@@ -6,6 +6,10 @@
 // e-1 to e). SI units: m, kg, N, rad.
 module;
 #include <rocking/eigen.hpp>
+
+#include <cstddef>
+#include <optional>
+#include <string_view>
 export module rocking.geometry;
 
 export namespace rocking {
@@ -37,6 +41,38 @@ struct Tilt {
   double sin() const { return 2.0 * sin_half * cos_half; }
   double cos() const { return 1.0 - 2.0 * sin_half * sin_half; }
 };
+
+// The two pivot axes: the right corner (x = +B), about which theta > 0 tips
+// the structure, and the left (x = -B). sign() is the s of MODEL.md's
+// equations (+1 right, -1 left); index() the slot of a per-pivot array.
+enum class Pivot : signed char { left = -1, right = +1 };
+constexpr int sign(Pivot p) { return static_cast<int>(p); }
+constexpr std::size_t index(Pivot p) { return p == Pivot::right ? 1 : 0; }
+constexpr Pivot opposite(Pivot p) { return p == Pivot::right ? Pivot::left : Pivot::right; }
+inline constexpr Pivot pivots[] = {Pivot::right, Pivot::left};
+std::string_view pivot_name(Pivot p);  // "right", "left"
+
+// The phase of the motion (MODEL.md 6): full contact with the ground, or
+// rocking about one pivot.
+class Phase {
+ public:
+  constexpr Phase() = default;  // full contact
+  static constexpr Phase full_contact() { return {}; }
+  static constexpr Phase rocking(Pivot p) {
+    Phase ph;
+    ph.pivot_ = p;
+    return ph;
+  }
+  constexpr bool is_rocking() const { return pivot_.has_value(); }
+  constexpr std::optional<Pivot> pivot() const { return pivot_; }
+  // s while rocking, 0 in full contact (the history's phase column).
+  constexpr int sign() const { return pivot_ ? rocking::sign(*pivot_) : 0; }
+  constexpr bool operator==(const Phase&) const = default;
+
+ private:
+  std::optional<Pivot> pivot_;
+};
+std::string_view phase_name(Phase p);  // "full_contact", "rocking(+1)", "rocking(-1)"
 
 // Throws std::invalid_argument naming the first field that breaks an
 // invariant (sizes agree, masses and EI positive, heights increasing from > 0;

@@ -94,9 +94,9 @@ Response evaluate(const ContactModel& m, const OutputScales& sc, const Discrete&
   const Structure& st = m.body.structure;
   Response r;
   r.t = t;
-  r.pivot = d.pivot;
+  r.phase = d.phase;
   r[Quantity::t] = t;
-  r[Quantity::phase] = d.pivot;
+  r[Quantity::phase] = d.phase.sign();
   const Tilt tilt(!l.theta.present() ? 0.0 : y[l.theta.start]);
   const double th = tilt.theta, s = th > 0 ? 1.0 : th < 0 ? -1.0 : 0.0;
   const double u_top = !l.u.present() ? 0.0 : sc.top_row.size() == 0 ? y[l.u.start + l.n - 1] : sc.top_row.dot(y.segment(l.u.start, l.n));
@@ -110,8 +110,8 @@ Response evaluate(const ContactModel& m, const OutputScales& sc, const Discrete&
   set(Quantity::theta_over_alpha, th * sc.inverse_alpha_cg);
   set(Quantity::theta_dot, !l.theta_dot.present() ? 0.0 : y[l.theta_dot.start]);
   const DamperState damper = active_damper(m, d, tilt, y);
-  set(Quantity::damper_d, d.pivot * damper.elongation);
-  set(Quantity::damper_F, d.pivot * damper.force);
+  set(Quantity::damper_d, d.phase.sign() * damper.elongation);
+  set(Quantity::damper_F, d.phase.sign() * damper.force);
   if (sc.has_forces) {
     Eigen::Vector4d f = Eigen::Vector4d::Zero();  // a column at a time: N is a handful
     if (l.n > max_static_size) f.noalias() = sc.force_rows * y.segment(l.u.start, l.n);

@@ -135,7 +135,7 @@ class Driver {
     if (backend_ == ode::Backend::rosw && m_.layout.u.present()) {
       stiff_ = std::make_unique<StiffPart>(m_);
       stiff = [this](double g, Eigen::Ref<const Eigen::VectorXd> b, Eigen::Ref<Eigen::VectorXd> x) {
-        stiff_->solve(d_.pivot, g, b, x);
+        stiff_->solve(d_.phase, g, b, x);
       };
     }
     integrator_ = ode::make_integrator(backend_, m_.layout.size, rhs, tolerances, std::move(stiff));
@@ -187,14 +187,14 @@ class Driver {
       begin_contact_if_lifting(0.0);
       restart(0.0);
       if (tilted_beyond_overturning()) {  // released past the point of no return: no crossing to locate
-        announce({EventKind::overturn, 0.0, d_.pivot, std::nullopt});
+        announce({EventKind::overturn, 0.0, *d_.phase.pivot(), std::nullopt});
         result_.outcome = Outcome::overturned;
       } else {
         loop();
       }
     } catch (const RunError& e) {
       result_.outcome = Outcome::failed;
-      result_.failure = fmt::format("{} (phase {})", e.what(), phase_name(d_.pivot));
+      result_.failure = fmt::format("{} (phase {})", e.what(), phase_name(d_.phase));
     }
     finish();
     result_.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -214,30 +214,29 @@ class Driver {
     if (init.theta == 0 && init.theta_dot == 0) return;
     if (m_.kind == ModelKind::fixed_base)
       throw InputError("an initial tilt needs a rocking scene (contact.rocking = true)");
-    const int s = init.theta > 0 ? 1 : init.theta < 0 ? -1 : (init.theta_dot > 0 ? 1 : -1);
-    begin_rocking(m_, d_, s, y_);
+    const bool right = init.theta > 0 || (init.theta == 0 && init.theta_dot > 0);
+    begin_rocking(m_, d_, right ? Pivot::right : Pivot::left, y_);
     y_[l.theta.start] = init.theta;
     y_[l.theta_dot.start] = init.theta_dot;
   }
 
   bool tilted_beyond_overturning() const {
-    return d_.pivot != 0 && std::abs(y_[m_.layout.theta.start]) >= m_.overturn_angle;
+    return d_.phase.is_rocking() && std::abs(y_[m_.layout.theta.start]) >= m_.overturn_angle;
   }
 
-  double mechanical() { return mechanical_energy(m_, d_.pivot == 0 ? 1 : d_.pivot, y_); }
+  double mechanical() { return mechanical_energy(m_, d_.phase, y_); }
 
   // Full contact has begun at time t (start, or an impact): lift now if both
   // uplift conditions already hold (MODEL.md 6).
   void begin_contact_if_lifting(double t) {
-    if (d_.pivot != 0) return;
-    const int s = uplift_now(m_, d_, ground_.acceleration(t), y_);
-    if (s != 0) lift(s, t);
+    if (d_.phase.is_rocking()) return;
+    if (const std::optional<Pivot> p = uplift_now(m_, d_, ground_.acceleration(t), y_)) lift(*p, t);
   }
 
-  void lift(int s, double t) {
-    begin_rocking(m_, d_, s, y_);
+  void lift(Pivot p, double t) {
+    begin_rocking(m_, d_, p, y_);
     if (result_.counts.uplifts++ == 0) result_.first_uplift = t;
-    announce({EventKind::uplift, t, s, std::nullopt});
+    announce({EventKind::uplift, t, p, std::nullopt});
   }
 
   void announce(const Event& e) {
@@ -246,15 +245,15 @@ class Driver {
 
   void restart(double t) {
     ode::Guards guards;
-    guards_ = phase_guards(m_, d_.pivot);
+    guards_ = phase_guards(m_, d_.phase);
     for (const PhaseGuard& g : guards_)
       guards.directions.push_back(g.crossing == Crossing::rising ? ode::Direction::rising : ode::Direction::falling);
     if (!guards.directions.empty())
-      guards.fn = [this, with_a_g = guards_use_ground_acceleration(m_, d_.pivot)](
+      guards.fn = [this, with_a_g = guards_use_ground_acceleration(m_, d_.phase)](
                       double tg, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& g) {
         guard_values(m_, d_, with_a_g ? ground_.acceleration(tg) : 0.0, y, g);
       };
-    active_ = d_.pivot == 0 && exact_ ? exact_.get() : integrator_.get();
+    active_ = !d_.phase.is_rocking() && exact_ ? exact_.get() : integrator_.get();
     active_->reset(t, y_, std::move(guards));
     emit(t, y_, true);
   }
@@ -267,7 +266,7 @@ class Driver {
       sample_step();
       if (rep.reason == ode::Stop::event) {
         if (!handle_event(guards_[static_cast<std::size_t>(rep.guard)], rep.t)) return;
-      } else if (d_.pivot != 0 && d_.pivot * active_->state()[m_.layout.theta.start] < 0) {
+      } else if (d_.phase.sign() * active_->state()[m_.layout.theta.start] < 0) {
         // Only round-off right after an uplift can put theta on the wrong side
         // without a crossing: treat it as the impact it is.
         if (!handle_event({Guard::impact, Crossing::falling, {}}, active_->time())) return;
@@ -286,10 +285,10 @@ class Driver {
     switch (what) {
       case Guard::uplift_right:
       case Guard::uplift_left:
-        lift(what == Guard::uplift_right ? 1 : -1, t);
+        lift(what == Guard::uplift_right ? Pivot::right : Pivot::left, t);
         break;
       case Guard::impact: {
-        announce({EventKind::impact, t, d_.pivot, std::nullopt});
+        announce({EventKind::impact, t, *d_.phase.pivot(), std::nullopt});
         const double before = mechanical();
         impact(m_, d_, y_);
         result_.energy.impacts += before - mechanical();
@@ -298,12 +297,12 @@ class Driver {
         break;
       }
       case Guard::overturn:
-        announce({EventKind::overturn, t, d_.pivot, std::nullopt});
+        announce({EventKind::overturn, t, *d_.phase.pivot(), std::nullopt});
         result_.outcome = Outcome::overturned;
         return false;
       case Guard::fracture: {
         const int device = meaning.device.value();  // a fracture guard always names its device
-        announce({EventKind::fracture, t, d_.pivot, device});
+        announce({EventKind::fracture, t, *d_.phase.pivot(), device});
         fracture(d_, device);
         result_.devices[static_cast<std::size_t>(device)].fracture_time = t;
         break;
@@ -343,8 +342,8 @@ class Driver {
   // the paper's damper is the only one, it is the response's (d, F_hd), already
   // evaluated.
   void device_peaks(Eigen::Ref<const Eigen::VectorXd> y, const Response& r) {
-    if (d_.pivot == 0 || m_.devices.empty()) return;
-    const auto& acting = m_.acting[d_.pivot > 0 ? 1 : 0];
+    if (!d_.phase.is_rocking() || m_.devices.empty()) return;
+    const auto& acting = m_.acting[index(*d_.phase.pivot())];
     if (acting.size() == 1 && m_.devices[static_cast<std::size_t>(acting.front().device)].edge_damper) {
       const int k = acting.front().device;
       if (d_.is_broken(k)) return;
@@ -408,8 +407,8 @@ class Driver {
     const Layout& l = m_.layout;
     if (!l.energy.present() || l.energy.count > 3) return;
     const double total = y_[l.energy.start + 2];
-    if (d_.pivot != 0)
-      for (const ContactModel::Acting& a : m_.acting[d_.pivot > 0 ? 1 : 0])
+    if (const std::optional<Pivot> p = d_.phase.pivot())
+      for (const ContactModel::Acting& a : m_.acting[index(*p)])
         result_.devices[static_cast<std::size_t>(a.device)].work += total - work_at_event_;
     work_at_event_ = total;
   }
@@ -418,7 +417,7 @@ class Driver {
     y_ = active_->state();
     attribute_work();
     result_.t_end = active_->time();
-    result_.final_pivot = d_.pivot;
+    result_.final_phase = d_.phase;
     result_.final_theta = m_.layout.theta.present() ? y_[m_.layout.theta.start] : 0.0;
     result_.final_state = y_;
     const Layout& l = m_.layout;

@@ -48,7 +48,7 @@ export namespace rocking {
 // a_g, M_dev and x_g are filled for history rows only (the peaks do not need them).
 struct Response {
   double t = 0;
-  int pivot = 0;
+  Phase phase;
   std::array<double, quantity_count> q{};
   double operator[](Quantity k) const { return q[index(k)]; }
   double& operator[](Quantity k) { return q[index(k)]; }
@@ -64,7 +64,7 @@ std::string_view event_name(EventKind k);  // "uplift", "impact", "overturn", "f
 struct Event {
   EventKind kind = EventKind::uplift;
   double t = 0;
-  int pivot = 0;
+  Pivot pivot = Pivot::right;  // the pivot lifted onto, struck, overturned about or rocked about at a fracture
   std::optional<int> device;  // a fracture's device
 };
 
@@ -158,7 +158,7 @@ struct RunResult {
   Outcome outcome = Outcome::completed;
   std::string failure;             // what stopped a failed run, with time and phase
   double t_end = 0;                // where the run ended [s]
-  int final_pivot = 0;
+  Phase final_phase;               // at t_end
   double final_theta = 0;          // theta at t_end [rad]: the residual tilt when the motion has died out
   std::array<double, quantity_count> peaks{};  // absolute peaks of the peak quantities (others 0)
   double top_total_mm = 0;         // peak |delta_t| H_N [mm]
