@@ -84,7 +84,7 @@ TEST_CASE("simulate takes every format; record errors are one line with exit 2")
   CHECK(stray.err.find("--format, --component, --units and --dt describe a --record file") != std::string::npos);
 }
 
-TEST_CASE("ida takes every format and lists what each record is in records.csv") {
+TEST_CASE("ida and its hunt take every format and list what each record is in records.csv") {
   const auto dir = records_dir();
   if (!dir) return;
   const fs::path out = temp_path("record_ida");
@@ -98,4 +98,11 @@ TEST_CASE("ida takes every format and lists what each record is in records.csv")
   CHECK(text.find(",geonet,Mw 7.82 (5 km south-west of Waiau),2016 November 13 11:02:56 UT,WTMC (Te Mara Farm Waiau),N28W,0.99") !=
         std::string::npos);
   CHECK(text.find(",knet,") != std::string::npos);
+  // A hunt lists them the same way (a fixed base is not run: nothing to hunt).
+  const fs::path hunt = temp_path("record_hunt");
+  const Result h = run("ida --no-plot --hunt --scales 0.25 --variants fixed-base --record " + *dir +
+                       "/formats/20161113_110259_WTMC_20.V2A --record " + *dir + "/formats/AOM0011801241951.EW --out " +
+                       hunt.string());
+  REQUIRE_MESSAGE(h.code == 0, h.err);
+  CHECK(file_text(hunt / "records.csv") == text);
 }

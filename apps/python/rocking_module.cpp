@@ -366,6 +366,7 @@ PyResult simulate(const py::object& scene_arg, const py::object& record, double 
 // ---- studies ----------------------------------------------------------------
 
 struct PyIda {
+  std::shared_ptr<const rocking::Study> study;
   py::list rows;
   std::vector<std::string> variants;
   std::vector<std::string> records;
@@ -374,7 +375,70 @@ struct PyIda {
   // A hunt's: one result per (record, variant), record-major, and its rows.
   std::vector<rocking::HuntResult> hunts;
   py::list hunt_rows;
+  bool hunt = false;
+  rocking::HuntOptions hunt_options;
+  // A ladder's jobs and the results of those that ran (rocking.study_files writes them).
+  std::vector<rocking::Job> jobs;
+  std::vector<rocking::JobResult> results;
+  int threads = 1;
 };
+
+rocking::FragilityOptions fragility_options(long bootstrap, unsigned long seed, double beta_modelling) {
+  if (bootstrap < 0) throw rocking::InputError(fmt::format("bootstrap {}: must be 0 (none) or a number of resamples", bootstrap));
+  rocking::FragilityOptions o;
+  o.bootstrap.draws = static_cast<std::size_t>(bootstrap);
+  o.bootstrap.seed = seed;
+  o.beta_modelling = beta_modelling;
+  rocking::check_fragility_options(o);
+  return o;
+}
+
+// The report `rocking ida` writes beside its rows (rocking.study_files).
+rocking::StudyReport ida_report(const PyIda& r, const rocking::FragilityOptions& o) {
+  py::gil_scoped_release unlocked;
+  const std::vector<std::string> ids = rocking::record_ids(r.study->records());
+  if (r.hunt) return rocking::hunt_report(*r.study, r.hunts, ids, o);
+  return rocking::ladder_report(*r.study, *r.summary, rocking::suite_fragility(*r.study, *r.summary, o, r.threads), ids);
+}
+
+// The files of `rocking ida --out DIR --no-plot` (no inputs.txt or timing.csv).
+py::list ida_write(const PyIda& r, const std::filesystem::path& dir, const rocking::FragilityOptions& o) {
+  const rocking::StudyReport report = ida_report(r, o);
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir))
+    throw rocking::InputError(fmt::format("{}: cannot create the output folder: {}", dir.string(), ec ? ec.message() : "not a folder"));
+  const rocking::Study& st = *r.study;
+  const std::vector<std::string> ids = rocking::record_ids(st.records());
+  std::vector<std::filesystem::path> written;
+  auto write = [&](const char* name, const std::string& text) {
+    rocking::write_text(dir / name, text);
+    written.push_back(dir / name);
+  };
+  if (r.hunt) {
+    const std::size_t nv = st.variants().size();
+    std::string rows = rocking::hunt_csv_header, points = rocking::hunt_points_header;
+    for (std::size_t k = 0; k < r.hunts.size(); ++k) {
+      const std::string& record = ids[k / nv];
+      const std::string& variant = st.variants()[k % nv].name;
+      rows += rocking::hunt_csv_row(r.hunts[k], record, variant, st.intensity_measure(), r.hunt_options);
+      points += rocking::hunt_points_rows(r.hunts[k], record, variant, st.intensity_measure());
+    }
+    write("hunt.csv", rows);
+    write("hunt_points.csv", points);
+  } else {
+    const rocking::StudyColumns columns = rocking::study_columns(st);
+    std::string rows = rocking::study_csv_header(columns);
+    for (std::size_t i = 0; i < r.results.size(); ++i)
+      rows += rocking::study_csv_row(st, columns, ids, r.jobs[i], r.results[i]);
+    write("ida.csv", rows);
+  }
+  write("records.csv", rocking::records_csv(st, ids));
+  for (std::filesystem::path& f : rocking::write_report(dir, report)) written.push_back(std::move(f));
+  py::list out;
+  for (const std::filesystem::path& f : written) out.append(py::module_::import("pathlib").attr("Path")(f.string()));
+  return out;
+}
 
 // A hunt's row: the columns of hunt.csv and the levels it ran (hunt_points.csv).
 py::dict hunt_row(const rocking::HuntResult& h, const std::string& record, const std::string& variant,
@@ -449,11 +513,16 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
   rocking::RunOptions ro = rocking::run_options(scene, solver, false, "");
   auto stop = std::make_shared<std::atomic<bool>>(false);
   ro.stop = [stop] { return stop->load(); };
-  const rocking::Study study(s.path, s.overrides, records, {}, std::move(variants), ro, im);
+  auto shared_study = std::make_shared<const rocking::Study>(s.path, s.overrides, records, rocking::RecordOptions{},
+                                                            std::move(variants), ro, im);
+  const rocking::Study& study = *shared_study;
   std::sort(levels.begin(), levels.end());
   for (const rocking::Limit& l : limits) rocking::check_limit(study, l);
   const rocking::Resurrection convention = rocking::parse_resurrection(resurrection);
   PyIda out;
+  out.study = shared_study;
+  out.threads = threads;
+  out.hunt = hunt;
   for (const rocking::Variant& v : study.variants()) out.variants.push_back(v.name);
   for (const rocking::Limit& l : limits) out.limits.push_back(l.name);
   out.records = study.records();
@@ -462,6 +531,7 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
     if (limits.size() > 1) throw rocking::InputError("ida: limits: a hunt looks for overturning only; run a ladder for limits");
     const rocking::HuntOptions o = rocking::hunt_options(levels.front(), hunt_step, hunt_growth, hunt_max, precision, fill_step);
     study.check_level(o.max, "hunt_max");
+    out.hunt_options = o;
     const std::size_t nv = study.variants().size(), pairs = study.records().size() * nv;
     interruptible(*stop, [&] {
       return rocking::parallel_ordered<rocking::HuntResult>(
@@ -476,17 +546,19 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
   const std::vector<rocking::Job> jobs = study.ladder(levels);
   auto summary = std::make_shared<rocking::StudySummary>(study, levels, limits, convention);
   std::vector<rocking::JobResult> results(jobs.size());
+  const rocking::StudyColumns columns = rocking::study_columns(study);
   const std::size_t done = interruptible(*stop, [&] {
     return rocking::parallel_ordered<rocking::JobResult>(
         jobs.size(), threads, [&](std::size_t i) { return study.run(jobs[i]); },
         [&](std::size_t i, const rocking::JobResult& r) {
           results[i] = r;
-          summary->add(jobs[i], r);
+          summary->add(jobs[i], rocking::as_written(columns, jobs[i], r));  // as the program's summary
         },
         {}, [stop] { return stop->load(); });
   });
   out.summary = summary;
-  const rocking::StudyColumns columns = rocking::study_columns(study);
+  out.jobs.assign(jobs.begin(), jobs.begin() + static_cast<long>(done));
+  out.results.assign(results.begin(), results.begin() + static_cast<long>(done));
   const std::vector<std::string> names = columns.names();
   for (std::size_t i = 0; i < done; ++i) {
     const rocking::Job& j = jobs[i];
@@ -716,7 +788,8 @@ PYBIND11_MODULE(rocking, m) {
           },
           "quantity"_a = "theta_over_alpha", "variant"_a = "",
           "At each level, the 16/50/84 % fractiles of a peak over the records (an overturned\n"
-          "run counts as +inf), for a variant (default: the first).")
+          "run counts as +inf), for a variant (default: the first); the peaks as ida.csv\n"
+          "holds them (9 digits), so they are summary.csv's.")
       .def_readonly("limits", &PyIda::limits,
                     "The limit states' names for fragility(): overturning, then those given as\n"
                     "limits= (\"theta_over_alpha>=0.5\").")
@@ -736,11 +809,7 @@ PYBIND11_MODULE(rocking, m) {
             }
             if (it == r.limits.end())
               throw rocking::InputError(fmt::format("limit '{}' is not one of this study's (give it to ida as limits=)", limit));
-            if (bootstrap < 0) throw rocking::InputError(fmt::format("bootstrap {}: must be 0 (none) or a number of resamples", bootstrap));
-            rocking::FragilityOptions o;
-            o.bootstrap.draws = static_cast<std::size_t>(bootstrap);
-            o.bootstrap.seed = seed;
-            o.beta_modelling = beta_modelling;
+            const rocking::FragilityOptions o = fragility_options(bootstrap, seed, beta_modelling);
             const auto l = static_cast<std::size_t>(it - r.limits.begin());
             const std::size_t v = variant_index(r, variant);
             rocking::LimitFragility f;
@@ -766,6 +835,27 @@ PYBIND11_MODULE(rocking, m) {
           "the 90 % intervals of a bootstrap of `bootstrap` resamples of the records\n"
           "from `seed`, as --bootstrap and --seed; beta_total with beta_modelling, as\n"
           "--beta-modelling).")
+      .def(
+          "summary",
+          [](const PyIda& r, long bootstrap, unsigned long seed, double beta_modelling) {
+            return to_python(ida_report(r, fragility_options(bootstrap, seed, beta_modelling)).summary);
+          },
+          "bootstrap"_a = 1000L, "seed"_a = 20020101UL, "beta_modelling"_a = 0.0,
+          "The dict of summary.json, as `rocking ida` writes it: the intensity measure,\n"
+          "levels, record ids, and per variant the fractile IDA curves, each limit state's\n"
+          "fragility (as fragility()) and the records that stand again above their first\n"
+          "overturning. bootstrap, seed, beta_modelling as fragility().")
+      .def(
+          "write",
+          [](const PyIda& r, const py::object& folder, long bootstrap, unsigned long seed, double beta_modelling) {
+            const auto dir = argument<std::filesystem::path>(folder, "folder", "a path");
+            return ida_write(r, dir, fragility_options(bootstrap, seed, beta_modelling));
+          },
+          "folder"_a, "bootstrap"_a = 1000L, "seed"_a = 20020101UL, "beta_modelling"_a = 0.0,
+          "Writes into folder (made if missing) the files `rocking ida --out folder --no-plot`\n"
+          "writes, byte for byte: ida.csv (a hunt: hunt.csv and hunt_points.csv),\n"
+          "records.csv, summary.csv (a ladder's fractiles), fragility.csv,\n"
+          "fragility_points.csv and summary.json. Returns their paths.")
       .def("to_pandas", [](const PyIda& r) { return to_pandas_rows(r.rows); },
            "The rows as a pandas DataFrame (needs pandas; the project does not).");
 

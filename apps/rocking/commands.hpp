@@ -31,10 +31,6 @@ rocking::Scene load_elastic_scene(const SceneOptions& opts);
 // (rocking.run's RecordFileChoice, bound to the options).
 using RecordFileOptions = rocking::RecordFileChoice;
 void add_record_file_options(CLI::App& cmd, RecordFileOptions& opts);
-// Record ids for rows, tables and figures: a file's name, or as many of its
-// last path components as make it unique ("x/a.at2", "y/a.at2"); the same
-// file given twice becomes "a.at2" and "a.at2#2".
-std::vector<std::string> record_ids(const std::vector<std::string>& paths);
 // The formats and what they are, for --help.
 std::string record_formats_help();
 

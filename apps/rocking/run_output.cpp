@@ -94,24 +94,6 @@ void make_output_dir(const std::filesystem::path& dir) {
                                  ec ? ec.message() : "not a folder"));
 }
 
-void write_text(const std::filesystem::path& file, const std::string& text) {
-  // Written whole beside it, then renamed over it: never a partial file under its name.
-  const std::filesystem::path tmp = file.string() + ".tmp";
-  std::FILE* out = std::fopen(tmp.c_str(), "w");
-  int error = out == nullptr ? errno : 0;
-  if (out != nullptr) {
-    if (std::fwrite(text.data(), 1, text.size(), out) != text.size() || std::fflush(out) != 0) error = errno;
-    if (std::fclose(out) != 0 && error == 0) error = errno;
-  }
-  std::error_code ec;
-  if (error == 0) std::filesystem::rename(tmp, file, ec);
-  if (error != 0 || ec) {
-    const std::string why = error != 0 ? std::strerror(error) : ec.message();
-    std::filesystem::remove(tmp, ec);
-    throw RunError(fmt::format("{}: cannot write: {}", file.string(), why));
-  }
-}
-
 Progress::Progress(bool enabled) : enabled_(enabled && ::isatty(2) != 0), start_(std::chrono::steady_clock::now()) {}
 
 void Progress::operator()(std::size_t done, std::size_t total) {

@@ -46,10 +46,6 @@ class HistoryCsv : public rocking::HistoryObserver {
 // Creates DIR (and parents) or fails with a one-line InputError.
 void make_output_dir(const std::filesystem::path& dir);
 
-// Writes text to a file through a temporary name (the file is whole or not
-// there) or fails with a one-line RunError (exit 3) naming it and the cause.
-void write_text(const std::filesystem::path& file, const std::string& text);
-
 // --- shared by the commands that run many jobs --------------------------------
 
 // A progress bar with an ETA on stderr, only when enabled and stderr is a terminal.

@@ -118,42 +118,4 @@ void add_solver_options(CLI::App& cmd, SolverOptions& opts) {
                "energy, and pulses, are always integrated)");
 }
 
-// A record as rows and figures name it: its file name, or as many of its
-// last path components as make it unique among the study's records (two
-// "a.at2" in folders x/ and y/ become "x/a.at2" and "y/a.at2"); the same file
-// given twice becomes "a.at2" and "a.at2#2".
-std::vector<std::string> record_ids(const std::vector<std::string>& paths) {
-  const std::size_t n = paths.size();
-  std::vector<std::vector<std::string>> parts(n);
-  for (std::size_t i = 0; i < n; ++i)
-    for (const std::filesystem::path& p : std::filesystem::path(paths[i]).lexically_normal()) parts[i].insert(parts[i].begin(), p.string());
-  std::vector<std::size_t> depth(n, 1);
-  auto id = [&](std::size_t i) {
-    std::string out;
-    for (std::size_t k = std::min(depth[i], parts[i].size()); k-- > 0;) out += (out.empty() ? "" : "/") + parts[i][k];
-    return out;
-  };
-  for (bool changed = true; changed;) {
-    changed = false;
-    std::vector<std::size_t> deeper;
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::size_t j = 0; j < n; ++j)
-        if (i != j && id(i) == id(j) && depth[i] < parts[i].size() && parts[i] != parts[j]) {
-          deeper.push_back(i);
-          break;
-        }
-    for (std::size_t i : deeper) ++depth[i];
-    changed = !deeper.empty();
-  }
-  std::vector<std::string> ids(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    ids[i] = id(i);
-    const auto same = std::count_if(ids.begin(), ids.begin() + static_cast<long>(i), [&](const std::string& s) {
-      return s == ids[i] || s.starts_with(ids[i] + "#");
-    });
-    if (same > 0) ids[i] += fmt::format("#{}", same + 1);
-  }
-  return ids;
-}
-
 }  // namespace rocking::app

@@ -106,68 +106,6 @@ std::vector<double> study_levels(const StudyArgs& a, const IntensityMeasure& im)
   return levels;
 }
 
-std::vector<std::string> csv_fields(const std::string& row);
-
-// The CSV's header: the job's fields, the study's columns (rocking::StudyColumns:
-// the schema's study quantities, then each device's by name), then the run's
-// outcome and cost.
-std::string csv_header(const StudyColumns& columns) {
-  return fmt::format("record,scale,variant,im,level,record_im,{},top_total_mm,outcome,uplifts,impacts,rhs,error\n",
-                     fmt::join(columns.names(), ","));
-}
-constexpr std::size_t job_field_count = 6, run_field_count = 6;  // before and after the columns
-
-// A number as its shortest exact decimal (the scale and IM of a row read back
-// to the same double).
-std::string exact(double v) { return std::isfinite(v) ? fmt::format("{}", v) : std::string(); }
-
-// A peak as the CSV writes it: empty when the run does not report it.
-std::string peak_field(double v) { return std::isnan(v) ? std::string() : fmt::format("{:.9g}", v); }
-
-// The first fields of a job's row: record, scale, variant, im, level, record_im.
-std::string job_fields(const Study& st, const std::vector<std::string>& ids, const Job& job) {
-  return fmt::format("{},{},{},{},{},{}", csv_field(ids[job.record]), exact(job.scale),
-                     csv_field(st.variants()[job.variant].name), st.intensity_measure().name(), exact(job.level),
-                     exact(st.record_intensity(job.record)));
-}
-
-std::string row(const Study& st, const StudyColumns& columns, const std::vector<std::string>& ids, const Job& job,
-                const JobResult& r) {
-  std::string q;
-  const RunResult& run = r.run;
-  if (r.error.empty())
-    for (double v : columns.values(run)) q += peak_field(v) + ",";
-  else
-    q.assign(columns.size(), ',');
-  return fmt::format("{},{}{},{},{},{},{}\n", job_fields(st, ids, job), q,
-                     r.error.empty() ? fmt::format("{:.6g}", run.top_total_mm) : "", outcome_name(run.outcome),
-                     run.counts.uplifts, fmt::format("{},{}", run.counts.impacts, run.stats.rhs), csv_field(r.error));
-}
-
-// A job's line of figure data: the level, the study's columns (empty where
-// not reported), 1 if it overturned; empty for a job that failed.
-std::string figure_line(const StudyColumns& columns, const Job& job, const JobResult& r) {
-  if (!r.error.empty()) return {};
-  std::string out = fmt::format("{:.9g}", job.level);
-  for (double v : columns.values(r.run)) out += "," + peak_field(v);
-  return out + (r.run.outcome == Outcome::overturned ? ",1" : ",0");
-}
-
-// The result a figure line stands for (peaks and outcome), for the summary.
-JobResult line_result(const StudyColumns& columns, const std::string& line) {
-  JobResult r;
-  if (line.empty()) {
-    r.error = "failed";
-    return r;
-  }
-  const std::vector<std::string> f = csv_fields(line);
-  if (f.size() != columns.size() + 2) throw RunError(fmt::format("figure line with {} fields: expected {}", f.size(), columns.size() + 2));
-  std::vector<double> values;
-  for (std::size_t i = 1; i <= columns.size(); ++i) values.push_back(f[i].empty() ? std::nan("") : std::stod(f[i]));
-  r.run = columns.run(values, f.back() == "1" ? Outcome::overturned : Outcome::completed);
-  return r;
-}
-
 // One data file per (record, variant) and one figure per record: peaks
 // against the scale, with each variant's first overturning drawn as collapse.
 void study_figures(const StudyArgs& a, const Study& st, const StudyColumns& columns,
@@ -266,16 +204,6 @@ void study_figures(const StudyArgs& a, const Study& st, const StudyColumns& colu
   }
 }
 
-// A study's CSV fields (no field of a row holds a quoted comma but the error,
-// which is last).
-std::vector<std::string> csv_fields(const std::string& row) {
-  std::vector<std::string> out;
-  std::stringstream ss(row);
-  for (std::string f; std::getline(ss, f, ',');) out.push_back(f);
-  if (row.ends_with(",")) out.emplace_back();  // the last field, empty
-  return out;
-}
-
 // What an earlier, interrupted run of the same study left in DIR: its rows are
 // the first jobs in order (rows are written in job order), each checked
 // against the job it must be; their figure data follow from the rows.
@@ -291,7 +219,7 @@ Resumed read_resumed(const fs::path& csv_file, const fs::path& timing_file, cons
   std::ifstream in(rows_file);
   if (!in) throw InputError(fmt::format("--resume: {} not found: nothing to resume", csv_file.string()));
   std::string line;
-  if (!std::getline(in, line) || line + "\n" != csv_header(columns))
+  if (!std::getline(in, line) || line + "\n" != study_csv_header(columns))
     throw InputError(fmt::format("--resume: {}:1: not a study CSV of this version (header differs)", rows_file.string()));
   for (int n = 2; std::getline(in, line); ++n) {
     if (in.eof()) break;  // a last line without its newline was cut: run that job again
@@ -386,7 +314,7 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
     csv.open(partial);
     timing.open(timing_partial);
     if (!csv || !timing) throw InputError(fmt::format("{}: cannot write", (!csv ? partial : timing_partial).string()));
-    csv << csv_header(columns);
+    csv << study_csv_header(columns);
     for (const std::string& r : resumed.rows) csv << r;
     csv << std::flush;
     timing << timing_header;
@@ -397,12 +325,12 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
       mine.size(), threads, [&](std::size_t k) { return st.run(jobs[mine[k]]); },
       [&](std::size_t k, const JobResult& r) {
         const std::size_t i = mine[k];
-        const std::string text = row(st, columns, ids, jobs[i], r);
+        const std::string text = study_csv_row(st, columns, ids, jobs[i], r);
         const std::string time = fmt::format("{},{:.6f}\n", job_fields(st, ids, jobs[i]), r.run.wall_s);
         if (world.size == 1) {
           csv << text << std::flush;
           timing << time;
-          summary.add(jobs[i], line_result(columns, figure_line(columns, jobs[i], r)));  // the numbers a rank sends: one summary
+          summary.add(jobs[i], as_written(columns, jobs[i], r));
           failed += r.error.empty() ? 0 : 1;
         } else {
           rows.emplace_back(static_cast<long>(i), text);
@@ -419,7 +347,7 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
     if (world.rank == 0) {
       csv.open(partial);
       timing.open(timing_partial);
-      csv << csv_header(columns);
+      csv << study_csv_header(columns);
       for (const auto& [i, text] : all) csv << text;
       timing << timing_header;
       for (const auto& [i, text] : all_timings) timing << text;
@@ -436,16 +364,7 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
   fs::rename(partial, csv_file);
   fs::rename(timing_partial, timing_file);
   // What each record id is, as its file says (rows name records by id).
-  std::string records_text = "record,file,format,event,date,station,component,pga_g\n";
-  for (std::size_t r = 0; r < ids.size(); ++r) {
-    const GroundMotion* m = st.motion(r);
-    const RecordInfo info = m ? m->info() : RecordInfo{};
-    records_text += fmt::format("{},{},{},{},{},{},{},{}\n", csv_field(ids[r]), csv_field(st.records()[r]),
-                                csv_field(info.format), csv_field(info.event), csv_field(info.date),
-                                csv_field(info.station), csv_field(info.component),
-                                m ? fmt::format("{:.6g}", m->peak() / gravity) : std::string());
-  }
-  write_text(dir / "records.csv", records_text);
+  write_text(dir / "records.csv", records_csv(st, ids));
   if (emitted < mine.size()) {  // stopped by a signal (one process: mine is every job left)
     const std::size_t done = first + emitted;
     const int signal = stop_signal();
@@ -462,7 +381,11 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
   }
   fmt::print("wrote {} ({} runs)\n", csv_file.string(), jobs.size());
   const SuiteFragility fragility = suite_fragility(st, summary, fragility_opts, threads);
-  write_ladder_report(dir, st, summary, fragility, ids);
+  const StudyReport report = ladder_report(st, summary, fragility, ids);
+  for (const std::string& note : report.notes) fmt::print("{}\n", note);
+  write_report(dir, report);
+  fmt::print("wrote {} (16/50/84 % fractiles), {}, {}, {}\n", (dir / "summary.csv").string(),
+             (dir / "fragility.csv").string(), (dir / "fragility_points.csv").string(), (dir / "summary.json").string());
   if (!a.no_plot) {
     // One figure per record for a few records (the paper's Figs. 5-8); the
     // suite's figures (every record, fractiles, fragility) for two or more.
@@ -488,22 +411,6 @@ HuntOptions hunt_options(const StudyArgs& a, const Study& st) {
                                given(a.hunt_max), given(a.precision), given(a.fill_step));
 }
 
-std::string ranges_text(const std::vector<std::pair<double, double>>& ranges) {
-  std::string out;
-  for (const auto& [from, to] : ranges)
-    out += (out.empty() ? "" : " ") + (from == to ? fmt::format("{:.6g}", from) : fmt::format("{:.6g}-{:.6g}", from, to));
-  return out;
-}
-
-const char* hunt_header =
-    "record,variant,im,collapse_level,survived_level,collapse_scale,record_im,traced_level,fill_step,precision,"
-    "resurrections,runs,error\n";
-
-// The first fields of a hunt's row: which record, variant and IM it is.
-std::string hunt_fields(const std::string& record, const std::string& variant, const IntensityMeasure& im) {
-  return fmt::format("{},{},{},", csv_field(record), csv_field(variant), im.name());
-}
-
 // The hunts an interrupted hunt finished (hunt.csv, or the .partial file a
 // killed one left), in order, each checked against the pair it must be; what
 // the report needs of each read back from its row.
@@ -514,7 +421,7 @@ std::vector<std::pair<std::string, HuntResult>> read_resumed_hunts(
   std::ifstream in(rows_file);
   if (!in) throw InputError(fmt::format("--resume: {} not found: nothing to resume", file.string()));
   std::string line;
-  if (!std::getline(in, line) || line + "\n" != hunt_header)
+  if (!std::getline(in, line) || line + "\n" != hunt_csv_header)
     throw InputError(fmt::format("--resume: {}:1: not a hunt CSV of this version (header differs)", rows_file.string()));
   std::vector<std::pair<std::string, HuntResult>> out;
   for (int n = 2; std::getline(in, line); ++n) {
@@ -548,7 +455,7 @@ int run_hunt(const StudyArgs& a, const Study& st) {
   st.check_level(o.max, "--hunt-max");
   make_output_dir(dir);
   const FolderLock lock(dir);
-  check_outputs_free(dir, {"hunt.csv", "hunt.csv.partial", "hunt_points.csv", "hunt_points.csv.partial",
+  check_outputs_free(dir, {"hunt.csv", "hunt.csv.partial", "hunt_points.csv", "hunt_points.csv.partial", "records.csv",
                            "fragility.csv", "fragility_points.csv", "summary.json", "inputs.txt"});
   record_inputs(dir, inputs_of(a, st, "ida --hunt"), a.resume);
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
@@ -577,8 +484,8 @@ int run_hunt(const StudyArgs& a, const Study& st) {
   }
   std::ofstream csv(partial), points(points_partial);
   if (!csv || !points) throw RunError(fmt::format("{}: cannot write", (!csv ? partial : points_partial).string()));
-  csv << hunt_header;
-  points << "record,variant,im,level,why,overturned\n" << resumed_points;
+  csv << hunt_csv_header;
+  points << hunt_points_header << resumed_points;
   std::vector<HuntResult> hunts;
   int failed = 0;
   for (const auto& [row, h] : resumed) {
@@ -598,18 +505,9 @@ int run_hunt(const StudyArgs& a, const Study& st) {
       [&](std::size_t k, const HuntResult& h) {
         const std::string& record = ids[pairs[first + k].first];
         const std::string variant = st.variants()[pairs[first + k].second].name;
-        const std::string error = h.fixed_base ? "fixed base: cannot overturn" : h.error;
         failed += h.error.empty() ? 0 : 1;
-        csv << hunt_fields(record, variant, im)
-            << fmt::format("{},{},{},{},{},{:g},{:g},{},{},{}\n", h.collapsed ? exact(h.collapse_level) : "",
-                           exact(h.survived_level), h.collapsed ? exact(h.collapse_level / h.record_im) : "",
-                           exact(h.record_im), h.collapsed ? exact(h.traced_level) : "", o.fill_step, o.precision,
-                           ranges_text(h.resurrections), h.runs, csv_field(error))
-            << std::flush;
-        for (const HuntPoint& p : h.points)
-          points << hunt_fields(record, variant, im)
-                 << fmt::format("{:.9g},{},{}\n", p.level, hunt_reason(p.why), p.overturned ? 1 : 0);
-        points << std::flush;
+        csv << hunt_csv_row(h, record, variant, im, o) << std::flush;
+        points << hunt_points_rows(h, record, variant, im) << std::flush;
         std::string what;
         if (!h.error.empty()) what = "error: " + h.error;
         else if (h.fixed_base) what = "a fixed base cannot overturn (not run)";
@@ -628,6 +526,7 @@ int run_hunt(const StudyArgs& a, const Study& st) {
   if (!csv || !points) throw RunError(fmt::format("{}: cannot write", (!csv ? partial : points_partial).string()));
   fs::rename(partial, file);
   fs::rename(points_partial, points_file);
+  write_text(dir / "records.csv", records_csv(st, ids));
   if (first + emitted < pairs.size()) {  // stopped by a signal
     const int signal = stop_signal();
     fmt::print(stderr, "rocking: stopped by {} after {} of {} hunts; {} holds them; continue with the same command and "
@@ -638,7 +537,9 @@ int run_hunt(const StudyArgs& a, const Study& st) {
   fmt::print("the lowest overturning found, bracketed to {:g}{}; a window narrower than the fill step {:g}{} below it "
              "can be missed\n",
              o.precision, unit, o.fill_step, unit);
-  write_hunt_report(dir, st, hunts, ids, fragility_opts);
+  const StudyReport report = hunt_report(st, hunts, ids, fragility_opts);
+  for (const std::string& note : report.notes) fmt::print("{}\n", note);
+  write_report(dir, report);
   fmt::print("wrote {}, {}\n", file.string(), (dir / "fragility.csv").string());
   if (failed > 0) {
     fmt::print(stderr, "rocking: {} of {} hunts failed{}: see the error column of {}\n", failed, hunts.size(),
@@ -831,8 +732,9 @@ Command add_ida_command(CLI::App& app) {
                 "to 13.0). Survivors above the lowest overturning are reported as\n"
                 "resurrections. A window narrower than --fill-step below the answer can\n"
                 "be missed: the answer bounds the lowest overturning level from above, to\n"
-                "within the fill step. Writes DIR/hunt.csv and the overturning fragility\n"
-                "of the records' collapse levels (DIR/fragility.csv).");
+                "within the fill step. Writes DIR/hunt.csv, DIR/records.csv (what each\n"
+                "record id is) and the overturning fragility of the records' collapse\n"
+                "levels (DIR/fragility.csv, fragility_points.csv, summary.json).");
   cmd->add_option("--hunt-step", a->hunt_step, "First step of the hunt (default: the first level)")->type_name("X");
   cmd->add_option("--hunt-growth", a->hunt_growth, "Factor the step grows by each run (default 1.5)")->type_name("X");
   cmd->add_option("--hunt-max", a->hunt_max, "Largest level tried (default 50 x the first level)")->type_name("X");

@@ -1,6 +1,6 @@
-// Summaries and suite figures of `rocking ida` and `rocking sweep` (MODEL.md
-// 13): the numbers come from rocking.study's StudySummary and
-// rocking.fragility; this file writes them and draws them.
+// Suite figures of `rocking ida` and `rocking sweep` (MODEL.md 13): the
+// numbers come from rocking.study's StudySummary and rocking.fragility (their
+// files from rocking.study_files); this file draws them.
 #include "study_report.hpp"
 #include "run_output.hpp"
 #include <nlohmann/json.hpp>
@@ -14,72 +14,6 @@ namespace rocking::app {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string num(double v) { return std::isinf(v) ? "inf" : fmt::format("{:.6g}", v); }
-
-// Whether a variant can reach a limit at all (a fixed base never overturns).
-bool applies(const Study& st, std::size_t variant, const Limit& limit) {
-  if (!limit.quantity) return st.can_overturn(variant);
-  return st.reports(variant, *limit.quantity);
-}
-
-std::string interval(const std::array<double, 2>& i) {
-  return std::isnan(i[0]) ? std::string(",") : fmt::format("{},{}", num(i[0]), num(i[1]));
-}
-
-std::string fit_row(const std::string& variant, const std::string& limit, const std::string& im, const LognormalFit& f,
-                    const FitBootstrap& b, double beta_modelling) {
-  const auto total = [&](double beta) { return std::isnan(beta) ? beta : total_beta(beta, beta_modelling); };
-  return fmt::format("{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", csv_field(variant), csv_field(limit), im,
-                     f.method, f.fitted ? num(f.median) : "", f.fitted ? num(f.beta) : "",
-                     f.fitted ? num(f.log_median_se) : "", f.fitted ? num(f.beta_se) : "",
-                     f.fitted ? interval(b.median) : ",", f.fitted ? interval(b.beta) : ",",
-                     f.fitted ? num(total(f.beta)) : "", f.fitted ? interval({total(b.beta[0]), total(b.beta[1])}) : ",",
-                     b.draws, b.fitted, f.records, f.reached, csv_field(f.note));
-}
-
-// fragility.csv: each fit with its bootstrap's 90 % intervals (empty when
-// not computed), beta_total with modelling dispersion, the resamples drawn
-// and fitted.
-const char* fragility_header =
-    "variant,limit,im,method,median,beta,log_median_se,beta_se,median_low,median_high,beta_low,beta_high,beta_total,"
-    "beta_total_low,beta_total_high,bootstrap_draws,bootstrap_fitted,records,reached,note\n";
-const char* points_header = "variant,limit,im,source,record,level,fraction,runs,reached\n";
-
-// The capacity points: each record's capacity, the reached ones with their
-// empirical probability (rank over every record).
-std::string capacity_points(const std::string& variant, const std::string& limit, const std::string& im,
-                            std::vector<std::pair<std::size_t, Capacity>> caps, const std::vector<std::string>& ids) {
-  std::stable_sort(caps.begin(), caps.end(), [](const auto& a, const auto& b) {
-    return a.second.reached != b.second.reached ? a.second.reached : a.second.im < b.second.im;
-  });
-  std::string out;
-  for (std::size_t k = 0; k < caps.size(); ++k) {
-    const auto& [r, c] = caps[k];
-    out += fmt::format("{},{},{},capacity,{},{},{},1,{}\n", csv_field(variant), csv_field(limit), im, csv_field(ids[r]),
-                       num(c.im), c.reached ? num(static_cast<double>(k + 1) / static_cast<double>(caps.size())) : "",
-                       c.reached ? 1 : 0);
-  }
-  return out;
-}
-
-void print_fit(const std::string& variant, const std::string& limit, const IntensityMeasure& im, const LognormalFit& f,
-               const FitBootstrap& b, double beta_modelling) {
-  if (!f.fitted) {
-    fmt::print("{}: {}: no {} fit: {}\n", variant, limit, f.method, f.note);
-    return;
-  }
-  const std::string unit = im.unit().empty() ? "" : " " + im.unit();
-  const std::string median_ci = b.computed() ? fmt::format(" [{:.3g}, {:.3g}]", b.median[0], b.median[1]) : "";
-  const std::string beta_ci = b.computed() ? fmt::format(" [{:.3f}, {:.3f}]", b.beta[0], b.beta[1]) : "";
-  const std::string total =
-      beta_modelling > 0 ? fmt::format(", beta_total {:.3f} with modelling {:g}", total_beta(f.beta, beta_modelling), beta_modelling)
-                         : "";
-  fmt::print("{}: {} median {} {:.4g}{}{}, beta {:.3f}{}{} ({}{} of {} {}; {})\n", variant, limit, im.name(), f.median,
-             unit, median_ci, f.beta, beta_ci, total,
-             b.computed() ? fmt::format("{:g} % intervals by bootstrap; ", b.level * 100) : "", f.reached, f.records,
-             f.method == "stripes-mle" ? "runs" : "records", f.method);
-}
 
 bool any_modelling(const SuiteFragility& fragility) {
   for (const auto& v : fragility)
@@ -100,13 +34,6 @@ std::string limit_title(const Limit& limit) {
 }
 
 }  // namespace
-
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' ? ' ' : c);
-  return out + "\"";
-}
 
 std::string im_words(const IntensityMeasure& im) {
   const std::string damping = fmt::format("{:g} %", im.damping * 100);
@@ -130,97 +57,6 @@ std::string im_axis_label(const IntensityMeasure& im) {
     case IntensityMeasure::Kind::saavg: return fmt::format("S_{{a,avg}}({:.3g}-{:.3g} s{}) [g]", im.t1, im.t2, damping);
   }
   return im.name();
-}
-
-SuiteFragility suite_fragility(const Study& st, const StudySummary& summary, const FragilityOptions& options,
-                               int threads) {
-  const std::size_t nv = st.variants().size(), nl = summary.limits().size();
-  SuiteFragility out(nv, std::vector<std::optional<LimitFragility>>(nl));
-  // Each (variant, limit) is one task: its bootstrap is the work.
-  const std::function<std::optional<LimitFragility>(std::size_t)> work = [&](std::size_t i) {
-    const std::size_t v = i / nl, l = i % nl;
-    if (!applies(st, v, summary.limits()[l])) return std::optional<LimitFragility>();
-    return std::optional<LimitFragility>(summary.fragility(v, l, options));
-  };
-  parallel_ordered<std::optional<LimitFragility>>(
-      nv * nl, threads, work, [&](std::size_t i, const std::optional<LimitFragility>& f) { out[i / nl][i % nl] = f; });
-  return out;
-}
-
-void write_ladder_report(const fs::path& dir, const Study& st, const StudySummary& summary,
-                         const SuiteFragility& fragility_of, const std::vector<std::string>& ids) {
-  const IntensityMeasure& im = st.intensity_measure();
-  std::string fractiles = "variant,quantity,im,level,runs,collapsed,p16,p50,p84\n";
-  std::string fragility = fragility_header, points = points_header;
-  nlohmann::json json{{"im", im.name()},
-                      {"unit", im.unit()},
-                      {"damping", im.damping},
-                      {"levels", summary.levels()},
-                      {"resurrection", summary.resurrection() == Resurrection::first ? "first" : "keep"},
-                      {"records", ids},
-                      {"variants", nlohmann::json::array()}};
-  for (std::size_t v = 0; v < st.variants().size(); ++v) {
-    const std::string& name = st.variants()[v].name;
-    nlohmann::json jv{{"name", name}, {"fractiles", nlohmann::json::object()}, {"fragility", nlohmann::json::array()}};
-    for (const QuantityName& q : study_columns(st).all()) {
-      // By column: level, runs, collapsed, p16, p50, p84 (null: a collapse,
-      // JSON having no infinity).
-      nlohmann::json cols{{"level", nlohmann::json::array()}, {"runs", nlohmann::json::array()},
-                          {"collapsed", nlohmann::json::array()}, {"p16", nlohmann::json::array()},
-                          {"p50", nlohmann::json::array()}, {"p84", nlohmann::json::array()}};
-      const char* keys[] = {"p16", "p50", "p84"};
-      for (const StudySummary::FractileRow& row : summary.fractiles(v, q)) {
-        fractiles += fmt::format("{},{},{},{},{},{},{},{},{}\n", csv_field(name), csv_field(q.name()), im.name(),
-                                 num(row.level), row.runs, row.collapsed, num(row.edp[0]), num(row.edp[1]),
-                                 num(row.edp[2]));
-        cols["level"].push_back(row.level);
-        cols["runs"].push_back(row.runs);
-        cols["collapsed"].push_back(row.collapsed);
-        for (std::size_t i = 0; i < 3; ++i)
-          cols[keys[i]].push_back(std::isinf(row.edp[i]) ? nlohmann::json(nullptr) : nlohmann::json(row.edp[i]));
-      }
-      if (!cols["level"].empty()) jv["fractiles"][q.name()] = std::move(cols);
-    }
-    for (std::size_t l = 0; l < summary.limits().size(); ++l) {
-      if (!fragility_of[v][l]) continue;
-      const LimitFragility& f = *fragility_of[v][l];
-      const Limit& limit = f.limit;
-      fragility += fit_row(name, limit.name, im.name(), f.capacity_fit, f.capacity_bootstrap, f.beta_modelling) +
-                   fit_row(name, limit.name, im.name(), f.stripes_fit, f.stripes_bootstrap, f.beta_modelling);
-      points += capacity_points(name, limit.name, im.name(), f.capacities, ids);
-      for (const Stripe& s : f.stripes)
-        points += fmt::format("{},{},{},stripe,,{},{},{},{}\n", csv_field(name), csv_field(limit.name), im.name(),
-                              num(s.im), num(static_cast<double>(s.reached) / static_cast<double>(s.runs)), s.runs,
-                              s.reached);
-      jv["fragility"].push_back(fragility_json(f, ids));
-      if (!limit.quantity) {
-        print_fit(name, limit.name, im, f.capacity_fit, f.capacity_bootstrap, f.beta_modelling);
-        print_fit(name, limit.name, im, f.stripes_fit, f.stripes_bootstrap, f.beta_modelling);
-      }
-    }
-    // Records that stand again above their first overturning.
-    nlohmann::json jr = nlohmann::json::array();
-    std::size_t levels_survived = 0;
-    const auto resurrections = summary.resurrections(v);
-    for (const StudySummary::Resurrections& r : resurrections) {
-      jr.push_back({{"record", ids[r.record]}, {"first_overturning", r.first_overturning}, {"survived", r.survived}});
-      levels_survived += r.survived.size();
-    }
-    jv["resurrections"] = std::move(jr);
-    if (!resurrections.empty())
-      fmt::print("{}: {} of {} records survive {} level(s) above their first overturning; {}\n", name,
-                 resurrections.size(), ids.size(), levels_survived,
-                 summary.resurrection() == Resurrection::first
-                     ? "counted as overturned there (--resurrection first)"
-                     : "counted as standing there (--resurrection keep)");
-    json["variants"].push_back(jv);
-  }
-  write_text(dir / "summary.csv", fractiles);
-  write_text(dir / "fragility.csv", fragility);
-  write_text(dir / "fragility_points.csv", points);
-  write_text(dir / "summary.json", json.dump(1) + "\n");
-  fmt::print("wrote {} (16/50/84 % fractiles), {}, {}, {}\n", (dir / "summary.csv").string(),
-             (dir / "fragility.csv").string(), (dir / "fragility_points.csv").string(), (dir / "summary.json").string());
 }
 
 std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, const StudySummary& summary,
@@ -436,38 +272,6 @@ std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, c
       written.push_back(f);
   }
   return written;
-}
-
-void write_hunt_report(const fs::path& dir, const Study& st, const std::vector<HuntResult>& hunts,
-                       const std::vector<std::string>& ids, const FragilityOptions& options) {
-  const IntensityMeasure& im = st.intensity_measure();
-  const std::size_t nv = st.variants().size();
-  std::string fragility = fragility_header, points = points_header;
-  nlohmann::json json{{"im", im.name()}, {"unit", im.unit()}, {"damping", im.damping}, {"records", ids},
-                      {"variants", nlohmann::json::array()}};
-  for (std::size_t v = 0; v < nv; ++v) {
-    const std::string& name = st.variants()[v].name;
-    if (!st.can_overturn(v)) continue;
-    const auto caps = hunt_capacities(hunts, nv, v);
-    nlohmann::json jr = nlohmann::json::array();
-    for (const auto& [r, capacity] : caps) {
-      const HuntResult& h = hunts[r * nv + v];
-      if (!h.resurrections.empty()) {
-        nlohmann::json ranges = nlohmann::json::array();
-        for (const auto& [from, to] : h.resurrections) ranges.push_back({from, to});
-        jr.push_back({{"record", ids[r]}, {"first_overturning", h.collapse_level}, {"survived", ranges}});
-      }
-    }
-    const LimitFragility f = capacity_fragility(overturning_limit(), caps, options);
-    fragility += fit_row(name, "overturning", im.name(), f.capacity_fit, f.capacity_bootstrap, f.beta_modelling);
-    points += capacity_points(name, "overturning", im.name(), caps, ids);
-    json["variants"].push_back({{"name", name}, {"fragility", {fragility_json(f, ids)}}, {"resurrections", jr}});
-    if (st.records().size() >= 2)
-      print_fit(name, "overturning", im, f.capacity_fit, f.capacity_bootstrap, f.beta_modelling);
-  }
-  write_text(dir / "fragility.csv", fragility);
-  write_text(dir / "fragility_points.csv", points);
-  write_text(dir / "summary.json", json.dump(1) + "\n");
 }
 
 }  // namespace rocking::app

@@ -20,6 +20,7 @@ export import rocking.contact;
 export import rocking.simulation;
 export import rocking.plot;
 export import rocking.study;
+export import rocking.study_files;
 export import rocking.drawing;
 export import rocking.report;
 export import rocking.run;

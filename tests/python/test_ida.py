@@ -29,7 +29,9 @@ def test_ida_rows_equal_the_programs_csv(cli, elcentro, tmp_path):
             assert mine[key] == pytest.approx(float(theirs[key]), rel=1e-8), key  # the CSV's 9 digits
     fractiles = study.fractiles("theta_over_alpha", "no-damper")
     assert [f["level"] for f in fractiles] == [1, 2]
-    assert fractiles[0]["p50"] == study.rows[1]["theta_over_alpha"]  # one record: its own peak
+    # One record: its own peak, as the files hold it (9 digits, as the program's summary).
+    assert fractiles[0]["p50"] == pytest.approx(study.rows[1]["theta_over_alpha"], rel=1e-8)
+    assert fractiles[0]["p50"] == float(f"{study.rows[1]['theta_over_alpha']:.9g}")
 
 
 def test_ctrl_c_stops_an_ida_within_seconds(elcentro):
@@ -191,3 +193,33 @@ def test_a_hunt_through_python_equals_the_programs_hunt_csv(cli, records, tmp_pa
             assert fit["median"] == pytest.approx(expected["median"], rel=1e-12)
     with pytest.raises(ValueError, match="a hunt has none"):
         study.fractiles("theta_over_alpha")
+
+
+def test_the_files_ida_write_makes_are_the_programs_byte_for_byte(cli, records, tmp_path):
+    """rocking.study_files writes the rows and the report for both: Ida.write makes the
+    files of `rocking ida --no-plot` (its inputs.txt, timing.csv and lock aside), and
+    Ida.summary() is summary.json's dict."""
+    files = [records / "elcentro_1940_ns.at2", records / "chichi1999_chy028_n.at2"]
+    paths = [str(f) for f in files]
+    cases = {
+        "ladder": (["--scales", "0.5,1,2", "--variants", "damper,no-damper", "--limit", "theta_over_alpha=0.01"],
+                   lambda: rocking.ida(None, paths, levels=[0.5, 1, 2], variants=["damper", "no-damper"],
+                                       limits=["theta_over_alpha=0.01"])),
+        "hunt": (["--im", "pga", "--levels", "0.5", "--hunt", "--hunt-max", "6", "--variants", "damper,fixed-base"],
+                 lambda: rocking.ida(None, paths, im="pga", levels=[0.5], variants=["damper", "fixed-base"], hunt=True,
+                                     hunt_max=6)),
+    }
+    for name, (args, run) in cases.items():
+        theirs = tmp_path / name / "program"
+        r = cli.run("ida", "--record", *files, *args, "--bootstrap", "200", "--out", theirs, "--no-plot")
+        assert r.returncode == 0, r.stderr
+        study = run()
+        mine = study.write(tmp_path / name / "python", bootstrap=200)
+        expected = sorted(p.name for p in theirs.iterdir() if p.name not in ("inputs.txt", "timing.csv", ".lock"))
+        assert sorted(p.name for p in mine) == expected, name
+        assert ("ida.csv" in expected) == (name == "ladder")
+        for p in mine:
+            assert p.read_bytes() == (theirs / p.name).read_bytes(), f"{name}: {p.name}"
+        assert study.summary(bootstrap=200) == json.loads((theirs / "summary.json").read_text()), name
+    with pytest.raises(ValueError, match="bootstrap -1"):
+        study.write(tmp_path / "bad", bootstrap=-1)

@@ -1,0 +1,104 @@
+// rocking.study_files: the files of a suite study (MODEL.md 13), as text and
+// JSON, so that `rocking ida`/`rocking sweep` and Python's Ida.write make the
+// same files from the same results: the rows of ida.csv / sweep.csv (the
+// job's fields, the study's columns, the run's outcome and cost), hunt.csv
+// and hunt_points.csv, records.csv, and the suite's report: summary.csv (the
+// 16/50/84 % fractile IDA curves), fragility.csv and fragility_points.csv
+// (each limit state's lognormal fits and their data) and summary.json (all
+// of it). Fields a run is resumed from are written as their shortest exact
+// decimal; peaks to 9 significant digits, summaries to 6.
+module;
+#include <nlohmann/json.hpp>
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+export module rocking.study_files;
+export import rocking.study;
+
+export namespace rocking {
+
+// A CSV field: quoted (with "" for ") when it holds a comma, quote or newline.
+std::string csv_field(const std::string& s);
+// A number as its shortest exact decimal (read back to the same double); empty when not finite.
+std::string exact_number(double v);
+// A peak as the CSV writes it: empty when the run does not report it (NaN).
+std::string peak_field(double v);
+
+// A record as rows and figures name it: its file name, or as many of its
+// last path components as make it unique among the study's records (two
+// "a.at2" in folders x/ and y/ become "x/a.at2" and "y/a.at2"); the same file
+// given twice becomes "a.at2" and "a.at2#2".
+std::vector<std::string> record_ids(const std::vector<std::string>& paths);
+
+// ida.csv / sweep.csv: the job's fields (record, scale, variant, im, level,
+// record_im), the study's columns (StudyColumns: the schema's study
+// quantities, then each device's by name), then the run's outcome and cost
+// (top_total_mm, outcome, uplifts, impacts, rhs, error).
+inline constexpr std::size_t job_field_count = 6, run_field_count = 6;
+std::string study_csv_header(const StudyColumns& columns);
+std::string job_fields(const Study& st, const std::vector<std::string>& ids, const Job& job);
+std::string study_csv_row(const Study& st, const StudyColumns& columns, const std::vector<std::string>& ids,
+                          const Job& job, const JobResult& r);
+// The fields of a study's CSV row (no field but the last, the error, holds a
+// quoted comma).
+std::vector<std::string> csv_fields(const std::string& row);
+// A job's result as a line: the level, the study's columns (empty where not
+// reported), 1 if it overturned; empty for a job that failed. The per-record
+// figures' data, and what a rank or a resumed row hands the summary.
+std::string figure_line(const StudyColumns& columns, const Job& job, const JobResult& r);
+// The result a figure line stands for (peaks and outcome).
+JobResult line_result(const StudyColumns& columns, const std::string& line);
+// The result as the files hold it (peaks to their 9 digits): what every front
+// end adds to a StudySummary, so that a study's summary is the same whether
+// its runs were fresh, resumed from rows or sent by other processes.
+JobResult as_written(const StudyColumns& columns, const Job& job, const JobResult& r);
+
+// records.csv: what each record id is, as its file says.
+std::string records_csv(const Study& st, const std::vector<std::string>& ids);
+
+// hunt.csv: one row per (record, variant); hunt_points.csv: every level each
+// hunt ran and why.
+extern const std::string hunt_csv_header, hunt_points_header;
+// The first fields of both: record, variant, im.
+std::string hunt_fields(const std::string& record, const std::string& variant, const IntensityMeasure& im);
+std::string hunt_csv_row(const HuntResult& h, const std::string& record, const std::string& variant,
+                         const IntensityMeasure& im, const HuntOptions& o);
+std::string hunt_points_rows(const HuntResult& h, const std::string& record, const std::string& variant,
+                             const IntensityMeasure& im);
+// A hunt's resurrections as "1.2-1.4 1.7" (levels at which it stands again).
+std::string ranges_text(const std::vector<std::pair<double, double>>& ranges);
+
+// Whether a variant can reach a limit at all (a fixed base never overturns).
+bool limit_applies(const Study& st, std::size_t variant, const Limit& limit);
+// Each variant's fragility for each limit state that applies to it
+// ([variant][limit]; none where it does not apply), the (variant, limit)
+// pairs on `threads` threads.
+using SuiteFragility = std::vector<std::vector<std::optional<LimitFragility>>>;
+SuiteFragility suite_fragility(const Study& st, const StudySummary& summary, const FragilityOptions& options,
+                               int threads);
+
+// A study's report: the files' texts, and the lines a user is told (each
+// variant's overturning fits; the records that stand again above their first
+// overturning).
+struct StudyReport {
+  std::string summary_csv;  // a ladder's fractiles (empty for a hunt)
+  std::string fragility_csv, fragility_points_csv;
+  nlohmann::json summary;   // summary.json
+  std::vector<std::string> notes;
+};
+StudyReport ladder_report(const Study& st, const StudySummary& summary, const SuiteFragility& fragility,
+                          const std::vector<std::string>& ids);
+// The overturning fragility of hunts, one per (record, variant), record-major.
+StudyReport hunt_report(const Study& st, const std::vector<HuntResult>& hunts, const std::vector<std::string>& ids,
+                        const FragilityOptions& options);
+// Writes the report's files into dir (summary.csv for a ladder only); returns the paths written.
+std::vector<std::filesystem::path> write_report(const std::filesystem::path& dir, const StudyReport& report);
+
+// Writes text to file whole: into a file beside it, renamed over it, so a
+// file is never left partial under its name. RunError naming the file.
+void write_text(const std::filesystem::path& file, const std::string& text);
+
+}  // namespace rocking
