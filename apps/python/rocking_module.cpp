@@ -440,22 +440,17 @@ py::list ida_write(const PyIda& r, const std::filesystem::path& dir, const rocki
   return out;
 }
 
-// A hunt's row: the columns of hunt.csv and the levels it ran (hunt_points.csv).
+// A hunt's row: the columns of hunt.csv (rocking::hunt_json) and the levels
+// it ran (hunt_points.csv).
 py::dict hunt_row(const rocking::HuntResult& h, const std::string& record, const std::string& variant,
                   const rocking::IntensityMeasure& im, const rocking::HuntOptions& o) {
-  auto maybe = [](bool has, double v) { return has ? py::object(py::float_(v)) : py::object(py::none()); };
-  py::list resurrections, points;
-  for (const auto& [from, to] : h.resurrections) resurrections.append(py::make_tuple(from, to));
+  py::dict row = to_python(rocking::hunt_json(h, record, variant, im, o)).cast<py::dict>();
+  py::list points;
   for (const rocking::HuntPoint& p : h.points)
     points.append(py::dict("level"_a = p.level, "why"_a = std::string(rocking::hunt_reason(p.why)),
                            "overturned"_a = p.overturned));
-  const std::string error = h.fixed_base ? "fixed base: cannot overturn" : h.error;
-  return py::dict("record"_a = record, "variant"_a = variant, "im"_a = im.name(),
-                  "collapse_level"_a = maybe(h.collapsed, h.collapse_level), "survived_level"_a = h.survived_level,
-                  "collapse_scale"_a = maybe(h.collapsed, h.collapse_level / h.record_im), "record_im"_a = h.record_im,
-                  "traced_level"_a = maybe(h.collapsed, h.traced_level), "fill_step"_a = o.fill_step,
-                  "precision"_a = o.precision, "resurrections"_a = resurrections, "runs"_a = h.runs,
-                  "error"_a = error.empty() ? py::object(py::none()) : py::object(py::str(error)), "points"_a = points);
+  row["points"] = points;
+  return row;
 }
 
 PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std::string& im_text, std::vector<double> levels,

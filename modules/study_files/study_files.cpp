@@ -214,14 +214,40 @@ std::string ranges_text(const std::vector<std::pair<double, double>>& ranges) {
   return out;
 }
 
+nlohmann::json hunt_json(const HuntResult& h, const std::string& record, const std::string& variant,
+                         const IntensityMeasure& im, const HuntOptions& o) {
+  const auto maybe = [](bool has, double v) { return has ? nlohmann::json(v) : nlohmann::json(nullptr); };
+  nlohmann::json ranges = nlohmann::json::array();
+  for (const auto& [from, to] : h.resurrections) ranges.push_back({from, to});
+  const std::string error = h.fixed_base ? "fixed base: cannot overturn" : h.error;
+  return {{"record", record},
+          {"variant", variant},
+          {"im", im.name()},
+          {"collapse_level", maybe(h.collapsed, h.collapse_level)},
+          {"survived_level", h.survived_level},
+          {"collapse_scale", maybe(h.collapsed, h.collapse_level / h.record_im)},
+          {"record_im", h.record_im},
+          {"traced_level", maybe(h.collapsed, h.traced_level)},
+          {"fill_step", o.fill_step},
+          {"precision", o.precision},
+          {"resurrections", std::move(ranges)},
+          {"runs", h.runs},
+          {"error", error.empty() ? nlohmann::json(nullptr) : nlohmann::json(error)}};
+}
+
 std::string hunt_csv_row(const HuntResult& h, const std::string& record, const std::string& variant,
                          const IntensityMeasure& im, const HuntOptions& o) {
-  const std::string error = h.fixed_base ? "fixed base: cannot overturn" : h.error;
-  return hunt_fields(record, variant, im) +
-         fmt::format("{},{},{},{},{},{:g},{:g},{},{},{}\n", h.collapsed ? exact_number(h.collapse_level) : "",
-                     exact_number(h.survived_level), h.collapsed ? exact_number(h.collapse_level / h.record_im) : "",
-                     exact_number(h.record_im), h.collapsed ? exact_number(h.traced_level) : "", o.fill_step,
-                     o.precision, ranges_text(h.resurrections), h.runs, csv_field(error));
+  const nlohmann::json values = hunt_json(h, record, variant, im, o);
+  std::string out;
+  for (const std::string& name : csv_fields(hunt_csv_header.substr(0, hunt_csv_header.size() - 1))) {
+    const nlohmann::json& v = values.at(name);
+    if (!out.empty()) out += ',';
+    if (v.is_string()) out += csv_field(v.get<std::string>());
+    else if (v.is_number_integer()) out += std::to_string(v.get<long long>());
+    else if (v.is_number()) out += exact_number(v.get<double>());
+    else if (v.is_array()) out += ranges_text(v.get<std::vector<std::pair<double, double>>>());
+  }
+  return out + "\n";
 }
 
 std::string hunt_points_rows(const HuntResult& h, const std::string& record, const std::string& variant,

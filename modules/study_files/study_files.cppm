@@ -64,6 +64,11 @@ std::string records_csv(const Study& st, const std::vector<std::string>& ids);
 extern const std::string hunt_csv_header, hunt_points_header;
 // The first fields of both: record, variant, im.
 std::string hunt_fields(const std::string& record, const std::string& variant, const IntensityMeasure& im);
+// A hunt's row as values, by hunt.csv's column names: null where the CSV is
+// empty (no collapse, no error), resurrections as [from, to] pairs. The CSV
+// row is written from it, and Python's Ida.hunts holds it.
+nlohmann::json hunt_json(const HuntResult& h, const std::string& record, const std::string& variant,
+                         const IntensityMeasure& im, const HuntOptions& o);
 std::string hunt_csv_row(const HuntResult& h, const std::string& record, const std::string& variant,
                          const IntensityMeasure& im, const HuntOptions& o);
 std::string hunt_points_rows(const HuntResult& h, const std::string& record, const std::string& variant,
