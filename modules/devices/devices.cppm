@@ -33,12 +33,13 @@ export import :elastic;
 export import :viscous;
 export import :friction;
 export import :gap;
+export import :kelvin;
 
 export namespace rocking {
 
 // The registered laws. A new law: its file law_NAME.cppm, its
 // `export import :NAME;` above and its type here.
-using DeviceLaw = std::variant<BoucWenLaw, ElasticLaw, ViscousLaw, FrictionLaw, GapLaw>;
+using DeviceLaw = std::variant<BoucWenLaw, ElasticLaw, ViscousLaw, FrictionLaw, GapLaw, KelvinLaw>;
 
 enum class Kinematics { chord, vertical };
 
