@@ -333,6 +333,9 @@ TEST_CASE("figure scripts: time axes end at the run's end, fixed bases draw no r
               (dir / "sp").string()).code == 0);
   const std::string sp = file_text(dir / "sp" / "spectrum.gp");
   CHECK(contains(sp, "with boxxyerror fillstyle solid"));  // cells filled, not points
-  CHECK(contains(sp, "#701f4e9c"));                         // one translucent colour per size
-  CHECK(contains(sp, "#90c0392b"));
+  CHECK(contains(sp, "#701f4e9c"));                         // the first size translucent and solid,
+  CHECK(contains(sp, "with boxxyerror fillstyle pattern 1 transparent noborder linecolor rgb \"#c0392b\""));  // the next cross-hatched
+  // Outside each size's own grid, in seconds and g, hatched as never computed.
+  CHECK(contains(sp, "stats 'spectrum.data/size_2.csv' skip 1 using 12:14 nooutput prefix \"HI1\""));
+  CHECK(contains(sp, "title 'not computed for block x2'"));
 }

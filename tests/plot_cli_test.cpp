@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 #include "run_program.hpp"
+#include "records.hpp"
 #include "csv_table.hpp"
 
 namespace fs = std::filesystem;
@@ -306,13 +307,27 @@ TEST_CASE("plot response with a tendon and dampers draws each device's loop and 
   CHECK(script.find("device force F [kN]") != std::string::npos);
   // Each device named once, by its dash pattern, in the axis label (no key over the loops).
   CHECK(script.find("(solid damper_left, dashed damper_right, dotted tendon)") != std::string::npos);
-  CHECK(script.find("dashtype 3 notitle") != std::string::npos);
+  CHECK(script.find("dashtype 3 pointnumber 12 notitle") != std::string::npos);
   // M_dev against theta, their columns found by name in the run's history.
   const CsvTable history = csv_table(file_text(dir / "response.data" / "scene.csv"));
   const std::size_t theta = history.column("theta [rad]") + 1, moment = history.column("M_dev [N m]") + 1;
   CHECK(script.find("using " + std::to_string(theta) + ":($" + std::to_string(moment) + "*1e-06)") != std::string::npos);
   CHECK(fs::file_size(dir / "response.png") > 1000);
-  // Without other devices the figure keeps the paper's one signed damper loop.
+  // A scene whose devices are all its own (the wall: a tendon and its own
+  // dampers, no paper damper) draws them too, and a run without devices
+  // (no-devices) is left out of those panels.
+  const Result wall = run("plot response " ROCKING_SOURCE_DIR "/data/scenes/controlled_rocking_wall.toml "
+                          "--variants scene,no-devices --formats png --out " + (dir / "wall").string());
+  REQUIRE_MESSAGE(wall.code == 0, wall.err);
+  const std::string wall_script = file_text(dir / "wall" / "response.gp");
+  CHECK(wall_script.find("device force F [kN]") != std::string::npos);
+  CHECK(wall_script.find("(solid tendon, dashed dampers_left, dotted dampers_right)") != std::string::npos);
+  std::size_t bare = 0;  // the run without devices: in the drift and rocking panels only
+  for (std::size_t at = wall_script.find("no-devices.csv'"); at != std::string::npos;
+       at = wall_script.find("no-devices.csv'", at + 1))
+    ++bare;
+  CHECK(bare == 3);
+    // Without other devices the figure keeps the paper's one signed damper loop.
   const Result plain = run("plot response --variants scene --formats png --out " + (dir / "plain").string());
   REQUIRE(plain.code == 0);
   CHECK(file_text(dir / "plain" / "response.gp").find("device force F") == std::string::npos);
@@ -321,4 +336,35 @@ TEST_CASE("plot response with a tendon and dampers draws each device's loop and 
   const std::size_t d = plain_history.column("damper_d [m]") + 1, f = plain_history.column("damper_F [N]") + 1;
   CHECK(file_text(dir / "plain" / "response.gp").find("$" + std::to_string(d) + " == 0 || $" + std::to_string(f) + " == 0 ? NaN") !=
         std::string::npos);
+}
+
+TEST_CASE("--window: T0:T1 or the record's strong shaking on the time axes, refused in one line otherwise") {
+  const fs::path dir = scratch_dir("plot_test_window");
+  const Result given = run("plot response --variants scene --window 0.5:2 --formats png --out " + dir.string());
+  REQUIRE_MESSAGE(given.code == 0, given.err);
+  CHECK(file_text(dir / "response.gp").find("unset key\n  set xrange [0.5:2]") != std::string::npos);
+  for (const char* bad : {"3:1", "abc", "-1:2", "1:", "1:inf"}) {
+    CAPTURE(bad);
+    const Result r = run(std::string("plot response --window ") + bad + " --out " + (dir / "bad").string());
+    CHECK(r.code == 2);
+    CHECK(r.err == std::string("rocking: error: --window ") + bad + ": give T0:T1 in seconds (0 <= T0 < T1) or auto\n");
+  }
+  // A pulse is short: auto shows the whole run.
+  const Result pulse = run("plot response --variants scene --window auto --formats png --out " + (dir / "pulse").string());
+  REQUIRE(pulse.code == 0);
+  CHECK(file_text(dir / "pulse" / "response.gp").find("unset key\n  set xrange") == std::string::npos);
+  const Result from = run("plot response --from " + dir.string() + " --window auto --out " + (dir / "from").string());
+  CHECK(from.code == 2);
+  const auto records = records_dir();
+  if (!records) return;
+  // Waiau (163 s): 5 % to 95 % of its Arias intensity, widened by a quarter of
+  // that span each side: 44-72 s, as the README says.
+  const std::string waiau = *records + "/formats/20161113_110259_WTMC_20.V2A";
+  const Result w = run("plot response --record " + waiau + " --variants scene --window auto --formats png --out " +
+                       (dir / "waiau").string());
+  REQUIRE_MESSAGE(w.code == 0, w.err);
+  CHECK(file_text(dir / "waiau" / "response.gp").find("set xrange [44.2786:72.3917]") != std::string::npos);
+  const Result rec = run("record " + waiau + " --window auto --formats png --out " + (dir / "record").string());
+  REQUIRE_MESSAGE(rec.code == 0, rec.err);
+  CHECK(file_text(dir / "record" / "record.gp").find("set xrange [44.2786:72.3917]") != std::string::npos);
 }

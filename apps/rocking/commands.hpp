@@ -46,6 +46,14 @@ void add_motion_options(CLI::App& cmd, MotionOptions& opts);
 using SolverOptions = rocking::SolverChoice;
 void add_solver_options(CLI::App& cmd, SolverOptions& opts);
 
+// --window T0:T1 | auto: the time span a time-history figure shows.
+void add_window_option(CLI::App& cmd, std::string& window);
+// Its gnuplot range "[t0:t1]" (empty: the whole run). auto is the strong
+// shaking of the records (rocking::strong_shaking_window, their union), the
+// whole run for a pulse. InputError naming --window for anything else, and
+// for auto without a record to measure.
+std::string window_range(const std::string& window, const std::vector<const rocking::GroundMotion*>& records);
+
 Command add_modal_command(CLI::App& app);
 Command add_simulate_command(CLI::App& app);
 Command add_plot_command(CLI::App& app);

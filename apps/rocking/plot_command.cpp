@@ -58,6 +58,7 @@ struct ResponseArgs {
   FigureArgs figure;
   std::vector<std::string> variants;
   std::vector<std::string> from;
+  std::string window;
 };
 
 int response(const ResponseArgs& a) {
@@ -67,6 +68,7 @@ int response(const ResponseArgs& a) {
   std::string title;
   const fs::path data_dir = fs::path(a.figure.out) / (a.figure.name + ".data");
   if (!a.from.empty()) {
+    fig.time_range = window_range(a.window, {nullptr});
     make_output_dir(data_dir);
     std::vector<std::string> what;
     for (const std::string& run_dir : a.from) {
@@ -92,6 +94,7 @@ int response(const ResponseArgs& a) {
     std::vector<Variant> variants;
     for (const std::string& key : keys) variants.push_back(named_variant(key));
     const GroundMotion motion = load_motion(base, a.motion);
+    fig.time_range = window_range(a.window, {&motion});
     make_output_dir(data_dir);
     title = fmt::format("{}, {}\n{}", base.name, motion_scale(base, a.motion).describe(), motion_title(motion));
     for (std::size_t k = 0; k < keys.size(); ++k) {
@@ -200,6 +203,7 @@ Command add_plot_command(CLI::App& app) {
   add_motion_options(*resp, ra->motion);
   add_solver_options(*resp, ra->solver);
   add_figure_options(*resp, ra->figure, "response");
+  add_window_option(*resp, ra->window);
   resp->add_option("--variants", ra->variants,
                    "Comma-separated runs to overlay: scene (as given), damper, no-damper,\n"
                    "fixed-base, no-devices, without:NAME (the scene less its [[device]] NAME)\n"
@@ -215,6 +219,8 @@ Command add_plot_command(CLI::App& app) {
       "  rocking plot response data/scenes/controlled_rocking_wall.toml \\\n"
       "      --variants scene,without:tendon,without:dampers,no-devices   self-centring\n"
       "  rocking plot response --record ../shared/data/records/elcentro_1940_ns.at2 --scale 3\n"
+      "  rocking plot response --record ../shared/data/records/formats/20161113_110259_WTMC_20.V2A \\\n"
+      "      --component N28W --window auto                strong shaking only\n"
       "  rocking plot response --from out/a --from out/b --name compare");
   auto* mod = cmd->add_subcommand("modes",
                                   "Mode shapes in the style of the paper's Fig. 3: fixed-base modes and the\n"

@@ -28,6 +28,7 @@ struct RecordArgs {
   std::string out;
   std::string formats = "png,pdf,svg";
   bool log_axes = false;
+  std::string window;
   std::string scene;
   std::vector<std::string> overrides;
 };
@@ -108,7 +109,7 @@ void write_figures(const RecordArgs& a, const std::vector<Measured>& rs, const s
     }
     write_text(dir / "record.data" / (stem + "_spectrum.csv"), sp);
     const std::string label = key_label(r);
-    plot::Series s{label, (fs::path("record.data") / (stem + ".csv")).string(), {}, 0, false};
+    plot::Series s{.label = label, .file = (fs::path("record.data") / (stem + ".csv")).string(), .points = false};
     histories.push_back(s);
     s.file = (fs::path("record.data") / (stem + "_spectrum.csv")).string();
     spectra.push_back(s);
@@ -121,10 +122,14 @@ void write_figures(const RecordArgs& a, const std::vector<Measured>& rs, const s
   fig.name = "record";
   fig.title = rs.size() == 1 ? fmt::format("{}", rs.front().id) : fmt::format("{} records", rs.size());
   fig.height = 1100;
+  std::vector<const GroundMotion*> motions;
+  for (const Measured& r : rs) motions.push_back(&r.motion);
+  const std::string window = window_range(a.window, motions);
   std::vector<std::filesystem::path> written = plot::render_panels(
-      fig, 3, 1, "t [s]",
-      {plot::Panel{"a_g [g]", "$1", "$2", false, "", {}}, plot::Panel{"v_g [m/s]", "$1", "$3", false, "", {}},
-       plot::Panel{"d_g [m]", "$1", "$4", false, "", {}}},
+      fig, 3, 1, "time t [s]",
+      {plot::Panel{"ground acceleration a_g [g]", "$1", "$2", false, "", {}, window},
+       plot::Panel{"ground velocity v_g [m/s]", "$1", "$3", false, "", {}, window},
+       plot::Panel{"ground displacement d_g [m]", "$1", "$4", false, "", {}, window}},
       histories);
   fig.name = "spectrum";
   fig.title = fmt::format("Pseudo-spectral acceleration, {:g} % damped{}", 100 * a.damping,
@@ -166,6 +171,8 @@ int record(const RecordArgs& a) {
       throw InputError(fmt::format("--periods {}: {}", a.periods, e.what()));
     }
   if (!a.out.empty()) plot::parse_formats(a.formats);  // refused before any work
+  if (!a.window.empty() && a.out.empty()) throw InputError("--window: shapes the figures of --out; give --out DIR");
+  if (a.window != "auto") window_range(a.window, {});  // T0:T1 refused before any work
   std::string scene_name;
   const std::vector<plot::Mark> marks = scene_periods(a, scene_name);
   const RecordOptions ro = record_options(a.file);
@@ -214,6 +221,7 @@ Command add_record_command(CLI::App& app) {
       ->type_name("DIR");
   cmd->add_option("--formats", a->formats, "Figure formats: png,pdf,svg (default all)")->type_name("LIST");
   cmd->add_flag("--log", a->log_axes, "Spectrum on log-log axes");
+  add_window_option(*cmd, a->window);
   cmd->add_option("--scene", a->scene,
                   "Mark this scene's fixed-base periods on the spectrum (--set applies)")
       ->type_name("SCENE");
@@ -224,7 +232,8 @@ Command add_record_command(CLI::App& app) {
       "Examples:\n"
       "  rocking record ../shared/data/records/elcentro_1940_ns.at2\n"
       "  rocking record ../shared/data/records/formats/20161113_110259_WTMC_20.V2A --component Up --json\n"
-      "  rocking record a.at2 b.V2A --out out/records --log --scene data/scenes/christchurch_chimney.toml");
+      "  rocking record a.at2 b.V2A --out out/records --log --scene data/scenes/christchurch_chimney.toml\n"
+      "  rocking record ../shared/data/records/formats/20161113_110259_WTMC_20.V2A --out out/waiau --window auto");
   return [a]() { return record(*a); };
 }
 

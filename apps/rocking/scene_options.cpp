@@ -3,7 +3,11 @@
 #include "commands.hpp"
 #include <fmt/format.h>
 #include <algorithm>
+#include <array>
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
+#include <limits>
 #include <filesystem>
 
 namespace rocking::app {
@@ -116,6 +120,43 @@ void add_solver_options(CLI::App& cmd, SolverOptions& opts) {
                "flexible structure in full contact under a record is stepped exactly\n"
                "(the phase is linear and the record piecewise linear; runs that track\n"
                "energy, and pulses, are always integrated)");
+}
+
+void add_window_option(CLI::App& cmd, std::string& window) {
+  cmd.add_option("--window", window,
+                 "Time span of the time axes: T0:T1 in seconds, or auto (the strong\n"
+                 "shaking: 5 % to 95 % of the record's Arias intensity, widened by a\n"
+                 "quarter of that span, at least 2 s, each side) (default: the whole run)")
+      ->type_name("T0:T1|auto");
+}
+
+std::string window_range(const std::string& window, const std::vector<const GroundMotion*>& records) {
+  if (window.empty()) return {};
+  if (window == "auto") {
+    double from = std::numeric_limits<double>::infinity(), to = -from;
+    for (const GroundMotion* g : records) {
+      if (g == nullptr) throw InputError("--window auto: needs the record itself (not --from); give T0:T1");
+      if (!g->piecewise_linear()) return {};  // a pulse is short: the whole run
+      const std::array<double, 2> w = strong_shaking_window(*g);
+      from = std::min(from, w[0]);
+      to = std::max(to, w[1]);
+    }
+    if (!(to > from)) return {};
+    return fmt::format("[{:.6g}:{:.6g}]", from, to);
+  }
+  // A whole number text, nothing before or after it.
+  auto number = [](const std::string& text, double& v) {
+    char* end = nullptr;
+    v = std::strtod(text.c_str(), &end);
+    return !text.empty() && end == text.c_str() + text.size() && !std::isspace(static_cast<unsigned char>(text[0]));
+  };
+  const auto colon = window.find(':');
+  double t0 = 0, t1 = 0;
+  const bool read = colon != std::string::npos && number(window.substr(0, colon), t0) &&
+                    number(window.substr(colon + 1), t1);
+  if (!read || !(t0 >= 0) || !(t1 > t0) || !std::isfinite(t1))
+    throw InputError(fmt::format("--window {}: give T0:T1 in seconds (0 <= T0 < T1) or auto", window));
+  return fmt::format("[{:.9g}:{:.9g}]", t0, t1);
 }
 
 }  // namespace rocking::app

@@ -118,14 +118,25 @@ int spectrum(const SpectrumArgs& a) {
       const double above = i + 1 < grid.size() ? grid[i + 1] - grid[i] : below;
       return std::pair{grid[i] - below / 2, grid[i] + above / 2};
     };
+    // In seconds a cell reaches halfway to its neighbours' periods (as far on
+    // the outside): mapping the frequency cell instead would stretch the
+    // lowest frequencies' cells over many seconds never computed.
+    auto period_cell = [&](std::size_t i, double to_period) {
+      const auto T = [&](std::size_t j) { return to_period / freqs[j]; };
+      const std::size_t n = freqs.size();
+      const double longer = i > 0 ? T(i - 1) - T(i) : n > 1 ? T(0) - T(1) : 0.1 * T(0);
+      const double shorter = i + 1 < n ? T(i) - T(i + 1) : longer;
+      return std::pair{T(i) - shorter / 2, T(i) + longer / 2};
+    };
     for (std::size_t k = 0; k < s.complete; ++k) {
       const SpectrumPoint& pt = s.points[k];
       const auto [f_lo, f_hi] = cell(freqs, k / amps.size());
       const auto [a_lo, a_hi] = cell(amps, k % amps.size());
       const double to_period = pt.period_s * pt.frequency_ratio, to_g = pt.amplitude_g / pt.amplitude_ratio;
+      const auto [t_lo, t_hi] = period_cell(k / amps.size(), to_period);
       out += fmt::format("{:.6g},{:.6g},{:.6g},{:.6g},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n",
                          pt.frequency_ratio, pt.amplitude_ratio, pt.period_s, pt.amplitude_g, pt.overturned ? 1 : 0,
-                         pt.uplift ? 1 : 0, f_lo, f_hi, a_lo, a_hi, to_period / f_hi, to_period / f_lo, a_lo * to_g,
+                         pt.uplift ? 1 : 0, f_lo, f_hi, a_lo, a_hi, t_lo, t_hi, a_lo * to_g,
                          a_hi * to_g);
       overturned += pt.overturned;
     }
@@ -151,7 +162,7 @@ int spectrum(const SpectrumArgs& a) {
   fig.formats = formats;
   fig.width = 1200;
   fig.height = 600;
-  fig.title = fmt::format("{}: overturning under {} pulses (shaded: overturns)", scene.name, a.pulse);
+  fig.title = fmt::format("{}: overturning under {} pulses (filled: overturns)", scene.name, a.pulse);
   for (const fs::path& f : plot::render_spectrum(fig, series, "pulse frequency / p  [-]", "pulse amplitude / (g tan alpha)  [-]"))
     fmt::print("wrote {}\n", f.string());
   return 0;

@@ -15,6 +15,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// The marker of variant v's fitted curves (filled: the data points are open
+// circles and squares): the variants read apart in greyscale print.
+int variant_marker(std::size_t v) {
+  static constexpr int filled[] = {7, 5, 9, 11, 13};
+  return filled[v % std::size(filled)];
+}
+
 bool any_modelling(const SuiteFragility& fragility) {
   for (const auto& v : fragility)
     for (const auto& f : v)
@@ -202,14 +209,15 @@ std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, c
       write_text(dir / (stem + "_fit.csv"), fit_curve(f.capacity_fit, f.beta_modelling));
       write_text(dir / (stem + "_band.csv"), band(f.capacity_bootstrap, f.beta_modelling));
       write_text(dir / (stem + "_stripes_fit.csv"), fit_curve(f.stripes_fit, 0));
-      const int colour = static_cast<int>(v);
+      const int colour = static_cast<int>(v), marker = variant_marker(v);
       if (f.capacity_bootstrap.computed()) panel.lines.push_back({Style::band, "", stem + "_band.csv", colour});
-      panel.lines.push_back({Style::bold, "", stem + "_fit.csv", colour});
+      panel.lines.push_back({Style::bold, "", stem + "_fit.csv", colour, 0, marker});
       panel.lines.push_back({Style::circles, "", stem + "_records.csv", colour});
       panel.lines.push_back({Style::squares, "", stem + "_stripes.csv", colour});
-      panel.lines.push_back({Style::bold_dashed, "", stem + "_stripes_fit.csv", colour});
-      // The key: a colour per variant, then a style per series (alike in every panel).
-      if (!keyed[v]) panel.lines.push_back({Style::bold, label, "", colour});
+      panel.lines.push_back({Style::bold_dashed, "", stem + "_stripes_fit.csv", colour, 0, marker});
+      // The key: a colour and marker per variant, then a style per series
+      // (alike in every panel).
+      if (!keyed[v]) panel.lines.push_back({Style::bold, label, "", colour, 0, marker});
       keyed[v] = true;
       banded = banded || f.capacity_bootstrap.computed();
     }

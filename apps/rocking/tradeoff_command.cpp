@@ -7,6 +7,7 @@
 #include "run_output.hpp"
 #include <spdlog/spdlog.h>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -211,6 +212,14 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
              "err d_t");
   std::string first_name, last_name;
   long smallest_n = std::numeric_limits<long>::max(), largest_n = 0;
+  std::vector<long> node_counts;
+  // What the figure marks where a method has no point: over its budget there,
+  // or not run because it was over at a smaller N.
+  std::vector<plot::Mark> missing;
+  auto mark_missing = [&](long n, std::size_t i, bool over) {
+    missing.push_back({static_cast<double>(n), over ? fmt::format("{} over the {:g} s budget", names[i], a.budget)
+                                                    : fmt::format("{} not run (over budget below)", names[i])});
+  };
   for (const std::string& path : a.scenes) {
     const Scene scene = load_scene(SceneOptions{path, a.scene.overrides});
     const GroundMotion motion = load_motion(scene, a.motion);
@@ -228,6 +237,9 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
     last_name = scene.name;
     smallest_n = std::min(smallest_n, n);
     largest_n = std::max(largest_n, n);
+    node_counts.push_back(n);
+    for (std::size_t i = 0; i < methods.size(); ++i)
+      if (given_up[i]) mark_missing(n, i, false);
     // Rows measured before (--resume) are kept as they were.
     bool all_resumed = true;
     for (std::size_t i = 0; i < methods.size(); ++i) {
@@ -242,6 +254,7 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
       if (field(row->second, 9) == "true")
         data[i] << fmt::format("{},{},{},{}\n", n, field(row->second, 4), field(row->second, 5), field(row->second, 3));
       given_up[i] = field(row->second, 11) == "true";
+      if (given_up[i]) mark_missing(n, i, true);
       fmt::print("{:>5} {:<12} (measured before, resumed)\n", n, names[i]);
     }
     if (all_resumed) continue;
@@ -261,6 +274,7 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
       const CostAtAccuracy c = cost_at_accuracy(model, motion, base, methods[i], rtols, ref, a);
       if (stop_signal() != 0) return stopped(dir / "tradeoff_n.csv", rows);
       given_up[i] = c.over_budget;
+      if (c.over_budget) mark_missing(n, i, true);
       csv << fmt::format("{},{:.0e},{:.6f},{},{},{:.3e},{:.0e},{},{},{}\n", key(names[i]), c.rtol, c.run.wall_s,
                          c.run.stats.rhs, c.run.stats.steps, c.error, a.accuracy, c.met ? "true" : "false", checked,
                          c.over_budget ? "true" : "false")
@@ -283,8 +297,12 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
   const std::string rtol_label = "sprintf('%d', floor(log10($4) + 0.5))";
   // The node counts' own range, widened by a fifth on the log axis each side.
   const std::string xrange = fmt::format("[{:.6g}:{:.6g}]", smallest_n / 1.2, largest_n * 1.2);
-  const std::vector<plot::Panel> panels = {{"wall time per run [s]", "$1", "$2", false, rtol_label, {}, xrange},
-                                           {"right-hand-side evaluations", "$1", "$3", false, rtol_label, {}, xrange}};
+  // A tick at each scene's N.
+  std::sort(node_counts.begin(), node_counts.end());
+  const std::string xtics = fmt::format("({})", fmt::join(node_counts, ", "));
+  const std::vector<plot::Panel> panels = {
+      {"wall time per run [s]", "$1", "$2", false, rtol_label, missing, xrange, false, xtics},
+      {"right-hand-side evaluations", "$1", "$3", false, rtol_label, missing, xrange, false, xtics}};
   for (const fs::path& f :
        plot::render_panels(fig, 1, 2, "nodes N   (labels: log_{10} rtol)", panels, series, true))
     fmt::print("wrote {}\n", f.string());

@@ -12,7 +12,7 @@
 //   to the rocking equation. The paper's edge damper is a chord device at
 //   x = -s B (l = 2B): e = 4B sin(|th|/2).
 // Laws, one file each (law_NAME.cppm, a partition of this module) and one
-// entry in DeviceLaw below: bouc-wen, elastic, viscous. Each says its scene
+// entry in DeviceLaw below (`rocking fit --help` lists them). Each says its scene
 // keys (LawParameter), so that the scene reader reads any law without
 // knowing it. The physics knows no I/O: parameters arrive as numbers.
 module;

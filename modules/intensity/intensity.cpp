@@ -1,4 +1,5 @@
 module;
+#include <array>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -230,11 +231,19 @@ RecordMeasures measure_record(const GroundMotion& g, const std::vector<double>& 
       const double h = t[i] - t[i - 1];
       return arias_crossing(t[i - 1], h, a[i - 1], (a[i] - a[i - 1]) / h, cumulative[i - 1], target);
     };
-    m.d5_95 = crossing(0.95) - crossing(0.05);
+    m.t5 = crossing(0.05);
+    m.t95 = crossing(0.95);
+    m.d5_95 = m.t95 - m.t5;
   }
   m.periods = periods;
   m.psa = spectrum_of({t, a}, periods, damping);
   return m;
+}
+
+std::array<double, 2> strong_shaking_window(const GroundMotion& g) {
+  const RecordMeasures m = measure_record(g, {});
+  const double margin = std::max(2.0, 0.25 * m.d5_95);
+  return {std::max(0.0, m.t5 - margin), std::min(g.duration(), m.t95 + margin)};
 }
 
 double pseudo_spectral_acceleration(const GroundMotion& g, double period, double damping) {

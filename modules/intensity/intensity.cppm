@@ -16,6 +16,7 @@
 // a record's IM to a level is level / IM(record), since every IM here is
 // proportional to the acceleration's scale.
 module;
+#include <array>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -36,6 +37,7 @@ struct RecordMeasures {
   double pgd = 0;                // [m]
   double arias = 0;              // [m/s]
   double d5_95 = 0;              // [s]
+  double t5 = 0, t95 = 0;        // [s]: where 5 % and 95 % of I_A are reached
   double cav = 0;                // [m/s]
   double damping = 0.05;
   std::vector<double> periods;   // [s]
@@ -44,6 +46,10 @@ struct RecordMeasures {
 // InputError for a pulse (not a record), a period not positive and finite,
 // or a damping outside [0, 1).
 RecordMeasures measure_record(const GroundMotion& g, const std::vector<double>& periods, double damping = 0.05);
+// The strong shaking of a record, for time axes: from 5 % to 95 % of its
+// Arias intensity, widened by a quarter of that span (at least 2 s) each
+// side, within the record [s]. InputError for a pulse.
+std::array<double, 2> strong_shaking_window(const GroundMotion& g);
 // PSA(T, zeta) [m/s^2].
 double pseudo_spectral_acceleration(const GroundMotion& g, double period, double damping = 0.05);
 std::vector<double> response_spectrum(const GroundMotion& g, const std::vector<double>& periods, double damping = 0.05);

@@ -99,7 +99,7 @@ Grid shared_key_grid(const Figure& fig, int rows, int cols, int points, const st
   const int key_rows = labels.empty() ? 0 : (static_cast<int>(labels.size()) + columns - 1) / columns;
   const int title_lines = 1 + static_cast<int>(std::count(fig.title.begin(), fig.title.end(), '\n'));
   const double title_px = 0.8 * line + title_lines * line;
-  const double left = 8.5 * points / W, right = 1 - 1.5 * points / W;
+  const double left = 8.5 * points / W, right = 1 - 3.0 * points / W;  // room for the last tick label
   const double bottom = 3.4 * line / H,
                top = 1 - (title_px + key_rows * line + (0.8 + 1.3 * panel_title_lines) * line) / H;
   const double xgap = 9.0 * points / W, ygap = (3.6 + 1.3 * panel_title_lines) * line / H;
@@ -371,15 +371,19 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
   // The gnuplot column of a quantity in run i's history (0: it has none).
   auto col = [&](std::size_t i, std::string_view name) { return contents[i].column(name); };
   auto qcol = [&](std::size_t i, Quantity q) { return col(i, info(q).name); };
-  // One curve per kept run; spec(i) gives its `using` columns, empty to skip it.
+  // Each run has its colour (linestyle i + 1, with its point type) and its
+  // dash, so that runs read apart in greyscale print.
+  auto run_dash = [](std::size_t i) { return i % 4 + 1; };
+  // One curve per kept run; spec(i) gives its `using` columns, empty to skip
+  // it. The first run is drawn last, over the others it is compared with.
   auto curves = [&](auto&& spec, auto&& keep) {
     std::vector<std::string> items;
-    for (std::size_t i = 0; i < runs.size(); ++i) {
+    for (std::size_t i = runs.size(); i-- > 0;) {
       if (!keep(runs[i])) continue;
       const std::string using_spec = spec(i);
       if (using_spec.empty()) continue;
-      items.push_back(fmt::format("{} skip 1 using {} with lines linestyle {} title {} noenhanced",
-                                  quote(runs[i].history), using_spec, i + 1, quote(runs[i].label)));
+      items.push_back(fmt::format("{} skip 1 using {} with lines linestyle {} dashtype {} title {} noenhanced",
+                                  quote(runs[i].history), using_spec, i + 1, run_dash(i), quote(runs[i].label)));
     }
     return plot_command(items);
   };
@@ -390,17 +394,37 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
       return t > 0 && c > 0 ? fmt::format("{}:(${}*{:.9g})", t, c, info(q).figure_factor) : std::string();
     };
   };
-  auto ylabel = [](Quantity q) { return fmt::format("  set ylabel {}\n", quote(axis_label(q))); };
+  // A y label longer than its panel is tall (about half an em a visible
+  // character: enhanced text's markup left out) goes on two lines: its
+  // words, then its symbol and unit.
+  double panel_px = 0;  // set once the panels are counted
+  auto ylabel = [&](Quantity q) {
+    const std::string label = axis_label(q);
+    const QuantityInfo& i = info(q);
+    std::size_t visible = 0;
+    for (std::size_t k = 0; k < label.size(); ++k) {
+      if (label.compare(k, 9, "{/Symbol ") == 0) k += 8;
+      else if (label[k] != '{' && label[k] != '}' && label[k] != '_' && label[k] != '^') ++visible;
+    }
+    if (static_cast<double>(visible) * 0.5 * font_points(fig, 1000, 1300) <= panel_px)
+      return fmt::format("  set ylabel {}\n", quote(label));
+    return fmt::format("  set ylabel {} . \"\\n\" . {}\n", quote(std::string(axis_words(i.words))),
+                       quote(fmt::format("{} [{}]", i.symbol, i.figure_unit)));
+  };
   auto every = [](const ResponseSeries&) { return true; };
-  const bool device_panels = any_damper && other_devices;
-  const int panels = 1 + (ground ? 1 : 0) + (any_elastic ? 1 : 0) + (any_rocks ? 1 : 0) + (any_damper ? 1 : 0) +
-                     (device_panels ? 1 : 0);
+  // Devices besides the paper's edge dampers (a tendon, a scene's own
+  // dampers): each device's loop and the devices' moment against theta.
+  // The paper's dampers alone: their one signed loop.
+  const bool device_panels = other_devices;
+  const int panels = 1 + (ground ? 1 : 0) + (any_elastic ? 1 : 0) + (any_rocks ? 1 : 0) + (device_panels ? 2 : any_damper ? 1 : 0);
+  panel_px = 0.8 * fig.height / panels;
   std::vector<std::string> labels;
   for (const ResponseSeries& r : runs) labels.push_back(r.label);
   const int points = font_points(fig, 1000, 1300);
   const Grid grid = shared_key_grid(fig, panels, 1, points, labels);
   std::string body = grid.begin + fmt::format("  set grid\n  set autoscale xfix\n  set xlabel {}\n  unset key\n",
                                               quote(axis_label(Quantity::t)));
+  if (!fig.time_range.empty()) body += fmt::format("  set xrange {}\n", fig.time_range);
   std::size_t next = 0;
   if (ground) {  // the excitation the response answers, in g
     body += grid.panels[next++] + ylabel(Quantity::a_g);
@@ -418,9 +442,10 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
     body += curves(in_time(Quantity::theta_over_alpha), [](const ResponseSeries& r) { return r.rocks; });
   }
   if (device_panels) {
-    // Each device's force against its elongation, in its run's colour, with
-    // one dash pattern per device name (the same in every run), named in the
-    // axis label so that no key covers the loops. A zero elongation (not
+    // Each device's force against its elongation, in its run's colour and
+    // with its run's markers (about a dozen along the run), with one dash
+    // pattern per device name (the same in every run), named in the axis
+    // label so that no key covers the loops. A zero elongation (not
     // stretched) or a zero force breaks the curve, as a broken device's empty
     // fields do.
     static constexpr std::array<const char*, 5> dashes{"solid", "dashed", "dotted", "dash-dot", "dash-dot-dot"};
@@ -439,13 +464,13 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
             fmt::format("  set ylabel {}\n", quote(fmt::format("device {} {} [{}]", f_info.words, f_info.symbol,
                                                                 f_info.figure_unit)));
     std::vector<std::string> items;
-    for (std::size_t i = 0; i < runs.size(); ++i)
+    for (std::size_t i = runs.size(); i-- > 0;)
       for (const std::string& device : contents[i].devices) {
         const int e = col(i, device_quantity_name(device, DeviceQuantity::elongation));
         const int f = col(i, device_quantity_name(device, DeviceQuantity::force));
         const auto dash = std::find(names.begin(), names.end(), device) - names.begin();
-        items.push_back(fmt::format("{} skip 1 using (${} == 0 || ${} == 0 ? NaN : ${}*{:.9g}):(${}*{:.9g}) with lines "
-                                    "linestyle {} dashtype {} notitle",
+        items.push_back(fmt::format("{} skip 1 using (${} == 0 || ${} == 0 ? NaN : ${}*{:.9g}):(${}*{:.9g}) with "
+                                    "linespoints linestyle {} dashtype {} pointnumber 12 notitle",
                                     quote(runs[i].history), e, f, e, e_info.figure_factor, f, f_info.figure_factor,
                                     i + 1, static_cast<std::size_t>(dash) % dashes.size() + 1));
       }
@@ -460,7 +485,7 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
           return th > 0 && m > 0 ? fmt::format("{}:(${}*{:.9g})", th, m, info(Quantity::device_moment).figure_factor)
                                  : std::string();
         },
-        [&](const ResponseSeries& r) { return r.has_damper; });
+        [&](const ResponseSeries& r) { return !contents[static_cast<std::size_t>(&r - runs.data())].devices.empty(); });
   } else if (any_damper) {
     body += grid.panels[next++] +
             fmt::format("  set autoscale x\n  set xlabel {}\n", quote(axis_label(Quantity::damper_d))) +
@@ -480,7 +505,8 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
   }
   std::vector<std::string> entries;
   for (std::size_t i = 0; i < runs.size(); ++i)
-    entries.push_back(fmt::format("NaN with lines linestyle {} title {} noenhanced", i + 1, quote(runs[i].label)));
+    entries.push_back(fmt::format("NaN with {} linestyle {} dashtype {} title {} noenhanced",
+                                  device_panels ? "linespoints" : "lines", i + 1, run_dash(i), quote(runs[i].label)));
   body += key_plot(grid, entries);
   const std::string script = fmt::format(
       "# rocking: response figure in the style of the paper's Fig. 4.\n"
@@ -533,10 +559,14 @@ std::vector<fs::path> render_lines(const Figure& fig, int rows, int cols, const 
   // How each style draws; the key entry of a label is its first line's.
   auto style = [](const Line& l) -> std::string {
     const std::string colour = fmt::format("linecolor rgb \"#{}\"", line_colour(l));
+    // A line with markers: a few along it, which tell it apart in greyscale.
+    const std::string kind = l.marker > 0 ? "linespoints" : "lines";
+    const std::string marker =
+        l.marker > 0 ? fmt::format(" pointtype {} pointsize 1.3 pointnumber 7", l.marker) : std::string();
     switch (l.style) {
       case Style::thin_grey: return "with lines linewidth 0.6 linecolor rgb \"#a0a0a0\"";
-      case Style::bold: return fmt::format("with lines linewidth 3 dashtype {} {}", l.dash + 1, colour);
-      case Style::bold_dashed: return "with lines linewidth 2.2 dashtype 2 " + colour;
+      case Style::bold: return fmt::format("with {} linewidth 3 dashtype {} {}{}", kind, l.dash + 1, colour, marker);
+      case Style::bold_dashed: return fmt::format("with {} linewidth 2.2 dashtype 2 {}{}", kind, colour, marker);
       case Style::circles: return "with points pointtype 6 pointsize 1.1 linewidth 1.5 " + colour;
       case Style::squares: return "with points pointtype 4 pointsize 1.1 linewidth 1.5 " + colour;
       case Style::crosses: return "with points pointtype 2 pointsize 1.3 linewidth 1.5 " + colour;
@@ -588,6 +618,15 @@ std::vector<fs::path> render_lines(const Figure& fig, int rows, int cols, const 
   return render_script(fig, script);
 }
 
+namespace {
+// How series i draws: with its markers, or (a line only) with its own dash,
+// so that series read apart in greyscale print.
+std::string line_style(const Series& s, std::size_t i) {
+  return s.points ? fmt::format("linespoints linestyle {}", i + 1)
+                  : fmt::format("lines linestyle {} dashtype {}", i + 1, i % 4 + 1);
+}
+}  // namespace
+
 std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const std::string& xlabel,
                                     const std::vector<Panel>& panels, const std::vector<Series>& series, bool loglog) {
   if (series.empty()) throw InputError("figure: no series to plot");
@@ -626,6 +665,8 @@ std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const
       body += panel.log_y ? "  set logscale y\n  set format y \"10^{%T}\"\n" : "  unset logscale y\n  set format y \"% h\"\n";
     body += "  unset arrow\n  unset label\n";
     if (!panel.xrange.empty()) body += fmt::format("  set xrange {}\n", panel.xrange);
+    if (!panel.xtics.empty()) body += fmt::format("  set xtics {}\n  set format x \"%g\"\n", panel.xtics);
+    else body += loglog ? "  set xtics autofreq\n  set format x \"10^{%T}\"\n" : "  set xtics autofreq\n  set format x \"% h\"\n";
     for (std::size_t m = 0; m < panel.marks.size(); ++m)
       body += fmt::format("  set arrow from first {0:.9g}, graph 0 to first {0:.9g}, graph 1 nohead dashtype 2 "
                           "linecolor rgb \"#555555\"\n  set label {1} {2} at first {0:.9g}, graph 0.97 left offset "
@@ -640,8 +681,7 @@ std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const
       const std::string file = quote(s.file);
       const std::string title = fmt::format("title {} noenhanced", quote(s.label));
       if (s.collapse_column == 0) {
-        items.push_back(fmt::format("{} skip 1 using ({}):({}) with {} linestyle {} {}", file, panel.x, y,
-                                    s.points ? "linespoints" : "lines", i + 1, title));
+        items.push_back(fmt::format("{} skip 1 using ({}):({}) with {} {}", file, panel.x, y, line_style(s, i), title));
       } else {
         const std::string code = fmt::format("${}", s.collapse_column);
         items.push_back(fmt::format("{} skip 1 using ({}):({} == 0 ? {} : NaN) with linespoints linestyle {} {}", file,
@@ -652,11 +692,13 @@ std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const
                                         "{} notitle",
                                         file, panel.x, s.dodge, code, m.code, y, i + 1, m.style));
       }
+      // Point labels above the points of even series and below those of odd
+      // ones, so that neighbouring series' labels keep apart.
       if (!panel.point_label.empty())
-        items.push_back(fmt::format("{} skip 1 using ({}):({}):({}) with labels offset char 0,0.9 font \",{}\" "
+        items.push_back(fmt::format("{} skip 1 using ({}):({}):({}) with labels offset char 0,{} font \",{}\" "
                                     "textcolor rgb \"#{}\" notitle",
-                                    file, panel.x, y, panel.point_label, std::max(7, points - 3),
-                                    palette[i % palette_size]));
+                                    file, panel.x, y, panel.point_label, i % 2 == 0 ? "0.9" : "-0.9",
+                                    std::max(7, points - 3), palette[i % palette_size]));
     }
     if (items.empty()) {  // an empty panel that says so
       body += "  set label 1 \"(none of these runs has this quantity)\" at graph 0.5,0.5 center\n"
@@ -668,8 +710,7 @@ std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const
   body += "  unset arrow\n  unset label\n";
   std::vector<std::string> entries;
   for (std::size_t i = 0; i < series.size(); ++i)
-    entries.push_back(fmt::format("NaN with {} linestyle {} title {} noenhanced",
-                                  series[i].points ? "linespoints" : "lines", i + 1, quote(series[i].label)));
+    entries.push_back(fmt::format("NaN with {} title {} noenhanced", line_style(series[i], i), quote(series[i].label)));
   for (const Marker& m : markers)
     if ((codes >> m.code & 1u) != 0)
       entries.push_back(fmt::format("NaN with points {} linecolor rgb \"#222222\" title \"{}\"", m.style, m.words));
@@ -686,37 +727,71 @@ std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const
 std::vector<fs::path> render_spectrum(const Figure& fig, const std::vector<Series>& series,
                                       const std::string& normalised_x, const std::string& normalised_y) {
   if (series.empty()) throw InputError("spectrum figure: no series to plot");
-  // Each overturning grid point fills its cell: a shaded region per series,
-  // translucent ("#AARRGGBB") so that overlapping regions show both colours,
-  // with the region's edge points outlined in the series' colour.
+  // Each overturning grid point fills its cell: a region per series, the
+  // first solid and translucent ("#AARRGGBB"), the others cross-hatched in
+  // their colour, so that overlapping regions show both and the series read
+  // apart in greyscale print.
+  auto fill = [&](std::size_t i) {
+    return i == 0 ? fmt::format("fillstyle solid 1.0 noborder linecolor rgb \"#70{}\"", palette[0])
+                  : fmt::format("fillstyle pattern {} transparent noborder linecolor rgb \"#{}\"", i % 2 == 1 ? 1 : 2,
+                                palette[i % palette_size]);
+  };
   auto panel = [&](int x, int y, int cell) {
     std::vector<std::string> items;
     for (std::size_t i = 0; i < series.size(); ++i)
-      items.push_back(fmt::format("{} skip 1 using {}:($5 > 0 ? ${} : NaN):{}:{}:{}:{} with boxxyerror "
-                                  "fillstyle solid 1.0 noborder linecolor rgb \"#{}{}\" title {} noenhanced",
-                                  quote(series[i].file), x, y, cell, cell + 1, cell + 2, cell + 3,
-                                  i == 0 ? "70" : "90", palette[i % palette_size], quote(series[i].label)));
+      items.push_back(fmt::format("{} skip 1 using {}:($5 > 0 ? ${} : NaN):{}:{}:{}:{} with boxxyerror {} title {} "
+                                  "noenhanced",
+                                  quote(series[i].file), x, y, cell, cell + 1, cell + 2, cell + 3, fill(i),
+                                  quote(series[i].label)));
     return plot_command(items);
   };
+  // A series' label without its parenthesised note: "block x1".
+  auto short_label = [](const std::string& label) { return label.substr(0, label.find(" (")); };
+  const bool several = series.size() > 1;
   std::vector<std::string> labels;
   for (const Series& s : series) labels.push_back(s.label);
+  for (std::size_t i = 0; several && i < series.size(); ++i) labels.push_back("not computed for " + short_label(series[i].label));
   const int points = font_points(fig, 1200, 600);
   const Grid grid = shared_key_grid(fig, 1, 2, points, labels);
   std::string body = grid.begin + grid.panels[0] + "  unset key\n  set grid front\n  set autoscale xfix\n  set autoscale yfix\n" +
                      fmt::format("  set xlabel {}\n  set ylabel {}\n", quote(normalised_x), quote(normalised_y));
   body += panel(1, 2, 7);
   body += grid.panels[1] + "  set xlabel \"pulse period T [s]\"\n  set ylabel \"pulse amplitude a_p / g [-]\"\n";
+  // In seconds and g the series' grids cover different regions: outside its
+  // own (the extremes of its cells, found by stats), a series was never
+  // computed, which is hatched in its colour rather than left white.
+  std::string extents;
+  for (std::size_t i = 0; several && i < series.size(); ++i) {
+    extents += fmt::format("stats {0} skip 1 using 11:13 nooutput prefix \"LO{1}\"\n"
+                           "stats {0} skip 1 using 12:14 nooutput prefix \"HI{1}\"\n",
+                           quote(series[i].file), i);
+    const std::string hatch = fmt::format("front fillstyle pattern {} transparent noborder fillcolor rgb \"#{}\"",
+                                          6 + i % 2, palette[i % palette_size]);
+    const std::size_t id = 10 * (i + 1);
+    body += fmt::format(
+        "  set object {0} rectangle from graph 0, graph 0 to first LO{1}_min_x, graph 1 {2}\n"
+        "  set object {3} rectangle from first HI{1}_max_x, graph 0 to graph 1, graph 1 {2}\n"
+        "  set object {4} rectangle from first LO{1}_min_x, graph 0 to first HI{1}_max_x, first LO{1}_min_y {2}\n"
+        "  set object {5} rectangle from first LO{1}_min_x, first HI{1}_max_y to first HI{1}_max_x, graph 1 {2}\n",
+        id, i, hatch, id + 1, id + 2, id + 3);
+  }
   body += panel(3, 4, 11);
+  if (several) body += "  unset object\n";
   std::vector<std::string> entries;
   for (std::size_t i = 0; i < series.size(); ++i)
-    entries.push_back(fmt::format("NaN with boxes fillstyle solid 1.0 noborder linecolor rgb \"#{}{}\" title {} noenhanced",
-                                  i == 0 ? "70" : "90", palette[i % palette_size], quote(series[i].label)));
+    entries.push_back(fmt::format("NaN with boxes {} title {} noenhanced", fill(i), quote(series[i].label)));
+  for (std::size_t i = 0; several && i < series.size(); ++i)
+    entries.push_back(fmt::format("NaN with boxes fillstyle pattern {} transparent noborder linecolor rgb \"#{}\" "
+                                  "title {} noenhanced",
+                                  6 + i % 2, palette[i % palette_size],
+                                  quote(labels[series.size() + i])));
   body += key_plot(grid, entries);
   const std::string script = fmt::format(
-      "# rocking: overturning spectrum (filled: the block overturns).\n"
+      "# rocking: overturning spectrum (filled: the block overturns; hatched,\n"
+      "# right: outside a series' grid, never computed).\n"
       "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
-      "set datafile separator \",\"\n{}",
-      fig.name, render_loop(fig, body, points));
+      "set datafile separator \",\"\n{}{}",
+      fig.name, extents, render_loop(fig, body, points));
   return render_script(fig, script);
 }
 

@@ -25,6 +25,7 @@ struct Figure {
   std::string title;
   std::vector<std::string> formats{"png", "pdf", "svg"};
   int width = 1000, height = 1300;  // pixels (PNG, SVG); PDF at 100 px per inch
+  std::string time_range = {};      // non-empty: the time axes' gnuplot range, e.g. "[45:80]" (response figure)
 };
 
 // InputError naming `option` unless `name` is a file stem that stays in its
@@ -93,6 +94,7 @@ struct Panel {
   std::vector<Mark> marks = {};
   std::string xrange = {};  // non-empty: the x axis's range, e.g. "[6:170]" (else autoscaled)
   bool log_y = false;       // a logarithmic y axis (from_zero ignored; values <= 0 not drawn)
+  std::string xtics = {};   // non-empty: the x axis's tics, e.g. "(8, 16, 32)" (else gnuplot's)
 };
 struct Series {
   std::string label;
@@ -132,6 +134,7 @@ struct Line {
   std::string file;   // relative to the figure's folder, or absolute; empty: a key entry only
   int colour = 0;     // palette index (not for thin_grey); -1: dark grey
   int dash = 0;       // bold: gnuplot dash type - 1 (0 solid), to tell curves apart in greyscale
+  int marker = 0;     // bold, bold_dashed: > 0, a gnuplot point type drawn at a few points along the line
 };
 struct LinePanel {
   std::string title;
