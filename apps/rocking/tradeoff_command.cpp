@@ -217,8 +217,8 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
   // or not run because it was over at a smaller N.
   std::vector<plot::Mark> missing;
   auto mark_missing = [&](long n, std::size_t i, bool over) {
-    missing.push_back({static_cast<double>(n), over ? fmt::format("{} over the {:g} s budget", names[i], a.budget)
-                                                    : fmt::format("{} not run (over budget below)", names[i])});
+    missing.push_back({static_cast<double>(n), over ? fmt::format("{}: over {:g} s", names[i], a.budget)
+                                                    : fmt::format("{}: not run", names[i])});
   };
   for (const std::string& path : a.scenes) {
     const Scene scene = load_scene(SceneOptions{path, a.scene.overrides});

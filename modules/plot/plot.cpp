@@ -1,4 +1,5 @@
 module;
+#include <cstdio>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -667,11 +668,20 @@ std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const
     if (!panel.xrange.empty()) body += fmt::format("  set xrange {}\n", panel.xrange);
     if (!panel.xtics.empty()) body += fmt::format("  set xtics {}\n  set format x \"%g\"\n", panel.xtics);
     else body += loglog ? "  set xtics autofreq\n  set format x \"10^{%T}\"\n" : "  set xtics autofreq\n  set format x \"% h\"\n";
-    for (std::size_t m = 0; m < panel.marks.size(); ++m)
+    // A mark in the right half of a given x range is labelled to the left of
+    // its line, so that the label stays inside the panel.
+    double x0 = 0, x1 = 0;
+    const bool ranged = !panel.xrange.empty() && std::sscanf(panel.xrange.c_str(), "[%lf:%lf]", &x0, &x1) == 2 &&
+                        x0 > 0 && x1 > x0;
+    for (std::size_t m = 0; m < panel.marks.size(); ++m) {
+      const double x = panel.marks[m].x;
+      const bool right = ranged && (loglog ? std::log(x) > 0.5 * (std::log(x0) + std::log(x1)) : x > 0.5 * (x0 + x1));
       body += fmt::format("  set arrow from first {0:.9g}, graph 0 to first {0:.9g}, graph 1 nohead dashtype 2 "
-                          "linecolor rgb \"#555555\"\n  set label {1} {2} at first {0:.9g}, graph 0.97 left offset "
-                          "char 0.3,-{3} font \",{4}\" noenhanced\n",
-                          panel.marks[m].x, m + 10, quote(panel.marks[m].label), m, std::max(7, points - 3));
+                          "linecolor rgb \"#555555\"\n  set label {1} {2} at first {0:.9g}, graph 0.97 {5} offset "
+                          "char {6},-{3} font \",{4}\" noenhanced\n",
+                          x, m + 10, quote(panel.marks[m].label), m, std::max(7, points - 3), right ? "right" : "left",
+                          right ? "-0.3" : "0.3");
+    }
     std::vector<std::string> items;
     // On a logarithmic axis a value <= 0 has no place: not drawn (gnuplot would warn).
     const std::string y = panel.log_y ? fmt::format("(({0}) > 0 ? ({0}) : NaN)", panel.y) : panel.y;
