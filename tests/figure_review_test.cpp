@@ -202,13 +202,17 @@ TEST_CASE("the review of a script finds keys over data, series alike in greyscal
   CHECK(r.problems[3].starts_with("two series look the same in greyscale (linespoints dash 1 width"));
 }
 
-TEST_CASE("every figure kind passes the review: response, devices, modes, spectrum, records, IDA, suite, fragility, tradeoff") {
+// Every renderer is reviewed: sweep figures are IDA figures (render_panels),
+// and tradeoff --scenes draws with the work-precision figure's renderer.
+TEST_CASE("every figure kind passes the review: response, devices, modes, fit, animation, spectrum, records, IDA, suite, fragility, tradeoff") {
   const fs::path dir = temp_path("figure_review");
   const std::string out = dir.string();
   make("plot response --formats svg --out " + out + " --name response");
   make("plot response " ROCKING_SOURCE_DIR "/data/scenes/controlled_rocking_wall.toml "
        "--variants scene,without:tendon,without:dampers,no-devices --formats svg --out " + out + " --name devices");
   make("plot modes --formats svg --out " + out);
+  make("fit " ROCKING_SOURCE_DIR "/data/tests/bouc_wen_cyclic.csv --formats svg --out " + out + "/fit");
+  make("animate --fps 2 --out " + out + "/animation/response.gif");
   make("spectrum --sizes 1,4 --frequencies 0.5:10:1.5 --amplitudes 0.5:8:1.5 --formats svg --out " + out + "/spectrum");
   if (const auto records = records_dir()) {
     const std::string elcentro = *records + "/elcentro_1940_ns.at2", chichi = *records + "/chichi1999_chy028_n.at2";

@@ -367,4 +367,10 @@ TEST_CASE("--window: T0:T1 or the record's strong shaking on the time axes, refu
   const Result rec = run("record " + waiau + " --window auto --formats png --out " + (dir / "record").string());
   REQUIRE_MESSAGE(rec.code == 0, rec.err);
   CHECK(file_text(dir / "record" / "record.gp").find("set xrange [44.2786:72.3917]") != std::string::npos);
+  // animate: the frames of the window only (0.25 s each at --fps 4), its traces' time axes on it.
+  const Result anim = run("animate --record " + waiau + " --window auto --fps 4 --out " + (dir / "waiau.gif").string());
+  REQUIRE_MESSAGE(anim.code == 0, anim.err);
+  const std::string script = file_text(dir / "waiau.gp");
+  CHECK(script.find("do for [i=178:289]") != std::string::npos);
+  CHECK(script.find("set xrange [44.2786:72.3917]") != std::string::npos);
 }

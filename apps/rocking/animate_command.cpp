@@ -29,6 +29,7 @@ struct AnimateArgs {
   double exaggeration = 0;  // 0: automatic
   double rotation = 0;      // rocking angle drawn x this; 0: automatic
   std::string size = "1000x700";
+  std::string window;   // --window: the span animated (empty: the whole run)
 };
 
 // Keeps the frames: the response and the elastic displacements at each.
@@ -107,9 +108,15 @@ int animate(const AnimateArgs& a) {
   const Scene twin = load_scene(SceneOptions{a.scene.path, twin_overrides});
   RunOptions ro = run_options(scene, a.solver, a.motion.record.empty());
   const double duration = ro.duration > 0 ? ro.duration : motion.duration();
-  // Frame times: real time / speed at fps, at most max_frames.
+  // The span animated: --window (the run computes from t = 0 all the same).
+  const auto window = time_window(a.window, {&motion});
+  const double shown_from = window ? std::min((*window)[0], duration) : 0.0,
+               shown_to = window ? std::min((*window)[1], duration) : duration;
+  if (!(shown_to > shown_from))
+    throw InputError(fmt::format("--window {}: the run ends at {:g} s", a.window, duration));
+  // Frame times: real time / speed at fps, at most max_frames over the span shown.
   double frame_dt = a.speed / a.fps;
-  if (duration / frame_dt + 1 > a.max_frames) frame_dt = duration / (a.max_frames - 1);
+  if ((shown_to - shown_from) / frame_dt + 1 > a.max_frames) frame_dt = (shown_to - shown_from) / (a.max_frames - 1);
   // The traces are sampled more finely than the frames: every frame is every m-th row.
   const int m = std::max(1, static_cast<int>(std::ceil(frame_dt / 0.01 - 1e-9)));
   ro.output_interval = frame_dt / m;
@@ -121,7 +128,10 @@ int animate(const AnimateArgs& a) {
     if (r->outcome == Outcome::failed) throw RunError(r->failure);
   const std::size_t rows = std::min(main_rec.rows.size(), twin_rec.rows.size());
   const std::size_t frames = (rows + static_cast<std::size_t>(m) - 1) / static_cast<std::size_t>(m);
-  if (frames < 2) throw InputError("animation: the run is too short for two frames");
+  const std::size_t first_frame = static_cast<std::size_t>(std::ceil(shown_from / frame_dt - 1e-9));
+  const std::size_t last_frame =
+      std::min(frames, static_cast<std::size_t>(std::floor(shown_to / frame_dt + 1e-9)) + 1) - 1;
+  if (frames < 2 || last_frame < first_frame + 1) throw InputError("animation: the span shown is too short for two frames");
   const double H = scene.structure.heights.maxCoeff(), B = scene.structure.half_width;
   double top = 1e-12;
   for (const Response& r : main_rec.rows) top = std::max(top, std::abs(r[Quantity::u_top]));
@@ -183,13 +193,13 @@ int animate(const AnimateArgs& a) {
       "{}"
       "d = {}\n"
       "unset key\n"
-      "do for [i=0:{}] {{\n"
+      "do for [i={}:{}] {{\n"
       "  t = {} * i\n"
       "{}"
       "  set multiplot title {} . sprintf(\"%5.2f s\", t) . {} noenhanced\n"
       "  set size ratio -1\n  set xrange [{}:{}]\n  set yrange [-0.05*{}:1.1*{}]\n  unset xtics\n  set ytics\n  set ylabel \"height [m]\"\n"
       "{}"
-      "  set size noratio\n  set autoscale xy\n  set xtics\n  set xlabel \"t [s]\"\n  unset title\n"
+      "  set size noratio\n  set autoscale xy\n  set xrange [{:.6g}:{:.6g}]\n  set xtics\n  set xlabel \"time t [s]\"\n  unset title\n"
       "  set arrow 1 from t, graph 0 to t, graph 1 nohead lc rgb \"#c0392b\" lw 2\n"
       "  set origin 0,0\n  set size 0.5,0.38\n  set ylabel \"a_g [g]\"\n"
       "  plot d.\"traces.dat\" using 1:2 with lines lc rgb \"#555555\"\n"
@@ -198,16 +208,16 @@ int animate(const AnimateArgs& a) {
       "  unset key\n  unset arrow 1\n  unset xlabel\n"
       "  unset multiplot\n"
       "}}\n",
-      frames, frame_dt, plot::comment(stem),
+      last_frame - first_frame + 1, frame_dt, plot::comment(stem),
       video ? fmt::format("set terminal pngcairo size {},{} font \"DejaVu Sans,11\"\n", width, height)
             : fmt::format("set terminal gif animate delay {} size {},{} optimize font \"DejaVu Sans,11\"\n"
                           "set output {}\n", std::max(2, 100 / a.fps), width, height, plot::quote(stem + ".gif")),
-      plot::quote(stem + ".data/"), frames - 1, frame_dt,
+      plot::quote(stem + ".data/"), first_frame, last_frame, frame_dt,
       video ? fmt::format("  set output {} . sprintf(\"%05d.png\", i)\n", plot::quote(stem + ".frames/")) : std::string(),
       plot::quote(fmt::format("{} - {}, {}   t = ", scene.name, describe_motion(motion.name()),
                               motion_scale(scene, a.motion).describe())),
       plot::quote(fmt::format("\n(drawn with rotation x{:g}, elastic deformation x{:g})", kr, k)), -span, span, H, H,
-      panels, right_trace);
+      panels, shown_from, shown_to, right_trace);
   plot::Figure fig;
   fig.dir = dir;
   fig.name = stem;
@@ -255,6 +265,7 @@ Command add_animate_command(CLI::App& app) {
   cmd->add_option("--speed", a->speed, "Simulated seconds per second of animation (default 1)")->type_name("X");
   cmd->add_option("--frames", a->max_frames, "At most this many frames (default 240)")->type_name("N");
   cmd->add_option("--fps", a->fps, "Frames per second (default 20)")->type_name("N");
+  add_window_option(*cmd, a->window);
   cmd->add_option("--exaggerate", a->exaggeration, "Elastic deformation factor (default: top drawn at ~8 % of H)")
       ->type_name("K");
   cmd->add_option("--exaggerate-rotation", a->rotation,

@@ -4,7 +4,9 @@
 #pragma once
 #include <rocking/eigen.hpp>  // before any import (TOOLCHAIN.md, Eigen in modules)
 #include <CLI/CLI.hpp>
+#include <array>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 import rocking;
@@ -48,10 +50,13 @@ void add_solver_options(CLI::App& cmd, SolverOptions& opts);
 
 // --window T0:T1 | auto: the time span a time-history figure shows.
 void add_window_option(CLI::App& cmd, std::string& window);
-// Its gnuplot range "[t0:t1]" (empty: the whole run). auto is the strong
+// Its span [t0, t1] in seconds (none: the whole run). auto is the strong
 // shaking of the records (rocking::strong_shaking_window, their union), the
 // whole run for a pulse. InputError naming --window for anything else, and
 // for auto without a record to measure.
+std::optional<std::array<double, 2>> time_window(const std::string& window,
+                                                 const std::vector<const rocking::GroundMotion*>& records);
+// The same as a gnuplot range, "[t0:t1]" (empty: the whole run).
 std::string window_range(const std::string& window, const std::vector<const rocking::GroundMotion*>& records);
 
 Command add_modal_command(CLI::App& app);

@@ -130,19 +130,20 @@ void add_window_option(CLI::App& cmd, std::string& window) {
       ->type_name("T0:T1|auto");
 }
 
-std::string window_range(const std::string& window, const std::vector<const GroundMotion*>& records) {
-  if (window.empty()) return {};
+std::optional<std::array<double, 2>> time_window(const std::string& window,
+                                                 const std::vector<const GroundMotion*>& records) {
+  if (window.empty()) return std::nullopt;
   if (window == "auto") {
     double from = std::numeric_limits<double>::infinity(), to = -from;
     for (const GroundMotion* g : records) {
       if (g == nullptr) throw InputError("--window auto: needs the record itself (not --from); give T0:T1");
-      if (!g->piecewise_linear()) return {};  // a pulse is short: the whole run
+      if (!g->piecewise_linear()) return std::nullopt;  // a pulse is short: the whole run
       const std::array<double, 2> w = strong_shaking_window(*g);
       from = std::min(from, w[0]);
       to = std::max(to, w[1]);
     }
-    if (!(to > from)) return {};
-    return fmt::format("[{:.6g}:{:.6g}]", from, to);
+    if (!(to > from)) return std::nullopt;
+    return std::array<double, 2>{from, to};
   }
   // A whole number text, nothing before or after it.
   auto number = [](const std::string& text, double& v) {
@@ -156,7 +157,12 @@ std::string window_range(const std::string& window, const std::vector<const Grou
                     number(window.substr(colon + 1), t1);
   if (!read || !(t0 >= 0) || !(t1 > t0) || !std::isfinite(t1))
     throw InputError(fmt::format("--window {}: give T0:T1 in seconds (0 <= T0 < T1) or auto", window));
-  return fmt::format("[{:.9g}:{:.9g}]", t0, t1);
+  return std::array<double, 2>{t0, t1};
+}
+
+std::string window_range(const std::string& window, const std::vector<const GroundMotion*>& records) {
+  const auto w = time_window(window, records);
+  return w ? fmt::format("[{:.6g}:{:.6g}]", (*w)[0], (*w)[1]) : std::string();
 }
 
 }  // namespace rocking::app
