@@ -38,6 +38,8 @@ int font_points(const Figure& fig, int reference_width, int reference_height) {
 constexpr const char* palette[] = {"1f4e9c", "c0392b", "27864a", "8e44ad", "d35400", "555555"};
 constexpr int point_types[] = {7, 5, 9, 11, 13, 3};
 constexpr std::size_t palette_size = std::size(palette);
+// Series i's dash (gnuplot dash type), so that lines read apart in greyscale print.
+std::size_t series_dash(std::size_t i) { return i % 4 + 1; }
 
 // "set style line i ..." for every colour of the palette.
 std::string style_lines(double width, double point_size) {
@@ -373,8 +375,7 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
   auto col = [&](std::size_t i, std::string_view name) { return contents[i].column(name); };
   auto qcol = [&](std::size_t i, Quantity q) { return col(i, info(q).name); };
   // Each run has its colour (linestyle i + 1, with its point type) and its
-  // dash, so that runs read apart in greyscale print.
-  auto run_dash = [](std::size_t i) { return i % 4 + 1; };
+  // dash (series_dash).
   // One curve per kept run; spec(i) gives its `using` columns, empty to skip
   // it. The first run is drawn last, over the others it is compared with.
   auto curves = [&](auto&& spec, auto&& keep) {
@@ -384,7 +385,7 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
       const std::string using_spec = spec(i);
       if (using_spec.empty()) continue;
       items.push_back(fmt::format("{} skip 1 using {} with lines linestyle {} dashtype {} title {} noenhanced",
-                                  quote(runs[i].history), using_spec, i + 1, run_dash(i), quote(runs[i].label)));
+                                  quote(runs[i].history), using_spec, i + 1, series_dash(i), quote(runs[i].label)));
     }
     return plot_command(items);
   };
@@ -507,7 +508,7 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
   std::vector<std::string> entries;
   for (std::size_t i = 0; i < runs.size(); ++i)
     entries.push_back(fmt::format("NaN with {} linestyle {} dashtype {} title {} noenhanced",
-                                  device_panels ? "linespoints" : "lines", i + 1, run_dash(i), quote(runs[i].label)));
+                                  device_panels ? "linespoints" : "lines", i + 1, series_dash(i), quote(runs[i].label)));
   body += key_plot(grid, entries);
   const std::string script = fmt::format(
       "# rocking: response figure in the style of the paper's Fig. 4.\n"
@@ -624,7 +625,7 @@ namespace {
 // so that series read apart in greyscale print.
 std::string line_style(const Series& s, std::size_t i) {
   return s.points ? fmt::format("linespoints linestyle {}", i + 1)
-                  : fmt::format("lines linestyle {} dashtype {}", i + 1, i % 4 + 1);
+                  : fmt::format("lines linestyle {} dashtype {}", i + 1, series_dash(i));
 }
 }  // namespace
 
