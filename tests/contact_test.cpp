@@ -78,7 +78,7 @@ TEST_CASE("uplift of the flexible chimney needs both the moment (Eq. 2) and L_s 
 }
 
 TEST_CASE("guards say truly whether they read a_g (callers skip the record lookup when not)") {
-  // Every scene kind and phase: the guard values at a_g = 0 and at a_g = 3 m/s^2
+  // Every scene kind and phase: the guard values at a_g = 0, a_g = 3 m/s^2 and a_v = 3 m/s^2
   // are equal exactly when guards_use_ground_acceleration says they do not use it.
   for (const auto& overrides : std::vector<std::vector<std::string>>{
            {}, {"structure.rigid=true"}, {"damper.enabled=false"}, {"structure.rigid=true", "damper.enabled=false"}}) {
@@ -87,12 +87,14 @@ TEST_CASE("guards say truly whether they read a_g (callers skip the record looku
       Discrete d;
       Eigen::VectorXd y = Eigen::VectorXd::Constant(m.layout.size, 0.01);
       if (const std::optional<Pivot> p = phase.pivot()) begin_rocking(m, d, *p, y), y[m.layout.theta.start] = 0.01 * sign(*p);
-      Eigen::VectorXd g0(2), g3(2);
+      Eigen::VectorXd g0 = Eigen::VectorXd::Zero(2), g3 = g0, gv = g0;
       guard_values(m, d, 0.0, y, g0);
       guard_values(m, d, 3.0, y, g3);
+      guard_values(m, d, GroundAcceleration{0.0, 3.0}, y, gv);  // vertical shaking (MODEL.md 14)
       CAPTURE(phase_name(phase));
       CAPTURE(m.layout.size);
-      CHECK(guards_use_ground_acceleration(m, phase) == (g0 != g3));
+      CHECK(guards_use_ground_acceleration(m, phase, false) == (g0 != g3));
+      CHECK(guards_use_ground_acceleration(m, phase, true) == (g0 != g3 || g0 != gv));
     }
   }
 }
@@ -127,7 +129,7 @@ TEST_CASE("uplift guards equal Eq. 2 and Eq. 3 written out, at 4 nodes (unrolled
   }
 }
 
-TEST_CASE("impact: continued rocking takes r and keeps u'; full contact keeps the momentum H th'") {
+TEST_CASE("impact: continued rocking takes r and keeps u', full contact keeps the momentum H th'") {
   const ContactModel m = make_contact_model(chimney({"contact.restitution=0.9"}), false);
   const Layout& l = m.layout;
   Eigen::VectorXd y = Eigen::VectorXd::Zero(l.size);

@@ -129,7 +129,7 @@ TEST_CASE("with a sample spacing, exact steps span up to 16 spacings and are sam
   CHECK(integ->stats().steps == 8);
 }
 
-TEST_CASE("9 independent oscillators laid out as a structure's modes, [x; v], are stepped block by block as exactly as one") {
+TEST_CASE("9 independent oscillators laid out as a structure's modes, [x, v], are stepped block by block as exactly as one") {
   // 18 components > max_static_size, and A splits into nine 2 x 2 blocks
   // (x_c, v_c) whose components lie 9 apart: each block is solved alone.
   const int copies = 9;

@@ -38,7 +38,7 @@ TEST_CASE("the linearised rocking phase is symmetric with a positive-definite ma
   CHECK(Eigen::LLT<Eigen::MatrixXd>(lin.mass).info() == Eigen::Success);
 }
 
-TEST_CASE("free rocking has exactly one unstable mode; an elastic damper stabilises it") {
+TEST_CASE("free rocking has exactly one unstable mode: an elastic damper stabilises it") {
   const Scene scene = load_default_scene();
   const StructuralMatrices sm = assemble(scene.structure);
   const RockingModes free_modes = rocking_modes(linearise_rocking(scene.structure, sm, 0.0));

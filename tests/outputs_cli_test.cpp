@@ -180,7 +180,7 @@ TEST_CASE("a_N: on a fixed base the top's absolute acceleration is a_g + u_N'' o
   CHECK(j["peaks"]["a_N"].get<double>() == doctest::Approx(peak).epsilon(1e-3));
 }
 
-TEST_CASE("--history chooses the history's columns from the schema; a wrong choice is one line before any run") {
+TEST_CASE("--history chooses the history's columns from the schema: a wrong choice is one line before any run") {
   const fs::path dir = scratch_dir("outputs_history");
   const Result all = run("simulate --json --out " + (dir / "all").string());
   REQUIRE(all.code == 0);

@@ -3,8 +3,10 @@
 // format through simulate, and one-line errors.
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
+#include <cmath>
 #include <filesystem>
 #include <string>
+#include "csv_table.hpp"
 #include "records.hpp"
 #include "run_program.hpp"
 #include "temp_path.hpp"
@@ -56,17 +58,23 @@ TEST_CASE("record writes the record and spectrum figures with their data, and ma
   CHECK(script.find("set logscale xy") != std::string::npos);
 }
 
-TEST_CASE("simulate takes every format; record errors are one line with exit 2") {
+TEST_CASE("simulate takes every format: record errors are one line with exit 2") {
   const auto dir = records_dir();
   if (!dir) return;
   const std::string f = *dir + "/formats/";
   const fs::path out = temp_path("record_simulate");
   const Result k = run("simulate --json --duration 5 --record " + f + "AOM0011801241951.EW --out " + out.string());
   CHECK_MESSAGE(k.code == 0, k.err);
-  const Result up = run("simulate --json --duration 5 --component Up --record " + f +
-                        "20161113_110259_WTMC_20.V2A --out " + out.string());
-  CHECK_MESSAGE(up.code == 0, up.err);
-  CHECK(nlohmann::json::parse(up.out)["motion"].get<std::string>().find("Up") != std::string::npos);
+  const Result s62w = run("simulate --json --duration 5 --component S62W --record " + f +
+                          "20161113_110259_WTMC_20.V2A --out " + out.string());
+  CHECK_MESSAGE(s62w.code == 0, s62w.err);
+  CHECK(nlohmann::json::parse(s62w.out)["motion"].get<std::string>().find("S62W") != std::string::npos);
+  // The vertical component is no horizontal motion: the error points to --vertical.
+  const Result up = run("simulate --duration 5 --component Up --record " + f + "20161113_110259_WTMC_20.V2A --out " +
+                        out.string());
+  CHECK(up.code == 2);
+  CHECK(up.err == "rocking: error: " + f + "20161113_110259_WTMC_20.V2A: component Up is vertical: give it as the "
+                  "vertical motion (--vertical Up) and choose a horizontal component for the horizontal one\n");
   const Result bad = run("record " + f + "AOM0011801241951.EW --component 2");
   CHECK(bad.code == 2);
   CHECK(bad.err == "rocking: error: " + f + "AOM0011801241951.EW: --component 2: a K-NET file holds one component\n");
@@ -75,7 +83,7 @@ TEST_CASE("simulate takes every format; record errors are one line with exit 2")
   CHECK(damping.err == "rocking: error: --damping 1.5: must be in [0, 1)\n");
   const Result periods = run("record " + f + "AOM0011801241951.EW --periods 0,1");
   CHECK(periods.code == 2);
-  CHECK(periods.err == "rocking: error: --periods: 0 is not a positive period\n");
+  CHECK(periods.err == "rocking: error: --periods 0,1: period 0 s: must be in [0.001, 1000] s\n");
   const Result none = run("record /no/such.V2A");
   CHECK(none.code == 2);
   CHECK(none.err == "rocking: error: /no/such.V2A: record file not found\n");
@@ -105,4 +113,32 @@ TEST_CASE("ida and its hunt take every format and list what each record is in re
                        hunt.string());
   REQUIRE_MESSAGE(h.code == 0, h.err);
   CHECK(file_text(hunt / "records.csv") == text);
+}
+
+TEST_CASE("ida --vertical runs each record with its file's vertical component: a row equals simulate's run") {
+  const auto dir = records_dir();
+  if (!dir) return;
+  const std::string waiau = *dir + "/formats/20161113_110259_WTMC_20.V2A";
+  const fs::path out = temp_path("record_ida_vertical");
+  const Result r = run("ida --no-plot --scales 0.5 --variants damper --duration 60 --component N28W --vertical Up --record " +
+                       waiau + " --out " + out.string());
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const CsvTable rows = csv_table(file_text(out / "ida.csv"));
+  REQUIRE(rows.rows.size() == 1);
+  const fs::path one = temp_path("record_ida_vertical_one");
+  const auto peak = [&](const std::string& vertical) {
+    const Result s = run("simulate --json --scale 0.5 --duration 60 --component N28W " + vertical + " --record " + waiau +
+                         " --out " + one.string());
+    REQUIRE_MESSAGE(s.code == 0, s.err);
+    return nlohmann::json::parse(s.out)["peaks"]["theta_over_alpha"].get<double>();
+  };
+  const double with = peak("--vertical Up"), without = peak("");
+  CHECK(std::stod(rows.at(0, "theta_over_alpha")) == doctest::Approx(with).epsilon(1e-8));
+  CHECK(std::abs(with - without) > 1e-6 * without);  // the vertical motion made a difference
+  const Result wrong = run("ida --no-plot --scales 0.5 --component N28W --vertical S62W --record " + waiau + " --out " +
+                           out.string());
+  // A horizontal component as the vertical: the record cannot run, and its rows say why.
+  CHECK(wrong.code == 4);  // every run failed: the rows say why
+  CHECK(wrong.err.find("see the error column") != std::string::npos);
+  CHECK(csv_table(file_text(out / "ida.csv")).at(0, "error").find("component S62W is horizontal") != std::string::npos);
 }

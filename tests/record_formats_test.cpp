@@ -142,7 +142,7 @@ TEST_CASE("the real GeoNet, K-NET and COSMOS files read with the peak their head
   CHECK(std::abs(w.acceleration(44.88 + 5.0)) == doctest::Approx(w.peak()).epsilon(1e-12));
   const GroundMotion w2 = read_record(f + "20161113_110259_WTMC_20.V2A", {.component = "S62W"});
   CHECK(w2.peak() == doctest::Approx(7.9664).epsilon(1e-3));
-  CHECK(read_record(f + "20161113_110259_WTMC_20.V2A", {.component = "3"}).info().component == "Up");
+  CHECK(read_record(f + "20161113_110259_WTMC_20.V2A", {.component = "3", .read_as = ReadAs::any}).info().component == "Up");
   // K-NET: counts x 3920/6182761 gal, mean removed; "Max. Acc. (gal) 4.078".
   const GroundMotion k = read_record(f + "AOM0011801241951.EW");
   CHECK(k.info().format == "knet");
@@ -152,7 +152,8 @@ TEST_CASE("the real GeoNet, K-NET and COSMOS files read with the peak their head
   CHECK(k.info().dt == doctest::Approx(0.01).epsilon(1e-12));
   CHECK(k.peak() == doctest::Approx(0.04078).epsilon(1e-3));
   // COSMOS V2c: "Max = -6.852 cm/sec2".
-  const GroundMotion c = read_record(f + "us1000hyfh_akbmrp_bnz.V2c");
+  // A vertical channel (BNZ), read as measured, whichever its direction.
+  const GroundMotion c = read_record(f + "us1000hyfh_akbmrp_bnz.V2c", {.read_as = ReadAs::any});
   CHECK(c.info().format == "cosmos");
   CHECK(c.info().npts == 42000);
   // 42000 points over "approx 210 secs": 0.005 s, the real header's field 62
@@ -174,7 +175,7 @@ TEST_CASE("GeoNet V2A files of other stations, counts and time steps: three comp
   CHECK(g.acceleration(0.005) == doctest::Approx(100.0 * std::sin(0.3) * 1e-3).epsilon(1e-3));
   CHECK(g.info().station == "TEST (Test Station Road)");
   CHECK(g.info().event == "Mw 6.10 (10 km north of Testville)");
-  const GroundMotion up = read_record(path, {.component = "up"});
+  const GroundMotion up = read_record(path, {.component = "up", .read_as = ReadAs::any});
   CHECK(up.info().component == "Up");
   CHECK(up.acceleration(0.005) == doctest::Approx(0.5 * g.acceleration(0.005)).epsilon(2e-3));
   CHECK(error_of(path, {.component = "E"}) ==

@@ -4,6 +4,8 @@
 #include <doctest/doctest.h>
 #include "temp_path.hpp"
 #include <nlohmann/json.hpp>
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -240,4 +242,40 @@ TEST_CASE("the self-centring lesson: what the README says of the wall's tendon a
   const auto theta = [](const nlohmann::json& j) { return j["peaks"]["theta_over_alpha"].get<double>(); };
   CHECK(theta(breaking) > 3 * theta(intact));  // broken plates let it rock more than three times as far
   CHECK(theta(breaking) > 0.75 * theta(none)); // nearly as far as with no damper at all
+}
+
+TEST_CASE("simulate with a vertical motion: the history carries a_v, the summary names it, the plane's motion is unchanged") {
+  const auto records = records_dir();
+  if (!records) return;
+  const std::string waiau = *records + "/formats/20161113_110259_WTMC_20.V2A";
+  const fs::path dir = scratch_dir("simulate_test_vertical");
+  const Result r = run("simulate --record " + waiau + " --component N28W --vertical Up --duration 60 --json --out " +
+                       dir.string());
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const auto j = nlohmann::json::parse(r.out);
+  CHECK(j["vertical_motion"].get<std::string>().find("Up") != std::string::npos);
+  CHECK(j["motion"].get<std::string>().find("N28W") != std::string::npos);
+  const CsvTable h = csv_table(file_text(dir / "history.csv"));
+  REQUIRE(h.has("a_v [m/s2]"));
+  double peak_v = 0;
+  for (std::size_t i = 0; i < h.rows.size(); ++i) peak_v = std::max(peak_v, std::abs(std::stod(h.at(i, "a_v [m/s2]"))));
+  CHECK(peak_v > 1.0);  // the Up component's motion, not zeros
+  // The text summary says it too; without --vertical no a_v column.
+  const Result text = run("simulate --record " + waiau + " --component N28W --vertical Up --duration 5 --out " + dir.string());
+  REQUIRE_MESSAGE(text.code == 0, text.err);
+  CHECK(text.out.find("vertical motion") != std::string::npos);
+  const Result plain = run("simulate --record " + waiau + " --component N28W --duration 5 --out " + dir.string());
+  REQUIRE_MESSAGE(plain.code == 0, plain.err);
+  CHECK(!csv_table(file_text(dir / "history.csv")).has("a_v [m/s2]"));
+  // Bad choices, one line each.
+  const Result horizontal = run("simulate --record " + waiau + " --component N28W --vertical S62W --out " + dir.string());
+  CHECK(horizontal.code == 2);
+  CHECK(horizontal.err.find("component S62W is horizontal") != std::string::npos);
+  const Result lone = run("simulate --vertical Up --out " + dir.string());
+  CHECK(lone.code == 2);
+  CHECK(lone.err == "rocking: error: --vertical Up: no such file (a component name needs the --record file it is a "
+                    "component of)\n");
+  const Result stray = run("simulate --vertical-units g --out " + dir.string());
+  CHECK(stray.code == 2);
+  CHECK(stray.err.find("describe a --vertical file") != std::string::npos);
 }

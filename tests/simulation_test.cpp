@@ -16,6 +16,7 @@
 #include "housner.hpp"
 #include "records.hpp"
 #include "spread_nodes.hpp"
+#include "tight_run.hpp"
 import rocking.simulation;
 import rocking.scene;
 
@@ -30,15 +31,6 @@ Scene rigid_block(std::vector<std::string> overrides = {}) {
 }
 
 GroundMotion still_ground() { return GroundMotion::pulse(PulseShape::one_sine, 0.0, 1.0); }
-
-RunOptions tight(double duration, double theta0 = 0) {
-  RunOptions o;
-  o.tolerances.rtol = 1e-12;
-  o.tolerances.atol = 1e-14;
-  o.duration = duration;
-  o.initial.theta = theta0;
-  return o;
-}
 
 // --set text adding a central vertical tendon (P0 + k e) over the chimney's
 // height, breaking at e_u (0: never).

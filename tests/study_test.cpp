@@ -59,7 +59,7 @@ TEST_CASE("parallel_ordered emits every result once, in job order, for any numbe
   }
 }
 
-TEST_CASE("number lists: ladders and lists; anything else is a one-line error quoting the text, naming no flag") {
+TEST_CASE("number lists: ladders and lists: anything else is a one-line error quoting the text, naming no flag") {
   CHECK(parse_number_list("1:5:1") == std::vector<double>{1, 2, 3, 4, 5});
   CHECK(parse_number_list("0.5:1.5:0.5") == std::vector<double>{0.5, 1.0, 1.5});
   CHECK(parse_number_list("0.5,2,3") == std::vector<double>{0.5, 2, 3});

@@ -231,6 +231,7 @@ PyRecord record_load(const std::filesystem::path& file, std::optional<std::strin
                      std::optional<std::string> units, const std::string& format, std::optional<double> dt) {
   rocking::RecordOptions ro;
   ro.format = format;
+  ro.read_as = rocking::ReadAs::any;  // checked where it is used (simulate's record and vertical)
   if (component) ro.component = *component;
   if (units) ro.unit = rocking::parse_acceleration_unit(*units);
   if (dt) {
@@ -317,7 +318,7 @@ py::object to_pandas(const py::dict& columns) {
 PyResult simulate(const py::object& scene_arg, const py::object& record, double scale, double rtol, double atol,
                   const std::string& integrator, std::optional<double> every_given, std::optional<double> duration, long max_events,
                   long max_steps, bool integrate_contact, bool history,
-                  const std::optional<std::vector<std::string>>& columns) {
+                  const std::optional<std::vector<std::string>>& columns, const py::object& vertical) {
   const PyScene s = scene_of(scene_arg);
   // The run as `rocking simulate` describes it (rocking.run), its choices named as here.
   rocking::RunSpec spec{.scene = *s.scene, .motion = {}, .solver = {}, .history = {}, .prefix = "", .columns_name = "columns"};
@@ -331,6 +332,10 @@ PyResult simulate(const py::object& scene_arg, const py::object& record, double 
     spec.motion.given = r.motion;
     spec.motion.given_path = r.path;
   }
+  if (py::isinstance<PyRecord>(vertical)) spec.motion.given_vertical = vertical.cast<PyRecord>().motion;
+  else if (!vertical.is_none())  // a file, or a component of the record's file
+    spec.motion.vertical = path_text(argument<std::filesystem::path>(
+        vertical, "vertical", "a rocking.Record, a path, a component name of record's file, or None"));
   spec.solver = {.integrator = integrator, .rtol = rtol, .atol = atol, .duration = duration, .max_events = max_events,
                  .max_steps = max_steps, .integrate_contact = integrate_contact};
   // Without a history no rows are kept, so none bounds the interval.
@@ -672,7 +677,8 @@ PYBIND11_MODULE(rocking, m) {
                   "format"_a = "auto", "dt"_a = py::none(),
                   "Reads a record file in any format the command line reads (PEER .AT2, GeoNet,\n"
                   "K-NET, COSMOS, CSV, columns); the same options as --component, --units,\n"
-                  "--format and --dt.")
+                  "--format and --dt. Any component: simulate refuses one named vertical (Up,\n"
+                  "U-D, HNZ) as its record, and one named horizontal as its vertical.")
       .def("scaled", [](const PyRecord& r, double f) {
         if (!std::isfinite(f)) throw rocking::InputError(fmt::format("scaled {}: must be a finite number", f));
         return PyRecord{std::make_shared<const rocking::GroundMotion>(r.motion->scaled(f)), r.path};
@@ -730,9 +736,12 @@ PYBIND11_MODULE(rocking, m) {
   m.def("simulate", &simulate, "scene"_a = py::none(), "record"_a = py::none(), "scale"_a = 1.0, "rtol"_a = 1e-4,
         "atol"_a = 1e-7, "integrator"_a = "auto", "every"_a = py::none(), "duration"_a = py::none(),
         "max_events"_a = 100000L, "max_steps"_a = 10'000'000L, "integrate_contact"_a = false, "history"_a = true,
-        "columns"_a = py::none(),
+        "columns"_a = py::none(), "vertical"_a = py::none(),
         "Runs a scene under a record (a Record, or a file path; None: the scene's own\n"
         "excitation), scaled by scale, as `rocking simulate` does with the same defaults.\n"
+        "vertical: the vertical motion (as --vertical: a Record of a vertical\n"
+        "component, a file path, or a component name of record's file, e.g. 'Up';\n"
+        "None: the scene's excitation.vertical when it runs its own excitation).\n"
         "columns: the history's quantities by name (as --history: also node4.x_abs,\n"
         "element1.V, x_g; None: the scene's [output] history, else all it reports).\n"
         "every: the history interval [s] (None: the scene's [output] interval, else 0.01).\n"

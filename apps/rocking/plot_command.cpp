@@ -185,7 +185,11 @@ int modes(const SceneOptions& scene_opts, const FigureArgs& fa) {
 
 std::string motion_title(const GroundMotion& motion) {
   const std::string name = describe_motion(motion.name());
-  return motion.description().empty() ? name : fmt::format("{}\n{}", motion.description(), name);
+  const std::string title = motion.description().empty() ? name : fmt::format("{}\n{}", motion.description(), name);
+  const GroundMotion* up = motion.vertical();
+  if (!up) return title;
+  const std::string vertical = up->info().component.empty() ? describe_motion(up->name()) : up->info().component;
+  return fmt::format("{}, with vertical {} (PGA {:.2f} g)", title, vertical, up->peak() / gravity);
 }
 
 Command add_plot_command(CLI::App& app) {

@@ -175,7 +175,8 @@ int record(const RecordArgs& a) {
   if (a.window != "auto") window_range(a.window, {});  // T0:T1 refused before any work
   std::string scene_name;
   const std::vector<plot::Mark> marks = scene_periods(a, scene_name);
-  const RecordOptions ro = record_options(a.file);
+  RecordOptions ro = record_options(a.file);
+  ro.read_as = ReadAs::any;  // measured, whichever its direction
   const std::vector<std::string> ids = record_ids(a.files);
   std::vector<Measured> rs;
   for (std::size_t i = 0; i < a.files.size(); ++i) {

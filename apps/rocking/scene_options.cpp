@@ -90,7 +90,20 @@ void add_motion_options(CLI::App& cmd, MotionOptions& opts) {
                  "K-NET, COSMOS, CSV, columns). Without it: the scene's [excitation].")
       ->type_name("FILE");
   add_record_file_options(cmd, opts.file);
-  cmd.add_option("--scale", opts.scale, "Scale factor on the ground acceleration (default 1)")->type_name("SF");
+  cmd.add_option("--vertical", opts.vertical,
+                 "Vertical ground motion (upward; gravity becomes g + a_v in the rocking\n"
+                 "equations and the uplift condition): a record file, or a component of\n"
+                 "the --record file (GeoNet: --component N28W --vertical Up). Default: the\n"
+                 "scene's excitation.vertical with its own excitation, else none")
+      ->type_name("FILE|C");
+  cmd.add_option("--vertical-component", opts.vertical_file.component,
+                 "Component of a --vertical file that holds several (its name or number)")
+      ->type_name("C");
+  cmd.add_option("--vertical-units", opts.vertical_file.units,
+                 "Acceleration unit of a --vertical file's values (default: the file's own)")
+      ->type_name("UNIT");
+  cmd.add_option("--scale", opts.scale, "Scale factor on the ground acceleration, vertical too (default 1)")
+      ->type_name("SF");
 }
 
 void add_solver_options(CLI::App& cmd, SolverOptions& opts) {

@@ -31,6 +31,7 @@ void print_text(const nlohmann::json& s) {
   auto count = [](long n, const char* one) { return fmt::format("{} {}{}", n, one, n == 1 ? "" : "s"); };
   const ScaleFactors scale{s["scale_factors"]["scene"].get<double>(), s["scale_factors"]["option"].get<double>()};
   fmt::print("{} under {} ({})\n", s["scene"].get<std::string>(), s["motion"].get<std::string>(), scale.describe());
+  if (const auto& v = s["vertical_motion"]; !v.is_null()) fmt::print("  {:<17} {}\n", "vertical motion", v.get<std::string>());
   fmt::print("  {:<17} {} at t = {:.3f} s; {}, {}\n", "outcome", s["outcome"].get<std::string>(),
              s["t_end"].get<double>(), count(s["counts"]["uplifts"].get<long>(), "uplift"),
              count(s["counts"]["impacts"].get<long>(), "impact"));
@@ -71,8 +72,9 @@ int run(const SimulateOptions& o) {
   const std::filesystem::path dir(o.out);
   make_output_dir(dir);
   HistoryCsv history(dir / "history.csv", prepared.model, prepared.columns);
-  spdlog::info("simulating '{}' under {} ({}) with {}", scene.name, prepared.motion.name(), prepared.scale.describe(),
-               o.solver.integrator);
+  spdlog::info("simulating '{}' under {}{} ({}) with {}", scene.name, prepared.motion.name(),
+               prepared.motion.vertical() ? " and vertical " + prepared.motion.vertical()->name() : std::string(),
+               prepared.scale.describe(), o.solver.integrator);
   const RunResult result = simulate(prepared.model, prepared.motion, ro, &history);
   if (result.outcome == Outcome::failed) {  // the history may be what failed: keep what it holds, say why
     try {

@@ -32,6 +32,7 @@ struct StudyArgs {
   std::vector<std::string> records;
   std::string suite;
   RecordFileOptions file;
+  std::string vertical;  // the vertical component of each record's file
   std::string im = "sf";
   double damping = 0.05;
   std::string levels, scales;
@@ -73,8 +74,9 @@ std::string inputs_of(const StudyArgs& a, const Study& st, const std::string& ki
   for (const Variant& v : st.variants()) variants += (variants.empty() ? "" : ",") + v.name;
   const SolverOptions& s = a.solver;
   return study_inputs(kind, a.scene_text, st.records(),
-                      {{"record options", fmt::format("format {}, component {}, units {}, dt {}", a.file.format,
-                                                      a.file.component, a.file.units, a.file.dt)},
+                      {{"record options", fmt::format("format {}, component {}, units {}, dt {}{}", a.file.format,
+                                                      a.file.component, a.file.units, a.file.dt,
+                                                      a.vertical.empty() ? "" : ", vertical " + a.vertical)},
                        {"im", fmt::format("{} (damping {})", a.im, a.damping)},
                        {"levels", a.scales.empty() ? a.levels : "scales " + a.scales},
                        {"variants", variants},
@@ -595,7 +597,8 @@ std::unique_ptr<Study> make_study(StudyArgs& a, const std::vector<std::string>& 
   const IntensityMeasure im = parse_intensity_measure(a.im, a.damping, t1);
   if (a.im.find("T1") != std::string::npos)
     spdlog::info("--im {}: T1 = {:.4f} s, the fixed-base first period of {}", a.im, t1, scene.name);
-  const RecordOptions ro = record_options(a.file);
+  RecordOptions ro = record_options(a.file);
+  ro.vertical_component = a.vertical;
   RunOptions run = run_options(scene, a.solver, false);
   auto study = std::make_unique<Study>(a.scene.path, overrides, records, ro, std::move(variants), run, im);
   return study;
@@ -615,6 +618,11 @@ void add_study_options(CLI::App& cmd, StudyArgs& a, const std::string& default_o
                  "horizontal record there, 24 of them")
       ->type_name("NAME");
   add_record_file_options(cmd, a.file);
+  cmd.add_option("--vertical", a.vertical,
+                 "The vertical component of each record's file, run with its horizontal one\n"
+                 "and scaled with it (GeoNet: --component N28W --vertical Up; MODEL.md 14).\n"
+                 "The IM is the horizontal component's")
+      ->type_name("C");
   cmd.add_option("--im", a.im,
                  "What the levels measure: sf (the scale factor itself, default), pga [g],\n"
                  "pgv [m/s], sa:T (5 %-damped PSA at T seconds [g]; sa:T1 at the scene's\n"

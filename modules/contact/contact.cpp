@@ -129,10 +129,12 @@ struct UpliftTerms {
   double moment = 0;    // H'(K u + C u') (flexible) or -a_g H'M1 (rigid) [N m]
   double Mu = 0;        // 1'M u [kg m]
   double momentum = 0;  // H'M u' [kg m^2/s]
+  double g = 0;         // the gravity felt, g + a_v [m/s^2]
 };
-UpliftTerms uplift_terms(const ContactModel& m, double a_g, Eigen::Ref<const Eigen::VectorXd> y) {
-  if (!m.layout.u.present()) return {-a_g * m.body.HM1, 0.0, 0.0};
+UpliftTerms uplift_terms(const ContactModel& m, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> y) {
+  if (!m.layout.u.present()) return {-a.h * m.body.HM1, 0.0, 0.0, m.body.g + a.v};
   UpliftTerms t;
+  t.g = m.body.g + a.v;
   const double* x = y.data() + m.layout.u.start;  // [u; u'], adjacent in the layout
   const double *r0 = m.body.moment_row.data(), *r1 = m.mass_row.data(), *r2 = m.momentum_row.data();
   with_static_size(2 * m.layout.n, [&](auto size) {
@@ -161,7 +163,7 @@ double uplift_guard(const ContactModel& m, const Discrete& d, Pivot p, const Upl
   const int s = sign(p);
   const Structure& st = m.body.structure;
   const double B = st.half_width;
-  const double restoring = m.body.g * (B * m.body.total_mass - s * t.Mu);
+  const double restoring = t.g * (B * m.body.total_mass - s * t.Mu);
   const double gs = s * t.moment - (restoring + held_moment(m, d, p));
   if (!m.layout.u.present()) return gs;
   return std::min(gs, s * t.momentum);
@@ -313,7 +315,7 @@ DamperState active_damper(const ContactModel& m, const Discrete& d, const Tilt& 
   return a.state(a, d, m.body.structure.half_width, sign(*p), tilt, theta_dot_of(m, y), y.data());
 }
 
-void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, const Eigen::Ref<const Eigen::VectorXd>& y,
+void phase_rhs(const ContactModel& m, const Discrete& d, GroundAcceleration a, const Eigen::Ref<const Eigen::VectorXd>& y,
                Eigen::Ref<Eigen::VectorXd> dydt, Workspace& w) {
   const Layout& l = m.layout;
   const int s = d.phase.sign();
@@ -347,22 +349,22 @@ void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, const Eigen
   if (s != 0) {
     dydt[l.theta.start] = thd;
     if (!l.u.present()) {
-      dydt[l.theta_dot.start] = rigid_rocking_acceleration(m.body, s, a_g, device_moment, tilt);
+      dydt[l.theta_dot.start] = rigid_rocking_acceleration(m.body, s, a, device_moment, tilt);
     } else {
       const Coordinates q{y.segment(l.u.start, l.n), y.segment(l.u_dot.start, l.n), tilt, thd};
-      dydt[l.theta_dot.start] = rocking_acceleration(m.body, s, a_g, device_moment, q, dydt.segment(l.u.start, 2 * l.n));
+      dydt[l.theta_dot.start] = rocking_acceleration(m.body, s, a, device_moment, q, dydt.segment(l.u.start, 2 * l.n));
     }
 
   } else {
     if (l.theta.present())  // theta, theta', z, device work rest
       std::fill(dydt.data() + l.theta.start, dydt.data() + l.size, 0.0);
     if (l.u.present())
-      full_contact_acceleration(m.body, a_g, y.segment(l.u.start, l.n), y.segment(l.u_dot.start, l.n), dydt.segment(l.u.start, 2 * l.n));
+      full_contact_acceleration(m.body, a.h, y.segment(l.u.start, l.n), y.segment(l.u_dot.start, l.n), dydt.segment(l.u.start, 2 * l.n));
   }
   if (l.energy.present()) {
     double input = 0, viscous = 0;
     const Coordinates q{u_of(m, y), u_dot_of(m, y), tilt, thd};
-    input = ground_input_power(m.body, s == 0 ? 1 : s, a_g, q);
+    input = ground_input_power(m.body, s == 0 ? 1 : s, a, q);
     viscous = viscous_power(m.body, q.u_dot, w.b);
     dydt[l.energy.start] = input;
     dydt[l.energy.start + 1] = viscous;
@@ -381,12 +383,12 @@ std::vector<PhaseGuard> phase_guards(const ContactModel& m, Phase phase) {
   return out;
 }
 
-void guard_values(const ContactModel& m, const Discrete& d, double a_g, const Eigen::Ref<const Eigen::VectorXd>& y,
+void guard_values(const ContactModel& m, const Discrete& d, GroundAcceleration a, const Eigen::Ref<const Eigen::VectorXd>& y,
                   Eigen::Ref<Eigen::VectorXd> g) {
   if (m.kind == ModelKind::fixed_base) return;
   const std::optional<Pivot> p = d.phase.pivot();
   if (!p) {
-    const UpliftTerms t = uplift_terms(m, a_g, y);
+    const UpliftTerms t = uplift_terms(m, a, y);
     g[0] = uplift_guard(m, d, Pivot::right, t);
     g[1] = uplift_guard(m, d, Pivot::left, t);
   } else {
@@ -439,13 +441,13 @@ void device_samples(const ContactModel& m, const Discrete& d, Eigen::Ref<const E
   }
 }
 
-bool guards_use_ground_acceleration(const ContactModel& m, Phase phase) {
-  return !phase.is_rocking() && m.kind == ModelKind::rigid_block;
+bool guards_use_ground_acceleration(const ContactModel& m, Phase phase, bool vertical_shaking) {
+  return !phase.is_rocking() && (m.kind == ModelKind::rigid_block || (vertical_shaking && m.kind == ModelKind::flexible));
 }
 
-std::optional<Pivot> uplift_now(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y) {
+std::optional<Pivot> uplift_now(const ContactModel& m, const Discrete& d, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> y) {
   if (m.kind == ModelKind::fixed_base) return std::nullopt;
-  const UpliftTerms t = uplift_terms(m, a_g, y);
+  const UpliftTerms t = uplift_terms(m, a, y);
   for (Pivot p : pivots)
     if (uplift_guard(m, d, p, t) > 0) return p;
   return std::nullopt;

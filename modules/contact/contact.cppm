@@ -115,6 +115,9 @@ struct ContactModel {
   std::array<std::vector<int>, 2> breakable;
   std::array<bool, 2> idle_slots{false, false};
   Contact contact;
+  // The model reports the ground's vertical acceleration a_v (its runs are
+  // given a vertical motion, MODEL.md 14; rocking.run sets it).
+  bool vertical_shaking = false;
   double r_eq10 = 0;
   double overturn_angle = 0;   // [rad]
   Layout layout;
@@ -172,8 +175,8 @@ struct Workspace {
   explicit Workspace(const ContactModel& m);
 };
 
-// dy/dt in the current phase at ground acceleration a_g.
-void phase_rhs(const ContactModel& m, const Discrete& d, double a_g, const Eigen::Ref<const Eigen::VectorXd>& y,
+// dy/dt in the current phase at ground acceleration a (a_g, a_v).
+void phase_rhs(const ContactModel& m, const Discrete& d, GroundAcceleration a, const Eigen::Ref<const Eigen::VectorXd>& y,
                Eigen::Ref<Eigen::VectorXd> dydt, Workspace& w);
 
 // Full contact of a flexible structure (Eq. 1) as x' = A x + b a_g(t) on the
@@ -238,16 +241,18 @@ struct PhaseGuard {
 };
 std::vector<PhaseGuard> phase_guards(const ContactModel& m, Phase phase);
 // The guards' values in the order of phase_guards (g holds one per guard).
-void guard_values(const ContactModel& m, const Discrete& d, double a_g, const Eigen::Ref<const Eigen::VectorXd>& y,
+// The uplift guards restrain with gravity g + a_v (MODEL.md 14).
+void guard_values(const ContactModel& m, const Discrete& d, GroundAcceleration a, const Eigen::Ref<const Eigen::VectorXd>& y,
                   Eigen::Ref<Eigen::VectorXd> g);
-// Whether the guards of this phase depend on a_g (only a rigid block's uplift
-// does: a flexible structure's inertia forces are K u + C u'), so that a
-// caller may pass 0 without looking a_g up.
-bool guards_use_ground_acceleration(const ContactModel& m, Phase phase);
+// Whether the guards of this phase depend on the ground's acceleration: the
+// uplift guards of a rigid block (its inertia force is -a_g H'M1; a flexible
+// structure's is K u + C u') and, under vertical shaking, every uplift guard;
+// otherwise a caller may pass 0 without looking the acceleration up.
+bool guards_use_ground_acceleration(const ContactModel& m, Phase phase, bool vertical_shaking);
 
 // The pivot about which the structure in full contact lifts at this instant
 // (both conditions of MODEL.md 6 hold), if any.
-std::optional<Pivot> uplift_now(const ContactModel& m, const Discrete& d, double a_g, Eigen::Ref<const Eigen::VectorXd> y);
+std::optional<Pivot> uplift_now(const ContactModel& m, const Discrete& d, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> y);
 
 // A device reaching its capacity fractures: it exerts nothing from now on.
 void fracture(Discrete& d, int device);

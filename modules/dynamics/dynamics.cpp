@@ -45,8 +45,8 @@ void restoring_force(const StructuralMatrices& sm, const double* u, const double
 
 // The body of rocking_acceleration (below) for static size S.
 template <int S>
-double rocking_acceleration_n(const RockingBody& b, int s, double a_g, double device_moment, const Coordinates& q,
-                              double* vel, double* acc) {
+double rocking_acceleration_n(const RockingBody& b, int s, double a_g, double g, double device_moment,
+                              const Coordinates& q, double* vel, double* acc) {
   const Structure& st = b.structure;
   const long n = static_or<S>(q.u.size());
   const double* m = st.masses.data();
@@ -54,13 +54,13 @@ double rocking_acceleration_n(const RockingBody& b, int s, double a_g, double de
   const double* inv_m = b.inverse_masses.data();
   const double* u = q.u.data();
   const double* u_dot = q.u_dot.data();
-  const double B = st.half_width, g = b.g, thd = q.theta_dot;
+  const double B = st.half_width, thd = q.theta_dot;
   const double c = q.tilt.cos(), sn = q.tilt.sin();
   // At a static size the work is done in a local array, which the compiler
   // knows aliases nothing (the output may, for all it can tell, be the input).
   double local[S > 0 ? S : 1];
   double* r = S > 0 ? local : acc;
-  // rhs_u = -M1 a_g cos th - M (sB1 - u) th'^2 - C u' - K u + M1 g sin th, with
+  // rhs_u = -M1 a_g cos th - M (sB1 - u) th'^2 - C u' - K u + M1 g sin th (g: b.g + a_v), with
   // w = B1 - s u the lever arms (sB1 - u = s w)
   restoring_force<S>(b.matrices, u, u_dot, r, n);
   const double per_mass = -a_g * c + g * sn, spin = s * thd * thd;
@@ -92,12 +92,12 @@ double rocking_acceleration_n(const RockingBody& b, int s, double a_g, double de
 // same terms as rocking_acceleration_n, each a diagonal or a dot product
 // (Eigen's, vectorised with several partial sums: a plain loop's sum is one
 // chain of dependent additions).
-double rocking_acceleration_modal(const RockingBody& b, int s, double a_g, double device_moment,
+double rocking_acceleration_modal(const RockingBody& b, int s, double a_g, double g, double device_moment,
                                   const Coordinates& q, Eigen::Ref<Eigen::VectorXd> rates) {
   const ModalBasis& md = b.modes;
   const auto& x = q.u;
   const auto& v = q.u_dot;
-  const double B = b.structure.half_width, g = b.g, thd = q.theta_dot, mu = md.mu;
+  const double B = b.structure.half_width, thd = q.theta_dot, mu = md.mu;
   const double cs = q.tilt.cos(), sn = q.tilt.sin();
   const double per_mass = -a_g * cs + g * sn, spin = s * thd * thd;
   const double rx = md.r.dot(x), rv = md.r.dot(v), xx = x.squaredNorm(), xv = x.dot(v), hx = md.h.dot(x);
@@ -230,40 +230,46 @@ void full_contact_acceleration(const RockingBody& b, double a_g, Eigen::Ref<cons
 
 // Unrolled for the node count (static_size.hpp): the right-hand side of
 // every rocking step.
-double rocking_acceleration(const RockingBody& b, int s, double a_g, double device_moment, const Coordinates& q,
+double rocking_acceleration(const RockingBody& b, int s, GroundAcceleration a, double device_moment, const Coordinates& q,
                             Eigen::Ref<Eigen::VectorXd> rates) {
+  const double g = b.g + a.v;  // the gravity the rocking structure feels (MODEL.md 14)
   if (b.coordinates == ElasticCoordinates::modal)
-    return rocking_acceleration_modal(b, s, a_g, device_moment, q, rates);
+    return rocking_acceleration_modal(b, s, a.h, g, device_moment, q, rates);
   double th_ddot = 0;
   const Eigen::Index n = q.u.size();
   with_static_size(n, [&](auto size) {
-    th_ddot = rocking_acceleration_n<decltype(size)::value>(b, s, a_g, device_moment, q, rates.data(), rates.data() + n);
+    th_ddot = rocking_acceleration_n<decltype(size)::value>(b, s, a.h, g, device_moment, q, rates.data(), rates.data() + n);
   });
   return th_ddot;
 }
 
-double rigid_rocking_acceleration(const RockingBody& b, int s, double a_g, double device_moment, const Tilt& tilt) {
+double rigid_rocking_acceleration(const RockingBody& b, int s, GroundAcceleration a, double device_moment, const Tilt& tilt) {
   const Structure& st = b.structure;
   const double B = st.half_width, c = tilt.cos(), sn = tilt.sin();
   const double BM = B * b.total_mass;
-  const double rhs_th = -s * device_moment - a_g * (b.HM1 * c + s * BM * sn) -
-                        b.g * (-b.HM1 * sn + s * BM * c);
+  const double rhs_th = -s * device_moment - a.h * (b.HM1 * c + s * BM * sn) -
+                        (b.g + a.v) * (-b.HM1 * sn + s * BM * c);
   return rhs_th / pivot_inertia(st);
 }
 
-double ground_input_power(const RockingBody& b, int s, double a_g, const Coordinates& q) {
+double ground_input_power(const RockingBody& b, int s, GroundAcceleration a, const Coordinates& q) {
   const Structure& st = b.structure;
-  if (b.coordinates == ElasticCoordinates::modal) {
-    const double B = st.half_width, c = q.tilt.cos(), sn = q.tilt.sin();
-    const double Mw = B * b.modes.mu - s * mass_sum(b, q.u);
-    return -a_g * c * mass_sum(b, q.u_dot) - a_g * (b.HM1 * c + s * (Mw + b.base_moment) * sn) * q.theta_dot;
-  }
-  const auto& m = st.masses.array();
   const double B = st.half_width, c = q.tilt.cos(), sn = q.tilt.sin();
-  const double Mw = (m * (B - s * q.u.array())).sum();
-  const double on_u = -a_g * c * (m * q.u_dot.array()).sum();
-  const double on_theta = -a_g * (b.HM1 * c + s * (Mw + b.base_moment) * sn);
-  return on_u + on_theta * q.theta_dot;
+  double Mw = 0, Mu_dot = 0;  // 1'M w, 1'M u'
+  if (b.coordinates == ElasticCoordinates::modal) {
+    Mw = B * b.modes.mu - s * mass_sum(b, q.u);
+    Mu_dot = mass_sum(b, q.u_dot);
+  } else {
+    const auto& m = st.masses.array();
+    Mw = (m * (B - s * q.u.array())).sum();
+    Mu_dot = (m * q.u_dot.array()).sum();
+  }
+  const double horizontal = -a.h * c * Mu_dot - a.h * (b.HM1 * c + s * (Mw + b.base_moment) * sn) * q.theta_dot;
+  if (a.v == 0) return horizontal;
+  // y = s w sin th + H (cos th - 1) (s B sin th for the foundation beam), w = B1 - s u:
+  // sum m y' = -sin th 1'M u' + th' (s cos th (1'M w + m0 B) - H'M1 sin th)
+  const double momentum_up = -sn * Mu_dot + q.theta_dot * (s * c * (Mw + b.base_moment) - b.HM1 * sn);
+  return horizontal - a.v * momentum_up;
 }
 
 double mechanical_energy(const RockingBody& b, int s, const Coordinates& q) {

@@ -1,6 +1,11 @@
 // rocking.dynamics: the equations of motion of MODEL.md 3 and 4 as free
 // functions of (model, pivot, ground acceleration, state).
 // Full contact (Eq. 1): M u'' + C u' + K u = -M 1 a_g.
+// The ground's vertical acceleration a_v (upward, MODEL.md 14) replaces g by
+// g + a_v in every gravity term of the rocking equations (and of the uplift
+// guard, rocking.contact); full contact does not feel it (no geometric
+// stiffness). Its power on the structure, -a_v sum m_i y_i', joins the ground's
+// input, the potential staying m g y.
 // Rocking about pivot s (Eqs. 4-5 from the Lagrangian, with the gravity sign
 // of MODEL.md 9.2): with w = B1 - s u and J(u) = J_p + u'Mu - 2sB 1'Mu,
 //   [M  MH; H'M  J(u)] [u''; th''] = [rhs_u; rhs_th]  (MODEL.md 4).
@@ -21,7 +26,7 @@
 // r = Phi^-1 1, h = Phi^-1 H, k = omega^2, c = a0 + a1 omega^2, so that a
 // right-hand side costs O(N) instead of a pass over K (O(N^2)).
 // mechanical_energy is kinetic + gravity (from rest) + elastic, and
-// ground_input_power the power of the a_g terms on (u', th'), for the energy
+// ground_input_power the power of the a_g and a_v terms on (u', th'), for the energy
 // bookkeeping of MODEL.md 7: dE/dt = P_ground - u'Cu' - sum_k F_k e_k'. SI units.
 module;
 #include <rocking/eigen.hpp>
@@ -32,6 +37,14 @@ export import rocking.beam;
 export namespace rocking {
 
 enum class ElasticCoordinates { nodal, modal };
+
+// The ground's acceleration at an instant [m/s^2]: h along the model's plane
+// (a_g), v upward (a_v). A horizontal acceleration alone converts to one
+// without vertical shaking.
+struct GroundAcceleration {
+  double h = 0, v = 0;
+  constexpr GroundAcceleration(double horizontal = 0, double vertical = 0) : h(horizontal), v(vertical) {}
+};
 
 // The fixed-base modes as coordinates (see the top of this file).
 struct ModalBasis {
@@ -94,15 +107,16 @@ void full_contact_acceleration(const RockingBody& b, double a_g, Eigen::Ref<cons
 // (u', u'') into rates (2N entries: u' is a copy of q.u_dot) and th'' as the
 // result, while rocking about pivot s (+1 right, -1 left) with device moment
 // D [N m]. Allocates nothing (it runs in every right-hand side).
-double rocking_acceleration(const RockingBody& b, int s, double a_g, double device_moment, const Coordinates& q,
+double rocking_acceleration(const RockingBody& b, int s, GroundAcceleration a, double device_moment, const Coordinates& q,
                             Eigen::Ref<Eigen::VectorXd> rates);
 
 // th'' of a rigid block rocking about pivot s (u = u' = 0).
-double rigid_rocking_acceleration(const RockingBody& b, int s, double a_g, double device_moment, const Tilt& tilt);
+double rigid_rocking_acceleration(const RockingBody& b, int s, GroundAcceleration a, double device_moment, const Tilt& tilt);
 
-// Power of the ground-acceleration terms of MODEL.md 4 on (u', th') [W]
-// (full contact: theta = theta' = 0 gives -a_g 1'M u').
-double ground_input_power(const RockingBody& b, int s, double a_g, const Coordinates& q);
+// Power of the ground-acceleration terms of MODEL.md 4 and 14 on (u', th')
+// [W]: -a_g times the horizontal momentum's rate terms, -a_v sum m_i y_i'
+// (full contact: theta = theta' = 0 gives -a_g 1'M u', the heights fixed).
+double ground_input_power(const RockingBody& b, int s, GroundAcceleration a, const Coordinates& q);
 
 // Kinetic + gravity (zero at rest) + elastic energy [J]; s is the pivot (any when theta = 0).
 double mechanical_energy(const RockingBody& b, int s, const Coordinates& q);

@@ -91,7 +91,23 @@ GroundMotion read_record(const std::string& path, const RecordOptions& o) {
   GroundMotion g = reader->read(path, lines, o);
   RecordInfo info = g.info();
   info.format = reader->name;
+  const Orientation orientation = component_orientation(info.component);
+  if (o.read_as == ReadAs::horizontal && orientation == Orientation::vertical)
+    throw InputError(fmt::format("{}: component {} is vertical: give it as the vertical motion (--vertical {}) and "
+                                 "choose a horizontal component for the horizontal one",
+                                 path, info.component, o.component.empty() ? path : o.component));
+  if (o.read_as == ReadAs::vertical && orientation == Orientation::horizontal)
+    throw InputError(fmt::format("{}: component {} is horizontal: the vertical motion needs a vertical component",
+                                 path, info.component));
   g.set_info(std::move(info));
+  if (!o.vertical_component.empty()) {
+    RecordOptions up = o;
+    up.component = o.vertical_component;
+    up.vertical_component.clear();
+    up.read_as = ReadAs::vertical;
+    up.scale = 1;  // scaled below, with the horizontal motion
+    g = g.with_vertical(read_record(path, up));
+  }
   return o.scale == 1.0 ? g : g.scaled(o.scale);
 }
 

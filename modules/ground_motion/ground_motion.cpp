@@ -175,6 +175,15 @@ GroundMotion GroundMotion::scaled(double factor) const {
   if (!(g.peak() <= max_acceleration_g * gravity))
     throw InputError(fmt::format("scale factor {:g} takes {} to a peak of {:.4g} g, beyond {:g} g", factor, name_,
                                  g.peak() / gravity, max_acceleration_g));
+  if (vertical_) g.vertical_ = std::make_shared<const GroundMotion>(vertical_->scaled(factor));
+  return g;
+}
+
+GroundMotion GroundMotion::with_vertical(const GroundMotion& v) const {
+  GroundMotion g = *this;
+  GroundMotion up = v;
+  up.vertical_.reset();
+  g.vertical_ = std::make_shared<const GroundMotion>(std::move(up));
   return g;
 }
 

@@ -1,5 +1,6 @@
 // rocking.ground_motion: the horizontal ground acceleration a_g(t) [m/s^2]
-// (MODEL.md 10). A record is piecewise linear between its samples, which are
+// (MODEL.md 10), with the vertical a_v(t) (upward) that comes with it when
+// one is given (MODEL.md 14). A record is piecewise linear between its samples, which are
 // breakpoints for the integrator; it is zero before its first and after its
 // last sample. Records are read from the files the field keeps them in, one
 // reader per format (format_*.cpp, registered in formats.cpp), the format
@@ -16,6 +17,9 @@
 // Analytic pulses for tests, teaching and the default excitation:
 //   one-sine: a(t) = A sin(2 pi t / T) on [0, T] (Makris & Roussos 2000),
 //   Ricker:   a(t) = A (1 - 2 u) exp(-u), u = (pi f (t - t0))^2, t0 = 1.5 / f.
+// A component's orientation is read from its name (component_orientation):
+// a vertical one is refused as the horizontal motion and a horizontal one as
+// the vertical (MODEL.md 14), where the name tells.
 // Every reader error is an InputError of one line: file:line and what is wrong.
 module;
 #include <memory>
@@ -45,6 +49,12 @@ struct RecordInfo {
   // "event, station, component" from what is known ("" when none is).
   std::string label() const;
 };
+
+// What a component's name says of its direction: "Up", "DWN", "V", "U-D"
+// (K-NET), "HNZ" (a SEED channel) are vertical; "N28W", "E-W", "090", "S",
+// "L", "HN1" horizontal; other names say nothing.
+enum class Orientation { unknown, horizontal, vertical };
+Orientation component_orientation(std::string_view name);
 
 enum class PulseShape { one_sine, ricker };
 PulseShape parse_pulse_shape(std::string_view text);  // "one-sine", "ricker"
@@ -90,7 +100,11 @@ class GroundMotion {
   double scale() const { return scale_; }
   // The interval of evenly spaced samples from t = 0 [s]; 0 otherwise.
   double sample_interval() const { return samples_ ? samples_->dt : 0.0; }
-  GroundMotion scaled(double factor) const;  // a_g x factor; shares the samples
+  GroundMotion scaled(double factor) const;  // a_g (and a_v) x factor; shares the samples
+  // The vertical motion that comes with this one (upward; MODEL.md 14), as
+  // scaled with it, or null: a run under this motion feels both.
+  const GroundMotion* vertical() const { return vertical_.get(); }
+  GroundMotion with_vertical(const GroundMotion& v) const;  // its own vertical motion dropped
 
  private:
   friend class GroundTravel;
@@ -107,6 +121,7 @@ class GroundMotion {
   std::string name_, description_;
   RecordInfo info_;
   std::shared_ptr<const Samples> samples_;  // null for a pulse
+  std::shared_ptr<const GroundMotion> vertical_;  // null: none
   double duration_ = 0;
   PulseShape shape_ = PulseShape::one_sine;
   double amplitude_ = 0, period_ = 0, scale_ = 1;
@@ -135,12 +150,20 @@ class GroundTravel {
   double v_ = 0, d_ = 0;          // at sample next_ - 1
 };
 
+// What a record is read as: a component whose name says otherwise is refused
+// (component_orientation). `rocking record` measures any.
+enum class ReadAs { horizontal, vertical, any };
+
 struct RecordOptions {
   std::string format = "auto";            // "auto" (from the content) or a name of record_formats()
   std::optional<AccelerationUnit> unit = {};  // unset: the file's own (g where a file states none)
   std::string component = {};  // a file of several components (GeoNet) or columns (CSV): name or 1-based index
   double dt = 0;          // one-column files only [s]
   double scale = 1;
+  ReadAs read_as = ReadAs::horizontal;
+  // A component of the same file read as the vertical motion that comes with
+  // this one (GroundMotion::vertical: a GeoNet file's "Up"); empty: none.
+  std::string vertical_component = {};
 };
 
 struct RecordFormatInfo {

@@ -25,7 +25,7 @@ export namespace rocking {
 // Every scalar quantity of a run's response, in the order of history.csv.
 enum class Quantity : unsigned char {
   t, phase, u_top, theta, theta_over_alpha, theta_dot, delta_t, delta_e, damper_d, damper_F,
-  base_shear, base_moment, mid_shear, mid_moment, a_top, a_g, device_moment, x_g,
+  base_shear, base_moment, mid_shear, mid_moment, a_top, a_g, a_v, device_moment, x_g,
   count_
 };
 inline constexpr std::size_t quantity_count = static_cast<std::size_t>(Quantity::count_);
@@ -37,11 +37,12 @@ enum class Needs : unsigned char {
   elasticity,  // a flexible structure (elastic displacements and section forces)
   dampers,     // the paper's [damper] pair (MODEL.md 5)
   devices,     // any device at the rocking interface
+  vertical,    // the run shakes the ground vertically too (MODEL.md 14)
 };
 
 // What a model has, for Needs.
 struct Presence {
-  bool rocking = true, elasticity = true, dampers = true, devices = true;
+  bool rocking = true, elasticity = true, dampers = true, devices = true, vertical = true;
   constexpr bool has(Needs n) const {
     switch (n) {
       case Needs::always: return true;
@@ -49,6 +50,7 @@ struct Presence {
       case Needs::elasticity: return elasticity;
       case Needs::dampers: return dampers;
       case Needs::devices: return devices;
+      case Needs::vertical: return vertical;
     }
     return false;
   }
@@ -103,6 +105,8 @@ inline constexpr std::array<QuantityInfo, quantity_count> quantity_table = {{
     {Quantity::a_top, "a_N", "m/s2", "top absolute acceleration (along the structure's width)", "a_N", 1 / 9.81, "g",
      Needs::elasticity, history | peak | study},
     {Quantity::a_g, "a_g", "m/s2", "ground acceleration", "a_g", 1 / 9.81, "g", Needs::always, history},
+    {Quantity::a_v, "a_v", "m/s2", "vertical ground acceleration (upward)", "a_v", 1 / 9.81, "g", Needs::vertical,
+     history},
     {Quantity::device_moment, "M_dev", "N m", "devices' moment (signed as theta)", "M_{dev}", 1e-6, "MN m",
      Needs::devices, history},
     {Quantity::x_g, "x_g", "m", "ground displacement (a_g integrated from rest, no baseline correction)", "x_g", 1000,

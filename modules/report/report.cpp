@@ -68,6 +68,7 @@ json run_summary(const RunLabel& label, const RunResult& r) {
       {"scene_source", label.scene_source},
       {"motion", label.motion},
       {"record", label.record.empty() ? json(nullptr) : json(label.record)},
+      {"vertical_motion", label.vertical.empty() ? json(nullptr) : json(label.vertical)},
       {"scale", label.scale},
       {"scale_factors", {{"scene", label.scene_scale}, {"option", label.option_scale}}},
       {"integrator", r.integrator},

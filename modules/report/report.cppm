@@ -26,6 +26,7 @@ struct RunLabel {
   std::string scene, scene_source, motion, record;
   double scale = 1, scene_scale = 1, option_scale = 1;
   double rtol = 0, atol = 0;
+  std::string vertical;  // the vertical motion's description; empty: none
 };
 
 // The run's summary (the keys of `rocking simulate --json` and

@@ -1,5 +1,6 @@
 module;
 #include <cmath>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -31,9 +32,53 @@ ScaleFactors motion_scale(const Scene& scene, const MotionChoice& c) {
   return {c.scene_excitation() ? excitation_scale(scene) : 1.0, c.scale};
 }
 
-GroundMotion load_motion(const Scene& scene, const MotionChoice& c, std::string_view prefix) {
-  if (!std::isfinite(c.scale)) throw InputError(fmt::format("{}scale {}: must be a finite number", prefix, c.scale));
-  if (c.given) return c.given->scaled(c.scale);
+namespace {
+
+// The vertical motion a choice names besides the horizontal one, scaled; none
+// when it names none (the scene's own comes with its excitation).
+std::optional<GroundMotion> vertical_motion(const MotionChoice& c, std::string_view prefix) {
+  if (c.given_vertical) {
+    const RecordInfo& i = c.given_vertical->info();
+    if (component_orientation(i.component) == Orientation::horizontal)
+      throw InputError(fmt::format("{}vertical: {} is component {}, a horizontal one", prefix,
+                                   c.given_vertical->name(), i.component));
+    return c.given_vertical->scaled(c.scale);
+  }
+  if (c.vertical.empty()) {
+    if (c.vertical_file.given())
+      throw InputError(fmt::format("{0}vertical-component and {0}vertical-units describe a {0}vertical file; none was given",
+                                   prefix));
+    return std::nullopt;
+  }
+  RecordOptions ro = record_options(c.vertical_file, prefix);
+  ro.scale = c.scale;
+  ro.read_as = ReadAs::vertical;
+  std::error_code ec;
+  if (std::filesystem::exists(c.vertical, ec)) return read_record(c.vertical, ro);
+  // A component of the horizontal record's own file.
+  const std::string file = !c.record.empty() ? c.record : c.given ? c.given_path : std::string();
+  if (file.empty())
+    throw InputError(fmt::format("{}vertical {}: no such file (a component name needs the {}record file it is a "
+                                 "component of)", prefix, c.vertical, prefix));
+  if (!c.vertical_file.component.empty())
+    throw InputError(fmt::format("{}vertical {}: not a file, and {}vertical-component applies to a vertical file",
+                                 prefix, c.vertical, prefix));
+  RecordOptions same = record_options(c.file, prefix);
+  same.scale = c.scale;
+  same.read_as = ReadAs::vertical;
+  same.component = c.vertical;
+  return read_record(file, same);
+}
+
+GroundMotion horizontal_motion(const Scene& scene, const MotionChoice& c, std::string_view prefix) {
+  if (c.given) {
+    const RecordInfo& i = c.given->info();
+    if (component_orientation(i.component) == Orientation::vertical)
+      throw InputError(fmt::format("{}record: {} is component {}, a vertical one: give it as the vertical motion "
+                                   "({}vertical) and a horizontal component as the record",
+                                   prefix, c.given->name(), i.component, prefix));
+    return c.given->scaled(c.scale);
+  }
   if (c.record.empty()) {
     if (c.file.given())
       throw InputError(fmt::format("{0}format, {0}component, {0}units and {0}dt describe a {0}record file; none was given",
@@ -43,6 +88,15 @@ GroundMotion load_motion(const Scene& scene, const MotionChoice& c, std::string_
   RecordOptions ro = record_options(c.file, prefix);
   ro.scale = c.scale;
   return read_record(c.record, ro);
+}
+
+}  // namespace
+
+GroundMotion load_motion(const Scene& scene, const MotionChoice& c, std::string_view prefix) {
+  if (!std::isfinite(c.scale)) throw InputError(fmt::format("{}scale {}: must be a finite number", prefix, c.scale));
+  const GroundMotion horizontal = horizontal_motion(scene, c, prefix);
+  const std::optional<GroundMotion> vertical = vertical_motion(c, prefix);
+  return vertical ? horizontal.with_vertical(*vertical) : horizontal;
 }
 
 RunOptions run_options(const Scene& scene, const SolverChoice& c, bool scene_excitation, std::string_view prefix) {
@@ -76,6 +130,7 @@ PreparedRun prepare_run(const RunSpec& spec) {
                                  spec.prefix, every, duration / every, duration, max_history_rows));
   ro.output_interval = every;
   ContactModel model = make_contact_model(scene, true);
+  model.vertical_shaking = motion.vertical() != nullptr;
   HistoryColumns columns =
       history_columns(scene, model, spec.history.columns, spec.prefix + spec.columns_name);
   const ScaleFactors scale = motion_scale(scene, spec.motion);
@@ -87,7 +142,8 @@ PreparedRun prepare_run(const RunSpec& spec) {
                  scale.scene,
                  scale.option,
                  ro.tolerances.rtol,
-                 ro.tolerances.atol};
+                 ro.tolerances.atol,
+                 motion.vertical() ? describe_motion(*motion.vertical()) : std::string()};
   return {std::move(motion), scale, std::move(ro), std::move(model), std::move(columns), std::move(label)};
 }
 

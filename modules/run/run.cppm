@@ -2,7 +2,8 @@
 // 6-7 for what a run is; the command line's simulate, plot, animate and
 // tradeoff and the Python module's simulate all describe runs this way): the
 // scene, its ground motion (the scene's [excitation], or a record file or an
-// in-memory record, scaled), the integrator and its limits, and the history
+// in-memory record, scaled; with a vertical motion when one is given, MODEL.md
+// 14), the integrator and its limits, and the history
 // (columns and interval, else the scene's [output]). prepare_run checks every
 // choice and makes the motion, the model, the run options, the history's
 // columns and the run's label once, so that no front end assembles a run of
@@ -30,13 +31,22 @@ struct RecordFileChoice {
 RecordOptions record_options(const RecordFileChoice& c, std::string_view prefix = "--");
 
 // The ground motion of a run: the scene's [excitation], a record file, or a
-// record already in memory; times `scale`.
+// record already in memory, with its vertical motion when one is given
+// (GroundMotion::vertical); times `scale`.
 struct MotionChoice {
   std::string record;  // a file; empty: the scene's [excitation] (or `given`)
   RecordFileChoice file;
   double scale = 1;
   std::shared_ptr<const GroundMotion> given;  // an in-memory record (Python's Record), unscaled
   std::string given_path;                      // where `given` was read from, for the label ("" if from arrays)
+  // The vertical motion (MODEL.md 14), upward, scaled as the horizontal: a
+  // record file, or a component of the record file's own (a GeoNet file's
+  // "Up"), read as vertical_file says (its component and units; the format
+  // from its content); or a record in memory. None: the scene's
+  // [excitation] vertical, when the run uses the scene's excitation.
+  std::string vertical;
+  RecordFileChoice vertical_file;
+  std::shared_ptr<const GroundMotion> given_vertical;
   bool scene_excitation() const { return record.empty() && !given; }
 };
 
@@ -82,7 +92,7 @@ struct RunSpec {
 
 // Everything a run needs, checked: InputError of one line otherwise.
 struct PreparedRun {
-  GroundMotion motion;
+  GroundMotion motion;  // with its vertical motion, if any (the model then reports a_v)
   ScaleFactors scale;
   RunOptions options;  // with the history interval; `stop` is the caller's to set
   ContactModel model;  // energy tracked

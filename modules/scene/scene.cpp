@@ -31,7 +31,8 @@ const std::map<std::string, std::set<std::string, std::less<>>, std::less<>> sch
     {"structure", {"half_width", "heights", "masses", "base_mass", "second_moments",
                    "youngs_modulus", "EI_scale", "damping_ratio", "rigid"}},
     {"contact", {"rocking", "restitution", "theta_dot_min", "overturn_angle"}},
-    {"excitation", {"kind", "pulse", "amplitude_g", "period", "record", "units", "dt", "scale", "duration"}},
+    {"excitation", {"kind", "pulse", "amplitude_g", "period", "record", "component", "units", "dt", "scale", "duration",
+                    "vertical", "vertical_component", "vertical_units"}},
     {"initial", {"theta", "theta_dot", "u", "u_dot"}},
     {"damper", {"enabled", "stiffness", "post_yield_ratio", "theta_y", "alpha", "beta", "n",
                 "thickness", "capacity"}},
@@ -478,18 +479,40 @@ Excitation read_excitation(const toml::table& root, const std::string& file, con
     const bool embedded = file.starts_with("embedded:");
     if (path.is_relative() && !embedded)
       e.record = (std::filesystem::path(file).parent_path() / path).string();
-    if (t.has("units")) {
-      const toml::node& u = t.required("units");
+    // A unit key, when given: g, m/s2, cm/s2 or mm/s2.
+    const auto unit = [&t](const char* key) -> std::optional<AccelerationUnit> {
+      if (!t.has(key)) return std::nullopt;
+      const toml::node& u = t.required(key);
       try {
-        e.record_options.unit = parse_acceleration_unit(t.string_or("units", ""));
+        return parse_acceleration_unit(t.string_or(key, ""));
       } catch (const InputError& err) {
-        t.fail(&u, "units", err.what());
+        t.fail(&u, key, err.what());
       }
-    }
+    };
+    e.record_options.unit = unit("units");
     e.record_options.dt = t.number_or("dt", 0.0, positive, "positive [s]");
     e.record_options.scale = scale();
+    e.record_options.component = t.string_or("component", "");
+    if (t.has("vertical")) {
+      e.vertical = t.string_or("vertical", "");
+      if (e.vertical.empty()) t.fail(&t.required("vertical"), "vertical", "a record file or a component name, not empty");
+      const std::filesystem::path vpath(e.vertical);
+      const std::filesystem::path beside = std::filesystem::path(file).parent_path() / vpath;
+      std::error_code ec;
+      if (vpath.is_relative() && !embedded && std::filesystem::exists(beside, ec)) e.vertical = beside.string();
+      e.vertical_options.component = t.string_or("vertical_component", "");
+      e.vertical_options.unit = unit("vertical_units");
+      e.vertical_options.dt = e.record_options.dt;
+      e.vertical_options.scale = e.record_options.scale;
+      e.vertical_options.read_as = ReadAs::vertical;
+    } else {
+      for (const char* key : {"vertical_component", "vertical_units"})
+        if (t.has(key)) t.fail(&t.required(key), key, "describes the vertical record; vertical = ... names none");
+    }
     return e;
   }
+  for (const char* key : {"vertical", "vertical_component", "vertical_units", "component"})
+    if (t.has(key)) t.fail(&t.required(key), key, "belongs to a record excitation (record = \"file\")");
   e.record_options.scale = scale();
   const toml::node& shape = t.required("pulse");
   try {
@@ -643,7 +666,15 @@ double excitation_scale(const Scene& scene) { return scene.excitation.none ? 1.0
 GroundMotion default_ground_motion(const Scene& scene) {
   const Excitation& e = scene.excitation;
   if (e.none) return GroundMotion::from_samples("no ground motion", {0.0, e.duration}, {0.0, 0.0});
-  if (!e.record.empty()) return read_record(e.record, e.record_options);
+  if (!e.record.empty()) {
+    const GroundMotion horizontal = read_record(e.record, e.record_options);
+    if (e.vertical.empty()) return horizontal;
+    std::error_code ec;
+    if (std::filesystem::exists(e.vertical, ec)) return horizontal.with_vertical(read_record(e.vertical, e.vertical_options));
+    RecordOptions both = e.record_options;  // a component of the record's own file
+    both.vertical_component = e.vertical;
+    return read_record(e.record, both);
+  }
   if (e.period > 0) return GroundMotion::pulse(e.pulse, e.amplitude, e.period).scaled(e.record_options.scale);
   throw InputError(fmt::format("{}: the scene has no [excitation]; give a record with --record FILE", scene.source));
 }

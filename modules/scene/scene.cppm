@@ -37,7 +37,12 @@ export namespace rocking {
 struct Excitation {
   bool none = false;                         // no ground motion
   std::string record;                        // empty: the pulse
-  RecordOptions record_options;              // units, dt, scale of the record
+  RecordOptions record_options;              // component, units, dt, scale of the record
+  // The vertical motion (MODEL.md 14), upward, scaled as the record: a record
+  // file (relative to the scene file), or a component of `record`'s own file
+  // (vertical = "Up" beside record = "...V2A"); empty: none.
+  std::string vertical;
+  RecordOptions vertical_options;            // component, units
   PulseShape pulse = PulseShape::one_sine;
   double amplitude = 0;                      // pulse amplitude [m/s^2]
   double period = 0;                         // pulse period [s]; 0: no excitation
@@ -82,7 +87,8 @@ std::vector<Device> scene_devices(const Scene& scene);
 // when asked; `extra` devices act after the scene's own.
 ContactModel make_contact_model(const Scene& scene, bool track_energy, std::vector<Device> extra = {});
 
-// The scene's excitation as a ground motion (reads the record if it names one).
+// The scene's excitation as a ground motion (reads the record if it names
+// one, and its vertical motion with it).
 // InputError if the scene has none.
 GroundMotion default_ground_motion(const Scene& scene);
 // The factor [excitation] scale puts on that motion (1 for none).

@@ -15,7 +15,8 @@ Presence presence(const ContactModel& m) {
   return {.rocking = m.kind != ModelKind::fixed_base,
           .elasticity = m.layout.u.present(),
           .dampers = m.has_damper,
-          .devices = !m.devices.empty()};
+          .devices = !m.devices.empty(),
+          .vertical = m.vertical_shaking};
 }
 
 std::string_view outcome_name(Outcome o) {

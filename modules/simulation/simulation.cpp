@@ -113,15 +113,16 @@ class Driver {
  public:
   Driver(const ContactModel& given, const GroundMotion& ground, const RunOptions& o, Observer* observer)
       : backend_(choose_backend(given, ground, o.backend)), own_(recast(given, backend_, o)),
-        m_(own_ ? *own_ : given), ground_(ground), opt_(o), observer_(observer),
+        m_(own_ ? *own_ : given), ground_(ground), vertical_(ground.vertical()), opt_(o), observer_(observer),
         scales_(output_scales(m_)), work_(m_),
         y_(Eigen::VectorXd::Zero(m_.layout.size)), dense_(m_.layout.size) {
     // The parameters bind to the std::function's own arguments: no Ref is copied per call.
     auto rhs = [this](double t, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& dydt) {
-      phase_rhs(m_, d_, ground_.acceleration(t), y, dydt, work_);
+      phase_rhs(m_, d_, ground_at(t), y, dydt, work_);
     };
     ode::Options tolerances = o.tolerances;
     tolerances.max_step = std::min(tolerances.max_step, ground.max_step());
+    if (vertical_) tolerances.max_step = std::min(tolerances.max_step, vertical_->max_step());
     // The energy accumulators (the tail of the state) are integrals that
     // nothing depends on: they do not steer the steps, so that a run that
     // tracks the energy balance steps as one that does not, to the same peaks.
@@ -140,13 +141,16 @@ class Driver {
     }
     integrator_ = ode::make_integrator(backend_, m_.layout.size, rhs, tolerances, std::move(stiff));
     t_end_ = o.duration > 0 ? o.duration : ground.duration();
-    // The record's samples, computed when asked: a run holds no list of them.
-    const ode::NextBreakpoint next_sample = [this](double t) { return ground_.next_breakpoint(t); };
+    // The records' samples, computed when asked: a run holds no list of them.
+    const ode::NextBreakpoint next_sample = [this](double t) {
+      return vertical_ ? std::min(ground_.next_breakpoint(t), vertical_->next_breakpoint(t)) : ground_.next_breakpoint(t);
+    };
     // An automatic choice of rosw integrates full contact too: its steps are
     // not bound by the highest modes, and it then costs less than the exact
     // steps, which sample every oscillating period (`rocking tradeoff --scenes`).
     const bool auto_rosw = o.backend == ode::Backend::automatic && backend_ == ode::Backend::rosw;
-    if (o.exact_full_contact && !auto_rosw && m_.layout.u.present() && ground.piecewise_linear()) {
+    if (o.exact_full_contact && !auto_rosw && m_.layout.u.present() && ground.piecewise_linear() &&
+        (!vertical_ || vertical_->piecewise_linear())) {
       ode::Options exact;
       // Steps from sample to sample of the record (up to 16 spacings), with
       // guards and peaks sampled 8 times in the shortest oscillating period.
@@ -202,6 +206,12 @@ class Driver {
   }
 
  private:
+  // The ground's acceleration at t: along the plane, and upward when shaken so.
+  GroundAcceleration ground_at(double t) const {
+    return vertical_ ? GroundAcceleration{ground_.acceleration(t), vertical_->acceleration(t)}
+                     : GroundAcceleration{ground_.acceleration(t)};
+  }
+
   void initial_state() {
     const InitialState& init = opt_.initial;
     const Layout& l = m_.layout;
@@ -230,7 +240,7 @@ class Driver {
   // uplift conditions already hold (MODEL.md 6).
   void begin_contact_if_lifting(double t) {
     if (d_.phase.is_rocking()) return;
-    if (const std::optional<Pivot> p = uplift_now(m_, d_, ground_.acceleration(t), y_)) lift(*p, t);
+    if (const std::optional<Pivot> p = uplift_now(m_, d_, ground_at(t), y_)) lift(*p, t);
   }
 
   void lift(Pivot p, double t) {
@@ -249,9 +259,9 @@ class Driver {
     for (const PhaseGuard& g : guards_)
       guards.directions.push_back(g.crossing == Crossing::rising ? ode::Direction::rising : ode::Direction::falling);
     if (!guards.directions.empty())
-      guards.fn = [this, with_a_g = guards_use_ground_acceleration(m_, d_.phase)](
+      guards.fn = [this, with_a_g = guards_use_ground_acceleration(m_, d_.phase, vertical_ != nullptr)](
                       double tg, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& g) {
-        guard_values(m_, d_, with_a_g ? ground_.acceleration(tg) : 0.0, y, g);
+        guard_values(m_, d_, with_a_g ? ground_at(tg) : GroundAcceleration{}, y, g);
       };
     active_ = !d_.phase.is_rocking() && exact_ ? exact_.get() : integrator_.get();
     active_->reset(t, y_, std::move(guards));
@@ -367,6 +377,7 @@ class Driver {
   Response history_row(double t, Eigen::Ref<const Eigen::VectorXd> y) {
     Response r = evaluate(m_, scales_, d_, t, y);
     r[Quantity::a_g] = ground_.acceleration(t);
+    r[Quantity::a_v] = vertical_ ? vertical_->acceleration(t) : 0.0;
     r[Quantity::x_g] = travel_.at(t).d;
     pass_nodal(y);
     if (!m_.devices.empty()) {
@@ -450,6 +461,7 @@ class Driver {
   std::unique_ptr<const ContactModel> own_;  // the model in other coordinates (recast)
   const ContactModel& m_;
   const GroundMotion& ground_;
+  const GroundMotion* vertical_;  // null: no vertical shaking
   const RunOptions& opt_;
   Observer* observer_;
   OutputScales scales_;

@@ -45,7 +45,7 @@ export namespace rocking {
 
 // The response at one instant: every quantity of rocking.quantities. Forces
 // are normalised (V_ref, M_ref); a quantity the model lacks (Presence) is 0.
-// a_g, M_dev and x_g are filled for history rows only (the peaks do not need them).
+// a_g, a_v, M_dev and x_g are filled for history rows only (the peaks do not need them).
 struct Response {
   double t = 0;
   Phase phase;
@@ -215,8 +215,10 @@ double element_value(const ContactModel& m, ElementQuantity q, int element, Eige
 // to an automatic rk45 and to a backend given by name).
 ode::Backend choose_backend(const ContactModel& m, const GroundMotion& ground, ode::Backend requested);
 
-// Runs the model under the ground motion. Never throws for a run that cannot
-// finish: the result says failed, with the reason, and holds what was reached.
+// Runs the model under the ground motion: along the model's plane and, when
+// it comes with one (GroundMotion::vertical), upward (MODEL.md 14). Never
+// throws for a run that cannot finish: the result says failed, with the
+// reason, and holds what was reached.
 RunResult simulate(const ContactModel& m, const GroundMotion& ground, const RunOptions& options,
                    Observer* observer = nullptr);
 

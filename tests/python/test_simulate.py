@@ -205,3 +205,26 @@ def test_nodes_elements_and_the_scenes_output_table_as_on_the_command_line(cli, 
     assert list(rocking.simulate(scene, columns=["delta_t"]).history) == ["t", "delta_t"]
     with pytest.raises(ValueError, match="columns node9.u: no node 9"):
         rocking.simulate(columns=["node9.u"])
+
+
+def test_a_vertical_motion_runs_as_the_programs_and_a_record_in_the_wrong_direction_is_refused(cli, records, tmp_path):
+    waiau = records / "formats" / "20161113_110259_WTMC_20.V2A"
+    out = tmp_path / "cli"
+    r = cli.run("simulate", "--record", waiau, "--component", "N28W", "--vertical", "Up", "--duration", "60",
+                "--out", out)
+    assert r.returncode == 0, r.stderr
+    expected = json.loads((out / "summary.json").read_text())
+    horizontal = rocking.Record.load(waiau, component="N28W")
+    up = rocking.Record.load(waiau, component="Up")
+    by_name = rocking.simulate(rocking.Scene.default(), horizontal, vertical="Up", duration=60)
+    by_record = rocking.simulate(rocking.Scene.default(), horizontal, vertical=up, duration=60)
+    for result in (by_name, by_record):
+        assert result.peaks == expected["peaks"]
+        assert result.summary["vertical_motion"] == expected["vertical_motion"]
+        np.testing.assert_array_equal(result.history["a_v"], by_name.history["a_v"])
+    assert np.abs(by_name.history["a_v"]).max() > 1.0
+    assert "a_v" not in rocking.simulate(rocking.Scene.default(), horizontal, duration=5).history
+    with pytest.raises(ValueError, match="component Up, a vertical one"):
+        rocking.simulate(rocking.Scene.default(), up)
+    with pytest.raises(ValueError, match="component N28W, a horizontal one"):
+        rocking.simulate(rocking.Scene.default(), horizontal, vertical=horizontal)
