@@ -77,9 +77,9 @@ TEST_CASE("uplift of the flexible chimney needs both the moment (Eq. 2) and L_s 
   CHECK(uplift_now(m, d, 0.0, y) == std::nullopt);
 }
 
-TEST_CASE("guards say truly whether they read a_g (callers skip the record lookup when not)") {
+TEST_CASE("guards say truly whether they read a_g and a_v (callers skip the record lookups when not)") {
   // Every scene kind and phase: the guard values at a_g = 0, a_g = 3 m/s^2 and a_v = 3 m/s^2
-  // are equal exactly when guards_use_ground_acceleration says they do not use it.
+  // are equal exactly when guard_inputs says they do not read a_g, a_v.
   for (const auto& overrides : std::vector<std::vector<std::string>>{
            {}, {"structure.rigid=true"}, {"damper.enabled=false"}, {"structure.rigid=true", "damper.enabled=false"}}) {
     const ContactModel m = make_contact_model(chimney(overrides), false);
@@ -93,8 +93,10 @@ TEST_CASE("guards say truly whether they read a_g (callers skip the record looku
       guard_values(m, d, GroundAcceleration{0.0, 3.0}, y, gv);  // vertical shaking (MODEL.md 14)
       CAPTURE(phase_name(phase));
       CAPTURE(m.layout.size);
-      CHECK(guards_use_ground_acceleration(m, phase, false) == (g0 != g3));
-      CHECK(guards_use_ground_acceleration(m, phase, true) == (g0 != g3 || g0 != gv));
+      CHECK(guard_inputs(m, phase, false).horizontal == (g0 != g3));
+      CHECK(!guard_inputs(m, phase, false).vertical);
+      CHECK(guard_inputs(m, phase, true).horizontal == (g0 != g3));
+      CHECK(guard_inputs(m, phase, true).vertical == (g0 != gv));
     }
   }
 }

@@ -2,7 +2,9 @@
 // spectrum against the oscillator's closed form (harmonic and ramp ground
 // motions) and against an independent integration of El Centro (4th-order
 // Runge-Kutta on the record at a twentieth of its step), the peak between
-// samples, and IM scaling.
+// samples, and IM scaling; RotD50 and RotD100 against the spectra of the
+// records rotated explicitly at every degree, and the projection of two
+// components at an azimuth (MODEL.md 14).
 #include <doctest/doctest.h>
 #include <algorithm>
 #include <cmath>
@@ -191,7 +193,8 @@ TEST_CASE("IM scaling is exact: the scaled record's IM equals the level") {
     }
   }
   CHECK(intensity(g, parse_intensity_measure("pga")) == doctest::Approx(0.3188).epsilon(1e-3));
-  CHECK_THROWS_WITH_AS(parse_intensity_measure("sa"), "intensity measure 'sa': choose sf, pga, pgv, sa:T or saavg:T1:T2", InputError);
+  CHECK_THROWS_WITH_AS(parse_intensity_measure("sa"),
+                       "intensity measure 'sa': choose sf, pga, pgv, sa:T, saavg:T1:T2, rotd50:T or rotd100:T", InputError);
   CHECK_THROWS_WITH_AS(parse_intensity_measure("sa:-1"), "intensity measure 'sa:-1': '-1' is not a period in seconds", InputError);
   CHECK_THROWS_WITH_AS(parse_intensity_measure("saavg:2:1"), "intensity measure 'saavg:2:1': T2 must exceed T1", InputError);
   CHECK_THROWS_AS(measure_record(g, {0.0}), InputError);
@@ -224,4 +227,101 @@ TEST_CASE("the GeoNet file's velocity agrees with its own stated peak velocity")
   CHECK(m.pga == doctest::Approx(9.7331).epsilon(1e-6));
   CHECK(m.periods.size() == 21);
   CHECK(m.psa.size() == 21);
+}
+
+namespace {
+
+// A synthetic pair of horizontal components: two different filtered noises.
+GroundMotion noise(unsigned seed, double dt, int n) {
+  std::vector<double> a;
+  double x = 0, v = 0;
+  unsigned state = seed;
+  for (int i = 0; i < n; ++i) {
+    state = state * 1664525u + 1013904223u;
+    const double f = static_cast<double>(state >> 8) / static_cast<double>(1u << 24) - 0.5;
+    const double w = 2 * pi * 3.0;
+    v += dt * (-2 * 0.3 * w * v - w * w * x + 200 * f);
+    x += dt * v;
+    a.push_back(w * w * x);
+  }
+  return GroundMotion::evenly_sampled("noise " + std::to_string(seed), dt, a);
+}
+
+// RotD50 and RotD100 by another route: each record rotated explicitly (its
+// samples projected at every degree), its PSA computed alone, the median and
+// maximum of the 180 taken.
+RotD rotated_explicitly(const GroundMotion& a1, const GroundMotion& a2, double T) {
+  std::vector<double> psa;
+  for (int k = 0; k < 180; ++k) psa.push_back(pseudo_spectral_acceleration(project(a1, a2, k), T));
+  std::ranges::sort(psa);
+  return {0.5 * (psa[89] + psa[90]), psa[179]};
+}
+
+}  // namespace
+
+TEST_CASE("the projection at 0 and 90 degrees is the first and the second component, sample for sample") {
+  const GroundMotion a1 = noise(1, 0.01, 500), a2 = noise(2, 0.01, 400);
+  CHECK(project(a1, a2, 0).sample_values() == a1.sample_values());
+  const std::vector<double> second = project(a1, a2, 90).sample_values();
+  std::vector<double> padded = a2.sample_values();
+  padded.resize(500, 0.0);  // the shorter component padded with zeros
+  CHECK(second == padded);
+  const std::vector<double> back = project(a1, a2, 180).sample_values();
+  for (std::size_t i = 0; i < back.size(); ++i) CHECK(back[i] == -a1.sample_values()[i]);
+  const GroundMotion at30 = project(a1, a2, 30);
+  CHECK(at30.acceleration(0.5) == doctest::Approx(std::cos(pi / 6) * a1.acceleration(0.5) + 0.5 * a2.acceleration(0.5)).epsilon(1e-12));
+  REQUIRE(at30.other_horizontal());
+  CHECK(at30.other_horizontal()->acceleration(0.5) ==
+        doctest::Approx(-0.5 * a1.acceleration(0.5) + std::cos(pi / 6) * a2.acceleration(0.5)).epsilon(1e-12));
+  CHECK_THROWS_WITH_AS(project(a1, noise(3, 0.02, 100), 10), doctest::Contains("needs one time step"), InputError);
+}
+
+TEST_CASE("RotD50 and RotD100 equal the median and maximum of the spectra of the records rotated at every degree (1e-6)") {
+  const GroundMotion a1 = noise(1, 0.01, 1500), a2 = noise(2, 0.01, 1500);
+  const std::vector<double> periods = {0.05, 0.3, 1.0, 3.0};
+  const std::vector<RotD> r = rotd_spectrum(a1, a2, periods);
+  for (std::size_t k = 0; k < periods.size(); ++k) {
+    CAPTURE(periods[k]);
+    const RotD expected = rotated_explicitly(a1, a2, periods[k]);
+    CHECK(r[k].rotd50 == doctest::Approx(expected.rotd50).epsilon(1e-6));
+    CHECK(r[k].rotd100 == doctest::Approx(expected.rotd100).epsilon(1e-6));
+    CHECK(r[k].rotd50 <= r[k].rotd100);
+    // RotD100 is at least either component's own PSA; RotD50 between their extremes' bounds
+    CHECK(r[k].rotd100 >= pseudo_spectral_acceleration(a1, periods[k]) * (1 - 1e-12));
+    CHECK(r[k].rotd100 >= pseudo_spectral_acceleration(a2, periods[k]) * (1 - 1e-12));
+  }
+  // Rotation invariance: the pair turned by a whole number of degrees has the same RotD.
+  const GroundMotion turned = project(a1, a2, 37);
+  const std::vector<RotD> t = rotd_spectrum(turned, *turned.other_horizontal(), periods);
+  for (std::size_t k = 0; k < periods.size(); ++k) {
+    CHECK(t[k].rotd50 == doctest::Approx(r[k].rotd50).epsilon(1e-9));
+    CHECK(t[k].rotd100 == doctest::Approx(r[k].rotd100).epsilon(1e-9));
+  }
+}
+
+TEST_CASE("RotD of the Waiau file's two horizontals: against explicit rotation, and as an intensity measure") {
+  const auto dir = records_dir();
+  if (!dir) return;
+  const std::string waiau = *dir + "/formats/20161113_110259_WTMC_20.V2A";
+  const GroundMotion g = read_record(waiau, {.other_horizontal = true});
+  REQUIRE(g.other_horizontal());
+  CHECK(g.info().component == "N28W");
+  CHECK(g.other_horizontal()->info().component == "S62W");
+  const RotD r = rotd_spectrum(g, *g.other_horizontal(), {1.0}).front();
+  const RotD expected = rotated_explicitly(g, *g.other_horizontal(), 1.0);
+  CHECK(r.rotd50 == doctest::Approx(expected.rotd50).epsilon(1e-6));
+  CHECK(r.rotd100 == doctest::Approx(expected.rotd100).epsilon(1e-6));
+  for (const char* name : {"rotd50:1", "rotd100:0.5"}) {
+    CAPTURE(name);
+    const IntensityMeasure im = parse_intensity_measure(name);
+    CHECK(im.name() == name);
+    const double sf = 0.7 / intensity(g, im);
+    CHECK(intensity(g.scaled(sf), im) == doctest::Approx(0.7).epsilon(1e-9));  // scaled with its pair
+  }
+  CHECK(intensity(g, parse_intensity_measure("rotd50:1")) == doctest::Approx(r.rotd50 / gravity).epsilon(1e-12));
+  // A record without its pair cannot have a RotD.
+  CHECK_THROWS_WITH_AS(intensity(read_record(waiau), parse_intensity_measure("rotd50:1")),
+                       doctest::Contains("needs its two horizontal components"), InputError);
+  CHECK_THROWS_WITH_AS(read_record(*dir + "/elcentro_1940_ns.at2", {.other_horizontal = true}),
+                       doctest::Contains("holds no other horizontal component"), InputError);
 }

@@ -279,3 +279,36 @@ TEST_CASE("simulate with a vertical motion: the history carries a_v, the summary
   CHECK(stray.code == 2);
   CHECK(stray.err.find("describe a --vertical file") != std::string::npos);
 }
+
+TEST_CASE("simulate --azimuth: 0 and 90 degrees are the file's two horizontal components, run for run") {
+  const auto records = records_dir();
+  if (!records) return;
+  const std::string waiau = *records + "/formats/20161113_110259_WTMC_20.V2A";
+  const fs::path dir = scratch_dir("simulate_test_azimuth");
+  const auto peaks = [&](const std::string& args) {
+    const Result r = run("simulate --json --duration 60 --record " + waiau + " " + args + " --out " + dir.string());
+    REQUIRE_MESSAGE(r.code == 0, r.err);
+    return nlohmann::json::parse(r.out)["peaks"];
+  };
+  CHECK(peaks("--component N28W --azimuth 0") == peaks("--component N28W"));
+  CHECK(peaks("--component N28W --azimuth 90") == peaks("--component S62W"));
+  CHECK(peaks("--component N28W --azimuth 30") != peaks("--component N28W"));
+  // A PEER pair: the other component from its own file.
+  const std::string cbgs = *records + "/christchurch2011_cbgs_";
+  const Result pair = run("simulate --json --duration 10 --record " + cbgs + "n89w.at2 --second " + cbgs +
+                          "s01w.at2 --azimuth 90 --out " + dir.string());
+  REQUIRE_MESSAGE(pair.code == 0, pair.err);
+  const Result alone = run("simulate --json --duration 10 --record " + cbgs + "s01w.at2 --out " + dir.string());
+  REQUIRE_MESSAGE(alone.code == 0, alone.err);
+  CHECK(nlohmann::json::parse(pair.out)["peaks"] == nlohmann::json::parse(alone.out)["peaks"]);
+  // Bad choices, one line each.
+  const Result lone = run("simulate --azimuth 30 --record " + cbgs + "n89w.at2 --out " + dir.string());
+  CHECK(lone.code == 2);
+  CHECK(lone.err.find("holds no other horizontal component beside N89W") != std::string::npos);
+  const Result stray = run("simulate --second " + cbgs + "s01w.at2 --out " + dir.string());
+  CHECK(stray.code == 2);
+  CHECK(stray.err == "rocking: error: --second: the other horizontal component is for --azimuth; none was given\n");
+  const Result wild = run("simulate --azimuth 1e9 --record " + waiau + " --out " + dir.string());
+  CHECK(wild.code == 2);
+  CHECK(wild.err.find("must be an angle in degrees, -360 to 360") != std::string::npos);
+}

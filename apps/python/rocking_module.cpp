@@ -318,7 +318,8 @@ py::object to_pandas(const py::dict& columns) {
 PyResult simulate(const py::object& scene_arg, const py::object& record, double scale, double rtol, double atol,
                   const std::string& integrator, std::optional<double> every_given, std::optional<double> duration, long max_events,
                   long max_steps, bool integrate_contact, bool history,
-                  const std::optional<std::vector<std::string>>& columns, const py::object& vertical) {
+                  const std::optional<std::vector<std::string>>& columns, const py::object& vertical,
+                  std::optional<double> azimuth, const py::object& second) {
   const PyScene s = scene_of(scene_arg);
   // The run as `rocking simulate` describes it (rocking.run), its choices named as here.
   rocking::RunSpec spec{.scene = *s.scene, .motion = {}, .solver = {}, .history = {}, .prefix = "", .columns_name = "columns"};
@@ -332,6 +333,10 @@ PyResult simulate(const py::object& scene_arg, const py::object& record, double 
     spec.motion.given = r.motion;
     spec.motion.given_path = r.path;
   }
+  spec.motion.azimuth = azimuth;
+  if (py::isinstance<PyRecord>(second)) spec.motion.given_second = second.cast<PyRecord>().motion;
+  else if (!second.is_none())
+    spec.motion.second = path_text(argument<std::filesystem::path>(second, "second", "a rocking.Record, a path or None"));
   if (py::isinstance<PyRecord>(vertical)) spec.motion.given_vertical = vertical.cast<PyRecord>().motion;
   else if (!vertical.is_none())  // a file, or a component of the record's file
     spec.motion.vertical = path_text(argument<std::filesystem::path>(
@@ -736,12 +741,14 @@ PYBIND11_MODULE(rocking, m) {
   m.def("simulate", &simulate, "scene"_a = py::none(), "record"_a = py::none(), "scale"_a = 1.0, "rtol"_a = 1e-4,
         "atol"_a = 1e-7, "integrator"_a = "auto", "every"_a = py::none(), "duration"_a = py::none(),
         "max_events"_a = 100000L, "max_steps"_a = 10'000'000L, "integrate_contact"_a = false, "history"_a = true,
-        "columns"_a = py::none(), "vertical"_a = py::none(),
+        "columns"_a = py::none(), "vertical"_a = py::none(), "azimuth"_a = py::none(), "second"_a = py::none(),
         "Runs a scene under a record (a Record, or a file path; None: the scene's own\n"
         "excitation), scaled by scale, as `rocking simulate` does with the same defaults.\n"
         "vertical: the vertical motion (as --vertical: a Record of a vertical\n"
         "component, a file path, or a component name of record's file, e.g. 'Up';\n"
         "None: the scene's excitation.vertical when it runs its own excitation).\n"
+        "azimuth: the plane's angle [degrees] from record toward second (its other\n"
+        "horizontal component, a Record or a path), as --azimuth and --second.\n"
         "columns: the history's quantities by name (as --history: also node4.x_abs,\n"
         "element1.V, x_g; None: the scene's [output] history, else all it reports).\n"
         "every: the history interval [s] (None: the scene's [output] interval, else 0.01).\n"
@@ -762,6 +769,23 @@ PYBIND11_MODULE(rocking, m) {
         "quantity of the schema, then per quantity of each device (NAME.elongation,\n"
         "NAME.force): name, unit, words, whether it is a history column, a peak and a\n"
         "study quantity (ida columns, limits, fractiles), and whether this scene reports it.");
+
+  m.def("rotd",
+        [](const PyRecord& first, const PyRecord& second, std::optional<std::vector<double>> periods, double damping) {
+          const std::vector<double> ts = periods.value_or(rocking::standard_periods());
+          py::list r50, r100;
+          for (const rocking::RotD& r : rocking::rotd_spectrum(*first.motion, *second.motion, ts, damping)) {
+            r50.append(r.rotd50 / rocking::gravity);
+            r100.append(r.rotd100 / rocking::gravity);
+          }
+          return py::dict("periods_s"_a = ts, "damping"_a = damping, "rotd50_g"_a = r50, "rotd100_g"_a = r100);
+        },
+        "first"_a, "second"_a, "periods"_a = py::none(), "damping"_a = 0.05,
+        "RotD50 and RotD100 of two horizontal components recorded together (as\n"
+        "`rocking record --rotd`; Boore 2010, MODEL.md 14): the median and the largest\n"
+        "PSA [g] over the azimuths 0-179 degrees of a1 cos phi + a2 sin phi, at\n"
+        "periods_s (default the 21 NGA-West2 periods): a dict of periods_s, damping,\n"
+        "rotd50_g, rotd100_g.");
 
   m.def("modal", [](const py::object& s) { return to_python(rocking::modal_summary(*scene_of(s).scene)); },
         "scene"_a = py::none(),

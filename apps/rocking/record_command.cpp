@@ -1,7 +1,8 @@
 // `rocking record`: what a ground motion is, in the measures of the field
 // (MODEL.md 12): PGA, PGV, PGD, Arias intensity, D5-95, CAV and the
 // pseudo-spectral acceleration at chosen periods, for records in any format
-// the readers know; figures of the records and their spectra.
+// the readers know; figures of the records and their spectra; RotD50 and
+// RotD100 of a record's two horizontal components (MODEL.md 14).
 #include "commands.hpp"
 #include "run_output.hpp"
 #include <nlohmann/json.hpp>
@@ -31,12 +32,15 @@ struct RecordArgs {
   std::string window;
   std::string scene;
   std::vector<std::string> overrides;
+  bool rotd = false;
+  std::string second;  // the other horizontal component's file
 };
 
 struct Measured {
   std::string id, path;
   GroundMotion motion;
   RecordMeasures m;
+  std::vector<RotD> rotd;  // empty: not asked for
 };
 
 // One column per record, one row per measure.
@@ -71,6 +75,16 @@ void print_table(const std::vector<Measured>& rs) {
   for (std::size_t k = 0; k < rs.front().m.periods.size(); ++k)
     row(fmt::format("  T = {:g} s", rs.front().m.periods[k]),
         [&](const Measured& r) { return fmt::format("{:.4f}", r.m.psa[k] / gravity); });
+  if (rs.front().rotd.empty()) return;
+  row("RotD of", [](const Measured& r) {
+    const GroundMotion* o = r.motion.other_horizontal();
+    return fmt::format("{}+{}", r.motion.info().component, o->info().component);
+  });
+  fmt::print("RotD50 / RotD100, {:g} % damped [g]\n", 100 * rs.front().m.damping);
+  for (std::size_t k = 0; k < rs.front().m.periods.size(); ++k)
+    row(fmt::format("  T = {:g} s", rs.front().m.periods[k]), [&](const Measured& r) {
+      return fmt::format("{:.4f} {:.4f}", r.rotd[k].rotd50 / gravity, r.rotd[k].rotd100 / gravity);
+    });
 }
 
 // A record in a figure's key: its station and component where the file
@@ -179,13 +193,37 @@ int record(const RecordArgs& a) {
   ro.read_as = ReadAs::any;  // measured, whichever its direction
   const std::vector<std::string> ids = record_ids(a.files);
   std::vector<Measured> rs;
+  if (!a.second.empty() && (!a.rotd || a.files.size() != 1))
+    throw InputError("--second: the other horizontal component of one record, for --rotd");
+  // --rotd: each record with its other horizontal component (its file's, or --second).
+  ro.other_horizontal = a.rotd && a.second.empty();
   for (std::size_t i = 0; i < a.files.size(); ++i) {
     GroundMotion g = read_record(a.files[i], ro);
+    if (!a.second.empty()) {
+      RecordOptions other = record_options(a.file);
+      other.read_as = ReadAs::horizontal;
+      other.component.clear();
+      g = g.with_other_horizontal(read_record(a.second, other));
+    }
     RecordMeasures m = measure_record(g, periods, a.damping);
-    rs.push_back({ids[i], a.files[i], std::move(g), std::move(m)});
+    std::vector<RotD> rotd = a.rotd ? rotd_spectrum(g, *g.other_horizontal(), periods, a.damping) : std::vector<RotD>{};
+    rs.push_back({ids[i], a.files[i], std::move(g), std::move(m), std::move(rotd)});
   }
   nlohmann::json all = nlohmann::json::array();
-  for (const Measured& r : rs) all.push_back(record_summary(r.id, r.path, r.motion, r.m));
+  for (const Measured& r : rs) {
+    nlohmann::json j = record_summary(r.id, r.path, r.motion, r.m);
+    if (!r.rotd.empty()) {
+      std::vector<double> r50, r100;
+      for (const RotD& x : r.rotd) {
+        r50.push_back(x.rotd50 / gravity);
+        r100.push_back(x.rotd100 / gravity);
+      }
+      j["rotd_components"] = {r.motion.info().component, r.motion.other_horizontal()->info().component};
+      j["rotd50_g"] = r50;
+      j["rotd100_g"] = r100;
+    }
+    all.push_back(std::move(j));
+  }
   if (a.json) std::cout << all.dump(2) << '\n';
   else print_table(rs);
   if (!a.out.empty()) {
@@ -223,6 +261,14 @@ Command add_record_command(CLI::App& app) {
   cmd->add_option("--formats", a->formats, "Figure formats: png,pdf,svg (default all)")->type_name("LIST");
   cmd->add_flag("--log", a->log_axes, "Spectrum on log-log axes");
   add_window_option(*cmd, a->window);
+  cmd->add_flag("--rotd", a->rotd,
+                "RotD50 and RotD100 at the periods (Boore 2010: the median and the\n"
+                "largest PSA over the azimuths 0-179 degrees of the two horizontal\n"
+                "components; MODEL.md 14), of each record with the other horizontal\n"
+                "component its file holds (GeoNet), or with --second");
+  cmd->add_option("--second", a->second,
+                  "The other horizontal component's file, for --rotd of one record (a PEER pair)")
+      ->type_name("FILE");
   cmd->add_option("--scene", a->scene,
                   "Mark this scene's fixed-base periods on the spectrum (--set applies)")
       ->type_name("SCENE");
@@ -234,6 +280,9 @@ Command add_record_command(CLI::App& app) {
       "  rocking record ../shared/data/records/elcentro_1940_ns.at2\n"
       "  rocking record ../shared/data/records/formats/20161113_110259_WTMC_20.V2A --component Up --json\n"
       "  rocking record a.at2 b.V2A --out out/records --log --scene data/scenes/christchurch_chimney.toml\n"
+      "  rocking record ../shared/data/records/formats/20161113_110259_WTMC_20.V2A --rotd\n"
+      "  rocking record ../shared/data/records/christchurch2011_cbgs_n89w.at2 --rotd\n"
+      "      --second ../shared/data/records/christchurch2011_cbgs_s01w.at2\n"
       "  rocking record ../shared/data/records/formats/20161113_110259_WTMC_20.V2A --out out/waiau --window auto");
   return [a]() { return record(*a); };
 }

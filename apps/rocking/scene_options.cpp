@@ -102,6 +102,17 @@ void add_motion_options(CLI::App& cmd, MotionOptions& opts) {
   cmd.add_option("--vertical-units", opts.vertical_file.units,
                  "Acceleration unit of a --vertical file's values (default: the file's own)")
       ->type_name("UNIT");
+  cmd.add_option_function<double>(
+         "--azimuth", [&opts](double v) { opts.azimuth = v; },
+         "Run the structure's plane at this azimuth [degrees] from the record's\n"
+         "component toward its other horizontal one: a1 cos phi + a2 sin phi\n"
+         "(MODEL.md 14). The other is the file's own (GeoNet: --component N28W\n"
+         "--azimuth 30 turns from N28W toward S62W) or --second's")
+      ->type_name("DEG");
+  cmd.add_option("--second", opts.second,
+                 "The other horizontal component's file, for --azimuth (a PEER pair:\n"
+                 "--record X_n89w.at2 --second X_s01w.at2)")
+      ->type_name("FILE");
   cmd.add_option("--scale", opts.scale, "Scale factor on the ground acceleration, vertical too (default 1)")
       ->type_name("SF");
 }

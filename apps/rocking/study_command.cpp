@@ -599,6 +599,7 @@ std::unique_ptr<Study> make_study(StudyArgs& a, const std::vector<std::string>& 
     spdlog::info("--im {}: T1 = {:.4f} s, the fixed-base first period of {}", a.im, t1, scene.name);
   RecordOptions ro = record_options(a.file);
   ro.vertical_component = a.vertical;
+  ro.other_horizontal = im.needs_pair();  // RotD: each record with its file's other horizontal component
   RunOptions run = run_options(scene, a.solver, false);
   auto study = std::make_unique<Study>(a.scene.path, overrides, records, ro, std::move(variants), run, im);
   return study;
@@ -627,7 +628,9 @@ void add_study_options(CLI::App& cmd, StudyArgs& a, const std::string& default_o
                  "What the levels measure: sf (the scale factor itself, default), pga [g],\n"
                  "pgv [m/s], sa:T (5 %-damped PSA at T seconds [g]; sa:T1 at the scene's\n"
                  "fixed-base first period), saavg:T1:T2 (geometric mean of PSA at 10\n"
-                 "periods from T1 to T2; 0.2T1:3T1 in multiples of T1). Each record is\n"
+                 "periods from T1 to T2; 0.2T1:3T1 in multiples of T1), rotd50:T and\n"
+                 "rotd100:T (of each record and its file's other horizontal component;\n"
+                 "MODEL.md 14). Each record is\n"
                  "scaled by level / IM(record), so that its IM equals the level exactly")
       ->type_name("IM");
   cmd.add_option("--levels", a.levels,

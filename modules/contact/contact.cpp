@@ -441,8 +441,9 @@ void device_samples(const ContactModel& m, const Discrete& d, Eigen::Ref<const E
   }
 }
 
-bool guards_use_ground_acceleration(const ContactModel& m, Phase phase, bool vertical_shaking) {
-  return !phase.is_rocking() && (m.kind == ModelKind::rigid_block || (vertical_shaking && m.kind == ModelKind::flexible));
+GuardInputs guard_inputs(const ContactModel& m, Phase phase, bool vertical_shaking) {
+  const bool uplift = !phase.is_rocking() && m.kind != ModelKind::fixed_base;
+  return {.horizontal = uplift && m.kind == ModelKind::rigid_block, .vertical = uplift && vertical_shaking};
 }
 
 std::optional<Pivot> uplift_now(const ContactModel& m, const Discrete& d, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> y) {

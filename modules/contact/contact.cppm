@@ -244,11 +244,14 @@ std::vector<PhaseGuard> phase_guards(const ContactModel& m, Phase phase);
 // The uplift guards restrain with gravity g + a_v (MODEL.md 14).
 void guard_values(const ContactModel& m, const Discrete& d, GroundAcceleration a, const Eigen::Ref<const Eigen::VectorXd>& y,
                   Eigen::Ref<Eigen::VectorXd> g);
-// Whether the guards of this phase depend on the ground's acceleration: the
-// uplift guards of a rigid block (its inertia force is -a_g H'M1; a flexible
-// structure's is K u + C u') and, under vertical shaking, every uplift guard;
-// otherwise a caller may pass 0 without looking the acceleration up.
-bool guards_use_ground_acceleration(const ContactModel& m, Phase phase, bool vertical_shaking);
+// Which of the ground's accelerations the guards of this phase read: a_g in
+// the uplift guards of a rigid block (its inertia force is -a_g H'M1; a
+// flexible structure's is K u + C u') and, under vertical shaking, a_v in
+// every uplift guard; a caller may pass 0 for the others without looking them up.
+struct GuardInputs {
+  bool horizontal = false, vertical = false;
+};
+GuardInputs guard_inputs(const ContactModel& m, Phase phase, bool vertical_shaking);
 
 // The pivot about which the structure in full contact lifts at this instant
 // (both conditions of MODEL.md 6 hold), if any.

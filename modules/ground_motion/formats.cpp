@@ -6,6 +6,7 @@ module;
 #include <cctype>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 #include <fmt/format.h>
@@ -107,6 +108,30 @@ GroundMotion read_record(const std::string& path, const RecordOptions& o) {
     up.read_as = ReadAs::vertical;
     up.scale = 1;  // scaled below, with the horizontal motion
     g = g.with_vertical(read_record(path, up));
+  }
+  if (o.other_horizontal) {
+    // The file's first horizontal component, by number, other than this one.
+    std::optional<GroundMotion> other;
+    for (int k = 1; k <= 3 && !other; ++k) {
+      RecordOptions each = o;
+      each.component = std::to_string(k);
+      each.read_as = ReadAs::any;
+      each.vertical_component.clear();
+      each.other_horizontal = false;
+      each.scale = 1;  // scaled below, with this one
+      try {
+        GroundMotion c = reader->read(path, lines, each);
+        if (c.info().component != g.info().component &&
+            component_orientation(c.info().component) == Orientation::horizontal)
+          other = std::move(c);
+      } catch (const InputError&) {
+        break;  // no component k: the file has no more
+      }
+    }
+    if (!other)
+      throw InputError(fmt::format("{}: holds no other horizontal component beside {} (give the pair's other file)", path,
+                                   g.info().component.empty() ? "this one" : g.info().component));
+    g = g.with_other_horizontal(*other);
   }
   return o.scale == 1.0 ? g : g.scaled(o.scale);
 }

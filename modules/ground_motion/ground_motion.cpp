@@ -1,5 +1,6 @@
 module;
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -176,6 +177,7 @@ GroundMotion GroundMotion::scaled(double factor) const {
     throw InputError(fmt::format("scale factor {:g} takes {} to a peak of {:.4g} g, beyond {:g} g", factor, name_,
                                  g.peak() / gravity, max_acceleration_g));
   if (vertical_) g.vertical_ = std::make_shared<const GroundMotion>(vertical_->scaled(factor));
+  if (other_) g.other_ = std::make_shared<const GroundMotion>(other_->scaled(factor));
   return g;
 }
 
@@ -183,8 +185,88 @@ GroundMotion GroundMotion::with_vertical(const GroundMotion& v) const {
   GroundMotion g = *this;
   GroundMotion up = v;
   up.vertical_.reset();
+  up.other_.reset();
   g.vertical_ = std::make_shared<const GroundMotion>(std::move(up));
   return g;
+}
+
+GroundMotion GroundMotion::with_other_horizontal(const GroundMotion& h) const {
+  GroundMotion g = *this;
+  GroundMotion other = h;
+  other.vertical_.reset();
+  other.other_.reset();
+  g.other_ = std::make_shared<const GroundMotion>(std::move(other));
+  return g;
+}
+
+GroundMotion GroundMotion::evenly_sampled(std::string name, double dt, std::vector<double> accelerations) {
+  if (!(dt > 0) || !std::isfinite(dt)) throw InputError(fmt::format("{}: the sample interval must be positive", name));
+  if (accelerations.size() < 2) throw InputError(fmt::format("{}: a record needs at least two samples", name));
+  GroundMotion g;
+  g.name_ = std::move(name);
+  auto samples = std::make_shared<Samples>();
+  samples->dt = dt;
+  samples->inv_dt = 1.0 / dt;
+  g.duration_ = dt * static_cast<double>(accelerations.size() - 1);
+  samples->values = std::move(accelerations);
+  for (double v : samples->values) samples->peak = std::max(samples->peak, std::abs(v));
+  g.samples_ = std::move(samples);
+  return g;
+}
+
+std::array<double, 2> direction_cosines(double degrees) {
+  const double quarters = degrees / 90.0;
+  if (quarters == std::round(quarters) && std::abs(quarters) < 1e15) {  // exact on the axes
+    switch (((static_cast<long long>(quarters) % 4) + 4) % 4) {
+      case 0: return {1.0, 0.0};
+      case 1: return {0.0, 1.0};
+      case 2: return {-1.0, 0.0};
+      default: return {0.0, -1.0};
+    }
+  }
+  const double r = degrees * std::numbers::pi / 180.0;
+  return {std::cos(r), std::sin(r)};
+}
+
+HorizontalPair pair_components(const GroundMotion& first, const GroundMotion& second) {
+  const double dt1 = first.sample_interval(), dt2 = second.sample_interval();
+  if (!(dt1 > 0) || !(dt2 > 0))
+    throw InputError(fmt::format("{} and {}: a pair of horizontal components must both be records sampled evenly from "
+                                 "t = 0", first.name(), second.name()));
+  if (std::abs(dt1 - dt2) > 1e-9 * dt1)
+    throw InputError(fmt::format("{} and {}: sampled every {:g} s and {:g} s; a pair of horizontal components needs one "
+                                 "time step", first.name(), second.name(), dt1, dt2));
+  HorizontalPair p;
+  p.dt = dt1;
+  p.first = first.sample_values();
+  p.second = second.sample_values();
+  const std::size_t n = std::max(p.first.size(), p.second.size());
+  p.first.resize(n, 0.0);
+  p.second.resize(n, 0.0);
+  return p;
+}
+
+GroundMotion project(const GroundMotion& first, const GroundMotion& second, double degrees) {
+  if (!std::isfinite(degrees)) throw InputError(fmt::format("azimuth {}: must be a finite angle in degrees", degrees));
+  const HorizontalPair p = pair_components(first, second);
+  const std::string c1 = first.info().component.empty() ? first.name() : first.info().component;
+  const std::string c2 = second.info().component.empty() ? second.name() : second.info().component;
+  auto along = [&](double at) {
+    const auto [c, s] = direction_cosines(at);
+    std::vector<double> a(p.first.size());
+    for (std::size_t i = 0; i < a.size(); ++i) a[i] = c * p.first[i] + s * p.second[i];
+    const std::string where = fmt::format("{:g} deg from {} toward {}", at, c1, c2);
+    GroundMotion g = GroundMotion::evenly_sampled(fmt::format("{} at {}", first.name(), where), p.dt, std::move(a));
+    RecordInfo info = first.info();
+    info.component = where;
+    info.npts = p.first.size();
+    info.stated_peak.reset();
+    g.set_info(std::move(info));
+    g.set_description(first.description());
+    return g;
+  };
+  GroundMotion g = along(degrees).with_other_horizontal(along(degrees + 90));
+  return first.vertical() ? g.with_vertical(*first.vertical()) : g;
 }
 
 }  // namespace rocking

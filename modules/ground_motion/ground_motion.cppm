@@ -1,6 +1,9 @@
 // rocking.ground_motion: the horizontal ground acceleration a_g(t) [m/s^2]
 // (MODEL.md 10), with the vertical a_v(t) (upward) that comes with it when
-// one is given (MODEL.md 14). A record is piecewise linear between its samples, which are
+// one is given, and the other horizontal component recorded with it when
+// one is read (MODEL.md 14): two orthogonal components a_1, a_2 project on
+// the plane at azimuth phi from the first toward the second as
+// a_1 cos phi + a_2 sin phi. A record is piecewise linear between its samples, which are
 // breakpoints for the integrator; it is zero before its first and after its
 // last sample. Records are read from the files the field keeps them in, one
 // reader per format (format_*.cpp, registered in formats.cpp), the format
@@ -22,6 +25,7 @@
 // the vertical (MODEL.md 14), where the name tells.
 // Every reader error is an InputError of one line: file:line and what is wrong.
 module;
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -69,6 +73,8 @@ class GroundMotion {
   // Samples at strictly increasing times, accelerations in m/s^2.
   static GroundMotion from_samples(std::string name, std::vector<double> times,
                                    std::vector<double> accelerations);
+  // Samples every dt [s] from t = 0 (at least two).
+  static GroundMotion evenly_sampled(std::string name, double dt, std::vector<double> accelerations);
   // amplitude [m/s^2], period T [s] (Ricker: f = 1 / T).
   static GroundMotion pulse(PulseShape shape, double amplitude, double period);
 
@@ -105,6 +111,10 @@ class GroundMotion {
   // scaled with it, or null: a run under this motion feels both.
   const GroundMotion* vertical() const { return vertical_.get(); }
   GroundMotion with_vertical(const GroundMotion& v) const;  // its own vertical motion dropped
+  // The other horizontal component recorded with this one, 90 degrees on from
+  // it (for RotD spectra and projections), as scaled with it, or null.
+  const GroundMotion* other_horizontal() const { return other_.get(); }
+  GroundMotion with_other_horizontal(const GroundMotion& h) const;  // its own others dropped
 
  private:
   friend class GroundTravel;
@@ -122,6 +132,7 @@ class GroundMotion {
   RecordInfo info_;
   std::shared_ptr<const Samples> samples_;  // null for a pulse
   std::shared_ptr<const GroundMotion> vertical_;  // null: none
+  std::shared_ptr<const GroundMotion> other_;     // null: none
   double duration_ = 0;
   PulseShape shape_ = PulseShape::one_sine;
   double amplitude_ = 0, period_ = 0, scale_ = 1;
@@ -164,7 +175,26 @@ struct RecordOptions {
   // A component of the same file read as the vertical motion that comes with
   // this one (GroundMotion::vertical: a GeoNet file's "Up"); empty: none.
   std::string vertical_component = {};
+  // Read the file's other horizontal component with this one
+  // (GroundMotion::other_horizontal): InputError when it holds none.
+  bool other_horizontal = false;
 };
+
+// cos and sin of an angle in degrees, exactly 0 and +-1 at multiples of 90.
+std::array<double, 2> direction_cosines(double degrees);
+
+// Two horizontal components recorded together, on one time base: each one's
+// samples every dt from t = 0, the shorter padded with zeros. InputError
+// unless both are records sampled evenly at one interval.
+struct HorizontalPair {
+  double dt = 0;
+  std::vector<double> first, second;  // [m/s^2]
+};
+HorizontalPair pair_components(const GroundMotion& first, const GroundMotion& second);
+// The projection on the plane at `degrees` from the first component toward
+// the second (exactly the first at 0, the second at 90), named so; its other
+// horizontal the projection 90 degrees on, its vertical the first's.
+GroundMotion project(const GroundMotion& first, const GroundMotion& second, double degrees);
 
 struct RecordFormatInfo {
   std::string name, description;

@@ -96,6 +96,30 @@ class Oscillator {
   mutable double k_[8] = {};
 };
 
+// The peak |x| over one oscillator step from (x, v) to (x1, v1) under a0 + s tau, given the peak so far.
+double step_peak(const Oscillator& osc, double x, double v, double x1, double v1, double a0, double s, double hs,
+                 double peak) {
+  if ((v > 0 && v1 < 0) || (v < 0 && v1 > 0)) {
+    // The Hermite cubic through (x, v) at both ends finds the interior
+    // extremum to about (w hs)^4 / 384 < 3e-5 of the response: the exact
+    // search runs only where that could set a new peak.
+    const double c2 = (3 * (x1 - x) / hs - 2 * v - v1) / hs, c3 = (v + v1 - 2 * (x1 - x) / hs) / (hs * hs);
+    double tau = 0.5 * hs;
+    if (c3 != 0) {
+      const double disc = std::max(0.0, c2 * c2 - 3 * c3 * v);
+      const double q = -(c2 + std::copysign(std::sqrt(disc), c2));
+      const double r1 = q / (3 * c3), r2 = q != 0 ? v / q : -1.0;
+      tau = r1 > 0 && r1 < hs ? r1 : r2;
+    } else if (c2 != 0) {
+      tau = -v / (2 * c2);
+    }
+    const double estimate = std::abs(x + tau * (v + tau * (c2 + tau * c3)));
+    if (estimate > (1 - 1e-3) * peak) peak = std::max(peak, osc.interior_peak(x, v, a0, s, hs, v1));
+  }
+  return std::max(peak, std::abs(x1));
+}
+
+// max |x| of the oscillator from rest over the record.
 double peak_displacement(const Samples& r, double period, double zeta) {
   const Oscillator osc(period, zeta);
   double x = 0, v = 0, peak = 0;
@@ -108,24 +132,7 @@ double peak_displacement(const Samples& r, double period, double zeta) {
       const double a0 = r.a[i] + s * hs * k;
       double x1, v1;
       osc.advance(x, v, a0, s, hs, x1, v1);
-      if ((v > 0 && v1 < 0) || (v < 0 && v1 > 0)) {
-        // The Hermite cubic through (x, v) at both ends finds the interior
-        // extremum to about (w hs)^4 / 384 < 3e-5 of the response: the exact
-        // search runs only where that could set a new peak.
-        const double c2 = (3 * (x1 - x) / hs - 2 * v - v1) / hs, c3 = (v + v1 - 2 * (x1 - x) / hs) / (hs * hs);
-        double tau = 0.5 * hs;
-        if (c3 != 0) {
-          const double disc = std::max(0.0, c2 * c2 - 3 * c3 * v);
-          const double q = -(c2 + std::copysign(std::sqrt(disc), c2));
-          const double r1 = q / (3 * c3), r2 = q != 0 ? v / q : -1.0;
-          tau = r1 > 0 && r1 < hs ? r1 : r2;
-        } else if (c2 != 0) {
-          tau = -v / (2 * c2);
-        }
-        const double estimate = std::abs(x + tau * (v + tau * (c2 + tau * c3)));
-        if (estimate > (1 - 1e-3) * peak) peak = std::max(peak, osc.interior_peak(x, v, a0, s, hs, v1));
-      }
-      peak = std::max(peak, std::abs(x1));
+      peak = step_peak(osc, x, v, x1, v1, a0, s, hs, peak);
       x = x1;
       v = v1;
     }
@@ -254,6 +261,60 @@ std::vector<double> response_spectrum(const GroundMotion& g, const std::vector<d
   return spectrum_of(samples_of(g), periods, damping);
 }
 
+std::vector<RotD> rotd_spectrum(const GroundMotion& first, const GroundMotion& second, const std::vector<double>& periods,
+                                double damping) {
+  check_damping(damping);
+  for (double T : periods) check_period(T);  // before any work
+  const HorizontalPair pair = pair_components(first, second);
+  constexpr int azimuths = 180;
+  std::array<std::array<double, 2>, azimuths> along{};
+  for (int k = 0; k < azimuths; ++k) along[static_cast<std::size_t>(k)] = direction_cosines(k);
+  // Each component's oscillator state at the start of every step, with the
+  // step's ground acceleration a0 + s tau; the last entry is the end state.
+  struct Step {
+    double x[2], v[2], a0[2], s[2];
+  };
+  std::vector<RotD> out;
+  std::vector<Step> steps;
+  std::array<double, azimuths> psa{};
+  for (double T : periods) {
+    const Oscillator osc(T, damping);
+    const std::size_t n = pair.first.size();
+    const double h = pair.dt;
+    const int m = std::max(1, static_cast<int>(std::ceil(h / osc.max_step() - 1e-9)));
+    const double hs = h / m;
+    steps.clear();
+    Step at{};
+    for (std::size_t i = 0; i + 1 < n; ++i) {
+      const double a[2][2] = {{pair.first[i], pair.first[i + 1]}, {pair.second[i], pair.second[i + 1]}};
+      for (int k = 0; k < m; ++k) {
+        for (int c = 0; c < 2; ++c) {
+          at.s[c] = (a[c][1] - a[c][0]) / h;
+          at.a0[c] = a[c][0] + at.s[c] * hs * k;
+        }
+        steps.push_back(at);
+        for (int c = 0; c < 2; ++c) osc.advance(at.x[c], at.v[c], at.a0[c], at.s[c], hs, at.x[c], at.v[c]);
+      }
+    }
+    steps.push_back(at);
+    for (std::size_t k = 0; k < azimuths; ++k) {
+      const double c = along[k][0], s = along[k][1];
+      double peak = 0;
+      for (std::size_t j = 0; j + 1 < steps.size(); ++j) {
+        const Step& p = steps[j];
+        const Step& q = steps[j + 1];
+        peak = step_peak(osc, c * p.x[0] + s * p.x[1], c * p.v[0] + s * p.v[1], c * q.x[0] + s * q.x[1],
+                         c * q.v[0] + s * q.v[1], c * p.a0[0] + s * p.a0[1], c * p.s[0] + s * p.s[1], hs, peak);
+      }
+      psa[k] = std::pow(2 * pi / T, 2) * peak;
+    }
+    std::array<double, azimuths> sorted = psa;
+    std::ranges::sort(sorted);
+    out.push_back({0.5 * (sorted[azimuths / 2 - 1] + sorted[azimuths / 2]), sorted.back()});
+  }
+  return out;
+}
+
 void check_period(double T) {
   if (!(T >= shortest_period && T <= longest_period))
     throw InputError(fmt::format("period {:g} s: must be in [{:g}, {:g}] s", T, shortest_period, longest_period));
@@ -280,6 +341,8 @@ std::string IntensityMeasure::name() const {
     case Kind::pgv: return "pgv";
     case Kind::sa: return fmt::format("sa:{:g}", t1);
     case Kind::saavg: return fmt::format("saavg:{:g}:{:g}", t1, t2);
+    case Kind::rotd50: return fmt::format("rotd50:{:g}", t1);
+    case Kind::rotd100: return fmt::format("rotd100:{:g}", t1);
   }
   return "sf";
 }
@@ -337,13 +400,17 @@ IntensityMeasure parse_intensity_measure(std::string_view text, double damping, 
   } else if (k == "sa" && parts.size() == 2) {
     im.kind = IntensityMeasure::Kind::sa;
     im.t1 = period(parts[1]);
+  } else if ((k == "rotd50" || k == "rotd100") && parts.size() == 2) {
+    im.kind = k == "rotd50" ? IntensityMeasure::Kind::rotd50 : IntensityMeasure::Kind::rotd100;
+    im.t1 = period(parts[1]);
   } else if (k == "saavg" && parts.size() == 3) {
     im.kind = IntensityMeasure::Kind::saavg;
     im.t1 = period(parts[1]);
     im.t2 = period(parts[2]);
     if (!(im.t2 > im.t1)) throw InputError(fmt::format("intensity measure '{}': T2 must exceed T1", text));
   } else {
-    throw InputError(fmt::format("intensity measure '{}': choose sf, pga, pgv, sa:T or saavg:T1:T2", text));
+    throw InputError(fmt::format("intensity measure '{}': choose sf, pga, pgv, sa:T, saavg:T1:T2, rotd50:T or rotd100:T",
+                                 text));
   }
   return im;
 }
@@ -362,6 +429,15 @@ double intensity(const GroundMotion& g, const IntensityMeasure& im) {
       double log_sum = 0;
       for (double s : psa) log_sum += std::log(s);
       return std::exp(log_sum / static_cast<double>(psa.size())) / gravity;
+    }
+    case Kind::rotd50:
+    case Kind::rotd100: {
+      const GroundMotion* other = g.other_horizontal();
+      if (!other)
+        throw InputError(fmt::format("{}: {} needs its two horizontal components (a file that holds both, or a pair)",
+                                     g.name(), im.name()));
+      const RotD r = rotd_spectrum(g, *other, {im.t1}, im.damping).front();
+      return (im.kind == Kind::rotd50 ? r.rotd50 : r.rotd100) / gravity;
     }
   }
   return 1.0;

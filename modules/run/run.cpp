@@ -87,14 +87,41 @@ GroundMotion horizontal_motion(const Scene& scene, const MotionChoice& c, std::s
   }
   RecordOptions ro = record_options(c.file, prefix);
   ro.scale = c.scale;
+  ro.other_horizontal = c.azimuth && c.second.empty() && !c.given_second;
   return read_record(c.record, ro);
+}
+
+// The motion on the plane at c.azimuth: the projection of the record's
+// component and its other horizontal one.
+GroundMotion on_the_plane(const GroundMotion& h, const MotionChoice& c, std::string_view prefix) {
+  const bool given_other = !c.second.empty() || c.given_second;
+  if (!c.azimuth) {
+    if (given_other)
+      throw InputError(fmt::format("{}second: the other horizontal component is for {}azimuth; none was given", prefix,
+                                   prefix));
+    return h;
+  }
+  if (!std::isfinite(*c.azimuth) || std::abs(*c.azimuth) > 360)
+    throw InputError(fmt::format("{}azimuth {}: must be an angle in degrees, -360 to 360", prefix, *c.azimuth));
+  std::optional<GroundMotion> other;
+  if (c.given_second) other = c.given_second->scaled(c.scale);
+  if (!c.second.empty()) {
+    RecordOptions ro = record_options(c.file, prefix);
+    ro.component.clear();
+    ro.scale = c.scale;
+    other = read_record(c.second, ro);
+  }
+  if (!other && !h.other_horizontal())
+    throw InputError(fmt::format("{}azimuth {:g}: {} has no other horizontal component to project with (a file that "
+                                 "holds both, or {}second FILE)", prefix, *c.azimuth, h.name(), prefix));
+  return project(h, other ? *other : *h.other_horizontal(), *c.azimuth);
 }
 
 }  // namespace
 
 GroundMotion load_motion(const Scene& scene, const MotionChoice& c, std::string_view prefix) {
   if (!std::isfinite(c.scale)) throw InputError(fmt::format("{}scale {}: must be a finite number", prefix, c.scale));
-  const GroundMotion horizontal = horizontal_motion(scene, c, prefix);
+  const GroundMotion horizontal = on_the_plane(horizontal_motion(scene, c, prefix), c, prefix);
   const std::optional<GroundMotion> vertical = vertical_motion(c, prefix);
   return vertical ? horizontal.with_vertical(*vertical) : horizontal;
 }

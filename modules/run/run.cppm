@@ -47,6 +47,13 @@ struct MotionChoice {
   std::string vertical;
   RecordFileChoice vertical_file;
   std::shared_ptr<const GroundMotion> given_vertical;
+  // The plane's azimuth [degrees] from the record's component toward its
+  // other horizontal one (the record file's other, or `second`'s): the run
+  // sees their projection a1 cos phi + a2 sin phi (MODEL.md 14). None: the
+  // record's component as it is.
+  std::optional<double> azimuth;
+  std::string second;                              // a file: the other horizontal component (a PEER pair)
+  std::shared_ptr<const GroundMotion> given_second;  // or one in memory
   bool scene_excitation() const { return record.empty() && !given; }
 };
 

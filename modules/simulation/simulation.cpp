@@ -142,8 +142,13 @@ class Driver {
     integrator_ = ode::make_integrator(backend_, m_.layout.size, rhs, tolerances, std::move(stiff));
     t_end_ = o.duration > 0 ? o.duration : ground.duration();
     // The records' samples, computed when asked: a run holds no list of them.
-    const ode::NextBreakpoint next_sample = [this](double t) {
-      return vertical_ ? std::min(ground_.next_breakpoint(t), vertical_->next_breakpoint(t)) : ground_.next_breakpoint(t);
+    // A vertical record sampled as the horizontal one (the components of one
+    // file) and no longer than it adds no breakpoints of its own.
+    const bool own_samples = vertical_ && !(vertical_->sample_interval() > 0 &&
+                                            vertical_->sample_interval() == ground_.sample_interval() &&
+                                            vertical_->duration() <= ground_.duration());
+    const ode::NextBreakpoint next_sample = [this, own_samples](double t) {
+      return own_samples ? std::min(ground_.next_breakpoint(t), vertical_->next_breakpoint(t)) : ground_.next_breakpoint(t);
     };
     // An automatic choice of rosw integrates full contact too: its steps are
     // not bound by the highest modes, and it then costs less than the exact
@@ -259,9 +264,11 @@ class Driver {
     for (const PhaseGuard& g : guards_)
       guards.directions.push_back(g.crossing == Crossing::rising ? ode::Direction::rising : ode::Direction::falling);
     if (!guards.directions.empty())
-      guards.fn = [this, with_a_g = guards_use_ground_acceleration(m_, d_.phase, vertical_ != nullptr)](
+      guards.fn = [this, reads = guard_inputs(m_, d_.phase, vertical_ != nullptr)](
                       double tg, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& g) {
-        guard_values(m_, d_, with_a_g ? ground_at(tg) : GroundAcceleration{}, y, g);
+        guard_values(m_, d_,
+                     {reads.horizontal ? ground_.acceleration(tg) : 0.0, reads.vertical ? vertical_->acceleration(tg) : 0.0},
+                     y, g);
       };
     active_ = !d_.phase.is_rocking() && exact_ ? exact_.get() : integrator_.get();
     active_->reset(t, y_, std::move(guards));

@@ -228,3 +228,23 @@ def test_a_vertical_motion_runs_as_the_programs_and_a_record_in_the_wrong_direct
         rocking.simulate(rocking.Scene.default(), up)
     with pytest.raises(ValueError, match="component N28W, a horizontal one"):
         rocking.simulate(rocking.Scene.default(), horizontal, vertical=horizontal)
+
+
+def test_rotd_and_an_azimuth_as_the_program_computes_them(cli, records, tmp_path):
+    waiau = records / "formats" / "20161113_110259_WTMC_20.V2A"
+    r = cli.run("record", waiau, "--component", "N28W", "--rotd", "--periods", "0.2,1,3", "--json")
+    assert r.returncode == 0, r.stderr
+    expected = json.loads(r.stdout)[0]
+    n28w = rocking.Record.load(waiau, component="N28W")
+    s62w = rocking.Record.load(waiau, component="S62W")
+    got = rocking.rotd(n28w, s62w, periods=[0.2, 1, 3])
+    assert got["rotd50_g"] == expected["rotd50_g"]
+    assert got["rotd100_g"] == expected["rotd100_g"]
+    out = tmp_path / "cli"
+    r = cli.run("simulate", "--record", waiau, "--component", "N28W", "--azimuth", "30", "--duration", "60",
+                "--out", out)
+    assert r.returncode == 0, r.stderr
+    summary = json.loads((out / "summary.json").read_text())
+    turned = rocking.simulate(rocking.Scene.default(), n28w, azimuth=30, second=s62w, duration=60)
+    assert turned.peaks == summary["peaks"]
+    assert "30 deg from N28W toward S62W" in summary["motion"]
