@@ -89,7 +89,7 @@ TEST_CASE("simulate takes every format: record errors are one line with exit 2")
   CHECK(none.err == "rocking: error: /no/such.V2A: record file not found\n");
   const Result stray = run("simulate --component 2");
   CHECK(stray.code == 2);
-  CHECK(stray.err.find("--format, --component, --units and --dt describe a --record file") != std::string::npos);
+  CHECK(stray.err.find("--format, --component, --units, --dt and --process describe a --record file") != std::string::npos);
 }
 
 TEST_CASE("ida and its hunt take every format and list what each record is in records.csv") {
@@ -101,7 +101,7 @@ TEST_CASE("ida and its hunt take every format and list what each record is in re
                        out.string());
   REQUIRE_MESSAGE(r.code == 0, r.err);
   const std::string text = file_text(out / "records.csv");
-  CHECK(text.starts_with("record,file,format,event,date,station,component,pga_g\n"));
+  CHECK(text.starts_with("record,file,format,event,date,station,component,pga_g,processing\n"));
   CHECK(text.find("20161113_110259_WTMC_20.V2A,") != std::string::npos);
   CHECK(text.find(",geonet,Mw 7.82 (5 km south-west of Waiau),2016 November 13 11:02:56 UT,WTMC (Te Mara Farm Waiau),N28W,0.99") !=
         std::string::npos);
@@ -185,4 +185,33 @@ TEST_CASE("ida --im rotd50:1 scales each record by its two horizontals' RotD50")
   CHECK(std::stod(rows.at(0, "record_im")) == doctest::Approx(1.0526).epsilon(1e-4));
   CHECK(std::stod(rows.at(0, "scale")) == doctest::Approx(0.5 / 1.0526).epsilon(1e-4));
   CHECK(rows.at(1, "error").find("holds no other horizontal component") != std::string::npos);
+}
+
+TEST_CASE("record --process prints the processed measures beside the raw ones, and every output names the processing") {
+  const auto dir = records_dir();
+  if (!dir) return;
+  const std::string knet = *dir + "/formats/AOM0011801241951.EW";
+  const fs::path out = temp_path("record_processed");
+  const Result r = run("record " + knet + " --process detrend=1,taper=0.05,highpass=0.1,lowpass=20 --json --out " +
+                       out.string() + " --formats png");
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const auto j = nlohmann::json::parse(r.out);
+  REQUIRE(j.size() == 2);
+  CHECK(j[0]["processing"].is_null());
+  CHECK(j[1]["processing"] == "detrend 1, taper 5 %, Butterworth 0.1-20 Hz order 4 zero-phase");
+  CHECK(j[1]["id"].get<std::string>().ends_with(" processed"));
+  CHECK(j[1]["pgd_m"].get<double>() < 0.2 * j[0]["pgd_m"].get<double>());
+  CHECK(fs::exists(out / "record.png"));
+  // A run under the processed record says so in its summary.
+  const Result s = run("simulate --json --duration 5 --record " + knet + " --process highpass=0.1 --out " + out.string());
+  REQUIRE_MESSAGE(s.code == 0, s.err);
+  CHECK(nlohmann::json::parse(s.out)["motion"].get<std::string>().find("processed: Butterworth high-pass 0.1 Hz") !=
+        std::string::npos);
+  const Result bad = run("record " + knet + " --process highpass=0.1,lowpass=80");
+  CHECK(bad.code == 2);
+  CHECK(bad.err.find("at or above the Nyquist frequency 50 Hz") != std::string::npos);
+  const Result spec = run("record " + knet + " --process hp=1");
+  CHECK(spec.code == 2);
+  CHECK(spec.err == "rocking: error: --process hp=1: hp=1: unknown key (keys: cut, detrend, taper, highpass, lowpass, order, "
+                    "vfit, dt)\n");
 }

@@ -228,8 +228,14 @@ struct PyRecord {
 };
 
 PyRecord record_load(const std::filesystem::path& file, std::optional<std::string> component,
-                     std::optional<std::string> units, const std::string& format, std::optional<double> dt) {
+                     std::optional<std::string> units, const std::string& format, std::optional<double> dt,
+                     std::optional<std::string> process) {
   rocking::RecordOptions ro;
+  if (process) try {
+      ro.process = rocking::parse_processing(*process);
+    } catch (const rocking::InputError& e) {
+      throw rocking::InputError(fmt::format("process {}: {}", *process, e.what()));
+    }
   ro.format = format;
   ro.read_as = rocking::ReadAs::any;  // checked where it is used (simulate's record and vertical)
   if (component) ro.component = *component;
@@ -329,7 +335,7 @@ PyResult simulate(const py::object& scene_arg, const py::object& record, double 
         py::isinstance<PyRecord>(record)
             ? record.cast<PyRecord>()
             : record_load(argument<std::filesystem::path>(record, "record", "a rocking.Record, a path or None"), {}, {},
-                          "auto", {});
+                          "auto", {}, {});
     spec.motion.given = r.motion;
     spec.motion.given_path = r.path;
   }
@@ -679,11 +685,12 @@ PYBIND11_MODULE(rocking, m) {
       .def(py::init(&record_from_array), "acc"_a, "dt"_a, "units"_a = "g", "name"_a = "array",
            "A record from memory: acc[i] at t = i dt, in units g, m/s2, cm/s2 (gal) or mm/s2.")
       .def_static("load", &record_load, "path"_a, "component"_a = py::none(), "units"_a = py::none(),
-                  "format"_a = "auto", "dt"_a = py::none(),
+                  "format"_a = "auto", "dt"_a = py::none(), "process"_a = py::none(),
                   "Reads a record file in any format the command line reads (PEER .AT2, GeoNet,\n"
                   "K-NET, COSMOS, CSV, columns); the same options as --component, --units,\n"
                   "--format and --dt. Any component: simulate refuses one named vertical (Up,\n"
-                  "U-D, HNZ) as its record, and one named horizontal as its vertical.")
+                  "U-D, HNZ) as its record, and one named horizontal as its vertical.\n"
+                  "process: as --process, e.g. 'detrend=1,taper=0.05,highpass=0.1,lowpass=25'.")
       .def("scaled", [](const PyRecord& r, double f) {
         if (!std::isfinite(f)) throw rocking::InputError(fmt::format("scaled {}: must be a finite number", f));
         return PyRecord{std::make_shared<const rocking::GroundMotion>(r.motion->scaled(f)), r.path};

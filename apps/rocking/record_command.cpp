@@ -197,18 +197,25 @@ int record(const RecordArgs& a) {
     throw InputError("--second: the other horizontal component of one record, for --rotd");
   // --rotd: each record with its other horizontal component (its file's, or --second).
   ro.other_horizontal = a.rotd && a.second.empty();
-  for (std::size_t i = 0; i < a.files.size(); ++i) {
-    GroundMotion g = read_record(a.files[i], ro);
-    if (!a.second.empty()) {
-      RecordOptions other = record_options(a.file);
-      other.read_as = ReadAs::horizontal;
-      other.component.clear();
-      g = g.with_other_horizontal(read_record(a.second, other));
+  // --process: each record as recorded, then processed, side by side.
+  RecordOptions raw = ro;
+  raw.process = {};
+  const bool processed = ro.process.any();
+  for (std::size_t i = 0; i < a.files.size(); ++i)
+    for (const RecordOptions* options : processed ? std::vector{&raw, &ro} : std::vector{&ro}) {
+      GroundMotion g = read_record(a.files[i], *options);
+      if (!a.second.empty()) {
+        RecordOptions other = *options;
+        other.read_as = ReadAs::horizontal;
+        other.component.clear();
+        other.other_horizontal = false;
+        g = g.with_other_horizontal(read_record(a.second, other));
+      }
+      RecordMeasures m = measure_record(g, periods, a.damping);
+      std::vector<RotD> rotd = a.rotd ? rotd_spectrum(g, *g.other_horizontal(), periods, a.damping) : std::vector<RotD>{};
+      const std::string id = options == &ro && processed ? ids[i] + " processed" : ids[i];
+      rs.push_back({id, a.files[i], std::move(g), std::move(m), std::move(rotd)});
     }
-    RecordMeasures m = measure_record(g, periods, a.damping);
-    std::vector<RotD> rotd = a.rotd ? rotd_spectrum(g, *g.other_horizontal(), periods, a.damping) : std::vector<RotD>{};
-    rs.push_back({ids[i], a.files[i], std::move(g), std::move(m), std::move(rotd)});
-  }
   nlohmann::json all = nlohmann::json::array();
   for (const Measured& r : rs) {
     nlohmann::json j = record_summary(r.id, r.path, r.motion, r.m);

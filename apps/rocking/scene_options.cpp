@@ -82,6 +82,15 @@ void add_record_file_options(CLI::App& cmd, RecordFileOptions& opts) {
                  "file's own (GeoNet mm/s2, K-NET gal, COSMOS and CSV as stated), else g")
       ->type_name("UNIT");
   cmd.add_option("--dt", opts.dt, "Sample interval of a one-column record or a CSV without time [s]")->type_name("S");
+  cmd.add_option("--process", opts.process,
+                 "Process every record read, as the field does, in this order: cut=T0:T1 [s],\n"
+                 "detrend=K (polynomial of order K removed; 0: the mean), taper=F (cosine,\n"
+                 "fraction F at each end), highpass=F1 and lowpass=F2 [Hz] (Butterworth of\n"
+                 "order=N, default 4, run forward and backward: zero phase), vfit=K (the\n"
+                 "velocity-fit baseline correction), dt=S (resample). E.g.\n"
+                 "detrend=1,taper=0.05,highpass=0.1,lowpass=25,vfit=2. Outputs that name the\n"
+                 "record say how it was processed")
+      ->type_name("SPEC");
 }
 
 void add_motion_options(CLI::App& cmd, MotionOptions& opts) {

@@ -101,6 +101,7 @@ GroundMotion read_record(const std::string& path, const RecordOptions& o) {
     throw InputError(fmt::format("{}: component {} is horizontal: the vertical motion needs a vertical component",
                                  path, info.component));
   g.set_info(std::move(info));
+  if (o.process.any()) g = process(g, o.process);
   if (!o.vertical_component.empty()) {
     RecordOptions up = o;
     up.component = o.vertical_component;
@@ -123,7 +124,7 @@ GroundMotion read_record(const std::string& path, const RecordOptions& o) {
         GroundMotion c = reader->read(path, lines, each);
         if (c.info().component != g.info().component &&
             component_orientation(c.info().component) == Orientation::horizontal)
-          other = std::move(c);
+          other = o.process.any() ? process(c, o.process) : std::move(c);
       } catch (const InputError&) {
         break;  // no component k: the file has no more
       }

@@ -20,6 +20,11 @@
 // Analytic pulses for tests, teaching and the default excitation:
 //   one-sine: a(t) = A sin(2 pi t / T) on [0, T] (Makris & Roussos 2000),
 //   Ricker:   a(t) = A (1 - 2 u) exp(-u), u = (pi f (t - t0))^2, t0 = 1.5 / f.
+// Records are processed as the field does it when asked (Processing,
+// processing.cpp): cut, polynomial detrend, cosine taper, a zero-phase
+// Butterworth band-pass, the velocity-fit baseline correction and
+// resampling, before any use of the record; the record then says so
+// (RecordInfo::processing, its description).
 // A component's orientation is read from its name (component_orientation):
 // a vertical one is refused as the horizontal motion and a horizontal one as
 // the vertical (MODEL.md 14), where the name tells.
@@ -49,7 +54,8 @@ struct RecordInfo {
   std::string units;      // the unit of the file's numbers, as read ("mm/s2", "g")
   double dt = 0;          // sample interval [s]; 0 when the times are uneven
   std::size_t npts = 0;   // samples read
-  std::optional<double> stated_peak;  // |peak| the file states [m/s^2]
+  std::optional<double> stated_peak;  // |peak| the file states [m/s^2] (none once processed)
+  std::string processing;  // how it was processed (Processing::describe); empty: as recorded
   // "event, station, component" from what is known ("" when none is).
   std::string label() const;
 };
@@ -161,6 +167,56 @@ class GroundTravel {
   double v_ = 0, d_ = 0;          // at sample next_ - 1
 };
 
+// Record processing (gmprocess's and PEER's steps), in this order:
+//   cut to [t0, t1], shifted to start at t = 0;
+//   detrend: the least-squares polynomial of the given order removed from a
+//     (order 0: the mean);
+//   taper: a cosine (Tukey) taper over the given fraction of the record at each end;
+//   band-pass: a Butterworth high-pass and low-pass of the given order, run
+//     forward and then backward over the record (zero phase: the magnitude
+//     response squared);
+//   velocity fit: a polynomial of the given order fit to the velocity (the
+//     record's exact integral from rest) by least squares, its derivative
+//     removed from a (Boore 2005's baseline correction);
+//   resampling at a new interval (the piecewise-linear record read at the new times).
+// The Butterworth sections (butterworth()): the analog prototype's poles
+// -sin(theta_k) +- i cos(theta_k), theta_k = pi (2k - 1) / (2n), at the
+// prewarped corner W_c = tan(pi f_c dt), through the bilinear transform
+// s = (1 - z^-1) / (1 + z^-1), so that |H(f)|^2 = 1 / (1 + (W / W_c)^(2n))
+// (low-pass) or 1 / (1 + (W_c / W)^(2n)) (high-pass), W = tan(pi f dt)
+// (Oppenheim & Schafer, Discrete-Time Signal Processing, 7.1).
+struct Processing {
+  std::optional<std::array<double, 2>> cut;  // [t0, t1] [s]
+  int detrend = -1;                 // order; -1: none
+  double taper = 0;                 // fraction at each end, 0 to 0.5
+  double highpass = 0, lowpass = 0; // corners [Hz]; 0: none
+  int order = 4;                    // Butterworth order of each
+  int velocity_fit = -1;            // order; -1: none
+  double dt = 0;                    // resample at [s]; 0: keep
+  bool any() const { return cut || detrend >= 0 || taper > 0 || highpass > 0 || lowpass > 0 || velocity_fit >= 0 || dt > 0; }
+  // "cut 5-60 s, detrend 1, taper 5 %, Butterworth 0.1-25 Hz order 4 zero-phase, velocity fit 2, dt 0.01 s"
+  std::string describe() const;
+};
+// "highpass=0.1,lowpass=25,order=4,taper=0.05,detrend=1,vfit=2,cut=5:60,dt=0.01",
+// any of them in any order; InputError of one line naming the part otherwise
+// (callers say where the text came from).
+Processing parse_processing(std::string_view text);
+// The record processed (InputError for a pulse, a corner at or above the
+// Nyquist frequency, a cut outside the record).
+GroundMotion process(const GroundMotion& g, const Processing& p);
+// One biquad: y = (b0 + b1 z^-1 + b2 z^-2) / (1 + a1 z^-1 + a2 z^-2) x.
+struct SecondOrderSection {
+  double b0 = 1, b1 = 0, b2 = 0, a1 = 0, a2 = 0;
+};
+std::vector<SecondOrderSection> butterworth(int order, double corner_hz, double dt, bool highpass);
+// |H(f)| of the sections in cascade (one pass).
+double magnitude(const std::vector<SecondOrderSection>& sections, double f_hz, double dt);
+// The sections run forward, then backward: zero phase, |H|^2.
+std::vector<double> zero_phase(const std::vector<SecondOrderSection>& sections, std::vector<double> x);
+std::vector<double> detrend(const std::vector<double>& a, double dt, int order);
+std::vector<double> velocity_fit(const std::vector<double>& a, double dt, int order);
+std::vector<double> cosine_taper(std::vector<double> a, double fraction);
+
 // What a record is read as: a component whose name says otherwise is refused
 // (component_orientation). `rocking record` measures any.
 enum class ReadAs { horizontal, vertical, any };
@@ -178,6 +234,7 @@ struct RecordOptions {
   // Read the file's other horizontal component with this one
   // (GroundMotion::other_horizontal): InputError when it holds none.
   bool other_horizontal = false;
+  Processing process = {};  // applied to every component read
 };
 
 // cos and sin of an angle in degrees, exactly 0 and +-1 at multiples of 90.

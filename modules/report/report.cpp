@@ -311,6 +311,7 @@ nlohmann::json record_summary(const std::string& id, const std::string& file, co
           {"npts", motion.sample_count()},
           {"duration_s", motion.duration()},
           {"stated_peak_g", i.stated_peak ? nlohmann::json(*i.stated_peak / gravity) : nlohmann::json(nullptr)},
+          {"processing", text(i.processing)},
           {"pga_g", m.pga / gravity},
           {"pga_time_s", m.pga_time},
           {"pgv_m_s", m.pgv},

@@ -36,9 +36,10 @@ nlohmann::json run_summary(const RunLabel& label, const RunResult& r);
 
 // A record's metadata and measures (`rocking record --json`, Python's
 // Record.measures()), each key naming its unit: id, file, format, event, date,
-// station, component, units, dt_s, npts, duration_s, stated_peak_g, pga_g,
-// pga_time_s, pgv_m_s, pgd_m, arias_m_s, d5_95_s, cav_m_s, damping,
-// periods_s, psa_g (null where the file does not say).
+// station, component, units, dt_s, npts, duration_s, stated_peak_g,
+// processing (how the record was processed), pga_g, pga_time_s, pgv_m_s,
+// pgd_m, arias_m_s, d5_95_s, cav_m_s, damping, periods_s, psa_g (null where
+// the file does not say).
 nlohmann::json record_summary(const std::string& id, const std::string& file, const GroundMotion& motion,
                               const RecordMeasures& m);
 

@@ -20,6 +20,11 @@ RecordOptions record_options(const RecordFileChoice& c, std::string_view prefix)
   if (c.dt != 0 && !(c.dt >= 1e-6 && c.dt <= 10))
     throw InputError(fmt::format("{}dt {:g}: must be in [1e-06, 10] s", prefix, c.dt));
   ro.dt = c.dt;
+  if (!c.process.empty()) try {
+      ro.process = parse_processing(c.process);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("{}process {}: {}", prefix, c.process, e.what()));
+    }
   return ro;
 }
 
@@ -51,6 +56,7 @@ std::optional<GroundMotion> vertical_motion(const MotionChoice& c, std::string_v
     return std::nullopt;
   }
   RecordOptions ro = record_options(c.vertical_file, prefix);
+  ro.process = record_options(c.file, prefix).process;  // the components processed alike
   ro.scale = c.scale;
   ro.read_as = ReadAs::vertical;
   std::error_code ec;
@@ -81,8 +87,8 @@ GroundMotion horizontal_motion(const Scene& scene, const MotionChoice& c, std::s
   }
   if (c.record.empty()) {
     if (c.file.given())
-      throw InputError(fmt::format("{0}format, {0}component, {0}units and {0}dt describe a {0}record file; none was given",
-                                   prefix));
+      throw InputError(fmt::format("{0}format, {0}component, {0}units, {0}dt and {0}process describe a {0}record file; "
+                                   "none was given", prefix));
     return default_ground_motion(scene).scaled(c.scale);
   }
   RecordOptions ro = record_options(c.file, prefix);

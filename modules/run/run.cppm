@@ -26,7 +26,8 @@ struct RecordFileChoice {
   std::string component;
   std::string units;  // empty: the file's own (g where a file states none)
   double dt = 0;      // one-column files [s]
-  bool given() const { return format != "auto" || !component.empty() || !units.empty() || dt != 0; }
+  std::string process;  // Processing's text (parse_processing); empty: as recorded
+  bool given() const { return format != "auto" || !component.empty() || !units.empty() || dt != 0 || !process.empty(); }
 };
 RecordOptions record_options(const RecordFileChoice& c, std::string_view prefix = "--");
 

@@ -187,13 +187,14 @@ JobResult as_written(const StudyColumns& columns, const Job& job, const JobResul
 }
 
 std::string records_csv(const Study& st, const std::vector<std::string>& ids) {
-  std::string out = "record,file,format,event,date,station,component,pga_g\n";
+  std::string out = "record,file,format,event,date,station,component,pga_g,processing\n";
   for (std::size_t r = 0; r < ids.size(); ++r) {
     const GroundMotion* m = st.motion(r);
     const RecordInfo info = m ? m->info() : RecordInfo{};
-    out += fmt::format("{},{},{},{},{},{},{},{}\n", csv_field(ids[r]), csv_field(st.records()[r]),
+    out += fmt::format("{},{},{},{},{},{},{},{},{}\n", csv_field(ids[r]), csv_field(st.records()[r]),
                        csv_field(info.format), csv_field(info.event), csv_field(info.date), csv_field(info.station),
-                       csv_field(info.component), m ? fmt::format("{:.6g}", m->peak() / gravity) : std::string());
+                       csv_field(info.component), m ? fmt::format("{:.6g}", m->peak() / gravity) : std::string(),
+                       csv_field(info.processing));
   }
   return out;
 }
