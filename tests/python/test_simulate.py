@@ -248,3 +248,19 @@ def test_rotd_and_an_azimuth_as_the_program_computes_them(cli, records, tmp_path
     turned = rocking.simulate(rocking.Scene.default(), n28w, azimuth=30, second=s62w, duration=60)
     assert turned.peaks == summary["peaks"]
     assert "30 deg from N28W toward S62W" in summary["motion"]
+
+
+def test_a_processed_record_measures_as_the_program_measures_it(cli, records):
+    knet = records / "formats" / "AOM0011801241951.EW"
+    spec = "detrend=1,taper=0.05,highpass=0.1,lowpass=20"
+    r = cli.run("record", knet, "--process", spec, "--json")
+    assert r.returncode == 0, r.stderr
+    raw, processed = json.loads(r.stdout)
+    rec = rocking.Record.load(knet, process=spec)
+    got = rec.measures()
+    for key in ("pga_g", "pgv_m_s", "pgd_m", "arias_m_s", "psa_g", "processing"):
+        assert got[key] == processed[key], key
+    assert got["pgd_m"] < 0.2 * raw["pgd_m"]
+    assert "processed: detrend 1" in rec.description
+    with pytest.raises(ValueError, match="process hp=1: hp=1: unknown key"):
+        rocking.Record.load(knet, process="hp=1")
