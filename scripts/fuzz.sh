@@ -17,8 +17,9 @@ declare -A seeds=(
   [cyclic_test]="$here/data/tests"
   [device_set]=""
   [option_value]=""
+  [processing]=""
 )
-for target in record scene set_override number_list cyclic_test device_set option_value; do
+for target in record scene set_override number_list cyclic_test device_set option_value processing; do
   work="$here/build-sanitize/fuzz-corpus/$target"
   mkdir -p "$work"
   dirs=("$work")

@@ -84,6 +84,20 @@ inline void number_list(const std::uint8_t* data, std::size_t size) {
   input_or_error([&] { (void)rocking::parse_number_list(text); });
 }
 
+// --process SPEC: parsed, and when accepted applied to a short record, whose
+// processed samples must be finite.
+inline void processing(const std::uint8_t* data, std::size_t size) {
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  input_or_error([&] {
+    const rocking::Processing p = rocking::parse_processing(text);
+    std::vector<double> a(400);
+    for (std::size_t i = 0; i < a.size(); ++i) a[i] = std::sin(0.37 * static_cast<double>(i)) + 1e-3 * static_cast<double>(i);
+    const rocking::GroundMotion g = rocking::process(rocking::GroundMotion::evenly_sampled("fuzz", 0.01, a), p);
+    for (double v : g.sample_values())
+      if (!std::isfinite(v)) __builtin_trap();
+  });
+}
+
 // A cyclic test table (rocking fit): read, and when short, fitted (a fit
 // that does not converge on such bytes is a RunError, which is refused too).
 inline void cyclic_test(const std::uint8_t* data, std::size_t size) {
