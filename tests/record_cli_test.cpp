@@ -3,6 +3,7 @@
 // format through simulate, and one-line errors.
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -214,4 +215,37 @@ TEST_CASE("record --process prints the processed measures beside the raw ones, a
   CHECK(spec.code == 2);
   CHECK(spec.err == "rocking: error: --process hp=1: hp=1: unknown key (keys: cut, detrend, taper, highpass, lowpass, order, "
                     "vfit, dt)\n");
+}
+
+TEST_CASE("ida --azimuths: each azimuth a record of its own, row for row the runs at that azimuth, and their largest") {
+  const auto dir = records_dir();
+  if (!dir) return;
+  const std::string waiau = *dir + "/formats/20161113_110259_WTMC_20.V2A";
+  const fs::path out = temp_path("record_ida_azimuths");
+  const Result r = run("ida --no-plot --scales 0.5 --variants damper --duration 60 --component N28W --azimuths 0,30,90 "
+                       "--record " + waiau + " --out " + out.string());
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const CsvTable rows = csv_table(file_text(out / "ida.csv"));
+  REQUIRE(rows.rows.size() == 3);
+  const fs::path one = temp_path("record_ida_azimuths_one");
+  double largest = 0;
+  for (std::size_t i = 0; i < 3; ++i) {
+    const std::string phi = std::vector<std::string>{"0", "30", "90"}[i];
+    CHECK(rows.at(i, "record") == "20161113_110259_WTMC_20.V2A@" + phi);
+    const Result s = run("simulate --json --scale 0.5 --duration 60 --component N28W --azimuth " + phi + " --record " +
+                         waiau + " --out " + one.string());
+    REQUIRE_MESSAGE(s.code == 0, s.err);
+    const double theta = nlohmann::json::parse(s.out)["peaks"]["theta_over_alpha"].get<double>();
+    CHECK(std::stod(rows.at(i, "theta_over_alpha")) == doctest::Approx(theta).epsilon(1e-8));
+    largest = std::max(largest, theta);
+  }
+  const CsvTable summary = csv_table(file_text(out / "azimuths.csv"));
+  REQUIRE(summary.rows.size() == 1);
+  CHECK(summary.at(0, "record") == "20161113_110259_WTMC_20.V2A");
+  CHECK(summary.at(0, "azimuths") == "3");
+  CHECK(std::stod(summary.at(0, "theta_over_alpha_max")) == doctest::Approx(largest).epsilon(1e-8));
+  const Result bad = run("ida --no-plot --scales 0.5 --azimuths 0,90 --record " + *dir + "/elcentro_1940_ns.at2 --out " +
+                         out.string());
+  CHECK(bad.code == 2);
+  CHECK(bad.err.find("holds no other horizontal component") != std::string::npos);
 }

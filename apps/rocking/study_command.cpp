@@ -19,7 +19,9 @@
 #include <sstream>
 #include <fstream>
 #include <memory>
+#include <map>
 #include <optional>
+#include <tuple>
 
 namespace rocking::app {
 
@@ -33,6 +35,7 @@ struct StudyArgs {
   std::string suite;
   RecordFileOptions file;
   std::string vertical;  // the vertical component of each record's file
+  std::string azimuths;  // the plane's azimuths [degrees]: each record projected at each
   std::string im = "sf";
   double damping = 0.05;
   std::string levels, scales;
@@ -74,9 +77,11 @@ std::string inputs_of(const StudyArgs& a, const Study& st, const std::string& ki
   for (const Variant& v : st.variants()) variants += (variants.empty() ? "" : ",") + v.name;
   const SolverOptions& s = a.solver;
   return study_inputs(kind, a.scene_text, st.records(),
-                      {{"record options", fmt::format("format {}, component {}, units {}, dt {}{}", a.file.format,
+                      {{"record options", fmt::format("format {}, component {}, units {}, dt {}{}{}{}", a.file.format,
                                                       a.file.component, a.file.units, a.file.dt,
-                                                      a.vertical.empty() ? "" : ", vertical " + a.vertical)},
+                                                      a.vertical.empty() ? "" : ", vertical " + a.vertical,
+                                                      a.azimuths.empty() ? "" : ", azimuths " + a.azimuths,
+                                                      a.file.process.empty() ? "" : ", process " + a.file.process)},
                        {"im", fmt::format("{} (damping {})", a.im, a.damping)},
                        {"levels", a.scales.empty() ? a.levels : "scales " + a.scales},
                        {"variants", variants},
@@ -253,6 +258,8 @@ std::string unreadable(const Study& st, const std::vector<std::string>& ids) {
   return out.empty() ? out : " (records that could not be read: " + out + ")";
 }
 
+void write_azimuth_summary(const fs::path& study_csv, const fs::path& out);
+
 int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, const std::string& scene_name,
                const MpiWorld& world) {
   const std::vector<double> levels = study_levels(a, st.intensity_measure());
@@ -365,6 +372,7 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
   if (!csv || !timing) throw RunError(fmt::format("{}: cannot write", (!csv ? partial : timing_partial).string()));
   fs::rename(partial, csv_file);
   fs::rename(timing_partial, timing_file);
+  if (!a.azimuths.empty()) write_azimuth_summary(csv_file, dir / "azimuths.csv");
   // What each record id is, as its file says (rows name records by id).
   write_text(dir / "records.csv", records_csv(st, ids));
   if (emitted < mine.size()) {  // stopped by a signal (one process: mine is every job left)
@@ -601,8 +609,75 @@ std::unique_ptr<Study> make_study(StudyArgs& a, const std::vector<std::string>& 
   ro.vertical_component = a.vertical;
   ro.other_horizontal = im.needs_pair();  // RotD: each record with its file's other horizontal component
   RunOptions run = run_options(scene, a.solver, false);
-  auto study = std::make_unique<Study>(a.scene.path, overrides, records, ro, std::move(variants), run, im);
-  return study;
+  if (a.azimuths.empty())
+    return std::make_unique<Study>(a.scene.path, overrides, records, ro, std::move(variants), run, im);
+  // --azimuths: each record projected on the plane at each azimuth, a record
+  // of its own ("FILE@30"), from its component toward its file's other horizontal one.
+  const std::vector<double> angles = number_list("--azimuths", a.azimuths);
+  for (double phi : angles)
+    if (!(std::abs(phi) <= 360))
+      throw InputError(fmt::format("--azimuths {}: {:g} is not an angle in degrees, -360 to 360", a.azimuths, phi));
+  RecordOptions pair = ro;
+  pair.other_horizontal = true;
+  std::vector<StudyRecord> projected;
+  for (const std::string& path : records) {
+    const GroundMotion g = read_record(path, pair);
+    for (double phi : angles)
+      projected.push_back({fmt::format("{}@{:g}", path, phi),
+                           std::make_shared<const GroundMotion>(project(g, *g.other_horizontal(), phi))});
+  }
+  return std::make_unique<Study>(a.scene.path, overrides, projected, ro, std::move(variants), run, im);
+}
+
+// azimuths.csv of a study over azimuths: for each record file, variant and
+// level, the largest and the median (the mean of the middle two when even)
+// over the azimuths of each quantity the study CSV holds (the columns from
+// record_im to outcome), and how many azimuths overturned.
+void write_azimuth_summary(const fs::path& study_csv, const fs::path& out) {
+  std::ifstream in(study_csv);
+  std::string line;
+  std::getline(in, line);
+  const std::vector<std::string> header = csv_fields(line);
+  const auto at = [&](std::string_view name) {
+    return static_cast<std::size_t>(std::ranges::find(header, name) - header.begin());
+  };
+  const std::size_t record = at("record"), variant = at("variant"), level = at("level"), first = at("record_im") + 1,
+                    outcome = at("outcome");
+  std::map<std::tuple<std::string, std::string, std::string>, std::vector<std::vector<std::string>>> groups;
+  std::vector<std::tuple<std::string, std::string, std::string>> order;
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    std::vector<std::string> f = csv_fields(line);
+    if (f.size() < header.size()) continue;
+    const std::string file = f[record].substr(0, f[record].rfind('@'));
+    const auto key = std::make_tuple(file, f[variant], f[level]);
+    if (!groups.contains(key)) order.push_back(key);
+    groups[key].push_back(std::move(f));
+  }
+  std::string text = "record,variant,level,azimuths,overturned";
+  for (std::size_t c = first; c < outcome; ++c) text += fmt::format(",{0}_max,{0}_median", header[c]);
+  text += "\n";
+  for (const auto& key : order) {
+    const auto& rows = groups[key];
+    const long overturned = std::ranges::count_if(rows, [&](const auto& f) { return f[outcome] == "overturned"; });
+    text += fmt::format("{},{},{},{},{}", csv_field(std::get<0>(key)), csv_field(std::get<1>(key)), std::get<2>(key),
+                        rows.size(), overturned);
+    for (std::size_t c = first; c < outcome; ++c) {
+      std::vector<double> v;
+      for (const auto& f : rows)
+        if (!f[c].empty()) v.push_back(std::stod(f[c]));
+      std::ranges::sort(v);
+      if (v.empty()) {
+        text += ",,";
+        continue;
+      }
+      const std::size_t n = v.size();
+      const double median = n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+      text += fmt::format(",{:.9g},{:.9g}", v.back(), median);
+    }
+    text += "\n";
+  }
+  write_text(out, text);
 }
 
 void add_study_options(CLI::App& cmd, StudyArgs& a, const std::string& default_out) {
@@ -624,6 +699,13 @@ void add_study_options(CLI::App& cmd, StudyArgs& a, const std::string& default_o
                  "and scaled with it (GeoNet: --component N28W --vertical Up; MODEL.md 14).\n"
                  "The IM is the horizontal component's")
       ->type_name("C");
+  cmd.add_option("--azimuths", a.azimuths,
+                 "Run each record at these azimuths of the structure's plane [degrees]\n"
+                 "(FIRST:LAST:STEP or a list: 0:165:15), projected from its component\n"
+                 "toward its file's other horizontal one (MODEL.md 14), each azimuth a\n"
+                 "record of its own (FILE@30); DIR/azimuths.csv gives the largest and the\n"
+                 "median over the azimuths of every quantity at each level")
+      ->type_name("SPEC");
   cmd.add_option("--im", a.im,
                  "What the levels measure: sf (the scale factor itself, default), pga [g],\n"
                  "pgv [m/s], sa:T (5 %-damped PSA at T seconds [g]; sa:T1 at the scene's\n"
