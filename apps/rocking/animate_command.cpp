@@ -214,7 +214,8 @@ int animate(const AnimateArgs& a) {
                           "set output {}\n", std::max(2, 100 / a.fps), width, height, plot::quote(stem + ".gif")),
       plot::quote(stem + ".data/"), first_frame, last_frame, frame_dt,
       video ? fmt::format("  set output {} . sprintf(\"%05d.png\", i)\n", plot::quote(stem + ".frames/")) : std::string(),
-      plot::quote(fmt::format("{} - {}, {}   t = ", scene.name, describe_motion(motion.name()),
+      plot::quote(fmt::format("{} - {}{}, {}   t = ", scene.name, describe_motion(motion.name()),
+                              motion.vertical() ? " with vertical " + motion.vertical()->info().component : std::string(),
                               motion_scale(scene, a.motion).describe())),
       plot::quote(fmt::format("\n(drawn with rotation x{:g}, elastic deformation x{:g})", kr, k)), -span, span, H, H,
       panels, shown_from, shown_to, right_trace);
@@ -238,7 +239,7 @@ int animate(const AnimateArgs& a) {
     fs::remove(log);
   }
   fmt::print("wrote {} ({} frames at {} fps, {:.2f} s of simulation per frame, rotation x{:g}, deformation x{:g})\n",
-             gif.string(), frames, a.fps, frame_dt, kr, k);
+             gif.string(), last_frame - first_frame + 1, a.fps, frame_dt, kr, k);
   return 0;
 }
 
