@@ -249,3 +249,31 @@ TEST_CASE("ida --azimuths: each azimuth a record of its own, row for row the run
   CHECK(bad.code == 2);
   CHECK(bad.err.find("holds no other horizontal component") != std::string::npos);
 }
+
+TEST_CASE("ida --pairs: a PEER pair's second file is its record's other horizontal component, for RotD and azimuths") {
+  const auto dir = records_dir();
+  if (!dir) return;
+  const std::string cbgs = *dir + "/christchurch2011_cbgs_";
+  const Result rotd = run("record " + cbgs + "n89w.at2 --rotd --second " + cbgs + "s01w.at2 --periods 1 --json");
+  REQUIRE_MESSAGE(rotd.code == 0, rotd.err);
+  const double rotd50 = nlohmann::json::parse(rotd.out)[0]["rotd50_g"][0].get<double>();
+  const fs::path out = temp_path("record_ida_pairs");
+  const Result r = run("ida --no-plot --pairs --im rotd50:1 --levels 0.5 --variants fixed-base --record " + cbgs +
+                       "n89w.at2 --record " + cbgs + "s01w.at2 --out " + out.string());
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const CsvTable rows = csv_table(file_text(out / "ida.csv"));
+  REQUIRE(rows.rows.size() == 1);
+  CHECK(std::stod(rows.at(0, "record_im")) == doctest::Approx(rotd50).epsilon(1e-8));
+  // At 90 degrees the pair's run is its second file's.
+  const Result turned = run("ida --no-plot --pairs --scales 1 --variants damper --azimuths 90 --record " + cbgs +
+                            "n89w.at2 --record " + cbgs + "s01w.at2 --out " + out.string());
+  REQUIRE_MESSAGE(turned.code == 0, turned.err);
+  const CsvTable at90 = csv_table(file_text(out / "ida.csv"));
+  const Result alone = run("simulate --json --record " + cbgs + "s01w.at2 --out " + out.string() + "/one");
+  REQUIRE_MESSAGE(alone.code == 0, alone.err);
+  CHECK(std::stod(at90.at(0, "theta_over_alpha")) ==
+        doctest::Approx(nlohmann::json::parse(alone.out)["peaks"]["theta_over_alpha"].get<double>()).epsilon(1e-8));
+  const Result odd = run("ida --no-plot --pairs --scales 1 --record " + cbgs + "n89w.at2 --out " + out.string());
+  CHECK(odd.code == 2);
+  CHECK(odd.err.find("--pairs: an odd number of record files (1)") != std::string::npos);
+}

@@ -36,6 +36,7 @@ struct StudyArgs {
   RecordFileOptions file;
   std::string vertical;  // the vertical component of each record's file
   std::string azimuths;  // the plane's azimuths [degrees]: each record projected at each
+  bool pairs = false;    // the records are pairs of files, a record's two horizontal components
   std::string im = "sf";
   double damping = 0.05;
   std::string levels, scales;
@@ -80,7 +81,7 @@ std::string inputs_of(const StudyArgs& a, const Study& st, const std::string& ki
                       {{"record options", fmt::format("format {}, component {}, units {}, dt {}{}{}{}", a.file.format,
                                                       a.file.component, a.file.units, a.file.dt,
                                                       a.vertical.empty() ? "" : ", vertical " + a.vertical,
-                                                      a.azimuths.empty() ? "" : ", azimuths " + a.azimuths,
+                                                      a.azimuths.empty() ? "" : ", azimuths " + a.azimuths + (a.pairs ? ", pairs" : ""),
                                                       a.file.process.empty() ? "" : ", process " + a.file.process)},
                        {"im", fmt::format("{} (damping {})", a.im, a.damping)},
                        {"levels", a.scales.empty() ? a.levels : "scales " + a.scales},
@@ -609,8 +610,25 @@ std::unique_ptr<Study> make_study(StudyArgs& a, const std::vector<std::string>& 
   ro.vertical_component = a.vertical;
   ro.other_horizontal = im.needs_pair();  // RotD: each record with its file's other horizontal component
   RunOptions run = run_options(scene, a.solver, false);
+  // --pairs: each record the first file of two, with the second as its other horizontal component.
+  std::vector<StudyRecord> given;
+  if (a.pairs) {
+    if (records.size() % 2 != 0)
+      throw InputError(fmt::format("--pairs: an odd number of record files ({}); each record is two, its horizontal "
+                                   "components one after the other", records.size()));
+    RecordOptions second = ro;
+    second.component.clear();
+    second.other_horizontal = false;
+    for (std::size_t i = 0; i < records.size(); i += 2) {
+      RecordOptions first = ro;
+      first.other_horizontal = false;
+      const GroundMotion g = read_record(records[i], first).with_other_horizontal(read_record(records[i + 1], second));
+      given.push_back({records[i], std::make_shared<const GroundMotion>(g)});
+    }
+  }
   if (a.azimuths.empty())
-    return std::make_unique<Study>(a.scene.path, overrides, records, ro, std::move(variants), run, im);
+    return a.pairs ? std::make_unique<Study>(a.scene.path, overrides, given, ro, std::move(variants), run, im)
+                   : std::make_unique<Study>(a.scene.path, overrides, records, ro, std::move(variants), run, im);
   // --azimuths: each record projected on the plane at each azimuth, a record
   // of its own ("FILE@30"), from its component toward its file's other horizontal one.
   const std::vector<double> angles = number_list("--azimuths", a.azimuths);
@@ -620,8 +638,9 @@ std::unique_ptr<Study> make_study(StudyArgs& a, const std::vector<std::string>& 
   RecordOptions pair = ro;
   pair.other_horizontal = true;
   std::vector<StudyRecord> projected;
-  for (const std::string& path : records) {
-    const GroundMotion g = read_record(path, pair);
+  for (std::size_t i = 0; i < (a.pairs ? given.size() : records.size()); ++i) {
+    const std::string& path = a.pairs ? given[i].name : records[i];
+    const GroundMotion g = a.pairs ? *given[i].motion : read_record(path, pair);
     for (double phi : angles)
       projected.push_back({fmt::format("{}@{:g}", path, phi),
                            std::make_shared<const GroundMotion>(project(g, *g.other_horizontal(), phi))});
@@ -699,6 +718,11 @@ void add_study_options(CLI::App& cmd, StudyArgs& a, const std::string& default_o
                  "and scaled with it (GeoNet: --component N28W --vertical Up; MODEL.md 14).\n"
                  "The IM is the horizontal component's")
       ->type_name("C");
+  cmd.add_flag("--pairs", a.pairs,
+               "The records are pairs of files, each record's two horizontal components\n"
+               "one after the other (a PEER pair: X_n89w.at2 X_s01w.at2): the first is\n"
+               "run, the second is its other horizontal component for --azimuths and\n"
+               "--im rotd50:T");
   cmd.add_option("--azimuths", a.azimuths,
                  "Run each record at these azimuths of the structure's plane [degrees]\n"
                  "(FIRST:LAST:STEP or a list: 0:165:15), projected from its component\n"
