@@ -157,6 +157,8 @@ TEST_CASE("taper, cut and resampling, a processed record naming its processing, 
   CHECK_THROWS_WITH_AS(process(g, parse_processing("lowpass=60")), doctest::Contains("at or above the Nyquist frequency 50 Hz"),
                        InputError);
   CHECK_THROWS_WITH_AS(process(g, parse_processing("cut=2:50")), doctest::Contains("the record ends at 10 s"), InputError);
+  const GroundMotion long_one = GroundMotion::evenly_sampled("long", 0.1, std::vector<double>(1001, 0.5));  // 100 s
+  CHECK_THROWS_WITH_AS(process(long_one, parse_processing("dt=1e-6")), doctest::Contains("(at most 1e+07)"), InputError);
 }
 
 TEST_CASE("K-NET AOM001 EW, processed: its displacement drift removed (PGD as the README states it)") {

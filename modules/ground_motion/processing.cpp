@@ -221,6 +221,11 @@ Processing parse_processing(std::string_view text) {
 
 GroundMotion process(const GroundMotion& g, const Processing& p) {
   if (!g.piecewise_linear()) throw InputError(fmt::format("{}: an analytic pulse is not processed", g.name()));
+  // A record resampled beyond this many samples is a mistake, not a record (and would take gigabytes).
+  constexpr double max_samples = 1e7;
+  if (p.dt > 0 && g.duration() / p.dt > max_samples)
+    throw InputError(fmt::format("{}: processing dt={:g} makes {:.3g} samples of its {:g} s (at most {:g})", g.name(), p.dt,
+                                 g.duration() / p.dt, g.duration(), max_samples));
   double dt = g.sample_interval();
   std::vector<double> a;
   if (p.cut) {
