@@ -81,15 +81,10 @@ GroundMotion GroundMotion::from_samples(std::string name, std::vector<double> ti
   const bool even = std::all_of(times.begin(), times.end(), [&, i = 0.0](double t) mutable {
     return std::abs(t - (times.front() + dt * i++)) <= 1e-9 * dt;
   });
+  if (even && times.front() == 0.0) return evenly_sampled(std::move(g.name_), dt, std::move(accelerations));
   auto samples = std::make_shared<Samples>();
   g.duration_ = times.back();
-  if (even && times.front() == 0.0) {
-    samples->dt = dt;
-    samples->inv_dt = 1.0 / dt;
-    g.duration_ = dt * static_cast<double>(times.size() - 1);
-  } else {
-    samples->times = std::move(times);
-  }
+  samples->times = std::move(times);
   samples->values = std::move(accelerations);
   for (double v : samples->values) samples->peak = std::max(samples->peak, std::abs(v));
   g.samples_ = std::move(samples);

@@ -70,6 +70,14 @@ void run_sections(const std::vector<SecondOrderSection>& sections, std::vector<d
 
 std::string number(double v) { return fmt::format("{:g}", v); }
 
+// The record read every dt from t = 0 to its end.
+std::vector<double> read_every(const GroundMotion& g, double dt) {
+  const std::size_t n = static_cast<std::size_t>(std::floor(g.duration() / dt + 1e-9)) + 1;
+  std::vector<double> out(n);
+  for (std::size_t i = 0; i < n; ++i) out[i] = g.acceleration(dt * static_cast<double>(i));
+  return out;
+}
+
 }  // namespace
 
 std::vector<SecondOrderSection> butterworth(int order, double corner_hz, double dt, bool highpass) {
@@ -241,8 +249,7 @@ GroundMotion process(const GroundMotion& g, const Processing& p) {
     if (!(p.dt > 0))
       throw InputError(fmt::format("{}: unevenly sampled; processing needs dt=... to resample it first", g.name()));
     dt = p.dt;
-    const std::size_t n = static_cast<std::size_t>(std::floor(g.duration() / dt + 1e-9)) + 1;
-    for (std::size_t i = 0; i < n; ++i) a.push_back(g.acceleration(dt * static_cast<double>(i)));
+    a = read_every(g, dt);
   }
   if (a.size() < 2) throw InputError(fmt::format("{}: processing leaves fewer than two samples", g.name()));
   if (p.detrend >= 0) a = detrend(a, dt, p.detrend);
@@ -259,10 +266,7 @@ GroundMotion process(const GroundMotion& g, const Processing& p) {
   if (p.velocity_fit >= 0) a = velocity_fit(a, dt, p.velocity_fit);
   GroundMotion out = GroundMotion::evenly_sampled(g.name(), dt, std::move(a));
   if (p.dt > 0 && p.dt != dt) {
-    std::vector<double> r;
-    const std::size_t n = static_cast<std::size_t>(std::floor(out.duration() / p.dt + 1e-9)) + 1;
-    for (std::size_t i = 0; i < n; ++i) r.push_back(out.acceleration(p.dt * static_cast<double>(i)));
-    out = GroundMotion::evenly_sampled(g.name(), p.dt, std::move(r));
+    out = GroundMotion::evenly_sampled(g.name(), p.dt, read_every(out, p.dt));
   }
   RecordInfo info = g.info();
   info.processing = p.describe();
