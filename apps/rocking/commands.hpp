@@ -69,6 +69,7 @@ Command add_spectrum_command(CLI::App& app);
 Command add_animate_command(CLI::App& app);
 Command add_record_command(CLI::App& app);
 Command add_fit_command(CLI::App& app);
+Command add_serve_command(CLI::App& app);
 
 // The numbers of a FIRST:LAST:STEP or comma-list option; errors name the flag.
 std::vector<double> number_list(const std::string& flag, const std::string& text);

@@ -79,6 +79,7 @@ int main(int argc, char** argv) {
   rocking::app::Command animate = rocking::app::add_animate_command(app);
   rocking::app::Command record = rocking::app::add_record_command(app);
   rocking::app::Command fit = rocking::app::add_fit_command(app);
+  rocking::app::Command serve = rocking::app::add_serve_command(app);
 
   auto logger = spdlog::stderr_color_mt("rocking");
   spdlog::set_default_logger(logger);
@@ -112,6 +113,7 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("animate")) return animate();
     if (app.got_subcommand("record")) return record();
     if (app.got_subcommand("fit")) return fit();
+    if (app.got_subcommand("serve")) return serve();
   } catch (const rocking::InputError& e) {
     fmt::print(stderr, "rocking: error: {}\n", e.what());
     return rocking::exit_input_error;

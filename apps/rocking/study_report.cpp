@@ -50,6 +50,8 @@ std::string im_words(const IntensityMeasure& im) {
     case IntensityMeasure::Kind::pgv: return "PGV";
     case IntensityMeasure::Kind::sa: return fmt::format("Sa({:.3g} s), {}", im.t1, damping);
     case IntensityMeasure::Kind::saavg: return fmt::format("Sa,avg({:.3g}-{:.3g} s), {}", im.t1, im.t2, damping);
+    case IntensityMeasure::Kind::rotd50: return fmt::format("RotD50 Sa({:.3g} s), {}", im.t1, damping);
+    case IntensityMeasure::Kind::rotd100: return fmt::format("RotD100 Sa({:.3g} s), {}", im.t1, damping);
   }
   return im.name();
 }
@@ -62,6 +64,8 @@ std::string im_axis_label(const IntensityMeasure& im) {
     case IntensityMeasure::Kind::pgv: return "PGV [m/s]";
     case IntensityMeasure::Kind::sa: return fmt::format("S_a({:.3g} s{}) [g]", im.t1, damping);
     case IntensityMeasure::Kind::saavg: return fmt::format("S_{{a,avg}}({:.3g}-{:.3g} s{}) [g]", im.t1, im.t2, damping);
+    case IntensityMeasure::Kind::rotd50: return fmt::format("RotD50 S_a({:.3g} s{}) [g]", im.t1, damping);
+    case IntensityMeasure::Kind::rotd100: return fmt::format("RotD100 S_a({:.3g} s{}) [g]", im.t1, damping);
   }
   return im.name();
 }

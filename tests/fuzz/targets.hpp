@@ -14,6 +14,7 @@
 #include <string>
 #include <string_view>
 #include <vector>
+#include <nlohmann/json.hpp>
 #include <unistd.h>
 import rocking.scene;
 import rocking.study;
@@ -23,6 +24,7 @@ import rocking.intensity;
 import rocking.sundials;
 import rocking.plot;
 import rocking.errors;
+import rocking.lab;
 
 namespace fuzz {
 
@@ -96,6 +98,28 @@ inline void processing(const std::uint8_t* data, std::size_t size) {
     for (double v : g.sample_values())
       if (!std::isfinite(v)) __builtin_trap();
   });
+}
+
+// A request to the browser lab's API (rocking.lab): the first byte picks the
+// endpoint, the rest is the body. The dispatcher answers every body with a
+// status (never throws); a simulate request is read and checked (the scene
+// loaded with its overrides, the record read) but not run, so that the
+// fuzzer spends its time on the parsing; modal requests run (they are cheap).
+inline void lab_request(const std::uint8_t* data, std::size_t size) {
+  static const rocking::Lab lab({.scenes = std::string(ROCKING_SOURCE_DIR) + "/data/scenes",
+                                 .records = std::string(ROCKING_SOURCE_DIR) + "/../shared/data/records"});
+  if (size == 0) return;
+  const std::string body(reinterpret_cast<const char*>(data) + 1, size - 1);
+  static constexpr const char* paths[] = {"/api/modal", "/api/scenes", "/api/nothing", "/api/simulate"};
+  const char* path = paths[data[0] % 4];
+  if (path != paths[3]) {
+    const rocking::LabAnswer a = lab.answer(data[0] & 4 ? "GET" : "POST", path, body);
+    if (a.status < 200 || a.status >= 500 || a.body.empty()) __builtin_trap();
+    return;
+  }
+  const nlohmann::json request = nlohmann::json::parse(body, nullptr, false);
+  if (request.is_discarded()) return;
+  input_or_error([&] { (void)lab.read_simulate(request); });
 }
 
 // A cyclic test table (rocking fit): read, and when short, fitted (a fit

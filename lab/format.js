@@ -1,0 +1,122 @@
+// The lab's pure parts, shared by the page (lab.js) and its unit tests
+// (tests/unit.test.mjs): number formatting as the command line prints it, the
+// request the controls make, the drawing's exaggeration and geometry.
+
+// A number as fmt's {:.Pg} (C's %g) prints it: P significant digits, trailing
+// zeros dropped, exponent form below 1e-4 or from 10^P on.
+export function formatG(v, p = 4) {
+  if (v === null || v === undefined || Number.isNaN(v)) return 'n/a';
+  if (!Number.isFinite(v)) return v > 0 ? 'inf' : '-inf';
+  if (v === 0) return '0';
+  const strip = (s) => (s.includes('.') ? s.replace(/0+$/, '').replace(/\.$/, '') : s);
+  const rounded = Number(v.toPrecision(p));
+  const e = Math.floor(Math.log10(Math.abs(rounded)));
+  if (e < -4 || e >= p) {
+    const [m, x] = v.toExponential(p - 1).split('e');
+    const n = Number(x);
+    return `${strip(m)}e${n < 0 ? '-' : '+'}${String(Math.abs(n)).padStart(2, '0')}`;
+  }
+  return strip(v.toFixed(Math.max(0, p - 1 - e)));
+}
+
+// The damper-like devices of a scene: its [damper] pair, else its [[device]]
+// tables with a hysteretic or viscous law.
+export function damperDevices(scene) {
+  return (scene.devices || []).filter((d) => d.law !== 'elastic' && d.law !== 'gap');
+}
+
+// The first device with a prestress (a tendon), or null.
+export function tendonOf(scene) {
+  return (scene.devices || []).find((d) => d.law === 'elastic' && d.P0 > 0) || null;
+}
+
+// Texts of an "extra overrides" field: one per line or separated by spaces.
+export function splitOverrides(text) {
+  return (text || '').split(/\s+/).filter((s) => s.length > 0);
+}
+
+// The excitation list's pulses: its values "pulse:SHAPE" (the scene's
+// [excitation] made a pulse of that shape, amplitude and period).
+export const pulses = [{ value: 'pulse:one-sine', label: 'one-sine pulse' }, { value: 'pulse:ricker', label: 'Ricker pulse' }];
+
+// The request the controls make (POST /api/simulate), in the --set texts of
+// the command line. `controls`: {scene, record (a record's id, a pulse's
+// value or '' for the scene's own excitation), amplitude [g] and period [s]
+// (of a pulse), scale, dampers, thickness, prestress (a factor on the
+// tendon's own P0), restitution (null: the scene's), compare, extra};
+// `scene`: the scene's entry of /api/scenes.
+export function buildRequest(controls, scene) {
+  const set = [];
+  const pulse = (controls.record || '').startsWith('pulse:') ? controls.record.slice(6) : null;
+  if (pulse)
+    set.push('excitation.kind=pulse', `excitation.pulse=${pulse}`, `excitation.amplitude_g=${controls.amplitude}`,
+      `excitation.period=${controls.period}`);
+  if (scene.damper) {
+    if (!controls.dampers) set.push('damper.enabled=false');
+    else if (controls.thickness !== 1) set.push(`damper.thickness=${controls.thickness}`);
+  } else if (!controls.dampers) {
+    for (const d of damperDevices(scene)) set.push(`device-=${d.name}`);
+  }
+  const tendon = tendonOf(scene);
+  if (tendon && controls.prestress !== 1) set.push(`device[${tendon.index}].P0=${tendon.P0 * controls.prestress}`);
+  if (controls.restitution !== null && controls.restitution !== undefined)
+    set.push(`contact.restitution=${controls.restitution}`);
+  set.push(...splitOverrides(controls.extra));
+  const request = { scene: controls.scene, scale: controls.scale, set };
+  if (controls.record && !pulse) request.record = controls.record;
+  if (controls.compare) request.compare = controls.compare;
+  return request;
+}
+
+// The twins a scene can be compared with (rocking.study's variants).
+export function twinChoices(scene) {
+  const out = [{ value: '', label: 'none' }];
+  if (!scene.rigid) out.push({ value: 'fixed-base', label: 'fixed base' });
+  if (scene.damper) out.push({ value: 'no-damper', label: 'no dampers' });
+  for (const d of scene.devices || []) out.push({ value: `without:${d.name}`, label: `without ${d.name}` });
+  if ((scene.devices || []).length + (scene.damper ? 1 : 0) > 1) out.push({ value: 'no-devices', label: 'no devices' });
+  return out;
+}
+
+// Largest |value| of a column (nulls skipped), 0 for none.
+export function peakOf(values) {
+  let m = 0;
+  for (const v of values || []) if (v !== null && Math.abs(v) > m) m = Math.abs(v);
+  return m;
+}
+
+// Factors the drawing multiplies the rocking angle and the bending by, so
+// that both show (as `rocking animate` does): the peak rotation drawn as
+// about 0.12 rad and the peak elastic top displacement as 4 % of the height,
+// never less than their true size.
+export function exaggeration(peakTheta, peakU, height) {
+  const nice = (x) => {
+    if (!(x > 1)) return 1;
+    const p = 10 ** Math.floor(Math.log10(x));
+    const m = x / p;
+    return (m >= 5 ? 5 : m >= 2 ? 2 : 1) * p;
+  };
+  return {
+    theta: peakTheta > 0 ? nice(0.12 / peakTheta) : 1,
+    u: peakU > 0 && height > 0 ? nice((0.04 * height) / peakU) : 1,
+  };
+}
+
+// Where the body's points are in the ground's frame [m]: the body rotates by
+// theta about the pivot on its side (x = sign(theta) B), the elastic
+// displacements u act along its own x axis (MODEL.md 2; rocking.drawing).
+// Returns the axis (base centre, then each node), the two base corners and
+// the two corners at height `top` (a block's outline; 0 when not given).
+export function bodyPoints(structure, theta, u, top = 0) {
+  const B = structure.half_width;
+  const s = theta > 0 ? 1 : theta < 0 ? -1 : 0;
+  const c = Math.cos(theta);
+  const sn = Math.sin(theta);
+  const place = (x, y) => {
+    const px = x - s * B;
+    return [s * B + px * c + y * sn, -px * sn + y * c];
+  };
+  const axis = [place(0, 0)];
+  structure.heights.forEach((h, k) => axis.push(place(u ? u[k] : 0, h)));
+  return { axis, left: place(-B, 0), right: place(B, 0), topLeft: place(-B, top), topRight: place(B, top) };
+}

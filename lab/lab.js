@@ -1,0 +1,516 @@
+// The lab's page: controls -> POST /api/simulate -> the structure drawn
+// rocking, synchronised traces (uPlot), the devices' loops and the summary.
+// A control's move re-runs at once; moves made while a run is in flight are
+// gathered into one run after it. window.lab exposes the state for the
+// browser test.
+import { formatG, buildRequest, twinChoices, tendonOf, damperDevices, peakOf, exaggeration, bodyPoints, pulses } from './format.js';
+import { lessons } from './lessons.js';
+
+const $ = (id) => document.getElementById(id);
+const state = { scenes: [], records: [], data: null, runs: 0, redrawMs: null, index: 0, playing: false, charts: [] };
+window.lab = state;
+
+const colors = { main: '#1f5fa8', twin: '#c0392b', ground: '#555' };
+
+function sceneOf(id) {
+  return state.scenes.find((s) => s.id === id);
+}
+
+function controls() {
+  return {
+    scene: $('scene').value,
+    record: $('record').value,
+    amplitude: Number($('amplitude').value),
+    period: Number($('period').value),
+    scale: Number($('scale').value),
+    dampers: $('dampers').checked,
+    thickness: Number($('thickness').value),
+    prestress: Number($('prestress').value),
+    restitution: $('own-restitution').checked ? null : Number($('restitution').value),
+    compare: $('compare').value,
+    extra: $('extra').value,
+  };
+}
+
+function setStatus(text, kind) {
+  $('status').textContent = text;
+  $('status').dataset.state = kind;
+}
+
+function showError(message) {
+  $('error').textContent = message || '';
+  $('error').hidden = !message;
+}
+
+// The controls that apply to the scene, and its twins.
+function fitControls() {
+  const scene = sceneOf($('scene').value);
+  if (!scene) return;
+  $('scene-description').textContent = scene.description || '';
+  const hasDampers = scene.damper || damperDevices(scene).length > 0;
+  $('dampers').disabled = !hasDampers;
+  $('thickness').disabled = !scene.damper || !$('dampers').checked;
+  $('prestress').disabled = !tendonOf(scene);
+  $('restitution').disabled = $('own-restitution').checked;
+  const keep = $('compare').value;
+  $('compare').replaceChildren(...twinChoices(scene).map((c) => new Option(c.label, c.value)));
+  if ([...$('compare').options].some((o) => o.value === keep)) $('compare').value = keep;
+  const pulse = $('record').value.startsWith('pulse:');
+  $('amplitude').disabled = !pulse;
+  $('period').disabled = !pulse;
+  for (const id of ['amplitude', 'period', 'scale', 'thickness', 'prestress', 'restitution'])
+    $(`${id}-value`).textContent = $(id).value;
+  $('record').options[0].textContent = `the scene's own (${scene.excitation})`;
+}
+
+let inFlight = false;
+let pending = null;
+
+// Re-runs for the controls as they are; `started` is when the user moved one.
+async function rerun(started = performance.now()) {
+  state.busy = true;
+  if (inFlight) {
+    pending = pending ?? started;
+    return;
+  }
+  inFlight = true;
+  fitControls();
+  const scene = sceneOf($('scene').value);
+  const request = buildRequest(controls(), scene);
+  setStatus('running…', 'running');
+  try {
+    const t0 = performance.now();
+    const response = await fetch('/api/simulate', { method: 'POST', body: JSON.stringify(request) });
+    const t1 = performance.now();
+    const text = await response.text();
+    const t2 = performance.now();
+    const body = JSON.parse(text);
+    state.timing = { headers: t1 - t0, body: t2 - t1, parse: performance.now() - t2 };
+    if (!response.ok) {
+      showError(body.error);
+      setStatus(`HTTP ${response.status}`, 'error');
+    } else {
+      showError('');
+      state.data = body;
+      state.request = request;
+      drawAll();
+      state.runs += 1;
+      state.redrawMs = performance.now() - started;
+      const s = body.summary;
+      setStatus(`${s.outcome}; run ${formatG(s.wall_s * 1000, 3)} ms, re-run and redraw ${Math.round(state.redrawMs)} ms`, 'ready');
+      $('status').dataset.runs = state.runs;
+      $('status').dataset.redrawMs = state.redrawMs.toFixed(1);
+    }
+  } catch (e) {
+    showError(`the lab's server did not answer (${e.message}); is rocking serve still running?`);
+    setStatus('no server', 'error');
+  }
+  inFlight = false;
+  if (pending !== null) {
+    const t = pending;
+    pending = null;
+    rerun(t);
+  } else {
+    state.busy = false;
+  }
+}
+
+// --- traces -------------------------------------------------------------------
+
+function column(run, name, factor = 1) {
+  const c = run && run.history[name];
+  return c ? c.map((v) => (v === null ? null : v * factor)) : null;
+}
+
+const chartDefs = [
+  { title: 'ground acceleration [g]', series: [['a_g', 1 / 9.81, 'a_g'], ['a_v', 1 / 9.81, 'a_v']] },
+  { title: 'rocking angle θ/α_cg [-]', series: [['theta_over_alpha', 1, 'θ/α']] },
+  { title: 'top drift [%]', series: [['delta_t', 100, 'total'], ['delta_e', 100, 'elastic']] },
+  { title: 'base moment [M_ref]', series: [['base_moment', 1, 'M/M_ref']] },
+];
+
+function chartData(def) {
+  const runs = [['', state.data], [' (twin)', state.data.twin]].filter(([, r]) => r);
+  const tables = [];
+  const series = [{}];
+  for (const [suffix, run] of runs) {
+    for (const [name, factor, label] of def.series) {
+      const y = column(run, name, factor);
+      if (!y || (name === 'a_g' && suffix)) continue;  // the twin shakes under the same ground
+      tables.push([run.history.t, y]);
+      series.push({
+        label: label + suffix,
+        stroke: suffix ? colors.twin : name === 'a_g' || name === 'delta_t' ? colors.main : '#6a9fd8',
+        dash: suffix ? [6, 4] : undefined,
+        width: 1.3,
+        spanGaps: true,
+        value: (u, v) => (v === null ? '–' : formatG(v, 4)),
+      });
+      if (name === 'delta_e' && !suffix) series[series.length - 1].stroke = '#7aa7d9';
+    }
+  }
+  if (tables.length === 0) return null;
+  return { data: uPlot.join(tables), series };
+}
+
+// A red line at the drawing's time on every trace.
+const timeCursor = {
+  hooks: {
+    draw: (u) => {
+      const x = Math.round(u.valToPos(Number($('time').value), 'x', true));
+      const { ctx } = u;
+      ctx.save();
+      ctx.strokeStyle = '#d62728';
+      ctx.lineWidth = 1.5;
+      ctx.beginPath();
+      ctx.moveTo(x, u.bbox.top);
+      ctx.lineTo(x, u.bbox.top + u.bbox.height);
+      ctx.stroke();
+      ctx.restore();
+    },
+  },
+};
+
+function drawCharts() {
+  for (const c of state.charts) c.destroy();
+  state.charts = [];
+  const host = $('charts');
+  host.replaceChildren();
+  const width = Math.max(280, Math.floor(host.clientWidth / 2) - 12);
+  for (const def of chartDefs) {
+    const built = chartData(def);
+    if (!built) continue;
+    const div = document.createElement('div');
+    div.dataset.chart = def.series[0][0];
+    host.append(div);
+    const chart = new uPlot({
+      title: def.title,
+      width,
+      height: 170,
+      cursor: { sync: { key: 'lab' }, drag: { x: true, y: false } },
+      scales: { x: { time: false } },
+      axes: [{ label: 't [s]', size: 36 }, { size: 56 }],
+      series: built.series,
+      legend: { live: true },
+      plugins: [timeCursor],
+    }, built.data, div);
+    state.charts.push(chart);
+  }
+}
+
+// --- drawing ------------------------------------------------------------------
+
+function nodeDisplacements(run, i) {
+  const u = [];
+  for (let k = 1; k <= run.structure.heights.length; k += 1) {
+    const c = run.history[`node${k}.u`];
+    u.push(c ? c[i] ?? 0 : 0);
+  }
+  return u;
+}
+
+function indexAt(t, times) {
+  let lo = 0;
+  let hi = times.length - 1;
+  while (lo < hi) {
+    const mid = (lo + hi + 1) >> 1;
+    if (times[mid] <= t) lo = mid;
+    else hi = mid - 1;
+  }
+  return lo;
+}
+
+// A rigid block's height: its nodes sit at the middles of equal slices.
+function blockHeight(structure) {
+  const h = structure.heights;
+  return h[h.length - 1] + h[0];
+}
+
+function drawStructure(ctx, run, t, factors, origin, scale, color, label) {
+  const i = indexAt(t, run.history.t);
+  const theta = (run.history.theta ? run.history.theta[i] ?? 0 : 0) * factors.theta;
+  const u = nodeDisplacements(run, i).map((v) => v * factors.u);
+  const p = bodyPoints(run.structure, theta, u, blockHeight(run.structure));
+  const X = (pt) => origin[0] + pt[0] * scale;
+  const Y = (pt) => origin[1] - pt[1] * scale;
+  ctx.strokeStyle = color;
+  ctx.fillStyle = color;
+  ctx.lineWidth = 3;
+  ctx.beginPath();
+  ctx.moveTo(X(p.left), Y(p.left));
+  ctx.lineTo(X(p.right), Y(p.right));
+  ctx.stroke();
+  ctx.lineWidth = run.structure.rigid ? 1.5 : 4;
+  ctx.beginPath();
+  p.axis.forEach((pt, k) => (k === 0 ? ctx.moveTo(X(pt), Y(pt)) : ctx.lineTo(X(pt), Y(pt))));
+  ctx.stroke();
+  if (run.structure.rigid) {  // the block's outline, as tall as twice its centre of mass
+    ctx.lineWidth = 2;
+    ctx.beginPath();
+    [p.left, p.topLeft, p.topRight, p.right].forEach((pt, k) => (k === 0 ? ctx.moveTo(X(pt), Y(pt)) : ctx.lineTo(X(pt), Y(pt))));
+    ctx.stroke();
+  }
+  for (const pt of p.axis.slice(1)) {
+    ctx.beginPath();
+    ctx.arc(X(pt), Y(pt), 4, 0, 2 * Math.PI);
+    ctx.fill();
+  }
+  ctx.font = '13px DejaVu Sans, sans-serif';
+  ctx.fillText(label, X(p.axis[0]) - 40, origin[1] + 20);
+}
+
+function drawFrame() {
+  const run = state.data;
+  if (!run) return;
+  const canvas = $('drawing');
+  const ctx = canvas.getContext('2d');
+  ctx.clearRect(0, 0, canvas.width, canvas.height);
+  const t = Number($('time').value);
+  const runs = [[run, colors.main, 'this run'], [run.twin, colors.twin, 'twin']].filter(([r]) => r);
+  const H = run.structure.heights[run.structure.heights.length - 1] * (run.structure.rigid ? 1.1 : 1);
+  const widthNeeded = runs.length * (4 * run.structure.half_width + 0.6 * H);
+  const scale = Math.min((canvas.height - 50) / (H * 1.15), canvas.width / widthNeeded);
+  ctx.strokeStyle = '#999';
+  ctx.lineWidth = 1;
+  ctx.beginPath();
+  ctx.moveTo(0, canvas.height - 30);
+  ctx.lineTo(canvas.width, canvas.height - 30);
+  ctx.stroke();
+  runs.forEach(([r, color, label], k) => {
+    const x0 = (canvas.width * (k + 0.5)) / runs.length;
+    drawStructure(ctx, r, t, state.factors, [x0, canvas.height - 30], scale, color, label);
+  });
+  $('time-value').textContent = `t = ${t.toFixed(2)} s`;
+  for (const c of state.charts) c.redraw(false, false);
+  drawLoops(t);
+}
+
+function drawLoops(t) {
+  const canvas = $('loop');
+  const ctx = canvas.getContext('2d');
+  ctx.clearRect(0, 0, canvas.width, canvas.height);
+  const runs = [[state.data, colors.main, []], [state.data.twin, colors.twin, [6, 4]]].filter(([r]) => r);
+  const loops = [];
+  for (const [run, color, dash] of runs)
+    for (const d of run.structure.devices) {
+      const e = run.history[`${d.name}.elongation`];
+      const f = run.history[`${d.name}.force`];
+      if (e && f) loops.push({ run, color, dash, name: d.name, e, f });
+    }
+  ctx.font = '12px DejaVu Sans, sans-serif';
+  ctx.fillStyle = '#333';
+  if (loops.length === 0) {
+    ctx.fillText('no devices: no loops', 20, 30);
+    return;
+  }
+  // Each axis spans every loop's values and zero, in mm and kN.
+  const span = (key, factor) => {
+    let lo = 0;
+    let hi = 0;
+    for (const l of loops)
+      for (const v of l[key])
+        if (v !== null) {
+          lo = Math.min(lo, v * factor);
+          hi = Math.max(hi, v * factor);
+        }
+    const pad = 0.05 * (hi - lo || 1);
+    return [lo - pad, hi + pad];
+  };
+  const [e0, e1] = span('e', 1000);
+  const [f0, f1] = span('f', 1e-3);
+  const m = { l: 50, r: 10, t: 22, b: 34 };
+  const w = canvas.width - m.l - m.r;
+  const h = canvas.height - m.t - m.b;
+  const X = (e) => m.l + ((e * 1000 - e0) / (e1 - e0)) * w;
+  const Y = (f) => m.t + h - ((f / 1000 - f0) / (f1 - f0)) * h;
+  ctx.strokeStyle = '#999';
+  ctx.strokeRect(m.l, m.t, w, h);
+  ctx.beginPath();
+  ctx.moveTo(X(0), m.t);
+  ctx.lineTo(X(0), m.t + h);
+  ctx.moveTo(m.l, Y(0));
+  ctx.lineTo(m.l + w, Y(0));
+  ctx.strokeStyle = '#ddd';
+  ctx.stroke();
+  ctx.fillText('devices: force [kN] against elongation [mm]', m.l, 14);
+  ctx.fillText(formatG(e0 + (e1 - e0) / 22, 3), m.l, m.t + h + 14);
+  ctx.fillText(formatG(e1 - (e1 - e0) / 22, 3), m.l + w - 34, m.t + h + 14);
+  ctx.fillText(formatG(f1 - (f1 - f0) / 22, 3), 4, m.t + 10);
+  ctx.fillText(formatG(f0 + (f1 - f0) / 22, 3), 4, m.t + h);
+  ctx.fillText('elongation [mm]', m.l + w / 2 - 40, m.t + h + 28);
+  for (const l of loops) {
+    ctx.strokeStyle = l.color;
+    ctx.setLineDash(l.dash);
+    ctx.lineWidth = 1.2;
+    ctx.beginPath();
+    let pen = false;
+    l.e.forEach((e, k) => {
+      if (e === null || l.f[k] === null) {
+        pen = false;
+        return;
+      }
+      if (pen) ctx.lineTo(X(e), Y(l.f[k]));
+      else ctx.moveTo(X(e), Y(l.f[k]));
+      pen = true;
+    });
+    ctx.stroke();
+    ctx.setLineDash([]);
+    const k = Math.min(indexAt(t, l.run.history.t), l.e.length - 1);
+    if (l.e[k] !== null && l.f[k] !== null && l.run === state.data) {
+      ctx.fillStyle = l.color;
+      ctx.beginPath();
+      ctx.arc(X(l.e[k]), Y(l.f[k]), 3.5, 0, 2 * Math.PI);
+      ctx.fill();
+    }
+  }
+}
+
+// --- summary ------------------------------------------------------------------
+
+function drawSummary() {
+  const run = state.data;
+  const twin = run.twin;
+  $('twin-head').textContent = twin ? `twin: ${twin.variant}` : 'twin';
+  const rows = [];
+  const cell = (text, attrs = {}) => {
+    const td = document.createElement('td');
+    td.textContent = text;
+    Object.assign(td.dataset, attrs);
+    return td;
+  };
+  const add = (label, unit, main, other, key) => {
+    const tr = document.createElement('tr');
+    tr.append(cell(label), cell(unit), cell(main, { peak: key, run: 'main' }), cell(other, { peak: key, run: 'twin' }));
+    rows.push(tr);
+  };
+  const s = run.summary;
+  add('outcome', '', s.outcome, twin ? twin.summary.outcome : '', 'outcome');
+  add('uplifts, impacts', '', `${s.counts.uplifts}, ${s.counts.impacts}`,
+    twin ? `${twin.summary.counts.uplifts}, ${twin.summary.counts.impacts}` : '', 'counts');
+  const names = Object.keys(s.peaks);
+  for (const name of twin ? Object.keys(twin.summary.peaks) : []) if (!names.includes(name)) names.push(name);
+  for (const name of names) {
+    const v = s.peaks[name];
+    const w = twin ? twin.summary.peaks[name] : undefined;
+    add(name, run.structure.units[name] || (twin && twin.structure.units[name]) || '',
+      v === undefined ? '–' : formatG(v, 4), w === undefined ? (twin ? '–' : '') : formatG(w, 4), name);
+  }
+  $('summary').tBodies[0].replaceChildren(...rows);
+}
+
+function drawAll() {
+  const run = state.data;
+  const all = [run, run.twin].filter(Boolean);
+  const H = run.structure.heights[run.structure.heights.length - 1];
+  const peakTheta = Math.max(...all.map((r) => peakOf(r.history.theta)));
+  const peakU = Math.max(...all.map((r) => peakOf(r.history[`node${r.structure.heights.length}.u`])));
+  state.factors = exaggeration(peakTheta, peakU, H);
+  $('factors').textContent = `drawn: rocking angle ×${state.factors.theta}, bending ×${state.factors.u}`;
+  const tEnd = run.history.t[run.history.t.length - 1];
+  $('time').max = tEnd;
+  $('time').step = tEnd / 1000;
+  if (Number($('time').value) > tEnd) $('time').value = 0;
+  let t = performance.now();
+  drawCharts();
+  state.timing.charts = performance.now() - t;
+  t = performance.now();
+  drawSummary();
+  state.timing.summary = performance.now() - t;
+  t = performance.now();
+  drawFrame();
+  state.timing.frame = performance.now() - t;
+}
+
+// --- playing ------------------------------------------------------------------
+
+let last = null;
+function tick(now) {
+  if (!state.playing) return;
+  if (last !== null) {
+    const tEnd = Number($('time').max);
+    let t = Number($('time').value) + (now - last) / 1000;
+    if (t > tEnd) t = 0;
+    $('time').value = t;
+    drawFrame();
+  }
+  last = now;
+  requestAnimationFrame(tick);
+}
+
+function play(on) {
+  state.playing = on;
+  $('play').textContent = on ? '❚❚ pause' : '▶ play';
+  last = null;
+  if (on) requestAnimationFrame(tick);
+}
+
+// --- set-up -------------------------------------------------------------------
+
+function applyLesson(n) {
+  const lesson = lessons[n];
+  const text = $('lesson-text');
+  if (!lesson) {
+    text.hidden = true;
+    return;
+  }
+  const c = { record: '', scale: 1, compare: '', extra: '', ...lesson.controls };
+  $('scene').value = c.scene;
+  $('record').value = c.record;
+  $('scale').value = c.scale;
+  $('dampers').checked = true;
+  $('thickness').value = 1;
+  $('prestress').value = 1;
+  $('own-restitution').checked = true;
+  fitControls();
+  $('compare').value = c.compare;
+  $('extra').value = c.extra.split(' ').join('\n');
+  const h = document.createElement('h2');
+  h.textContent = lesson.title;
+  const p = document.createElement('p');
+  p.textContent = lesson.text;
+  text.replaceChildren(h, p);
+  text.hidden = false;
+}
+
+async function start() {
+  try {
+    const [scenes, records] = await Promise.all([fetch('/api/scenes').then((r) => r.json()),
+      fetch('/api/records').then((r) => r.json())]);
+    state.scenes = scenes.filter((s) => s.usable);
+    state.records = records.filter((r) => !r.error);
+  } catch (e) {
+    showError(`the lab's server did not answer (${e.message})`);
+    setStatus('no server', 'error');
+    return;
+  }
+  $('scene').replaceChildren(...state.scenes.map((s) => new Option(s.name === s.id ? s.id : `${s.name} (${s.id})`, s.id)));
+  $('scene').value = 'christchurch_chimney';
+  $('record').replaceChildren(new Option("the scene's own", ''), ...pulses.map((p) => new Option(p.label, p.value)),
+    ...state.records.map((r) => new Option(r.name, r.id)));
+  lessons.forEach((l, k) => $('lesson').append(new Option(l.title, String(k))));
+  const n = new URLSearchParams(location.search).get('lesson');
+  if (n !== null && lessons[Number(n)]) {
+    $('lesson').value = n;
+    applyLesson(Number(n));
+  }
+  fitControls();
+  // Sliders, boxes and lists re-run as they move; the overrides once typed (on leaving the field).
+  $('controls').addEventListener('input', (e) => {
+    if (e.target.tagName !== 'TEXTAREA') rerun();
+  });
+  $('extra').addEventListener('change', () => rerun());
+  $('controls').addEventListener('submit', (e) => e.preventDefault());
+  $('lesson').addEventListener('change', () => {
+    const k = $('lesson').value;
+    history.replaceState(null, '', k === '' ? location.pathname : `?lesson=${k}`);
+    if (k !== '') applyLesson(Number(k));
+    else $('lesson-text').hidden = true;
+    rerun();
+  });
+  $('time').addEventListener('input', () => drawFrame());
+  $('play').addEventListener('click', () => play(!state.playing));
+  window.addEventListener('resize', () => state.data && drawCharts());
+  await rerun();
+}
+
+start();

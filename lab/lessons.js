@@ -1,0 +1,72 @@
+// The seven lessons of docs/teaching.md as guided pages of the lab: each sets
+// the controls (scene, record, scale, twin, overrides) and says what to look
+// for. Opened as index.html?lesson=N. Controls not named keep their defaults.
+
+const elcentro = 'elcentro_1940_ns.at2';
+const papanui = 'christchurch2011_pphs_s57e.at2';
+
+export const lessons = [
+  {
+    title: '0. A rigid block, tilted and let go',
+    controls: { scene: 'rigid_block', record: '', scale: 1, extra: 'excitation.kind=none initial.theta=0.134' },
+    text:
+      'No earthquake: the block (0.4 m wide, 1.5 m tall) is tilted to half its slenderness and released. ' +
+      'Watch the rocking angle: each impact takes a fixed share of the energy, and each swing is shorter than ' +
+      'the last. Unlike a pendulum, a rocking block has no period of its own. Try the restitution slider: ' +
+      'r = 1 would rock for ever.',
+  },
+  {
+    title: '1. Rocking caps the base moment a fixed base would carry',
+    controls: { scene: 'christchurch_chimney', record: elcentro, scale: 3, compare: 'fixed-base' },
+    text:
+      'The chimney under El Centro, three times as strong as recorded, beside the same chimney on a fixed base ' +
+      '(dashed). Look at the base moment: on a fixed base it reaches about 11 M_ref; rocking, it stays near ' +
+      '1.7 M_ref, because the base cannot carry more than the weight can hold down. Move the scale: the ' +
+      'fixed-base moment grows with it, the rocking one hardly does.',
+  },
+  {
+    title: '2. The price: larger total displacements',
+    controls: { scene: 'christchurch_chimney', record: elcentro, scale: 3, compare: 'fixed-base' },
+    text:
+      'The same pair. Look at the drift panel: the rocking chimney\u2019s top moves more (total drift) because ' +
+      'the whole body tilts, even though it bends less (elastic drift). A rocking structure trades force for ' +
+      'displacement: leave room around it, and keep it from tipping over.',
+  },
+  {
+    title: '3. The damper controls rotation, and only for large motions',
+    controls: { scene: 'christchurch_chimney', record: papanui, scale: 1, compare: 'no-damper' },
+    text:
+      'The Papanui record of 22 February 2011, with and without the dampers (dashed). As recorded, the two ' +
+      'rocking angles are nearly the same. Move the scale to 3: the damper cuts the rotation by about four, ' +
+      'while the base moment hardly changes. Watch the damper loops grow: it dissipates energy, it does not ' +
+      'stiffen the base. Try the thickness slider.',
+  },
+  {
+    title: '4. A flexible rocking structure can excite its higher modes',
+    controls: {
+      scene: 'christchurch_chimney', record: papanui, scale: 2, compare: 'fixed-base', extra: 'structure.EI_scale=0.25',
+    },
+    text:
+      'The chimney at a quarter of its stiffness. Each impact is a sudden change of velocity that sets the ' +
+      'structure\u2019s own modes ringing: watch the bending in the drawing right after an impact. Change ' +
+      'EI_scale in the overrides (0.25, 0.5, 1, 2) and compare the elastic drift.',
+  },
+  {
+    title: '5. Size matters: the larger block survives',
+    controls: { scene: 'rigid_block', record: '', scale: 3, extra: 'excitation.period=0.5' },
+    text:
+      'The rigid block under a one-sine pulse three times its default strength (1.2 g, 0.5 s): it overturns. ' +
+      'Now make the block four times larger, same shape: replace the overrides with ' +
+      'structure.half_width=0.8 structure.heights=[0.5,1.5,2.5,3.5,4.5,5.5] excitation.period=0.5. ' +
+      'The same pulse leaves it standing: Housner\u2019s size effect.',
+  },
+  {
+    title: '6. Self-centring: a tendon re-centres, dampers dissipate',
+    controls: { scene: 'controlled_rocking_wall', record: '', scale: 1, compare: 'without:tendon' },
+    text:
+      'A post-tensioned controlled-rocking wall under a 0.9 g pulse, beside the same wall without its tendon ' +
+      '(dashed). The tendon more than halves the peak rotation and pulls the wall back to theta = 0. Move ' +
+      'the prestress slider, switch the dampers off, and watch the devices\u2019 loops: tendon and dampers ' +
+      'together draw the flag shape of controlled rocking.',
+  },
+];

@@ -1,0 +1,203 @@
+// The lab in a real browser: Debian's headless Chromium driven through the
+// DevTools protocol (puppeteer-core). Starts `rocking serve` on a free port,
+// loads the lab, checks there are no console errors, moves the
+// damper-thickness slider as a user would (arrow keys) and checks that the
+// rocking-angle trace and the summary change and equal the same run made by
+// `rocking simulate --json` (the summary to the digits shown, the trace to
+// the six digits sent), switches compare mode on, opens every lesson, and
+// saves a screenshot. Reports the page's re-run-and-redraw time.
+//
+//   ROCKING_BIN=build/bin/rocking node lab/tests/browser.test.mjs
+// Environment: ROCKING_RECORDS (the records), ROCKING_LAB_SCREENSHOT (where
+// the screenshot goes; default build/lab/lab.png), ROCKING_LAB_MOVES (slider
+// moves timed, default 8; `make bench` asks for more), CI=true (a missing
+// browser or record is a failure, not a skip).
+import assert from 'node:assert/strict';
+import { spawn, execFileSync } from 'node:child_process';
+import { existsSync, mkdirSync, mkdtempSync, readFileSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { dirname, join, resolve } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { formatG } from '../format.js';
+import { lessons } from '../lessons.js';
+
+const here = dirname(fileURLToPath(import.meta.url));
+const repo = resolve(here, '..', '..');
+const bin = process.env.ROCKING_BIN || join(repo, 'build', 'bin', 'rocking');
+const records = process.env.ROCKING_RECORDS || join(repo, '..', 'shared', 'data', 'records');
+const chromium = '/usr/bin/chromium';
+const screenshot = process.env.ROCKING_LAB_SCREENSHOT || join(repo, 'build', 'lab', 'lab.png');
+const moves = Number(process.env.ROCKING_LAB_MOVES || 8);
+const record = 'elcentro_1940_ns.at2';
+
+function skipOrFail(why) {
+  if (process.env.CI === 'true') {
+    console.error(`browser test: ${why}`);
+    process.exit(1);
+  }
+  console.error(`browser test SKIPPED: ${why}`);
+  process.exit(77);
+}
+if (!existsSync(chromium)) skipOrFail(`${chromium} is missing (scripts/setup.sh installs Debian's chromium)`);
+if (!existsSync(join(records, record))) skipOrFail(`${join(records, record)} is missing (set ROCKING_RECORDS)`);
+const puppeteer = (await import('puppeteer-core')).default;
+
+// The server, on a free port it prints.
+function startServer() {
+  const server = spawn(bin, ['serve', '--port', '0', '--records', records], { stdio: ['ignore', 'pipe', 'pipe'] });
+  let err = '';
+  server.stderr.on('data', (d) => { err += d; });
+  return new Promise((ok, fail) => {
+    let out = '';
+    server.stdout.on('data', (d) => {
+      out += d;
+      const m = out.match(/http:\/\/127\.0\.0\.1:(\d+)\//);
+      if (m) ok({ server, url: m[0] });
+    });
+    server.on('exit', (code) => fail(new Error(`rocking serve exited (${code}): ${err}`)));
+  });
+}
+
+// The same run by the command line: its summary and its history.
+function commandLine(set) {
+  const dir = mkdtempSync(join(tmpdir(), 'lab-cli-'));
+  const args = ['simulate', '--record', join(records, record), '--scale', '3', '--every', '0.02', '--json',
+    '--history', 't,theta_over_alpha', '--out', dir, ...set.flatMap((s) => ['--set', s])];
+  const summary = JSON.parse(execFileSync(bin, args, { stdio: ['ignore', 'pipe', 'ignore'] }).toString());
+  const lines = readFileSync(join(dir, 'history.csv'), 'utf8').trim().split('\n');
+  const header = lines[0].split(',');
+  const column = header.findIndex((h) => h.startsWith('theta_over_alpha'));
+  const theta = lines.slice(1).map((l) => Number(l.split(',')[column]));
+  rmSync(dir, { recursive: true });
+  return { summary, theta };
+}
+
+const settled = (page, runs) => page.waitForFunction(
+  (n) => window.lab && window.lab.runs > n && !window.lab.busy, { timeout: 30000 }, runs);
+const runsOf = (page) => page.evaluate(() => window.lab.runs);
+
+// The summary cells the page shows for the main run: {peak: text}.
+const shownPeaks = (page) => page.evaluate(() => Object.fromEntries(
+  [...document.querySelectorAll('td[data-run="main"]')].map((td) => [td.dataset.peak, td.textContent])));
+
+const { server, url } = await startServer();
+const browser = await puppeteer.launch({
+  executablePath: chromium,
+  headless: true,
+  args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage'],
+});
+const failures = [];
+try {
+  const page = await browser.newPage();
+  await page.setViewport({ width: 1280, height: 1000 });
+  const consoleErrors = [];
+  page.on('console', (m) => { if (m.type() === 'error') consoleErrors.push(m.text()); });
+  page.on('pageerror', (e) => consoleErrors.push(String(e)));
+
+  await page.goto(url, { waitUntil: 'load' });
+  await settled(page, 0);
+  assert.equal(await page.$eval('#error', (e) => e.hidden), true, 'the first run shows no error');
+
+  // El Centro x3, then the damper thickness moved from 1 to 1.5 by ten presses of the right arrow.
+  let n = await runsOf(page);
+  await page.select('#record', record);
+  await settled(page, n);
+  n = await runsOf(page);
+  await page.$eval('#scale', (e) => { e.value = '3'; e.dispatchEvent(new Event('input', { bubbles: true })); });
+  await settled(page, n);
+  const before = { peaks: await shownPeaks(page), theta: await page.evaluate(() => window.lab.data.history.theta_over_alpha) };
+  const request0 = await page.evaluate(() => window.lab.request);
+  assert.deepEqual(request0.set, [], 'thickness 1 asks for no override');
+  n = await runsOf(page);
+  await page.focus('#thickness');
+  for (let k = 0; k < 10; k += 1) await page.keyboard.press('ArrowRight');
+  await settled(page, n);
+  const thickness = await page.$eval('#thickness', (e) => e.value);
+  assert.equal(thickness, '1.5', 'ten steps of 0.05 from 1');
+  const after = { peaks: await shownPeaks(page), theta: await page.evaluate(() => window.lab.data.history.theta_over_alpha) };
+  const request = await page.evaluate(() => window.lab.request);
+  assert.deepEqual(request.set, ['damper.thickness=1.5']);
+  assert.notEqual(after.peaks.theta_over_alpha, before.peaks.theta_over_alpha, 'the peak rocking angle changed');
+  assert.ok(after.theta.some((v, i) => v !== before.theta[i]), 'the rocking-angle trace changed');
+
+  const cli = commandLine(['damper.thickness=1.5']);
+  for (const [name, value] of Object.entries(cli.summary.peaks))
+    assert.equal(after.peaks[name], formatG(value, 4), `peak ${name}: the page shows the command line's ${value}`);
+  assert.equal(after.peaks.outcome, cli.summary.outcome);
+  assert.equal(after.peaks.counts, `${cli.summary.counts.uplifts}, ${cli.summary.counts.impacts}`);
+  assert.equal(after.theta.length, cli.theta.length, 'the trace has the command line history\'s rows');
+  after.theta.forEach((v, i) => assert.ok(Math.abs(v - cli.theta[i]) <= 5e-6 * Math.abs(cli.theta[i]) + 1e-12,
+    `theta/alpha at row ${i}: page ${v}, command line ${cli.theta[i]}`));
+
+  // Redraw time: further slider moves, each waited for.
+  const times = [];
+  for (let k = 0; k < moves; k += 1) {
+    n = await runsOf(page);
+    await page.keyboard.press(k % 2 ? 'ArrowRight' : 'ArrowLeft');
+    await settled(page, n);
+    times.push(await page.evaluate(() => window.lab.redrawMs));
+  }
+  times.sort((a, b) => a - b);
+  console.log(`lab redraw (chimney, El Centro x3, a slider move to the traces redrawn), ${moves} moves: ` +
+    `min ${times[0].toFixed(1)} ms, median ${times[Math.floor(times.length / 2)].toFixed(1)} ms, ` +
+    `max ${times[times.length - 1].toFixed(1)} ms`);
+
+  // Compare mode: the fixed-base twin beside it.
+  n = await runsOf(page);
+  await page.select('#compare', 'fixed-base');
+  await settled(page, n);
+  const twin = await page.evaluate(() => ({
+    variant: window.lab.data.twin && window.lab.data.twin.variant,
+    cells: [...document.querySelectorAll('td[data-run="twin"]')].map((td) => td.textContent).filter((t) => t && t !== '–'),
+    legends: [...document.querySelectorAll('.u-legend .u-label')].map((e) => e.textContent),
+  }));
+  assert.equal(twin.variant, 'fixed-base');
+  assert.ok(twin.cells.length >= 5, 'the twin\'s summary is shown');
+  assert.ok(twin.legends.some((l) => l.includes('(twin)')), 'the traces show the twin');
+  // The screenshot at the main run's peak rocking angle: the structures drawn rocking and bent.
+  await page.evaluate(() => {
+    const h = window.lab.data.history;
+    let k = 0;
+    h.theta.forEach((v, i) => { if (Math.abs(v) > Math.abs(h.theta[k])) k = i; });
+    const time = document.querySelector('#time');
+    time.value = h.t[k];
+    time.dispatchEvent(new Event('input', { bubbles: true }));
+  });
+  mkdirSync(dirname(screenshot), { recursive: true });
+  await page.screenshot({ path: screenshot, fullPage: true });
+  console.log(`wrote ${screenshot}`);
+
+  // Bad input from the page: the server's one line, shown.
+  n = await runsOf(page);
+  await page.$eval('#extra', (e) => { e.value = 'structure.EI_scale=-1'; e.dispatchEvent(new Event('change', { bubbles: true })); });
+  await page.waitForFunction(() => !document.querySelector('#error').hidden, { timeout: 30000 });
+  const message = await page.$eval('#error', (e) => e.textContent);
+  assert.match(message, /EI_scale/, 'the error names the key');
+  assert.ok(!message.includes('\n'), 'in one line');
+
+  // Every lesson opens, runs and shows no error.
+  for (let k = 0; k < lessons.length; k += 1) {
+    await page.goto(`${url}?lesson=${k}`, { waitUntil: 'load' });
+    await settled(page, 0);
+    const shown = await page.evaluate(() => ({
+      error: document.querySelector('#error').hidden ? '' : document.querySelector('#error').textContent,
+      title: document.querySelector('#lesson-text h2') && document.querySelector('#lesson-text h2').textContent,
+      twin: Boolean(window.lab.data.twin),
+    }));
+    assert.equal(shown.error, '', `lesson ${k}: no error`);
+    assert.equal(shown.title, lessons[k].title);
+    assert.equal(shown.twin, Boolean(lessons[k].controls.compare), `lesson ${k}: its twin`);
+  }
+  consoleErrors.splice(0, consoleErrors.length, ...consoleErrors.filter((e) => !e.includes('status of 400')));
+  assert.deepEqual(consoleErrors, [], 'no console errors');
+} catch (e) {
+  failures.push(e);
+} finally {
+  await browser.close();
+  server.kill('SIGINT');
+}
+if (failures.length > 0) {
+  console.error(`browser test FAILED: ${failures[0].stack || failures[0]}`);
+  process.exit(1);
+}
+console.log('browser test passed');

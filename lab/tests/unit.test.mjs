@@ -1,0 +1,87 @@
+// Unit tests of the lab's pure parts (node --test lab/tests/unit.test.mjs).
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { execFileSync } from 'node:child_process';
+import { existsSync, readdirSync } from 'node:fs';
+import { dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { formatG, buildRequest, twinChoices, exaggeration, bodyPoints, splitOverrides } from '../format.js';
+import { lessons } from '../lessons.js';
+
+const here = dirname(fileURLToPath(import.meta.url));
+const repo = join(here, '..', '..');
+
+test('formatG prints as C printf %.4g does', () => {
+  // Checked against printf itself (which reads long doubles: no case here sits on a double's rounding edge),
+  // so the page shows the digits the command line's fmt {:.4g} prints.
+  const cases = [0, 1, -1, 1.7, 0.000123456, 0.0000123456, 12345.6, 1234.56, 99999, 0.99996, 1e-5, 3.14159e10,
+    -2.5e-7, 100, 0.1, 6.02e23, 1e-4, 9.99951];
+  const format = `${cases.map(() => '%.4g').join('\n')}\n`;
+  const printf = execFileSync('printf', [format, ...cases.map(String)]).toString().trim().split('\n');
+  cases.forEach((v, i) => assert.equal(formatG(v, 4), printf[i], `formatG(${v})`));
+  assert.equal(formatG(null), 'n/a');
+  assert.equal(formatG(Infinity), 'inf');
+});
+
+const chimney = { id: 'christchurch_chimney', damper: true, rigid: false, devices: [] };
+const wall = {
+  id: 'controlled_rocking_wall', damper: false, rigid: false,
+  devices: [{ index: 0, name: 'tendon', law: 'elastic', P0: 2.6e6 }, { index: 1, name: 'dampers', law: 'bouc-wen', P0: null }],
+};
+const defaults = { scene: 'christchurch_chimney', record: '', scale: 1, dampers: true, thickness: 1, prestress: 1, restitution: null, compare: '', extra: '' };
+
+test('the controls become --set texts', () => {
+  assert.deepEqual(buildRequest(defaults, chimney), { scene: 'christchurch_chimney', scale: 1, set: [] });
+  assert.deepEqual(buildRequest({ ...defaults, thickness: 1.5, record: 'elcentro_1940_ns.at2', compare: 'fixed-base' }, chimney).set,
+    ['damper.thickness=1.5']);
+  assert.deepEqual(buildRequest({ ...defaults, dampers: false, thickness: 2 }, chimney).set, ['damper.enabled=false']);
+  assert.deepEqual(buildRequest({ ...defaults, scene: wall.id, dampers: false, prestress: 0.5 }, wall).set,
+    ['device-=dampers', 'device[0].P0=1300000']);
+  assert.deepEqual(buildRequest({ ...defaults, restitution: 0.9, extra: 'structure.EI_scale=0.5\n initial.theta=0.1 ' }, chimney).set,
+    ['contact.restitution=0.9', 'structure.EI_scale=0.5', 'initial.theta=0.1']);
+  assert.equal(buildRequest({ ...defaults, compare: 'no-damper' }, chimney).compare, 'no-damper');
+  const ricker = buildRequest({ ...defaults, record: 'pulse:ricker', amplitude: 0.5, period: 1.2 }, chimney);
+  assert.deepEqual(ricker.set, ['excitation.kind=pulse', 'excitation.pulse=ricker', 'excitation.amplitude_g=0.5', 'excitation.period=1.2']);
+  assert.equal(ricker.record, undefined, 'a pulse is the scene\'s excitation, not a record');
+  assert.deepEqual(splitOverrides(''), []);
+});
+
+test('twins are the variants the scene has', () => {
+  assert.deepEqual(twinChoices(chimney).map((c) => c.value), ['', 'fixed-base', 'no-damper']);
+  assert.deepEqual(twinChoices(wall).map((c) => c.value), ['', 'fixed-base', 'without:tendon', 'without:dampers', 'no-devices']);
+  assert.deepEqual(twinChoices({ rigid: true, damper: false, devices: [] }).map((c) => c.value), ['']);
+});
+
+test('exaggeration draws the peaks at a visible size, never below true size', () => {
+  const f = exaggeration(0.001, 0.01, 33);
+  assert.ok(f.theta * 0.001 >= 0.05 && f.theta * 0.001 <= 0.12, `theta x${f.theta}`);
+  assert.ok(f.u * 0.01 >= 0.4 * 0.04 * 33 && f.u * 0.01 <= 0.04 * 33, `u x${f.u}`);
+  assert.deepEqual(exaggeration(0.5, 10, 33), { theta: 1, u: 1 });
+  assert.deepEqual(exaggeration(0, 0, 33), { theta: 1, u: 1 });
+});
+
+test('the body rotates about the pivot on its side, which stays put', () => {
+  const s = { half_width: 2, heights: [10] };
+  const right = bodyPoints(s, 0.1, [0], 10);
+  assert.deepEqual(right.right, [2, 0]);  // the right corner is the pivot
+  assert.ok(right.left[1] > 0);           // the left corner lifts
+  assert.ok(Math.abs(Math.hypot(right.left[0] - 2, right.left[1]) - 4) < 1e-12);  // rigidly
+  assert.ok(right.axis[1][0] > 0);        // the top moves right
+  const left = bodyPoints(s, -0.1, [0], 10);
+  assert.deepEqual(left.left, [-2, 0]);
+  assert.ok(left.right[1] > 0 && left.axis[1][0] < 0);
+  const bent = bodyPoints(s, 0, [0.3]);
+  assert.deepEqual(bent.axis[1], [0.3, 10]);
+});
+
+test('every lesson names a scene and a record the lab has', () => {
+  assert.equal(lessons.length, 7);
+  const scenes = readdirSync(join(repo, 'data', 'scenes')).map((f) => f.replace(/\.toml$/, ''));
+  const records = process.env.ROCKING_RECORDS || join(repo, '..', 'shared', 'data', 'records');
+  for (const l of lessons) {
+    assert.ok(scenes.includes(l.controls.scene), `${l.title}: scene ${l.controls.scene}`);
+    if (l.controls.record && existsSync(records))
+      assert.ok(existsSync(join(records, l.controls.record)), `${l.title}: record ${l.controls.record}`);
+    assert.ok(l.text.length > 100, `${l.title} says what to look for`);
+  }
+});

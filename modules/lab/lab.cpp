@@ -1,0 +1,472 @@
+module;
+#include <rocking/eigen.hpp>
+#include <nlohmann/json.hpp>
+#include <fmt/format.h>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <initializer_list>
+#include <iterator>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <variant>
+#include <vector>
+module rocking.lab;
+import rocking.errors;
+
+namespace rocking {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr std::string_view default_scene = "christchurch_chimney";
+
+// JSON text, any invalid UTF-8 (a record's header, a cut name) replaced.
+std::string text(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
+
+// The files under `dir` whose name passes `keep`, by their path relative to
+// it (forward slashes), sorted; none when the folder is missing.
+template <class Keep>
+std::vector<std::pair<std::string, std::string>> files_under(const fs::path& dir, Keep keep) {
+  std::vector<std::pair<std::string, std::string>> out;
+  std::error_code ec;
+  if (dir.empty() || !fs::is_directory(dir, ec)) return out;
+  for (auto it = fs::recursive_directory_iterator(dir, fs::directory_options::skip_permission_denied, ec);
+       !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    if (!it->is_regular_file(ec) || !keep(it->path())) continue;
+    out.emplace_back(it->path().lexically_relative(dir).generic_string(), it->path().string());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// The request is an object whose keys are all known to the endpoint.
+void check_keys(const json& r, std::string_view endpoint, std::initializer_list<std::string_view> known) {
+  if (!r.is_object()) throw InputError(fmt::format("{}: the request must be a JSON object", endpoint));
+  for (const auto& [key, value] : r.items())
+    if (std::find(known.begin(), known.end(), key) == known.end())
+      throw InputError(fmt::format("{}: unknown key '{}' (known: {})", endpoint, key.substr(0, 40),
+                                   fmt::join(known, ", ")));
+}
+
+// The key's value: a string (absent or null: `fallback`).
+std::string text_of(const json& r, const char* key, std::string fallback = {}) {
+  const auto it = r.find(key);
+  if (it == r.end() || it->is_null()) return fallback;
+  if (!it->is_string()) throw InputError(fmt::format("{}: must be a string", key));
+  std::string s = it->get<std::string>();
+  if (s.size() > 256) throw InputError(fmt::format("{}: {} characters (at most 256)", key, s.size()));
+  return s;
+}
+
+std::optional<double> number_of(const json& r, const char* key) {
+  const auto it = r.find(key);
+  if (it == r.end() || it->is_null()) return std::nullopt;
+  if (!it->is_number()) throw InputError(fmt::format("{}: must be a number", key));
+  const double v = it->get<double>();
+  if (!std::isfinite(v)) throw InputError(fmt::format("{}: must be a finite number", key));
+  return v;
+}
+
+// "set": the scene's overrides exactly as --set takes them ("damper.thickness=1.5").
+std::vector<std::string> overrides_of(const json& r, std::size_t limit) {
+  const auto it = r.find("set");
+  if (it == r.end() || it->is_null()) return {};
+  if (!it->is_array()) throw InputError("set: must be a list of TABLE.KEY=VALUE texts, as --set takes them");
+  if (it->size() > limit) throw InputError(fmt::format("set: {} overrides (at most {})", it->size(), limit));
+  std::vector<std::string> out;
+  for (const json& o : *it) {
+    if (!o.is_string()) throw InputError("set: every item must be a TABLE.KEY=VALUE text, as --set takes it");
+    std::string s = o.get<std::string>();
+    if (s.size() > 256) throw InputError(fmt::format("set: an override of {} characters (at most 256)", s.size()));
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+// The history the page draws: time, the ground, the rocking angle, the
+// drifts and base moment, each node's elastic displacement (to draw the
+// structure bent) and each device's elongation and force (its loop).
+std::vector<std::string> lab_columns(const ContactModel& model) {
+  static constexpr std::string_view wanted[] = {"t",       "phase",   "a_g",         "a_v",  "theta", "theta_over_alpha",
+                                                "delta_t", "delta_e", "base_moment", "M_dev"};
+  const std::vector<std::string> all = history_columns(model).names();
+  std::vector<std::string> out;
+  for (std::string_view w : wanted)
+    if (std::find(all.begin(), all.end(), w) != all.end()) out.emplace_back(w);
+  if (!model.body.structure.rigid)
+    for (Eigen::Index k = 1; k <= model.body.structure.heights.size(); ++k) out.push_back(fmt::format("node{}.u", k));
+  for (const std::string& n : all)
+    if (n.find('.') != std::string::npos) out.push_back(n);  // the devices' columns
+  return out;
+}
+
+// Keeps the history's columns in memory.
+class Columns : public HistoryObserver {
+ public:
+  Columns(const ContactModel& model, HistoryColumns layout) : HistoryObserver(model, std::move(layout)) {
+    values.resize(columns().size());
+  }
+  std::vector<std::vector<double>> values;
+
+ protected:
+  void row(const Response&, const std::vector<double>& v) override {
+    for (std::size_t i = 0; i < v.size(); ++i) values[i].push_back(v[i]);
+  }
+};
+
+// {"name": [v, ...], ...} with six significant digits (null where NaN: a broken device).
+void append_history(std::string& out, const std::vector<std::string>& names,
+                    const std::vector<std::vector<double>>& values) {
+  out += '{';
+  for (std::size_t c = 0; c < names.size(); ++c) {
+    if (c > 0) out += ',';
+    out += text(json(names[c]));
+    out += ":[";
+    bool first = true;
+    for (double v : values[c]) {
+      if (!first) out += ',';
+      first = false;
+      if (std::isfinite(v)) fmt::format_to(std::back_inserter(out), "{:.6g}", v);
+      else out += "null";
+    }
+    out += ']';
+  }
+  out += '}';
+}
+
+// What the page draws the structure from.
+json structure_json(const Scene& scene, const ContactModel& model) {
+  json devices = json::array();
+  for (const Device& d : scene_devices(scene))
+    devices.push_back({{"name", d.name},
+                       {"law", law_name(d.law)},
+                       {"x", d.geometry.x},
+                       {"vertical", d.geometry.kinematics == Kinematics::vertical},
+                       {"free_length", d.geometry.free_length}});
+  json units = json::object();
+  for (const QuantityRow& q : quantity_rows(model)) units[q.name] = q.unit;
+  const Structure& s = model.body.structure;
+  return {{"name", scene.name},
+          {"units", units},
+          {"rigid", s.rigid},
+          {"rocking", scene.contact.rocking},
+          {"half_width", s.half_width},
+          {"heights", std::vector<double>(s.heights.data(), s.heights.data() + s.heights.size())},
+          {"devices", devices}};
+}
+
+struct Ran {
+  RunResult result;
+  RunLabel label;
+  std::vector<std::string> names;
+  std::vector<std::vector<double>> values;
+};
+
+// A deadline for a request's runs: RunOptions::stop, and the error it ends them with.
+struct Deadline {
+  std::chrono::steady_clock::time_point at;
+  explicit Deadline(double seconds)
+      : at(std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                  std::chrono::duration<double>(seconds))) {}
+  bool passed() const { return std::chrono::steady_clock::now() > at; }
+};
+
+void check_result(const RunResult& r, const Deadline& deadline, const LabLimits& limits) {
+  if (r.outcome != Outcome::failed) return;
+  if (deadline.passed())
+    throw RunError(fmt::format("the runs took more than {:g} s of computing (stopped at t = {:.3g} s): ask for "
+                               "less (a shorter duration, fewer nodes, fewer levels)",
+                               limits.seconds, r.t_end));
+  throw RunError(r.failure);
+}
+
+Ran run_once(const RunSpec& spec, const LabLimits& limits, const Deadline& deadline) {
+  PreparedRun prepared = prepare_run(spec);
+  prepared.options.stop = [&deadline] { return deadline.passed(); };
+  const double duration = prepared.options.duration > 0 ? prepared.options.duration : prepared.motion.duration();
+  if (duration > limits.duration)
+    throw InputError(fmt::format("duration: {:g} s to simulate (at most {:g} s here; give a shorter duration)",
+                                 duration, limits.duration));
+  if (duration / prepared.options.output_interval > static_cast<double>(limits.history_rows))
+    throw InputError(fmt::format("every {:g}: {:.0f} rows of history (at most {} here; choose a larger interval)",
+                                 prepared.options.output_interval, duration / prepared.options.output_interval,
+                                 limits.history_rows));
+  Columns columns(prepared.model, prepared.columns);
+  RunResult result = simulate(prepared.model, prepared.motion, prepared.options, &columns);
+  check_result(result, deadline, limits);
+  return {std::move(result), prepared.label, columns.columns().names(), std::move(columns.values)};
+}
+
+}  // namespace
+
+Lab::Lab(LabFolders folders, LabLimits limits) : folders_(std::move(folders)), limits_(limits) {
+  for (auto& [id, path] : files_under(folders_.scenes, [](const fs::path& p) { return p.extension() == ".toml"; }))
+    scenes_.push_back({id.substr(0, id.size() - 5), path});
+  static constexpr std::string_view not_records[] = {".md", ".txt", ".json", ".toml", ".py", ".sh"};
+  for (auto& [id, path] : files_under(folders_.records, [](const fs::path& p) {
+         const std::string ext = lower(p.extension().string());
+         return std::find(std::begin(not_records), std::end(not_records), ext) == std::end(not_records) &&
+                !p.filename().string().starts_with(".");
+       }))
+    records_.push_back({id, path});
+}
+
+const Lab::SceneEntry& Lab::scene_entry(const json& r) const {
+  const std::string id = text_of(r, "scene", std::string(default_scene));
+  for (const SceneEntry& e : scenes_)
+    if (e.id == id) return e;
+  throw InputError(fmt::format("scene '{}': not one of the lab's scenes (GET /api/scenes lists them)", id));
+}
+
+Scene Lab::scene_of(const json& r, const std::vector<std::string>& overrides) const {
+  Scene scene = load_scene(scene_entry(r).path, overrides);
+  const auto nodes = static_cast<std::size_t>(scene.structure.heights.size());
+  if (nodes > limits_.nodes)
+    throw InputError(fmt::format("scene '{}': {} nodes (at most {} here)", scene.name, nodes, limits_.nodes));
+  return scene;
+}
+
+std::string Lab::record_path(const std::string& id) const {
+  for (const RecordEntry& e : records_)
+    if (e.id == id) return e.path;
+  throw InputError(fmt::format("record '{}': not one of the lab's records (GET /api/records lists them)", id));
+}
+
+std::shared_ptr<const GroundMotion> Lab::motion(const std::string& id, const std::string& component) const {
+  const std::string path = record_path(id);
+  const std::string key = id + '\n' + component;
+  {
+    const std::lock_guard lock(mutex_);
+    if (const auto it = motions_.find(key); it != motions_.end()) return it->second;
+  }
+  RecordOptions ro;
+  ro.component = component;
+  auto m = std::make_shared<const GroundMotion>(read_record(path, ro));
+  const std::lock_guard lock(mutex_);
+  return motions_.emplace(key, std::move(m)).first->second;
+}
+
+json Lab::scenes() const {
+  json out = json::array();
+  for (const SceneEntry& e : scenes_) {
+    json item{{"id", e.id}};
+    try {
+      const Scene s = load_scene(e.path);
+      json devices = json::array();
+      for (std::size_t i = 0; i < s.devices.size(); ++i) {
+        const Device& d = s.devices[i];
+        const auto* elastic = std::get_if<ElasticLaw>(&d.law);
+        devices.push_back({{"index", i}, {"name", d.name}, {"law", law_name(d.law)},
+                           {"P0", elastic ? json(elastic->P0) : json(nullptr)}});
+      }
+      item.update({{"name", s.name},
+                   {"description", s.description},
+                   {"rigid", s.structure.rigid},
+                   {"nodes", s.structure.heights.size()},
+                   {"damper", s.damper.enabled},
+                   {"devices", devices},
+                   {"excitation", s.excitation.none       ? "none"
+                                  : s.excitation.record.empty() ? fmt::format("{} pulse, {:.3g} g, {:.3g} s",
+                                                                              s.excitation.pulse == PulseShape::ricker ? "Ricker" : "one-sine",
+                                                                              s.excitation.amplitude / gravity,
+                                                                              s.excitation.period)
+                                                                : "its record"},
+                   {"usable", static_cast<std::size_t>(s.structure.heights.size()) <= limits_.nodes}});
+    } catch (const InputError& err) {
+      item.update({{"name", e.id}, {"error", err.what()}, {"usable", false}});
+    }
+    out.push_back(std::move(item));
+  }
+  return out;
+}
+
+json Lab::records() const {
+  {
+    const std::lock_guard lock(mutex_);
+    if (record_list_) return *record_list_;
+  }
+  json out = json::array();
+  for (const RecordEntry& e : records_) {
+    json item{{"id", e.id}};
+    try {
+      const std::shared_ptr<const GroundMotion> m = motion(e.id, "");
+      item.update({{"name", describe_motion(*m)},
+                   {"pga_g", m->peak() / gravity},
+                   {"duration_s", m->duration()}});
+    } catch (const InputError& err) {
+      item.update({{"error", err.what()}});
+    }
+    out.push_back(std::move(item));
+  }
+  const std::lock_guard lock(mutex_);
+  record_list_ = std::make_shared<const json>(out);
+  return out;
+}
+
+LabRun Lab::read_simulate(const json& r) const {
+  check_keys(r, "simulate", {"scene", "record", "component", "scale", "set", "duration", "every", "compare"});
+  LabRun run;
+  run.scene_id = scene_entry(r).id;
+  const std::vector<std::string> overrides = overrides_of(r, limits_.overrides);
+  run.spec.scene = scene_of(r, overrides);
+  run.spec.prefix = "";
+  const std::string record = text_of(r, "record");
+  const std::string component = text_of(r, "component");
+  if (!record.empty()) {
+    run.spec.motion.given = motion(record, component);
+    run.spec.motion.given_path = record_path(record);
+  } else if (!component.empty()) {
+    throw InputError("component: names a component of a record; none was given");
+  }
+  run.spec.motion.scale = number_of(r, "scale").value_or(1.0);
+  if (!(run.spec.motion.scale > 0) || run.spec.motion.scale > 100)
+    throw InputError(fmt::format("scale {:g}: must be in (0, 100]", run.spec.motion.scale));
+  run.spec.solver.duration = number_of(r, "duration");
+  if (run.spec.solver.duration && *run.spec.solver.duration > limits_.duration)
+    throw InputError(fmt::format("duration {:g}: at most {:g} s here", *run.spec.solver.duration, limits_.duration));
+  run.spec.history.every = number_of(r, "every").value_or(0.02);
+  run.spec.history.columns = lab_columns(make_contact_model(run.spec.scene, false));
+  run.twin = text_of(r, "compare");
+  if (!run.twin.empty()) {
+    run.twin_overrides = named_variant(run.twin).overrides;
+    std::vector<std::string> all = overrides;
+    all.insert(all.end(), run.twin_overrides.begin(), run.twin_overrides.end());
+    scene_of(r, all);  // the twin's scene must load too
+  }
+  return run;
+}
+
+std::string Lab::simulate(const json& r) const {
+  const LabRun run = read_simulate(r);
+  const Deadline deadline(limits_.seconds);
+  const Ran main = run_once(run.spec, limits_, deadline);
+  std::string out = R"({"summary":)";
+  out += text(run_summary(main.label, main.result));
+  out += R"(,"structure":)";
+  out += text(structure_json(run.spec.scene, make_contact_model(run.spec.scene, false)));
+  out += R"(,"history":)";
+  append_history(out, main.names, main.values);
+  out += R"(,"twin":)";
+  if (run.twin.empty()) {
+    out += "null";
+  } else {
+    RunSpec twin = run.spec;
+    std::vector<std::string> all = overrides_of(r, limits_.overrides);
+    all.insert(all.end(), run.twin_overrides.begin(), run.twin_overrides.end());
+    twin.scene = scene_of(r, all);
+    twin.history.columns = lab_columns(make_contact_model(twin.scene, false));
+    const Ran t = run_once(twin, limits_, deadline);
+    out += R"({"variant":)" + text(json(run.twin)) + R"(,"summary":)" + text(run_summary(t.label, t.result)) +
+           R"(,"structure":)" + text(structure_json(twin.scene, make_contact_model(twin.scene, false))) +
+           R"(,"history":)";
+    append_history(out, t.names, t.values);
+    out += '}';
+  }
+  out += '}';
+  return out;
+}
+
+json Lab::modal(const json& r) const {
+  check_keys(r, "modal", {"scene", "set"});
+  return modal_summary(scene_of(r, overrides_of(r, limits_.overrides)));
+}
+
+json Lab::ida(const json& r) const {
+  check_keys(r, "ida", {"scene", "record", "component", "set", "scales", "compare"});
+  const SceneEntry& entry = scene_entry(r);
+  const std::vector<std::string> overrides = overrides_of(r, limits_.overrides);
+  const Scene scene = scene_of(r, overrides);
+  const std::string record = text_of(r, "record");
+  if (record.empty()) throw InputError("ida: record: give one of the lab's records to scale");
+  const std::string component = text_of(r, "component");
+  const auto scales = r.find("scales");
+  if (scales == r.end() || !scales->is_array() || scales->empty())
+    throw InputError("scales: give a list of scale factors, e.g. [0.5, 1, 2]");
+  if (scales->size() > limits_.ida_levels)
+    throw InputError(fmt::format("scales: {} levels (at most {} here)", scales->size(), limits_.ida_levels));
+  std::vector<double> levels;
+  for (const json& s : *scales) {
+    if (!s.is_number() || !(s.get<double>() > 0) || !(s.get<double>() <= 100))
+      throw InputError("scales: every scale factor must be a number in (0, 100]");
+    levels.push_back(s.get<double>());
+  }
+  std::vector<Variant> variants{named_variant("scene")};
+  if (const std::string twin = text_of(r, "compare"); !twin.empty()) variants.push_back(named_variant(twin));
+  const std::shared_ptr<const GroundMotion> m = motion(record, component);
+  const double duration = m->duration();
+  if (duration > limits_.duration)
+    throw InputError(fmt::format("record '{}': {:g} s to simulate (at most {:g} s here)", record, duration,
+                                 limits_.duration));
+  RecordOptions ro;
+  ro.component = component;
+  const Deadline deadline(limits_.seconds);
+  RunOptions options = run_options(scene, SolverChoice{}, false, "");
+  options.stop = [&deadline] { return deadline.passed(); };
+  const Study study(entry.path, overrides, std::vector<StudyRecord>{{record_path(record), m}}, ro, variants, options);
+  const StudyColumns columns = study_columns(study);
+  const std::vector<std::string> names = columns.names();
+  json rows = json::array();
+  for (const Job& job : study.ladder(levels)) {
+    const JobResult res = study.run(job);
+    if (!res.error.empty()) throw InputError(res.error);
+    check_result(res.run, deadline, limits_);
+    const std::vector<double> values = columns.values(res.run);
+    json peaks = json::object();
+    for (std::size_t i = 0; i < names.size(); ++i)
+      peaks[names[i]] = std::isfinite(values[i]) ? json(values[i]) : json(nullptr);
+    rows.push_back({{"variant", study.variants()[job.variant].name},
+                    {"level", job.level},
+                    {"outcome", outcome_name(res.run.outcome)},
+                    {"peaks", std::move(peaks)}});
+  }
+  return {{"columns", names}, {"rows", std::move(rows)}};
+}
+
+LabAnswer Lab::answer(std::string_view method, std::string_view path, std::string_view body) const {
+  const auto error = [](int status, std::string_view message) {
+    return LabAnswer{status, text(json{{"error", message}})};
+  };
+  const bool get = path == "/api/scenes" || path == "/api/records";
+  const bool post = path == "/api/simulate" || path == "/api/modal" || path == "/api/ida";
+  if (!get && !post) return error(404, fmt::format("no such endpoint (GET /api/scenes, /api/records; POST "
+                                                   "/api/simulate, /api/modal, /api/ida)"));
+  if (get != (method == "GET") || post != (method == "POST"))
+    return error(405, fmt::format("{} takes {}", path, get ? "GET" : "POST"));
+  if (body.size() > limits_.request_bytes)
+    return error(413, fmt::format("a request of {} bytes (at most {})", body.size(), limits_.request_bytes));
+  try {
+    if (path == "/api/scenes") return {200, text(scenes())};
+    if (path == "/api/records") return {200, text(records())};
+    json request;
+    try {
+      request = json::parse(body);
+    } catch (const json::parse_error& e) {
+      std::string what = e.what();
+      if (const auto at = what.find("parse error"); at != std::string::npos) what = what.substr(at);
+      return error(400, "malformed JSON: " + what);
+    }
+    if (path == "/api/simulate") return {200, simulate(request)};
+    if (path == "/api/modal") return {200, text(modal(request))};
+    return {200, text(ida(request))};
+  } catch (const InputError& e) {
+    return error(400, e.what());
+  } catch (const RunError& e) {
+    return error(422, e.what());
+  }
+}
+
+}  // namespace rocking

@@ -1,0 +1,393 @@
+// The browser lab's API (rocking.lab, `rocking serve`): every endpoint with
+// valid input answers what the command line answers for the same choices;
+// bad input of every kind gets a 4xx with one line and leaves the server
+// serving; 20 requests at once come back right and distinct; the server
+// binds 127.0.0.1 unless told otherwise and stops cleanly on Ctrl-C.
+#include <rocking/eigen.hpp>
+#include <doctest/doctest.h>
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+#include <sys/wait.h>
+#include <unistd.h>
+#include "csv_table.hpp"
+#include "records.hpp"
+#include "run_program.hpp"
+import rocking.lab;
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+const std::string scenes_dir = std::string(ROCKING_SOURCE_DIR) + "/data/scenes";
+
+rocking::Lab make_lab(const std::string& records) { return rocking::Lab({.scenes = scenes_dir, .records = records}); }
+
+json answer_json(const rocking::Lab& lab, const std::string& path, const json& request, int status = 200) {
+  const rocking::LabAnswer a = lab.answer("POST", path, request.dump());
+  INFO(a.body.substr(0, 300));
+  REQUIRE(a.status == status);
+  return json::parse(a.body);
+}
+
+// A summary without what differs between two runs of the same thing (the wall-clock time).
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// A history.csv column ("delta_t [-]") by its quantity's name.
+std::size_t history_column(const CsvTable& t, const std::string& name) {
+  for (std::size_t k = 0; k < t.header.size(); ++k)
+    if (t.header[k] == name || t.header[k].starts_with(name + " [")) return k;
+  FAIL("no column " << name);
+  return 0;
+}
+
+json same_part(json summary) {
+  summary.erase("wall_s");
+  return summary;
+}
+
+std::string temp_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("rocking_lab_test_" + std::to_string(::getpid()) + "_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d.string();
+}
+
+// `rocking serve --port 0` in a process of its own: its address, and SIGINT to stop it.
+struct Server {
+  pid_t pid = -1;
+  int port = 0;
+  std::string first_line;
+  FILE* out = nullptr;
+  explicit Server(const std::string& args) {
+    int pipe_fd[2];
+    REQUIRE(::pipe(pipe_fd) == 0);
+    pid = ::fork();
+    REQUIRE(pid >= 0);
+    if (pid == 0) {
+      ::dup2(pipe_fd[1], STDOUT_FILENO);
+      ::close(pipe_fd[0]);
+      ::execl("/bin/sh", "sh", "-c", (std::string("exec ") + ROCKING_BIN + " serve --port 0 " + args).c_str(),
+              static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    ::close(pipe_fd[1]);
+    out = ::fdopen(pipe_fd[0], "r");
+    char line[512] = {};
+    if (std::fgets(line, sizeof line, out) != nullptr) first_line = line;
+    const auto at = first_line.find("http://127.0.0.1:");
+    if (at != std::string::npos) port = std::stoi(first_line.substr(at + 17));
+  }
+  // SIGINT; the exit code and what it printed after the address.
+  std::pair<int, std::string> stop() {
+    ::kill(pid, SIGINT);
+    std::string rest;
+    char line[512];
+    while (std::fgets(line, sizeof line, out) != nullptr) rest += line;
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    std::fclose(out);
+    pid = -1;
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, rest};
+  }
+  ~Server() {
+    if (pid > 0) stop();
+  }
+};
+
+}  // namespace
+
+TEST_CASE("the lab lists the project's scenes and the shared records, by id") {
+  const auto records = records_dir();
+  if (!records) return;
+  const rocking::Lab lab = make_lab(*records);
+  const json scenes = json::parse(lab.answer("GET", "/api/scenes", "").body);
+  std::vector<std::string> ids;
+  for (const json& s : scenes) ids.push_back(s["id"]);
+  for (const char* id : {"christchurch_chimney", "rigid_block", "controlled_rocking_wall", "towers/tower_8"})
+    CHECK(std::find(ids.begin(), ids.end(), id) != ids.end());
+  for (const json& s : scenes)
+    if (s["id"] == "towers/tower_128") CHECK(s["usable"] == false);  // more nodes than a request may ask for
+  const json list = json::parse(lab.answer("GET", "/api/records", "").body);
+  bool elcentro = false;
+  for (const json& r : list) {
+    CHECK(r["id"].get<std::string>().find("..") == std::string::npos);
+    if (r["id"] == "elcentro_1940_ns.at2") {
+      elcentro = true;
+      CHECK(r["pga_g"].get<double>() == doctest::Approx(0.32).epsilon(0.01));  // its header: PGA 0.32 g
+      const Result cli = run("record " + *records + "/elcentro_1940_ns.at2 --json");
+      REQUIRE(cli.code == 0);
+      const json measured = json::parse(cli.out).at(0);
+      CHECK(r["pga_g"].get<double>() == doctest::Approx(measured["pga_g"].get<double>()).epsilon(1e-12));
+      CHECK(r["duration_s"].get<double>() == doctest::Approx(measured["duration_s"].get<double>()).epsilon(1e-12));
+    }
+  }
+  CHECK(elcentro);
+}
+
+TEST_CASE("a lab run is the command line's run: summary, twin and history rows") {
+  const auto records = records_dir();
+  if (!records) return;
+  const rocking::Lab lab = make_lab(*records);
+  const std::string record = *records + "/elcentro_1940_ns.at2";
+  const json lab_answer =
+      answer_json(lab, "/api/simulate",
+                  {{"record", "elcentro_1940_ns.at2"}, {"scale", 2.5}, {"set", {"damper.thickness=1.5"}},
+                   {"compare", "fixed-base"}});
+  const std::string out = temp_dir("cli");
+  const std::string chimney = scenes_dir + "/christchurch_chimney.toml";
+  const Result cli = run("simulate " + chimney + " --record " + record + " --scale 2.5 --set damper.thickness=1.5 --every 0.02 --json "
+                         "--out " + out);
+  REQUIRE(cli.code == 0);
+  CHECK(same_part(lab_answer["summary"]) == same_part(json::parse(cli.out)));
+  const Result twin = run("simulate " + chimney + " --record " + record + " --scale 2.5 --set damper.thickness=1.5 --set "
+                          "contact.rocking=false --every 0.02 --json --out " + out);
+  REQUIRE(twin.code == 0);
+  CHECK(lab_answer["twin"]["variant"] == "fixed-base");
+  CHECK(same_part(lab_answer["twin"]["summary"]) == same_part(json::parse(twin.out)));
+  // The history: the command line's rows (at the same interval and events), to six digits.
+  const CsvTable table = csv_table(read_text(out + "/history.csv"));
+  const json& h = lab_answer["twin"]["history"];
+  REQUIRE(h["t"].size() == table.rows.size());
+  const std::size_t column = history_column(table, "delta_t");
+  for (std::size_t i = 0; i < table.rows.size(); i += 97)
+    CHECK(h["delta_t"][i].get<double>() == doctest::Approx(std::stod(table.rows[i][column])).epsilon(1e-5));
+  // The page's columns: the rocking angle, the nodes' bending and both dampers' loops.
+  for (const char* c : {"t", "a_g", "theta_over_alpha", "delta_t", "delta_e", "base_moment", "node4.u",
+                        "damper_left.elongation", "damper_right.force"})
+    CHECK_MESSAGE(lab_answer["history"].contains(c), c);
+  CHECK(lab_answer["structure"]["heights"].size() == 4);
+  CHECK(lab_answer["structure"]["units"]["base_moment"] == "M_ref");
+}
+
+TEST_CASE("a lab run of a scene's own pulse, a wall's tendon and a rigid block matches the command line") {
+  const rocking::Lab lab = make_lab("");
+  struct Case {
+    json request;
+    std::string args;
+  };
+  const std::vector<Case> cases{
+      {{{"scene", "controlled_rocking_wall"}, {"set", {"device[0].P0=1300000", "device-=dampers"}}},
+       "data/scenes/controlled_rocking_wall.toml --set device[0].P0=1300000 --set device-=dampers"},
+      {{{"scene", "rigid_block"}, {"scale", 1.5}, {"set", {"contact.restitution=0.9"}}},
+       "data/scenes/rigid_block.toml --scale 1.5 --set contact.restitution=0.9"},
+      {{{"scene", "towers/tower_8"}}, "data/scenes/towers/tower_8.toml"}};
+  for (const Case& c : cases) {
+    CAPTURE(c.args);
+    const json a = answer_json(lab, "/api/simulate", c.request);
+    const Result cli =
+        run("simulate " + std::string(ROCKING_SOURCE_DIR) + "/" + c.args + " --every 0.02 --json --out " + temp_dir("own"));
+    REQUIRE(cli.code == 0);
+    json expected = same_part(json::parse(cli.out));
+    json got = same_part(a["summary"]);
+    CHECK(got == expected);
+  }
+}
+
+TEST_CASE("the lab's modal and IDA answer what rocking modal and rocking ida write") {
+  const auto records = records_dir();
+  if (!records) return;
+  const rocking::Lab lab = make_lab(*records);
+  const Result modal = run("modal " + scenes_dir + "/christchurch_chimney.toml --json --set structure.EI_scale=0.5");
+  REQUIRE(modal.code == 0);
+  CHECK(answer_json(lab, "/api/modal", {{"set", {"structure.EI_scale=0.5"}}}) == json::parse(modal.out));
+  const Result block = run("modal " + std::string(ROCKING_SOURCE_DIR) + "/data/scenes/rigid_block.toml --json");
+  CHECK(answer_json(lab, "/api/modal", {{"scene", "rigid_block"}}) == json::parse(block.out));
+
+  const json ida = answer_json(lab, "/api/ida", {{"record", "elcentro_1940_ns.at2"}, {"scales", {0.5, 2, 4}},
+                                                 {"compare", "no-damper"}});
+  const std::string out = temp_dir("ida");
+  const Result cli = run("ida --record " + *records + "/elcentro_1940_ns.at2 --scales 0.5,2,4 --variants "
+                         "scene,no-damper --no-plot --out " + out);
+  REQUIRE(cli.code == 0);
+  const CsvTable table = csv_table(read_text(out + "/ida.csv"));
+  REQUIRE(ida["rows"].size() == table.rows.size());
+  REQUIRE(table.rows.size() == 6);
+  std::size_t compared = 0;
+  for (std::size_t i = 0; i < table.rows.size(); ++i) {
+    const json& row = ida["rows"][i];
+    CHECK(row["level"].get<double>() == doctest::Approx(std::stod(table.at(i, "level"))));
+    for (const json& name : ida["columns"]) {
+      const std::string n = name;
+      if (!table.has(n) || row["peaks"][n].is_null() || table.at(i, n).empty()) continue;
+      CHECK_MESSAGE(row["peaks"][n].get<double>() == doctest::Approx(std::stod(table.at(i, n))).epsilon(1e-5), n);
+      ++compared;
+    }
+  }
+  CHECK(compared > 30);
+}
+
+TEST_CASE("bad requests get a 4xx with one line naming what is wrong") {
+  const auto records = records_dir();
+  if (!records) return;
+  const rocking::Lab lab = make_lab(*records);
+  struct Bad {
+    std::string method, path, body;
+    int status;
+    std::string says;
+  };
+  const std::string huge(lab.limits().request_bytes + 1, ' ');
+  const std::vector<Bad> cases{
+      {"POST", "/api/simulate", "{\"scale\": ", 400, "malformed JSON"},
+      {"POST", "/api/simulate", "[1, 2]", 400, "JSON object"},
+      {"POST", "/api/simulate", R"({"sclae": 2})", 400, "unknown key 'sclae'"},
+      {"POST", "/api/simulate", R"({"scale": 1000})", 400, "scale 1000"},
+      {"POST", "/api/simulate", R"({"scale": "2"})", 400, "scale: must be a number"},
+      {"POST", "/api/simulate", R"({"duration": 1e6})", 400, "duration"},
+      {"POST", "/api/simulate", R"({"every": 1e-5})", 400, "every"},
+      {"POST", "/api/simulate", R"({"scene": "../../CMakeLists"})", 400, "not one of the lab's scenes"},
+      {"POST", "/api/simulate", R"({"scene": "/etc/passwd"})", 400, "not one of the lab's scenes"},
+      {"POST", "/api/simulate", R"({"record": "../../../etc/passwd"})", 400, "not one of the lab's records"},
+      {"POST", "/api/simulate", R"({"record": "SOURCES.md"})", 400, "not one of the lab's records"},
+      {"POST", "/api/simulate", R"({"scene": "towers/tower_128"})", 400, "128 nodes"},
+      {"POST", "/api/simulate", R"({"set": ["structure.EI_scale=-1"]})", 400, "EI_scale"},
+      {"POST", "/api/simulate", R"({"set": ["nonsense"]})", 400, "TABLE.KEY=VALUE"},
+      {"POST", "/api/simulate", R"({"set": "damper.enabled=false"})", 400, "set: must be a list"},
+      {"POST", "/api/simulate", R"({"compare": "upside-down"})", 400, "unknown variant"},
+      {"POST", "/api/simulate", R"({"component": "Up"})", 400, "component"},
+      {"POST", "/api/ida", R"({"record": "elcentro_1940_ns.at2", "scales": [1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16,17,18,19,20,21]})",
+       400, "21 levels"},
+      {"POST", "/api/ida", R"({"scales": [1]})", 400, "record"},
+      {"POST", "/api/modal", R"({"scene": "rigid_block", "record": "x"})", 400, "unknown key 'record'"},
+      {"POST", "/api/simulate", huge, 413, "bytes"},
+      {"GET", "/api/simulate", "", 405, "POST"},
+      {"POST", "/api/scenes", "", 405, "GET"},
+      {"GET", "/api/../../etc/passwd", "", 404, "no such endpoint"},
+  };
+  for (const Bad& b : cases) {
+    CAPTURE(b.body.substr(0, 120));
+    const rocking::LabAnswer a = lab.answer(b.method, b.path, b.body);
+    CHECK(a.status == b.status);
+    const json body = json::parse(a.body);
+    const std::string message = body["error"];
+    CHECK_MESSAGE(message.find(b.says) != std::string::npos, message);
+    CHECK(message.find('\n') == std::string::npos);
+  }
+  // A long set of overrides, each checked.
+  json many = json::array();
+  for (int i = 0; i < 40; ++i) many.push_back("damper.thickness=1");
+  CHECK(answer_json(lab, "/api/simulate", {{"set", many}}, 400)["error"].get<std::string>().find("40 overrides") !=
+        std::string::npos);
+}
+
+TEST_CASE("rocking serve: bad input leaves it serving, 20 requests at once come back right, Ctrl-C stops it") {
+  const auto records = records_dir();
+  if (!records) return;
+  Server server("--records " + *records);
+  INFO(server.first_line);
+  REQUIRE(server.port > 0);
+  httplib::Client client("127.0.0.1", server.port);
+  client.set_read_timeout(60);
+  const auto page = client.Get("/");
+  REQUIRE(page);
+  CHECK(page->status == 200);
+  CHECK(page->body.find("rocking lab") != std::string::npos);
+  CHECK(client.Get("/vendor/uPlot.iife.min.js")->status == 200);
+  // Paths that would leave the lab's folder are no page of it.
+  for (const char* path : {"/../../../../etc/passwd", "/%2e%2e/%2e%2e/%2e%2e/etc/passwd", "/..%2f..%2fCMakeLists.txt",
+                           "/node_modules/uplot/package.json", "/tests/browser.test.mjs", "//etc/passwd"}) {
+    CAPTURE(path);
+    const auto r = client.Get(path);
+    REQUIRE(r);
+    CHECK(r->status == 404);
+    CHECK(r->body.find("root:") == std::string::npos);
+  }
+  const auto malformed = client.Post("/api/simulate", "{\"scale\": ", "application/json");
+  REQUIRE(malformed);
+  CHECK(malformed->status == 400);
+  CHECK(json::parse(malformed->body)["error"].get<std::string>().starts_with("malformed JSON"));
+  const auto huge = client.Post("/api/simulate", std::string(10 * 1024 * 1024, '['), "application/json");
+  if (huge) {  // the server may also close the connection on a body this size
+    CHECK(huge->status == 413);
+    CHECK(json::parse(huge->body)["error"].get<std::string>().find("bytes") != std::string::npos);
+  }
+  CHECK(client.Get("/api/scenes")->status == 200);  // still serving
+
+  // 20 requests at once, each a different scale: each answer is that scale's run.
+  const rocking::Lab lab = make_lab(*records);
+  constexpr int n = 20;
+  std::vector<std::string> bodies(n);
+  std::vector<int> statuses(n, 0);
+  std::vector<std::thread> threads;
+  for (int i = 0; i < n; ++i)
+    threads.emplace_back([&, i] {
+      httplib::Client c("127.0.0.1", server.port);
+      c.set_read_timeout(120);
+      const json request{{"record", "elcentro_1940_ns.at2"}, {"scale", 0.5 + 0.25 * i}};
+      if (const auto r = c.Post("/api/simulate", request.dump(), "application/json")) {
+        statuses[static_cast<std::size_t>(i)] = r->status;
+        bodies[static_cast<std::size_t>(i)] = r->body;
+      }
+    });
+  for (std::thread& t : threads) t.join();
+  std::vector<double> peaks;
+  for (int i = 0; i < n; ++i) {
+    CAPTURE(i);
+    REQUIRE(statuses[static_cast<std::size_t>(i)] == 200);
+    const json got = json::parse(bodies[static_cast<std::size_t>(i)]);
+    const json expected = answer_json(lab, "/api/simulate", {{"record", "elcentro_1940_ns.at2"}, {"scale", 0.5 + 0.25 * i}});
+    CHECK(same_part(got["summary"]) == same_part(expected["summary"]));
+    CHECK(got["summary"]["scale"].get<double>() == doctest::Approx(0.5 + 0.25 * i));
+    peaks.push_back(got["summary"]["peaks"]["delta_t"].get<double>());
+  }
+  std::sort(peaks.begin(), peaks.end());
+  CHECK(std::adjacent_find(peaks.begin(), peaks.end()) == peaks.end());  // distinct
+  const auto [code, said] = server.stop();
+  CHECK(code == 0);
+  CHECK(said.find("stopped by SIGINT") != std::string::npos);
+}
+
+TEST_CASE("rocking serve binds 127.0.0.1 unless told otherwise, and warns when told") {
+  Server server("");
+  REQUIRE(server.port > 0);
+  // The kernel's table of listening sockets: ours is on 127.0.0.1 (0100007F) only.
+  std::ifstream tcp("/proc/net/tcp");
+  std::string line;
+  bool found = false;
+  char port_hex[8];
+  std::snprintf(port_hex, sizeof port_hex, "%04X", server.port);
+  while (std::getline(tcp, line)) {
+    std::istringstream fields(line);
+    std::string sl, local, remote, st;
+    fields >> sl >> local >> remote >> st;
+    if (st == "0A" && local.ends_with(std::string(":") + port_hex)) {
+      found = true;
+      CHECK(local == std::string("0100007F:") + port_hex);
+    }
+  }
+  CHECK(found);
+  server.stop();
+  // Told another address, it warns before anything else (here a missing page folder then stops it).
+  const Result open = run("serve --host 0.0.0.0 --lab /nonexistent");
+  CHECK(open.code == 2);
+  CHECK(open.err.find("anyone who reaches this machine") != std::string::npos);
+  CHECK(open.err.find("--lab /nonexistent") != std::string::npos);
+  const Result bad = run("serve --port 70000");
+  CHECK(bad.code == 2);
+  CHECK(lines(bad.err) == 1);
+}
+
+TEST_CASE("a request's runs stop at the lab's computing limit, with a one-line answer") {
+  rocking::LabLimits limits;
+  limits.seconds = 1e-4;
+  const rocking::Lab lab({.scenes = scenes_dir, .records = ""}, limits);
+  const rocking::LabAnswer a = lab.answer("POST", "/api/simulate", R"({"scene": "towers/tower_32"})");
+  CHECK(a.status == 422);
+  const std::string message = json::parse(a.body)["error"];
+  CHECK_MESSAGE(message.find("more than 0.0001 s of computing") != std::string::npos, message);
+  CHECK(message.find('\n') == std::string::npos);
+}
