@@ -66,6 +66,7 @@ void through_server(benchmark::State& state, const std::string& body) {
   }
   httplib::Client client("127.0.0.1", server.port);
   client.set_keep_alive(true);
+  client.set_tcp_nodelay(true);  // as browsers do: the body follows the headers at once
   std::size_t bytes = 0;
   for (auto _ : state) {
     const auto r = client.Post("/api/simulate", body, "application/json");
@@ -98,8 +99,9 @@ void BM_bare_run(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_request_to_response)->Unit(benchmark::kMillisecond)->MinTime(2.0);
-BENCHMARK(BM_request_to_response_with_twin)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+// The server computes in another process: wall-clock time is what counts.
+BENCHMARK(BM_request_to_response)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
+BENCHMARK(BM_request_to_response_with_twin)->Unit(benchmark::kMillisecond)->MinTime(2.0)->UseRealTime();
 BENCHMARK(BM_lab_in_process)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_bare_run)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK_MAIN();
