@@ -3,6 +3,7 @@ module;
 #include <nlohmann/json.hpp>
 #include <fmt/format.h>
 #include <algorithm>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -128,9 +129,14 @@ class Columns : public HistoryObserver {
   }
 };
 
-// {"name": [v, ...], ...} with six significant digits (null where NaN: a broken device).
+// {"name": [v, ...], ...} with six significant digits, as %.6g (null where
+// NaN: a broken device). std::to_chars: the history is most of an answer.
 void append_history(std::string& out, const std::vector<std::string>& names,
                     const std::vector<std::vector<double>>& values) {
+  std::size_t count = 0;
+  for (const auto& c : values) count += c.size();
+  out.reserve(out.size() + 14 * count + 32 * names.size());
+  char number[32];
   out += '{';
   for (std::size_t c = 0; c < names.size(); ++c) {
     if (c > 0) out += ',';
@@ -140,8 +146,12 @@ void append_history(std::string& out, const std::vector<std::string>& names,
     for (double v : values[c]) {
       if (!first) out += ',';
       first = false;
-      if (std::isfinite(v)) fmt::format_to(std::back_inserter(out), "{:.6g}", v);
-      else out += "null";
+      if (std::isfinite(v)) {
+        const auto end = std::to_chars(number, number + sizeof number, v, std::chars_format::general, 6).ptr;
+        out.append(number, end);
+      } else {
+        out += "null";
+      }
     }
     out += ']';
   }
