@@ -421,6 +421,74 @@ function drawAll() {
   state.timing.frame = performance.now() - t;
 }
 
+// --- IDA ----------------------------------------------------------------------
+
+const idaScales = [0.5, 1, 1.5, 2, 2.5, 3, 3.5, 4, 4.5, 5];
+
+async function runIda() {
+  const r = buildRequest(controls(), sceneOf($('scene').value));
+  if (!r.record) {
+    showError('IDA: choose a record to scale (a pulse is scaled by its amplitude)');
+    return;
+  }
+  const request = { scene: r.scene, record: r.record, set: r.set, scales: idaScales };
+  if (r.compare) request.compare = r.compare;
+  setStatus('IDA running…', 'running');
+  state.idaBusy = true;
+  try {
+    const response = await fetch('/api/ida', { method: 'POST', body: JSON.stringify(request) });
+    const body = await response.json();
+    if (!response.ok) {
+      showError(body.error);
+      setStatus(`HTTP ${response.status}`, 'error');
+    } else {
+      showError('');
+      state.ida = body;
+      const keep = $('ida-quantity').value || 'theta_over_alpha';
+      $('ida-quantity').replaceChildren(...body.columns.map((c) => new Option(c, c)));
+      $('ida-quantity').value = body.columns.includes(keep) ? keep : body.columns[0];
+      drawIda();
+      setStatus(`IDA: ${body.rows.length} runs`, 'ready');
+    }
+  } catch (e) {
+    showError(`the lab's server did not answer (${e.message})`);
+  }
+  state.idaBusy = false;
+}
+
+function drawIda() {
+  const host = $('ida-chart');
+  if (state.idaChart) state.idaChart.destroy();
+  host.replaceChildren();
+  const q = $('ida-quantity').value;
+  const variants = [...new Set(state.ida.rows.map((r) => r.variant))];
+  const data = [idaScales];
+  const series = [{ label: 'scale' }];
+  variants.forEach((v, k) => {
+    const rows = state.ida.rows.filter((r) => r.variant === v);
+    data.push(idaScales.map((s) => {
+      const row = rows.find((r) => r.level === s);
+      return row && row.outcome !== 'overturned' && row.peaks[q] !== null ? row.peaks[q] : null;
+    }));
+    series.push({
+      label: k === 0 ? 'this structure' : `twin: ${v}`,
+      stroke: k === 0 ? colors.main : colors.twin,
+      dash: k === 0 ? undefined : [6, 4],
+      width: 1.5,
+      points: { show: true, size: 6 },
+      value: (u, val) => (val === null ? '–' : formatG(val, 4)),
+    });
+  });
+  state.idaChart = new uPlot({
+    title: `${q} [${state.data ? state.data.structure.units[q] || '' : ''}] against the scale on the record (a gap: overturned)`,
+    width: Math.max(300, host.clientWidth || 600),
+    height: 220,
+    scales: { x: { time: false } },
+    axes: [{ label: 'scale factor' }, { size: 60 }],
+    series,
+  }, data, host);
+}
+
 // --- playing ------------------------------------------------------------------
 
 let last = null;
@@ -508,6 +576,8 @@ async function start() {
     rerun();
   });
   $('time').addEventListener('input', () => drawFrame());
+  $('ida').addEventListener('click', () => runIda());
+  $('ida-quantity').addEventListener('change', () => state.ida && drawIda());
   $('play').addEventListener('click', () => play(!state.playing));
   window.addEventListener('resize', () => state.data && drawCharts());
   await rerun();

@@ -154,6 +154,13 @@ try {
   assert.equal(twin.variant, 'fixed-base');
   assert.ok(twin.cells.length >= 5, 'the twin\'s summary is shown');
   assert.ok(twin.legends.some((l) => l.includes('(twin)')), 'the traces show the twin');
+  // A small IDA from the page: the record scaled 0.5 to 5, the structure and its twin.
+  await page.click('#ida');
+  await page.waitForFunction(() => window.lab.ida && !window.lab.idaBusy, { timeout: 60000 });
+  const ida = await page.evaluate(() => ({ rows: window.lab.ida.rows.length, chart: Boolean(document.querySelector('#ida-chart canvas')) }));
+  assert.equal(ida.rows, 20, 'ten levels for the structure and its twin');
+  assert.ok(ida.chart, 'the IDA is drawn');
+
   // The screenshot at the main run's peak rocking angle: the structures drawn rocking and bent.
   await page.evaluate(() => {
     const h = window.lab.data.history;
