@@ -105,8 +105,11 @@ export function exaggeration(peakTheta, peakU, height) {
 // Where the body's points are in the ground's frame [m]: the body rotates by
 // theta about the pivot on its side (x = sign(theta) B), the elastic
 // displacements u act along its own x axis (MODEL.md 2; rocking.drawing).
-// Returns the axis (base centre, then each node), the two base corners and
-// the two corners at height `top` (a block's outline; 0 when not given).
+// Returns the axis (base centre, then each node), the two base corners, the
+// two corners at height `top` (a block's outline; 0 when not given), and each
+// device as a segment from its anchor on the ground (x, 0) to its end on the
+// body: the base at x (a chord device, a damper across the gap) or the
+// height of its free length (a vertical one, a tendon up the structure).
 export function bodyPoints(structure, theta, u, top = 0) {
   const B = structure.half_width;
   const s = theta > 0 ? 1 : theta < 0 ? -1 : 0;
@@ -118,5 +121,10 @@ export function bodyPoints(structure, theta, u, top = 0) {
   };
   const axis = [place(0, 0)];
   structure.heights.forEach((h, k) => axis.push(place(u ? u[k] : 0, h)));
-  return { axis, left: place(-B, 0), right: place(B, 0), topLeft: place(-B, top), topRight: place(B, top) };
+  const devices = (structure.devices || []).map((d) => ({
+    name: d.name,
+    from: [d.x, 0],
+    to: place(d.x, d.vertical ? d.free_length : 0),
+  }));
+  return { axis, left: place(-B, 0), right: place(B, 0), topLeft: place(-B, top), topRight: place(B, top), devices };
 }

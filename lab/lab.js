@@ -250,6 +250,16 @@ function drawStructure(ctx, run, t, factors, origin, scale, color, label) {
     [p.left, p.topLeft, p.topRight, p.right].forEach((pt, k) => (k === 0 ? ctx.moveTo(X(pt), Y(pt)) : ctx.lineTo(X(pt), Y(pt))));
     ctx.stroke();
   }
+  ctx.save();  // the devices, in orange: a damper's stretch is the gap it spans
+  ctx.strokeStyle = '#e67e22';
+  ctx.lineWidth = 2.5;
+  for (const d of p.devices) {
+    ctx.beginPath();
+    ctx.moveTo(X(d.from), Y(d.from));
+    ctx.lineTo(X(d.to), Y(d.to));
+    ctx.stroke();
+  }
+  ctx.restore();
   for (const pt of p.axis.slice(1)) {
     ctx.beginPath();
     ctx.arc(X(pt), Y(pt), 4, 0, 2 * Math.PI);
@@ -289,14 +299,17 @@ function drawLoops(t) {
   const canvas = $('loop');
   const ctx = canvas.getContext('2d');
   ctx.clearRect(0, 0, canvas.width, canvas.height);
-  const runs = [[state.data, colors.main, []], [state.data.twin, colors.twin, [6, 4]]].filter(([r]) => r);
+  // Each device in a shade of its run's colour (this run blue, the twin red, dashed).
+  const shades = { main: ['#1f5fa8', '#7aa7d9', '#0b2f57', '#3d8bd9'], twin: ['#c0392b', '#e8948a', '#6e1a12', '#e05a47'] };
+  const runs = [[state.data, 'main', []], [state.data.twin, 'twin', [6, 4]]].filter(([r]) => r);
   const loops = [];
-  for (const [run, color, dash] of runs)
-    for (const d of run.structure.devices) {
+  for (const [run, which, dash] of runs)
+    run.structure.devices.forEach((d, k) => {
       const e = run.history[`${d.name}.elongation`];
       const f = run.history[`${d.name}.force`];
-      if (e && f) loops.push({ run, color, dash, name: d.name, e, f });
-    }
+      const color = shades[which][k % shades[which].length];
+      if (e && f) loops.push({ run, color, dash, name: which === 'twin' ? `${d.name} (twin)` : d.name, e, f });
+    });
   ctx.font = '12px DejaVu Sans, sans-serif';
   ctx.fillStyle = '#333';
   if (loops.length === 0) {
@@ -338,6 +351,12 @@ function drawLoops(t) {
   ctx.fillText(formatG(f1 - (f1 - f0) / 22, 3), 4, m.t + 10);
   ctx.fillText(formatG(f0 + (f1 - f0) / 22, 3), 4, m.t + h);
   ctx.fillText('elongation [mm]', m.l + w / 2 - 40, m.t + h + 28);
+  loops.forEach((l, k) => {  // the legend, inside the frame's top left
+    ctx.fillStyle = l.color;
+    ctx.fillRect(m.l + 6, m.t + 6 + 14 * k, 10, 3);
+    ctx.fillStyle = '#333';
+    ctx.fillText(l.name, m.l + 20, m.t + 11 + 14 * k);
+  });
   for (const l of loops) {
     ctx.strokeStyle = l.color;
     ctx.setLineDash(l.dash);

@@ -70,6 +70,12 @@ test('the body rotates about the pivot on its side, which stays put', () => {
   const left = bodyPoints(s, -0.1, [0], 10);
   assert.deepEqual(left.left, [-2, 0]);
   assert.ok(left.right[1] > 0 && left.axis[1][0] < 0);
+  const damped = bodyPoints({ ...s, devices: [{ name: 'd', x: -2, vertical: false }, { name: 't', x: 0, vertical: true, free_length: 10 }] }, 0.1, [0]);
+  assert.deepEqual(damped.devices[0].from, [-2, 0]);
+  assert.deepEqual(damped.devices[0].to, damped.left);  // the left damper spans the lifted corner's gap
+  const chord = Math.hypot(damped.devices[0].to[0] + 2, damped.devices[0].to[1]);
+  assert.ok(Math.abs(chord - 4 * 2 * Math.sin(0.05)) < 1e-12, 'its length is the chord 4B sin(theta/2) (MODEL.md 5)');
+  assert.ok(damped.devices[1].to[1] > 10 * Math.cos(0.1), 'the tendon ends at its free length up the body');
   const bent = bodyPoints(s, 0, [0.3]);
   assert.deepEqual(bent.axis[1], [0.3, 10]);
 });
