@@ -47,6 +47,13 @@ function fitControls() {
   const scene = sceneOf($('scene').value);
   if (!scene) return;
   $('scene-description').textContent = scene.description || '';
+  if (state.shownScene !== scene.id) {  // a new scene: the pulse sliders start at its own pulse
+    state.shownScene = scene.id;
+    if (scene.pulse) {
+      $('amplitude').value = scene.pulse.amplitude_g;
+      $('period').value = scene.pulse.period;
+    }
+  }
   const hasDampers = scene.damper || damperDevices(scene).length > 0;
   $('dampers').disabled = !hasDampers;
   $('thickness').disabled = !scene.damper || !$('dampers').checked;
@@ -295,28 +302,50 @@ function drawFrame() {
   drawLoops(t);
 }
 
+// The loops' two views: each device's force against its elongation, or the
+// devices' moment about the pivot against the rocking angle (the flag of
+// controlled rocking), each axis in a readable unit.
+const loopViews = {
+  force: { title: 'devices: force [kN] against elongation [mm]', x: 'elongation [mm]', fx: 1e3, fy: 1e-3 },
+  moment: { title: "devices' moment M_dev [MN m] against θ [mrad]", x: 'θ [mrad]', fx: 1e3, fy: 1e-6 },
+};
+
+// Axis ends for a label: the data's extremes, zero when it is round-off.
+function axisEnd(v, range) {
+  return formatG(Math.abs(v) < 1e-9 * range ? 0 : v, 3);
+}
+
 function drawLoops(t) {
   const canvas = $('loop');
   const ctx = canvas.getContext('2d');
   ctx.clearRect(0, 0, canvas.width, canvas.height);
+  const view = loopViews[$('loop-view').value] || loopViews.force;
   // Each device in a shade of its run's colour (this run blue, the twin red, dashed).
   const shades = { main: ['#1f5fa8', '#7aa7d9', '#0b2f57', '#3d8bd9'], twin: ['#c0392b', '#e8948a', '#6e1a12', '#e05a47'] };
   const runs = [[state.data, 'main', []], [state.data.twin, 'twin', [6, 4]]].filter(([r]) => r);
   const loops = [];
-  for (const [run, which, dash] of runs)
+  for (const [run, which, dash] of runs) {
+    const suffix = which === 'twin' ? ' (twin)' : '';
+    if (view === loopViews.moment) {
+      const e = run.history.theta;
+      const f = run.history.M_dev;
+      if (e && f) loops.push({ run, color: shades[which][0], dash, name: `all devices${suffix}`, e, f });
+      continue;
+    }
     run.structure.devices.forEach((d, k) => {
       const e = run.history[`${d.name}.elongation`];
       const f = run.history[`${d.name}.force`];
       const color = shades[which][k % shades[which].length];
-      if (e && f) loops.push({ run, color, dash, name: which === 'twin' ? `${d.name} (twin)` : d.name, e, f });
+      if (e && f) loops.push({ run, color, dash, name: d.name + suffix, e, f });
     });
+  }
   ctx.font = '12px DejaVu Sans, sans-serif';
   ctx.fillStyle = '#333';
   if (loops.length === 0) {
     ctx.fillText('no devices: no loops', 20, 30);
     return;
   }
-  // Each axis spans every loop's values and zero, in mm and kN.
+  // Each axis spans every loop's values and zero.
   const span = (key, factor) => {
     let lo = 0;
     let hi = 0;
@@ -329,13 +358,13 @@ function drawLoops(t) {
     const pad = 0.05 * (hi - lo || 1);
     return [lo - pad, hi + pad];
   };
-  const [e0, e1] = span('e', 1000);
-  const [f0, f1] = span('f', 1e-3);
-  const m = { l: 50, r: 10, t: 22, b: 34 };
+  const [e0, e1] = span('e', view.fx);
+  const [f0, f1] = span('f', view.fy);
+  const m = { l: 58, r: 10, t: 22, b: 34 };
   const w = canvas.width - m.l - m.r;
   const h = canvas.height - m.t - m.b;
-  const X = (e) => m.l + ((e * 1000 - e0) / (e1 - e0)) * w;
-  const Y = (f) => m.t + h - ((f / 1000 - f0) / (f1 - f0)) * h;
+  const X = (e) => m.l + ((e * view.fx - e0) / (e1 - e0)) * w;
+  const Y = (f) => m.t + h - ((f * view.fy - f0) / (f1 - f0)) * h;
   ctx.strokeStyle = '#999';
   ctx.strokeRect(m.l, m.t, w, h);
   ctx.beginPath();
@@ -345,12 +374,16 @@ function drawLoops(t) {
   ctx.lineTo(m.l + w, Y(0));
   ctx.strokeStyle = '#ddd';
   ctx.stroke();
-  ctx.fillText('devices: force [kN] against elongation [mm]', m.l, 14);
-  ctx.fillText(formatG(e0 + (e1 - e0) / 22, 3), m.l, m.t + h + 14);
-  ctx.fillText(formatG(e1 - (e1 - e0) / 22, 3), m.l + w - 34, m.t + h + 14);
-  ctx.fillText(formatG(f1 - (f1 - f0) / 22, 3), 4, m.t + 10);
-  ctx.fillText(formatG(f0 + (f1 - f0) / 22, 3), 4, m.t + h);
-  ctx.fillText('elongation [mm]', m.l + w / 2 - 40, m.t + h + 28);
+  ctx.fillText(view.title, 6, 14);
+  const de = (e1 - e0) / 22;
+  const df = (f1 - f0) / 22;
+  ctx.fillText(axisEnd(e0 + de, e1 - e0), m.l, m.t + h + 14);
+  ctx.textAlign = 'right';
+  ctx.fillText(axisEnd(e1 - de, e1 - e0), m.l + w, m.t + h + 14);
+  ctx.fillText(axisEnd(f1 - df, f1 - f0), m.l - 3, m.t + 10);
+  ctx.fillText(axisEnd(f0 + df, f1 - f0), m.l - 3, m.t + h);
+  ctx.textAlign = 'left';
+  ctx.fillText(view.x, m.l + w / 2 - 40, m.t + h + 28);
   loops.forEach((l, k) => {  // the legend, inside the frame's top left
     ctx.fillStyle = l.color;
     ctx.fillRect(m.l + 6, m.t + 6 + 14 * k, 10, 3);
@@ -550,6 +583,7 @@ function applyLesson(n) {
   $('own-restitution').checked = true;
   fitControls();
   $('compare').value = c.compare;
+  $('loop-view').value = c.loops || 'force';
   $('extra').value = c.extra.split(' ').join('\n');
   const h = document.createElement('h2');
   h.textContent = lesson.title;
@@ -596,6 +630,7 @@ async function start() {
   });
   $('time').addEventListener('input', () => drawFrame());
   $('ida').addEventListener('click', () => runIda());
+  $('loop-view').addEventListener('change', () => state.data && drawLoops(Number($('time').value)));
   $('ida-quantity').addEventListener('change', () => state.ida && drawIda());
   $('play').addEventListener('click', () => play(!state.playing));
   window.addEventListener('resize', () => state.data && drawCharts());

@@ -62,11 +62,12 @@ export const lessons = [
   },
   {
     title: '6. Self-centring: a tendon re-centres, dampers dissipate',
-    controls: { scene: 'controlled_rocking_wall', record: '', scale: 1, compare: 'without:tendon' },
+    controls: { scene: 'controlled_rocking_wall', record: '', scale: 1, compare: 'without:tendon', loops: 'moment' },
     text:
       'A post-tensioned controlled-rocking wall under a 0.9 g pulse, beside the same wall without its tendon ' +
       '(dashed). The tendon more than halves the peak rotation and pulls the wall back to theta = 0. Move ' +
-      'the prestress slider, switch the dampers off, and watch the devices\u2019 loops: tendon and dampers ' +
-      'together draw the flag shape of controlled rocking.',
+      'the prestress slider, switch the dampers off, and watch the devices\u2019 moment against the rotation: ' +
+      'tendon and dampers together draw the flag shape of controlled rocking (the tendon alone a bilinear ' +
+      'elastic line; switch the loops to each device\u2019s force to see them apart).',
   },
 ];

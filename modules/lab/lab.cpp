@@ -295,6 +295,9 @@ json Lab::scenes() const {
                                                                               s.excitation.amplitude / gravity,
                                                                               s.excitation.period)
                                                                 : "its record"},
+                   {"pulse", s.excitation.none || !s.excitation.record.empty()
+                                 ? json(nullptr)
+                                 : json{{"amplitude_g", s.excitation.amplitude / gravity}, {"period", s.excitation.period}}},
                    {"usable", static_cast<std::size_t>(s.structure.heights.size()) <= limits_.nodes}});
     } catch (const InputError& err) {
       item.update({{"name", e.id}, {"error", err.what()}, {"usable", false}});

@@ -63,7 +63,8 @@ class Lab {
   explicit Lab(LabFolders folders, LabLimits limits = {});
   const LabLimits& limits() const { return limits_; }
 
-  // GET /api/scenes: [{id, name, description, rigid, nodes, damper, devices: [{index, name, law, P0}], excitation}]
+  // GET /api/scenes: [{id, name, description, rigid, nodes, damper, devices: [{index, name, law, P0}],
+  // excitation (in words), pulse: {amplitude_g, period} (null when its excitation is no pulse), usable}]
   nlohmann::json scenes() const;
   // GET /api/records: [{id, name, pga_g, duration_s, dt_s}] (read once)
   nlohmann::json records() const;
