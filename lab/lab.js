@@ -473,6 +473,26 @@ function drawAll() {
   state.timing.frame = performance.now() - t;
 }
 
+// --- a record of the user's own ----------------------------------------------------
+
+async function uploadRecord() {
+  const file = $('upload').files[0];
+  if (!file) return;
+  if (file.size > 3.5e6) {
+    showError(`upload: ${file.name} is ${(file.size / 1e6).toFixed(1)} MB (at most 3.5 MB)`);
+    return;
+  }
+  const response = await fetch('/api/upload', { method: 'POST', body: JSON.stringify({ name: file.name, text: await file.text() }) });
+  const body = await response.json();
+  if (!response.ok) {
+    showError(body.error);
+    return;
+  }
+  $('record').append(new Option(`${body.name} (uploaded)`, body.id));
+  $('record').value = body.id;
+  rerun();
+}
+
 // --- IDA ----------------------------------------------------------------------
 
 const idaScales = [0.5, 1, 1.5, 2, 2.5, 3, 3.5, 4, 4.5, 5];
@@ -617,8 +637,9 @@ async function start() {
   fitControls();
   // Sliders, boxes and lists re-run as they move; the overrides once typed (on leaving the field).
   $('controls').addEventListener('input', (e) => {
-    if (e.target.tagName !== 'TEXTAREA') rerun();
+    if (e.target.tagName !== 'TEXTAREA' && e.target.type !== 'file') rerun();
   });
+  $('upload').addEventListener('change', () => uploadRecord());
   $('extra').addEventListener('change', () => rerun());
   $('controls').addEventListener('submit', (e) => e.preventDefault());
   $('lesson').addEventListener('change', () => {

@@ -60,12 +60,20 @@ json same_part(json summary) {
   return summary;
 }
 
-std::string temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("rocking_lab_test_" + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d.string();
-}
+// A folder of this test's own, removed with it.
+struct TempDir {
+  fs::path path;
+  explicit TempDir(const std::string& name)
+      : path(fs::temp_directory_path() / ("rocking_lab_test_" + std::to_string(::getpid()) + "_" + name)) {
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+  std::string str() const { return path.string(); }
+};
 
 // `rocking serve --port 0` in a process of its own: its address, and SIGINT to stop it.
 struct Server {
@@ -148,7 +156,8 @@ TEST_CASE("a lab run is the command line's run: summary, twin and history rows")
       answer_json(lab, "/api/simulate",
                   {{"record", "elcentro_1940_ns.at2"}, {"scale", 2.5}, {"set", {"damper.thickness=1.5"}},
                    {"compare", "fixed-base"}});
-  const std::string out = temp_dir("cli");
+  const TempDir dir("cli");
+  const std::string out = dir.str();
   const std::string chimney = scenes_dir + "/christchurch_chimney.toml";
   const Result cli = run("simulate " + chimney + " --record " + record + " --scale 2.5 --set damper.thickness=1.5 --every 0.02 --json "
                          "--out " + out);
@@ -190,7 +199,7 @@ TEST_CASE("a lab run of a scene's own pulse, a wall's tendon and a rigid block m
     CAPTURE(c.args);
     const json a = answer_json(lab, "/api/simulate", c.request);
     const Result cli =
-        run("simulate " + std::string(ROCKING_SOURCE_DIR) + "/" + c.args + " --every 0.02 --json --out " + temp_dir("own"));
+        run("simulate " + std::string(ROCKING_SOURCE_DIR) + "/" + c.args + " --every 0.02 --json --out " + TempDir("own").str());
     REQUIRE(cli.code == 0);
     json expected = same_part(json::parse(cli.out));
     json got = same_part(a["summary"]);
@@ -210,7 +219,8 @@ TEST_CASE("the lab's modal and IDA answer what rocking modal and rocking ida wri
 
   const json ida = answer_json(lab, "/api/ida", {{"record", "elcentro_1940_ns.at2"}, {"scales", {0.5, 2, 4}},
                                                  {"compare", "no-damper"}});
-  const std::string out = temp_dir("ida");
+  const TempDir dir("ida");
+  const std::string out = dir.str();
   const Result cli = run("ida --record " + *records + "/elcentro_1940_ns.at2 --scales 0.5,2,4 --variants "
                          "scene,no-damper --no-plot --out " + out);
   REQUIRE(cli.code == 0);
@@ -229,6 +239,33 @@ TEST_CASE("the lab's modal and IDA answer what rocking modal and rocking ida wri
     }
   }
   CHECK(compared > 30);
+}
+
+TEST_CASE("an uploaded record runs as the same file of the records folder, and a bad one is refused in one line") {
+  const auto records = records_dir();
+  if (!records) return;
+  const rocking::Lab lab = make_lab(*records);
+  const json up = answer_json(lab, "/api/upload", {{"name", "../../My El Centro.at2"}, {"text", read_text(*records + "/elcentro_1940_ns.at2")}});
+  const std::string id = up["id"];
+  CHECK(id == "upload/1/MyElCentro.at2");  // the name kept to letters, digits and . _ -, no leading dots
+  const json uploaded = answer_json(lab, "/api/simulate", {{"record", id}, {"scale", 2}});
+  const json folder = answer_json(lab, "/api/simulate", {{"record", "elcentro_1940_ns.at2"}, {"scale", 2}});
+  CHECK(uploaded["summary"]["peaks"] == folder["summary"]["peaks"]);
+  CHECK(uploaded["summary"]["counts"] == folder["summary"]["counts"]);
+  const rocking::LabAnswer garbage = lab.answer("POST", "/api/upload", json{{"name", "noise.txt"}, {"text", "hello\nworld\n"}}.dump());
+  CHECK(garbage.status == 400);
+  const std::string message = json::parse(garbage.body)["error"];
+  CHECK_MESSAGE(message.starts_with("upload: noise.txt"), message);
+  CHECK(message.find("rocking-lab-upload") == std::string::npos);  // never the lab's own temporary path
+  CHECK(message.find('\n') == std::string::npos);
+  CHECK(lab.answer("POST", "/api/simulate", R"({"record": "upload/99/x.at2"})").status == 400);
+  CHECK(lab.answer("POST", "/api/upload", std::string(lab.limits().upload_bytes + 1, ' ')).status == 413);
+  // No file is left behind (this process's: a server of another test may be reading one now).
+  const std::string mine = "rocking-lab-upload-" + std::to_string(::getpid()) + "-";
+  int left = 0;
+  for (const auto& e : fs::directory_iterator(fs::temp_directory_path()))
+    left += e.path().filename().string().starts_with(mine);
+  CHECK(left == 0);
 }
 
 TEST_CASE("bad requests get a 4xx with one line naming what is wrong") {

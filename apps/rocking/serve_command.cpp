@@ -104,7 +104,7 @@ int run(const ServeOptions& o) {
   httplib::Server server;
   // Workers wait on sockets more than they compute: runs are bounded by `slots`.
   server.new_task_queue = [] { return new httplib::ThreadPool(16); };
-  server.set_payload_max_length(lab.limits().request_bytes);
+  server.set_payload_max_length(std::max(lab.limits().request_bytes, lab.limits().upload_bytes));
   server.set_keep_alive_timeout(2);
   server.set_tcp_nodelay(true);  // an answer leaves whole, not held back for the client's acknowledgement
   server.set_default_headers({{"X-Content-Type-Options", "nosniff"},
@@ -139,7 +139,8 @@ int run(const ServeOptions& o) {
   server.set_error_handler([&lab](const httplib::Request&, httplib::Response& res) {
     if (!res.body.empty()) return;
     const std::string message =
-        res.status == 413 ? fmt::format("a request over {} bytes", lab.limits().request_bytes)
+        res.status == 413 ? fmt::format("a request over {} bytes", std::max(lab.limits().request_bytes,
+                                                                             lab.limits().upload_bytes))
                           : fmt::format("the server refused the request (HTTP {})", res.status);
     res.set_content(fmt::format(R"({{"error":"{}"}})", message), json_type);
   });
@@ -181,7 +182,7 @@ Command add_serve_command(CLI::App& app) {
       "a twin (fixed base, no dampers, no tendon); guided pages for the lessons of\n"
       "docs/teaching.md. Its JSON API runs what `rocking simulate`, `modal` and\n"
       "`ida` run: GET /api/scenes, /api/records; POST /api/simulate, /api/modal,\n"
-      "/api/ida. Binds 127.0.0.1 (this machine only) unless --host says otherwise.\n"
+      "/api/ida, and /api/upload (a record file of your own, read as --record reads it). Binds 127.0.0.1 (this machine only) unless --host says otherwise.\n"
       "Ctrl-C stops it.");
   auto o = std::make_shared<ServeOptions>();
   cmd->add_option("--port", o->port, "Port to listen on (default 8080; 0: a free one, printed)")->type_name("N");

@@ -174,6 +174,16 @@ try {
   await page.screenshot({ path: screenshot, fullPage: true });
   console.log(`wrote ${screenshot}`);
 
+  // A record file of the user's own, uploaded from the page, runs as the folder's.
+  n = await runsOf(page);
+  const input = await page.$('#upload');
+  await input.uploadFile(join(records, record));
+  await settled(page, n);
+  const uploaded = await page.evaluate(() => ({ record: document.querySelector('#record').value, peaks: window.lab.data.summary.peaks }));
+  assert.match(uploaded.record, /^upload\/\d+\/elcentro_1940_ns\.at2$/);
+  const again = cli.summary.peaks;  // the same record, scale 3, thickness 1.5 (the twin changes no peak of the run)
+  assert.equal(formatG(uploaded.peaks.theta_over_alpha, 4), formatG(again.theta_over_alpha, 4), 'the upload runs as the file');
+
   // Bad input from the page: the server's one line, shown.
   n = await runsOf(page);
   await page.$eval('#extra', (e) => { e.value = 'structure.EI_scale=-1'; e.dispatchEvent(new Event('change', { bubbles: true })); });

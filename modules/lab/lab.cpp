@@ -6,7 +6,11 @@ module;
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <cctype>
+#include <cstdlib>
+#include <unistd.h>
 #include <filesystem>
+#include <fstream>
 #include <initializer_list>
 #include <iterator>
 #include <map>
@@ -253,11 +257,23 @@ Scene Lab::scene_of(const json& r, const std::vector<std::string>& overrides) co
 std::string Lab::record_path(const std::string& id) const {
   for (const RecordEntry& e : records_)
     if (e.id == id) return e.path;
+  if (id.starts_with("upload/")) {
+    const std::lock_guard lock(mutex_);
+    if (std::find(uploads_.begin(), uploads_.end(), id) != uploads_.end()) return id;  // read already: in memory
+    throw InputError(fmt::format("record '{}': no such upload (uploads are kept while the server runs, the last {})",
+                                 id, limits_.uploads));
+  }
   throw InputError(fmt::format("record '{}': not one of the lab's records (GET /api/records lists them)", id));
 }
 
 std::shared_ptr<const GroundMotion> Lab::motion(const std::string& id, const std::string& component) const {
   const std::string path = record_path(id);
+  if (id.starts_with("upload/")) {
+    if (!component.empty())
+      throw InputError(fmt::format("component: an upload's component is chosen when it is uploaded"));
+    const std::lock_guard lock(mutex_);
+    return motions_.at(id + '\n');
+  }
   const std::string key = id + '\n' + component;
   {
     const std::lock_guard lock(mutex_);
@@ -328,6 +344,53 @@ json Lab::records() const {
   const std::lock_guard lock(mutex_);
   record_list_ = std::make_shared<const json>(out);
   return out;
+}
+
+json Lab::upload(const json& r) const {
+  check_keys(r, "upload", {"name", "text", "component"});
+  // The name, kept to letters, digits and . _ - (it names a file of the lab's own, and the record in titles).
+  std::string name;
+  for (char c : text_of(r, "name", "record"))
+    if (std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-') name += c;
+  while (name.starts_with('.')) name.erase(0, 1);
+  if (name.empty()) name = "record";
+  name = name.substr(0, 80);
+  const auto text = r.find("text");
+  if (text == r.end() || !text->is_string()) throw InputError("upload: text: give the record file's text");
+  const std::string component = text_of(r, "component");
+  // The readers take a path: the text goes to a file in a folder of the lab's own, read and removed at once.
+  std::string folder = (fs::temp_directory_path() / fmt::format("rocking-lab-upload-{}-XXXXXX", ::getpid())).string();
+  if (::mkdtemp(folder.data()) == nullptr) throw RunError("upload: could not make a temporary folder");
+  const fs::path file = fs::path(folder) / name;
+  std::shared_ptr<const GroundMotion> m;
+  try {
+    {
+      std::ofstream out(file, std::ios::binary);
+      out << text->get_ref<const std::string&>();
+      if (!out) throw RunError("upload: could not write the temporary file");
+    }
+    RecordOptions ro;
+    ro.component = component;
+    m = std::make_shared<const GroundMotion>(read_record(file.string(), ro));
+  } catch (const InputError& e) {
+    std::error_code ec;
+    fs::remove_all(folder, ec);
+    std::string message = e.what();  // named as the user named it, not by the temporary path
+    for (auto at = message.find(file.string()); at != std::string::npos; at = message.find(file.string()))
+      message.replace(at, file.string().size(), name);
+    throw InputError("upload: " + message);
+  }
+  std::error_code ec;
+  fs::remove_all(folder, ec);
+  const std::lock_guard lock(mutex_);
+  const std::string id = fmt::format("upload/{}/{}", ++upload_count_, name);
+  uploads_.push_back(id);
+  motions_[id + '\n'] = m;
+  if (uploads_.size() > limits_.uploads) {
+    motions_.erase(uploads_.front() + '\n');
+    uploads_.erase(uploads_.begin());
+  }
+  return {{"id", id}, {"name", describe_motion(*m)}, {"pga_g", m->peak() / gravity}, {"duration_s", m->duration()}};
 }
 
 LabRun Lab::read_simulate(const json& r) const {
@@ -454,13 +517,13 @@ LabAnswer Lab::answer(std::string_view method, std::string_view path, std::strin
     return LabAnswer{status, text(json{{"error", message}})};
   };
   const bool get = path == "/api/scenes" || path == "/api/records";
-  const bool post = path == "/api/simulate" || path == "/api/modal" || path == "/api/ida";
+  const bool post = path == "/api/simulate" || path == "/api/modal" || path == "/api/ida" || path == "/api/upload";
   if (!get && !post) return error(404, fmt::format("no such endpoint (GET /api/scenes, /api/records; POST "
-                                                   "/api/simulate, /api/modal, /api/ida)"));
+                                                   "/api/simulate, /api/modal, /api/ida, /api/upload)"));
   if (get != (method == "GET") || post != (method == "POST"))
     return error(405, fmt::format("{} takes {}", path, get ? "GET" : "POST"));
-  if (body.size() > limits_.request_bytes)
-    return error(413, fmt::format("a request of {} bytes (at most {})", body.size(), limits_.request_bytes));
+  const std::size_t limit = path == "/api/upload" ? limits_.upload_bytes : limits_.request_bytes;
+  if (body.size() > limit) return error(413, fmt::format("a request of {} bytes (at most {})", body.size(), limit));
   try {
     if (path == "/api/scenes") return {200, text(scenes())};
     if (path == "/api/records") return {200, text(records())};
@@ -474,6 +537,7 @@ LabAnswer Lab::answer(std::string_view method, std::string_view path, std::strin
     }
     if (path == "/api/simulate") return {200, simulate(request)};
     if (path == "/api/modal") return {200, text(modal(request))};
+    if (path == "/api/upload") return {200, text(upload(request))};
     return {200, text(ida(request))};
   } catch (const InputError& e) {
     return error(400, e.what());

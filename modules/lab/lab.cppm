@@ -29,6 +29,8 @@ export namespace rocking {
 // The work one request may ask for.
 struct LabLimits {
   std::size_t request_bytes = 64 * 1024;  // a request's body
+  std::size_t upload_bytes = 4 << 20;     // an uploaded record's request (its text in JSON)
+  std::size_t uploads = 16;               // uploaded records kept (the oldest goes first)
   double duration = 200;                  // simulated time of a run [s]
   std::size_t nodes = 64;                 // nodes of a structure
   std::size_t history_rows = 20000;       // rows of a run's history
@@ -71,6 +73,10 @@ class Lab {
   // POST /api/simulate: {scene, record, component, scale, set, duration, every, compare} ->
   // {summary, history, structure, twin: {variant, label, summary, history} | null}, as JSON text.
   std::string simulate(const nlohmann::json& request) const;
+  // POST /api/upload: {name, text, component} -> {id, name, pga_g, duration_s}: a record file's text,
+  // read by the same readers as a file of the records folder (its format from its content); its id
+  // ("upload/N/NAME") names it in later requests.
+  nlohmann::json upload(const nlohmann::json& request) const;
   // POST /api/modal: {scene, set} -> `rocking modal --json`.
   nlohmann::json modal(const nlohmann::json& request) const;
   // POST /api/ida: {scene, record, component, set, scales, compare} -> {columns, rows: [{variant, level, outcome, peaks}]}.
@@ -82,6 +88,7 @@ class Lab {
   // The dispatcher: a method and a path ("/api/simulate") with the body, to
   // an answer. 404 for an unknown path, 405 for a wrong method, 413 for a
   // body over the limit, 400 for bad JSON or input, 422 for a run that failed.
+
   LabAnswer answer(std::string_view method, std::string_view path, std::string_view body) const;
 
  private:
@@ -103,6 +110,8 @@ class Lab {
   mutable std::mutex mutex_;  // guards the caches below
   mutable std::map<std::string, std::shared_ptr<const GroundMotion>> motions_;
   mutable std::shared_ptr<const nlohmann::json> record_list_;
+  mutable std::vector<std::string> uploads_;  // the uploads' ids, oldest first
+  mutable std::size_t upload_count_ = 0;
 };
 
 }  // namespace rocking
