@@ -102,7 +102,8 @@ inline void processing(const std::uint8_t* data, std::size_t size) {
 
 // A request to the browser lab's API (rocking.lab): the first byte picks the
 // endpoint, the rest is the body. The dispatcher answers every body with a
-// status (never throws); a simulate request is read and checked (the scene
+// status (never throws): an upload is read by the record readers; a simulate
+// request is read and checked (the scene
 // loaded with its overrides, the record read) but not run, so that the
 // fuzzer spends its time on the parsing; modal requests run (they are cheap).
 inline void lab_request(const std::uint8_t* data, std::size_t size) {
@@ -110,9 +111,9 @@ inline void lab_request(const std::uint8_t* data, std::size_t size) {
                                  .records = std::string(ROCKING_SOURCE_DIR) + "/../shared/data/records"});
   if (size == 0) return;
   const std::string body(reinterpret_cast<const char*>(data) + 1, size - 1);
-  static constexpr const char* paths[] = {"/api/modal", "/api/scenes", "/api/nothing", "/api/simulate"};
-  const char* path = paths[data[0] % 4];
-  if (path != paths[3]) {
+  static constexpr const char* paths[] = {"/api/modal", "/api/scenes", "/api/nothing", "/api/upload", "/api/simulate"};
+  const char* path = paths[data[0] % 5];
+  if (path != paths[4]) {
     const rocking::LabAnswer a = lab.answer(data[0] & 4 ? "GET" : "POST", path, body);
     if (a.status < 200 || a.status >= 500 || a.body.empty()) __builtin_trap();
     return;
