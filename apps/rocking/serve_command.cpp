@@ -182,7 +182,8 @@ Command add_serve_command(CLI::App& app) {
       "a twin (fixed base, no dampers, no tendon); guided pages for the lessons of\n"
       "docs/teaching.md. Its JSON API runs what `rocking simulate`, `modal` and\n"
       "`ida` run: GET /api/scenes, /api/records; POST /api/simulate, /api/modal,\n"
-      "/api/ida, and /api/upload (a record file of your own, read as --record reads it). Binds 127.0.0.1 (this machine only) unless --host says otherwise.\n"
+      "/api/ida, and /api/upload (a record file of your own, read as --record\n"
+      "reads it). Binds 127.0.0.1 (this machine only) unless --host says otherwise.\n"
       "Ctrl-C stops it.");
   auto o = std::make_shared<ServeOptions>();
   cmd->add_option("--port", o->port, "Port to listen on (default 8080; 0: a free one, printed)")->type_name("N");

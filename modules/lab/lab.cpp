@@ -396,7 +396,6 @@ json Lab::upload(const json& r) const {
 LabRun Lab::read_simulate(const json& r) const {
   check_keys(r, "simulate", {"scene", "record", "component", "scale", "set", "duration", "every", "compare"});
   LabRun run;
-  run.scene_id = scene_entry(r).id;
   const std::vector<std::string> overrides = overrides_of(r, limits_.overrides);
   run.spec.scene = scene_of(r, overrides);
   run.spec.prefix = "";
@@ -417,40 +416,44 @@ LabRun Lab::read_simulate(const json& r) const {
   run.spec.history.every = number_of(r, "every").value_or(0.02);
   run.spec.history.columns = lab_columns(make_contact_model(run.spec.scene, false));
   run.twin = text_of(r, "compare");
-  if (!run.twin.empty()) {
-    run.twin_overrides = named_variant(run.twin).overrides;
+  if (!run.twin.empty()) {  // the same run of the scene with the variant's overrides after the request's
     std::vector<std::string> all = overrides;
-    all.insert(all.end(), run.twin_overrides.begin(), run.twin_overrides.end());
-    scene_of(r, all);  // the twin's scene must load too
+    const std::vector<std::string> variant = named_variant(run.twin).overrides;
+    all.insert(all.end(), variant.begin(), variant.end());
+    run.twin_spec = run.spec;
+    run.twin_spec->scene = scene_of(r, all);
+    run.twin_spec->history.columns = lab_columns(make_contact_model(run.twin_spec->scene, false));
   }
   return run;
 }
 
+namespace {
+
+// "summary": ..., "structure": ..., "history": ... of a run.
+void append_run(std::string& out, const RunSpec& spec, const LabLimits& limits, const Deadline& deadline) {
+  const Ran ran = run_once(spec, limits, deadline);
+  out += R"("summary":)";
+  out += text(run_summary(ran.label, ran.result));
+  out += R"(,"structure":)";
+  out += text(structure_json(spec.scene, make_contact_model(spec.scene, false)));
+  out += R"(,"history":)";
+  append_history(out, ran.names, ran.values);
+}
+
+}  // namespace
+
 std::string Lab::simulate(const json& r) const {
   const LabRun run = read_simulate(r);
   const Deadline deadline(limits_.seconds);
-  const Ran main = run_once(run.spec, limits_, deadline);
-  std::string out = R"({"summary":)";
-  out += text(run_summary(main.label, main.result));
-  out += R"(,"structure":)";
-  out += text(structure_json(run.spec.scene, make_contact_model(run.spec.scene, false)));
-  out += R"(,"history":)";
-  append_history(out, main.names, main.values);
+  std::string out = "{";
+  append_run(out, run.spec, limits_, deadline);
   out += R"(,"twin":)";
-  if (run.twin.empty()) {
-    out += "null";
-  } else {
-    RunSpec twin = run.spec;
-    std::vector<std::string> all = overrides_of(r, limits_.overrides);
-    all.insert(all.end(), run.twin_overrides.begin(), run.twin_overrides.end());
-    twin.scene = scene_of(r, all);
-    twin.history.columns = lab_columns(make_contact_model(twin.scene, false));
-    const Ran t = run_once(twin, limits_, deadline);
-    out += R"({"variant":)" + text(json(run.twin)) + R"(,"summary":)" + text(run_summary(t.label, t.result)) +
-           R"(,"structure":)" + text(structure_json(twin.scene, make_contact_model(twin.scene, false))) +
-           R"(,"history":)";
-    append_history(out, t.names, t.values);
+  if (run.twin_spec) {
+    out += R"({"variant":)" + text(json(run.twin)) + ",";
+    append_run(out, *run.twin_spec, limits_, deadline);
     out += '}';
+  } else {
+    out += "null";
   }
   out += '}';
   return out;

@@ -17,6 +17,7 @@ module;
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -52,12 +53,12 @@ struct LabAnswer {
   std::string body;
 };
 
-// A request read and checked: the run it asks for, the twin's overrides
-// (none: no twin) and the history's interval.
+// A simulate request read and checked: the run it asks for and, when it
+// asks for a twin (a variant of rocking.study), the twin's run.
 struct LabRun {
   RunSpec spec;
-  std::string scene_id, twin;
-  std::vector<std::string> twin_overrides;
+  std::string twin;                 // the variant's name; empty: no twin
+  std::optional<RunSpec> twin_spec;
 };
 
 class Lab {
