@@ -343,10 +343,22 @@ TEST_CASE("rocking serve: bad input leaves it serving, 20 requests at once come 
     CHECK(r->status == 404);
     CHECK(r->body.find("root:") == std::string::npos);
   }
-  const auto malformed = client.Post("/api/simulate", "{\"scale\": ", "application/json");
-  REQUIRE(malformed);
-  CHECK(malformed->status == 400);
-  CHECK(json::parse(malformed->body)["error"].get<std::string>().starts_with("malformed JSON"));
+  // Malformed JSON, an unknown key, a value out of range, a record path: each a 400 and its line.
+  const std::vector<std::pair<std::string, std::string>> bad{
+      {"{\"scale\": ", "malformed JSON"},
+      {R"({"sclae": 2})", "unknown key 'sclae'"},
+      {R"({"scale": -3})", "scale -3"},
+      {R"({"record": "../../../../etc/passwd"})", "not one of the lab's records"},
+      {R"({"set": ["damper.thickness=1e9"]})", "thickness"}};
+  for (const auto& [body, says] : bad) {
+    CAPTURE(body);
+    const auto r = client.Post("/api/simulate", body, "application/json");
+    REQUIRE(r);
+    CHECK(r->status == 400);
+    const std::string message = json::parse(r->body)["error"];
+    CHECK_MESSAGE(message.find(says) != std::string::npos, message);
+    CHECK(message.find('\n') == std::string::npos);
+  }
   const auto huge = client.Post("/api/simulate", std::string(10 * 1024 * 1024, '['), "application/json");
   if (huge) {  // the server may also close the connection on a body this size
     CHECK(huge->status == 413);
