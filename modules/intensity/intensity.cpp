@@ -1,6 +1,7 @@
 module;
 #include <array>
 #include <algorithm>
+#include <numeric>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -276,6 +277,8 @@ std::vector<RotD> rotd_spectrum(const GroundMotion& first, const GroundMotion& s
   };
   std::vector<RotD> out;
   std::vector<Step> steps;
+  std::vector<double> bound;
+  std::vector<std::size_t> order;
   std::array<double, azimuths> psa{};
   for (double T : periods) {
     const Oscillator osc(T, damping);
@@ -297,15 +300,38 @@ std::vector<RotD> rotd_spectrum(const GroundMotion& first, const GroundMotion& s
       }
     }
     steps.push_back(at);
+    // No azimuth's response exceeds the vector's length: within step j,
+    // |x1 cos + x2 sin| <= hypot(peak |x1|, peak |x2|) = bound[j]. A step
+    // whose bound is below an azimuth's peak so far cannot raise it, and is
+    // skipped; the peaks start from the steps of the largest bounds, so that
+    // most steps are. The peaks are those of the full scan (a maximum, over
+    // the same steps that can reach it).
+    const std::size_t count = steps.size() - 1;
+    bound.resize(count);
+    for (std::size_t j = 0; j < count; ++j) {
+      const Step& p = steps[j];
+      const Step& q = steps[j + 1];
+      double each[2];
+      for (int c = 0; c < 2; ++c) each[c] = step_peak(osc, p.x[c], p.v[c], q.x[c], q.v[c], p.a0[c], p.s[c], hs, 0.0);
+      bound[j] = std::hypot(each[0], each[1]) * (1 + 1e-12);  // rounding cannot lift a projection above it
+    }
+    order.resize(count);
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    const std::size_t first = std::min<std::size_t>(count, 64);
+    std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(first), order.end(),
+                      [&](std::size_t a, std::size_t b) { return bound[a] > bound[b]; });
     for (std::size_t k = 0; k < azimuths; ++k) {
       const double c = along[k][0], s = along[k][1];
       double peak = 0;
-      for (std::size_t j = 0; j + 1 < steps.size(); ++j) {
+      const auto visit = [&](std::size_t j) {
         const Step& p = steps[j];
         const Step& q = steps[j + 1];
         peak = step_peak(osc, c * p.x[0] + s * p.x[1], c * p.v[0] + s * p.v[1], c * q.x[0] + s * q.x[1],
                          c * q.v[0] + s * q.v[1], c * p.a0[0] + s * p.a0[1], c * p.s[0] + s * p.s[1], hs, peak);
-      }
+      };
+      for (std::size_t i = 0; i < first; ++i) visit(order[i]);
+      for (std::size_t j = 0; j < count; ++j)
+        if (bound[j] > peak) visit(j);
       psa[k] = std::pow(2 * pi / T, 2) * peak;
     }
     std::array<double, azimuths> sorted = psa;
