@@ -281,6 +281,7 @@ TEST_CASE("bad requests get a 4xx with one line naming what is wrong") {
   const std::vector<Bad> cases{
       {"POST", "/api/simulate", "{\"scale\": ", 400, "malformed JSON"},
       {"POST", "/api/simulate", "[1, 2]", 400, "JSON object"},
+      {"POST", "/api/modal", "8888888880888888e888", 400, "number overflow"},  // nlohmann's out_of_range, found by fuzzing
       {"POST", "/api/simulate", R"({"sclae": 2})", 400, "unknown key 'sclae'"},
       {"POST", "/api/simulate", R"({"scale": 1000})", 400, "scale 1000"},
       {"POST", "/api/simulate", R"({"scale": "2"})", 400, "scale: must be a number"},

@@ -7,6 +7,7 @@
 #include "commands.hpp"
 #include "stop_signals.hpp"
 #include <httplib.h>
+#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 #include <fmt/format.h>
 #include <algorithm>
@@ -144,9 +145,22 @@ int run(const ServeOptions& o) {
                           : fmt::format("the server refused the request (HTTP {})", res.status);
     res.set_content(fmt::format(R"({{"error":"{}"}})", message), json_type);
   });
-  server.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
-    res.status = 503;
-    res.set_content(R"j({"error":"the server could not answer this request (out of memory?)"})j", json_type);
+  // What the lab does not answer itself (it answers every input error): memory, or a fault of ours.
+  server.set_exception_handler([](const httplib::Request& req, httplib::Response& res, std::exception_ptr e) {
+    std::string what = "unknown";
+    try {
+      std::rethrow_exception(e);
+    } catch (const std::bad_alloc&) {
+      what = "out of memory";
+    } catch (const std::exception& x) {
+      what = x.what();
+    } catch (...) {
+    }
+    spdlog::error("{} {}: {}", req.method, req.path, what);
+    res.status = 500;
+    res.set_content(nlohmann::json{{"error", "the server failed on this request (" + what + "); please report it"}}
+                        .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace),
+                    json_type);
   });
 
   const int port = o.port == 0 ? server.bind_to_any_port(o.host) : (server.bind_to_port(o.host, o.port) ? o.port : -1);

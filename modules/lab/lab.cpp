@@ -34,6 +34,13 @@ namespace {
 
 constexpr std::string_view default_scene = "christchurch_chimney";
 
+// nlohmann's message without its "[json.exception.KIND.ID] " prefix.
+std::string json_message(const nlohmann::json::exception& e) {
+  const std::string what = e.what();
+  const auto end = what.find("] ");
+  return what.starts_with("[json.exception") && end != std::string::npos ? what.substr(end + 2) : what;
+}
+
 // JSON text, any invalid UTF-8 (a record's header, a cut name) replaced.
 std::string text(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
 
@@ -533,10 +540,8 @@ LabAnswer Lab::answer(std::string_view method, std::string_view path, std::strin
     json request;
     try {
       request = json::parse(body);
-    } catch (const json::parse_error& e) {
-      std::string what = e.what();
-      if (const auto at = what.find("parse error"); at != std::string::npos) what = what.substr(at);
-      return error(400, "malformed JSON: " + what);
+    } catch (const json::exception& e) {  // a syntax error, or a number beyond a double (out_of_range.406)
+      return error(400, "malformed JSON: " + json_message(e));
     }
     if (path == "/api/simulate") return {200, simulate(request)};
     if (path == "/api/modal") return {200, text(modal(request))};
@@ -546,6 +551,8 @@ LabAnswer Lab::answer(std::string_view method, std::string_view path, std::strin
     return error(400, e.what());
   } catch (const RunError& e) {
     return error(422, e.what());
+  } catch (const json::exception& e) {  // a value of a type the reading did not expect
+    return error(400, "malformed request: " + json_message(e));
   }
 }
 
