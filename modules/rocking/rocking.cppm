@@ -24,3 +24,4 @@ export import rocking.study_files;
 export import rocking.drawing;
 export import rocking.report;
 export import rocking.run;
+export import rocking.lab;
