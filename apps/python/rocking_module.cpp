@@ -409,23 +409,23 @@ rocking::FragilityOptions fragility_options(long bootstrap, unsigned long seed, 
   return o;
 }
 
-// The report `rocking ida` writes beside its rows (rocking.study_files).
-rocking::StudyReport ida_report(const PyIda& r, const rocking::FragilityOptions& o) {
+// The report `rocking ida` writes beside its rows (rocking.study_files), its
+// records named by `ids` (rocking::record_ids of the study's records).
+rocking::StudyReport ida_report(const PyIda& r, const rocking::FragilityOptions& o, const std::vector<std::string>& ids) {
   py::gil_scoped_release unlocked;
-  const std::vector<std::string> ids = rocking::record_ids(r.study->records());
   if (r.hunt) return rocking::hunt_report(*r.study, r.hunts, ids, o);
   return rocking::ladder_report(*r.study, *r.summary, rocking::suite_fragility(*r.study, *r.summary, o, r.threads), ids);
 }
 
 // The files of `rocking ida --out DIR --no-plot` (no inputs.txt or timing.csv).
 py::list ida_write(const PyIda& r, const std::filesystem::path& dir, const rocking::FragilityOptions& o) {
-  const rocking::StudyReport report = ida_report(r, o);
+  const rocking::Study& st = *r.study;
+  const std::vector<std::string> ids = rocking::record_ids(st.records());
+  const rocking::StudyReport report = ida_report(r, o, ids);
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec || !std::filesystem::is_directory(dir))
     throw rocking::InputError(fmt::format("{}: cannot create the output folder: {}", dir.string(), ec ? ec.message() : "not a folder"));
-  const rocking::Study& st = *r.study;
-  const std::vector<std::string> ids = rocking::record_ids(st.records());
   std::vector<std::filesystem::path> written;
   auto write = [&](const char* name, const std::string& text) {
     rocking::write_text(dir / name, text);
@@ -873,7 +873,9 @@ PYBIND11_MODULE(rocking, m) {
       .def(
           "summary",
           [](const PyIda& r, long bootstrap, unsigned long seed, double beta_modelling) {
-            return to_python(ida_report(r, fragility_options(bootstrap, seed, beta_modelling)).summary);
+            return to_python(
+                ida_report(r, fragility_options(bootstrap, seed, beta_modelling), rocking::record_ids(r.study->records()))
+                    .summary);
           },
           "bootstrap"_a = 1000L, "seed"_a = 20020101UL, "beta_modelling"_a = 0.0,
           "The dict of summary.json, as `rocking ida` writes it: the intensity measure,\n"
