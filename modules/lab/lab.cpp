@@ -193,6 +193,7 @@ json structure_json(const Scene& scene, const ContactModel& model) {
 struct Ran {
   RunResult result;
   RunLabel label;
+  json structure;  // structure_json of the run's own model
   std::vector<std::string> names;
   std::vector<std::vector<double>> values;
 };
@@ -229,7 +230,8 @@ Ran run_once(const RunSpec& spec, const LabLimits& limits, const Deadline& deadl
   Columns columns(prepared.model, prepared.columns);
   RunResult result = simulate(prepared.model, prepared.motion, prepared.options, &columns);
   check_result(result, deadline, limits);
-  return {std::move(result), prepared.label, columns.columns().names(), std::move(columns.values)};
+  return {std::move(result), prepared.label, structure_json(spec.scene, prepared.model), columns.columns().names(),
+          std::move(columns.values)};
 }
 
 }  // namespace
@@ -442,7 +444,7 @@ void append_run(std::string& out, const RunSpec& spec, const LabLimits& limits, 
   out += R"("summary":)";
   out += text(run_summary(ran.label, ran.result));
   out += R"(,"structure":)";
-  out += text(structure_json(spec.scene, make_contact_model(spec.scene, false)));
+  out += text(ran.structure);
   out += R"(,"history":)";
   append_history(out, ran.names, ran.values);
 }
