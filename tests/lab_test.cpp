@@ -268,6 +268,29 @@ TEST_CASE("an uploaded record runs as the same file of the records folder, and a
   CHECK(left == 0);
 }
 
+TEST_CASE("text from a request or a record's header stays inert in the lab's answers") {
+  const auto records = records_dir();
+  if (!records) return;
+  const rocking::Lab lab = make_lab(*records);
+  // A record whose header holds markup, quotes, a backquote, system( and ../ .
+  const std::string hostile = R"(Data for "</script><img src=x onerror=alert(1)>" `id` system('ls') ../../etc)";
+  std::string text = read_text(*records + "/elcentro_1940_ns.at2");
+  text.replace(0, text.find('\n'), hostile);
+  const rocking::LabAnswer up = lab.answer("POST", "/api/upload", json{{"name", "`id`;../x$(ls).at2"}, {"text", text}}.dump());
+  REQUIRE(up.status == 200);
+  const json answer = json::parse(up.body);  // valid JSON: every quote and control escaped
+  const std::string id = answer["id"];
+  // The name is kept to [A-Za-z0-9._-], no leading dot: one file name, never a path ("id..xls.at2").
+  CHECK(id == "upload/1/id..xls.at2");
+  const json run = answer_json(lab, "/api/simulate", {{"record", id}});
+  const std::string motion = run["summary"]["motion"];
+  CHECK_MESSAGE(motion.find("onerror=alert(1)") != std::string::npos, motion);  // carried as text, as JSON strings do
+  // and an id made of such text names nothing.
+  const rocking::LabAnswer bad = lab.answer("POST", "/api/simulate", json{{"record", hostile}}.dump());
+  CHECK(bad.status == 400);
+  CHECK(json::parse(bad.body)["error"].get<std::string>().find("not one of the lab's records") != std::string::npos);
+}
+
 TEST_CASE("bad requests get a 4xx with one line naming what is wrong") {
   const auto records = records_dir();
   if (!records) return;
