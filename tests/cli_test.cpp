@@ -2,8 +2,11 @@
 // tools can read, and bad input that ends in one line on stderr and exit code 2.
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
+#include <cstdlib>
+#include <filesystem>
 #include <string>
 #include "run_program.hpp"
+#include "temp_path.hpp"
 
 
 TEST_CASE("rocking --help lists the subcommands and modal --help explains --set") {
@@ -14,6 +17,42 @@ TEST_CASE("rocking --help lists the subcommands and modal --help explains --set"
   CHECK(modal.code == 0);
   CHECK(modal.out.find("--set") != std::string::npos);
   CHECK(modal.out.find("structure.EI_scale") != std::string::npos);
+}
+
+TEST_CASE("the program starts without the web server's or MPI's libraries, and opens each plugin only when needed") {
+  // What the dynamic loader maps for the program: none of cpp-httplib,
+  // OpenSSL or OpenMPI (they live in librocking_serve.so and librocking_mpi.so).
+  const std::string err = temp_path("ldd.err").string();
+  FILE* pipe = popen(("ldd " + std::string(ROCKING_BIN) + " 2>" + err).c_str(), "r");
+  REQUIRE(pipe != nullptr);
+  std::string mapped;
+  char buf[512];
+  while (std::fgets(buf, sizeof buf, pipe) != nullptr) mapped += buf;
+  REQUIRE(pclose(pipe) == 0);
+  INFO(mapped);
+  CHECK(mapped.find("libc.so") != std::string::npos);
+  for (const char* library : {"httplib", "libssl", "libcrypto", "libmpi", "libbrotli", "libz."})
+    CHECK_MESSAGE(mapped.find(library) == std::string::npos, library);
+  // The program alone, without its plugins beside it: the commands that need
+  // one say which, in one line, exit 3; the others run.
+  const std::filesystem::path alone = scratch_dir("alone") / "rocking";
+  std::filesystem::copy_file(ROCKING_BIN, alone);
+  const auto run_alone = [&](const std::string& env, const std::string& args) {
+    const std::string out = temp_path("alone.err").string();
+    const int status = std::system((env + " " + alone.string() + " " + args + " >/dev/null 2>" + out).c_str());
+    return std::pair{WIFEXITED(status) ? WEXITSTATUS(status) : -1, file_text(out)};
+  };
+  const auto [serve_code, serve_err] = run_alone("", "serve --port 0");
+  CHECK(serve_code == 3);
+  CHECK(lines(serve_err) == 1);
+  CHECK(serve_err.find("the lab's web server cannot be loaded") != std::string::npos);
+  const auto [mpi_code, mpi_err] =
+      run_alone("OMPI_COMM_WORLD_SIZE=2", "sweep --set damper.thickness=1,2 --record " + std::string(ROCKING_SOURCE_DIR) +
+                                              "/data/scenes/christchurch_chimney.toml");
+  CHECK(mpi_code == 3);
+  CHECK(lines(mpi_err) == 1);
+  CHECK(mpi_err.find("started by mpirun, but MPI cannot be loaded") != std::string::npos);
+  CHECK(run_alone("", "modal --json").first == 0);
 }
 
 TEST_CASE("modal --json prints one object with every documented key, in SI units") {

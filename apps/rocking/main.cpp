@@ -6,6 +6,7 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <fmt/format.h>
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <exception>
 #include <string>
@@ -30,12 +31,18 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
   return row[b.size()];
 }
 
+// The first word that is not an option (the program's own options, -v, -q,
+// --help and --version, take no value): the subcommand asked for, or empty.
+std::string first_word(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i)
+    if (argv[i][0] != '-') return argv[i];
+  return {};
+}
+
 // The first word that is not an option must be a subcommand: an error naming
 // it, with the nearest subcommand when one is close, or empty.
 std::string unknown_subcommand(const CLI::App& app, int argc, char** argv) {
-  for (int i = 1; i < argc; ++i) {
-    if (argv[i][0] == '-') continue;
-    const std::string word = argv[i];
+  if (const std::string word = first_word(argc, argv); !word.empty()) {
     std::string best;
     std::size_t best_distance = 3;  // suggest only a near miss
     for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) {
@@ -69,17 +76,35 @@ int main(int argc, char** argv) {
   app.add_flag("-v,--verbose", verbose, "Log what is being done (debug level)");
   app.add_flag("-q,--quiet", quiet, "Log only warnings and errors");
 
-  rocking::app::Command modal = rocking::app::add_modal_command(app);
-  rocking::app::Command simulate = rocking::app::add_simulate_command(app);
-  rocking::app::Command plot = rocking::app::add_plot_command(app);
-  rocking::app::Command ida = rocking::app::add_ida_command(app);
-  rocking::app::Command sweep = rocking::app::add_sweep_command(app);
-  rocking::app::Command tradeoff = rocking::app::add_tradeoff_command(app);
-  rocking::app::Command spectrum = rocking::app::add_spectrum_command(app);
-  rocking::app::Command animate = rocking::app::add_animate_command(app);
-  rocking::app::Command record = rocking::app::add_record_command(app);
-  rocking::app::Command fit = rocking::app::add_fit_command(app);
-  rocking::app::Command serve = rocking::app::add_serve_command(app);
+  // Each subcommand's options are built only when it is the one asked for
+  // (the first word that is not an option): building them all costs more
+  // than the rest of the program's start-up. `rocking --help`, and a word that
+  // names no subcommand, build them all, to list them or to suggest one.
+  struct Subcommand {
+    const char* name;
+    rocking::app::Command (*add)(CLI::App&);
+    rocking::app::Command run;
+  };
+  std::array<Subcommand, 11> subcommands{{{"modal", rocking::app::add_modal_command, {}},
+                                          {"simulate", rocking::app::add_simulate_command, {}},
+                                          {"plot", rocking::app::add_plot_command, {}},
+                                          {"ida", rocking::app::add_ida_command, {}},
+                                          {"sweep", rocking::app::add_sweep_command, {}},
+                                          {"tradeoff", rocking::app::add_tradeoff_command, {}},
+                                          {"spectrum", rocking::app::add_spectrum_command, {}},
+                                          {"animate", rocking::app::add_animate_command, {}},
+                                          {"record", rocking::app::add_record_command, {}},
+                                          {"fit", rocking::app::add_fit_command, {}},
+                                          {"serve", rocking::app::add_serve_command, {}}}};
+  const std::string asked = first_word(argc, argv);
+  const bool known = std::any_of(subcommands.begin(), subcommands.end(),
+                                 [&](const Subcommand& c) { return asked == c.name; });
+  const bool help = std::any_of(argv + 1, argv + argc, [](const char* a) {
+    return std::strcmp(a, "--help") == 0 || std::strcmp(a, "-h") == 0;
+  });
+  const bool all = asked.empty() ? help : !known;
+  for (Subcommand& c : subcommands)
+    if (all || asked == c.name) c.run = c.add(app);
 
   auto logger = spdlog::stderr_color_mt("rocking");
   spdlog::set_default_logger(logger);
@@ -103,17 +128,8 @@ int main(int argc, char** argv) {
   spdlog::set_level(verbose ? spdlog::level::debug : quiet ? spdlog::level::warn : spdlog::level::info);
 
   try {
-    if (app.got_subcommand("modal")) return modal();
-    if (app.got_subcommand("simulate")) return simulate();
-    if (app.got_subcommand("plot")) return plot();
-    if (app.got_subcommand("ida")) return ida();
-    if (app.got_subcommand("sweep")) return sweep();
-    if (app.got_subcommand("tradeoff")) return tradeoff();
-    if (app.got_subcommand("spectrum")) return spectrum();
-    if (app.got_subcommand("animate")) return animate();
-    if (app.got_subcommand("record")) return record();
-    if (app.got_subcommand("fit")) return fit();
-    if (app.got_subcommand("serve")) return serve();
+    for (const Subcommand& c : subcommands)
+      if (c.run && app.got_subcommand(c.name)) return c.run();
   } catch (const rocking::InputError& e) {
     fmt::print(stderr, "rocking: error: {}\n", e.what());
     return rocking::exit_input_error;

@@ -1,8 +1,6 @@
 #include "mpi_jobs.hpp"
-#include <dlfcn.h>
-#include <fmt/format.h>
+#include "plugins.hpp"
 #include <cstdlib>
-#include <filesystem>
 #include <string>
 import rocking;
 
@@ -15,19 +13,12 @@ bool launched_by_mpirun() {
   return false;
 }
 
-// librocking_mpi.so from the program's own folder, opened once; it stays
-// loaded until the process ends (OpenMPI must not be unloaded after
-// MPI_Finalize).
+// librocking_mpi.so (plugins.hpp), opened once; it stays loaded until the
+// process ends (OpenMPI must not be unloaded after MPI_Finalize).
 const MpiFunctions& mpi_functions() {
   static const MpiFunctions* functions = [] {
-    std::error_code ec;
-    const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
-    const std::string object = (self.parent_path() / "librocking_mpi.so").string();
-    void* handle = dlopen(object.c_str(), RTLD_NOW | RTLD_GLOBAL);
-    if (handle == nullptr)
-      throw RunError(fmt::format("started by mpirun, but MPI cannot be loaded: {}", dlerror()));
-    auto* entry = reinterpret_cast<const MpiFunctions* (*)()>(dlsym(handle, "rocking_mpi_interface"));
-    if (entry == nullptr) throw RunError(fmt::format("{}: no rocking_mpi_interface: {}", object, dlerror()));
+    auto* entry = reinterpret_cast<const MpiFunctions* (*)()>(
+        plugin_symbol("librocking_mpi.so", "rocking_mpi_interface", "started by mpirun, but MPI"));
     return entry();
   }();
   return *functions;

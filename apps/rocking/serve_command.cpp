@@ -1,12 +1,14 @@
-// `rocking serve`: the browser lab. A local web server (cpp-httplib) that
-// serves the lab's page (lab/: plain JavaScript, uPlot from npm) and its JSON
-// API (rocking.lab: the same runs as the command line). It binds 127.0.0.1
-// unless told otherwise, serves only the files of the lab's folder it read at
-// start-up (no request names a file), bounds the request size and the runs in
-// flight, and stops cleanly on Ctrl-C.
+// `rocking serve`: the browser lab. A local web server that serves the lab's
+// page (lab/: plain JavaScript, uPlot from npm) and its JSON API (rocking.lab:
+// the same runs as the command line). It binds 127.0.0.1 unless told
+// otherwise, serves only the files of the lab's folder it read at start-up (no
+// request names a file), bounds the request size and the runs in flight, and
+// stops cleanly on Ctrl-C. HTTP itself is cpp-httplib's, in librocking_serve.so
+// (serve_plugin.hpp), which only this command opens.
 #include "commands.hpp"
+#include "plugins.hpp"
+#include "serve_plugin.hpp"
 #include "stop_signals.hpp"
-#include <httplib.h>
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 #include <fmt/format.h>
@@ -17,10 +19,11 @@
 #include <fstream>
 #include <iostream>
 #include <map>
-#include <memory>
 #include <semaphore>
 #include <sstream>
+#include <string_view>
 #include <thread>
+#include <vector>
 import rocking.lab;
 
 namespace rocking::app {
@@ -36,11 +39,6 @@ struct ServeOptions {
   std::string records;
   int runs = 0;  // runs in flight at once; 0: the cores
 };
-
-// JSON answers go uncompressed: httplib compresses only an exact
-// "application/json", with Brotli at its slowest setting when the browser
-// accepts it (most of a second for a run's history); on loopback that buys nothing.
-constexpr const char* json_type = "application/json; charset=utf-8";
 
 struct StaticFile {
   std::string content, type;
@@ -92,93 +90,72 @@ std::string records_folder(const std::string& given) {
   return env != nullptr && *env != 0 ? env : ROCKING_RECORDS_DIR;
 }
 
+// What the server plugin calls back (serve_plugin.hpp): the lab answers, a
+// bounded number of runs at once.
+struct Serving {
+  const Lab& lab;
+  std::string host;
+  std::counting_semaphore<1024> slots;
+};
+
+void answer(void* context, const char* method, const char* path, const char* body, std::size_t body_size,
+            void* response, RockingRespond respond) {
+  auto& s = *static_cast<Serving*>(context);
+  const bool post = std::string_view(method) == "POST";
+  if (post) s.slots.acquire();  // a run's place among those in flight, held while it computes
+  LabAnswer a;
+  try {
+    a = s.lab.answer(method, path, std::string_view(body, body_size));
+  } catch (const std::exception& e) {  // the lab answers every input error itself: memory, or a fault of ours
+    spdlog::error("{} {}: {}", method, path, e.what());
+    a = {500, nlohmann::json{{"error", fmt::format("the server failed on this request ({}); please report it",
+                                                   e.what())}}
+                  .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)};
+  }
+  if (post) s.slots.release();
+  respond(response, a.status, a.body.data(), a.body.size());
+}
+
 int run(const ServeOptions& o) {
   if (o.port < 0 || o.port > 65535) throw InputError(fmt::format("--port {}: must be in [0, 65535]", o.port));
   if (o.runs < 0) throw InputError(fmt::format("--runs {}: must be 0 (the cores) or more", o.runs));
   if (o.host != "127.0.0.1" && o.host != "localhost" && o.host != "::1")
     spdlog::warn("serving on {}: anyone who reaches this machine there can run simulations on it", o.host);
   const auto files = read_lab(o.lab);
+  const auto serve = reinterpret_cast<RockingServe>(
+      plugin_symbol("librocking_serve.so", "rocking_serve", "the lab's web server"));
   const Lab lab({.scenes = ROCKING_SCENES_DIR, .records = records_folder(o.records)});
   const int runs = o.runs > 0 ? o.runs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  auto slots = std::make_shared<std::counting_semaphore<1024>>(std::min(runs, 1024));
+  Serving serving{lab, o.host, std::counting_semaphore<1024>(std::min(runs, 1024))};
 
-  httplib::Server server;
-  // Workers wait on sockets more than they compute: runs are bounded by `slots`.
-  server.new_task_queue = [] { return new httplib::ThreadPool(16); };
-  server.set_payload_max_length(std::max(lab.limits().request_bytes, lab.limits().upload_bytes));
-  server.set_keep_alive_timeout(2);
-  server.set_tcp_nodelay(true);  // an answer leaves whole, not held back for the client's acknowledgement
-  server.set_default_headers({{"X-Content-Type-Options", "nosniff"},
-                              {"Content-Security-Policy", "default-src 'self'; img-src 'self' data:"},
-                              {"Cache-Control", "no-store"}});
-  const auto api = [&lab, slots](const httplib::Request& req, httplib::Response& res) {
-    struct Slot {  // a run's place among those in flight, held while it computes
-      std::counting_semaphore<1024>* s;
-      explicit Slot(std::counting_semaphore<1024>* s) : s(s) {
-        if (s) s->acquire();
-      }
-      ~Slot() {
-        if (s) s->release();
-      }
-    } slot(req.method == "POST" ? slots.get() : nullptr);
-    const LabAnswer a = lab.answer(req.method, req.path, req.body);
-    res.status = a.status;
-    res.set_content(a.body, json_type);
+  std::vector<RockingServeFile> served;
+  for (const auto& [url, file] : files)
+    served.push_back({url.c_str(), file.content.data(), file.content.size(), file.type.c_str()});
+  const RockingServeConfig config{
+      .host = o.host.c_str(),
+      .port = o.port,
+      .payload_max = std::max(lab.limits().request_bytes, lab.limits().upload_bytes),
+      .files = served.data(),
+      .file_count = served.size(),
+      .context = &serving,
+      .answer = answer,
+      .listening =
+          [](void* context, int port) {
+            const std::string& host = static_cast<Serving*>(context)->host;
+            const std::string shown = host.find(':') != std::string::npos ? "[" + host + "]" : host;
+            fmt::print("rocking serve: the lab is at http://{}:{}/ (Ctrl-C stops it)\n", shown, port);
+            std::fflush(stdout);
+          },
+      .stop_requested = [](void*) { return stop_signal(); },
+      .log_error = [](void*, const char* message) { spdlog::error("{}", message); },
   };
-  server.Get(R"(/api/.*)", api);
-  server.Post(R"(/api/.*)", api);
-  server.Get(R"(/.*)", [&files](const httplib::Request& req, httplib::Response& res) {
-    const auto it = files.find(req.path);
-    if (it == files.end()) {
-      res.status = 404;
-      res.set_content(R"({"error":"no such page"})", json_type);
-      return;
-    }
-    res.set_content(it->second.content, it->second.type.c_str());
-  });
-  // httplib's own refusals (a body over the limit, a bad request line) get the one-line message too.
-  server.set_error_handler([&lab](const httplib::Request&, httplib::Response& res) {
-    if (!res.body.empty()) return;
-    const std::string message =
-        res.status == 413 ? fmt::format("a request over {} bytes", std::max(lab.limits().request_bytes,
-                                                                             lab.limits().upload_bytes))
-                          : fmt::format("the server refused the request (HTTP {})", res.status);
-    res.set_content(fmt::format(R"({{"error":"{}"}})", message), json_type);
-  });
-  // What the lab does not answer itself (it answers every input error): memory, or a fault of ours.
-  server.set_exception_handler([](const httplib::Request& req, httplib::Response& res, std::exception_ptr e) {
-    std::string what = "unknown";
-    try {
-      std::rethrow_exception(e);
-    } catch (const std::bad_alloc&) {
-      what = "out of memory";
-    } catch (const std::exception& x) {
-      what = x.what();
-    } catch (...) {
-    }
-    spdlog::error("{} {}: {}", req.method, req.path, what);
-    res.status = 500;
-    res.set_content(nlohmann::json{{"error", "the server failed on this request (" + what + "); please report it"}}
-                        .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace),
-                    json_type);
-  });
-
-  const int port = o.port == 0 ? server.bind_to_any_port(o.host) : (server.bind_to_port(o.host, o.port) ? o.port : -1);
-  if (port <= 0)
+  catch_stop_signals();
+  const int result = serve(&config);
+  if (result == rocking_serve_cannot_bind)
     throw InputError(fmt::format("--host {} --port {}: cannot listen there (in use? --port 0 picks a free one)", o.host,
                                  o.port));
-  const std::string shown = o.host.find(':') != std::string::npos ? "[" + o.host + "]" : o.host;
-  fmt::print("rocking serve: the lab is at http://{}:{}/ (Ctrl-C stops it)\n", shown, port);
-  std::fflush(stdout);
-  catch_stop_signals();
-  std::jthread watcher([&server](std::stop_token stop) {
-    while (!stop.stop_requested() && stop_signal() == 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    server.stop();
-  });
-  server.listen_after_bind();
-  watcher.request_stop();
   const int signal = stop_signal();
-  if (signal != 0) {
+  if (result == rocking_serve_stopped && signal != 0) {
     fmt::print("rocking serve: stopped by {}\n", stop_signal_name(signal));
     return 0;
   }
