@@ -190,11 +190,23 @@ const Eigen::VectorXd& heights_in_coordinates(const RockingBody& b) {
   return b.coordinates == ElasticCoordinates::modal ? b.modes.h : b.structure.heights;
 }
 
-double viscous_power(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> v, Eigen::Ref<Eigen::VectorXd> scratch) {
+double viscous_power(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> v, Eigen::Ref<Eigen::VectorXd>) {
   if (b.coordinates == ElasticCoordinates::modal)
     return b.modes.mu * (b.modes.c.array() * v.array().square()).sum();
-  scratch.noalias() = b.matrices.C * v;
-  return v.dot(scratch);
+  // v'C v, unrolled for the node count as the right-hand side is (it is
+  // integrated beside it whenever the energy balance is tracked)
+  double power = 0;
+  with_static_size(v.size(), [&](auto size) {
+    const long n = static_or<decltype(size)::value>(v.size());
+    const double* C = b.matrices.C.data();  // column-major
+    const double* x = v.data();
+    for (long j = 0; j < n; ++j) {
+      double column = 0;
+      for (long i = 0; i < n; ++i) column += C[j * n + i] * x[i];
+      power += x[j] * column;
+    }
+  });
+  return power;
 }
 
 void to_nodal(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> q, Eigen::Ref<Eigen::VectorXd> u) {
