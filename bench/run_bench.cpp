@@ -95,9 +95,8 @@ double rocking_rhs_ns(const ContactModel& m, const GroundMotion& ground) {
   begin_rocking(m, d, Pivot::right, y);
   y[m.layout.theta.start] = 0.01;
   y[m.layout.theta_dot.start] = 0.02;
-  Workspace work(m);
   const ode::Rhs rhs = [&](double t, Eigen::Ref<const Eigen::VectorXd> x, Eigen::Ref<Eigen::VectorXd> f) {
-    phase_rhs(m, d, ground.acceleration(t), x, f, work);
+    phase_rhs(m, d, ground.acceleration(t), x, f);
   };
   constexpr int batch = 100000;
   double best = 1e9, sink = 0;

@@ -220,7 +220,6 @@ TEST_CASE("modal coordinates: rhs, guards, energy, outputs and resets equal the 
     CHECK(close(to_nodal_state(to_modal(Eigen::VectorXd::LinSpaced(l.size, -1, 1))),
                 Eigen::VectorXd::LinSpaced(l.size, -1, 1)));
     const OutputScales sn = output_scales(nodal), sm = output_scales(modal);
-    Workspace wn(nodal), wm(modal);
     for (Phase phase : all_phases) {
       CAPTURE(nodes);
       CAPTURE(phase_name(phase));
@@ -238,8 +237,8 @@ TEST_CASE("modal coordinates: rhs, guards, energy, outputs and resets equal the 
       y.segment(l.u_dot.start, l.n) = Eigen::VectorXd::LinSpaced(l.n, -0.05, 0.1);
       const Eigen::VectorXd q = to_modal(y);
       Eigen::VectorXd fn(l.size), fm(l.size);
-      phase_rhs(nodal, d, 1.3, y, fn, wn);
-      phase_rhs(modal, d, 1.3, q, fm, wm);
+      phase_rhs(nodal, d, 1.3, y, fn);
+      phase_rhs(modal, d, 1.3, q, fm);
       CHECK(close(to_nodal_state(fm), fn));
       CHECK(mechanical_energy(modal, phase, q) == doctest::Approx(mechanical_energy(nodal, phase, y)).epsilon(1e-9));
       const std::size_t guards = phase_guards(nodal, phase).size();

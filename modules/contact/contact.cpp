@@ -249,9 +249,6 @@ ContactModel in_modal_coordinates(ContactModel m) {
   return m;
 }
 
-Workspace::Workspace(const ContactModel& m)
-    : a(node_count(m.body.structure)), b(node_count(m.body.structure)) {}
-
 namespace {
 // The full-contact power forms of LinearPhase on z = (u, u'): the input power
 // is linear in z at a_g = 1 (its entries are its values at the unit vectors),
@@ -259,7 +256,7 @@ namespace {
 void full_contact_power(const ContactModel& m, LinearPhase& sys) {
   const Eigen::Index n = m.layout.n;
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
-  Eigen::VectorXd e = zero, f = zero, scratch(n);
+  Eigen::VectorXd e = zero, f = zero;
   sys.ground = Eigen::VectorXd::Zero(2 * n);
   sys.viscous = Eigen::MatrixXd::Zero(2 * n, 2 * n);
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -267,13 +264,13 @@ void full_contact_power(const ContactModel& m, LinearPhase& sys) {
     e[i] = 1;
     sys.ground[i] = ground_input_power(m.body, 1, 1.0, Coordinates{e, zero, Tilt(0.0), 0.0});
     sys.ground[n + i] = ground_input_power(m.body, 1, 1.0, Coordinates{zero, e, Tilt(0.0), 0.0});
-    sys.viscous(n + i, n + i) = viscous_power(m.body, e, scratch);
+    sys.viscous(n + i, n + i) = viscous_power(m.body, e);
   }
   for (Eigen::Index i = 0; i < n; ++i)
     for (Eigen::Index j = i + 1; j < n; ++j) {
       f.setZero();
       f[i] = f[j] = 1;
-      const double v = 0.5 * (viscous_power(m.body, f, scratch) - sys.viscous(n + i, n + i) - sys.viscous(n + j, n + j));
+      const double v = 0.5 * (viscous_power(m.body, f) - sys.viscous(n + i, n + i) - sys.viscous(n + j, n + j));
       sys.viscous(n + i, n + j) = sys.viscous(n + j, n + i) = v;
     }
 }
@@ -316,7 +313,7 @@ DamperState active_damper(const ContactModel& m, const Discrete& d, const Tilt& 
 }
 
 void phase_rhs(const ContactModel& m, const Discrete& d, GroundAcceleration a, const Eigen::Ref<const Eigen::VectorXd>& y,
-               Eigen::Ref<Eigen::VectorXd> dydt, Workspace& w) {
+               Eigen::Ref<Eigen::VectorXd> dydt) {
   const Layout& l = m.layout;
   const int s = d.phase.sign();
   const double B = m.body.structure.half_width;
@@ -365,7 +362,7 @@ void phase_rhs(const ContactModel& m, const Discrete& d, GroundAcceleration a, c
     double input = 0, viscous = 0;
     const Coordinates q{u_of(m, y), u_dot_of(m, y), tilt, thd};
     input = ground_input_power(m.body, s == 0 ? 1 : s, a, q);
-    viscous = viscous_power(m.body, q.u_dot, w.b);
+    viscous = viscous_power(m.body, q.u_dot);
     dydt[l.energy.start] = input;
     dydt[l.energy.start + 1] = viscous;
     dydt[l.energy.start + 2] = damper_power;

@@ -169,15 +169,9 @@ struct Discrete {
   mutable bool held_fresh_ = false;
 };
 
-// Scratch space so that the right-hand side allocates nothing.
-struct Workspace {
-  Eigen::VectorXd a, b;
-  explicit Workspace(const ContactModel& m);
-};
-
 // dy/dt in the current phase at ground acceleration a (a_g, a_v).
 void phase_rhs(const ContactModel& m, const Discrete& d, GroundAcceleration a, const Eigen::Ref<const Eigen::VectorXd>& y,
-               Eigen::Ref<Eigen::VectorXd> dydt, Workspace& w);
+               Eigen::Ref<Eigen::VectorXd> dydt);
 
 // Full contact of a flexible structure (Eq. 1) as x' = A x + b a_g(t) on the
 // block x = [u; u'] of the state, which starts at `first` (the rest is

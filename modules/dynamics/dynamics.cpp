@@ -190,7 +190,7 @@ const Eigen::VectorXd& heights_in_coordinates(const RockingBody& b) {
   return b.coordinates == ElasticCoordinates::modal ? b.modes.h : b.structure.heights;
 }
 
-double viscous_power(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> v, Eigen::Ref<Eigen::VectorXd>) {
+double viscous_power(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> v) {
   if (b.coordinates == ElasticCoordinates::modal)
     return b.modes.mu * (b.modes.c.array() * v.array().square()).sum();
   // v'C v, unrolled for the node count as the right-hand side is (it is
@@ -271,10 +271,15 @@ double ground_input_power(const RockingBody& b, int s, GroundAcceleration a, con
   if (b.coordinates == ElasticCoordinates::modal) {
     Mw = B * b.modes.mu - s * mass_sum(b, q.u);
     Mu_dot = mass_sum(b, q.u_dot);
-  } else {
-    const auto& m = st.masses.array();
-    Mw = (m * (B - s * q.u.array())).sum();
-    Mu_dot = (m * q.u_dot.array()).sum();
+  } else {  // unrolled for the node count, as the right-hand side it is integrated beside
+    with_static_size(q.u.size(), [&](auto size) {
+      const long n = static_or<decltype(size)::value>(q.u.size());
+      const double *m = st.masses.data(), *u = q.u.data(), *u_dot = q.u_dot.data();
+      for (long i = 0; i < n; ++i) {
+        Mw += m[i] * (B - s * u[i]);
+        Mu_dot += m[i] * u_dot[i];
+      }
+    });
   }
   const double horizontal = -a.h * c * Mu_dot - a.h * (b.HM1 * c + s * (Mw + b.base_moment) * sn) * q.theta_dot;
   if (a.v == 0) return horizontal;

@@ -84,9 +84,8 @@ double moment_sum(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> x);
 // H and 1 in the body's coordinates (the velocity jump H th' of an impact,
 // the influence of a_g): the heights and ones, or h and r.
 const Eigen::VectorXd& heights_in_coordinates(const RockingBody& b);
-// u'C u' [W] for elastic velocities in the body's coordinates; scratch (N
-// entries) holds C u' when nodal, so that nothing is allocated.
-double viscous_power(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> v, Eigen::Ref<Eigen::VectorXd> scratch);
+// u'C u' [W] for elastic velocities in the body's coordinates.
+double viscous_power(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> v);
 // Nodal displacements from elastic coordinates, and back.
 void to_nodal(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> q, Eigen::Ref<Eigen::VectorXd> u);
 void from_nodal(const RockingBody& b, Eigen::Ref<const Eigen::VectorXd> u, Eigen::Ref<Eigen::VectorXd> q);

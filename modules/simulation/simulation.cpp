@@ -114,11 +114,11 @@ class Driver {
   Driver(const ContactModel& given, const GroundMotion& ground, const RunOptions& o, Observer* observer)
       : backend_(choose_backend(given, ground, o.backend)), own_(recast(given, backend_, o)),
         m_(own_ ? *own_ : given), ground_(ground), vertical_(ground.vertical()), opt_(o), observer_(observer),
-        scales_(output_scales(m_)), work_(m_),
+        scales_(output_scales(m_)),
         y_(Eigen::VectorXd::Zero(m_.layout.size)), dense_(m_.layout.size) {
     // The parameters bind to the std::function's own arguments: no Ref is copied per call.
     auto rhs = [this](double t, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& dydt) {
-      phase_rhs(m_, d_, ground_at(t), y, dydt, work_);
+      phase_rhs(m_, d_, ground_at(t), y, dydt);
     };
     ode::Options tolerances = o.tolerances;
     tolerances.max_step = std::min(tolerances.max_step, ground.max_step());
@@ -472,7 +472,6 @@ class Driver {
   const RunOptions& opt_;
   Observer* observer_;
   OutputScales scales_;
-  Workspace work_;
   Discrete d_;
   Eigen::VectorXd y_, dense_, nodal_, nodal_dot_;
   std::vector<DeviceSample> samples_;
