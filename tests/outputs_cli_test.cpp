@@ -93,6 +93,24 @@ TEST_CASE("a broken device reports its peak up to fracture, its fracture time, a
   }
 }
 
+TEST_CASE("a run into a folder that holds another run's files replaces them, leaving nothing partial") {
+  const fs::path dir = scratch_dir("outputs_again");
+  const std::string scene = std::string(ROCKING_SOURCE_DIR) + "/data/scenes/rigid_block.toml";
+  REQUIRE(run("-q simulate " + scene + " --set excitation.kind=none --set initial.theta=0.05 --out " + dir.string())
+              .code == 0);
+  const std::string first = file_text(dir / "history.csv");
+  REQUIRE(run("-q simulate " + scene + " --set excitation.kind=none --set initial.theta=0.1 --out " + dir.string())
+              .code == 0);
+  const std::string second = file_text(dir / "history.csv");
+  CHECK(second != first);
+  CHECK(nlohmann::json::parse(file_text(dir / "summary.json"))["peaks"]["theta"].get<double>() ==
+        doctest::Approx(0.1).epsilon(1e-6));
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    CAPTURE(entry.path().filename().string());
+    CHECK((entry.path().filename() == "history.csv" || entry.path().filename() == "summary.json"));
+  }
+}
+
 TEST_CASE("--list-quantities names what a scene reports, with units, and what it lacks") {
   const Result r = run("simulate " + wall + " --list-quantities");
   REQUIRE(r.code == 0);

@@ -82,6 +82,9 @@ void HistoryCsv::close() {
   if (bad || !closed)
     throw RunError(fmt::format("{}: cannot write: {} (the rows written are in {})", path_, std::strerror(errno), partial_));
   std::error_code ec;
+  // The previous run's history goes first, as write_text does (rocking.study_files):
+  // replacing it by rename would make ext4 write the new one out to disk first.
+  std::filesystem::remove(path_, ec);
   std::filesystem::rename(partial_, path_, ec);
   if (ec) throw RunError(fmt::format("{}: cannot write: {} (the rows are in {})", path_, ec.message(), partial_));
 }

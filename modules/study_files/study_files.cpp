@@ -408,6 +408,10 @@ void write_text(const fs::path& file, const std::string& text) {
     if (std::fclose(out) != 0 && error == 0) error = errno;
   }
   std::error_code ec;
+  // The file a previous run left goes first: ext4 writes a file out to disk
+  // before a rename may replace another (its auto_da_alloc), which made a
+  // short run wait for the disk. Outputs are remade by running again.
+  if (error == 0) fs::remove(file, ec);
   if (error == 0) fs::rename(tmp, file, ec);
   if (error != 0 || ec) {
     const std::string why = error != 0 ? std::strerror(error) : ec.message();

@@ -102,8 +102,9 @@ StudyReport hunt_report(const Study& st, const std::vector<HuntResult>& hunts, c
 // Writes the report's files into dir (summary.csv for a ladder only); returns the paths written.
 std::vector<std::filesystem::path> write_report(const std::filesystem::path& dir, const StudyReport& report);
 
-// Writes text to file whole: into a file beside it, renamed over it, so a
-// file is never left partial under its name. RunError naming the file.
+// Writes text to file whole: into a file beside it, renamed to its name once
+// the file there is removed, so a file is never left partial under its name.
+// RunError naming the file.
 void write_text(const std::filesystem::path& file, const std::string& text);
 
 }  // namespace rocking
