@@ -21,7 +21,7 @@ tools="$here/.tools"
 cmake_version="4.3.1"
 
 packages=(
-  clang-19 clang-tools-19 lld-19 libomp-19-dev libclang-rt-19-dev
+  clang-19 clang-tools-19 lld-19 libomp-19-dev libclang-rt-19-dev libstdc++-12-dev
   llvm-19
   ninja-build pkg-config make
   libeigen3-dev libgsl-dev libspdlog-dev libfmt-dev doctest-dev
