@@ -365,10 +365,22 @@ PyResult simulate(const py::object& scene_arg, const py::object& record, double 
   out.outcome = std::string(rocking::outcome_name(result.outcome));
   for (std::size_t i = 0; i < collect.names.size(); ++i)
     out.history[py::str(collect.names[i])] = to_numpy(std::move(collect.history[i]));
+  // A run has hundreds of events: their keys, kinds and device names are
+  // made once, not once per event.
+  const py::str kind_key("kind"), t_key("t"), pivot_key("pivot"), device_key("device");
+  std::vector<py::object> kinds;  // by EventKind, each made when first met
+  std::vector<py::str> device_names;
+  for (const rocking::Device& dev : run.model.devices) device_names.emplace_back(dev.name);
   for (const rocking::Event& e : collect.events) {
-    py::dict d("kind"_a = std::string(rocking::event_name(e.kind)), "t"_a = e.t, "pivot"_a = rocking::sign(e.pivot));
-    if (e.device) d["device"] = run.model.devices[static_cast<std::size_t>(*e.device)].name;
-    out.events.append(d);
+    const auto k = static_cast<std::size_t>(e.kind);
+    if (k >= kinds.size()) kinds.resize(k + 1);
+    if (!kinds[k]) kinds[k] = py::str(std::string(rocking::event_name(e.kind)));
+    py::dict d;
+    d[kind_key] = kinds[k];
+    d[t_key] = py::float_(e.t);
+    d[pivot_key] = py::int_(rocking::sign(e.pivot));
+    if (e.device) d[device_key] = device_names[static_cast<std::size_t>(*e.device)];
+    out.events.append(std::move(d));
   }
   if (result.outcome == rocking::Outcome::failed) {
     py::object exc = py::reinterpret_borrow<py::object>(run_error_type)(result.failure);
