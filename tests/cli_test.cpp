@@ -92,7 +92,7 @@ TEST_CASE("bad input exits 2 with one line on stderr naming what and where") {
                         Case{"modal --set structure", "--set structure: expected TABLE.KEY=VALUE"},
                         Case{"modal /no/such/scene.toml", "/no/such/scene.toml: scene file not found"},
                         Case{"modal --no-such-flag", "--no-such-flag"},
-                        Case{"", "A subcommand is required"}}) {
+                        Case{"", "name a subcommand: modal, simulate, plot, ida"}, Case{"-q", "name a subcommand"}}) {
     const Result r = run(c.args);
     CHECK_MESSAGE(r.code == 2, c.args);
     CHECK_MESSAGE(lines(r.err) == 1, c.args << " -> " << r.err);

@@ -122,6 +122,13 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
+    if (dynamic_cast<const CLI::RequiredError*>(&e) != nullptr && app.get_subcommands().empty()) {
+      // No subcommand named: say which there are.
+      std::string names;
+      for (const Subcommand& c : subcommands) names += fmt::format("{}{}", names.empty() ? "" : ", ", c.name);
+      fmt::print(stderr, "rocking: error: name a subcommand: {} (`rocking --help` says what each does)\n", names);
+      return rocking::exit_input_error;
+    }
     fmt::print(stderr, "rocking: error: {}\n", e.what());
     return rocking::exit_input_error;
   }
