@@ -1,10 +1,10 @@
 """What the Python module adds to a run (`make bench`): the chimney under El
 Centro through rocking.simulate, against the time the run itself takes inside
-the library (the summary's wall_s, measured in C++ around rocking::simulate).
-The difference is everything the call adds: building the model, the thread
-that keeps Ctrl-C alive, the summary's JSON into a dict, the history's
-columns into NumPy arrays and the events into dicts. Interleaved repeats,
-medians reported.
+the library (the summary's wall_s, measured in C++ around rocking::simulate,
+its set-up included). The difference is everything the call adds: building
+the model, the handler that keeps Ctrl-C alive, the summary into a dict, the
+history's columns into NumPy arrays and the events into dicts. Interleaved
+repeats, medians reported.
 
     PYTHONPATH=build/python python3 bench/python_bench.py [--repeats N] [--records DIR]
 """
