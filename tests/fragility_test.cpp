@@ -4,6 +4,8 @@
 // its own standard errors, which a correct estimator misses with odds of
 // about 1 in 370).
 #include <doctest/doctest.h>
+#include <gsl/gsl_cdf.h>
+#include <gsl/gsl_randist.h>
 #include <gsl/gsl_statistics_double.h>
 #include <algorithm>
 #include <array>
@@ -96,6 +98,44 @@ TEST_CASE("the multiple-stripe MLE recovers a known fragility from simulated bin
   CHECK(fit.beta_se < 0.05);
   CHECK(std::abs(std::log(fit.median / median)) < 3 * fit.log_median_se);
   CHECK(std::abs(fit.beta - beta) < 3 * fit.beta_se);
+}
+
+TEST_CASE("two stripes: the MLE passes through both fractions, with the Fisher information's standard errors") {
+  // Two parameters and two stripes: the fit reproduces both fractions, so
+  // z_i = Phi^-1(r_i / n_i) = (ln im_i - ln median) / beta, and there the
+  // observed information equals the expected one, sum n phi(z)^2 / (p (1 - p))
+  // a a' with a = dz/d(ln median, beta) = (-1 / beta, -z / beta).
+  const std::vector<Stripe> stripes{{0.3, 40, 10}, {0.8, 50, 35}};
+  double z[2], p[2];
+  for (int i = 0; i < 2; ++i) {
+    p[i] = static_cast<double>(stripes[i].reached) / static_cast<double>(stripes[i].runs);
+    z[i] = gsl_cdf_ugaussian_Pinv(p[i]);
+  }
+  const double beta = std::log(0.8 / 0.3) / (z[1] - z[0]), log_median = std::log(0.3) - beta * z[0];
+  double info[3] = {0, 0, 0};  // (mu mu, mu beta, beta beta)
+  for (int i = 0; i < 2; ++i) {
+    const double w = static_cast<double>(stripes[i].runs) * std::pow(gsl_ran_ugaussian_pdf(z[i]), 2) / (p[i] * (1 - p[i]));
+    const double a0 = -1 / beta, a1 = -z[i] / beta;
+    info[0] += w * a0 * a0;
+    info[1] += w * a0 * a1;
+    info[2] += w * a1 * a1;
+  }
+  const double det = info[0] * info[2] - info[1] * info[1];
+  const LognormalFit fit = fit_stripes(stripes);
+  REQUIRE(fit.fitted);
+  CHECK(std::log(fit.median) == doctest::Approx(log_median).epsilon(1e-9));
+  CHECK(fit.beta == doctest::Approx(beta).epsilon(1e-9));
+  CHECK(fit.log_median_se == doctest::Approx(std::sqrt(info[2] / det)).epsilon(1e-9));
+  CHECK(fit.beta_se == doctest::Approx(std::sqrt(info[0] / det)).epsilon(1e-9));
+  // From a start far away (a resample's fit as the warm start), the same answer.
+  LognormalFit far;
+  far.fitted = true;
+  far.median = 3.0;
+  far.beta = 0.05;
+  const LognormalFit again = fit_stripes(stripes, &far);
+  REQUIRE(again.fitted);
+  CHECK(again.median == doctest::Approx(fit.median).epsilon(1e-9));
+  CHECK(again.beta == doctest::Approx(fit.beta).epsilon(1e-9));
 }
 
 TEST_CASE("fits that the data cannot support say why instead of returning numbers") {

@@ -191,8 +191,9 @@ TEST_CASE("the README's suite study: its fragility.csv matches the golden file, 
     MESSAGE("rewrote " << suite_golden.string());
   }
   // Counts, methods and notes exactly; fitted numbers and their bootstrap
-  // intervals to 1e-4 relative (the simplex stops at 1e-6 in ln median and ln
-  // beta), the columns found by the header's names.
+  // intervals to 1e-4 relative (a fit's last digits follow the optimiser's
+  // path, and an interval's end is one resample's fit), the columns found by
+  // the header's names.
   const auto was = csv_lines(file_text(suite_golden)), is = csv_lines(now);
   REQUIRE(was.size() == is.size());
   REQUIRE(!was.empty());

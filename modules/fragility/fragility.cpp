@@ -6,6 +6,7 @@ module;
 #include <gsl/gsl_sf_erf.h>
 #include <memory>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -67,14 +68,102 @@ bool minimise(const std::function<double(double, double)>& f, double& x0, double
   return status == GSL_SUCCESS;
 }
 
-// A maximum-likelihood fit: minimise the negative log-likelihood nll(ln
-// median, beta), then standard errors from its Hessian.
-void fit_by_likelihood(LognormalFit& fit, const std::function<double(double, double)>& nll, double log_median,
-                       double beta, const LognormalFit* near) {
-  // From a fit of similar data (a resample's), a smaller simplex suffices.
-  const bool warm = near && near->fitted;
+// A negative log-likelihood at (mu, s) = (ln median, ln beta) with its
+// gradient and Hessian there (g: d/dmu, d/ds; h: mu mu, mu s, s s).
+struct Nll {
+  double value = 0;
+  std::array<double, 2> g{};
+  std::array<double, 3> h{};
+};
+using NllFunction = std::function<Nll(double mu, double s)>;
+
+// Adds f(z) with z = (x - mu) / beta, beta = e^s, given f, f' and f'' in z:
+// dz/dmu = -1/beta, dz/ds = -z, d2z/dmu ds = 1/beta, d2z/dmu2 = 0, d2z/ds2 = z.
+void add_term(Nll& n, double z, double inv_beta, double f, double f1, double f2) {
+  const double zm = -inv_beta, zs = -z;
+  n.value += f;
+  n.g[0] += f1 * zm;
+  n.g[1] += f1 * zs;
+  n.h[0] += f2 * zm * zm;
+  n.h[1] += f2 * zm * zs + f1 * inv_beta;
+  n.h[2] += f2 * zs * zs + f1 * z;
+}
+
+// The inverse Mills ratio lambda(z) = phi(z) / Phi(z): from libm's erfc
+// where Phi(z) does not underflow (z > -30), else from the asymptotic series
+// Phi(-u) = phi(u) / u (1 - 1/u^2 + 3/u^4 - 15/u^6 + 105/u^8 ...), whose
+// next term is below 2e-12 there.
+double mills(double z) {
+  if (z > -30) return std::exp(-0.5 * z * z) / (std::sqrt(2 * std::numbers::pi) * 0.5 * std::erfc(-z / std::numbers::sqrt2));
+  const double u = -z, v = 1 / (u * u);
+  return u / (1 - v * (1 - 3 * v * (1 - 5 * v * (1 - 7 * v))));
+}
+
+// -w ln Phi(z) and -w ln Phi(-z) with their derivatives in z:
+// d ln Phi(z)/dz = lambda(z), d2 ln Phi(z)/dz2 = -lambda(z) (z + lambda(z)).
+void add_below(Nll& n, double w, double z, double inv_beta) {  // -w ln Phi(z)
+  const double lambda = mills(z);
+  add_term(n, z, inv_beta, -w * log_phi_cdf(z), -w * lambda, w * lambda * (z + lambda));
+}
+void add_above(Nll& n, double w, double z, double inv_beta) {  // -w ln Phi(-z)
+  const double lambda = mills(-z);
+  add_term(n, z, inv_beta, -w * log_phi_upper(z), w * lambda, w * lambda * (lambda - z));
+}
+
+// The minimum of a smooth negative log-likelihood from (mu, s), by Newton's
+// method on its exact gradient and Hessian (Levenberg-damped where the
+// Hessian is not positive definite, steps halved until the value does not
+// rise beyond round-off); converged when a step is below 1e-10 in ln median
+// and ln beta (quadratic convergence: the next would be at round-off). False
+// when it does not converge within 50 iterations or stalls.
+bool newton(const NllFunction& f, double& mu, double& s) {
+  Nll at = f(mu, s);
+  if (!std::isfinite(at.value)) return false;
+  double damping = 0;
+  for (int i = 0; i < 50; ++i) {
+    double step_mu = 0, step_s = 0;
+    for (int tries = 0;; ++tries) {
+      const double a = at.h[0] + damping, b = at.h[1], c = at.h[2] + damping, det = a * c - b * b;
+      if (a > 0 && det > 0) {
+        step_mu = -(c * at.g[0] - b * at.g[1]) / det;
+        step_s = -(a * at.g[1] - b * at.g[0]) / det;
+        break;
+      }
+      if (tries == 60) return false;
+      damping = std::max(4 * damping, 1e-6 * (std::abs(at.h[0]) + std::abs(at.h[2]) + 1));
+    }
+    const double size = std::max(std::abs(step_mu), std::abs(step_s));
+    if (size <= 1e-10) return true;
+    const double slack = 1e-13 * (1 + std::abs(at.value));
+    double t = 1;
+    Nll next;
+    for (int halvings = 0;; ++halvings) {
+      next = f(mu + t * step_mu, s + t * step_s);
+      if (std::isfinite(next.value) && next.value <= at.value + slack) break;
+      if (halvings == 30) return size <= 1e-7;  // stalled: converged only if already close
+      t *= 0.5;
+    }
+    mu += t * step_mu;
+    s += t * step_s;
+    at = next;
+    damping *= 0.25;
+  }
+  return false;
+}
+
+// A maximum-likelihood fit: minimise the negative log-likelihood in (ln
+// median, ln beta) by Newton's method (GSL's simplex where that fails), then
+// standard errors of ln median and beta from its exact Hessian.
+void fit_by_likelihood(LognormalFit& fit, const NllFunction& nll, double log_median, double beta,
+                       const LognormalFit* near) {
+  const bool warm = near && near->fitted;  // from a fit of similar data (a resample's)
   double x0 = warm ? std::log(near->median) : log_median, x1 = std::log(warm ? near->beta : beta);
-  const bool converged = minimise([&](double a, double b) { return nll(a, std::exp(b)); }, x0, x1, warm ? 0.05 : 0.2);
+  bool converged = newton(nll, x0, x1) && std::exp(x1) >= 1e-3;
+  if (!converged) {  // the simplex needs no derivatives, and tells where beta runs to 0
+    x0 = warm ? std::log(near->median) : log_median;
+    x1 = std::log(warm ? near->beta : beta);
+    converged = minimise([&](double a, double b) { return nll(a, b).value; }, x0, x1, warm ? 0.05 : 0.2);
+  }
   const double b = std::exp(x1);
   if (b < 1e-3) {
     fit.note = "the data separate perfectly: beta -> 0, no dispersion can be estimated";
@@ -87,13 +176,10 @@ void fit_by_likelihood(LognormalFit& fit, const std::function<double(double, dou
   fit.fitted = true;
   fit.median = std::exp(x0);
   fit.beta = b;
-  // Hessian in (ln median, beta) by central differences.
-  const double h0 = 1e-4, h1 = 1e-4 * b;
-  const double f = nll(x0, b);
-  const double f00 = (nll(x0 + h0, b) - 2 * f + nll(x0 - h0, b)) / (h0 * h0);
-  const double f11 = (nll(x0, b + h1) - 2 * f + nll(x0, b - h1)) / (h1 * h1);
-  const double f01 = (nll(x0 + h0, b + h1) - nll(x0 + h0, b - h1) - nll(x0 - h0, b + h1) + nll(x0 - h0, b - h1)) /
-                     (4 * h0 * h1);
+  // The Hessian in (ln median, beta): d/dbeta = (1/beta) d/ds, so
+  // H_mu,beta = H_mu,s / beta and H_beta,beta = (H_ss - g_s) / beta^2.
+  const Nll at = nll(x0, x1);
+  const double f00 = at.h[0], f01 = at.h[1] / b, f11 = (at.h[2] - at.g[1]) / (b * b);
   const double det = f00 * f11 - f01 * f01;
   if (det > 0 && f00 > 0) {
     fit.log_median_se = std::sqrt(f11 / det);
@@ -162,15 +248,22 @@ LognormalFit fit_capacities(const std::vector<Capacity>& capacities, const Logno
   const std::size_t censored = fit.records - fit.reached;
   std::vector<double> log_im;
   for (const Capacity& c : capacities) log_im.push_back(std::log(c.im));
-  auto nll = [&](double log_median, double b) {
-    if (!(b > 0)) return inf;
-    const double log_b = std::log(b);
-    double s = 0;
+  // Each reached capacity's density of ln C, less constants: 0.5 z^2 + ln beta;
+  // each censored one's survival: -ln Phi(-z).
+  auto nll = [&](double log_median, double log_b) {
+    Nll n;
+    const double inv_b = std::exp(-log_b);
     for (std::size_t i = 0; i < capacities.size(); ++i) {
-      const double z = (log_im[i] - log_median) / b;
-      s -= capacities[i].reached ? -0.5 * z * z - log_b : log_phi_upper(z);
+      const double z = (log_im[i] - log_median) * inv_b;
+      if (capacities[i].reached) {
+        add_term(n, z, inv_b, 0.5 * z * z, z, 1.0);
+        n.value += log_b;
+        n.g[1] += 1;
+      } else {
+        add_above(n, 1.0, z, inv_b);
+      }
     }
-    return s;
+    return n;
   };
   fit_by_likelihood(fit, nll, mean, beta > 0 ? beta : 0.3, near);
   if (fit.fitted)
@@ -218,17 +311,17 @@ LognormalFit fit_stripes(const std::vector<Stripe>& stripes, const LognormalFit*
     }
   std::vector<double> log_im;
   for (const Stripe& s : stripes) log_im.push_back(std::log(s.im));
-  auto nll = [&](double log_median, double b) {
-    if (!(b > 0)) return inf;
-    double sum = 0;
+  auto nll = [&](double log_median, double log_b) {
+    Nll n;
+    const double inv_b = std::exp(-log_b);
     for (std::size_t i = 0; i < stripes.size(); ++i) {
       const Stripe& s = stripes[i];
       if (s.runs == 0) continue;
-      const double z = (log_im[i] - log_median) / b;
-      if (s.reached > 0) sum -= static_cast<double>(s.reached) * log_phi_cdf(z);
-      if (s.runs > s.reached) sum -= static_cast<double>(s.runs - s.reached) * log_phi_upper(z);
+      const double z = (log_im[i] - log_median) * inv_b;
+      if (s.reached > 0) add_below(n, static_cast<double>(s.reached), z, inv_b);
+      if (s.runs > s.reached) add_above(n, static_cast<double>(s.runs - s.reached), z, inv_b);
     }
-    return sum;
+    return n;
   };
   fit_by_likelihood(fit, nll, std::log(start), 0.4, near);
   return fit;

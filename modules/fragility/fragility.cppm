@@ -16,14 +16,18 @@
 //   * from stripes (multiple-stripe analysis, Baker 2015, Earthquake Spectra
 //     31(1)): median and beta maximise the binomial likelihood of the counts
 //     of runs that reached the limit at each IM.
-//   Likelihoods are maximised over (ln median, ln beta) by GSL's Nelder-Mead
-//   simplex; standard errors come from the inverse of the negative
-//   log-likelihood's Hessian (finite differences) at the optimum, or, for the
-//   moment fit, from se(ln median) = beta / sqrt(n), se(beta) = beta / sqrt(2 (n - 1)).
+//   Likelihoods are maximised over (ln median, ln beta) by Newton's method on
+//   their exact gradient and Hessian (the probit terms through the inverse
+//   Mills ratio phi / Phi), with GSL's Nelder-Mead simplex where Newton does
+//   not converge; standard errors come from the inverse of the negative
+//   log-likelihood's exact Hessian in (ln median, beta) at the optimum, or,
+//   for the moment fit, from se(ln median) = beta / sqrt(n), se(beta) =
+//   beta / sqrt(2 (n - 1)).
 // - Their uncertainty by a bootstrap over records (Efron & Tibshirani 1993,
-//   percentile intervals): the records are resampled with replacement, each
-//   resample is fitted as the records were, and the interval is the central
-//   fractiles of the fitted medians and betas. The resamples are drawn by
+//   BCa intervals, 14.3): the records are resampled with replacement, each
+//   resample is fitted as the records were, and the interval is the fractiles
+//   of the fitted medians and betas that the bias correction and the
+//   jackknife's acceleration select. The resamples are drawn by
 //   GSL's MT19937 from a stated seed, so the intervals are the same on every
 //   machine.
 // - The total dispersion with modelling uncertainty, FEMA P-695 (2009) 7.3:
