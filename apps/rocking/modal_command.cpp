@@ -35,11 +35,12 @@ void print_table(const Scene& scene, const ModalSummary& m) {
     if (m.damper_post_yield_p > 0)
       fmt::print("  rocking, devices yielded rocking mode p = {:.3f} rad/s\n", m.damper_post_yield_p);
     else
-      fmt::print("  rocking, devices yielded stable (post-yield stiffness outweighs gravity)\n");
+      fmt::print("  rocking, devices yielded stable (their yielded stiffness outweighs gravity)\n");
     fmt::print("\nDevices linearised at theta = 0 (MODEL.md 11), about the right / left pivot\n");
     fmt::print("  k_theta   {:<11.4g} / {:<11.4g} N m/rad  sum k (de/dth)^2, at rest\n", m.devices[1].at_rest,
                m.devices[0].at_rest);
-    fmt::print("  k_theta   {:<11.4g} / {:<11.4g} N m/rad  yielded\n", m.devices[1].yielded, m.devices[0].yielded);
+    fmt::print("  k_theta   {:<11.4g} / {:<11.4g} N m/rad  yielded (a gap: engaged; friction, viscous: none)\n",
+               m.devices[1].yielded, m.devices[0].yielded);
     fmt::print("  held      {:<11.4g} / {:<11.4g} N m      sum F(e = 0) l: uplift needs this much more moment\n",
                m.devices[1].held_moment, m.devices[0].held_moment);
   } else {
