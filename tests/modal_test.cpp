@@ -93,3 +93,19 @@ TEST_CASE("devices linearised at theta = 0: k (de/dth)^2 per device, prestress P
   CHECK(rocking_stiffness({off}, B, +1).at_rest == doctest::Approx(1e6 * (B - 1.0) * (B - 1.0)).epsilon(1e-14));
   CHECK(rocking_stiffness({off}, B, -1).at_rest == doctest::Approx(1e6 * (B + 1.0) * (B + 1.0)).epsilon(1e-14));
 }
+
+TEST_CASE("devices on one side only: rocking about the other pivot is free, and the summary says unstable") {
+  // A stiff tendon anchored at the right edge is stretched only about the
+  // left pivot (l = 2B); about the right one (l = 0) the chimney rocks freely.
+  const std::string edge = R"(device+={kind="elastic", at=3.3, kinematics="vertical", free_length=33, k=5e8})";
+  const Scene scene = load_default_scene({"damper.enabled=false", edge});
+  const ModalSummary m = modal_analysis(scene.structure, scene_devices(scene));
+  REQUIRE(m.devices[0].any);
+  REQUIRE_FALSE(m.devices[1].any);
+  // About the left pivot alone the tendon holds the chimney up ...
+  CHECK(rocking_modes(linearise_rocking(scene.structure, assemble(scene.structure), m.devices[0].at_rest)).lambda[0] > 0);
+  // ... but the structure as a whole is not: free rocking about the right pivot.
+  CHECK(m.damper_pre_yield_hz == 0.0);
+  CHECK(m.damper_post_yield_p == doctest::Approx(m.rocking_p).epsilon(1e-12));
+  CHECK(m.rocking_p > 0);
+}

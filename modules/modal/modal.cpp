@@ -55,16 +55,25 @@ ModalSummary modal_analysis(const Structure& s, const std::vector<Device>& devic
   for (double l : out.free_rocking.lambda)
     if (l > 0) out.rocking_hz.push_back(std::sqrt(l) / two_pi);
   out.rocking_p = unstable_p(out.free_rocking);
-  for (int side : {0, 1}) {
-    const RockingStiffness& k = out.devices[side] = rocking_stiffness(devices, s.half_width, 2 * side - 1);
-    if (!k.any) continue;
-    const RockingModes at_rest = rocking_modes(linearise_rocking(s, sm, k.at_rest));
-    if (at_rest.lambda[0] > 0) {
-      const double hz = std::sqrt(at_rest.lambda[0]) / two_pi;
-      out.damper_pre_yield_hz = out.damper_pre_yield_hz > 0 ? std::min(out.damper_pre_yield_hz, hz) : hz;
+  for (int side : {0, 1}) out.devices[side] = rocking_stiffness(devices, s.half_width, 2 * side - 1);
+  // The structure rocks about either pivot, and a pivot that no device
+  // stretches rocks freely: with devices anywhere, both pivots count. At rest
+  // the lower frequency of the two, none when either is unstable; yielded the
+  // larger growth rate p.
+  if (out.devices[0].any || out.devices[1].any) {
+    bool unstable_at_rest = false;
+    for (const RockingStiffness& k : out.devices) {
+      const RockingModes at_rest = rocking_modes(linearise_rocking(s, sm, k.at_rest));
+      if (at_rest.lambda[0] > 0) {
+        const double hz = std::sqrt(at_rest.lambda[0]) / two_pi;
+        out.damper_pre_yield_hz = out.damper_pre_yield_hz > 0 ? std::min(out.damper_pre_yield_hz, hz) : hz;
+      } else {
+        unstable_at_rest = true;
+      }
+      out.damper_post_yield_p =
+          std::max(out.damper_post_yield_p, unstable_p(rocking_modes(linearise_rocking(s, sm, k.yielded))));
     }
-    out.damper_post_yield_p =
-        std::max(out.damper_post_yield_p, unstable_p(rocking_modes(linearise_rocking(s, sm, k.yielded))));
+    if (unstable_at_rest) out.damper_pre_yield_hz = 0;
   }
   out.r_eq10 = restitution_eq10(s);
   out.J_p = pivot_inertia(s);

@@ -50,9 +50,10 @@ struct ModalSummary {
   std::vector<double> fixed_base_hz;  // all fixed-base modes
   std::vector<double> rocking_hz;     // stable modes of free rocking
   double rocking_p = 0;               // p of free rocking [rad/s] (0 if none)
-  // With the devices (the lower frequency and the larger p of the two pivots):
-  double damper_pre_yield_hz = 0;     // lowest mode, devices at rest (0: no device stiffness)
-  double damper_post_yield_p = 0;     // p with the devices yielded (0: stable or no device)
+  // With the devices (the lower frequency and the larger p of the two pivots;
+  // a pivot no device stretches rocks freely):
+  double damper_pre_yield_hz = 0;     // lowest mode, devices at rest (0: unstable about a pivot, or no device)
+  double damper_post_yield_p = 0;     // p with the devices yielded (0: stable about both, or no device)
   std::array<RockingStiffness, 2> devices;  // about pivot -1, +1
   double r_eq10 = 0, J_p = 0, H_cg = 0, alpha_cg = 0;
   ReferenceForces reference;
