@@ -7,6 +7,7 @@
 #include <doctest/doctest.h>
 #include <httplib.h>
 #include <nlohmann/json.hpp>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -452,6 +453,35 @@ TEST_CASE("rocking serve binds 127.0.0.1 unless told otherwise, and warns when t
   const Result bad = run("serve --port 70000");
   CHECK(bad.code == 2);
   CHECK(lines(bad.err) == 1);
+}
+
+TEST_CASE("Ctrl-C the moment the address is printed still stops rocking serve") {
+  // The signal can come before the server's listening loop has begun; it
+  // must not be lost. Each server gets 10 s to exit, else the test kills it
+  // and fails.
+  int hung = 0;
+  for (int round = 0; round < 30; ++round) {
+    Server server("");
+    REQUIRE(server.port > 0);
+    ::kill(server.pid, SIGINT);
+    int status = 0;
+    pid_t done = 0;
+    for (int waited = 0; waited < 1000 && done == 0; ++waited) {
+      done = ::waitpid(server.pid, &status, WNOHANG);
+      if (done == 0) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    if (done == 0) {
+      ++hung;
+      ::kill(server.pid, SIGKILL);
+      ::waitpid(server.pid, &status, 0);
+    } else {
+      CHECK(WIFEXITED(status));
+      CHECK(WEXITSTATUS(status) == 0);
+    }
+    std::fclose(server.out);
+    server.pid = -1;
+  }
+  CHECK(hung == 0);
 }
 
 TEST_CASE("a request's runs stop at the lab's computing limit, with a one-line answer") {

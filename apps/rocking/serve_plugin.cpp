@@ -85,10 +85,16 @@ int serve(const RockingServeConfig& c) {
   const int port = c.port == 0 ? server.bind_to_any_port(c.host) : (server.bind_to_port(c.host, c.port) ? c.port : -1);
   if (port <= 0) return rocking_serve_cannot_bind;
   c.listening(c.context, port);
+  // httplib's stop() acts only on a server whose listening loop has begun: a
+  // Ctrl-C that comes between the address printed and that loop waits for it.
   std::jthread watcher([&server, &c](std::stop_token stop) {
-    while (!stop.stop_requested() && c.stop_requested(c.context) == 0)
+    while (!stop.stop_requested()) {
+      if (c.stop_requested(c.context) != 0 && server.is_running()) {
+        server.stop();
+        return;
+      }
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    server.stop();
+    }
   });
   server.listen_after_bind();
   watcher.request_stop();
