@@ -157,11 +157,12 @@ bool newton(const NllFunction& f, double& mu, double& s) {
 void fit_by_likelihood(LognormalFit& fit, const NllFunction& nll, double log_median, double beta,
                        const LognormalFit* near) {
   const bool warm = near && near->fitted;  // from a fit of similar data (a resample's)
-  double x0 = warm ? std::log(near->median) : log_median, x1 = std::log(warm ? near->beta : beta);
+  const double start0 = warm ? std::log(near->median) : log_median, start1 = std::log(warm ? near->beta : beta);
+  double x0 = start0, x1 = start1;
   bool converged = newton(nll, x0, x1) && std::exp(x1) >= 1e-3;
   if (!converged) {  // the simplex needs no derivatives, and tells where beta runs to 0
-    x0 = warm ? std::log(near->median) : log_median;
-    x1 = std::log(warm ? near->beta : beta);
+    x0 = start0;
+    x1 = start1;
     converged = minimise([&](double a, double b) { return nll(a, b).value; }, x0, x1, warm ? 0.05 : 0.2);
   }
   const double b = std::exp(x1);
