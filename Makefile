@@ -2,7 +2,7 @@
 # CMake 4.3 lives in .tools/bin (installed by scripts/setup.sh).
 export PATH := $(CURDIR)/.tools/bin:$(PATH)
 
-.PHONY: all setup configure build test demo bench golden sanitize fuzz clean
+.PHONY: all setup configure build test demo bench golden sanitize fuzz pgo clean
 all: build
 
 setup:
@@ -48,6 +48,12 @@ golden: build
 	@ROCKING_WRITE_GOLDEN=1 build/bin/golden_test -tc="the README's suite study*" >/dev/null 2>&1 || true
 	@echo "rewrote tests/golden/suite_fragility.csv:"; cat tests/golden/suite_fragility.csv
 
+# Records a new profile for the release build's profile-guided optimisation
+# (an instrumented build in build-pgo/, the training runs of scripts/pgo.sh)
+# and writes data/pgo/rocking.proftext; the next build uses it.
+pgo: setup
+	@bash scripts/pgo.sh
+
 # Machine, command and results: Google Benchmark prints the CPU and the load.
 bench: build
 	@echo "machine: $$(nproc) cores, $$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
@@ -75,4 +81,4 @@ bench: build
 	@ROCKING_BIN=build/bin/rocking ROCKING_LAB_MOVES=40 node lab/tests/browser.test.mjs
 
 clean:
-	@rm -rf build build-sanitize
+	@rm -rf build build-sanitize build-pgo

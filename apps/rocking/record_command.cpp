@@ -123,7 +123,10 @@ void write_figures(const RecordArgs& a, const std::vector<Measured>& rs, const s
     }
     write_text(dir / "record.data" / (stem + "_spectrum.csv"), sp);
     const std::string label = key_label(r);
-    plot::Series s{.label = label, .file = (fs::path("record.data") / (stem + ".csv")).string(), .points = false};
+    plot::Series s;
+    s.label = label;
+    s.file = (fs::path("record.data") / (stem + ".csv")).string();
+    s.points = false;
     histories.push_back(s);
     s.file = (fs::path("record.data") / (stem + "_spectrum.csv")).string();
     spectra.push_back(s);
