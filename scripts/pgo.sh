@@ -11,9 +11,11 @@
 # exercises: the chimney under a record with its history (rk45 and the exact
 # full-contact steps, the damper, the history writer), a suite IDA scaled to
 # PGA and one to Sa(T1) (the study path, spectra), a hunt, the rigid block,
-# the controlled-rocking wall (its tendons), a tower (rosw), the record
-# measures and the modal analysis. Single-threaded, so that the counts are
-# the same from run to run.
+# the controlled-rocking wall (its tendons), two towers (rk45, rosw), the record
+# measures and the modal analysis. Single-threaded, so that a second
+# recording differs from the first only where the clock steers the code (the
+# thread pool's waits, the stop-signal polls) and in the few counts that
+# follow from those.
 # Usage: scripts/pgo.sh   ($ROCKING_RECORDS, else ../shared/data/records)
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
