@@ -20,6 +20,7 @@
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$here"
+export PATH="$here/.tools/bin:$PATH"  # CMake 4.3 (scripts/setup.sh), as the Makefile does
 records="${ROCKING_RECORDS:-$here/../shared/data/records}"
 [ -f "$records/elcentro_1940_ns.at2" ] || { echo "pgo: no records in $records (set ROCKING_RECORDS)" >&2; exit 1; }
 profdata="$(command -v llvm-profdata-19)" || { echo "pgo: llvm-profdata-19 not found (scripts/setup.sh installs llvm-19)" >&2; exit 1; }

@@ -113,6 +113,25 @@ struct Server {
     pid = -1;
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, rest};
   }
+  // SIGINT, and the exit status if the server ends within `limit`; a server
+  // that does not is killed, and the answer is empty.
+  std::optional<int> stop_within(std::chrono::milliseconds limit) {
+    ::kill(pid, SIGINT);
+    int status = 0;
+    pid_t done = 0;
+    for (auto waited = std::chrono::milliseconds(0); done == 0 && waited < limit; waited += std::chrono::milliseconds(10)) {
+      done = ::waitpid(pid, &status, WNOHANG);
+      if (done == 0) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    if (done == 0) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, &status, 0);
+    }
+    std::fclose(out);
+    pid = -1;
+    if (done == 0) return std::nullopt;
+    return status;
+  }
   ~Server() {
     if (pid > 0) stop();
   }
@@ -463,23 +482,13 @@ TEST_CASE("Ctrl-C the moment the address is printed still stops rocking serve") 
   for (int round = 0; round < 30; ++round) {
     Server server("");
     REQUIRE(server.port > 0);
-    ::kill(server.pid, SIGINT);
-    int status = 0;
-    pid_t done = 0;
-    for (int waited = 0; waited < 1000 && done == 0; ++waited) {
-      done = ::waitpid(server.pid, &status, WNOHANG);
-      if (done == 0) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    if (done == 0) {
+    const std::optional<int> status = server.stop_within(std::chrono::seconds(10));
+    if (!status) {
       ++hung;
-      ::kill(server.pid, SIGKILL);
-      ::waitpid(server.pid, &status, 0);
-    } else {
-      CHECK(WIFEXITED(status));
-      CHECK(WEXITSTATUS(status) == 0);
+      continue;
     }
-    std::fclose(server.out);
-    server.pid = -1;
+    CHECK(WIFEXITED(*status));
+    CHECK(WEXITSTATUS(*status) == 0);
   }
   CHECK(hung == 0);
 }
