@@ -415,6 +415,7 @@ TEST_CASE("rocking serve: bad input leaves it serving, 20 requests at once come 
   constexpr int n = 20;
   std::vector<std::string> bodies(n);
   std::vector<int> statuses(n, 0);
+  std::vector<std::string> failures(n);  // the client's error when no answer came
   std::vector<std::thread> threads;
   for (int i = 0; i < n; ++i)
     threads.emplace_back([&, i] {
@@ -424,12 +425,15 @@ TEST_CASE("rocking serve: bad input leaves it serving, 20 requests at once come 
       if (const auto r = c.Post("/api/simulate", request.dump(), "application/json")) {
         statuses[static_cast<std::size_t>(i)] = r->status;
         bodies[static_cast<std::size_t>(i)] = r->body;
+      } else {
+        failures[static_cast<std::size_t>(i)] = httplib::to_string(r.error());
       }
     });
   for (std::thread& t : threads) t.join();
   std::vector<double> peaks;
   for (int i = 0; i < n; ++i) {
     CAPTURE(i);
+    CAPTURE(failures[static_cast<std::size_t>(i)]);
     REQUIRE(statuses[static_cast<std::size_t>(i)] == 200);
     const json got = json::parse(bodies[static_cast<std::size_t>(i)]);
     const json expected = answer_json(lab, "/api/simulate", {{"record", "elcentro_1940_ns.at2"}, {"scale", 0.5 + 0.25 * i}});
@@ -463,6 +467,12 @@ TEST_CASE("rocking serve binds 127.0.0.1 unless told otherwise, and warns when t
     }
   }
   CHECK(found);
+  // A second server on the port in use is refused in one line, not let in to share it.
+  const Result taken = run("serve --port " + std::to_string(server.port), 20);
+  CHECK(taken.code == 2);
+  CHECK(lines(taken.err) == 1);
+  CHECK(taken.err.find("--port " + std::to_string(server.port) + ": cannot listen there") != std::string::npos);
+  CHECK(taken.out.empty());
   server.stop();
   // Told another address, it warns before anything else (here a missing page folder then stops it).
   const Result open = run("serve --host 0.0.0.0 --lab /nonexistent");

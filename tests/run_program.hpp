@@ -15,9 +15,12 @@ struct Result {
 };
 
 // Runs the program with `args` (shell words), capturing stdout and stderr.
-inline Result run(const std::string& args) {
+// Given `limit_s`, a program still running after that many seconds is killed
+// (exit code 137), so that a test of something that must end cannot hang.
+inline Result run(const std::string& args, int limit_s = 0) {
   const std::string err_file = std::string(std::tmpnam(nullptr));
-  const std::string cmd = std::string(ROCKING_BIN) + " " + args + " 2>" + err_file;
+  const std::string limit = limit_s > 0 ? "timeout -s KILL " + std::to_string(limit_s) + " " : "";
+  const std::string cmd = limit + ROCKING_BIN + " " + args + " 2>" + err_file;
   Result r;
   FILE* pipe = popen(cmd.c_str(), "r");
   REQUIRE(pipe != nullptr);

@@ -13,6 +13,7 @@
 #include <new>
 #include <string>
 #include <thread>
+#include <sys/socket.h>
 
 namespace {
 
@@ -82,8 +83,22 @@ int serve(const RockingServeConfig& c) {
     res.set_content(json_error("the server failed on this request (" + what + "); please report it"), json_type);
   });
 
+  // The listening socket: SO_REUSEADDR only, so that a restarted server gets
+  // its port back at once while a second server on a port in use is refused
+  // (httplib's default, SO_REUSEPORT, lets both listen and share the requests).
+  int listening_socket = -1;
+  server.set_socket_options([&listening_socket](socket_t sock) {
+    const int yes = 1;
+    ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    listening_socket = sock;
+  });
   const int port = c.port == 0 ? server.bind_to_any_port(c.host) : (server.bind_to_port(c.host, c.port) ? c.port : -1);
   if (port <= 0) return rocking_serve_cannot_bind;
+  // httplib listens with a backlog of 5: more clients connecting at once than
+  // that overflow the queue, the kernel drops their handshakes, and a request
+  // resent after the server's keep-alive wait finds its connection closed.
+  // Listening again on the same socket only enlarges the queue.
+  if (listening_socket >= 0) ::listen(listening_socket, SOMAXCONN);
   c.listening(c.context, port);
   // httplib's stop() acts only on a server whose listening loop has begun: a
   // Ctrl-C that comes between the address printed and that loop waits for it.
