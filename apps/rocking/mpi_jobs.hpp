@@ -4,7 +4,7 @@
 // MPI is initialised only when the program was started by mpirun (its
 // environment says so); otherwise everything runs in this process, and
 // OpenMPI is never loaded: its calls live in librocking_mpi.so beside the
-// program (mpi_plugin.cpp), opened on demand.
+// program (mpi_plugin.hpp), opened on demand.
 #pragma once
 #include <string>
 #include <utility>
@@ -18,14 +18,6 @@ struct MpiWorld {
 };
 
 using MpiRows = std::vector<std::pair<long, std::string>>;
-
-// What librocking_mpi.so provides: start MPI (the world it finds), finalise,
-// and gather every rank's rows on rank 0.
-struct MpiFunctions {
-  MpiWorld (*start)();
-  void (*finish)();
-  MpiRows (*gather)(const MpiWorld&, const MpiRows&);
-};
 
 // Starts MPI when launched by mpirun/mpiexec; finalises on destruction.
 // Throws RunError naming the object when MPI is asked for and cannot be loaded.
@@ -42,6 +34,7 @@ class MpiSession {
 };
 
 // Rank 0 receives every rank's (job index, text) pairs, the others get nothing.
+// Throws RunError when the rows exceed what one MPI message counts (2 GB).
 MpiRows gather_rows(const MpiWorld& w, const MpiRows& mine);
 
 }  // namespace rocking::app

@@ -2,68 +2,56 @@
 // (librocking_mpi.so beside the program) so that OpenMPI and the libraries it
 // pulls in are loaded only when the program was started by mpirun: a run
 // outside mpirun never maps them (mpi_jobs.cpp opens this object on demand).
-// It exposes one C symbol, rocking_mpi_interface, the table of functions
-// declared in mpi_jobs.hpp.
-#include "mpi_jobs.hpp"
+// It exposes one C symbol, rocking_mpi_interface, the table of functions of
+// mpi_plugin.hpp.
+#include "mpi_plugin.hpp"
 #include <mpi.h>
-#include <cstring>
-#include <string>
+#include <climits>
+#include <vector>
 
 namespace {
 
-using rocking::app::MpiWorld;
-
-MpiWorld start() {
-  MpiWorld w;
+RockingMpiWorld start() {
+  RockingMpiWorld w{0, 1};
   int provided = 0;
   MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
   MPI_Comm_rank(MPI_COMM_WORLD, &w.rank);
   MPI_Comm_size(MPI_COMM_WORLD, &w.size);
-  w.active = true;
   return w;
 }
 
 void finish() { MPI_Finalize(); }
 
-// Every rank packs its rows as (index, length, bytes) into one buffer; rank 0
-// gathers the buffers and unpacks them.
-std::vector<std::pair<long, std::string>> gather(const MpiWorld& w,
-                                                 const std::vector<std::pair<long, std::string>>& mine) {
-  std::string packed;
-  for (const auto& [index, text] : mine) {
-    const long header[2] = {index, static_cast<long>(text.size())};
-    packed.append(reinterpret_cast<const char*>(header), sizeof header);
-    packed += text;
-  }
-  int length = static_cast<int>(packed.size());
-  std::vector<int> lengths(static_cast<std::size_t>(w.size)), offsets(static_cast<std::size_t>(w.size));
+// The lengths first (MPI_Gather), then the bytes at their offsets (MPI_Gatherv).
+int gather(const char* mine, std::size_t size, void* context, RockingMpiReceive receive) {
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  int length = size > static_cast<std::size_t>(INT_MAX) ? -1 : static_cast<int>(size);
+  std::vector<int> lengths(static_cast<std::size_t>(ranks)), offsets(static_cast<std::size_t>(ranks));
   MPI_Gather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
-  std::string all;
-  if (w.rank == 0) {
-    int total = 0;
-    for (int r = 0; r < w.size; ++r) {
-      offsets[static_cast<std::size_t>(r)] = total;
-      total += lengths[static_cast<std::size_t>(r)];
+  // Every rank learns whether some rank's bytes (or their sum) overflow an int, and all stop alike.
+  long long total = 0;
+  int too_long = 0;
+  if (rank == 0)
+    for (int r = 0; r < ranks; ++r) {
+      const int n = lengths[static_cast<std::size_t>(r)];
+      if (n < 0 || total + n > INT_MAX) too_long = 1;
+      offsets[static_cast<std::size_t>(r)] = static_cast<int>(total);
+      total += n < 0 ? 0 : n;
     }
-    all.resize(static_cast<std::size_t>(total));
-  }
-  MPI_Gatherv(packed.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR, 0,
-              MPI_COMM_WORLD);
-  std::vector<std::pair<long, std::string>> out;
-  for (std::size_t at = 0; w.rank == 0 && at < all.size();) {
-    long header[2];
-    std::memcpy(header, all.data() + at, sizeof header);
-    at += sizeof header;
-    out.emplace_back(header[0], all.substr(at, static_cast<std::size_t>(header[1])));
-    at += static_cast<std::size_t>(header[1]);
-  }
-  return out;
+  MPI_Bcast(&too_long, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  if (too_long != 0) return -1;
+  std::vector<char> all(rank == 0 ? static_cast<std::size_t>(total) : 0);
+  MPI_Gatherv(mine, length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR, 0, MPI_COMM_WORLD);
+  if (rank == 0) receive(context, all.data(), all.size());
+  return 0;
 }
 
-const rocking::app::MpiFunctions functions{start, finish, gather};
+const RockingMpiFunctions functions{start, finish, gather};
 
 }  // namespace
 
-extern "C" __attribute__((visibility("default"))) const rocking::app::MpiFunctions* rocking_mpi_interface() {
+extern "C" __attribute__((visibility("default"))) const RockingMpiFunctions* rocking_mpi_interface() {
   return &functions;
 }
