@@ -48,11 +48,13 @@ const char* fragility_header =
 const char* points_header = "variant,limit,im,source,record,level,fraction,runs,reached\n";
 
 // The capacity points: each record's capacity, the reached ones with their
-// empirical probability (rank over every record).
+// empirical probability (rank over every record). Reached first, by level;
+// equal levels in record order.
 std::string capacity_points(const std::string& variant, const std::string& limit, const std::string& im,
                             std::vector<std::pair<std::size_t, Capacity>> caps, const std::vector<std::string>& ids) {
-  std::stable_sort(caps.begin(), caps.end(), [](const auto& a, const auto& b) {
-    return a.second.reached != b.second.reached ? a.second.reached : a.second.im < b.second.im;
+  std::sort(caps.begin(), caps.end(), [](const auto& a, const auto& b) {
+    if (a.second.reached != b.second.reached) return a.second.reached;
+    return a.second.im != b.second.im ? a.second.im < b.second.im : a.first < b.first;
   });
   std::string out;
   for (std::size_t k = 0; k < caps.size(); ++k) {
