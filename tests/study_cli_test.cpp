@@ -243,3 +243,61 @@ TEST_CASE("the hunt finds the first overturning that a 0.05 g ladder finds, wher
   CHECK(points.find(",fill,") != std::string::npos);
   CHECK(points.find(",25,trace,") != std::string::npos);  // the trace tried --hunt-max itself
 }
+
+TEST_CASE("two more records: a collapse the old trace censored, and a window a 0.05 g ladder steps over") {
+  // Under Sa(T1) (fill step 0.05 g, precision 0.025 g):
+  // - christchurch2011_cbgs_s01w with dampers survives every level below
+  //   17.5 g; the trace (..., 10.9, 16.6, 25 g) overturns only at --hunt-max,
+  //   and a hunt that filled nothing below 16.6 g called it censored. Its
+  //   collapse is the ladder's first overturning to within the fill step.
+  // - darfield2010_cacs_n40e without dampers overturns between about 1.215
+  //   and 1.24 g while 1.2, 1.25 and the levels next to them survive (a
+  //   0.005 g ladder shows it), so the 0.05 g ladder's first overturning is
+  //   1.3 g. The hunt's bisection lands in that window: its collapse is an
+  //   overturning it ran, below the ladder's by more than the fill step.
+  // In both, every level the hunt ran below its collapse survived, and the
+  // collapse is never above the ladder's first overturning by more than the fill step.
+  const auto records = records_dir();
+  if (!records) return;
+  const fs::path dir = scratch_dir("study_hunt_more_windows");
+  struct Case {
+    std::string record, variant, ladder, hunt_max;
+    bool below_ladder;  // the hunt finds a window the ladder steps over
+  };
+  const std::vector<Case> cases{{"christchurch2011_cbgs_s01w.at2", "damper", "0.05:17.6:0.05", "25", false},
+                                {"darfield2010_cacs_n40e.at2", "no-damper", "0.05:1.5:0.05", "2", true}};
+  constexpr double fill = 0.05;
+  for (const Case& c : cases) {
+    CAPTURE(c.record);
+    const std::string common = "-q ida --record " + *records + "/" + c.record + " --im sa:T1 --variants " + c.variant +
+                               " --no-plot --out ";
+    const fs::path ladder_dir = dir / (c.record + "_ladder"), hunt_dir = dir / (c.record + "_hunt");
+    REQUIRE(run(common + ladder_dir.string() + " --levels " + c.ladder).code == 0);
+    REQUIRE(run(common + hunt_dir.string() + " --levels 0.5 --hunt --hunt-max " + c.hunt_max).code == 0);
+    double first = -1;
+    const CsvTable ladder = csv_table(file_text(ladder_dir / "ida.csv"));
+    for (std::size_t i = 0; i < ladder.rows.size() && first < 0; ++i)
+      if (ladder.at(i, "outcome") == "overturned") first = std::stod(ladder.at(i, "level"));
+    REQUIRE(first > 0);
+    const CsvTable hunt = csv_table(file_text(hunt_dir / "hunt.csv"));
+    REQUIRE(hunt.rows.size() == 1);
+    REQUIRE(!hunt.at(0, "collapse_level").empty());  // not censored
+    const double collapse = std::stod(hunt.at(0, "collapse_level"));
+    CAPTURE(collapse);
+    CAPTURE(first);
+    CHECK(collapse <= first + fill + 1e-9);
+    if (c.below_ladder) CHECK(collapse < first - fill);
+    else CHECK(collapse > first - fill - 1e-9);
+    // The collapse is a run that overturned; every run below it survived
+    // (hunt_points.csv writes levels to 9 significant digits).
+    const CsvTable points = csv_table(file_text(hunt_dir / "hunt_points.csv"));
+    bool ran_collapse = false;
+    for (std::size_t i = 0; i < points.rows.size(); ++i) {
+      const double level = std::stod(points.at(i, "level"));
+      const bool same = std::abs(level - collapse) <= 1e-8 * collapse;
+      if (same) ran_collapse = points.at(i, "overturned") == "1";
+      else if (level < collapse) CHECK_MESSAGE(points.at(i, "overturned") == "0", level);
+    }
+    CHECK(ran_collapse);
+  }
+}
