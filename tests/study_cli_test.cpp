@@ -12,7 +12,6 @@
 #include <fstream>
 #include <map>
 #include <numbers>
-#include <sstream>
 #include <string>
 #include <vector>
 #include <unistd.h>
@@ -44,6 +43,16 @@ bool have_mpirun() {
   if (ci != nullptr && std::string(ci) == "true") FAIL("mpirun not found (scripts/setup.sh installs openmpi-bin)");
   WARN_MESSAGE(false, "SKIPPED: mpirun not found");
   return false;
+}
+
+// A ladder's first overturning level of each variant that overturned (its ida.csv).
+std::map<std::string, double> first_overturnings(const fs::path& ida_csv) {
+  std::map<std::string, double> first;
+  const CsvTable ladder = csv_table(file_text(ida_csv));
+  for (std::size_t i = 0; i < ladder.rows.size(); ++i)
+    if (ladder.at(i, "outcome") == "overturned" && !first.contains(ladder.at(i, "variant")))
+      first[ladder.at(i, "variant")] = std::stod(ladder.at(i, "level"));
+  return first;
 }
 
 }  // namespace
@@ -214,30 +223,19 @@ TEST_CASE("the hunt finds the first overturning that a 0.05 g ladder finds, wher
   const std::string common = "-q ida --record " + rec + " --im sa:T1 --variants damper,no-damper --no-plot --out ";
   REQUIRE(run(common + (dir / "ladder").string() + " --levels 0.05:14:0.05").code == 0);
   REQUIRE(run(common + (dir / "hunt").string() + " --levels 0.5 --hunt --hunt-max 25").code == 0);
-  std::map<std::string, double> first;  // variant -> the ladder's first overturning level
-  {
-    const CsvTable ladder = csv_table(file_text(dir / "ladder" / "ida.csv"));
-    for (std::size_t i = 0; i < ladder.rows.size(); ++i)
-      if (ladder.at(i, "outcome") == "overturned" && !first.contains(ladder.at(i, "variant")))
-        first[ladder.at(i, "variant")] = std::stod(ladder.at(i, "level"));
-  }
+  const std::map<std::string, double> first = first_overturnings(dir / "ladder" / "ida.csv");
   REQUIRE(first.size() == 2);
-  std::istringstream rows(file_text(dir / "hunt" / "hunt.csv"));
-  std::string line;
-  std::getline(rows, line);
-  int hunts = 0;
-  while (std::getline(rows, line)) {
-    std::vector<std::string> f;
-    std::istringstream cells(line);
-    for (std::string c; std::getline(cells, c, ',');) f.push_back(c);
-    CAPTURE(line);
-    REQUIRE(!f[3].empty());  // a collapse level: not censored
-    const double collapse = std::stod(f[3]);
-    CHECK(collapse <= first[f[1]] + 1e-9);
-    CHECK(collapse > first[f[1]] - 0.05 - 1e-9);
-    ++hunts;
+  const CsvTable hunt = csv_table(file_text(dir / "hunt" / "hunt.csv"));
+  for (std::size_t i = 0; i < hunt.rows.size(); ++i) {
+    const std::string& variant = hunt.at(i, "variant");
+    CAPTURE(variant);
+    REQUIRE(!hunt.at(i, "collapse_level").empty());  // not censored
+    REQUIRE(first.contains(variant));
+    const double collapse = std::stod(hunt.at(i, "collapse_level"));
+    CHECK(collapse <= first.at(variant) + 1e-9);
+    CHECK(collapse > first.at(variant) - 0.05 - 1e-9);
   }
-  CHECK(hunts == 2);
+  CHECK(hunt.rows.size() == 2);
   // Every level run is listed with its reason, the fill among them.
   const std::string points = file_text(dir / "hunt" / "hunt_points.csv");
   CHECK(points.find(",fill,") != std::string::npos);
@@ -274,11 +272,9 @@ TEST_CASE("two more records: a collapse the old trace censored, and a window a 0
     const fs::path ladder_dir = dir / (c.record + "_ladder"), hunt_dir = dir / (c.record + "_hunt");
     REQUIRE(run(common + ladder_dir.string() + " --levels " + c.ladder).code == 0);
     REQUIRE(run(common + hunt_dir.string() + " --levels 0.5 --hunt --hunt-max " + c.hunt_max).code == 0);
-    double first = -1;
-    const CsvTable ladder = csv_table(file_text(ladder_dir / "ida.csv"));
-    for (std::size_t i = 0; i < ladder.rows.size() && first < 0; ++i)
-      if (ladder.at(i, "outcome") == "overturned") first = std::stod(ladder.at(i, "level"));
-    REQUIRE(first > 0);
+    const std::map<std::string, double> firsts = first_overturnings(ladder_dir / "ida.csv");
+    REQUIRE(firsts.contains(c.variant));
+    const double first = firsts.at(c.variant);
     const CsvTable hunt = csv_table(file_text(hunt_dir / "hunt.csv"));
     REQUIRE(hunt.rows.size() == 1);
     REQUIRE(!hunt.at(0, "collapse_level").empty());  // not censored
