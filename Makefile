@@ -2,7 +2,7 @@
 # CMake 4.3 lives in .tools/bin (installed by scripts/setup.sh).
 export PATH := $(CURDIR)/.tools/bin:$(PATH)
 
-.PHONY: all setup configure build test demo bench golden sanitize fuzz pgo clean
+.PHONY: all setup configure build program test demo bench golden sanitize fuzz pgo clean
 all: build
 
 setup:
@@ -17,7 +17,11 @@ build: configure
 test: build
 	@ctest --preset default
 
-demo: build
+# The program and the plugins it loads, not the tests, fuzzers or benchmarks.
+program: configure
+	@cmake --build --preset default --target rocking_cli
+
+demo: program
 	@build/bin/rocking plot response --out plots --name demo_response
 
 # The whole suite under AddressSanitizer + UndefinedBehaviorSanitizer, in its

@@ -19,15 +19,15 @@ export function formatG(v, p = 4) {
   return strip(v.toFixed(Math.max(0, p - 1 - e)));
 }
 
-// The damper-like devices of a scene: its [damper] pair, else its [[device]]
-// tables with a hysteretic or viscous law.
+// The devices that dissipate energy (their law's trait, from /api/scenes):
+// the dampers the "dampers" box switches off, the [damper] pair among them.
 export function damperDevices(scene) {
-  return (scene.devices || []).filter((d) => d.law !== 'elastic' && d.law !== 'gap');
+  return (scene.devices || []).filter((d) => d.dissipates);
 }
 
 // The first device with a prestress (a tendon), or null.
 export function tendonOf(scene) {
-  return (scene.devices || []).find((d) => d.law === 'elastic' && d.P0 > 0) || null;
+  return (scene.devices || []).find((d) => d.prestress && d.prestress.value > 0) || null;
 }
 
 // Texts of an "extra overrides" field: one per line or separated by spaces.
@@ -51,14 +51,14 @@ export function buildRequest(controls, scene) {
   if (pulse)
     set.push('excitation.kind=pulse', `excitation.pulse=${pulse}`, `excitation.amplitude_g=${controls.amplitude}`,
       `excitation.period=${controls.period}`);
-  if (scene.damper) {
-    if (!controls.dampers) set.push('damper.enabled=false');
-    else if (controls.thickness !== 1) set.push(`damper.thickness=${controls.thickness}`);
-  } else if (!controls.dampers) {
-    for (const d of damperDevices(scene)) set.push(`device-=${d.name}`);
+  if (!controls.dampers) {
+    for (const d of damperDevices(scene)) set.push(d.remove);
+  } else if (scene.damper && controls.thickness !== 1) {
+    set.push(`damper.thickness=${controls.thickness}`);
   }
   const tendon = tendonOf(scene);
-  if (tendon && controls.prestress !== 1) set.push(`device[${tendon.index}].P0=${tendon.P0 * controls.prestress}`);
+  if (tendon && controls.prestress !== 1)
+    set.push(`${tendon.prestress.set}=${tendon.prestress.value * controls.prestress}`);
   if (controls.restitution !== null && controls.restitution !== undefined)
     set.push(`contact.restitution=${controls.restitution}`);
   set.push(...splitOverrides(controls.extra));
@@ -72,9 +72,8 @@ export function buildRequest(controls, scene) {
 export function twinChoices(scene) {
   const out = [{ value: '', label: 'none' }];
   if (!scene.rigid) out.push({ value: 'fixed-base', label: 'fixed base' });
-  if (scene.damper) out.push({ value: 'no-damper', label: 'no dampers' });
   for (const d of scene.devices || []) out.push({ value: `without:${d.name}`, label: `without ${d.name}` });
-  if ((scene.devices || []).length + (scene.damper ? 1 : 0) > 1) out.push({ value: 'no-devices', label: 'no devices' });
+  if ((scene.devices || []).length > 1) out.push({ value: 'no-devices', label: 'no devices' });
   return out;
 }
 

@@ -34,7 +34,7 @@ export const lessons = [
   },
   {
     title: '3. The damper controls rotation, and only for large motions',
-    controls: { scene: 'christchurch_chimney', record: papanui, scale: 1, compare: 'no-damper' },
+    controls: { scene: 'christchurch_chimney', record: papanui, scale: 1, compare: 'without:damper' },
     text:
       'The Papanui record of 22 February 2011, with and without the dampers (dashed). As recorded, the two ' +
       'rocking angles are nearly the same. Move the scale to 3: the damper cuts the rotation by about four, ' +

@@ -227,6 +227,53 @@ TEST_CASE("a lab run of a scene's own pulse, a wall's tendon and a rigid block m
   }
 }
 
+TEST_CASE("the lab can switch off every device it lists, on every scene, and compare without each") {
+  const rocking::Lab lab = make_lab("");
+  const json scenes = json::parse(lab.answer("GET", "/api/scenes", "").body);
+  const auto has_force = [](const json& history, const json& members) {
+    std::size_t found = 0;
+    for (const json& m : members) found += history.contains(m.get<std::string>() + ".force") ? 1 : 0;
+    return found;
+  };
+  std::size_t listed = 0;
+  for (const json& s : scenes) {
+    if (!s["usable"].get<bool>()) continue;
+    const std::string id = s["id"];
+    for (const json& d : s["devices"]) {
+      CAPTURE(id);
+      CAPTURE(d.dump());
+      ++listed;
+      const json members = d["members"];
+      REQUIRE(!members.empty());
+      const json as_built = answer_json(lab, "/api/simulate", {{"scene", id}, {"duration", 1.0}});
+      CHECK(has_force(as_built["history"], members) == members.size());
+      const json without = answer_json(lab, "/api/simulate", {{"scene", id}, {"duration", 1.0}, {"set", {d["remove"]}}});
+      CHECK(has_force(without["history"], members) == 0);
+      const json twin = answer_json(lab, "/api/simulate",
+                                    {{"scene", id}, {"duration", 1.0}, {"compare", "without:" + d["name"].get<std::string>()}});
+      CHECK(has_force(twin["twin"]["history"], members) == 0);
+      CHECK(has_force(twin["history"], members) == members.size());
+    }
+  }
+  // The chimney's [damper] and the wall's tendon and dampers are among them.
+  CHECK(listed >= 3);
+  for (const json& s : scenes) {
+    if (s["id"] == "christchurch_chimney") {
+      REQUIRE(s["devices"].size() == 1);
+      CHECK(s["devices"][0]["name"] == "damper");
+      CHECK(s["devices"][0]["dissipates"] == true);
+    }
+    if (s["id"] == "controlled_rocking_wall") {
+      REQUIRE(s["devices"].size() == 2);
+      CHECK(s["devices"][0]["name"] == "tendon");
+      CHECK(s["devices"][0]["dissipates"] == false);
+      CHECK(s["devices"][0]["prestress"]["set"] == "device[0].P0");
+      CHECK(s["devices"][1]["name"] == "dampers");
+      CHECK(s["devices"][1]["members"] == json({"dampers_left", "dampers_right"}));
+    }
+  }
+}
+
 TEST_CASE("the lab's modal and IDA answer what rocking modal and rocking ida write") {
   const auto records = records_dir();
   if (!records) return;

@@ -3,7 +3,11 @@
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
 #include "temp_path.hpp"
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <numbers>
+#include <optional>
 #include <fstream>
 #include <string>
 #include <variant>
@@ -230,7 +234,9 @@ TEST_CASE("a wrong [[device]] is a one-line error naming the device, the key and
   CHECK(error({"device[1].free_length=2"}) == "--set device[1].free_length=2: device[1].free_length: only a vertical "
                                                "device has a free length");
   CHECK(error({"device[2].k=1"}).find("no device [2]: the scene has 2 device tables") != std::string::npos);
-  CHECK(error({"device[1].name=damper"}).find("'damper_left' names two devices") != std::string::npos);
+  CHECK(error({"device[0].name=damper_left"}).find("'damper_left' names two devices") != std::string::npos);
+  // The [damper] is the device "damper": no [[device]] may take its name.
+  CHECK(error({"device[1].name=damper"}).find("device[1].name: 'damper' names the scene's [damper]") != std::string::npos);
   CHECK(error({"device[0].name=a,b"}).find("device[0].name: must be letters, digits, _ or -") != std::string::npos);
   // A typo in the file: file:line of the key.
   const std::string typo = chimney_with("[excitation]", std::string(tendon_and_fluid) + "spring_rate = 1\n\n[excitation]");
@@ -242,4 +248,77 @@ TEST_CASE("a wrong [[device]] is a one-line error naming the device, the key and
   CHECK(error({"device+=3"}).find("expected one device as an inline table") != std::string::npos);
   CHECK(one_line_error<InputError>([] { load_default_scene({"device+={at=0}"}); }, "").find("device[0].kind: missing key") !=
         std::string::npos);
+}
+
+TEST_CASE("devices are listed as the scene names them: the [damper] is the device \"damper\", an edges table one device") {
+  const Scene chimney = load_scene(ROCKING_SCENES "/christchurch_chimney.toml");
+  const std::vector<DeviceGroup> c = device_groups(chimney);
+  REQUIRE(c.size() == 1);
+  CHECK(c[0].name == "damper");
+  CHECK(c[0].dissipates);
+  CHECK(c[0].devices.size() == 2);
+  CHECK_FALSE(c[0].table.has_value());
+  // Its removal is a --set text like any device's, and takes the pair away.
+  const Scene without = load_scene(ROCKING_SCENES "/christchurch_chimney.toml", {c[0].removal});
+  CHECK_FALSE(without.damper.enabled);
+  CHECK(scene_devices(without).empty());
+  CHECK_THROWS_WITH_AS(load_scene(ROCKING_SCENES "/christchurch_chimney.toml", {"device-=damper", "device-=damper"}),
+                       "--set device-=damper: no [[device]] named 'damper'", InputError);
+
+  const Scene wall = load_scene(ROCKING_SCENES "/controlled_rocking_wall.toml");
+  const std::vector<DeviceGroup> w = device_groups(wall);
+  REQUIRE(w.size() == 2);
+  CHECK(w[0].name == "tendon");
+  CHECK_FALSE(w[0].dissipates);
+  REQUIRE(w[0].prestress_key != nullptr);
+  CHECK(std::string(w[0].prestress_key) == "P0");
+  CHECK(w[0].prestress == 2.6e6);  // the scene's P0, as written
+  CHECK(w[0].table == std::optional<std::size_t>(0));
+  CHECK(w[1].name == "dampers");
+  CHECK(w[1].dissipates);
+  CHECK(w[1].prestress_key == nullptr);
+  CHECK(w[1].table == std::optional<std::size_t>(1));
+  REQUIRE(w[1].devices.size() == 2);
+  CHECK(w[1].devices[0].name == "dampers_left");
+  CHECK(w[1].devices[1].name == "dampers_right");
+  for (const DeviceGroup& g : w) {
+    CAPTURE(g.name);
+    const Scene less = load_scene(ROCKING_SCENES "/controlled_rocking_wall.toml", {g.removal});
+    for (const Device& d : scene_devices(less)) CHECK(d.group != g.name);
+  }
+}
+
+TEST_CASE("a law dissipates, by its declared trait, exactly when a closed cycle of elongation does work on it") {
+  // e(t) = A sin^2(pi t / T) out and back: the samples of the way back repeat
+  // those of the way out, so the trapezoidal work of a law that only stores
+  // energy (F a function of e) telescopes to zero up to round-off, while a
+  // law with a rate dependence or hysteresis takes positive work.
+  constexpr double A = 0.1, T = 1.0;
+  constexpr int n = 20000;
+  for (const LawInfo& l : device_laws()) {
+    CAPTURE(l.name);
+    const DeviceLaw law = make_law(l.name, [&](std::string_view key) -> std::optional<double> {
+      for (const LawParameter& p : l.parameters)
+        if (p.key == key) return p.example;
+      return std::nullopt;
+    });
+    const double pi = std::numbers::pi, dt = T / n;
+    const auto e_at = [&](double t) { return A * std::sin(pi * t / T) * std::sin(pi * t / T); };
+    const auto rate_at = [&](double t) { return A * pi / T * std::sin(2 * pi * t / T); };
+    double z = 0, work = 0, peak = 0;
+    double F_prev = law_force(law, 0.0, 0.0, 0.0);
+    for (int i = 0; i < n; ++i) {
+      const double t = i * dt;
+      // z by the midpoint rule (second order; the law's state is small here).
+      const double zh = z + 0.5 * dt * law_rate(law, e_at(t), rate_at(t), z);
+      z += dt * law_rate(law, e_at(t + 0.5 * dt), rate_at(t + 0.5 * dt), zh);
+      const double F = law_force(law, e_at(t + dt), rate_at(t + dt), z);
+      work += 0.5 * (F_prev + F) * (e_at(t + dt) - e_at(t));
+      peak = std::max(peak, std::abs(F));
+      F_prev = F;
+    }
+    REQUIRE(peak > 0);
+    if (law_dissipates(law)) CHECK(work > 1e-3 * peak * A);  // a loop of a thousandth of its box or more
+    else CHECK(std::abs(work) < 1e-9 * peak * A);             // round-off of 2e4 telescoping terms
+  }
 }

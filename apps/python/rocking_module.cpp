@@ -521,10 +521,12 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
   threads = workers.threads;
   if (!(damping >= 0 && damping < 1)) throw rocking::InputError(fmt::format("ida: damping {}: must be in [0, 1)", damping));
 
-  std::vector<rocking::Variant> variants;
-  for (const std::string& v : variant_names ? *variant_names : std::vector<std::string>{"damper", "no-damper", "fixed-base"})
-    variants.push_back(v.find('=') != std::string::npos ? rocking::Variant{v, {v}} : rocking::named_variant(v));
   const rocking::Scene& scene = *s.scene;
+  std::vector<rocking::Variant> variants;
+  if (!variant_names) variants = rocking::default_variants(scene);
+  else
+    for (const std::string& v : *variant_names)
+      variants.push_back(v.find('=') != std::string::npos ? rocking::Variant{v, {v}} : rocking::named_variant(v));
   const double t1 =
       scene.structure.rigid ? 0.0 : 1.0 / rocking::modal_analysis(scene.structure, rocking::scene_devices(scene)).fixed_base_hz[0];
   const rocking::IntensityMeasure im = rocking::parse_intensity_measure(im_text, damping, t1);
@@ -688,6 +690,20 @@ PYBIND11_MODULE(rocking, m) {
         for (const rocking::Device& d : rocking::scene_devices(*s.scene)) names.push_back(d.name);
         return names;
       }, "The names of the scene's devices, in the order of the history's columns.")
+      .def_property_readonly("device_groups", [](const PyScene& s) {
+        py::list out;
+        for (const rocking::DeviceGroup& g : rocking::device_groups(*s.scene)) {
+          py::list members;
+          for (const rocking::Device& d : g.devices) members.append(d.name);
+          out.append(py::dict("name"_a = g.name, "law"_a = g.law, "dissipates"_a = g.dissipates,
+                              "prestress"_a = g.prestress_key ? py::object(py::float_(g.prestress)) : py::object(py::none()),
+                              "devices"_a = members, "removal"_a = g.removal));
+        }
+        return out;
+      }, "The devices as the scene names them (a [[device]] table, or \"damper\" for the\n"
+         "[damper] pair): name, law, dissipates (the law's trait), prestress [N] (None:\n"
+         "the law has none), devices (their names in the history) and removal (the\n"
+         "--set text that removes it; variant \"without:NAME\" runs without it).")
       .def("__repr__", [](const PyScene& s) {
         return fmt::format("<rocking.Scene '{}' from {}{}>", s.scene->name, s.scene->source,
                            s.overrides.empty() ? "" : fmt::format(" with {} override(s)", s.overrides.size()));
@@ -914,8 +930,10 @@ PYBIND11_MODULE(rocking, m) {
         "hunt_growth"_a = 1.5, "hunt_max"_a = py::none(), "precision"_a = py::none(), "fill_step"_a = py::none(),
         "Incremental dynamic analysis as `rocking ida`: every record (files, folders or\n"
         "list files) scaled to each level of the intensity measure im (sf, pga, pgv,\n"
-        "sa:T, sa:T1, saavg:T1:T2) for each variant (damper, no-damper, fixed-base,\n"
-        "scene, no-devices, without:NAME, or KEY=VALUE). Runs on threads (0: every\n"
+        "sa:T, sa:T1, saavg:T1:T2) for each variant (scene, without:NAME, fixed-base,\n"
+        "no-devices, damper, no-damper, or KEY=VALUE; None: the scene's own, as\n"
+        "`rocking ida`: as built, without each energy-dissipating device, and on a\n"
+        "fixed base when it rocks and is flexible). Runs on threads (0: every\n"
         "core); Ctrl-C stops it (KeyboardInterrupt). limits: limit states beside overturning\n"
         "for fragility(), as --limit takes them (\"theta_over_alpha=0.5\"). resurrection:\n"
         "first (a record counts as overturned from its first overturning on, Vamvatsikos\n"

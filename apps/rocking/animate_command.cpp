@@ -1,6 +1,6 @@
 // `rocking animate`: an animated GIF (gnuplot's gif animate terminal) of the
 // structure drawn to scale, rocking about its pivots with its lifted edge and
-// stretched damper, beside its twin (fixed base or no damper) under the same
+// stretched damper, beside its twin (fixed base, or without a device) under the same
 // record, with a moving cursor on the ground-motion and base-moment traces.
 #include "commands.hpp"
 #include "run_output.hpp"
@@ -97,8 +97,9 @@ int animate(const AnimateArgs& a) {
   const GroundMotion motion = load_motion(scene, a.motion);
   // A rigid block has no fixed-base twin worth drawing: by default it is drawn alone.
   const std::string compare = !a.compare.empty() ? a.compare : scene.structure.rigid ? "none" : "fixed-base";
-  if (compare != "fixed-base" && compare != "no-damper" && compare != "none")
-    throw InputError(fmt::format("--compare {}: choose fixed-base, no-damper or none", compare));
+  if (compare != "fixed-base" && compare != "no-damper" && compare != "none" && !compare.starts_with("without:"))
+    throw InputError(fmt::format("--compare {}: choose fixed-base, without:NAME (a device the scene names), no-damper "
+                                 "or none", compare));
   const bool alone = compare == "none";
   std::vector<std::string> twin_overrides = a.scene.overrides;
   if (!alone) {
@@ -157,7 +158,7 @@ int animate(const AnimateArgs& a) {
                         motion.acceleration(main_rec.rows[i].t) / gravity, main_rec.rows[i][Quantity::base_moment],
                         twin_rec.rows[i][Quantity::base_moment], main_rec.rows[i][Quantity::theta_over_alpha]);
   }
-  const std::string twin_label = compare == "fixed-base" ? "fixed base" : "no damper";
+  const std::string twin_label = compare == "no-damper" ? "no damper" : variant_label(compare);
   // Alone: the structure spans the width, and the right trace is its rocking
   // angle (a block has no section forces); else the two side by side and the
   // base moments of both.
@@ -250,7 +251,7 @@ Command add_animate_command(CLI::App& app) {
       "animate",
       "Animated GIF of the structure drawn to scale (elastic deformation exaggerated\n"
       "by a stated factor) rocking about its pivots, the lifted edge and the stretched\n"
-      "damper visible, beside its twin (--compare fixed-base or no-damper) under the\n"
+      "damper visible, beside its twin (--compare fixed-base or without:NAME) under the\n"
       "same motion, with a moving cursor on the ground-motion and base-moment traces.\n"
       "The frames' data and the gnuplot script are kept beside the GIF.");
   auto a = std::make_shared<AnimateArgs>();
@@ -258,7 +259,8 @@ Command add_animate_command(CLI::App& app) {
   add_motion_options(*cmd, a->motion);
   add_solver_options(*cmd, a->solver);
   cmd->add_option("--compare", a->compare,
-                  "The twin: fixed-base (default), no-damper, or none (the default for a\n"
+                  "The twin: fixed-base (default), without:NAME (less the device the scene\n"
+                  "names NAME, its [damper] included), no-damper, or none (the default for a\n"
                   "rigid block, drawn alone)")
       ->type_name("VARIANT");
   cmd->add_option("--out", a->out, "The animation: .gif (default out/animation.gif), or .mp4 / .webm when ffmpeg is installed")

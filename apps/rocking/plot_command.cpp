@@ -5,6 +5,7 @@
 #include <spdlog/spdlog.h>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <memory>
@@ -88,11 +89,11 @@ int response(const ResponseArgs& a) {
                                          : fmt::format("Runs: {}", fmt::join(a.from, ", "));
   } else {
     const Scene base = load_scene(a.scene);
-    std::vector<std::string> keys = a.variants;
-    if (keys.empty()) keys = base.structure.rigid ? std::vector<std::string>{"scene"}
-                                                   : std::vector<std::string>{"damper", "no-damper", "fixed-base"};
     std::vector<Variant> variants;
-    for (const std::string& key : keys) variants.push_back(named_variant(key));
+    if (a.variants.empty()) variants = default_variants(base);
+    for (const std::string& key : a.variants) variants.push_back(named_variant(key));
+    std::vector<std::string> keys;
+    for (const Variant& v : variants) keys.push_back(v.name);
     const GroundMotion motion = load_motion(base, a.motion);
     fig.time_range = window_range(a.window, {&motion});
     make_output_dir(data_dir);
@@ -110,7 +111,11 @@ int response(const ResponseArgs& a) {
       RunOptions ro = run_options(scene, a.solver, a.motion.record.empty());
       ro.output_interval = 0.005;
       const ContactModel model = make_contact_model(scene, false);
-      const fs::path csv = data_dir / (key + ".csv");
+      // The variant's data file: its name with anything but letters, digits, _ - . as _ ("without_damper.csv").
+      std::string stem = key;
+      for (char& c : stem)
+        if (std::isalnum(static_cast<unsigned char>(c)) == 0 && c != '_' && c != '-' && c != '.') c = '_';
+      const fs::path csv = data_dir / (stem + ".csv");
       HistoryCsv history(csv, model);
       const RunResult r = simulate(model, motion, ro, &history);
       history.close();
@@ -119,7 +124,7 @@ int response(const ResponseArgs& a) {
                  r.peak(Quantity::theta_over_alpha),
                  r.reports(Quantity::base_moment) ? fmt::format("{:.3f}", r.peak(Quantity::base_moment)) : "-", r.counts.uplifts,
                  outcome_name(r.outcome));
-      series.push_back({label, (fs::path(a.figure.name + ".data") / (key + ".csv")).string(), model.has_damper,
+      series.push_back({label, (fs::path(a.figure.name + ".data") / (stem + ".csv")).string(), model.has_damper,
                         model.kind != ModelKind::fixed_base, model.kind != ModelKind::rigid_block});
     }
   }
@@ -209,9 +214,11 @@ Command add_plot_command(CLI::App& app) {
   add_figure_options(*resp, ra->figure, "response");
   add_window_option(*resp, ra->window);
   resp->add_option("--variants", ra->variants,
-                   "Comma-separated runs to overlay: scene (as given), damper, no-damper,\n"
-                   "fixed-base, no-devices, without:NAME (the scene less its [[device]] NAME)\n"
-                   "(default damper,no-damper,fixed-base; scene for a rigid block)")
+                   "Comma-separated runs to overlay: scene (as built), without:NAME (less\n"
+                   "the device the scene names NAME, its [damper] included), fixed-base,\n"
+                   "no-devices, damper, no-damper (the [damper] on, off). Default: as built,\n"
+                   "without each energy-dissipating device, and on a fixed base when the\n"
+                   "scene rocks and is flexible")
       ->delimiter(',')
       ->type_name("LIST");
   resp->add_option("--from", ra->from, "Plot the history.csv of earlier `rocking simulate --out DIR` runs")

@@ -26,7 +26,7 @@ std::string variant_label(const std::string& name) {
   if (name == "damper") return "rocking, with dampers";
   if (name == "no-damper") return "rocking, no damper";
   if (name == "fixed-base") return "fixed base";
-  if (name == "scene") return "as the scene says";
+  if (name == "scene") return "as built";
   if (name == "no-devices") return "no devices";
   if (name.starts_with("without:")) return "without " + name.substr(8);
   const auto eq = name.find('=');

@@ -830,8 +830,10 @@ Command add_ida_command(CLI::App& app) {
       "SIGTERM (the runs done are kept in the CSV; --resume continues).");
   auto a = std::make_shared<StudyArgs>();
   add_study_options(*cmd, *a, "out/ida");
-  cmd->add_option("--variants", a->variants, "damper, no-damper, fixed-base, scene, no-devices, without:NAME (the\n"
-                  "scene less its [[device]] NAME) (default the first three)")
+  cmd->add_option("--variants", a->variants, "scene (as built), without:NAME (less the device the scene names\n"
+                  "NAME, its [damper] included), fixed-base, no-devices, damper, no-damper\n"
+                  "(the [damper] on, off). Default: as built, without each energy-dissipating\n"
+                  "device, and on a fixed base when the scene rocks and is flexible")
       ->delimiter(',')
       ->type_name("LIST");
   cmd->add_flag("--hunt", a->hunt,
@@ -869,9 +871,8 @@ Command add_ida_command(CLI::App& app) {
     check_log_axes(*a);
     MpiSession mpi;
     std::vector<Variant> variants;
-    for (const std::string& v : a->variants.empty() ? std::vector<std::string>{"damper", "no-damper", "fixed-base"}
-                                                    : a->variants)
-      variants.push_back(named_variant(v));
+    if (a->variants.empty()) variants = default_variants(load_scene(a->scene));
+    for (const std::string& v : a->variants) variants.push_back(named_variant(v));
     std::string scene_name;
     const auto study = make_study(*a, a->scene.overrides, std::move(variants), scene_name);
     if (a->hunt) return mpi.world().rank == 0 ? run_hunt(*a, *study) : 0;

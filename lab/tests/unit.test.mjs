@@ -23,10 +23,22 @@ test('formatG prints as C printf %.4g does', () => {
   assert.equal(formatG(Infinity), 'inf');
 });
 
-const chimney = { id: 'christchurch_chimney', damper: true, rigid: false, devices: [] };
+// Scenes as /api/scenes lists them (tests/lab_test.cpp holds the server to this form).
+const chimney = {
+  id: 'christchurch_chimney', damper: true, rigid: false,
+  devices: [{ name: 'damper', law: 'bouc-wen', dissipates: true, prestress: null, remove: 'device-=damper' }],
+};
 const wall = {
   id: 'controlled_rocking_wall', damper: false, rigid: false,
-  devices: [{ index: 0, name: 'tendon', law: 'elastic', P0: 2.6e6 }, { index: 1, name: 'dampers', law: 'bouc-wen', P0: null }],
+  devices: [
+    { name: 'tendon', law: 'elastic', dissipates: false, prestress: { value: 2.6e6, set: 'device[0].P0' }, remove: 'device-=tendon' },
+    { name: 'dampers', law: 'bouc-wen', dissipates: true, prestress: null, remove: 'device-=dampers' },
+  ],
+};
+// A renamed copy of the elastic law is classified by its traits, not its name.
+const renamed = {
+  id: 'x', damper: false, rigid: false,
+  devices: [{ name: 'cable', law: 'spring-2', dissipates: false, prestress: { value: 1e5, set: 'device[0].P0' }, remove: 'device-=cable' }],
 };
 const defaults = { scene: 'christchurch_chimney', record: '', scale: 1, dampers: true, thickness: 1, prestress: 1, restitution: null, compare: '', extra: '' };
 
@@ -34,12 +46,13 @@ test('the controls become --set texts', () => {
   assert.deepEqual(buildRequest(defaults, chimney), { scene: 'christchurch_chimney', scale: 1, set: [] });
   assert.deepEqual(buildRequest({ ...defaults, thickness: 1.5, record: 'elcentro_1940_ns.at2', compare: 'fixed-base' }, chimney).set,
     ['damper.thickness=1.5']);
-  assert.deepEqual(buildRequest({ ...defaults, dampers: false, thickness: 2 }, chimney).set, ['damper.enabled=false']);
+  assert.deepEqual(buildRequest({ ...defaults, dampers: false, thickness: 2 }, chimney).set, ['device-=damper']);
+  assert.deepEqual(buildRequest({ ...defaults, scene: 'x', dampers: false, prestress: 2 }, renamed).set, ['device[0].P0=200000']);
   assert.deepEqual(buildRequest({ ...defaults, scene: wall.id, dampers: false, prestress: 0.5 }, wall).set,
     ['device-=dampers', 'device[0].P0=1300000']);
   assert.deepEqual(buildRequest({ ...defaults, restitution: 0.9, extra: 'structure.EI_scale=0.5\n initial.theta=0.1 ' }, chimney).set,
     ['contact.restitution=0.9', 'structure.EI_scale=0.5', 'initial.theta=0.1']);
-  assert.equal(buildRequest({ ...defaults, compare: 'no-damper' }, chimney).compare, 'no-damper');
+  assert.equal(buildRequest({ ...defaults, compare: 'without:damper' }, chimney).compare, 'without:damper');
   const ricker = buildRequest({ ...defaults, record: 'pulse:ricker', amplitude: 0.5, period: 1.2 }, chimney);
   assert.deepEqual(ricker.set, ['excitation.kind=pulse', 'excitation.pulse=ricker', 'excitation.amplitude_g=0.5', 'excitation.period=1.2']);
   assert.equal(ricker.record, undefined, 'a pulse is the scene\'s excitation, not a record');
@@ -47,7 +60,7 @@ test('the controls become --set texts', () => {
 });
 
 test('twins are the variants the scene has', () => {
-  assert.deepEqual(twinChoices(chimney).map((c) => c.value), ['', 'fixed-base', 'no-damper']);
+  assert.deepEqual(twinChoices(chimney).map((c) => c.value), ['', 'fixed-base', 'without:damper']);
   assert.deepEqual(twinChoices(wall).map((c) => c.value), ['', 'fixed-base', 'without:tendon', 'without:dampers', 'no-devices']);
   assert.deepEqual(twinChoices({ rigid: true, damper: false, devices: [] }).map((c) => c.value), ['']);
 });

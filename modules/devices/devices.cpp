@@ -61,8 +61,8 @@ std::vector<Device> edge_dampers(const Damper& damper, double half_width) {
   law.damper = damper;
   law.damper.stiffness = plate_stiffness(damper);
   law.d_y = yield_displacement(damper, half_width);
-  return {Device{"damper_left", {-half_width, Kinematics::chord, 0}, law, damper.capacity, true},
-          Device{"damper_right", {half_width, Kinematics::chord, 0}, law, damper.capacity, true}};
+  return {Device{"damper_left", {-half_width, Kinematics::chord, 0}, law, damper.capacity, true, "damper"},
+          Device{"damper_right", {half_width, Kinematics::chord, 0}, law, damper.capacity, true, "damper"}};
 }
 
 RockingStiffness rocking_stiffness(const std::vector<Device>& devices, double half_width, int s) {

@@ -55,6 +55,10 @@ struct Device {
   DeviceLaw law;
   double capacity = 0;                   // e_u [m]: fractures there; 0: never
   bool edge_damper = false;              // one of the paper's [damper] pair: reported also as damper_d, damper_F
+  // The scene's name for it, by which studies, the lab and Python list and
+  // remove devices: its [[device]] table's name (one table at = "edges" makes
+  // two devices of one group), or "damper" for the paper's pair; empty: its name.
+  std::string group;
 };
 
 // The elongation of a device and its derivative with respect to |theta|
@@ -97,6 +101,17 @@ inline double law_stored_energy(const DeviceLaw& law, double e, double z) {
 }
 inline const char* law_name(const DeviceLaw& law) {
   return std::visit([](const auto& l) { return std::decay_t<decltype(l)>::name; }, law);
+}
+// A law's declared traits, which the studies (a scene's default variants),
+// the lab (its device list) and the figures read instead of the law's name:
+// whether it dissipates energy (a damper: a study's variant runs without it),
+// and the scene key of its prestress, the force it holds at zero elongation
+// (a tendon: the lab's prestress slider), or nullptr.
+inline bool law_dissipates(const DeviceLaw& law) {
+  return std::visit([](const auto& l) { return std::decay_t<decltype(l)>::dissipates; }, law);
+}
+inline const char* law_prestress_key(const DeviceLaw& law) {
+  return std::visit([](const auto& l) { return std::decay_t<decltype(l)>::prestress_key; }, law);
 }
 inline double law_force_at_rest(const DeviceLaw& law, double z) {
   return std::visit([&](const auto& l) { return l.force_at_rest(z); }, law);

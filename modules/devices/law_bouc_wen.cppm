@@ -16,6 +16,9 @@ export namespace rocking {
 struct BoucWenLaw {
   static constexpr const char* name = "bouc-wen";
   static constexpr const char* summary = "Bouc-Wen hysteresis: a yielding metallic damper (the paper's plates)";
+  // Traits (rocking.devices' law_dissipates, law_prestress_key).
+  static constexpr bool dissipates = true;
+  static constexpr const char* prestress_key = nullptr;
   static std::vector<LawParameter> parameters() {
     using R = ParameterRole;
     return {{"k", "N/m", "pre-yield stiffness", R::stiffness, 2e7, 0, 0, true, 1e13},

@@ -12,6 +12,9 @@ export namespace rocking {
 struct ElasticLaw {
   static constexpr const char* name = "elastic";
   static constexpr const char* summary = "F = P0 + k e, tension only: a post-tensioned tendon or a spring";
+  // Traits (rocking.devices' law_dissipates, law_prestress_key).
+  static constexpr bool dissipates = false;
+  static constexpr const char* prestress_key = "P0";
   static std::vector<LawParameter> parameters() {
     using R = ParameterRole;
     return {{"P0", "N", "prestress: the force at zero elongation", R::force, 5e4, 0, 0, false, 1e10},

@@ -16,6 +16,9 @@ export namespace rocking {
 struct FrictionLaw {
   static constexpr const char* name = "friction";
   static constexpr const char* summary = "F = F_s tanh(e'/v_r): a friction damper slipping at F_s";
+  // Traits (rocking.devices' law_dissipates, law_prestress_key).
+  static constexpr bool dissipates = true;
+  static constexpr const char* prestress_key = nullptr;
   static std::vector<LawParameter> parameters() {
     using R = ParameterRole;
     return {{"F_s", "N", "slip force", R::force, 8e4, 0, 0, false, 1e10},

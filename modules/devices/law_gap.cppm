@@ -14,6 +14,9 @@ export namespace rocking {
 struct GapLaw {
   static constexpr const char* name = "gap";
   static constexpr const char* summary = "F = k max(0, e - g0): a spring engaging after a slack g0";
+  // Traits (rocking.devices' law_dissipates, law_prestress_key).
+  static constexpr bool dissipates = false;
+  static constexpr const char* prestress_key = nullptr;
   static std::vector<LawParameter> parameters() {
     using R = ParameterRole;
     return {{"k", "N/m", "stiffness once engaged", R::stiffness, 5e6, 0, 0, true, 1e13},

@@ -14,6 +14,9 @@ export namespace rocking {
 struct KelvinLaw {
   static constexpr const char* name = "kelvin";
   static constexpr const char* summary = "F = k e + c e': a spring and a dashpot side by side (a viscoelastic damper)";
+  // Traits (rocking.devices' law_dissipates, law_prestress_key).
+  static constexpr bool dissipates = true;
+  static constexpr const char* prestress_key = nullptr;
   static std::vector<LawParameter> parameters() {
     using R = ParameterRole;
     return {{"k", "N/m", "stiffness of the spring", R::stiffness, 2e6, 0, 0, false, 1e13},

@@ -12,6 +12,9 @@ export namespace rocking {
 struct ViscousLaw {
   static constexpr const char* name = "viscous";
   static constexpr const char* summary = "F = c sign(e') |e'|^a: a fluid viscous damper (a = 1: a dashpot)";
+  // Traits (rocking.devices' law_dissipates, law_prestress_key).
+  static constexpr bool dissipates = true;
+  static constexpr const char* prestress_key = nullptr;
   static std::vector<LawParameter> parameters() {
     using R = ParameterRole;
     return {{"c", "N (s/m)^a", "damping coefficient", R::rate_coefficient, 2e5, 0, 0, false, 1e12},

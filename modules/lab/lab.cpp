@@ -301,12 +301,18 @@ json Lab::scenes() const {
     json item{{"id", e.id}};
     try {
       const Scene s = load_scene(e.path);
+      // The devices as the scene names them, the [damper] among them: each
+      // with its law's traits, the override that removes it, and the one
+      // that sets its prestress (device[I].KEY=VALUE) when its law has one.
       json devices = json::array();
-      for (std::size_t i = 0; i < s.devices.size(); ++i) {
-        const Device& d = s.devices[i];
-        const auto* elastic = std::get_if<ElasticLaw>(&d.law);
-        devices.push_back({{"index", i}, {"name", d.name}, {"law", law_name(d.law)},
-                           {"P0", elastic ? json(elastic->P0) : json(nullptr)}});
+      for (const DeviceGroup& g : device_groups(s)) {
+        json prestress = nullptr;
+        if (g.prestress_key != nullptr && g.table)
+          prestress = {{"value", g.prestress}, {"set", fmt::format("device[{}].{}", *g.table, g.prestress_key)}};
+        json members = json::array();
+        for (const Device& d : g.devices) members.push_back(d.name);
+        devices.push_back({{"name", g.name}, {"law", g.law}, {"dissipates", g.dissipates}, {"prestress", prestress},
+                           {"remove", g.removal}, {"members", members}});
       }
       item.update({{"name", s.name},
                    {"description", s.description},

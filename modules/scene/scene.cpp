@@ -229,8 +229,17 @@ bool apply_device_override(toml::table& root, const std::string& text, Origins& 
         const auto* name = t != nullptr ? t->get_as<std::string>("name") : nullptr;
         if (name != nullptr && name->get() == value) list->erase(list->begin() + static_cast<std::ptrdiff_t>(i));
       }
-    if (list == nullptr || list->size() == before)
+    if (list == nullptr || list->size() == before) {
+      // The paper's [damper] is a device like the others: device-=damper removes it.
+      toml::table* damper = root.get_as<toml::table>("damper");
+      const auto* enabled = damper != nullptr ? damper->get_as<bool>("enabled") : nullptr;
+      if (value == "damper" && damper != nullptr && (enabled == nullptr || enabled->get())) {
+        damper->insert_or_assign("enabled", false);
+        origins["damper.enabled"] = origin;
+        return true;
+      }
       throw InputError(fmt::format("{}: no [[device]] named '{}'", origin, value));
+    }
     return true;
   }
   if (key == "device+" || key == "device") {
@@ -442,7 +451,11 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
                             fmt::format("on the base, -B <= x <= B = {:g} [m]", B));
       made.push_back({name, geometry, device_law, capacity});
     }
+    if (damper.enabled && name == "damper")
+      t.fail(t.has("name") ? &t.required("name") : nullptr, "name",
+             "'damper' names the scene's [damper] (its two edge dampers): choose another name");
     for (Device& d : made) {
+      d.group = name;
       if (!names.insert(d.name).second)
         t.fail(t.has("name") ? &t.required("name") : nullptr, "name", fmt::format("'{}' names two devices", d.name));
       out.push_back(std::move(d));
@@ -653,6 +666,23 @@ std::vector<Device> scene_devices(const Scene& scene) {
   if (scene.damper.enabled) all = edge_dampers(scene.damper, scene.structure.half_width);
   all.insert(all.end(), scene.devices.begin(), scene.devices.end());
   return all;
+}
+
+std::vector<DeviceGroup> device_groups(const Scene& scene) {
+  std::vector<DeviceGroup> out;
+  std::size_t tables = 0;
+  for (const Device& d : scene_devices(scene)) {
+    const std::string& name = d.group.empty() ? d.name : d.group;
+    if (out.empty() || out.back().name != name) {
+      DeviceGroup g{name, {}, law_name(d.law), law_dissipates(d.law), law_prestress_key(d.law)};
+      if (g.prestress_key != nullptr) g.prestress = law_force_at_rest(d.law, 0.0);
+      if (!d.edge_damper) g.table = tables++;
+      g.removal = "device-=" + name;
+      out.push_back(std::move(g));
+    }
+    out.back().devices.push_back(d);
+  }
+  return out;
 }
 
 ContactModel make_contact_model(const Scene& scene, bool track_energy, std::vector<Device> extra) {

@@ -16,6 +16,7 @@
 // text), which key, what is wrong.
 module;
 #include <rocking/eigen.hpp>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -82,6 +83,23 @@ struct Scene {
 // Every device of the scene: the [damper]'s two (edge_dampers) then the
 // [[device]] tables'.
 std::vector<Device> scene_devices(const Scene& scene);
+
+// A device as the scene names it (Device::group): a [[device]] table's one
+// device, or two for at = "edges", or the [damper]'s pair, named "damper".
+// Studies, the lab and Python list devices by these names and run without
+// one by `removal`, the --set text `device-=NAME` (which takes the
+// [damper] too).
+struct DeviceGroup {
+  std::string name;
+  std::vector<Device> devices;
+  std::string law;                  // its law's name
+  bool dissipates = false;          // its law's trait (rocking.devices)
+  const char* prestress_key = nullptr;  // its law's prestress key, or nullptr
+  double prestress = 0;             // that key's value [N]
+  std::optional<std::size_t> table; // its [[device]] index (device[I].KEY=VALUE); none for the [damper]
+  std::string removal;              // "device-=NAME"
+};
+std::vector<DeviceGroup> device_groups(const Scene& scene);
 
 // The model the scene describes (rocking.contact), with energy accumulators
 // when asked; `extra` devices act after the scene's own.

@@ -35,6 +35,14 @@ Variant named_variant(const std::string& name) {
                                "without:NAME)", name));
 }
 
+std::vector<Variant> default_variants(const Scene& scene) {
+  std::vector<Variant> out{named_variant("scene")};
+  for (const DeviceGroup& g : device_groups(scene))
+    if (g.dissipates) out.push_back(named_variant("without:" + g.name));
+  if (scene.contact.rocking && !scene.structure.rigid) out.push_back(named_variant("fixed-base"));
+  return out;
+}
+
 namespace {
 
 std::vector<StudyRecord> files(const std::vector<std::string>& paths) {

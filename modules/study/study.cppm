@@ -103,8 +103,16 @@ struct Variant {
   std::string name;
   std::vector<std::string> overrides;
 };
-// "damper", "no-damper", "fixed-base", "scene" (as given); InputError otherwise.
+// "scene" (as given), "fixed-base", "without:NAME" (without the device the
+// scene names NAME, its [damper] included: DeviceGroup), "no-devices", and
+// the paper's "damper" and "no-damper" (the [damper] on and off); InputError
+// otherwise.
 Variant named_variant(const std::string& name);
+// The variants a study of the scene runs unless told: as built ("scene"),
+// without each of its energy-dissipating devices ("without:NAME", by the
+// laws' traits), and on a fixed base when it rocks and is flexible. None
+// needs a key the scene lacks.
+std::vector<Variant> default_variants(const Scene& scene);
 
 struct Job {
   std::size_t record = 0;   // index into the study's records

@@ -223,3 +223,21 @@ def test_the_files_ida_write_makes_are_the_programs_byte_for_byte(cli, records, 
         assert study.summary(bootstrap=200) == json.loads((theirs / "summary.json").read_text()), name
     with pytest.raises(ValueError, match="bootstrap -1"):
         study.write(tmp_path / "bad", bootstrap=-1)
+
+
+def test_the_scene_names_its_devices_and_ida_runs_its_own_variants(elcentro):
+    """The [damper] is the device "damper" as in the program's lists; with no
+    variants given, ida runs the scene's own: as built, without each
+    energy-dissipating device, and on a fixed base (as `rocking ida`)."""
+    chimney = rocking.Scene.default()
+    groups = chimney.device_groups
+    assert [g["name"] for g in groups] == ["damper"]
+    assert groups[0]["dissipates"] and groups[0]["prestress"] is None
+    assert groups[0]["devices"] == ["damper_left", "damper_right"]
+    assert groups[0]["removal"] == "device-=damper"
+    wall = rocking.Scene.load(str(pathlib.Path(__file__).parents[2] / "data" / "scenes" / "controlled_rocking_wall.toml"))
+    assert [(g["name"], g["dissipates"], g["prestress"]) for g in wall.device_groups] == \
+        [("tendon", False, 2.6e6), ("dampers", True, None)]
+    study = rocking.ida(wall, [str(elcentro)], levels=[1])
+    assert study.variants == ["scene", "without:dampers", "fixed-base"]
+    assert all(row["outcome"] != "failed" for row in study.rows)
