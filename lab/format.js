@@ -51,6 +51,10 @@ export function buildRequest(controls, scene) {
   if (pulse)
     set.push('excitation.kind=pulse', `excitation.pulse=${pulse}`, `excitation.amplitude_g=${controls.amplitude}`,
       `excitation.period=${controls.period}`);
+  else if (ownPulse(controls, scene)) {  // the scene's own pulse, as the pulse sliders set it
+    if (controls.amplitude !== scene.pulse.amplitude_g) set.push(`excitation.amplitude_g=${controls.amplitude}`);
+    if (controls.period !== scene.pulse.period) set.push(`excitation.period=${controls.period}`);
+  }
   if (scene.damper) {
     if (!controls.dampers) set.push('damper.enabled=false');
     else if (controls.thickness !== 1) set.push(`damper.thickness=${controls.thickness}`);
@@ -127,4 +131,52 @@ export function bodyPoints(structure, theta, u, top = 0) {
     to: place(d.x, d.vertical ? d.free_length : 0),
   }));
   return { axis, left: place(-B, 0), right: place(B, 0), topLeft: place(-B, top), topRight: place(B, top), devices };
+}
+
+// Whether the run is shaken by the scene's own pulse (no record chosen, and no
+// override that stills the ground): the pulse sliders then act on it.
+export function ownPulse(controls, scene) {
+  return !controls.record && Boolean(scene && scene.pulse) && controls.amplitude !== undefined && !groundStill(controls.extra);
+}
+
+// Whether the overrides keep the ground still (excitation.kind=none).
+export function groundStill(extra) {
+  return splitOverrides(extra).includes('excitation.kind=none');
+}
+
+// A server's error in words a student acts on: the command line's flags
+// ("--set", "--vertical") and folders of the machine left out.
+export function forStudents(message) {
+  let m = String(message || 'the run failed');
+  m = m.replace(/--set\s+device-=([\w.-]+)/g, "removing the device '$1'");
+  m = m.replace(/--set\s+/g, 'the override ');
+  m = m.replace(/\(?--[a-z][a-z-]*(\s+[^\s),;]+)?\)?/g, '');
+  m = m.replace(/(^|[\s'"(])\/(?:[^\s/'"]+\/)+/g, '$1');  // /abs/folder/file.toml -> file.toml
+  return m.replace(/\s{2,}/g, ' ').replace(/\s+([:;,.)])/g, '$1').trim();
+}
+
+// An axis range that shows the data: its extremes padded by 5 %, never a
+// span of zero (an all-zero trace gets -1..1 of `unit`, not uPlot's 0..100).
+export function axisRange(min, max, unit = 0.1) {
+  if (min === null || max === null || !Number.isFinite(min) || !Number.isFinite(max)) return [-unit, unit];
+  const span = max - min;
+  const size = Math.max(Math.abs(min), Math.abs(max));
+  if (span <= 1e-9 * size || size === 0) return size === 0 ? [-unit, unit] : [min - 0.1 * size, max + 0.1 * size];
+  return [min - 0.05 * span, max + 0.05 * span];
+}
+
+// The run in a sentence or two, for those who cannot see the plots: the
+// outcome, the counts of uplifts and impacts, and the peaks (the twin's beside).
+export function describeRun(data) {
+  const one = (run, who) => {
+    const s = run.summary;
+    const peak = (name, label, unit) => (s.peaks[name] === undefined ? null : `${label} ${formatG(s.peaks[name], 3)}${unit}`);
+    const peaks = [peak('theta_over_alpha', 'peak rocking angle θ/α_cg', ''), peak('base_moment', 'peak base moment', ' M_ref'),
+      peak('delta_t', 'peak top drift', ''), peak('a_g', 'peak ground acceleration', ' m/s²')].filter(Boolean);
+    return `${who}: ${s.outcome}, ${s.counts.uplifts} uplifts and ${s.counts.impacts} impacts` +
+      (peaks.length ? `; ${peaks.join(', ')}` : '') + '.';
+  };
+  let text = one(data, 'This run');
+  if (data.twin) text += ` ${one(data.twin, `Its twin (${data.twin.variant})`)}`;
+  return text;
 }
