@@ -180,3 +180,26 @@ export function describeRun(data) {
   if (data.twin) text += ` ${one(data.twin, `Its twin (${data.twin.variant})`)}`;
   return text;
 }
+
+// What each peak of the summary means, in words (the table's tooltips; the
+// page's glossary says the same of the symbols).
+export const peakWords = {
+  theta: 'θ: the rocking angle, how far the body tilts on a corner of its base',
+  theta_over_alpha: 'θ/α_cg: the rocking angle as a share of the tipping angle (1: tips over from rest)',
+  theta_dot: 'the rocking speed',
+  delta_t: 'total top drift: how far the top moves sideways, as a share of the height (tilt and bending)',
+  delta_e: 'elastic top drift: the bending alone, as a share of the height',
+  u_N: 'the top\'s elastic displacement (bending)',
+  a_N: 'the top\'s acceleration',
+  base_shear: 'the sideways force at the base, in multiples of V_ref (the weight times B/H)',
+  base_moment: 'the moment at the base, in multiples of M_ref (the weight times half the base width)',
+  mid_shear: 'the sideways force at mid-height, in multiples of V_ref',
+  mid_moment: 'the moment at mid-height, in multiples of M_ref',
+  damper_d: 'the dampers\' stretch',
+  damper_F: 'the dampers\' force',
+  M_dev: 'the devices\' moment about the corner the body rocks on',
+  a_g: 'the ground\'s horizontal acceleration',
+  a_v: 'the ground\'s vertical acceleration',
+  outcome: 'what the run ended in: survived or overturned',
+  counts: 'uplifts: a corner of the base leaving the ground; impacts: the base landing again',
+};

@@ -5,7 +5,7 @@
 // browser test.
 import {
   formatG, buildRequest, twinChoices, tendonOf, damperDevices, peakOf, exaggeration, bodyPoints, pulses, ownPulse, groundStill,
-  forStudents, axisRange, describeRun,
+  forStudents, axisRange, describeRun, peakWords,
 } from './format.js';
 import { lessons } from './lessons.js';
 
@@ -470,7 +470,9 @@ function drawSummary() {
   };
   const add = (label, unit, main, other, key) => {
     const tr = document.createElement('tr');
-    tr.append(cell(label), cell(unit), cell(main, { peak: key, run: 'main' }), cell(other, { peak: key, run: 'twin' }));
+    const name = cell(label);
+    if (peakWords[key]) name.title = peakWords[key];
+    tr.append(name, cell(unit), cell(main, { peak: key, run: 'main' }), cell(other, { peak: key, run: 'twin' }));
     rows.push(tr);
   };
   const s = run.summary;
@@ -497,6 +499,7 @@ function drawAll() {
   state.factors = exaggeration(peakTheta, peakU, H);
   $('factors').textContent = `drawn: rocking angle ×${state.factors.theta}, bending ×${state.factors.u}`;
   $('run-text').textContent = describeRun(run);
+  showVerdict();
   const tEnd = run.history.t[run.history.t.length - 1];
   $('time').max = tEnd;
   $('time').step = tEnd / 1000;
@@ -665,8 +668,46 @@ function applyLesson(n) {
   h.textContent = lesson.title;
   const p = document.createElement('p');
   p.textContent = lesson.text;
-  text.replaceChildren(h, p);
+  text.replaceChildren(h, p, predictionBox(lesson));
   text.hidden = false;
+}
+
+// The lesson's question, asked before its run is looked at; a choice is
+// answered by the run on screen (the lesson's, or the run the controls made since).
+function predictionBox(lesson) {
+  state.prediction = undefined;
+  const box = document.createElement('div');
+  box.id = 'predict';
+  const q = document.createElement('p');
+  const lead = document.createElement('strong');
+  lead.textContent = 'Predict first: ';
+  q.append(lead, lesson.predict.question);
+  box.append(q);
+  lesson.predict.choices.forEach((choice, k) => {
+    const b = document.createElement('button');
+    b.type = 'button';
+    b.textContent = choice;
+    b.dataset.choice = k;
+    b.addEventListener('click', () => {
+      state.prediction = k;
+      showVerdict();
+    });
+    box.append(b);
+  });
+  const verdict = document.createElement('p');
+  verdict.id = 'verdict';
+  verdict.setAttribute('aria-live', 'polite');
+  box.append(verdict);
+  return box;
+}
+
+function showVerdict() {
+  const lesson = lessons[Number($('lesson').value)];
+  if (!lesson || !lesson.predict || state.prediction === undefined || !state.data || !$('verdict')) return;
+  const right = lesson.predict.answer(state.data);
+  const said = lesson.predict.choices[state.prediction];
+  $('verdict').textContent = `You said: ${said}. The run says: ${lesson.predict.choices[right]}` +
+    `${right === state.prediction ? ' (as you predicted)' : ''}: ${lesson.predict.because(state.data)}`;
 }
 
 // Every control back to where the lesson (or, in free play, the lab) starts it, and a run.

@@ -10,8 +10,9 @@
 // has no 0..100 acceleration axis, a live restitution slider and says the
 // ground stays still; the rigid block shows no dampers ticked; the scene's
 // own pulse is moved by the pulse sliders; a tower is shaken; a weak K-NET
-// record lists its PGA; the loop's labels are not clipped; reset, slow
-// motion and frame steps work.
+// record lists its PGA; the loop's labels are not clipped; every lesson's
+// prediction is answered by its run; the glossary and tooltips explain the
+// symbols; reset, slow motion and frame steps work.
 //
 //   ROCKING_BIN=build/bin/rocking node lab/tests/classroom.test.mjs
 // Environment: ROCKING_RECORDS (the records), ROCKING_LAB_SHOTS (where the
@@ -282,6 +283,23 @@ try {
     const knet = await page.evaluate(() => [...document.querySelectorAll('#record option')].map((o) => o.textContent)
       .find((t) => t.includes('AOM001')));
     if (knet) assert.match(knet, /PGA 0\.0042 g/);
+  });
+
+  await check('every lesson asks a prediction and the run answers it; the glossary and tooltips say what the symbols mean', async () => {
+    for (let k = 0; k < 7; k += 1) {
+      await page.goto(`${url}?lesson=${k}`, { waitUntil: 'load' });
+      await settled(page, 0);
+      const buttons = await page.$$('#predict button');
+      assert.ok(buttons.length >= 2, `lesson ${k}: choices`);
+      await buttons[0].click();
+      const verdict = await page.$eval('#verdict', (e) => e.textContent);
+      assert.match(verdict, /^You said: .+\. The run says: .+: .*\d/, `lesson ${k}: ${verdict}`);
+    }
+    const glossary = await page.$eval('#glossary', (e) => e.textContent);
+    for (const symbol of ['θ/α_cg', 'M_ref', 'M_dev', 'a_g', 'restitution', 'drift', 'twin', 'IDA'])
+      assert.ok(glossary.includes(symbol), `the glossary explains ${symbol}`);
+    const tips = await page.$$eval('#summary tbody tr td:first-child', (tds) => tds.map((td) => [td.textContent, td.title]));
+    for (const [name, tip] of tips) assert.ok(tip.length > 5, `the summary's ${name} has a tooltip`);
   });
 
   await check('reset, slow motion 0.1x-1x and frame steps', async () => {
