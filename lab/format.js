@@ -203,3 +203,34 @@ export const peakWords = {
   outcome: 'what the run ended in: survived or overturned',
   counts: 'uplifts: a corner of the base leaving the ground; impacts: the base landing again',
 };
+
+// A peak's tooltip: its words, or for a device's column ("dampers.force") the device and the quantity.
+export function peakTitle(name) {
+  if (peakWords[name]) return peakWords[name];
+  const dot = name.indexOf('.');
+  return dot > 0 ? `the device '${name.slice(0, dot)}': its ${name.slice(dot + 1).replace(/_/g, ' ')}` : name;
+}
+
+// The ground's displacement as drawn: x_g (the acceleration integrated from
+// rest, no baseline correction) less its least-squares straight line, so that
+// a record's drift does not carry the drawing off the canvas.
+export function groundDrawn(t, x) {
+  if (!t || !x || x.length < 2) return null;
+  let st = 0, sx = 0, stt = 0, stx = 0, n = 0;
+  x.forEach((v, i) => {
+    if (v === null) return;
+    n += 1; st += t[i]; sx += v; stt += t[i] * t[i]; stx += t[i] * v;
+  });
+  const d = n * stt - st * st;
+  const b = d > 0 ? (n * stx - st * sx) / d : 0;
+  const a = n > 0 ? (sx - b * st) / n : 0;
+  return x.map((v, i) => (v === null ? 0 : v - a - b * t[i]));
+}
+
+// A scale bar's length [m]: 1, 2 or 5 times a power of ten, drawn about `px` pixels long at `scale` px/m.
+export function scaleBar(scale, px = 100) {
+  const target = px / scale;
+  const p = 10 ** Math.floor(Math.log10(target));
+  const m = target / p;
+  return (m >= 5 ? 5 : m >= 2 ? 2 : 1) * p;
+}

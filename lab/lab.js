@@ -5,7 +5,7 @@
 // browser test.
 import {
   formatG, buildRequest, twinChoices, tendonOf, damperDevices, peakOf, exaggeration, bodyPoints, pulses, ownPulse, groundStill,
-  forStudents, axisRange, describeRun, peakWords,
+  forStudents, axisRange, describeRun, peakTitle, groundDrawn, scaleBar,
 } from './format.js';
 import { lessons } from './lessons.js';
 
@@ -316,16 +316,32 @@ function drawFrame() {
   const H = run.structure.heights[run.structure.heights.length - 1] * (run.structure.rigid ? 1.1 : 1);
   const widthNeeded = runs.length * (4 * run.structure.half_width + 0.6 * H);
   const scale = Math.min((canvas.height - 50) / (H * 1.15), canvas.width / widthNeeded);
+  // The ground, moving as it does (by the factor shown), hatched so that its motion shows.
+  const ground = state.ground ? state.ground[indexAt(t, run.history.t)] * state.factors.ground * scale : 0;
+  state.groundShift = ground;
+  const y0 = canvas.height - 30;
   ctx.strokeStyle = '#999';
   ctx.lineWidth = 1;
   ctx.beginPath();
-  ctx.moveTo(0, canvas.height - 30);
-  ctx.lineTo(canvas.width, canvas.height - 30);
+  ctx.moveTo(0, y0);
+  ctx.lineTo(canvas.width, y0);
+  const offset = ((ground % 16) + 16) % 16;
+  for (let x = offset - 16; x < canvas.width; x += 16) {
+    ctx.moveTo(x, y0);
+    ctx.lineTo(x - 8, y0 + 8);
+  }
   ctx.stroke();
   runs.forEach(([r, color, label], k) => {
-    const x0 = (canvas.width * (k + 0.5)) / runs.length;
-    drawStructure(ctx, r, t, state.factors, [x0, canvas.height - 30], scale, color, label);
+    const x0 = (canvas.width * (k + 0.5)) / runs.length + ground;
+    drawStructure(ctx, r, t, state.factors, [x0, y0], scale, color, label);
   });
+  // The scale bar: lengths in the drawing at their true size.
+  const bar = scaleBar(scale, Math.min(120, canvas.width / 5));
+  ctx.fillStyle = '#333';
+  ctx.fillRect(10, 12, bar * scale, 4);
+  ctx.font = '12px DejaVu Sans, sans-serif';
+  ctx.fillText(`${formatG(bar, 3)} m`, 10, 30);
+  state.scaleBar = { metres: bar, px: bar * scale, scale };
   $('time-value').textContent = `t = ${t.toFixed(2)} s`;
   for (const c of state.charts) c.redraw(false, false);
   drawLoops(t);
@@ -471,7 +487,7 @@ function drawSummary() {
   const add = (label, unit, main, other, key) => {
     const tr = document.createElement('tr');
     const name = cell(label);
-    if (peakWords[key]) name.title = peakWords[key];
+    name.title = peakTitle(key);
     tr.append(name, cell(unit), cell(main, { peak: key, run: 'main' }), cell(other, { peak: key, run: 'twin' }));
     rows.push(tr);
   };
@@ -497,7 +513,10 @@ function drawAll() {
   const peakTheta = Math.max(...all.map((r) => peakOf(r.history.theta)));
   const peakU = Math.max(...all.map((r) => peakOf(r.history[`node${r.structure.heights.length}.u`])));
   state.factors = exaggeration(peakTheta, peakU, H);
-  $('factors').textContent = `drawn: rocking angle ×${state.factors.theta}, bending ×${state.factors.u}`;
+  state.ground = groundDrawn(run.history.t, run.history.x_g);
+  state.factors.ground = exaggeration(0, peakOf(state.ground), H).u;  // its peak drawn as 4 % of the height
+  $('factors').textContent = `drawn: rocking angle ×${state.factors.theta}, bending ×${state.factors.u}, ` +
+    `ground motion ×${state.factors.ground}`;
   $('run-text').textContent = describeRun(run);
   showVerdict();
   const tEnd = run.history.t[run.history.t.length - 1];

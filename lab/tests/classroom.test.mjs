@@ -12,7 +12,8 @@
 // own pulse is moved by the pulse sliders; a tower is shaken; a weak K-NET
 // record lists its PGA; the loop's labels are not clipped; every lesson's
 // prediction is answered by its run; the glossary and tooltips explain the
-// symbols; reset, slow motion and frame steps work.
+// symbols; the ground is drawn moving with a scale bar; reset, slow motion
+// and frame steps work.
 //
 //   ROCKING_BIN=build/bin/rocking node lab/tests/classroom.test.mjs
 // Environment: ROCKING_RECORDS (the records), ROCKING_LAB_SHOTS (where the
@@ -300,6 +301,24 @@ try {
       assert.ok(glossary.includes(symbol), `the glossary explains ${symbol}`);
     const tips = await page.$$eval('#summary tbody tr td:first-child', (tds) => tds.map((td) => [td.textContent, td.title]));
     for (const [name, tip] of tips) assert.ok(tip.length > 5, `the summary's ${name} has a tooltip`);
+  });
+
+  await check('the ground is drawn moving, with a scale bar', async () => {
+    await page.goto(`${url}?lesson=1`, { waitUntil: 'load' });
+    await settled(page, 0);
+    const shifts = await page.evaluate(() => {
+      const out = [];
+      for (const t of [0, 2, 4, 6]) {
+        const time = document.querySelector('#time');
+        time.value = t;
+        time.dispatchEvent(new Event('input', { bubbles: true }));
+        out.push(window.lab.groundShift);
+      }
+      return { out, bar: window.lab.scaleBar, factors: document.querySelector('#factors').textContent };
+    });
+    assert.ok(new Set(shifts.out.map((v) => v.toFixed(3))).size >= 3, `the ground moves: ${shifts.out}`);
+    assert.ok(Math.abs(shifts.bar.px - shifts.bar.metres * shifts.bar.scale) < 1e-9 && shifts.bar.px > 20, JSON.stringify(shifts.bar));
+    assert.match(shifts.factors, /ground motion ×\d+/);
   });
 
   await check('reset, slow motion 0.1x-1x and frame steps', async () => {

@@ -109,12 +109,13 @@ std::vector<std::string> overrides_of(const json& r, std::size_t limit) {
   return out;
 }
 
-// The history the page draws: time, the ground, the rocking angle, the
+// The history the page draws: time, the ground (its acceleration and its
+// displacement, drawn moving), the rocking angle, the
 // drifts and base moment, each node's elastic displacement (to draw the
 // structure bent) and each device's elongation and force (its loop).
 std::vector<std::string> lab_columns(const ContactModel& model) {
-  static constexpr std::string_view wanted[] = {"t",       "phase",   "a_g",         "a_v",  "theta", "theta_over_alpha",
-                                                "delta_t", "delta_e", "base_moment", "M_dev"};
+  static constexpr std::string_view wanted[] = {"t",       "phase",   "a_g",         "a_v",   "x_g", "theta",
+                                                "theta_over_alpha", "delta_t", "delta_e", "base_moment", "M_dev"};
   const std::vector<std::string> all = history_columns(model).names();
   std::vector<std::string> out;
   for (std::string_view w : wanted)
