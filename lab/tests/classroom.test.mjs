@@ -322,6 +322,8 @@ try {
   });
 
   await check('reset, slow motion 0.1x-1x and frame steps', async () => {
+    await page.goto(url, { waitUntil: 'load' });
+    await settled(page, 0);
     await move(page, 'scale', '2.5');
     const n = await runsOf(page);
     await page.click('#reset');
