@@ -192,12 +192,13 @@ class GuardedServer final : public httplib::Server {
   bool process_and_close_socket(socket_t sock) override {
     GuardedStream stream(sock, limits_, max_bytes_);
     const auto keep_alive_ms = static_cast<long long>(limits_.keep_alive_seconds * 1000);
-    for (int k = 0; k < requests_per_connection; ++k) {
+    for (int k = 0; k < requests_per_connection && is_running(); ++k) {
       stream.begin_request();  // the first request's wait for its first byte counts against its allowance
       if (k > 0 && !stream.has_buffered() && !ready(sock, POLLIN, keep_alive_ms)) break;
       close_after_answer = false;
       bool connection_closed = false;
-      const bool ok = process_request(stream, k + 1 == requests_per_connection, connection_closed, {});
+      const bool ok =
+          process_request(stream, k + 1 == requests_per_connection, connection_closed, [](httplib::Request&) {});
       if (!ok || connection_closed || close_after_answer || stream.timed_out() || stream.too_large()) break;
     }
     ::shutdown(sock, SHUT_RDWR);
