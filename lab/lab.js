@@ -236,13 +236,22 @@ function drawCharts() {
 
 // --- drawing ------------------------------------------------------------------
 
+// Each node's elastic displacement at row i: the nodes sent (a tall tower
+// sends 16 of them), linearly between them by height (zero at the base).
 function nodeDisplacements(run, i) {
-  const u = [];
-  for (let k = 1; k <= run.structure.heights.length; k += 1) {
+  const h = run.structure.heights;
+  const known = [[0, 0]];
+  for (let k = 1; k <= h.length; k += 1) {
     const c = run.history[`node${k}.u`];
-    u.push(c ? c[i] ?? 0 : 0);
+    if (c) known.push([h[k - 1], c[i] ?? 0]);
   }
-  return u;
+  let j = 0;
+  return h.map((z) => {
+    while (j + 1 < known.length - 1 && known[j + 1][0] < z) j += 1;
+    const [z0, u0] = known[j];
+    const [z1, u1] = known[Math.min(j + 1, known.length - 1)];
+    return z1 > z0 ? u0 + ((u1 - u0) * (z - z0)) / (z1 - z0) : u1;
+  });
 }
 
 function indexAt(t, times) {

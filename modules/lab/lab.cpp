@@ -111,8 +111,8 @@ std::vector<std::string> overrides_of(const json& r, std::size_t limit) {
 
 // The history the page draws: time, the ground (its acceleration and its
 // displacement, drawn moving), the rocking angle, the
-// drifts and base moment, each node's elastic displacement (to draw the
-// structure bent) and each device's elongation and force (its loop).
+// drifts and base moment, the nodes' elastic displacements (to draw the
+// structure bent; at most 16 of them) and each device's elongation and force (its loop).
 std::vector<std::string> lab_columns(const ContactModel& model) {
   static constexpr std::string_view wanted[] = {"t",       "phase",   "a_g",         "a_v",   "x_g", "theta",
                                                 "theta_over_alpha", "delta_t", "delta_e", "base_moment", "M_dev"};
@@ -120,8 +120,14 @@ std::vector<std::string> lab_columns(const ContactModel& model) {
   std::vector<std::string> out;
   for (std::string_view w : wanted)
     if (std::find(all.begin(), all.end(), w) != all.end()) out.emplace_back(w);
+  // The bending as the page draws it: every node up to 16, else 16 evenly
+  // spaced up to the top (the page interpolates between them; a 64-node
+  // tower's history is then a third of its size).
+  constexpr Eigen::Index drawn_nodes = 16;
+  const Eigen::Index n = model.body.structure.heights.size();
   if (!model.body.structure.rigid)
-    for (Eigen::Index k = 1; k <= model.body.structure.heights.size(); ++k) out.push_back(fmt::format("node{}.u", k));
+    for (Eigen::Index j = 1; j <= std::min(n, drawn_nodes); ++j)
+      out.push_back(fmt::format("node{}.u", n <= drawn_nodes ? j : (j * n + drawn_nodes - 1) / drawn_nodes));
   for (const std::string& n : all)
     if (n.find('.') != std::string::npos) out.push_back(n);  // the devices' columns
   return out;
