@@ -139,7 +139,7 @@ std::string body_of(const std::string& response) {
 
 }  // namespace
 
-TEST_CASE("a chunked POST of 300 MB is refused as it arrives; the server's memory stays under 200 MB") {
+TEST_CASE("a chunked POST of 300 MB is refused as it arrives, and the server's memory stays under 200 MB") {
   Server server("");
   REQUIRE(server.port > 0);
   Socket s(server.port);
@@ -216,7 +216,7 @@ TEST_CASE("40 clients holding half-sent bodies, or sending a byte a second, leav
   CHECK(cut_trickle == 40);
 }
 
-TEST_CASE("requests from a foreign Origin or addressed to a foreign Host are refused; the lab's own are answered") {
+TEST_CASE("requests from a foreign Origin or addressed to a foreign Host are refused, and the lab's own are answered") {
   Server server("");
   REQUIRE(server.port > 0);
   const std::string own = "127.0.0.1:" + std::to_string(server.port);
@@ -254,7 +254,7 @@ TEST_CASE("requests from a foreign Origin or addressed to a foreign Host are ref
   CHECK(by_name->status == 200);
 }
 
-TEST_CASE("a curl -d body is taken up to the lab's limit and refused beyond it with that limit; errors name no path") {
+TEST_CASE("a curl -d body is taken up to the lab's limit and refused beyond it with that limit, and errors name no path") {
   const auto records = records_dir();
   if (!records) return;
   Server server("--records " + *records);

@@ -94,6 +94,44 @@ std::string records_folder(const std::string& given) {
   return env != nullptr && *env != 0 ? env : ROCKING_RECORDS_DIR;
 }
 
+// What one client may hold of the server (serve_plugin.hpp), stated in --help.
+constexpr RockingServeLimits client_limits{
+    .request_seconds = 5, .request_bytes_per_second = 16 * 1024, .keep_alive_seconds = 2, .connections = 96};
+
+bool loopback(const std::string& host) { return host == "127.0.0.1" || host == "localhost" || host == "::1"; }
+
+// The names a browser may address this server by (its Host header, without
+// the port): this machine's loopback names, and when it listens on the
+// network, the address it was given or, for every address (0.0.0.0, ::),
+// the machine's name and each of its interfaces' addresses.
+std::vector<std::string> host_names(const std::string& host) {
+  std::vector<std::string> names{"127.0.0.1", "localhost", "[::1]"};
+  const auto bracket = [](const std::string& h) { return h.find(':') != std::string::npos ? "[" + h + "]" : h; };
+  if (host != "0.0.0.0" && host != "::") {
+    if (!loopback(host)) names.push_back(bracket(host));
+    return names;
+  }
+  char name[256] = {};
+  if (::gethostname(name, sizeof name - 1) == 0 && name[0] != 0) {
+    names.emplace_back(name);
+    names.push_back(std::string(name) + ".local");
+  }
+  ifaddrs* list = nullptr;
+  if (::getifaddrs(&list) == 0) {
+    for (const ifaddrs* a = list; a != nullptr; a = a->ifa_next) {
+      if (a->ifa_addr == nullptr) continue;
+      char text[INET6_ADDRSTRLEN] = {};
+      if (a->ifa_addr->sa_family == AF_INET)
+        ::inet_ntop(AF_INET, &reinterpret_cast<const sockaddr_in*>(a->ifa_addr)->sin_addr, text, sizeof text);
+      else if (a->ifa_addr->sa_family == AF_INET6)
+        ::inet_ntop(AF_INET6, &reinterpret_cast<const sockaddr_in6*>(a->ifa_addr)->sin6_addr, text, sizeof text);
+      if (text[0] != 0) names.push_back(bracket(text));
+    }
+    ::freeifaddrs(list);
+  }
+  return names;
+}
+
 // What the server plugin calls back (serve_plugin.hpp): the lab answers, a
 // bounded number of runs at once.
 struct Serving {

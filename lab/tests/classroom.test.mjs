@@ -32,6 +32,7 @@ const bin = process.env.ROCKING_BIN || join(repo, 'build', 'bin', 'rocking');
 const records = process.env.ROCKING_RECORDS || join(repo, '..', 'shared', 'data', 'records');
 const shots = process.env.ROCKING_LAB_SHOTS || join(repo, 'build', 'lab');
 const chromium = '/usr/bin/chromium';
+const speedLimit = Number(process.env.ROCKING_LAB_SPEED_MS || 150);
 const axeSource = createRequire(import.meta.url).resolve('axe-core/axe.min.js');
 
 function skipOrFail(why) {
@@ -346,6 +347,39 @@ try {
     await page.click('#play');
     const t1 = await page.evaluate(() => Number(document.querySelector('#time').value));
     assert.ok(t1 - t0 > 0.01 && t1 - t0 < 0.1, `0.1x for 0.5 s moved the time by ${t1 - t0} s`);
+  });
+
+  await check(`input to redraw for every scene with its twin under El Centro and Chi-Chi, each within ${speedLimit} ms`, async () => {
+    await page.goto(url, { waitUntil: 'load' });
+    await settled(page, 0);
+    const scenes = await page.evaluate(() => window.lab.scenes.map((s) => s.id));
+    const rows = [];
+    for (const record of ['elcentro_1940_ns.at2', 'chichi1999_chy028_n.at2']) {
+      let n = await runsOf(page);
+      await page.select('#record', record);
+      await settled(page, n);
+      for (const scene of scenes) {
+        n = await runsOf(page);
+        await page.select('#scene', scene);
+        await settled(page, n);
+        const twin = await page.evaluate(() => [...document.querySelector('#compare').options].map((o) => o.value)
+          .find((v) => v === 'fixed-base') || '');
+        n = await runsOf(page);
+        if (twin) await page.select('#compare', twin);
+        else await move(page, 'scale', '1.1');
+        if (twin) await settled(page, n);
+        // Timed: a scale step, as a student's move, with the twin.
+        const times = [];
+        for (const scale of ['1.2', '1']) {
+          await move(page, 'scale', scale);
+          times.push(await page.evaluate(() => window.lab.redrawMs));
+        }
+        rows.push({ scene, record, twin, ms: Math.max(...times) });
+      }
+    }
+    for (const r of rows) console.log(`  ${r.scene} under ${r.record}${r.twin ? ` with its ${r.twin} twin` : ''}: ${r.ms.toFixed(0)} ms`);
+    const slow = rows.filter((r) => r.ms > speedLimit);
+    assert.deepEqual(slow.map((r) => `${r.scene} ${r.record}`), [], `over ${speedLimit} ms`);
   });
 } finally {
   await browser.close();
