@@ -530,7 +530,7 @@ function drawAll() {
   showVerdict();
   const tEnd = run.history.t[run.history.t.length - 1];
   $('time').max = tEnd;
-  $('time').step = tEnd / 1000;
+  $('time').step = 'any';  // frame steps land on the history's rows
   if (Number($('time').value) > tEnd) $('time').value = 0;
   let t = performance.now();
   drawCharts();

@@ -171,6 +171,7 @@ try {
         document.querySelector('#time').value = h.t[k];
         document.querySelector('#time').dispatchEvent(new Event('input', { bubbles: true }));
       });
+      if (size.name !== 'desktop') await page.$eval('#run-text', (e) => e.scrollIntoView());  // the drawing and charts in view
       const file = join(shots, `lab-${size.name}.png`);
       await page.screenshot({ path: file, fullPage: size.name !== 'desktop' ? false : true });
       console.log(`wrote ${file}`);
