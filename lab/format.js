@@ -51,6 +51,10 @@ export function buildRequest(controls, scene) {
   if (pulse)
     set.push('excitation.kind=pulse', `excitation.pulse=${pulse}`, `excitation.amplitude_g=${controls.amplitude}`,
       `excitation.period=${controls.period}`);
+  else if (ownPulse(controls, scene)) {  // the scene's own pulse, as the pulse sliders set it
+    if (controls.amplitude !== scene.pulse.amplitude_g) set.push(`excitation.amplitude_g=${controls.amplitude}`);
+    if (controls.period !== scene.pulse.period) set.push(`excitation.period=${controls.period}`);
+  }
   if (!controls.dampers) {
     for (const d of damperDevices(scene)) set.push(d.remove);
   } else if (scene.damper && controls.thickness !== 1) {
@@ -126,4 +130,106 @@ export function bodyPoints(structure, theta, u, top = 0) {
     to: place(d.x, d.vertical ? d.free_length : 0),
   }));
   return { axis, left: place(-B, 0), right: place(B, 0), topLeft: place(-B, top), topRight: place(B, top), devices };
+}
+
+// Whether the run is shaken by the scene's own pulse (no record chosen, and no
+// override that stills the ground): the pulse sliders then act on it.
+export function ownPulse(controls, scene) {
+  return !controls.record && Boolean(scene && scene.pulse) && controls.amplitude !== undefined && !groundStill(controls.extra);
+}
+
+// Whether the overrides keep the ground still (excitation.kind=none).
+export function groundStill(extra) {
+  return splitOverrides(extra).includes('excitation.kind=none');
+}
+
+// A server's error in words a student acts on: the command line's flags
+// ("--set", "--vertical") and folders of the machine left out.
+export function forStudents(message) {
+  let m = String(message || 'the run failed');
+  m = m.replace(/--set\s+device-=([\w.-]+)/g, "removing the device '$1'");
+  m = m.replace(/--set\s+/g, 'the override ');
+  m = m.replace(/\(?--[a-z][a-z-]*(\s+[^\s),;]+)?\)?/g, '');
+  m = m.replace(/(^|[\s'"(])\/(?:[^\s/'"]+\/)+/g, '$1');  // /abs/folder/file.toml -> file.toml
+  return m.replace(/\s{2,}/g, ' ').replace(/\s+([:;,.)])/g, '$1').trim();
+}
+
+// An axis range that shows the data: its extremes padded by 5 %, never a
+// span of zero (an all-zero trace gets -1..1 of `unit`, not uPlot's 0..100).
+export function axisRange(min, max, unit = 0.1) {
+  if (min === null || max === null || !Number.isFinite(min) || !Number.isFinite(max)) return [-unit, unit];
+  const span = max - min;
+  const size = Math.max(Math.abs(min), Math.abs(max));
+  if (span <= 1e-9 * size || size === 0) return size === 0 ? [-unit, unit] : [min - 0.1 * size, max + 0.1 * size];
+  return [min - 0.05 * span, max + 0.05 * span];
+}
+
+// The run in a sentence or two, for those who cannot see the plots: the
+// outcome, the counts of uplifts and impacts, and the peaks (the twin's beside).
+export function describeRun(data) {
+  const one = (run, who) => {
+    const s = run.summary;
+    const peak = (name, label, unit) => (s.peaks[name] === undefined ? null : `${label} ${formatG(s.peaks[name], 3)}${unit}`);
+    const peaks = [peak('theta_over_alpha', 'peak rocking angle θ/α_cg', ''), peak('base_moment', 'peak base moment', ' M_ref'),
+      peak('delta_t', 'peak top drift', ''), peak('a_g', 'peak ground acceleration', ' m/s²')].filter(Boolean);
+    return `${who}: ${s.outcome}, ${s.counts.uplifts} uplifts and ${s.counts.impacts} impacts` +
+      (peaks.length ? `; ${peaks.join(', ')}` : '') + '.';
+  };
+  let text = one(data, 'This run');
+  if (data.twin) text += ` ${one(data.twin, `Its twin (${data.twin.variant})`)}`;
+  return text;
+}
+
+// What each peak of the summary means, in words (the table's tooltips; the
+// page's glossary says the same of the symbols).
+export const peakWords = {
+  theta: 'θ: the rocking angle, how far the body tilts on a corner of its base',
+  theta_over_alpha: 'θ/α_cg: the rocking angle as a share of the tipping angle (1: tips over from rest)',
+  theta_dot: 'the rocking speed',
+  delta_t: 'total top drift: how far the top moves sideways, as a share of the height (tilt and bending)',
+  delta_e: 'elastic top drift: the bending alone, as a share of the height',
+  u_N: 'the top\'s elastic displacement (bending)',
+  a_N: 'the top\'s acceleration',
+  base_shear: 'the sideways force at the base, in multiples of V_ref (the weight times B/H)',
+  base_moment: 'the moment at the base, in multiples of M_ref (the weight times half the base width)',
+  mid_shear: 'the sideways force at mid-height, in multiples of V_ref',
+  mid_moment: 'the moment at mid-height, in multiples of M_ref',
+  damper_d: 'the dampers\' stretch',
+  damper_F: 'the dampers\' force',
+  M_dev: 'the devices\' moment about the corner the body rocks on',
+  a_g: 'the ground\'s horizontal acceleration',
+  a_v: 'the ground\'s vertical acceleration',
+  outcome: 'what the run ended in: survived or overturned',
+  counts: 'uplifts: a corner of the base leaving the ground; impacts: the base landing again',
+};
+
+// A peak's tooltip: its words, or for a device's column ("dampers.force") the device and the quantity.
+export function peakTitle(name) {
+  if (peakWords[name]) return peakWords[name];
+  const dot = name.indexOf('.');
+  return dot > 0 ? `the device '${name.slice(0, dot)}': its ${name.slice(dot + 1).replace(/_/g, ' ')}` : name;
+}
+
+// The ground's displacement as drawn: x_g (the acceleration integrated from
+// rest, no baseline correction) less its least-squares straight line, so that
+// a record's drift does not carry the drawing off the canvas.
+export function groundDrawn(t, x) {
+  if (!t || !x || x.length < 2) return null;
+  let st = 0, sx = 0, stt = 0, stx = 0, n = 0;
+  x.forEach((v, i) => {
+    if (v === null) return;
+    n += 1; st += t[i]; sx += v; stt += t[i] * t[i]; stx += t[i] * v;
+  });
+  const d = n * stt - st * st;
+  const b = d > 0 ? (n * stx - st * sx) / d : 0;
+  const a = n > 0 ? (sx - b * st) / n : 0;
+  return x.map((v, i) => (v === null ? 0 : v - a - b * t[i]));
+}
+
+// A scale bar's length [m]: 1, 2 or 5 times a power of ten, drawn about `px` pixels long at `scale` px/m.
+export function scaleBar(scale, px = 100) {
+  const target = px / scale;
+  const p = 10 ** Math.floor(Math.log10(target));
+  const m = target / p;
+  return (m >= 5 ? 5 : m >= 2 ? 2 : 1) * p;
 }

@@ -3,11 +3,16 @@
 // A control's move re-runs at once; moves made while a run is in flight are
 // gathered into one run after it. window.lab exposes the state for the
 // browser test.
-import { formatG, buildRequest, twinChoices, tendonOf, damperDevices, peakOf, exaggeration, bodyPoints, pulses } from './format.js';
+import {
+  formatG, buildRequest, twinChoices, tendonOf, damperDevices, peakOf, exaggeration, bodyPoints, pulses, ownPulse, groundStill,
+  forStudents, axisRange, describeRun, peakTitle, groundDrawn, scaleBar,
+} from './format.js';
 import { lessons } from './lessons.js';
 
 const $ = (id) => document.getElementById(id);
-const state = { scenes: [], records: [], data: null, runs: 0, redrawMs: null, index: 0, playing: false, charts: [] };
+const state = {
+  scenes: [], records: [], data: null, runs: 0, failures: 0, redrawMs: null, index: 0, playing: false, charts: [], dampersWanted: true,
+};
 window.lab = state;
 
 const colors = { main: '#1f5fa8', twin: '#c0392b', ground: '#555' };
@@ -42,6 +47,17 @@ function showError(message) {
   $('error').hidden = !message;
 }
 
+// A run that failed: what is drawn is greyed (the last run that worked) and
+// the reason is said in words a student can act on.
+function showFailure(message) {
+  state.failures += 1;
+  $('view').classList.add('stale');
+  showError(`This run could not be made: ${forStudents(message)}. The greyed plots are the last run that worked; ` +
+    'change the setting named here (or press reset) and it runs again.');
+  setStatus('run failed', 'error');
+  $('run-text').textContent = 'The last run failed; the plots show the run before it.';
+}
+
 // The controls that apply to the scene, and its twins.
 function fitControls() {
   const scene = sceneOf($('scene').value);
@@ -54,20 +70,25 @@ function fitControls() {
       $('period').value = scene.pulse.period;
     }
   }
+  // A scene without dampers shows the box unticked and greyed, whatever was chosen on another.
   const hasDampers = scene.damper || damperDevices(scene).length > 0;
   $('dampers').disabled = !hasDampers;
+  $('dampers').checked = hasDampers && state.dampersWanted;
   $('thickness').disabled = !scene.damper || !$('dampers').checked;
   $('prestress').disabled = !tendonOf(scene);
-  $('restitution').disabled = $('own-restitution').checked;
   const keep = $('compare').value;
   $('compare').replaceChildren(...twinChoices(scene).map((c) => new Option(c.label, c.value)));
   if ([...$('compare').options].some((o) => o.value === keep)) $('compare').value = keep;
-  const pulse = $('record').value.startsWith('pulse:');
+  // The pulse sliders act on a pulse: one chosen from the list, or the scene's own.
+  const still = groundStill($('extra').value);
+  const pulse = $('record').value.startsWith('pulse:') || ownPulse(controls(), scene);
   $('amplitude').disabled = !pulse;
   $('period').disabled = !pulse;
+  $('pulse-note').textContent = pulse ? '' : still ? 'The ground stays still in this run (no excitation).'
+    : 'The pulse sliders act on a pulse; this record is scaled by the scale slider.';
   for (const id of ['amplitude', 'period', 'scale', 'thickness', 'prestress', 'restitution'])
     $(`${id}-value`).textContent = $(id).value;
-  $('record').options[0].textContent = `the scene's own (${scene.excitation})`;
+  $('record').options[0].textContent = `the scene's own (${still ? 'none: the ground stays still' : scene.excitation})`;
 }
 
 let inFlight = false;
@@ -94,10 +115,10 @@ async function rerun(started = performance.now()) {
     const body = JSON.parse(text);
     state.timing = { headers: t1 - t0, body: t2 - t1, parse: performance.now() - t2 };
     if (!response.ok) {
-      showError(body.error);
-      setStatus(`HTTP ${response.status}`, 'error');
+      showFailure(body.error);
     } else {
       showError('');
+      $('view').classList.remove('stale');
       state.data = body;
       state.request = request;
       drawAll();
@@ -109,7 +130,7 @@ async function rerun(started = performance.now()) {
       $('status').dataset.redrawMs = state.redrawMs.toFixed(1);
     }
   } catch (e) {
-    showError(`the lab's server did not answer (${e.message}); is rocking serve still running?`);
+    showFailure(`the lab's server did not answer (${e.message}); is rocking serve still running?`);
     setStatus('no server', 'error');
   }
   inFlight = false;
@@ -129,12 +150,15 @@ function column(run, name, factor = 1) {
   return c ? c.map((v) => (v === null ? null : v * factor)) : null;
 }
 
+// Each chart: its title, its y axis's title and unit, the span shown when
+// the trace is all zero, and its series [column, factor, label].
 const chartDefs = [
-  { title: 'ground acceleration [g]', series: [['a_g', 1 / 9.81, 'a_g'], ['a_v', 1 / 9.81, 'a_v']] },
-  { title: 'rocking angle θ/α_cg [-]', series: [['theta_over_alpha', 1, 'θ/α']] },
-  { title: 'top drift [%]', series: [['delta_t', 100, 'total'], ['delta_e', 100, 'elastic']] },
-  { title: 'base moment [M_ref]', series: [['base_moment', 1, 'M/M_ref']] },
+  { title: 'ground acceleration', y: 'a [g]', zero: 0.1, series: [['a_g', 1 / 9.81, 'a_g'], ['a_v', 1 / 9.81, 'a_v']] },
+  { title: 'rocking angle θ/α_cg (1: tipping point at rest)', y: 'θ/α_cg [–]', zero: 0.1, series: [['theta_over_alpha', 1, 'θ/α']] },
+  { title: 'top drift', y: 'drift [% of height]', zero: 0.1, series: [['delta_t', 100, 'total'], ['delta_e', 100, 'elastic']] },
+  { title: 'base moment', y: 'M [M_ref]', zero: 0.1, series: [['base_moment', 1, 'M/M_ref']] },
 ];
+const chartHeight = 250;
 
 function chartData(def) {
   const runs = [['', state.data], [' (twin)', state.data.twin]].filter(([, r]) => r);
@@ -183,20 +207,25 @@ function drawCharts() {
   state.charts = [];
   const host = $('charts');
   host.replaceChildren();
-  const width = Math.max(280, Math.floor(host.clientWidth / 2) - 12);
+  const still = peakOf(state.data.history.a_g) === 0 && peakOf(state.data.history.a_v) === 0;
   for (const def of chartDefs) {
     const built = chartData(def);
     if (!built) continue;
     const div = document.createElement('div');
     div.dataset.chart = def.series[0][0];
+    div.setAttribute('role', 'img');
     host.append(div);
+    const width = Math.max(240, div.clientWidth - 2);
+    const title = def.series[0][0] === 'a_g' && still ? `${def.title}: none (the ground stays still)` : def.title;
+    const peaks = built.series.slice(1).map((s, k) => `${s.label} peak ${formatG(peakOf(built.data[k + 1]), 3)}`);
+    div.setAttribute('aria-label', `chart of ${title} [${def.y}] against time: ${peaks.join(', ')}`);
     const chart = new uPlot({
-      title: def.title,
+      title,
       width,
-      height: 170,
+      height: chartHeight,
       cursor: { sync: { key: 'lab' }, drag: { x: true, y: false } },
-      scales: { x: { time: false } },
-      axes: [{ label: 't [s]', size: 36 }, { size: 56 }],
+      scales: { x: { time: false }, y: { range: (u, min, max) => axisRange(min, max, def.zero) } },
+      axes: [{ label: 'time t [s]', size: 40 }, { label: def.y, size: 64, labelSize: 20 }],
       series: built.series,
       legend: { live: true },
       plugins: [timeCursor],
@@ -207,13 +236,22 @@ function drawCharts() {
 
 // --- drawing ------------------------------------------------------------------
 
+// Each node's elastic displacement at row i: the nodes sent (a tall tower
+// sends 16 of them), linearly between them by height (zero at the base).
 function nodeDisplacements(run, i) {
-  const u = [];
-  for (let k = 1; k <= run.structure.heights.length; k += 1) {
+  const h = run.structure.heights;
+  const known = [[0, 0]];
+  for (let k = 1; k <= h.length; k += 1) {
     const c = run.history[`node${k}.u`];
-    u.push(c ? c[i] ?? 0 : 0);
+    if (c) known.push([h[k - 1], c[i] ?? 0]);
   }
-  return u;
+  let j = 0;
+  return h.map((z) => {
+    while (j + 1 < known.length - 1 && known[j + 1][0] < z) j += 1;
+    const [z0, u0] = known[j];
+    const [z1, u1] = known[Math.min(j + 1, known.length - 1)];
+    return z1 > z0 ? u0 + ((u1 - u0) * (z - z0)) / (z1 - z0) : u1;
+  });
 }
 
 function indexAt(t, times) {
@@ -287,16 +325,32 @@ function drawFrame() {
   const H = run.structure.heights[run.structure.heights.length - 1] * (run.structure.rigid ? 1.1 : 1);
   const widthNeeded = runs.length * (4 * run.structure.half_width + 0.6 * H);
   const scale = Math.min((canvas.height - 50) / (H * 1.15), canvas.width / widthNeeded);
+  // The ground, moving as it does (by the factor shown), hatched so that its motion shows.
+  const ground = state.ground ? state.ground[indexAt(t, run.history.t)] * state.factors.ground * scale : 0;
+  state.groundShift = ground;
+  const y0 = canvas.height - 30;
   ctx.strokeStyle = '#999';
   ctx.lineWidth = 1;
   ctx.beginPath();
-  ctx.moveTo(0, canvas.height - 30);
-  ctx.lineTo(canvas.width, canvas.height - 30);
+  ctx.moveTo(0, y0);
+  ctx.lineTo(canvas.width, y0);
+  const offset = ((ground % 16) + 16) % 16;
+  for (let x = offset - 16; x < canvas.width; x += 16) {
+    ctx.moveTo(x, y0);
+    ctx.lineTo(x - 8, y0 + 8);
+  }
   ctx.stroke();
   runs.forEach(([r, color, label], k) => {
-    const x0 = (canvas.width * (k + 0.5)) / runs.length;
-    drawStructure(ctx, r, t, state.factors, [x0, canvas.height - 30], scale, color, label);
+    const x0 = (canvas.width * (k + 0.5)) / runs.length + ground;
+    drawStructure(ctx, r, t, state.factors, [x0, y0], scale, color, label);
   });
+  // The scale bar: lengths in the drawing at their true size.
+  const bar = scaleBar(scale, Math.min(120, canvas.width / 5));
+  ctx.fillStyle = '#333';
+  ctx.fillRect(10, 12, bar * scale, 4);
+  ctx.font = '12px DejaVu Sans, sans-serif';
+  ctx.fillText(`${formatG(bar, 3)} m`, 10, 30);
+  state.scaleBar = { metres: bar, px: bar * scale, scale };
   $('time-value').textContent = `t = ${t.toFixed(2)} s`;
   for (const c of state.charts) c.redraw(false, false);
   drawLoops(t);
@@ -306,13 +360,14 @@ function drawFrame() {
 // devices' moment about the pivot against the rocking angle (the flag of
 // controlled rocking), each axis in a readable unit.
 const loopViews = {
-  force: { title: 'devices: force [kN] against elongation [mm]', x: 'elongation [mm]', fx: 1e3, fy: 1e-3 },
-  moment: { title: "devices' moment M_dev [MN m] against θ [mrad]", x: 'θ [mrad]', fx: 1e3, fy: 1e-6 },
+  force: { title: 'devices: force against elongation', x: 'elongation [mm]', y: 'force [kN]', fx: 1e3, fy: 1e-3 },
+  moment: { title: "devices' moment against rotation", x: 'rotation θ [mrad]', y: 'M_dev [MN m]', fx: 1e3, fy: 1e-6 },
 };
 
-// Axis ends for a label: the data's extremes, zero when it is round-off.
+// Axis ends for a label: the data's extremes, zero when it is round-off
+// (four digits: 3920, not 3.92e+03).
 function axisEnd(v, range) {
-  return formatG(Math.abs(v) < 1e-9 * range ? 0 : v, 3);
+  return formatG(Math.abs(v) < 1e-9 * range ? 0 : v, Math.abs(v) >= 1000 && Math.abs(v) < 1e5 ? 4 : 3);
 }
 
 function drawLoops(t) {
@@ -360,7 +415,7 @@ function drawLoops(t) {
   };
   const [e0, e1] = span('e', view.fx);
   const [f0, f1] = span('f', view.fy);
-  const m = { l: 58, r: 10, t: 22, b: 34 };
+  const m = { l: 76, r: 10, t: 22, b: 34 };
   const w = canvas.width - m.l - m.r;
   const h = canvas.height - m.t - m.b;
   const X = (e) => m.l + ((e * view.fx - e0) / (e1 - e0)) * w;
@@ -380,10 +435,18 @@ function drawLoops(t) {
   ctx.fillText(axisEnd(e0 + de, e1 - e0), m.l, m.t + h + 14);
   ctx.textAlign = 'right';
   ctx.fillText(axisEnd(e1 - de, e1 - e0), m.l + w, m.t + h + 14);
-  ctx.fillText(axisEnd(f1 - df, f1 - f0), m.l - 3, m.t + 10);
-  ctx.fillText(axisEnd(f0 + df, f1 - f0), m.l - 3, m.t + h);
+  const yLabels = [axisEnd(f1 - df, f1 - f0), axisEnd(f0 + df, f1 - f0)];
+  ctx.fillText(yLabels[0], m.l - 3, m.t + 10);
+  ctx.fillText(yLabels[1], m.l - 3, m.t + h);
+  state.loopLabels = yLabels.map((text) => ({ text, left: m.l - 3 - ctx.measureText(text).width }));
   ctx.textAlign = 'left';
   ctx.fillText(view.x, m.l + w / 2 - 40, m.t + h + 28);
+  ctx.save();  // the y axis's title, up its side
+  ctx.translate(14, m.t + h / 2);
+  ctx.rotate(-Math.PI / 2);
+  ctx.textAlign = 'center';
+  ctx.fillText(view.y, 0, 0);
+  ctx.restore();
   loops.forEach((l, k) => {  // the legend, inside the frame's top left
     ctx.fillStyle = l.color;
     ctx.fillRect(m.l + 6, m.t + 6 + 14 * k, 10, 3);
@@ -432,7 +495,9 @@ function drawSummary() {
   };
   const add = (label, unit, main, other, key) => {
     const tr = document.createElement('tr');
-    tr.append(cell(label), cell(unit), cell(main, { peak: key, run: 'main' }), cell(other, { peak: key, run: 'twin' }));
+    const name = cell(label);
+    name.title = peakTitle(key);
+    tr.append(name, cell(unit), cell(main, { peak: key, run: 'main' }), cell(other, { peak: key, run: 'twin' }));
     rows.push(tr);
   };
   const s = run.summary;
@@ -457,10 +522,15 @@ function drawAll() {
   const peakTheta = Math.max(...all.map((r) => peakOf(r.history.theta)));
   const peakU = Math.max(...all.map((r) => peakOf(r.history[`node${r.structure.heights.length}.u`])));
   state.factors = exaggeration(peakTheta, peakU, H);
-  $('factors').textContent = `drawn: rocking angle ×${state.factors.theta}, bending ×${state.factors.u}`;
+  state.ground = groundDrawn(run.history.t, run.history.x_g);
+  state.factors.ground = exaggeration(0, peakOf(state.ground), H).u;  // its peak drawn as 4 % of the height
+  $('factors').textContent = `drawn: rocking angle ×${state.factors.theta}, bending ×${state.factors.u}, ` +
+    `ground motion ×${state.factors.ground}`;
+  $('run-text').textContent = describeRun(run);
+  showVerdict();
   const tEnd = run.history.t[run.history.t.length - 1];
   $('time').max = tEnd;
-  $('time').step = tEnd / 1000;
+  $('time').step = 'any';  // frame steps land on the history's rows
   if (Number($('time').value) > tEnd) $('time').value = 0;
   let t = performance.now();
   drawCharts();
@@ -479,13 +549,13 @@ async function uploadRecord() {
   const file = $('upload').files[0];
   if (!file) return;
   if (file.size > 3.5e6) {
-    showError(`upload: ${file.name} is ${(file.size / 1e6).toFixed(1)} MB (at most 3.5 MB)`);
+    showError(`${file.name} is ${(file.size / 1e6).toFixed(1)} MB; the lab takes record files up to 3.5 MB: upload a shorter record`);
     return;
   }
   const response = await fetch('/api/upload', { method: 'POST', body: JSON.stringify({ name: file.name, text: await file.text() }) });
   const body = await response.json();
   if (!response.ok) {
-    showError(body.error);
+    showError(`This record could not be read: ${forStudents(body.error)}.`);
     return;
   }
   $('record').append(new Option(`${body.name} (uploaded)`, body.id));
@@ -511,8 +581,8 @@ async function runIda() {
     const response = await fetch('/api/ida', { method: 'POST', body: JSON.stringify(request) });
     const body = await response.json();
     if (!response.ok) {
-      showError(body.error);
-      setStatus(`HTTP ${response.status}`, 'error');
+      showError(`The IDA could not be made: ${forStudents(body.error)}.`);
+      setStatus('IDA failed', 'error');
     } else {
       showError('');
       state.ida = body;
@@ -568,13 +638,23 @@ function tick(now) {
   if (!state.playing) return;
   if (last !== null) {
     const tEnd = Number($('time').max);
-    let t = Number($('time').value) + (now - last) / 1000;
+    let t = Number($('time').value) + ((now - last) / 1000) * Number($('speed').value);
     if (t > tEnd) t = 0;
     $('time').value = t;
     drawFrame();
   }
   last = now;
   requestAnimationFrame(tick);
+}
+
+// One row of the history forward or back (`step` +1 or -1), paused.
+function stepFrame(step) {
+  if (!state.data) return;
+  play(false);
+  const times = state.data.history.t;
+  const i = Math.min(times.length - 1, Math.max(0, indexAt(Number($('time').value) + 1e-9, times) + step));
+  $('time').value = times[i];
+  drawFrame();
 }
 
 function play(on) {
@@ -595,6 +675,8 @@ function applyLesson(n) {
   }
   const c = { record: '', scale: 1, compare: '', extra: '', ...lesson.controls };
   $('scene').value = c.scene;
+  state.shownScene = null;  // the pulse sliders start at the scene's own pulse
+  state.dampersWanted = true;
   $('record').value = c.record;
   $('scale').value = c.scale;
   $('dampers').checked = true;
@@ -605,12 +687,74 @@ function applyLesson(n) {
   $('compare').value = c.compare;
   $('loop-view').value = c.loops || 'force';
   $('extra').value = c.extra.split(' ').join('\n');
+  if (c.restitution !== undefined) {
+    $('own-restitution').checked = false;
+    $('restitution').value = c.restitution;
+  }
+  fitControls();
   const h = document.createElement('h2');
   h.textContent = lesson.title;
   const p = document.createElement('p');
   p.textContent = lesson.text;
-  text.replaceChildren(h, p);
+  text.replaceChildren(h, p, predictionBox(lesson));
   text.hidden = false;
+}
+
+// The lesson's question, asked before its run is looked at; a choice is
+// answered by the run on screen (the lesson's, or the run the controls made since).
+function predictionBox(lesson) {
+  state.prediction = undefined;
+  const box = document.createElement('div');
+  box.id = 'predict';
+  const q = document.createElement('p');
+  const lead = document.createElement('strong');
+  lead.textContent = 'Predict first: ';
+  q.append(lead, lesson.predict.question);
+  box.append(q);
+  lesson.predict.choices.forEach((choice, k) => {
+    const b = document.createElement('button');
+    b.type = 'button';
+    b.textContent = choice;
+    b.dataset.choice = k;
+    b.addEventListener('click', () => {
+      state.prediction = k;
+      showVerdict();
+    });
+    box.append(b);
+  });
+  const verdict = document.createElement('p');
+  verdict.id = 'verdict';
+  verdict.setAttribute('aria-live', 'polite');
+  box.append(verdict);
+  return box;
+}
+
+function showVerdict() {
+  const lesson = lessons[Number($('lesson').value)];
+  if (!lesson || !lesson.predict || state.prediction === undefined || !state.data || !$('verdict')) return;
+  const right = lesson.predict.answer(state.data);
+  const said = lesson.predict.choices[state.prediction];
+  $('verdict').textContent = `You said: ${said}. The run says: ${lesson.predict.choices[right]}` +
+    `${right === state.prediction ? ' (as you predicted)' : ''}: ${lesson.predict.because(state.data)}`;
+}
+
+// Every control back to where the lesson (or, in free play, the lab) starts it, and a run.
+function reset() {
+  play(false);
+  $('time').value = 0;
+  const k = $('lesson').value;
+  if (k !== '') {
+    applyLesson(Number(k));
+  } else {
+    const scene = $('scene').value;
+    $('controls').reset();
+    $('scene').value = scene;
+    state.shownScene = null;
+    state.dampersWanted = true;
+    fitControls();
+  }
+  $('speed').value = '1';
+  rerun();
 }
 
 async function start() {
@@ -639,6 +783,12 @@ async function start() {
   $('controls').addEventListener('input', (e) => {
     if (e.target.tagName !== 'TEXTAREA' && e.target.type !== 'file') rerun();
   });
+  // Moving the restitution slider replaces the scene's own restitution; the box says which is used.
+  $('restitution').addEventListener('input', () => { $('own-restitution').checked = false; });
+  $('dampers').addEventListener('input', () => { state.dampersWanted = $('dampers').checked; });
+  $('reset').addEventListener('click', () => reset());
+  $('step').addEventListener('click', () => stepFrame(1));
+  $('step-back').addEventListener('click', () => stepFrame(-1));
   $('upload').addEventListener('change', () => uploadRecord());
   $('extra').addEventListener('change', () => rerun());
   $('controls').addEventListener('submit', (e) => e.preventDefault());

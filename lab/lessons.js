@@ -1,6 +1,12 @@
 // The seven lessons of docs/teaching.md as guided pages of the lab: each sets
 // the controls (scene, record, scale, twin, overrides) and says what to look
 // for. Opened as index.html?lesson=N. Controls not named keep their defaults.
+// Each asks a prediction first (`predict`): a question, its choices, and the
+// choice the lesson's run bears out (answer(data) -> index) with the numbers
+// that show it (because(data)).
+
+const peak = (run, name) => (run && run.summary.peaks[name] !== undefined ? run.summary.peaks[name] : 0);
+const fmt = (v) => Number(v.toPrecision(3)).toString();
 
 const elcentro = 'elcentro_1940_ns.at2';
 const papanui = 'christchurch2011_pphs_s57e.at2';
@@ -8,6 +14,12 @@ const papanui = 'christchurch2011_pphs_s57e.at2';
 export const lessons = [
   {
     title: '0. A rigid block, tilted and let go',
+    predict: {
+      question: 'Let go from a tilt, will the block swing for ever, or will each swing be shorter than the last?',
+      choices: ['for ever, like a pendulum', 'each swing shorter'],
+      answer: (d) => (d.summary.counts.impacts > 0 ? 1 : 0),
+      because: (d) => `${d.summary.counts.impacts} impacts, each taking a share of the energy; the block comes to rest.`,
+    },
     controls: { scene: 'rigid_block', record: '', scale: 1, extra: 'excitation.kind=none initial.theta=0.134' },
     text:
       'No earthquake: the block (0.4 m wide, 1.5 m tall) is tilted to half its slenderness and released. ' +
@@ -17,6 +29,12 @@ export const lessons = [
   },
   {
     title: '1. Rocking caps the base moment a fixed base would carry',
+    predict: {
+      question: 'Which base carries the larger moment: the rocking chimney\u2019s or the fixed-base twin\u2019s?',
+      choices: ['the rocking one', 'the fixed base'],
+      answer: (d) => (peak(d, 'base_moment') > peak(d.twin, 'base_moment') ? 0 : 1),
+      because: (d) => `peak base moment: rocking ${fmt(peak(d, 'base_moment'))} M_ref, fixed base ${fmt(peak(d.twin, 'base_moment'))} M_ref.`,
+    },
     controls: { scene: 'christchurch_chimney', record: elcentro, scale: 3, compare: 'fixed-base' },
     text:
       'The chimney under El Centro, three times as strong as recorded, beside the same chimney on a fixed base ' +
@@ -26,6 +44,12 @@ export const lessons = [
   },
   {
     title: '2. The price: larger total displacements',
+    predict: {
+      question: 'Whose top moves further sideways (total drift): the rocking chimney\u2019s or the fixed-base twin\u2019s?',
+      choices: ['the rocking one', 'the fixed base'],
+      answer: (d) => (peak(d, 'delta_t') > peak(d.twin, 'delta_t') ? 0 : 1),
+      because: (d) => `peak total drift: rocking ${fmt(100 * peak(d, 'delta_t'))} %, fixed base ${fmt(100 * peak(d.twin, 'delta_t'))} % of the height.`,
+    },
     controls: { scene: 'christchurch_chimney', record: elcentro, scale: 3, compare: 'fixed-base' },
     text:
       'The same pair. Look at the drift panel: the rocking chimney\u2019s top moves more (total drift) because ' +
@@ -34,6 +58,13 @@ export const lessons = [
   },
   {
     title: '3. The damper controls rotation, and only for large motions',
+    predict: {
+      question: 'At the record\u2019s own strength (scale 1), do the dampers change the peak rocking angle by more than a fifth?',
+      choices: ['yes, by more than a fifth', 'no, hardly'],
+      answer: (d) => (Math.abs(peak(d, 'theta_over_alpha') - peak(d.twin, 'theta_over_alpha')) >
+        0.2 * Math.max(peak(d, 'theta_over_alpha'), peak(d.twin, 'theta_over_alpha')) ? 0 : 1),
+      because: (d) => `peak θ/α_cg: with dampers ${fmt(peak(d, 'theta_over_alpha'))}, without ${fmt(peak(d.twin, 'theta_over_alpha'))}.`,
+    },
     controls: { scene: 'christchurch_chimney', record: papanui, scale: 1, compare: 'without:damper' },
     text:
       'The Papanui record of 22 February 2011, with and without the dampers (dashed). As recorded, the two ' +
@@ -43,6 +74,12 @@ export const lessons = [
   },
   {
     title: '4. A flexible rocking structure can excite its higher modes',
+    predict: {
+      question: 'At a quarter of its stiffness, does the rocking chimney bend less than the same chimney on a fixed base (elastic drift)?',
+      choices: ['it bends less', 'it bends more'],
+      answer: (d) => (peak(d, 'delta_e') < peak(d.twin, 'delta_e') ? 0 : 1),
+      because: (d) => `peak elastic drift: rocking ${fmt(100 * peak(d, 'delta_e'))} %, fixed base ${fmt(100 * peak(d.twin, 'delta_e'))} %.`,
+    },
     controls: {
       scene: 'christchurch_chimney', record: papanui, scale: 2, compare: 'fixed-base', extra: 'structure.EI_scale=0.25',
     },
@@ -53,6 +90,12 @@ export const lessons = [
   },
   {
     title: '5. Size matters: the larger block survives',
+    predict: {
+      question: 'Under a 1.2 g pulse of 0.5 s, does the small block (1.5 m tall) stay up?',
+      choices: ['it stays up', 'it overturns'],
+      answer: (d) => (d.summary.outcome === 'overturned' ? 1 : 0),
+      because: (d) => `the run ended: ${d.summary.outcome}. Now make it four times larger, as the text says.`,
+    },
     controls: { scene: 'rigid_block', record: '', scale: 3, extra: 'excitation.period=0.5' },
     text:
       'The rigid block under a one-sine pulse three times its default strength (1.2 g, 0.5 s): it overturns. ' +
@@ -62,6 +105,12 @@ export const lessons = [
   },
   {
     title: '6. Self-centring: a tendon re-centres, dampers dissipate',
+    predict: {
+      question: 'Does the tendon make the wall\u2019s peak rotation smaller, or larger?',
+      choices: ['smaller', 'larger'],
+      answer: (d) => (peak(d, 'theta') < peak(d.twin, 'theta') ? 0 : 1),
+      because: (d) => `peak θ: with the tendon ${fmt(1000 * peak(d, 'theta'))} mrad, without it ${fmt(1000 * peak(d.twin, 'theta'))} mrad.`,
+    },
     controls: { scene: 'controlled_rocking_wall', record: '', scale: 1, compare: 'without:tendon', loops: 'moment' },
     text:
       'A post-tensioned controlled-rocking wall under a 0.9 g pulse, beside the same wall without its tendon ' +

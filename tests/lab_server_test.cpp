@@ -1,0 +1,351 @@
+// `rocking serve` under a classroom's load and a hostile page: a chunked
+// body of 300 MB is refused as it arrives and the server's memory stays under
+// 200 MB; 40 clients that hold half-sent bodies (or send a byte a second) do
+// not keep others from an answer within 3 s, and are cut off; requests from a
+// foreign Origin or addressed to a foreign Host are refused; a form-encoded
+// body (curl -d) is taken up to the lab's limit and refused beyond it with
+// that limit in words; errors name no absolute path; --help states the
+// limits; 30 clients moving sliders get their answers within 1 s.
+#include <doctest/doctest.h>
+#include <httplib.h>
+#include <nlohmann/json.hpp>
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include "records.hpp"
+#include "run_program.hpp"
+
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// `rocking serve --port 0 ARGS` in a process of its own, stopped with SIGINT.
+struct Server {
+  pid_t pid = -1;
+  int port = 0;
+  FILE* out = nullptr;
+  explicit Server(const std::string& args) {
+    int fd[2];
+    REQUIRE(::pipe(fd) == 0);
+    pid = ::fork();
+    REQUIRE(pid >= 0);
+    if (pid == 0) {
+      ::dup2(fd[1], STDOUT_FILENO);
+      ::close(fd[0]);
+      ::execl("/bin/sh", "sh", "-c", (std::string("exec ") + ROCKING_BIN + " serve --port 0 " + args).c_str(),
+              static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    ::close(fd[1]);
+    out = ::fdopen(fd[0], "r");
+    char line[512] = {};
+    const std::string first = std::fgets(line, sizeof line, out) != nullptr ? line : "";
+    const auto at = first.find("http://127.0.0.1:");
+    if (at != std::string::npos) port = std::stoi(first.substr(at + 17));
+  }
+  // The server's peak resident memory so far [MB] (the kernel's VmHWM).
+  double peak_mb() const {
+    std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+    std::string line;
+    while (std::getline(status, line))
+      if (line.starts_with("VmHWM:")) return std::stod(line.substr(6)) / 1024;
+    return -1;
+  }
+  ~Server() {
+    ::kill(pid, SIGINT);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    std::fclose(out);
+  }
+};
+
+// A raw TCP connection to the server, for requests no well-behaved client sends.
+struct Socket {
+  int fd = -1;
+  explicit Socket(int port) {
+    fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_port = htons(static_cast<std::uint16_t>(port));
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
+      ::close(fd);
+      fd = -1;
+    }
+  }
+  ~Socket() {
+    if (fd >= 0) ::close(fd);
+  }
+  // Sends all of `s`; false once the server has closed or reset the connection.
+  bool send(const std::string& s) const {
+    for (std::size_t at = 0; at < s.size();) {
+      const ssize_t n = ::send(fd, s.data() + at, s.size() - at, MSG_NOSIGNAL);
+      if (n <= 0) return false;
+      at += static_cast<std::size_t>(n);
+    }
+    return true;
+  }
+  // What the server sent within `limit` (until it closed, or the limit passed).
+  std::string receive(std::chrono::milliseconds limit) const {
+    std::string got;
+    const auto end = Clock::now() + limit;
+    char buf[4096];
+    for (;;) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - Clock::now()).count();
+      pollfd p{fd, POLLIN, 0};
+      if (left <= 0 || ::poll(&p, 1, static_cast<int>(left)) <= 0) break;
+      const ssize_t n = ::recv(fd, buf, sizeof buf, 0);
+      if (n <= 0) break;
+      got.append(buf, static_cast<std::size_t>(n));
+    }
+    return got;
+  }
+  // Whether the server has closed the connection within `limit` (whatever it sent before, read and dropped).
+  bool closed_by_server(std::chrono::milliseconds limit) const {
+    const auto end = Clock::now() + limit;
+    char buf[4096];
+    for (;;) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - Clock::now()).count();
+      pollfd p{fd, POLLIN, 0};
+      if (left <= 0 || ::poll(&p, 1, static_cast<int>(left)) <= 0) return false;
+      if (::recv(fd, buf, sizeof buf, 0) <= 0) return true;
+    }
+  }
+};
+
+std::string status_line(const std::string& response) { return response.substr(0, response.find("\r\n")); }
+
+std::string body_of(const std::string& response) {
+  const auto at = response.find("\r\n\r\n");
+  return at == std::string::npos ? "" : response.substr(at + 4);
+}
+
+}  // namespace
+
+TEST_CASE("a chunked POST of 300 MB is refused as it arrives, and the server's memory stays under 200 MB") {
+  Server server("");
+  REQUIRE(server.port > 0);
+  Socket s(server.port);
+  REQUIRE(s.fd >= 0);
+  REQUIRE(s.send("POST /api/simulate HTTP/1.1\r\nHost: 127.0.0.1\r\nTransfer-Encoding: chunked\r\n"
+                 "Content-Type: application/json\r\n\r\n"));
+  const std::string chunk = "10000\r\n" + std::string(0x10000, ' ') + "\r\n";  // 64 KB of blanks
+  std::size_t sent = 0;
+  while (sent < 300u << 20 && s.send(chunk)) sent += 0x10000;
+  const std::string response = s.receive(std::chrono::seconds(5));
+  MESSAGE("sent " << sent / 1024 << " KB of the body before the server refused it; server peak "
+                  << server.peak_mb() << " MB");
+  CHECK(status_line(response) == "HTTP/1.1 413 Payload Too Large");
+  const std::string message = json::parse(body_of(response))["error"];
+  CHECK_MESSAGE(message.find("at most 64 KB") != std::string::npos, message);
+  CHECK(sent < 300u << 20);  // refused before the end
+  CHECK(server.peak_mb() < 200);
+  // A Content-Length over the limit is refused before its body is sent.
+  Socket t(server.port);
+  REQUIRE(t.send("POST /api/upload HTTP/1.1\r\nHost: localhost\r\nContent-Length: 314572800\r\n\r\n"));
+  const std::string early = t.receive(std::chrono::seconds(3));
+  CHECK(status_line(early) == "HTTP/1.1 413 Payload Too Large");
+  CHECK(body_of(early).find("at most 4 MB") != std::string::npos);
+  // Still serving.
+  httplib::Client client("127.0.0.1", server.port);
+  CHECK(client.Get("/api/scenes")->status == 200);
+}
+
+TEST_CASE("40 clients holding half-sent bodies, or sending a byte a second, leave others an answer within 3 s") {
+  Server server("");
+  REQUIRE(server.port > 0);
+  std::vector<std::unique_ptr<Socket>> slow;
+  for (int i = 0; i < 40; ++i) {
+    slow.push_back(std::make_unique<Socket>(server.port));
+    REQUIRE(slow.back()->fd >= 0);
+    REQUIRE(slow.back()->send("POST /api/simulate HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 1000\r\n\r\n" +
+                              std::string(500, ' ')));
+  }
+  // Forty more that trickle their headers, a byte a second.
+  std::atomic<bool> stop{false};
+  std::vector<std::unique_ptr<Socket>> trickle;
+  for (int i = 0; i < 40; ++i) trickle.push_back(std::make_unique<Socket>(server.port));
+  std::thread trickler([&] {
+    const std::string request = "GET /api/scenes HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: " + std::string(100, 'x');
+    for (std::size_t k = 0; k < request.size() && !stop; ++k) {
+      for (const auto& t : trickle) t->send(request.substr(k, 1));
+      std::this_thread::sleep_for(std::chrono::seconds(1));
+    }
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  std::vector<double> waits;
+  for (int k = 0; k < 3; ++k) {
+    httplib::Client client("127.0.0.1", server.port);
+    client.set_read_timeout(20);
+    const auto t0 = Clock::now();
+    const auto r = client.Get("/api/scenes");
+    waits.push_back(seconds_since(t0));
+    CHECK(r);
+    if (r) CHECK(r->status == 200);
+    std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  }
+  MESSAGE("GET /api/scenes while 40 clients hold half a body and 40 trickle: " << waits[0] << ", " << waits[1]
+                                                                                 << ", " << waits[2] << " s");
+  for (double w : waits) CHECK(w < 3);
+  // The slow clients are cut off once their allowance (5 s, plus a second per 16 KB) is spent.
+  std::this_thread::sleep_for(std::chrono::seconds(5));
+  int cut = 0;
+  for (const auto& s : slow) cut += s->closed_by_server(std::chrono::milliseconds(100));
+  int cut_trickle = 0;
+  for (const auto& t : trickle) cut_trickle += t->closed_by_server(std::chrono::milliseconds(100));
+  stop = true;
+  trickler.join();
+  CHECK(cut == 40);
+  CHECK(cut_trickle == 40);
+}
+
+TEST_CASE("requests from a foreign Origin or addressed to a foreign Host are refused, and the lab's own are answered") {
+  Server server("");
+  REQUIRE(server.port > 0);
+  const std::string own = "127.0.0.1:" + std::to_string(server.port);
+  const std::string body = R"({"scene": "rigid_block"})";
+  const auto post = [&](const httplib::Headers& headers) {
+    httplib::Client client("127.0.0.1", server.port);
+    client.set_read_timeout(60);
+    return client.Post("/api/simulate", headers, body, "application/json");
+  };
+  const auto evil = post({{"Origin", "http://evil.example"}});
+  REQUIRE(evil);
+  CHECK(evil->status == 403);
+  CHECK(json::parse(evil->body)["error"].get<std::string>().find("other web pages") != std::string::npos);
+  const auto evil_port = post({{"Origin", "http://127.0.0.1:1"}});
+  REQUIRE(evil_port);
+  CHECK(evil_port->status == 403);
+  // DNS rebinding: a page of evil.example whose name now resolves to this machine.
+  const auto rebound = post({{"Host", "evil.example:" + std::to_string(server.port)},
+                             {"Origin", "http://evil.example:" + std::to_string(server.port)}});
+  REQUIRE(rebound);
+  CHECK(rebound->status == 403);
+  CHECK(json::parse(rebound->body)["error"].get<std::string>().find("'evil.example'") != std::string::npos);
+  httplib::Client client("127.0.0.1", server.port);
+  client.set_default_headers({{"Host", "evil.example"}});
+  const auto page = client.Get("/");
+  REQUIRE(page);
+  CHECK(page->status == 403);
+  // The page's own requests: its Origin is the address it was opened at.
+  const auto mine = post({{"Origin", "http://" + own}});
+  REQUIRE(mine);
+  CHECK(mine->status == 200);
+  const auto by_name = post({{"Host", "localhost:" + std::to_string(server.port)},
+                             {"Origin", "http://localhost:" + std::to_string(server.port)}});
+  REQUIRE(by_name);
+  CHECK(by_name->status == 200);
+}
+
+TEST_CASE("a curl -d body is taken up to the lab's limit and refused beyond it with that limit, and errors name no path") {
+  const auto records = records_dir();
+  if (!records) return;
+  Server server("--records " + *records);
+  REQUIRE(server.port > 0);
+  httplib::Client client("127.0.0.1", server.port);
+  client.set_read_timeout(60);
+  // curl -d sends application/x-www-form-urlencoded; 20 KB of JSON (blanks after it) is a run.
+  const std::string padded = R"({"scene": "rigid_block"})" + std::string(20 * 1024, ' ');
+  const auto ok = client.Post("/api/simulate", padded, "application/x-www-form-urlencoded");
+  REQUIRE(ok);
+  CHECK(ok->status == 200);
+  const auto over = client.Post("/api/simulate", std::string(70 * 1024, ' '), "application/x-www-form-urlencoded");
+  REQUIRE(over);
+  CHECK(over->status == 413);
+  const std::string message = json::parse(over->body)["error"];
+  CHECK_MESSAGE(message == "the request is too large for /api/simulate (at most 64 KB)", message);
+  // A bad override and a bad record answer without the machine's folders.
+  for (const std::string& bad : {std::string(R"({"set": ["structure.EI_scale=-1"]})"),
+                                 std::string(R"({"set": ["nonsense.key=1"]})"),
+                                 std::string(R"({"record": "elcentro_1940_ns.at2", "component": "UD"})")}) {
+    const auto r = client.Post("/api/simulate", bad, "application/json");
+    REQUIRE(r);
+    CAPTURE(r->body);
+    CHECK(r->status == 400);
+    CHECK(r->body.find(ROCKING_SOURCE_DIR) == std::string::npos);
+    CHECK(r->body.find(*records) == std::string::npos);
+    CHECK(r->body.find("\"/") == std::string::npos);
+    CHECK(r->body.find(" /") == std::string::npos);
+  }
+  // A vertical component, uploaded: told in words what to upload instead, not a command-line flag.
+  std::ifstream file(*records + "/formats/us1000hyfh_akbmrp_bnz.V2c");
+  std::ostringstream text;
+  text << file.rdbuf();
+  const auto up = client.Post("/api/upload", json{{"name", "akbmrp_bnz.V2c"}, {"text", text.str()}}.dump(),
+                              "application/json");
+  REQUIRE(up);
+  CHECK(up->status == 400);
+  const std::string said = json::parse(up->body)["error"];
+  CHECK_MESSAGE(said.find("akbmrp_bnz.V2c is the vertical component (BNZ)") != std::string::npos, said);
+  CHECK(said.find("upload a horizontal component") != std::string::npos);
+  CHECK(said.find("--") == std::string::npos);
+  CHECK(said.find("/tmp") == std::string::npos);
+}
+
+TEST_CASE("rocking serve --help states the limits a client meets") {
+  const Result help = run("serve --help");
+  CHECK(help.code == 0);
+  for (const char* says : {"at most 64 KB", "4 MB", "within 5 s, plus 1 s per 16 KB", "connections served at once 96",
+                           "another Origin: 403", "another Host: 403", "200 s simulated"})
+    CHECK_MESSAGE(help.out.find(says) != std::string::npos, says);
+}
+
+TEST_CASE("30 students moving sliders on one server each get their answers within 1 s") {
+  const auto records = records_dir();
+  if (!records) return;
+  Server server("--records " + *records);
+  REQUIRE(server.port > 0);
+  constexpr int students = 30;
+  constexpr int moves = 6;
+  std::vector<std::vector<double>> waits(students);
+  std::vector<int> bad(students, 0);
+  std::vector<std::thread> threads;
+  const auto start = Clock::now() + std::chrono::milliseconds(300);
+  for (int i = 0; i < students; ++i)
+    threads.emplace_back([&, i] {
+      // Each student on the chimney under El Centro, as lesson 1 opens it, moving
+      // the damper-thickness slider one step at a time with a moment to look between.
+      std::mt19937 random(static_cast<unsigned>(i));
+      std::uniform_int_distribution<int> look(300, 1200);
+      httplib::Client c("127.0.0.1", server.port);
+      c.set_read_timeout(30);
+      std::this_thread::sleep_until(start + std::chrono::milliseconds(look(random) - 300));
+      for (int k = 0; k < moves; ++k) {
+        const json request{{"scene", "christchurch_chimney"},
+                           {"record", "elcentro_1940_ns.at2"},
+                           {"scale", 3},
+                           {"set", {"damper.thickness=" + std::to_string(1 + 0.05 * ((i + k) % 20))}}};
+        const auto t0 = Clock::now();
+        const auto r = c.Post("/api/simulate", request.dump(), "application/json");
+        waits[static_cast<std::size_t>(i)].push_back(seconds_since(t0));
+        if (!r || r->status != 200) ++bad[static_cast<std::size_t>(i)];
+        std::this_thread::sleep_for(std::chrono::milliseconds(look(random)));
+      }
+    });
+  for (std::thread& t : threads) t.join();
+  std::vector<double> all;
+  for (const auto& w : waits) all.insert(all.end(), w.begin(), w.end());
+  std::sort(all.begin(), all.end());
+  const auto at = [&](double q) { return all[static_cast<std::size_t>(q * static_cast<double>(all.size() - 1))]; };
+  MESSAGE("30 clients, " << all.size() << " slider moves: median " << at(0.5) << " s, 95 % " << at(0.95)
+                         << " s, max " << all.back() << " s (cores: " << std::thread::hardware_concurrency() << ")");
+  for (int i = 0; i < students; ++i) CHECK(bad[static_cast<std::size_t>(i)] == 0);
+  CHECK(all.back() < 1.0);
+}
