@@ -16,9 +16,12 @@
 #include <vector>
 
 #include "chain_ode.hpp"
+#include "chain_reference.hpp"
+#include "records.hpp"
 import rocking.chain;
 import rocking.dynamics;
 import rocking.scene;
+import rocking.ground_motion;
 
 using namespace rocking;
 using Vec = Eigen::VectorXd;
@@ -528,4 +531,192 @@ TEST_CASE("over a run with impacts, energy plus the losses the momentum law take
   CHECK(worst <= 1e-9);
   MESSAGE(impacts << " impacts, " << uplifts << " uplifts in " << t << " s; impact losses " << losses / e0
                   << " of E0; largest |E + losses - E0| / E0 " << worst);
+}
+
+namespace {
+
+// Four rigid post-tensioned segments (1.5 m tall, B = 0.35 m) on the ground,
+// a central tendon from the foundation to the top: in the engine's data and in
+// the independent reference's (tests/chain_reference.hpp, written from MODEL.md alone).
+constexpr double pier_h = 1.5, pier_B = 0.35, pier_slab = 3000.0, pier_mid = 6000.0, pier_top = 1000.0;
+constexpr double pier_P0 = 1.5e5, pier_k = 1.0e7;
+
+ChainData pier() {
+  ChainData d;
+  for (int j = 0; j < 4; ++j)
+    d.segments.push_back(rigid_segment(j * pier_h, pier_B, pier_slab, {j * pier_h + 0.75, (j + 1) * pier_h}, {pier_mid, pier_top}));
+  ChainTendon t;
+  t.from = {-1, 0.0, 0.0};
+  t.to = {3, 0.0, pier_h};
+  t.prestress = pier_P0;
+  t.stiffness = pier_k;
+  d.tendons.push_back(t);
+  return d;
+}
+
+chainref::Chain pier_reference() {
+  chainref::Chain c;
+  for (int j = 0; j < 4; ++j) {
+    chainref::Segment s;
+    s.h = j * pier_h;
+    s.B = pier_B;
+    s.m0 = pier_slab;
+    s.masses = {{j * pier_h + 0.75, pier_mid}, {(j + 1) * pier_h, pier_top}};
+    c.seg.push_back(s);
+  }
+  c.H_top = 4 * pier_h;
+  c.tendon = chainref::Tendon{true, 0.0, pier_P0, pier_k};
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("segmental pier under El Centro: the engine agrees with an independent integration to 1e-6 up to the first impact, and so does the tendon") {
+  const auto dir = records_dir();
+  if (!dir) return;
+  const GroundMotion record = read_record(*dir + "/elcentro_1940_ns.at2");
+  const std::vector<double> times = record.sample_times(), values = record.sample_values();
+  REQUIRE(times.size() > 100);
+  const Chain chain = make_chain(pier());
+  ChainWorkspace w = make_workspace(chain);
+  const int n = chain.size;
+  REQUIRE(n == 4);
+  // every joint open, the pier leaning right, from rest in the record's strong motion
+  const std::vector<Phase> phases(4, Phase::rocking(Pivot::right));
+  const std::vector<double> q0 = {0.012, 0.008, 0.005, 0.003};
+  const double t0 = 2.0;
+  Vec acc(n);
+  auto rhs = [&](double t, const double* y, double* f) {
+    chain_acceleration(chain, phases, {record.acceleration(t)}, Vec::Map(y, n), Vec::Map(y + n, n), acc, w);
+    for (int k = 0; k < n; ++k) f[k] = y[n + k], f[n + k] = acc[k];
+  };
+  auto guard = [&](double, const double* y) {
+    double g = 1e300;
+    for (int j = 0; j < n; ++j) g = std::min(g, phases[j].sign() * y[j]);
+    return g;
+  };
+  const chainref::Chain ref = pier_reference();
+  const chainref::Phases ref_phases = {+1, +1, +1, +1};
+  double worst_e = 0, peak_e = 0;
+  auto watch = [&](double, const double* y) {  // the tendon against the reference's geometry
+    const std::vector<double> q(y, y + n), qd(y + n, y + 2 * n);
+    const double e = tendon_elongation(chain, phases, 0, Vec::Map(y, n), w);
+    const double e_ref = chainref::tendon_state(ref, chainref::kinematics(ref, ref_phases, q, qd), qd).e;
+    worst_e = std::max(worst_e, std::abs(e - e_ref));
+    peak_e = std::max(peak_e, std::abs(e_ref));
+  };
+  // the record's samples are breakpoints: one integration per sample interval
+  std::vector<double> y(2 * n, 0.0);
+  for (int k = 0; k < n; ++k) y[k] = q0[k];
+  double t = t0;
+  bool hit = false;
+  for (std::size_t i = 1; i < times.size() && !hit; ++i) {
+    if (times[i] <= t) continue;
+    const chain_ode::Crossing c = chain_ode::integrate(rhs, t, y, times[i], guard, watch);
+    t = c.t;
+    y = c.y;
+    hit = c.found;
+  }
+  REQUIRE(hit);
+  chainref::Ground G;
+  G.ah_rec.t = times;
+  G.ah_rec.a = values;
+  chainref::IntegOpts opts;
+  opts.rtol = 1e-13;
+  opts.atol = 1e-15;
+  const chainref::ImpactResult r = chainref::first_impact(ref, ref_phases, q0, std::vector<double>(n, 0.0), t0, times.back(), G, opts);
+  REQUIRE(r.joint >= 0);
+  CHECK(t - t0 > 0.01);  // the tendon closes the top joint within about 13 ms: a real phase all the same
+  CHECK(phases[r.joint].sign() * y[r.joint] <= 1e-12);  // the same joint closes in both
+  CHECK_MESSAGE(rel_close(t, r.t, 1e-6), "first impact at " << t << " s, reference " << r.t << " s");
+  double rate_scale = 0, angle_scale = 0, worst_rate = 0, worst_angle = 0;
+  for (int k = 0; k < n; ++k) {
+    rate_scale = std::max(rate_scale, std::abs(r.qd[k]));
+    angle_scale = std::max(angle_scale, std::abs(q0[k]));
+    worst_rate = std::max(worst_rate, std::abs(y[n + k] - r.qd[k]));
+    worst_angle = std::max(worst_angle, std::abs(y[k] - r.q[k]));
+  }
+  CHECK(worst_rate <= 1e-6 * rate_scale);
+  CHECK(worst_angle <= 1e-6 * angle_scale);
+  CHECK(worst_e <= 1e-9 * peak_e);
+  MESSAGE("joint " << r.joint << " impacts first at " << t << " s (reference " << r.t << " s, " << std::abs(t / r.t - 1)
+                   << "); rates differ by " << worst_rate / rate_scale << ", angles by " << worst_angle / angle_scale
+                   << " of their scales; tendon elongation by " << worst_e << " m (peak " << peak_e << " m)");
+}
+
+TEST_CASE("segmental pier under El Centro, the base joint rocking: the closed joints' reactions and the impact agree with the independent reference") {
+  const auto dir = records_dir();
+  if (!dir) return;
+  const GroundMotion record = read_record(*dir + "/elcentro_1940_ns.at2");
+  const std::vector<double> times = record.sample_times(), values = record.sample_values();
+  const Chain chain = make_chain(pier());
+  ChainWorkspace w = make_workspace(chain);
+  const int n = chain.size;
+  const std::vector<Phase> phases = {Phase::rocking(Pivot::right), Phase::full_contact(), Phase::full_contact(), Phase::full_contact()};
+  const chainref::Chain ref = pier_reference();
+  const chainref::Phases ref_phases = {+1, 0, 0, 0};
+  const double t0 = 2.0, th0 = 0.01;
+  Vec acc(n);
+  std::vector<JointReaction> r(chain.joints);
+  auto rhs = [&](double t, const double* y, double* f) {
+    chain_acceleration(chain, phases, {record.acceleration(t)}, Vec::Map(y, n), Vec::Map(y + n, n), acc, w);
+    for (int k = 0; k < n; ++k) f[k] = y[n + k], f[n + k] = acc[k];
+  };
+  chainref::Ground G;
+  G.ah_rec.t = times;
+  G.ah_rec.a = values;
+  double worst_reaction = 0, worst_guard = -1e300;
+  auto watch = [&](double t, const double* y) {
+    chain_reactions(chain, phases, {record.acceleration(t)}, Vec::Map(y, n), Vec::Map(y + n, n), r, acc, w);
+    const std::vector<chainref::Reaction> rr = chainref::closed_joint_reactions(ref, ref_phases, {y[0]}, {y[n]}, t, G);
+    for (int j = 1; j < 4; ++j) {
+      const double scale = std::abs(rr[j].N);
+      worst_reaction = std::max({worst_reaction, std::abs(r[j].N - rr[j].N) / scale, std::abs(r[j].V - rr[j].V) / scale,
+                                 std::abs(r[j].M - rr[j].M) / (scale * pier_B)});
+      for (const Pivot p : pivots) worst_guard = std::max(worst_guard, uplift_guard(chain, j, p, r[j]) / (r[j].N * pier_B));
+    }
+  };
+  auto guard = [&](double, const double* y) { return y[0]; };
+  std::vector<double> y(2 * n, 0.0);
+  y[0] = th0;
+  double t = t0;
+  bool hit = false;
+  for (std::size_t i = 1; i < times.size() && !hit; ++i) {
+    if (times[i] <= t) continue;
+    const chain_ode::Crossing c = chain_ode::integrate(rhs, t, y, times[i], guard, watch);
+    t = c.t;
+    y = c.y;
+    hit = c.found;
+  }
+  REQUIRE(hit);
+  chainref::IntegOpts opts;
+  opts.rtol = 1e-13;
+  opts.atol = 1e-15;
+  const chainref::ImpactResult ri = chainref::first_impact(ref, ref_phases, {th0}, {0.0}, t0, times.back(), G, opts);
+  REQUIRE(ri.joint == 0);
+  CHECK(t - t0 > 0.2);
+  CHECK_MESSAGE(rel_close(t, ri.t, 1e-6), "first impact at " << t << " s, reference " << ri.t << " s");
+  CHECK(rel_close(y[n], ri.qd[0], 1e-6));
+  CHECK(worst_reaction <= 1e-9);
+  CHECK(worst_guard < 0);  // the upper joints stay closed while the base rocks
+  // the impact: the engine's outcome, and the reference's momentum law into the same phases
+  y[0] = 0.0;
+  const ImpactOutcome out = chain_impact(chain, phases, 0, Vec::Map(y.data(), n), Vec::Map(y.data() + n, n));
+  REQUIRE(out.status == ImpactStatus::unique);
+  chainref::Phases post(4);
+  for (int j = 0; j < 4; ++j) post[j] = out.phases[j].sign();
+  const chainref::PostImpact pi = chainref::momentum_impact(ref, ref_phases, ri.q, ri.qd, 0, post);
+  double worst_post = 0, post_scale = 0;
+  for (int j = 0, i = 0; j < 4; ++j) {
+    if (post[j] == 0) continue;
+    worst_post = std::max(worst_post, std::abs(out.q_dot[j] - pi.qd[i]));
+    post_scale = std::max(post_scale, std::abs(pi.qd[i]));
+    ++i;
+  }
+  CHECK(post_scale > 0);
+  CHECK(worst_post <= 1e-6 * post_scale);
+  MESSAGE("base joint impacts at " << t << " s (reference " << ri.t << " s, " << std::abs(t / ri.t - 1) << "), rate "
+                                   << y[n] << " vs " << ri.qd[0] << "; closed joints' reactions within " << worst_reaction
+                                   << " of N; after the impact phases " << post[0] << post[1] << post[2] << post[3]
+                                   << ", rates within " << worst_post / post_scale);
 }
