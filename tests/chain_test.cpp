@@ -720,3 +720,34 @@ TEST_CASE("segmental pier under El Centro, the base joint rocking: the closed jo
                                    << " of N; after the impact phases " << post[0] << post[1] << post[2] << post[3]
                                    << ", rates within " << worst_post / post_scale);
 }
+
+TEST_CASE("the pier's tendon: one open joint stretches it by the rotation of the top anchor about that joint's corner") {
+  const Chain chain = make_chain(pier());
+  ChainWorkspace w = make_workspace(chain);
+  const double H = 4 * pier_h;
+  double sum_shares = 0;
+  Vec all(4);
+  for (int j = 0; j < 4; ++j)
+    for (const Pivot p : pivots) {
+      const int s = sign(p);
+      std::vector<Phase> phases(4);
+      phases[j] = Phase::rocking(p);
+      Vec q = Vec::Zero(4);
+      q[j] = s * 0.02;
+      const double h = j * pier_h, th = q[j];
+      // the top anchor (0, H) turned clockwise by theta about the corner (s B, h)
+      const double x = s * pier_B - s * pier_B * std::cos(th) + (H - h) * std::sin(th);
+      const double y = h + s * pier_B * std::sin(th) + (H - h) * std::cos(th);
+      const double e = std::hypot(x, y) - H;
+      CHECK(std::abs(tendon_elongation(chain, phases, 0, q, w) - e) <= 1e-14);
+      if (p == Pivot::right) sum_shares += e, all[j] = th;
+    }
+  // With every joint open at once the straight tendon's elongation is the sum
+  // of these shares to first order in theta only (MODEL.md 15 takes the
+  // distance between the anchors); the difference is reported, not checked.
+  const std::vector<Phase> open(4, Phase::rocking(Pivot::right));
+  const double e_all = tendon_elongation(chain, open, 0, all, w);
+  CHECK(e_all > 0);
+  MESSAGE("all four joints open at 0.02 rad: elongation " << e_all << " m, sum of the joints' shares " << sum_shares
+                                                          << " m, first order sum B theta " << 4 * pier_B * 0.02 << " m");
+}
