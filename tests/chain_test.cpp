@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -750,4 +751,30 @@ TEST_CASE("the pier's tendon: one open joint stretches it by the rotation of the
   CHECK(e_all > 0);
   MESSAGE("all four joints open at 0.02 rad: elongation " << e_all << " m, sum of the joints' shares " << sum_shares
                                                           << " m, first order sum B theta " << 4 * pier_B * 0.02 << " m");
+}
+
+TEST_CASE("a stack in full contact: each joint's friction demand is a_g / (g + a_v), and a ground falling faster than gravity puts every joint in tension") {
+  const Chain chain = make_chain(pier());
+  ChainWorkspace w = make_workspace(chain);
+  const std::vector<Phase> phases(4);
+  const Vec zero = Vec::Zero(4);
+  Vec acc(4);
+  std::vector<JointReaction> r(4);
+  const double g = chain.data.g, a_g = 2.5, a_v = 0.3 * g;
+  chain_reactions(chain, phases, {a_g, a_v}, zero, zero, r, acc, w);
+  for (int j = 0; j < 4; ++j) {
+    // the part above j moves with the ground: V = -m a_g (the face holds it back), N = m (g + a_v) + P0
+    const double m = (4 - j) * (pier_slab + pier_mid + pier_top);
+    CHECK(rel_close(r[j].N, m * (g + a_v) + pier_P0, 1e-12));
+    CHECK(rel_close(friction_demand(r[j]), m * a_g / (m * (g + a_v) + pier_P0), 1e-12));
+  }
+  const Chain bare = make_chain([] {
+    ChainData d = pier();
+    d.tendons.clear();
+    return d;
+  }());
+  ChainWorkspace wb = make_workspace(bare);
+  chain_reactions(bare, phases, {0.0, -1.2 * g}, zero, zero, r, acc, wb);
+  for (int j = 0; j < 4; ++j) CHECK(r[j].N < 0);
+  CHECK(friction_demand(r[0]) == std::numeric_limits<double>::infinity());
 }
