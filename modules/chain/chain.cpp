@@ -280,6 +280,8 @@ void solve_free(ChainWorkspace& w) {
 void accelerate(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
                 Eigen::Ref<const Eigen::VectorXd> q_dot, Eigen::Ref<Eigen::VectorXd> q_ddot, bool augmented,
                 ChainWorkspace& w) {
+  if (static_cast<int>(phases.size()) != c.joints || q.size() != c.size || q_dot.size() != c.size || q_ddot.size() != c.size)
+    throw std::invalid_argument("chain: one phase per joint and one q, q', q'' per coordinate");
   const int ncol = augmented ? c.augmented : c.size;
   partition(c, phases, augmented, w);
   kinematics(c, phases, q, q_dot, ncol, w);
@@ -493,6 +495,9 @@ double corner_acceleration(const Chain& c, ChainPhases phases, int joint, Pivot 
 
 ImpactCandidate impact_into(const Chain& c, ChainPhases before, int joint, ChainPhases after,
                             Eigen::Ref<const Eigen::VectorXd> q, Eigen::Ref<const Eigen::VectorXd> q_dot) {
+  if (static_cast<int>(before.size()) != c.joints || static_cast<int>(after.size()) != c.joints || q.size() != c.size ||
+      q_dot.size() != c.size || joint < 0 || joint >= c.joints || !before[joint].is_rocking())
+    throw std::invalid_argument("chain impact: one phase per joint, and the impacting joint rocking");
   ChainWorkspace w = make_workspace(c);
   // velocities before, with the kinematics before
   kinematics(c, before, q, q_dot, c.size, w);
@@ -540,6 +545,8 @@ ImpactCandidate impact_into(const Chain& c, ChainPhases before, int joint, Chain
 ImpactOutcome chain_impact(const Chain& c, ChainPhases before, int joint, Eigen::Ref<const Eigen::VectorXd> q,
                            Eigen::Ref<const Eigen::VectorXd> q_dot, double restitution) {
   ImpactOutcome out;
+  if (joint < 0 || joint >= c.joints || static_cast<int>(before.size()) != c.joints || !before[joint].is_rocking())
+    throw std::invalid_argument("chain impact: one phase per joint, and the impacting joint rocking");
   const Pivot s = *before[joint].pivot();
   if (restitution >= 0) {  // theta_j'+ = r theta_j'-, the rest continuous
     out.status = ImpactStatus::unique;
