@@ -1,5 +1,6 @@
 // rk45 allocates nothing per step: every work vector is sized at construction
-// and reset. Counted by interposing malloc in this executable (Eigen allocates
+// and reset; nor does rocking.chain's right-hand side or its reactions, which
+// work in a workspace sized once. Counted by interposing malloc in this executable (Eigen allocates
 // with std::malloc, operator new calls malloc too); glibc's own allocator
 // (__libc_malloc) does the work.
 #include <rocking/eigen.hpp>
@@ -7,6 +8,7 @@
 #include <atomic>
 #include <cstdlib>
 import rocking.integrator;
+import rocking.chain;
 
 namespace {
 std::atomic<long> allocations{0};
@@ -37,4 +39,36 @@ TEST_CASE("rk45 makes no heap allocation while stepping, with guards, events and
   CHECK(allocations.load() - before == 0);
   CHECK(events == 6);  // sin t crosses zero at pi, 2pi, ..., 6pi
   CHECK(rk->stats().steps > 200);
+}
+
+TEST_CASE("the chain's right-hand side and joint reactions make no heap allocation") {
+  using namespace rocking;
+  ChainData d;
+  for (int j = 0; j < 3; ++j) {
+    ChainSegment s;
+    s.base_height = 2.0 * j;
+    s.half_width = 0.5;
+    s.base_mass = 100.0;
+    s.heights = (Eigen::VectorXd(2) << 2.0 * j + 1.0, 2.0 * j + 2.0).finished();
+    s.masses = (Eigen::VectorXd(2) << 200.0, 100.0).finished();
+    d.segments.push_back(s);
+  }
+  ChainTendon t;
+  t.to = {2, 0.0, 2.0};
+  t.prestress = 1e4;
+  t.stiffness = 1e6;
+  d.tendons.push_back(t);
+  const Chain chain = make_chain(d);
+  ChainWorkspace w = make_workspace(chain);
+  const Phase phases[] = {Phase::rocking(Pivot::right), Phase::full_contact(), Phase::rocking(Pivot::left)};
+  const Eigen::VectorXd q = (Eigen::VectorXd(3) << 0.01, 0.0, -0.02).finished(), v = (Eigen::VectorXd(3) << 0.1, 0.0, -0.2).finished();
+  Eigen::VectorXd acc(3);
+  JointReaction r[3];
+  const long before = allocations.load();
+  for (int k = 0; k < 100; ++k) {
+    chain_acceleration(chain, phases, {0.5, 0.1}, q, v, acc, w);
+    chain_reactions(chain, phases, {0.5, 0.1}, q, v, r, acc, w);
+  }
+  CHECK(allocations.load() - before == 0);
+  CHECK(r[1].N > 0);
 }

@@ -1,0 +1,650 @@
+module;
+#include <rocking/eigen.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+module rocking.chain;
+
+namespace rocking {
+
+namespace {
+
+// A frame: origin O, angle psi (clockwise, as theta), their rates, and the
+// bias acceleration of O (its acceleration at q'' = 0). Its Jacobian lives in
+// three rows of ChainWorkspace::frames: dOx/dq, dOy/dq, dpsi/dq.
+struct Frame {
+  double ox = 0, oy = 0, psi = 0, c = 1, s = 0;
+  double vx = 0, vy = 0, omega = 0, bx = 0, by = 0;
+  int row = 0;  // first of its three Jacobian rows
+};
+
+// A point of frame f at local (x, z), local rate (x', 0), whose x is
+// coordinate ucol (-1: none), into Jacobian rows out, out + 1 of jac, with its
+// position, velocity and bias acceleration:
+//   p = O + R r, R r = (x c + z s, -x s + z c),
+//   p' = O' + w perp(R r) + R r',  perp(a, b) = (b, -a),
+//   bias = O_bias - w^2 R r + 2 w perp(R r').
+struct Point {
+  double x, y, vx, vy, bx, by;
+};
+Point point_of(const Frame& f, const Eigen::MatrixXd& fj, double x, double z, double x_dot, int ucol, int ncol,
+               Eigen::MatrixXd& jac, int out) {
+  const double rx = x * f.c + z * f.s, ry = -x * f.s + z * f.c;
+  const double px = ry, py = -rx;  // perp(R r)
+  for (int k = 0; k < ncol; ++k) {
+    const double dpsi = fj(f.row + 2, k);
+    jac(out, k) = fj(f.row, k) + px * dpsi;
+    jac(out + 1, k) = fj(f.row + 1, k) + py * dpsi;
+  }
+  if (ucol >= 0 && ucol < ncol) {
+    jac(out, ucol) += f.c;
+    jac(out + 1, ucol) -= f.s;
+  }
+  const double w = f.omega;
+  const double rdx = x_dot * f.c, rdy = -x_dot * f.s;  // R r'
+  return {f.ox + rx,
+          f.oy + ry,
+          f.vx + w * px + rdx,
+          f.vy + w * py + rdy,
+          f.bx - w * w * rx + 2.0 * w * rdy,
+          f.by - w * w * ry - 2.0 * w * rdx};
+}
+
+// A frame at a point (Jacobian rows `from` of jac copied to its rows), with
+// angle psi + dpsi turning with coordinate col (-1: none).
+Frame frame_at(const Point& p, const Frame& f, const Eigen::MatrixXd& jac, int from, Eigen::MatrixXd& fj, int row,
+               int ncol, double dpsi, double dpsi_dot, int col) {
+  Frame g;
+  g.row = row;
+  g.ox = p.x;
+  g.oy = p.y;
+  g.vx = p.vx;
+  g.vy = p.vy;
+  g.bx = p.bx;
+  g.by = p.by;
+  g.psi = f.psi + dpsi;
+  g.c = std::cos(g.psi);
+  g.s = std::sin(g.psi);
+  g.omega = f.omega + dpsi_dot;
+  for (int k = 0; k < ncol; ++k) {
+    fj(row, k) = jac(from, k);
+    fj(row + 1, k) = jac(from + 1, k);
+    fj(row + 2, k) = fj(f.row + 2, k);
+  }
+  if (col >= 0 && col < ncol) fj(row + 2, col) += 1.0;
+  return g;
+}
+
+bool closed(const Phase& p) { return !p.is_rocking(); }
+
+int pivot_sign(const Phase& p) { return p.sign(); }
+
+// Kinematics of every mass point (rows 2i, 2i+1 of w.jac; position, velocity
+// and bias in w.points) and of the tendons' anchors (after the points), for
+// the first ncol coordinates (size, or augmented with each joint's relative
+// translation (d_x, d_y) in its face's frame, about the joint's reference
+// point: the active corner, or the centre of a closed joint, where theta_j
+// then turns). `extra` is one more anchor (anchor_position).
+void kinematics(const Chain& c, ChainPhases phases, Eigen::Ref<const Eigen::VectorXd> q,
+                Eigen::Ref<const Eigen::VectorXd> q_dot, int ncol, ChainWorkspace& w, const ChainAnchor* extra = nullptr) {
+  const ChainData& d = c.data;
+  Eigen::MatrixXd& fj = w.frames;  // rows 0-2 face, 3-5 corner, 6-8 segment
+  Eigen::MatrixXd& jac = w.jac;
+  const int anchor_row = 2 * c.points;
+  const int tendons = static_cast<int>(d.tendons.size());
+  auto place_anchor = [&](const ChainAnchor& a, int slot, const Frame* seg, int j) {
+    const int row = anchor_row + 2 * slot;
+    if (a.segment < 0) {
+      for (int k = 0; k < ncol; ++k) jac(row, k) = jac(row + 1, k) = 0.0;
+      w.anchors.row(slot) << a.x, a.z, 0.0, 0.0;
+      return;
+    }
+    if (a.segment != j) return;
+    double x = a.x, z = a.z, xd = 0;
+    int ucol = -1;
+    if (a.node >= 0) {
+      z = c.local_heights[j][a.node];
+      if (c.elastic_offset[j] >= 0) {
+        ucol = c.elastic_offset[j] + a.node;
+        x += q[ucol];
+        xd = q_dot[ucol];
+      }
+    }
+    const Point p = point_of(*seg, fj, x, z, xd, ucol, ncol, jac, row);
+    w.anchors.row(slot) << p.x, p.y, p.vx, p.vy;
+  };
+  for (int t = 0; t < tendons; ++t)
+    if (d.tendons[t].from.segment < 0) place_anchor(d.tendons[t].from, 2 * t, nullptr, -1);
+  if (extra && extra->segment < 0) place_anchor(*extra, 2 * tendons, nullptr, -1);
+
+  Frame face;  // the ground
+  face.row = 0;
+  for (int r = 0; r < 3; ++r)
+    for (int k = 0; k < ncol; ++k) fj(r, k) = 0.0;
+  Frame seg;
+  int pt = 0;
+  for (int j = 0; j < c.joints; ++j) {
+    const ChainSegment& sg = d.segments[j];
+    const int eo = c.elastic_offset[j];
+    if (j > 0) {  // the face: segment j-1's top node, turning with its phi
+      const ChainSegment& below = d.segments[j - 1];
+      const int n = static_cast<int>(below.heights.size());
+      const int eb = c.elastic_offset[j - 1];
+      const int ucol = eb >= 0 ? eb + n - 1 : -1;
+      const int pcol = c.rotation_index[j - 1];
+      const Point top = point_of(seg, fj, ucol >= 0 ? q[ucol] : 0.0, c.local_heights[j - 1][n - 1],
+                                 ucol >= 0 ? q_dot[ucol] : 0.0, ucol, ncol, jac, anchor_row + 2 * (2 * tendons + 1));
+      face = frame_at(top, seg, jac, anchor_row + 2 * (2 * tendons + 1), fj, 0, ncol, pcol >= 0 ? q[pcol] : 0.0,
+                      pcol >= 0 ? q_dot[pcol] : 0.0, pcol);
+    }
+    // the reference point: the active corner (s B, 0), or the centre
+    const double cx = closed(phases[j]) ? 0.0 : pivot_sign(phases[j]) * sg.half_width;
+    const int scratch = anchor_row + 2 * (2 * tendons + 1);
+    const Point corner = point_of(face, fj, cx, 0.0, 0.0, -1, ncol, jac, scratch);
+    if (ncol > c.size) {  // relative translation of the slab on the face
+      const int dx = c.size + 2 * j;
+      jac(scratch, dx) += face.c;
+      jac(scratch + 1, dx) -= face.s;
+      jac(scratch, dx + 1) += face.s;
+      jac(scratch + 1, dx + 1) += face.c;
+    }
+    const double th = closed(phases[j]) ? 0.0 : q[j], th_dot = closed(phases[j]) ? 0.0 : q_dot[j];
+    const Frame pivot = frame_at(corner, face, jac, scratch, fj, 3, ncol, th, th_dot, j);
+    const Point origin = point_of(pivot, fj, -cx, 0.0, 0.0, -1, ncol, jac, scratch);
+    seg = frame_at(origin, pivot, jac, scratch, fj, 6, ncol, 0.0, 0.0, -1);
+    // its mass points: the slab, then the nodes
+    const Point slab = point_of(seg, fj, 0.0, 0.0, 0.0, -1, ncol, jac, 2 * pt);
+    w.points.row(pt) << slab.x, slab.y, slab.vx, slab.vy, slab.bx, slab.by;
+    ++pt;
+    const Eigen::VectorXd& z = c.local_heights[j];
+    for (int i = 0; i < z.size(); ++i, ++pt) {
+      const int ucol = eo >= 0 ? eo + i : -1;
+      const Point p = point_of(seg, fj, ucol >= 0 ? q[ucol] : 0.0, z[i], ucol >= 0 ? q_dot[ucol] : 0.0, ucol, ncol, jac,
+                               2 * pt);
+      w.points.row(pt) << p.x, p.y, p.vx, p.vy, p.bx, p.by;
+    }
+    for (int t = 0; t < tendons; ++t) {
+      place_anchor(d.tendons[t].from, 2 * t, &seg, j);
+      place_anchor(d.tendons[t].to, 2 * t + 1, &seg, j);
+    }
+    if (extra) place_anchor(*extra, 2 * tendons, &seg, j);
+    (void)sg;
+  }
+}
+
+// Mass of each point, in kinematics' order.
+double point_mass(const Chain& c, int i) { return c.masses[i]; }
+
+// Tendon t's elongation, force and the force's generalised force row
+// accumulated into Q (after kinematics).
+struct TendonState {
+  double e, e_dot, force;
+};
+TendonState tendon_state(const Chain& c, int t, int ncol, ChainWorkspace& w, Eigen::VectorXd* Q) {
+  const ChainTendon& td = c.data.tendons[t];
+  const int a = 2 * c.points + 4 * t;  // rows of from, then to
+  const double dx = w.anchors(2 * t + 1, 0) - w.anchors(2 * t, 0), dy = w.anchors(2 * t + 1, 1) - w.anchors(2 * t, 1);
+  const double L = std::hypot(dx, dy), nx = dx / L, ny = dy / L;
+  const double e = L - c.rest_length[t];
+  const double e_dot = nx * (w.anchors(2 * t + 1, 2) - w.anchors(2 * t, 2)) + ny * (w.anchors(2 * t + 1, 3) - w.anchors(2 * t, 3));
+  const double F = std::max(0.0, td.prestress + td.stiffness * e);
+  if (Q && F != 0.0)
+    for (int k = 0; k < ncol; ++k)  // -F de/dq, de/dq = n'(J_to - J_from)
+      (*Q)[k] -= F * (nx * (w.jac(a + 2, k) - w.jac(a, k)) + ny * (w.jac(a + 3, k) - w.jac(a + 1, k)));
+  return {e, e_dot, F};
+}
+
+// M and Q on the first ncol coordinates (after kinematics).
+void assemble_equations(const Chain& c, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
+              Eigen::Ref<const Eigen::VectorXd> q_dot, int ncol, ChainWorkspace& w) {
+  Eigen::MatrixXd& M = w.mass;
+  Eigen::VectorXd& Q = w.force;
+  for (int k = 0; k < ncol; ++k) {
+    Q[k] = 0.0;
+    for (int l = 0; l < ncol; ++l) M(l, k) = 0.0;
+  }
+  const double gv = c.data.g + a.v;
+  for (int i = 0; i < c.points; ++i) {
+    const double m = point_mass(c, i);
+    if (m == 0.0) continue;
+    const double fx = m * (w.points(i, 4) + a.h), fy = m * (w.points(i, 5) + gv);
+    for (int k = 0; k < ncol; ++k) {
+      const double jxk = w.jac(2 * i, k), jyk = w.jac(2 * i + 1, k);
+      if (jxk == 0.0 && jyk == 0.0) continue;
+      Q[k] -= jxk * fx + jyk * fy;
+      for (int l = k; l < ncol; ++l) M(l, k) += m * (jxk * w.jac(2 * i, l) + jyk * w.jac(2 * i + 1, l));
+    }
+  }
+  for (int k = 0; k < ncol; ++k)
+    for (int l = k + 1; l < ncol; ++l) M(k, l) = M(l, k);
+  for (int j = 0; j < c.joints; ++j) {  // - K x - C x'
+    const int o = c.elastic_offset[j];
+    if (o < 0) continue;
+    const Eigen::MatrixXd &K = c.K[j], &C = c.C[j];
+    const int n = static_cast<int>(K.rows());
+    for (int l = 0; l < n; ++l) {
+      const double x = q[o + l], v = q_dot[o + l];
+      for (int k = 0; k < n; ++k) Q[o + k] -= K(k, l) * x + C(k, l) * v;
+    }
+  }
+  for (int t = 0; t < static_cast<int>(c.data.tendons.size()); ++t) tendon_state(c, t, ncol, w, &Q);
+}
+
+// The free coordinates (open joints' theta, every elastic one) and, when
+// augmented, the fixed ones (closed joints' theta, every d).
+void partition(const Chain& c, ChainPhases phases, bool augmented, ChainWorkspace& w) {
+  w.free.clear();
+  w.fixed.clear();
+  for (int j = 0; j < c.joints; ++j) (closed(phases[j]) ? w.fixed : w.free).push_back(j);
+  for (int k = c.joints; k < c.size; ++k) w.free.push_back(k);
+  if (augmented)
+    for (int k = c.size; k < c.augmented; ++k) w.fixed.push_back(k);
+}
+
+// Solve M_ff x = rhs (rhs in w.rhs, result in w.solution) by Cholesky in w.reduced.
+void solve_free(ChainWorkspace& w) {
+  const int n = static_cast<int>(w.free.size());
+  Eigen::MatrixXd& L = w.reduced;
+  for (int b = 0; b < n; ++b)
+    for (int a = b; a < n; ++a) L(a, b) = w.mass(w.free[a], w.free[b]);
+  for (int k = 0; k < n; ++k) {
+    double d = L(k, k);
+    for (int p = 0; p < k; ++p) d -= L(k, p) * L(k, p);
+    if (!(d > 0.0)) throw std::runtime_error("chain: mass matrix not positive definite");
+    d = std::sqrt(d);
+    L(k, k) = d;
+    for (int i = k + 1; i < n; ++i) {
+      double v = L(i, k);
+      for (int p = 0; p < k; ++p) v -= L(i, p) * L(k, p);
+      L(i, k) = v / d;
+    }
+  }
+  Eigen::VectorXd& x = w.solution;
+  for (int i = 0; i < n; ++i) {
+    double v = w.rhs[i];
+    for (int p = 0; p < i; ++p) v -= L(i, p) * x[p];
+    x[i] = v / L(i, i);
+  }
+  for (int i = n - 1; i >= 0; --i) {
+    double v = x[i];
+    for (int p = i + 1; p < n; ++p) v -= L(p, i) * x[p];
+    x[i] = v / L(i, i);
+  }
+}
+
+void accelerate(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
+                Eigen::Ref<const Eigen::VectorXd> q_dot, Eigen::Ref<Eigen::VectorXd> q_ddot, bool augmented,
+                ChainWorkspace& w) {
+  if (static_cast<int>(phases.size()) != c.joints || q.size() != c.size || q_dot.size() != c.size || q_ddot.size() != c.size)
+    throw std::invalid_argument("chain: one phase per joint and one q, q', q'' per coordinate");
+  const int ncol = augmented ? c.augmented : c.size;
+  partition(c, phases, augmented, w);
+  kinematics(c, phases, q, q_dot, ncol, w);
+  assemble_equations(c, a, q, q_dot, ncol, w);
+  for (std::size_t i = 0; i < w.free.size(); ++i) w.rhs[i] = w.force[w.free[i]];
+  solve_free(w);
+  q_ddot.setZero();
+  for (std::size_t i = 0; i < w.free.size(); ++i) q_ddot[w.free[i]] = w.solution[i];
+}
+
+void fail(const std::string& field, const std::string& what) { throw std::invalid_argument(field + ": " + what); }
+
+// Stiffness of a segment's beam clamped to its slab (local heights z), on
+// (u_1..u_n) and, with keep_top, the top node's rotation (the others condensed).
+Eigen::MatrixXd segment_stiffness(const Eigen::VectorXd& z, const Eigen::VectorXd& EI, bool keep_top) {
+  const int n = static_cast<int>(z.size());
+  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(2 * n, 2 * n);  // u_1..u_n, phi_1..phi_n
+  for (int e = 0; e < n; ++e) {
+    const double below = e == 0 ? 0.0 : z[e - 1];
+    const Eigen::Matrix4d ke = element_stiffness(EI[e], z[e] - below);
+    const int dof[4] = {e - 1, n + e - 1, e, n + e};
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b)
+        if (e > 0 || (a >= 2 && b >= 2)) k(dof[a], dof[b]) += ke(a, b);
+  }
+  const int kept = n + (keep_top ? 1 : 0);
+  std::vector<int> keep, cond;
+  for (int i = 0; i < 2 * n; ++i) ((i < n || (keep_top && i == 2 * n - 1)) ? keep : cond).push_back(i);
+  Eigen::MatrixXd kk(kept, kept), kc(kept, static_cast<int>(cond.size())), cc(cond.size(), cond.size());
+  for (int a = 0; a < kept; ++a)
+    for (int b = 0; b < kept; ++b) kk(a, b) = k(keep[a], keep[b]);
+  for (int a = 0; a < kept; ++a)
+    for (std::size_t b = 0; b < cond.size(); ++b) kc(a, b) = k(keep[a], cond[b]);
+  for (std::size_t a = 0; a < cond.size(); ++a)
+    for (std::size_t b = 0; b < cond.size(); ++b) cc(a, b) = k(cond[a], cond[b]);
+  Eigen::MatrixXd out = cond.empty() ? kk : Eigen::MatrixXd(kk - kc * cc.llt().solve(kc.transpose()));
+  return 0.5 * (out + out.transpose());
+}
+
+}  // namespace
+
+ChainData split_structure(const Structure& s, std::span<const ChainJointSpec> joints) {
+  check(s);
+  const int N = static_cast<int>(s.heights.size());
+  std::vector<int> cuts{0};
+  for (std::size_t k = 0; k < joints.size(); ++k) {
+    const std::string field = "joint[" + std::to_string(k + 1) + "]";
+    if (joints[k].node < 1 || joints[k].node > N - 1)
+      fail(field + ".node", "must be a node of the structure, 1.." + std::to_string(N - 1));
+    if (joints[k].node <= cuts.back()) fail(field + ".node", "joints must go up the structure in order");
+    cuts.push_back(joints[k].node);
+  }
+  cuts.push_back(N);
+  ChainData d;
+  d.g = gravity;
+  if (!s.rigid) d.rayleigh = assemble(s).rayleigh;
+  for (std::size_t j = 0; j + 1 < cuts.size(); ++j) {
+    ChainSegment sg;
+    const int lo = cuts[j], hi = cuts[j + 1];  // nodes lo+1..hi
+    sg.base_height = lo == 0 ? 0.0 : s.heights[lo - 1];
+    sg.half_width = j == 0 ? s.half_width : joints[j - 1].half_width;
+    sg.base_mass = j == 0 ? s.base_mass : joints[j - 1].base_mass;
+    sg.heights = s.heights.segment(lo, hi - lo);
+    sg.masses = s.masses.segment(lo, hi - lo);
+    sg.rigid = s.rigid || (j > 0 && joints[j - 1].rigid);
+    if (!sg.rigid) sg.EI = s.EI_scale * s.EI.segment(lo, hi - lo);
+    d.segments.push_back(sg);
+  }
+  return d;
+}
+
+Chain make_chain(const ChainData& d) {
+  Chain c;
+  c.data = d;
+  if (d.segments.empty()) fail("segments", "a chain needs at least one segment");
+  if (!(d.g > 0)) fail("g", "must be > 0");
+  c.joints = static_cast<int>(d.segments.size());
+  int next = c.joints;
+  for (int j = 0; j < c.joints; ++j) {
+    const ChainSegment& s = d.segments[j];
+    const std::string f = "segments[" + std::to_string(j) + "]";
+    const Eigen::Index n = s.heights.size();
+    if (n < 1) fail(f + ".heights", "a segment needs at least one node");
+    if (s.masses.size() != n) fail(f + ".masses", "one mass per node");
+    if (!(s.half_width > 0) || !std::isfinite(s.half_width)) fail(f + ".half_width", "must be > 0");
+    if (!(s.base_mass >= 0) || !std::isfinite(s.base_mass)) fail(f + ".base_mass", "must be >= 0");
+    const double h0 = j == 0 ? 0.0 : d.segments[j - 1].heights[d.segments[j - 1].heights.size() - 1];
+    if (s.base_height != h0) fail(f + ".base_height", "must be the top node's height of the segment below (0 for the first)");
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (!(s.heights[i] > (i == 0 ? s.base_height : s.heights[i - 1])) || !std::isfinite(s.heights[i]))
+        fail(f + ".heights", "must increase from above the slab");
+      if (!(s.rigid ? s.masses[i] >= 0 : s.masses[i] > 0) || !std::isfinite(s.masses[i]))
+        fail(f + ".masses", s.rigid ? "must be >= 0" : "must be > 0 (a flexible node)");
+    }
+    if (s.base_mass + s.masses.sum() <= 0) fail(f, "has no mass");
+    if (!s.rigid && j > 0 && !d.segments[j - 1].rigid)
+      fail(f + ".rigid", "a flexible segment on a flexible one is not supported (the face's rotation would have no inertia)");
+    c.local_heights.push_back(s.heights.array() - s.base_height);
+    const bool below_joint = j + 1 < c.joints;
+    if (s.rigid) {
+      c.elastic_offset.push_back(-1);
+      c.rotation_index.push_back(-1);
+      c.K.emplace_back();
+      c.C.emplace_back();
+    } else {
+      if (s.EI.size() != n) fail(f + ".EI", "one E*I per element");
+      for (Eigen::Index i = 0; i < n; ++i)
+        if (!(s.EI[i] > 0) || !std::isfinite(s.EI[i])) fail(f + ".EI", "must be > 0");
+      c.elastic_offset.push_back(next);
+      next += static_cast<int>(n);
+      c.rotation_index.push_back(below_joint ? next++ : -1);
+      c.K.push_back(segment_stiffness(c.local_heights.back(), s.EI, below_joint));
+      Eigen::VectorXd m = Eigen::VectorXd::Zero(c.K.back().rows());
+      m.head(n) = s.masses;
+      c.C.push_back(d.rayleigh.a0 * Eigen::MatrixXd(m.asDiagonal()) + d.rayleigh.a1 * c.K.back());
+    }
+    c.points += 1 + static_cast<int>(n);
+    c.rest_height.push_back(s.base_height);
+    for (Eigen::Index i = 0; i < n; ++i) c.rest_height.push_back(s.heights[i]);
+  }
+  c.masses.resize(c.points);
+  for (int j = 0, i = 0; j < c.joints; ++j) {
+    c.masses[i++] = d.segments[j].base_mass;
+    for (Eigen::Index k = 0; k < d.segments[j].masses.size(); ++k) c.masses[i++] = d.segments[j].masses[k];
+  }
+  c.size = next;
+  c.augmented = next + 2 * c.joints;
+  for (std::size_t t = 0; t < d.tendons.size(); ++t) {
+    const std::string f = "tendons[" + std::to_string(t) + "]";
+    for (const ChainAnchor* a : {&d.tendons[t].from, &d.tendons[t].to}) {
+      const std::string g = f + (a == &d.tendons[t].from ? ".from" : ".to");
+      if (a->segment < -1 || a->segment >= c.joints) fail(g + ".segment", "no such segment (-1 is the ground)");
+      if (a->node >= 0 && (a->segment < 0 || a->node >= d.segments[a->segment].heights.size()))
+        fail(g + ".node", "no such node on that segment");
+    }
+    if (d.tendons[t].from.segment >= d.tendons[t].to.segment)
+      fail(f + ".to.segment", "must be above the segment of .from");
+    if (!(d.tendons[t].stiffness >= 0) || !(d.tendons[t].prestress >= 0)) fail(f, "stiffness and prestress must be >= 0");
+  }
+  // rest lengths: the anchors' distance with every coordinate zero
+  ChainWorkspace w = make_workspace(c);
+  const std::vector<Phase> rest(c.joints);
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(c.size);
+  for (std::size_t t = 0; t < d.tendons.size(); ++t) {
+    const Eigen::Vector2d a = anchor_position(c, rest, d.tendons[t].from, zero, w);
+    const Eigen::Vector2d b = anchor_position(c, rest, d.tendons[t].to, zero, w);
+    const double L = d.tendons[t].free_length > 0 ? d.tendons[t].free_length : (b - a).norm();
+    if (!(L > 0)) fail("tendons[" + std::to_string(t) + "]", "its anchors coincide");
+    c.rest_length.push_back(L);
+  }
+  return c;
+}
+
+ChainWorkspace make_workspace(const Chain& c) {
+  ChainWorkspace w;
+  const int anchors = 2 * static_cast<int>(c.data.tendons.size()) + 1;
+  w.jac = Eigen::MatrixXd::Zero(2 * (c.points + anchors + 1), c.augmented);
+  w.points = Eigen::MatrixXd::Zero(c.points, 6);
+  w.anchors = Eigen::MatrixXd::Zero(anchors, 4);
+  w.frames = Eigen::MatrixXd::Zero(9, c.augmented);
+  w.mass = Eigen::MatrixXd::Zero(c.augmented, c.augmented);
+  w.force = Eigen::VectorXd::Zero(c.augmented);
+  w.reduced = Eigen::MatrixXd::Zero(c.augmented, c.augmented);
+  w.rhs = Eigen::VectorXd::Zero(c.augmented);
+  w.solution = Eigen::VectorXd::Zero(c.augmented);
+  w.free.reserve(c.augmented);
+  w.fixed.reserve(c.augmented);
+  return w;
+}
+
+void chain_acceleration(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
+                        Eigen::Ref<const Eigen::VectorXd> q_dot, Eigen::Ref<Eigen::VectorXd> q_ddot, ChainWorkspace& w) {
+  accelerate(c, phases, a, q, q_dot, q_ddot, false, w);
+}
+
+void chain_reactions(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
+                     Eigen::Ref<const Eigen::VectorXd> q_dot, std::span<JointReaction> out,
+                     Eigen::Ref<Eigen::VectorXd> q_ddot, ChainWorkspace& w) {
+  accelerate(c, phases, a, q, q_dot, q_ddot, true, w);
+  // lambda_c = M_cf q_f'' - Q_c: the generalised force of constraint c
+  auto lambda = [&](int col) {
+    double v = -w.force[col];
+    for (std::size_t i = 0; i < w.free.size(); ++i) v += w.mass(col, w.free[i]) * w.solution[i];
+    return v;
+  };
+  for (int j = 0; j < c.joints; ++j) {
+    out[j].V = lambda(c.size + 2 * j);
+    out[j].N = lambda(c.size + 2 * j + 1);
+    out[j].M = closed(phases[j]) ? -lambda(j) : 0.0;  // the face's moment on the part above is -M
+  }
+}
+
+double uplift_guard(const Chain& c, int joint, Pivot s, const JointReaction& r) {
+  return sign(s) * r.M - r.N * c.data.segments[joint].half_width;
+}
+
+double friction_demand(const JointReaction& r) {
+  return r.N > 0 ? std::abs(r.V) / r.N : std::numeric_limits<double>::infinity();
+}
+
+double corner_acceleration(const Chain& c, ChainPhases phases, int joint, Pivot s, GroundAcceleration a,
+                           Eigen::Ref<const Eigen::VectorXd> q, Eigen::Ref<const Eigen::VectorXd> q_dot, ChainWorkspace& w) {
+  std::vector<Phase> trial(phases.begin(), phases.end());
+  trial[joint] = Phase::rocking(s);
+  Eigen::VectorXd q0 = q, v0 = q_dot, acc(c.size);
+  q0[joint] = 0.0;
+  v0[joint] = 0.0;
+  accelerate(c, trial, a, q0, v0, acc, false, w);
+  return sign(s) * acc[joint];
+}
+
+ImpactCandidate impact_into(const Chain& c, ChainPhases before, int joint, ChainPhases after,
+                            Eigen::Ref<const Eigen::VectorXd> q, Eigen::Ref<const Eigen::VectorXd> q_dot) {
+  if (static_cast<int>(before.size()) != c.joints || static_cast<int>(after.size()) != c.joints || q.size() != c.size ||
+      q_dot.size() != c.size || joint < 0 || joint >= c.joints || !before[joint].is_rocking())
+    throw std::invalid_argument("chain impact: one phase per joint, and the impacting joint rocking");
+  ChainWorkspace w = make_workspace(c);
+  // velocities before, with the kinematics before
+  kinematics(c, before, q, q_dot, c.size, w);
+  const Eigen::MatrixXd v_before = w.points.middleCols(2, 2);
+  double momentum = 0;  // scale of the impulses
+  for (int i = 0; i < c.points; ++i) momentum += point_mass(c, i) * v_before.row(i).norm();
+  // p_k = sum m v- . dp/dq_k with the kinematics after (augmented)
+  partition(c, after, true, w);
+  kinematics(c, after, q, q_dot, c.augmented, w);
+  assemble_equations(c, GroundAcceleration{}, q, q_dot, c.augmented, w);
+  Eigen::VectorXd p = Eigen::VectorXd::Zero(c.augmented);
+  for (int i = 0; i < c.points; ++i) {
+    const double m = point_mass(c, i);
+    for (int k = 0; k < c.augmented; ++k)
+      p[k] += m * (w.jac(2 * i, k) * v_before(i, 0) + w.jac(2 * i + 1, k) * v_before(i, 1));
+  }
+  for (std::size_t i = 0; i < w.free.size(); ++i) w.rhs[i] = p[w.free[i]];
+  solve_free(w);
+  ImpactCandidate out;
+  out.phases.assign(after.begin(), after.end());
+  out.q_dot = Eigen::VectorXd::Zero(c.size);
+  for (std::size_t i = 0; i < w.free.size(); ++i) out.q_dot[w.free[i]] = w.solution[i];
+  auto impulse = [&](int col) {  // p+_c - p-_c, p+ = M_cf q_f'+
+    double v = -p[col];
+    for (std::size_t i = 0; i < w.free.size(); ++i) v += w.mass(col, w.free[i]) * w.solution[i];
+    return v;
+  };
+  out.impulse.resize(c.joints);
+  const double tol = 1e-10 * momentum;
+  out.consistent = true;
+  for (int j = 0; j < c.joints; ++j) {
+    JointReaction& r = out.impulse[j];
+    r.V = impulse(c.size + 2 * j);
+    r.N = impulse(c.size + 2 * j + 1);
+    r.M = closed(after[j]) ? -impulse(j) : 0.0;
+    const double B = c.data.segments[j].half_width;
+    if (r.N < -tol) out.consistent = false;  // a tensile impulse
+    if (closed(after[j]) && std::abs(r.M) > B * r.N + B * tol) out.consistent = false;  // past a corner
+    const bool opened = !closed(after[j]) && (j == joint || closed(before[j]));
+    if (opened && after[j].sign() * out.q_dot[j] < -1e-12 * std::abs(q_dot[joint])) out.consistent = false;
+  }
+  return out;
+}
+
+ImpactOutcome chain_impact(const Chain& c, ChainPhases before, int joint, Eigen::Ref<const Eigen::VectorXd> q,
+                           Eigen::Ref<const Eigen::VectorXd> q_dot, double restitution) {
+  ImpactOutcome out;
+  if (joint < 0 || joint >= c.joints || static_cast<int>(before.size()) != c.joints || !before[joint].is_rocking())
+    throw std::invalid_argument("chain impact: one phase per joint, and the impacting joint rocking");
+  const Pivot s = *before[joint].pivot();
+  if (restitution >= 0) {  // theta_j'+ = r theta_j'-, the rest continuous
+    out.status = ImpactStatus::unique;
+    out.phases.assign(before.begin(), before.end());
+    out.phases[joint] = Phase::rocking(opposite(s));
+    out.q_dot = q_dot;
+    out.q_dot[joint] = restitution * q_dot[joint];
+    return out;
+  }
+  // Joint j continues about -s or closes; the others keep their phases unless
+  // that needs a tensile impulse, which opens that joint about the corner the
+  // resultant lies beyond (impact-induced uplift).
+  std::vector<std::size_t> good;
+  for (const Phase pj : {Phase::rocking(opposite(s)), Phase::full_contact()}) {
+    std::vector<Phase> after(before.begin(), before.end());
+    after[joint] = pj;
+    for (int pass = 0; pass <= c.joints; ++pass) {
+      out.candidates.push_back(impact_into(c, before, joint, after, q, q_dot));
+      const ImpactCandidate& cand = out.candidates.back();
+      bool changed = false;
+      for (int k = 0; k < c.joints; ++k) {
+        if (k == joint || !closed(after[k])) continue;
+        const JointReaction& r = cand.impulse[k];
+        const double B = c.data.segments[k].half_width;
+        if (std::abs(r.M) > B * r.N * (1 + 1e-12) || r.N < 0) {
+          after[k] = Phase::rocking(r.M >= 0 ? Pivot::right : Pivot::left);
+          changed = true;
+        }
+      }
+      if (!changed) break;
+    }
+    if (out.candidates.back().consistent) good.push_back(out.candidates.size() - 1);
+  }
+  if (good.size() == 1) {
+    out.status = ImpactStatus::unique;
+    out.phases = out.candidates[good[0]].phases;
+    out.q_dot = out.candidates[good[0]].q_dot;
+    for (int k = 0; k < c.joints; ++k)
+      if (k != joint && closed(before[k]) && !closed(out.phases[k])) out.uplifted.push_back(k);
+  } else {
+    out.status = good.empty() ? ImpactStatus::none : ImpactStatus::non_unique;
+  }
+  return out;
+}
+
+ChainEnergy chain_energy(const Chain& c, ChainPhases phases, Eigen::Ref<const Eigen::VectorXd> q,
+                         Eigen::Ref<const Eigen::VectorXd> q_dot, ChainWorkspace& w) {
+  kinematics(c, phases, q, q_dot, c.size, w);
+  ChainEnergy e;
+  for (int i = 0; i < c.points; ++i) {
+    const double m = point_mass(c, i);
+    e.kinetic += 0.5 * m * (w.points(i, 2) * w.points(i, 2) + w.points(i, 3) * w.points(i, 3));
+    e.gravity += m * c.data.g * (w.points(i, 1) - c.rest_height[i]);
+  }
+  for (int j = 0; j < c.joints; ++j) {
+    const int o = c.elastic_offset[j];
+    if (o < 0) continue;
+    const int n = static_cast<int>(c.K[j].rows());
+    e.elastic += 0.5 * q.segment(o, n).dot(c.K[j] * q.segment(o, n));
+  }
+  for (int t = 0; t < static_cast<int>(c.data.tendons.size()); ++t) {
+    const ChainTendon& td = c.data.tendons[t];
+    const TendonState st = tendon_state(c, t, c.size, w, nullptr);
+    // int_0^e max(0, P0 + k e) de
+    const double slack = td.stiffness > 0 ? -td.prestress / td.stiffness : -std::numeric_limits<double>::infinity();
+    const double x = std::max(st.e, slack);
+    e.tendons += td.prestress * x + 0.5 * td.stiffness * x * x;
+  }
+  return e;
+}
+
+ChainPower chain_power(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
+                       Eigen::Ref<const Eigen::VectorXd> q_dot, ChainWorkspace& w) {
+  kinematics(c, phases, q, q_dot, c.size, w);
+  ChainPower p;
+  for (int i = 0; i < c.points; ++i) p.ground -= point_mass(c, i) * (a.h * w.points(i, 2) + a.v * w.points(i, 3));
+  for (int j = 0; j < c.joints; ++j) {
+    const int o = c.elastic_offset[j];
+    if (o < 0) continue;
+    const int n = static_cast<int>(c.C[j].rows());
+    p.damping += q_dot.segment(o, n).dot(c.C[j] * q_dot.segment(o, n));
+  }
+  return p;
+}
+
+double tendon_elongation(const Chain& c, ChainPhases phases, int k, Eigen::Ref<const Eigen::VectorXd> q,
+                         ChainWorkspace& w) {
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(c.size);
+  kinematics(c, phases, q, zero, c.size, w);
+  return tendon_state(c, k, c.size, w, nullptr).e;
+}
+
+Eigen::Vector2d anchor_position(const Chain& c, ChainPhases phases, const ChainAnchor& p,
+                                Eigen::Ref<const Eigen::VectorXd> q, ChainWorkspace& w) {
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(c.size);
+  kinematics(c, phases, q, zero, c.size, w, &p);
+  const int slot = 2 * static_cast<int>(c.data.tendons.size());
+  return {w.anchors(slot, 0), w.anchors(slot, 1)};
+}
+
+}  // namespace rocking

@@ -1,0 +1,196 @@
+// rocking.chain: a structure that rocks at more than one level, a chain of
+// segments j = 0..J from the ground up (MODEL.md 15). Segment j is MODEL.md 1's
+// structure in its own frame: a rigid slab (height h_j, mass m0_j on the centre
+// line) standing on joint j (half-width B_j; joint 0 is the ground), its lumped
+// nodes above, rigid or joined by Euler-Bernoulli elements (rocking.beam's
+// element stiffness) clamped to the slab. A flexible segment with a joint above
+// keeps its top node's rotation phi as a coordinate (the face the next segment
+// stands on turns with it); every other rotation is condensed out.
+// Coordinates (one fixed layout for every phase): theta_0..theta_J (segment j's
+// rotation about a corner of its joint, relative to the face below, MODEL.md
+// 2's sign; held at 0 while the joint is closed), then per flexible segment its
+// nodal displacements u in its slab frame and, below a joint, phi.
+// Each mass point's position is an explicit planar chain of rotations about the
+// active corners and translations; J_i = dp_i/dq analytically; Lagrange gives
+//   M = sum m_i J_i'J_i,  Q = -sum m_i J_i'(J_i' q' + (a_g, g + a_v)) - K x - C x' - sum_k F_k de_k/dq
+// (ground acceleration as the frame's, MODEL.md 14; C = a0 M + a1 K per
+// segment). Closed joints' reactions N, V, M are the Lagrange multipliers of
+// their constraints (relative translation and rotation of the slab on the face);
+// uplift about s when s M_j >= N_j B_j (devices spanning the joint are forces in
+// the multipliers, so their restraint is inside N_j and M_j). Impacts conserve
+// the generalised momentum conjugate to the post-impact coordinates; the
+// outcome is searched over the phases the other joints may take and reported
+// unique, non-unique or none, never guessed. docs/chain.md has the derivation.
+// SI units.
+module;
+#include <rocking/eigen.hpp>
+
+#include <span>
+#include <vector>
+export module rocking.chain;
+export import rocking.geometry;
+export import rocking.beam;
+export import rocking.dynamics;  // GroundAcceleration
+
+export namespace rocking {
+
+// One segment as given: its nodes' absolute heights (increasing, above the
+// slab); the last node is the face of the next joint when a segment stands on it.
+struct ChainSegment {
+  double base_height = 0;  // h_j [m] (0 for segment 0)
+  double half_width = 0;   // B_j of the joint it stands on [m]
+  double base_mass = 0;    // m0_j, the slab [kg] (> 0 or nodes with mass)
+  Eigen::VectorXd heights; // absolute node heights [m]
+  Eigen::VectorXd masses;  // lumped node masses [kg]
+  Eigen::VectorXd EI;      // element e: node e-1 (0: the slab) to node e [N m^2]; unused if rigid
+  bool rigid = true;
+};
+
+// A point fixed to a segment's slab frame at (x, z) (z above the slab), or,
+// with node >= 0, one that moves with that node's displacement u. segment -1
+// is the ground.
+struct ChainAnchor {
+  int segment = -1;
+  double x = 0, z = 0;
+  int node = -1;
+};
+
+// MODEL.md 11's elastic law between two anchors: F = max(0, P0 + k e), e the
+// distance between the anchors less the free length (the rest distance when
+// free_length <= 0).
+struct ChainTendon {
+  ChainAnchor from, to;
+  double prestress = 0;   // P0 [N]
+  double stiffness = 0;   // k [N/m]
+  double free_length = 0; // [m]
+};
+
+struct ChainData {
+  std::vector<ChainSegment> segments;
+  std::vector<ChainTendon> tendons;
+  Rayleigh rayleigh;  // a0, a1 of every segment's C = a0 M + a1 K
+  double g = gravity;
+};
+
+// The same structure split at nodes: joint k (k = 1..) stands on node
+// joints[k-1].node of s (1..N-1, increasing) with the given half-width and slab
+// mass; the segment above is rigid if s is or if `rigid` says so. Rayleigh
+// coefficients are the whole structure's (rocking.beam).
+struct ChainJointSpec {
+  int node = 0;
+  double half_width = 0;
+  double base_mass = 0;
+  bool rigid = false;
+};
+ChainData split_structure(const Structure& s, std::span<const ChainJointSpec> joints);
+
+// Built once from ChainData (checked: std::invalid_argument naming the field).
+// A flexible segment may not stand on a flexible one: its nodes, measured in
+// a slab frame that turns with the face, would leave the face's rotation phi
+// with (to first order) no inertia, a singular mass matrix (docs/chain.md).
+struct Chain {
+  ChainData data;
+  int joints = 0;               // J + 1
+  int size = 0;                 // coordinates (the fixed layout above)
+  int augmented = 0;            // size + 2 (J + 1): with each joint's relative translation
+  int points = 0;               // mass points
+  std::vector<int> elastic_offset;  // first u of segment j (-1 if rigid)
+  std::vector<int> rotation_index;  // phi of segment j's top node (-1 if none)
+  std::vector<Eigen::VectorXd> local_heights;  // node heights above each slab
+  std::vector<Eigen::MatrixXd> K, C;           // per flexible segment, on (u, phi)
+  std::vector<double> rest_length;             // per tendon
+  std::vector<double> rest_height;             // per mass point (the potential's zero)
+  Eigen::VectorXd masses;                      // per mass point: each slab, then its nodes
+};
+Chain make_chain(const ChainData& d);
+
+// The phase of each joint (full contact or rocking about a pivot), one per joint.
+using ChainPhases = std::span<const Phase>;
+
+// Everything the equations work in, sized once: the hot path allocates nothing.
+struct ChainWorkspace {
+  Eigen::MatrixXd jac;       // 2 rows per point (+ anchors) x augmented
+  Eigen::MatrixXd points;    // per point: x, y, vx, vy, bias x, bias y
+  Eigen::MatrixXd anchors;   // per anchor: x, y, vx, vy
+  Eigen::MatrixXd frames;    // scratch: per frame its Jacobian
+  Eigen::MatrixXd mass;      // augmented mass matrix
+  Eigen::VectorXd force;     // augmented generalised force
+  Eigen::MatrixXd reduced;   // free block, factorised in place
+  Eigen::VectorXd rhs, solution;
+  std::vector<int> free, fixed;
+};
+ChainWorkspace make_workspace(const Chain& c);
+
+// q'' (size entries; closed joints' theta'' = 0). Allocates nothing.
+void chain_acceleration(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
+                        Eigen::Ref<const Eigen::VectorXd> q_dot, Eigen::Ref<Eigen::VectorXd> q_ddot, ChainWorkspace& w);
+
+// The reaction of joint j on the segment above, in the face's frame: N normal
+// (compression > 0), V shear, M the joint's moment, signed as theta (M > 0 tips
+// the part above toward the right corner). A rocking joint carries N and V at
+// its pivot and M = 0.
+struct JointReaction {
+  double N = 0, V = 0, M = 0;
+};
+// The reactions of every joint, with q'' as chain_acceleration gives it.
+void chain_reactions(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
+                     Eigen::Ref<const Eigen::VectorXd> q_dot, std::span<JointReaction> out,
+                     Eigen::Ref<Eigen::VectorXd> q_ddot, ChainWorkspace& w);
+
+// Uplift guard of closed joint j about pivot s: s M_j - N_j B_j (> 0: the
+// resultant is past the corner).
+double uplift_guard(const Chain& c, int joint, Pivot s, const JointReaction& r);
+// |V| / N, the friction coefficient the joint needs not to slide (infinity when N <= 0).
+double friction_demand(const JointReaction& r);
+// s theta_j'' were closed joint j rocking about s now (theta_j = theta_j' = 0):
+// > 0 when the corner's relative acceleration points away from the face.
+double corner_acceleration(const Chain& c, ChainPhases phases, int joint, Pivot s, GroundAcceleration a,
+                           Eigen::Ref<const Eigen::VectorXd> q, Eigen::Ref<const Eigen::VectorXd> q_dot, ChainWorkspace& w);
+
+// Impact of joint j (theta_j = 0 while rocking about s).
+struct ImpactCandidate {
+  std::vector<Phase> phases;        // after the impact
+  Eigen::VectorXd q_dot;            // after the impact
+  std::vector<JointReaction> impulse;  // per joint [N s] (M: [N m s])
+  bool consistent = false;
+};
+enum class ImpactStatus { unique, non_unique, none };
+struct ImpactOutcome {
+  ImpactStatus status = ImpactStatus::none;
+  std::vector<Phase> phases;   // the outcome (when unique)
+  Eigen::VectorXd q_dot;
+  std::vector<int> uplifted;   // joints the impact opened (impact-induced uplift)
+  std::vector<ImpactCandidate> candidates;  // every outcome examined
+};
+// The momentum law of MODEL.md 15 (restitution < 0), or a given r: joint j
+// continues about -s with theta_j'+ = r theta_j'-, every other velocity continuous.
+ImpactOutcome chain_impact(const Chain& c, ChainPhases before, int joint, Eigen::Ref<const Eigen::VectorXd> q,
+                           Eigen::Ref<const Eigen::VectorXd> q_dot, double restitution = -1);
+// Velocities after an impact into the given phases (the momentum law), with the
+// impulses; `consistent` tells whether the outcome is admissible.
+ImpactCandidate impact_into(const Chain& c, ChainPhases before, int joint, ChainPhases after,
+                            Eigen::Ref<const Eigen::VectorXd> q, Eigen::Ref<const Eigen::VectorXd> q_dot);
+
+// Energy (MODEL.md 7): kinetic, gravity (m g y from rest), elastic (1/2 x'K x),
+// tendons' stored int F de; and the powers: of the ground, -sum m (a_g x' + a_v y'),
+// and of the viscous damping, x'C x' (dE/dt = ground - damping).
+struct ChainEnergy {
+  double kinetic = 0, gravity = 0, elastic = 0, tendons = 0;
+  double total() const { return kinetic + gravity + elastic + tendons; }
+};
+struct ChainPower {
+  double ground = 0, damping = 0;
+};
+ChainEnergy chain_energy(const Chain& c, ChainPhases phases, Eigen::Ref<const Eigen::VectorXd> q,
+                         Eigen::Ref<const Eigen::VectorXd> q_dot, ChainWorkspace& w);
+ChainPower chain_power(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
+                       Eigen::Ref<const Eigen::VectorXd> q_dot, ChainWorkspace& w);
+
+// Tendon k's elongation e [m] and force [N].
+double tendon_elongation(const Chain& c, ChainPhases phases, int k, Eigen::Ref<const Eigen::VectorXd> q,
+                         ChainWorkspace& w);
+// Position of a point of a segment (an anchor) in the ground's frame [m].
+Eigen::Vector2d anchor_position(const Chain& c, ChainPhases phases, const ChainAnchor& p,
+                                Eigen::Ref<const Eigen::VectorXd> q, ChainWorkspace& w);
+
+}  // namespace rocking
