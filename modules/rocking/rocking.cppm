@@ -9,7 +9,6 @@ export import rocking.hysteresis;
 export import rocking.devices;
 export import rocking.modal;
 export import rocking.dynamics;
-export import rocking.chain;
 export import rocking.scene;
 export import rocking.ground_motion;
 export import rocking.intensity;
