@@ -4,7 +4,9 @@
 // device with eps = 1 that is an elastic spring); laws made by name from
 // their parameters, with one-line errors.
 #include <doctest/doctest.h>
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -34,6 +36,17 @@ double integrate_z(const DeviceLaw& law, double (*e_of)(double), double (*v_of)(
   return z;
 }
 
+}  // namespace
+
+namespace {
+// A registered law as its example device (each parameter at its example value).
+DeviceLaw example_law(const LawInfo& info) {
+  return make_law(info.name, [&](std::string_view key) -> std::optional<double> {
+    for (const LawParameter& p : info.parameters)
+      if (p.key == key) return p.example;
+    return std::nullopt;
+  });
+}
 }  // namespace
 
 TEST_CASE("chord kinematics at the far edge is the paper's damper, bit for bit") {
@@ -192,11 +205,7 @@ TEST_CASE("every registered law: its stiffness at rest is the slope of its force
   // law_stiffness x delta: the rocking stiffness of MODEL.md 8 and 11.
   for (const LawInfo& info : device_laws()) {
     CAPTURE(info.name);
-    const DeviceLaw law = make_law(info.name, [&](std::string_view key) -> std::optional<double> {
-      for (const LawParameter& p : info.parameters)
-        if (p.key == key) return p.example;
-      return std::nullopt;
-    });
+    const DeviceLaw law = example_law(info);
     const double delta = 1e-9;
     const int steps = 1000;
     double z = 0;
@@ -207,5 +216,36 @@ TEST_CASE("every registered law: its stiffness at rest is the slope of its force
     const double slope = (law_force(law, delta, 0.0, z) - law_force(law, 0.0, 0.0, 0.0)) / delta;
     CHECK(slope == doctest::Approx(law_stiffness(law)).epsilon(1e-6).scale(1.0));
     CHECK(law_force(law, 0.0, 0.0, 0.0) == doctest::Approx(law_force_at_rest(law, 0.0)));
+  }
+}
+
+TEST_CASE("a law dissipates, by its declared trait, exactly when a closed cycle of elongation does work on it") {
+  // e(t) = A sin^2(pi t / T) out and back: the samples of the way back repeat
+  // those of the way out, so the trapezoidal work of a law that only stores
+  // energy (F a function of e) telescopes to zero up to round-off, while a
+  // law with a rate dependence or hysteresis takes positive work.
+  constexpr double A = 0.1, T = 1.0;
+  constexpr int n = 20000;
+  for (const LawInfo& l : device_laws()) {
+    CAPTURE(l.name);
+    const DeviceLaw law = example_law(l);
+    const double pi = std::numbers::pi, dt = T / n;
+    const auto e_at = [&](double t) { return A * std::sin(pi * t / T) * std::sin(pi * t / T); };
+    const auto rate_at = [&](double t) { return A * pi / T * std::sin(2 * pi * t / T); };
+    double z = 0, work = 0, peak = 0;
+    double F_prev = law_force(law, 0.0, 0.0, 0.0);
+    for (int i = 0; i < n; ++i) {
+      const double t = i * dt;
+      // z by the midpoint rule (second order; the law's state is small here).
+      const double zh = z + 0.5 * dt * law_rate(law, e_at(t), rate_at(t), z);
+      z += dt * law_rate(law, e_at(t + 0.5 * dt), rate_at(t + 0.5 * dt), zh);
+      const double F = law_force(law, e_at(t + dt), rate_at(t + dt), z);
+      work += 0.5 * (F_prev + F) * (e_at(t + dt) - e_at(t));
+      peak = std::max(peak, std::abs(F));
+      F_prev = F;
+    }
+    REQUIRE(peak > 0);
+    if (law_dissipates(law)) CHECK(work > 1e-3 * peak * A);  // a loop of a thousandth of its box or more
+    else CHECK(std::abs(work) < 1e-9 * peak * A);             // round-off of 2e4 telescoping terms
   }
 }
