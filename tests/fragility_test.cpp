@@ -56,7 +56,8 @@ TEST_CASE("the moment fit recovers a lognormal's median and beta from 10,000 cap
   REQUIRE(fit.fitted);
   CHECK(fit.method == "moments");
   CHECK(fit.reached == 10000);
-  CHECK(fit.log_median_se == close_to(beta / 100, 0.05));
+  // se = beta_hat / sqrt(N): as uncertain as beta_hat, 1 / sqrt(2 N) = 0.7 %; three of those.
+  CHECK(fit.log_median_se == close_to(beta / 100, 0.021));
   CHECK(std::abs(std::log(fit.median / median)) < 3 * fit.log_median_se);
   CHECK(std::abs(fit.beta - beta) < 3 * fit.beta_se);
 }
@@ -195,7 +196,9 @@ TEST_CASE("the bootstrap over records: the same seed gives the same intervals, a
   const LognormalFit full = fit_capacities(caps);
   CHECK((a.median[0] < full.median && full.median < a.median[1]));
   CHECK((a.beta[0] < full.beta && full.beta < a.beta[1]));
-  // The percentile interval of ln(median) is about +-1.645 of its standard error.
+  // The percentile interval of ln(median) is about +-1.645 of its standard
+  // error: within 15 %, a bootstrap of 20 capacities (its intervals follow the
+  // sample's skew, not the normal's).
   CHECK(std::log(a.median[1] / a.median[0]) / 2 == close_to(1.645 * full.log_median_se, 0.15));
   // The pointwise band of the CDF holds the fitted CDF, and modelling
   // dispersion widens the curve (FEMA P-695: the median unchanged).

@@ -54,7 +54,9 @@ double fixed_step_error(double h) {
 
 TEST_CASE("rk45 is 5th order: halving a fixed step divides the error by about 32") {
   const double ratio = fixed_step_error(0.1) / fixed_step_error(0.05);
-  CHECK(std::log2(ratio) == close_to(5.0, 0.06));
+  // h = 0.1 is not yet asymptotic: the next term of the error moves the
+  // measured order by about 1 %.
+  CHECK(std::log2(ratio) == close_to(5.0, 0.02));
 }
 
 TEST_CASE("rk45 steps alike at every state size, unrolled (up to 16) or not") {
@@ -91,6 +93,8 @@ TEST_CASE("global error falls in proportion to the tolerance (harmonic oscillato
   }
   // slope of log(error) against log(tol) over six decades; tolerance proportionality is 1
   const double slope = std::log10(errors.front() / errors.back()) / 6.0;
+  // An error-per-step controller makes the global error only roughly
+  // proportional to the tolerance: the slope is 1 within 20 %.
   CHECK(slope == close_to(1.0, 0.2));
   for (std::size_t i = 1; i < errors.size(); ++i) CHECK(errors[i] < errors[i - 1]);
 }
@@ -101,7 +105,7 @@ TEST_CASE("dense output is 4th order: its error inside one step shrinks as h^5")
         return make_rk45(2, dense_order::oscillator, {.rtol = 1.0, .atol = 1.0, .max_step = h, .initial_step = h});
       },
       0.1);
-  CHECK(order == close_to(4.0, 0.08));
+  CHECK(order == close_to(4.0, 0.02));  // from h = 0.1: higher-order terms move it by about 0.5 %
 }
 
 TEST_CASE("the first impact of a falling ball matches sqrt(2h/g) to 1e-10 on every backend") {
@@ -252,7 +256,9 @@ TEST_CASE("failures are typed and carry the time: blow-up and max steps") {
       advance(*in, 2.0);
       FAIL("integrated through a singularity");
     } catch (const IntegrationError& e) {
-      CHECK(e.time() == close_to(1.0, 1e-3));
+      // Each stops where y = 1 / (1 - t) outgrows what its tolerances can
+      // follow, within 1e-6 of the singularity.
+      CHECK(e.time() == close_to(1.0, 1e-5));
       CHECK(e.kind() != IntegrationError::Kind::max_steps);
     }
     auto capped = make_integrator(b, 2, oscillator, {.rtol = 1e-10, .atol = 1e-10, .max_steps = 20});

@@ -111,8 +111,9 @@ TEST_CASE("the peak between samples is caught: a finer resampling of the same re
     CHECK(pseudo_spectral_acceleration(fine, T) == close_to(pseudo_spectral_acceleration(g, T), 1e-9));
   }
   // At T = dt the spectral acceleration is near the PGA, as it must be for a
-  // rigid oscillator.
-  CHECK(pseudo_spectral_acceleration(g, 0.01) == close_to(g.peak(), 0.05));
+  // rigid oscillator: within 2 %, the amplification of the record's content
+  // near the oscillator's 100 Hz (0.6 % here).
+  CHECK(pseudo_spectral_acceleration(g, 0.01) == close_to(g.peak(), 0.02));
 }
 
 TEST_CASE("PSA of El Centro at 0.5, 1 and 2 s agrees with an independent Runge-Kutta integration") {
@@ -277,15 +278,18 @@ TEST_CASE("the projection at 0 and 90 degrees is the first and the second compon
   CHECK_THROWS_WITH_AS(project(a1, noise(3, 0.02, 100), 10), doctest::Contains("needs one time step"), InputError);
 }
 
-TEST_CASE("RotD50 and RotD100 equal the median and maximum of the spectra of the records rotated at every degree (1e-6)") {
+TEST_CASE("RotD50 and RotD100 equal the median and maximum of the spectra of the records rotated at every degree (1e-10)") {
+  // The oscillator is linear: superposing the components' responses is the
+  // rotated record's response to round-off, and both routes locate the
+  // peaks between steps to round-off.
   const GroundMotion a1 = noise(1, 0.01, 1500), a2 = noise(2, 0.01, 1500);
   const std::vector<double> periods = {0.05, 0.3, 1.0, 3.0};
   const std::vector<RotD> r = rotd_spectrum(a1, a2, periods);
   for (std::size_t k = 0; k < periods.size(); ++k) {
     CAPTURE(periods[k]);
     const RotD expected = rotated_explicitly(a1, a2, periods[k]);
-    CHECK(r[k].rotd50 == close_to(expected.rotd50, 1e-6));
-    CHECK(r[k].rotd100 == close_to(expected.rotd100, 1e-6));
+    CHECK(r[k].rotd50 == close_to(expected.rotd50, 1e-10));
+    CHECK(r[k].rotd100 == close_to(expected.rotd100, 1e-10));
     CHECK(r[k].rotd50 <= r[k].rotd100);
     // RotD100 is at least either component's own PSA; RotD50 between their extremes' bounds
     CHECK(r[k].rotd100 >= pseudo_spectral_acceleration(a1, periods[k]) * (1 - 1e-12));

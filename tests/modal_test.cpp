@@ -14,21 +14,23 @@ import rocking.hysteresis;
 
 using namespace rocking;
 
-TEST_CASE("the chimney reproduces MODEL.md 8 within 0.5 % and M_ref, V_ref within 1 %") {
+TEST_CASE("the chimney reproduces MODEL.md 8's values to the digits it prints them with") {
+  // Each to half a unit of its last printed digit (MODEL.md 8; M_ref and V_ref
+  // as MODEL.md 7 gives them). The paper's rounder figures, in MODEL.md's
+  // brackets, are within these except its rocking f1 of 6.22 Hz (6.206 here).
   const Scene scene = load_default_scene();
   const ModalSummary m = modal_analysis(scene.structure, scene_devices(scene));
-  const double half_percent = 5e-3, one_percent = 1e-2;
-  CHECK(m.fixed_base_hz.at(0) == close_to(2.176, half_percent));
-  CHECK(m.rocking_hz.at(0) == close_to(6.21, half_percent));
-  CHECK(m.rocking_p == close_to(0.650, half_percent));
-  CHECK(m.damper_pre_yield_hz == close_to(0.312, half_percent));
-  CHECK(m.damper_post_yield_p == close_to(0.40, half_percent));
-  CHECK(m.r_eq10 == close_to(0.938, half_percent));
-  CHECK(m.J_p == close_to(1.0006e8, half_percent));
-  CHECK(m.H_cg == close_to(15.02, half_percent));
-  CHECK(m.alpha_cg == close_to(0.2162, half_percent));
-  CHECK(m.reference.base_moment == close_to(9.26e6, one_percent));
-  CHECK(m.reference.base_shear == close_to(3.68e5, one_percent));
+  CHECK(m.fixed_base_hz.at(0) == within(2.176, 5e-4));
+  CHECK(m.rocking_hz.at(0) == within(6.21, 5e-3));
+  CHECK(m.rocking_p == within(0.650, 5e-4));
+  CHECK(m.damper_pre_yield_hz == within(0.312, 5e-4));
+  CHECK(m.damper_post_yield_p == within(0.40, 5e-3));
+  CHECK(m.r_eq10 == within(0.938, 5e-4));
+  CHECK(m.J_p == within(1.0006e8, 5e3));
+  CHECK(m.H_cg == within(15.02, 5e-3));
+  CHECK(m.alpha_cg == within(0.2162, 5e-5));
+  CHECK(m.reference.base_moment == within(9.26e6, 5e3));
+  CHECK(m.reference.base_shear == within(3.68e5, 5e2));
 }
 
 TEST_CASE("the linearised rocking phase is symmetric with a positive-definite mass") {

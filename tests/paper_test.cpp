@@ -31,7 +31,10 @@ RunResult run_chimney(const std::string& record, double scale, std::vector<std::
 
 }  // namespace
 
-TEST_CASE("rk45, CVODE and ARKODE give the same El Centro chimney peaks to 1e-4 at tight tolerance") {
+TEST_CASE("rk45, CVODE and ARKODE give the same El Centro chimney peaks to 1e-6 at tight tolerance") {
+  // Each at rtol 1e-10 (CVODE 1e-11): their global errors, grown over 77
+  // impacts that restart the motion from located events, stay within
+  // 1e4 rtol, so two of them agree to 1e-6.
   const auto dir = records_dir();
   if (!dir) return;
   const std::string record = *dir + "/elcentro_1940_ns.at2";
@@ -46,7 +49,7 @@ TEST_CASE("rk45, CVODE and ARKODE give the same El Centro chimney peaks to 1e-4 
     CHECK(other->counts.impacts == rk45.counts.impacts);
     for (Quantity q : peak_quantities) {
       CAPTURE(info(q).name);
-      CHECK(std::abs(other->peak(q) / rk45.peak(q) - 1.0) < 1e-4);
+      CHECK(other->peak(q) == close_to(rk45.peak(q), 1e-6));
     }
   }
 }

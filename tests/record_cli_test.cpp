@@ -170,7 +170,7 @@ std::array<double, 2> rotd_by_rotation(const rocking::GroundMotion& a1, const ro
   return {0.5 * (psa[89] + psa[90]) / rocking::gravity, psa[179] / rocking::gravity};
 }
 
-TEST_CASE("record --rotd: RotD50 and RotD100 of the Waiau file's two horizontals equal the records rotated at every degree (1e-6)") {
+TEST_CASE("record --rotd: RotD50 and RotD100 of the Waiau file's two horizontals equal the records rotated at every degree (1e-10)") {
   const auto dir = records_dir();
   if (!dir) return;
   const std::string waiau = *dir + "/formats/20161113_110259_WTMC_20.V2A";
@@ -187,8 +187,9 @@ TEST_CASE("record --rotd: RotD50 and RotD100 of the Waiau file's two horizontals
   for (std::size_t k = 0; k < periods.size(); ++k) {
     CAPTURE(periods[k]);
     const auto [rotd50, rotd100] = rotd_by_rotation(n28w, s62w, periods[k]);
-    CHECK(rec["rotd50_g"][k].get<double>() == close_to(rotd50, 1e-6));
-    CHECK(rec["rotd100_g"][k].get<double>() == close_to(rotd100, 1e-6));
+    // Superposition against rotation: equal to round-off (tests/intensity_test.cpp).
+    CHECK(rec["rotd50_g"][k].get<double>() == close_to(rotd50, 1e-10));
+    CHECK(rec["rotd100_g"][k].get<double>() == close_to(rotd100, 1e-10));
     // The table prints the same numbers to 4 decimals.
     const std::string line = fmt::format("  {:<16}{:.4f} {:.4f}", fmt::format("T = {:g} s", periods[k]), rotd50, rotd100);
     CHECK_MESSAGE(r.out.find(line) != std::string::npos, line);
