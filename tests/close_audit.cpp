@@ -69,6 +69,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   const fs::path dir = argv[1];
+  if (!fs::is_directory(argv[2])) {
+    std::cerr << "close_audit: " << argv[2] << ": not a folder of test sources\n";
+    return 2;
+  }
   int problems = scan_sources(argv[2]);
 
   std::map<std::tuple<std::string, int, double, double>, Site> sites;
@@ -83,9 +87,16 @@ int main(int argc, char** argv) {
         bool whole = true;
         for (auto& c : cell) whole = whole && static_cast<bool>(std::getline(fields, c, '\t'));
         if (!whole) continue;  // a line cut short by a test that crashed mid-write
-        const int at = std::stoi(cell[0]);
-        const double rel = std::stod(cell[1]), floor = std::stod(cell[2]);
-        const double a = std::stod(cell[3]), e = std::stod(cell[4]), diff = std::abs(a - e);
+        int at = 0;
+        double rel = 0, floor = 0, a = 0, e = 0;
+        try {
+          at = std::stoi(cell[0]);
+          rel = std::stod(cell[1]), floor = std::stod(cell[2]), a = std::stod(cell[3]), e = std::stod(cell[4]);
+        } catch (const std::exception&) {
+          std::cerr << "close_audit: " << entry.path().string() << ": a line that is not a comparison: " << line << '\n';
+          return 2;
+        }
+        const double diff = std::abs(a - e);
         Site& s = sites[{name(file), at, rel, floor}];
         s.rel = rel;
         s.floor = floor;
