@@ -3,7 +3,8 @@
 # a second run checks, finds nothing missing and changes nothing.
 #   - Debian packages (clang-19 toolchain, and llvm-19 for the archiver that
 #     reads its link-time-optimised objects, Ninja, Eigen, GSL, spdlog, doctest,
-#     SUNDIALS, toml++, CLI11, gnuplot, Google Benchmark, OpenMPI; for the
+#     SUNDIALS, toml++, CLI11, gnuplot, ffmpeg (animations to MP4/WebM, and
+#     the test of them), Google Benchmark, OpenMPI; for the
 #     Python module: Python's headers, pybind11, NumPy, and pytest and
 #     Matplotlib for its tests and examples)
 #     and for the browser lab: cpp-httplib (its server) and Chromium (its
@@ -28,7 +29,7 @@ packages=(
   libeigen3-dev libgsl-dev libspdlog-dev libfmt-dev doctest-dev
   libsundials-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
   libbenchmark-dev libopenmpi-dev openmpi-bin
-  gnuplot-nox fonts-dejavu-core
+  gnuplot-nox fonts-dejavu-core ffmpeg
   python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib
   libcpp-httplib-dev chromium
 )

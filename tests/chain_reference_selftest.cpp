@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "close.hpp"
 #include "chain_reference.hpp"
 
 using namespace chainref;
@@ -434,7 +435,7 @@ TEST_CASE("tendon: generalised force equals -dU/dq; section 11 kinematics for an
         const double y = -px * std::sin(th) + py * std::cos(th);
         const double e = std::hypot(x - B1.tendon.x_t, y) - B1.H_top;
         CHECK(std::fabs(S.e - e) < 1e-14);
-        CHECK(S.F == doctest::Approx(B1.tendon.P0 + B1.tendon.k * e).epsilon(1e-14));
+        CHECK(S.F == close_to(B1.tendon.P0 + B1.tendon.k * e, 1e-14));
     }
 }
 

@@ -12,6 +12,7 @@
 
 #include <cstdio>
 
+#include "close.hpp"
 #include "columns_reference.hpp"
 
 using namespace colref;
@@ -235,7 +236,7 @@ TEST_CASE("closed forms: p-hat and r of section 16 (rigid deck) from free rockin
 TEST_CASE("gamma = 0: the frame is the single uniform column (p, Housner's r)") {
     Frame f; f.n = 2; f.b = 0.3; f.h = 1.7; f.mc = 1500; f.mb = 0; f.xcol = {-1, 1};
     CHECK(f.gamma() == 0.0);
-    CHECK(p2_hat(f) == doctest::Approx(3 * G / (4 * f.R())).epsilon(1e-15));
+    CHECK(p2_hat(f) == close_to(3 * G / (4 * f.R()), 1e-15));
     const double a = f.alpha();
     State st; st.s = 1; st.th = 0.7 * a;
     const RunResult r = first_impact(f, st, 0.0, Ground::none());
@@ -387,7 +388,7 @@ TEST_CASE("column-top contact forces: statics, consistency with Lagrange, tensil
     {
         Frame f = rigid_frame();
         const ContactForces cf = top_contact_forces(f, State{}, 0, 0);
-        for (double N : cf.N) CHECK(N == doctest::Approx(f.m_deck() * G / f.n).epsilon(1e-14));
+        for (double N : cf.N) CHECK(N == close_to(f.m_deck() * G / f.n, 1e-14));
     }
     // rocking states: the Newton-Euler split closes on Lagrange's theta equation
     for (bool flexible : {false, true}) {
@@ -397,7 +398,7 @@ TEST_CASE("column-top contact forces: statics, consistency with Lagrange, tensil
         const ContactForces cf = top_contact_forces(f, st, 1.3, -0.7);
         CHECK(std::fabs(cf.residual) < 1e-9 * f.m_deck() * G);
         double sN = 0; for (double N : cf.N) sN += N;
-        CHECK(sN == doctest::Approx(cf.Fy).epsilon(1e-13));
+        CHECK(sN == close_to(cf.Fy, 1e-13));
     }
     // (a) vertical ground acceleration ramping downward while the frame rocks
     {

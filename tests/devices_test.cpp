@@ -4,6 +4,7 @@
 // device with eps = 1 that is an elastic spring); laws made by name from
 // their parameters, with one-line errors.
 #include <doctest/doctest.h>
+#include "close.hpp"
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -58,7 +59,7 @@ TEST_CASE("chord kinematics at the far edge is the paper's damper, bit for bit")
       CHECK(lever_arm({-s * B, Kinematics::chord, 0}, B, s) == 2 * B);
       CHECK(st.e == damper_elongation(B, tilt));
       // e' = de/d|th| s th' is the damper's rate.
-      CHECK(st.de_dtheta * s * 0.7 == doctest::Approx(damper_rate(B, tilt, 0.7, s)).epsilon(1e-15));
+      CHECK(st.de_dtheta * s * 0.7 == close_to(damper_rate(B, tilt, 0.7, s), 1e-15));
       // The device at the pivot does not stretch.
       CHECK(stretch({s * B, Kinematics::chord, 0}, B, s, tilt).e == 0);
     }
@@ -70,19 +71,19 @@ TEST_CASE("vertical kinematics: the closed form, its derivative, and its limits"
   for (double th : {0.001, 0.01, 0.05, 0.2}) {
     const double l = B;  // a central anchor: l = B about either pivot
     const Stretch st = stretch(centre, B, +1, Tilt(th));
-    CHECK(st.e == doctest::Approx(std::hypot(L + l * std::sin(th), l * (1 - std::cos(th))) - L).epsilon(1e-13));
+    CHECK(st.e == close_to(std::hypot(L + l * std::sin(th), l * (1 - std::cos(th))) - L, 1e-13));
     // de/d|th| against a central difference of e.
     const double h = 1e-6;
     const double fd = (stretch(centre, B, +1, Tilt(th + h)).e - stretch(centre, B, +1, Tilt(th - h)).e) / (2 * h);
-    CHECK(st.de_dtheta == doctest::Approx(fd).epsilon(1e-7));
+    CHECK(st.de_dtheta == close_to(fd, 1e-7));
     // Rocking the other way mirrors it.
-    CHECK(stretch(centre, B, -1, Tilt(-th)).e == doctest::Approx(st.e).epsilon(1e-15));
+    CHECK(stretch(centre, B, -1, Tilt(-th)).e == close_to(st.e, 1e-15));
   }
   // At theta = 0 the lever arm is the rate of elongation; a very long tendon
   // follows the anchor's rise, l sin|th|.
-  CHECK(stretch(centre, B, +1, Tilt(0.0)).de_dtheta == doctest::Approx(B));
+  CHECK(stretch(centre, B, +1, Tilt(0.0)).de_dtheta == close_to(B, 1e-12));
   const Stretch long_tendon = stretch({0, Kinematics::vertical, 1e7}, B, +1, Tilt(0.1));
-  CHECK(long_tendon.e == doctest::Approx(B * std::sin(0.1)).epsilon(1e-6));
+  CHECK(long_tendon.e == close_to(B * std::sin(0.1), 1e-6));
 }
 
 TEST_CASE("elastic law: F = P0 + k e in tension only, storing the work done on it") {
@@ -97,8 +98,8 @@ TEST_CASE("elastic law: F = P0 + k e in tension only, storing the work done on i
     const double e0 = 0.05 * i / n, e1 = 0.05 * (i + 1) / n;
     work += 0.5 * (law_force(tendon, e0, 0, 0) + law_force(tendon, e1, 0, 0)) * (e1 - e0);
   }
-  CHECK(work == doctest::Approx(law_stored_energy(tendon, 0.05, 0)).epsilon(1e-12));
-  CHECK(law_force(tendon, 0.05, 0, 0) == doctest::Approx(2.0e5 + 3.0e6 * 0.05));
+  CHECK(work == close_to(law_stored_energy(tendon, 0.05, 0), 1e-12));
+  CHECK(law_force(tendon, 0.05, 0, 0) == close_to(2.0e5 + 3.0e6 * 0.05, 1e-12));
   // Tension only: a compressed spring without prestress pushes nothing.
   CHECK(law_force(ElasticLaw{0, 1e6}, -0.01, 0, 0) == 0);
 }
@@ -106,8 +107,8 @@ TEST_CASE("elastic law: F = P0 + k e in tension only, storing the work done on i
 TEST_CASE("viscous law: F = c sign(e') |e'|^a, linear for a = 1") {
   const DeviceLaw linear = ViscousLaw{4.0e5, 1.0}, fluid = ViscousLaw{4.0e5, 0.3};
   for (double v : {-0.8, -0.01, 0.0, 0.02, 0.5}) {
-    CHECK(law_force(linear, 0.1, v, 0) == doctest::Approx(4.0e5 * v));
-    CHECK(law_force(fluid, 0.1, v, 0) == doctest::Approx(std::copysign(4.0e5 * std::pow(std::abs(v), 0.3), v)));
+    CHECK(law_force(linear, 0.1, v, 0) == close_to(4.0e5 * v, 1e-12));
+    CHECK(law_force(fluid, 0.1, v, 0) == close_to(std::copysign(4.0e5 * std::pow(std::abs(v), 0.3), v), 1e-12));
   }
   CHECK(law_force_at_rest(fluid, 0) == 0);
   CHECK(law_stored_energy(fluid, 0.3, 0) == 0);
@@ -117,15 +118,15 @@ TEST_CASE("friction law: F = F_s tanh(e'/v_r), Coulomb friction once sliding, di
   const double F_s = 2.0e5, v_r = 1e-3;
   const DeviceLaw friction = FrictionLaw{F_s, v_r};
   for (double v : {-0.5, -1e-3, 0.0, 2e-4, 0.3})
-    CHECK(law_force(friction, 0.05, v, 0) == doctest::Approx(F_s * std::tanh(v / v_r)).epsilon(1e-15));
-  CHECK(law_force(friction, 0.0, 0.2, 0) == doctest::Approx(F_s).epsilon(1e-12));  // sliding: the slip force
-  CHECK(law_force(friction, 0.0, -0.2, 0) == doctest::Approx(-F_s).epsilon(1e-12));
+    CHECK(law_force(friction, 0.05, v, 0) == close_to(F_s * std::tanh(v / v_r), 1e-15));
+  CHECK(law_force(friction, 0.0, 0.2, 0) == close_to(F_s, 1e-12));  // sliding: the slip force
+  CHECK(law_force(friction, 0.0, -0.2, 0) == close_to(-F_s, 1e-12));
   // A prescribed slide e(t) = V t to e = 0.1 m at V = 0.1 m/s >> v_r: the work
   // done on it is F_s e to 1e-9 (midpoint rule, 1000 steps), all dissipated.
   const double V = 0.1;
   double work = 0;
   for (int i = 0; i < 1000; ++i) work += law_force(friction, V * (i + 0.5) * 1e-3, V, 0) * V * 1e-3;
-  CHECK(work == doctest::Approx(F_s * 0.1).epsilon(1e-9));
+  CHECK(work == close_to(F_s * 0.1, 1e-9));
   CHECK(law_stored_energy(friction, 0.1, 0) == 0);
   CHECK(law_force_at_rest(friction, 0) == 0);
   CHECK(law_states(friction) == 0);
@@ -143,7 +144,7 @@ TEST_CASE("Bouc-Wen law: monotonic loading follows z = 1 - exp(-e / d_y), and it
   auto v_of = [](double) { return 0.01; };
   for (double T : {0.2, 1.0, 3.0}) {
     const double z = integrate_z(law, e_of, v_of, T, 20000);
-    CHECK(z == doctest::Approx(1 - std::exp(-0.01 * T / 0.004)).epsilon(1e-10));
+    CHECK(z == close_to(1 - std::exp(-0.01 * T / 0.004), 1e-10));
   }
   // The same numbers as rocking.hysteresis's damper.
   Damper d;
@@ -163,7 +164,7 @@ TEST_CASE("limits: laws that exert nothing, and Bouc-Wen with eps = 1 is the ela
       CHECK(law_force(ViscousLaw{0, 0.3}, e, v, 0) == 0);
       CHECK(law_force(ElasticLaw{0, 0}, e, v, 0) == 0);
       const DeviceLaw linear = BoucWenLaw::make({2e6, 1.0, 0.003, 0.5, 0.5, 1.0});
-      CHECK(law_force(linear, e, v, 0.7) == doctest::Approx(law_force(ElasticLaw{0, 2e6}, e, v, 0)));
+      CHECK(law_force(linear, e, v, 0.7) == close_to(law_force(ElasticLaw{0, 2e6}, e, v, 0), 1e-12));
     }
 }
 
@@ -214,8 +215,8 @@ TEST_CASE("every registered law: its stiffness at rest is the slope of its force
       if (law_states(law) > 0) z += law_rate(law, e, 1.0, z) * delta / steps;
     }
     const double slope = (law_force(law, delta, 0.0, z) - law_force(law, 0.0, 0.0, 0.0)) / delta;
-    CHECK(slope == doctest::Approx(law_stiffness(law)).epsilon(1e-6).scale(1.0));
-    CHECK(law_force(law, 0.0, 0.0, 0.0) == doctest::Approx(law_force_at_rest(law, 0.0)));
+    CHECK(slope == close_to(law_stiffness(law), 1e-6));
+    CHECK(law_force(law, 0.0, 0.0, 0.0) == close_to(law_force_at_rest(law, 0.0), 1e-12));
   }
 }
 

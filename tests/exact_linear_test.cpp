@@ -8,6 +8,7 @@
 #include <rocking/eigen.hpp>
 #include <unsupported/Eigen/MatrixFunctions>
 #include <doctest/doctest.h>
+#include "close.hpp"
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -218,7 +219,7 @@ TEST_CASE("an event is located to round-off on the exact solution") {
   integ->reset(0, start(), {[](double, CRef y, Ref g) { g[0] = y[0]; }, {Direction::falling}});
   const StepReport r = advance(*integ, 1.0);
   REQUIRE(r.reason == Stop::event);
-  CHECK(r.t == doctest::Approx(std::numbers::pi / (2 * omega)).epsilon(1e-13));
+  CHECK(r.t == close_to(std::numbers::pi / (2 * omega), 1e-13));
   CHECK(std::abs(integ->state()[0]) <= 1e-13);
 }
 
@@ -274,8 +275,8 @@ TEST_CASE("quadratures: a damped oscillator's energy balance closes to round-off
     };
     const double in = simpson([&](double t) { return s.forcing(t) * at(t)[1]; }, t0, t1);
     const double visc = simpson([&](double t) { return 2 * zeta * omega * std::pow(at(t)[1], 2); }, t0, t1);
-    CHECK(now[2] - previous[2] == doctest::Approx(in).epsilon(1e-9).scale(1e-12));
-    CHECK(now[3] - previous[3] == doctest::Approx(visc).epsilon(1e-9).scale(1e-12));
+    CHECK(now[2] - previous[2] == close_to(in, 1e-9, 1e-21));
+    CHECK(now[3] - previous[3] == close_to(visc, 1e-9, 1e-21));
     integ->dense(0.5 * (t0 + t1), y);  // dense output holds them at the step's start
     CHECK(y[2] == previous[2]);
     if (r.reason == Stop::event) integ->reset(t1, now, {});
@@ -312,7 +313,7 @@ TEST_CASE("quadratures on 9 oscillators stepped block by block: a Q that couples
         },
         t0, t1);
     const double now = integ->state()[2 * copies];
-    CHECK(now - previous == doctest::Approx(want).epsilon(1e-9).scale(1e-12));
+    CHECK(now - previous == close_to(want, 1e-9, 1e-21));
     previous = now;
   }
 }
@@ -347,12 +348,12 @@ TEST_CASE("El Centro: exact full contact agrees with rk45 throughout, and is as 
   CHECK_FALSE(b.exact_full_contact);
   CHECK(a.counts.uplifts == b.counts.uplifts);
   CHECK(a.counts.impacts == b.counts.impacts);
-  CHECK(a.first_uplift == doctest::Approx(b.first_uplift).epsilon(1e-9));
+  CHECK(a.first_uplift == close_to(b.first_uplift, 1e-9));
   for (std::size_t k = 0; k < quantity_count; ++k)  // peaks: both sample densely; parabolas refine
-    CHECK(a.peaks[k] == doctest::Approx(b.peaks[k]).epsilon(1e-6));
+    CHECK(a.peaks[k] == close_to(b.peaks[k], 1e-6));
   // At the default tolerance the combination keeps peak delta_t within 1e-4 of the reference.
   const RunResult d = simulate(m, g, RunOptions{});
-  CHECK(d.peak(Quantity::delta_t) == doctest::Approx(b.peak(Quantity::delta_t)).epsilon(1e-4));
+  CHECK(d.peak(Quantity::delta_t) == close_to(b.peak(Quantity::delta_t), 1e-4));
 }
 
 TEST_CASE("El Centro with the energy balance: full contact is stepped exactly, and the work terms agree with rk45's") {

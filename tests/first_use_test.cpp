@@ -4,6 +4,7 @@
 // --version and mistyped subcommands, and tests that clean up after themselves.
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
+#include "close.hpp"
 #include <nlohmann/json.hpp>
 #include "temp_path.hpp"
 #include <algorithm>
@@ -224,8 +225,8 @@ TEST_CASE("modal on a rigid block prints what a block has") {
   REQUIRE_MESSAGE(r.code == 0, r.err);
   const auto j = nlohmann::json::parse(r.out);
   const double m = j["mass"], J = j["J_p"], R = j["R"], p = j["p"];
-  CHECK(p == doctest::Approx(std::sqrt(m * 9.81 * R / J)).epsilon(1e-12));
-  CHECK(j["alpha_cg"].get<double>() == doctest::Approx(std::atan(0.2 / j["H_cg"].get<double>())).epsilon(1e-12));
+  CHECK(p == close_to(std::sqrt(m * 9.81 * R / J), 1e-12));
+  CHECK(j["alpha_cg"].get<double>() == close_to(std::atan(0.2 / j["H_cg"].get<double>()), 1e-12));
   CHECK(j["r_eq10"].get<double>() > 0);
   CHECK(contains(run("modal " + scenes + "rigid_block.toml").out, "frequency parameter"));
 }

@@ -2,6 +2,7 @@
 // reproduces the test's loop to the reported RMS error; the figure and the
 // table are written; tests that cannot be fitted get one line and exit 2.
 #include <doctest/doctest.h>
+#include "close.hpp"
 #include <nlohmann/json.hpp>
 #include <cmath>
 #include <filesystem>
@@ -41,7 +42,7 @@ TEST_CASE("the fitted table pasted into a scene reproduces the test's loop to th
     double ssr = 0;
     for (std::size_t i = 0; i < F.size(); ++i) ssr += (F[i] - test.F[i]) * (F[i] - test.F[i]);
     const double rms = std::sqrt(ssr / static_cast<double>(F.size()));
-    CHECK(rms == doctest::Approx(j["rms_error_N"].get<double>()).epsilon(1e-6));
+    CHECK(rms == close_to(j["rms_error_N"].get<double>(), 1e-6));
     fs::remove(scene);
   }
 }
@@ -81,19 +82,30 @@ TEST_CASE("rocking fit refuses what it cannot fit in one line, exit 2") {
   }
 }
 
-TEST_CASE("the README's fit of the synthetic Bouc-Wen test") {
-  // README "Fitting a device law to a cyclic test" quotes these numbers.
+TEST_CASE("the README's fit of the synthetic Bouc-Wen test, to the digits the README prints") {
+  // A regression guard for the README's quoted fit ("Fitting a device law to
+  // a cyclic test") and nothing more: each number to half a unit of its last
+  // printed digit. Whether the fit is right is tests/fitting_test.cpp's: the
+  // truth within the standard errors, their calibration over 40 draws, the
+  // RMS error the 1 % noise.
   const cli::Result r = cli::run("fit " + bouc_wen_test + " --json");
   REQUIRE(r.code == 0);
   const nlohmann::json j = nlohmann::json::parse(r.out);
-  const std::vector<std::pair<std::string, double>> quoted{{"k", 1.99786e7}, {"eps", 0.0505022}, {"d_y", 0.00399676},
-                                                           {"alpha", 0.70378}, {"beta", 0.29622}, {"n", 1.5275}};
-  for (const auto& [key, value] : quoted)
+  struct Quoted {
+    std::string key;
+    double value, half_digit;
+  };
+  const std::vector<Quoted> quoted{{"k", 1.99786e7, 50}, {"eps", 0.0505022, 5e-8}, {"d_y", 0.00399676, 5e-9},
+                                   {"alpha", 0.70378, 5e-6}, {"beta", 0.29622, 5e-6}, {"n", 1.5275, 5e-5}};
+  int found = 0;
+  for (const Quoted& q : quoted)
     for (const auto& p : j["parameters"])
-      if (p["key"] == key) {
-        INFO(key);
-        CHECK(p["value"].get<double>() == doctest::Approx(value).epsilon(1e-5));
+      if (p["key"] == q.key) {
+        INFO(q.key);
+        ++found;
+        CHECK(p["value"].get<double>() == within(q.value, q.half_digit));
       }
-  CHECK(j["rms_error_N"].get<double>() == doctest::Approx(996).epsilon(1e-3));
-  CHECK(j["peak_error_N"].get<double>() == doctest::Approx(3268).epsilon(1e-3));
+  CHECK(found == 6);
+  CHECK(j["rms_error_N"].get<double>() == within(996, 0.5));
+  CHECK(j["peak_error_N"].get<double>() == within(3268, 0.5));
 }

@@ -3,6 +3,7 @@
 // the three backends (rk45, cvode, arkode).
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
+#include "close.hpp"
 #include <gsl/gsl_sf_ellint.h>
 #include <cmath>
 #include <initializer_list>
@@ -53,7 +54,9 @@ double fixed_step_error(double h) {
 
 TEST_CASE("rk45 is 5th order: halving a fixed step divides the error by about 32") {
   const double ratio = fixed_step_error(0.1) / fixed_step_error(0.05);
-  CHECK(std::log2(ratio) == doctest::Approx(5.0).epsilon(0.06));
+  // h = 0.1 is not yet asymptotic: the next term of the error moves the
+  // measured order by about 1 %.
+  CHECK(std::log2(ratio) == close_to(5.0, 0.02));
 }
 
 TEST_CASE("rk45 steps alike at every state size, unrolled (up to 16) or not") {
@@ -90,7 +93,9 @@ TEST_CASE("global error falls in proportion to the tolerance (harmonic oscillato
   }
   // slope of log(error) against log(tol) over six decades; tolerance proportionality is 1
   const double slope = std::log10(errors.front() / errors.back()) / 6.0;
-  CHECK(slope == doctest::Approx(1.0).epsilon(0.2));
+  // An error-per-step controller makes the global error only roughly
+  // proportional to the tolerance: the slope is 1 within 20 %.
+  CHECK(slope == close_to(1.0, 0.2));
   for (std::size_t i = 1; i < errors.size(); ++i) CHECK(errors[i] < errors[i - 1]);
 }
 
@@ -100,7 +105,7 @@ TEST_CASE("dense output is 4th order: its error inside one step shrinks as h^5")
         return make_rk45(2, dense_order::oscillator, {.rtol = 1.0, .atol = 1.0, .max_step = h, .initial_step = h});
       },
       0.1);
-  CHECK(order == doctest::Approx(4.0).epsilon(0.08));
+  CHECK(order == close_to(4.0, 0.02));  // from h = 0.1: higher-order terms move it by about 0.5 %
 }
 
 TEST_CASE("the first impact of a falling ball matches sqrt(2h/g) to 1e-10 on every backend") {
@@ -157,10 +162,10 @@ TEST_CASE("two crossings inside one long step are both found, in order") {
   const StepReport second = advance(*rk, 1.0);
   CHECK(rk->stats().steps <= 2);
   REQUIRE(first.reason == Stop::event);
-  CHECK(first.t == doctest::Approx(0.2).epsilon(1e-13));
+  CHECK(first.t == close_to(0.2, 1e-13));
   CHECK(first.crossing == Direction::falling);
   REQUIRE(second.reason == Stop::event);
-  CHECK(second.t == doctest::Approx(0.6).epsilon(1e-13));
+  CHECK(second.t == close_to(0.6, 1e-13));
   CHECK(second.crossing == Direction::rising);
   CHECK(advance(*rk, 1.0).reason == Stop::limit);
 }
@@ -177,12 +182,12 @@ TEST_CASE("after a reset at an event, the same event does not fire again") {
     in->reset(in->time(), bounced, height_guard(Direction::either));
     const StepReport next = advance(*in, 10.0);
     REQUIRE(next.reason == Stop::event);
-    CHECK(next.t == doctest::Approx(3 * t1).epsilon(1e-9));  // up and down again
+    CHECK(next.t == close_to(3 * t1, 1e-9));  // up and down again
   }
   // and a guard set exactly to zero at the restart stays silent until it leaves zero
   auto rk = make_rk45(2, falling, tight());
   rk->reset(0.0, vec({0.0, 5.0}), height_guard(Direction::either));
-  CHECK(advance(*rk, 10.0).t == doctest::Approx(2 * 5.0 / g_accel).epsilon(1e-10));
+  CHECK(advance(*rk, 10.0).t == close_to(2 * 5.0 / g_accel, 1e-10));
 }
 
 TEST_CASE("directions are respected: sin t rises at 2pi and falls at pi") {
@@ -194,7 +199,7 @@ TEST_CASE("directions are respected: sin t rises at 2pi and falls at pi") {
       in->reset(0.0, vec({0.0, 1.0}), height_guard(dir));  // y0 = sin t
       const StepReport r = advance(*in, 7.0);
       REQUIRE(r.reason == Stop::event);
-      CHECK(r.t == doctest::Approx(expected).epsilon(1e-10));
+      CHECK(r.t == close_to(expected, 1e-10));
       CHECK(r.crossing == dir);
     }
   }
@@ -251,7 +256,9 @@ TEST_CASE("failures are typed and carry the time: blow-up and max steps") {
       advance(*in, 2.0);
       FAIL("integrated through a singularity");
     } catch (const IntegrationError& e) {
-      CHECK(e.time() == doctest::Approx(1.0).epsilon(1e-3));
+      // Each stops where y = 1 / (1 - t) outgrows what its tolerances can
+      // follow, within 1e-6 of the singularity.
+      CHECK(e.time() == close_to(1.0, 1e-5));
       CHECK(e.kind() != IntegrationError::Kind::max_steps);
     }
     auto capped = make_integrator(b, 2, oscillator, {.rtol = 1e-10, .atol = 1e-10, .max_steps = 20});

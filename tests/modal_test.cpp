@@ -2,6 +2,7 @@
 // and Table 1) and the structure of the linearised rocking phase.
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
+#include "close.hpp"
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -13,21 +14,23 @@ import rocking.hysteresis;
 
 using namespace rocking;
 
-TEST_CASE("the chimney reproduces MODEL.md 8 within 0.5 % and M_ref, V_ref within 1 %") {
+TEST_CASE("the chimney reproduces MODEL.md 8's values to the digits it prints them with") {
+  // Each to half a unit of its last printed digit (MODEL.md 8; M_ref and V_ref
+  // as MODEL.md 7 gives them). The paper's rounder figures, in MODEL.md's
+  // brackets, are within these except its rocking f1 of 6.22 Hz (6.206 here).
   const Scene scene = load_default_scene();
   const ModalSummary m = modal_analysis(scene.structure, scene_devices(scene));
-  const double half_percent = 5e-3, one_percent = 1e-2;
-  CHECK(m.fixed_base_hz.at(0) == doctest::Approx(2.176).epsilon(half_percent));
-  CHECK(m.rocking_hz.at(0) == doctest::Approx(6.21).epsilon(half_percent));
-  CHECK(m.rocking_p == doctest::Approx(0.650).epsilon(half_percent));
-  CHECK(m.damper_pre_yield_hz == doctest::Approx(0.312).epsilon(half_percent));
-  CHECK(m.damper_post_yield_p == doctest::Approx(0.40).epsilon(half_percent));
-  CHECK(m.r_eq10 == doctest::Approx(0.938).epsilon(half_percent));
-  CHECK(m.J_p == doctest::Approx(1.0006e8).epsilon(half_percent));
-  CHECK(m.H_cg == doctest::Approx(15.02).epsilon(half_percent));
-  CHECK(m.alpha_cg == doctest::Approx(0.2162).epsilon(half_percent));
-  CHECK(m.reference.base_moment == doctest::Approx(9.26e6).epsilon(one_percent));
-  CHECK(m.reference.base_shear == doctest::Approx(3.68e5).epsilon(one_percent));
+  CHECK(m.fixed_base_hz.at(0) == within(2.176, 5e-4));
+  CHECK(m.rocking_hz.at(0) == within(6.21, 5e-3));
+  CHECK(m.rocking_p == within(0.650, 5e-4));
+  CHECK(m.damper_pre_yield_hz == within(0.312, 5e-4));
+  CHECK(m.damper_post_yield_p == within(0.40, 5e-3));
+  CHECK(m.r_eq10 == within(0.938, 5e-4));
+  CHECK(m.J_p == within(1.0006e8, 5e3));
+  CHECK(m.H_cg == within(15.02, 5e-3));
+  CHECK(m.alpha_cg == within(0.2162, 5e-5));
+  CHECK(m.reference.base_moment == within(9.26e6, 5e3));
+  CHECK(m.reference.base_shear == within(3.68e5, 5e2));
 }
 
 TEST_CASE("the linearised rocking phase is symmetric with a positive-definite mass") {
@@ -53,7 +56,7 @@ TEST_CASE("a very stiff structure rocks like a rigid body: p^2 = g sum(m H) / J_
   const Structure& s = scene.structure;
   const ModalSummary m = modal_analysis(s, scene_devices(scene));
   const double rigid_p = std::sqrt(gravity * s.masses.dot(s.heights) / pivot_inertia(s));
-  CHECK(m.rocking_p == doctest::Approx(rigid_p).epsilon(1e-5));
+  CHECK(m.rocking_p == close_to(rigid_p, 1e-5));
 }
 
 TEST_CASE("modes of the rocking phase are orthogonal in its mass matrix") {
@@ -73,25 +76,25 @@ TEST_CASE("devices linearised at theta = 0: k (de/dth)^2 per device, prestress P
   const double B = s.half_width, k_tendon = 5e7, k_damper = 1e7, eps = 0.06;
   // The paper's edge damper alone: k (2B)^2 pre-yield, eps k (2B)^2 yielded (hysteresis's own formulas).
   const RockingStiffness damper = rocking_stiffness(edge_dampers(scene.damper, B), B, +1);
-  CHECK(damper.at_rest == doctest::Approx(pre_yield_rotational_stiffness(scene.damper, B)).epsilon(1e-14));
-  CHECK(damper.yielded == doctest::Approx(post_yield_rotational_stiffness(scene.damper, B)).epsilon(1e-14));
+  CHECK(damper.at_rest == close_to(pre_yield_rotational_stiffness(scene.damper, B), 1e-14));
+  CHECK(damper.yielded == close_to(post_yield_rotational_stiffness(scene.damper, B), 1e-14));
   CHECK(damper.held_moment == 0.0);
   // A central vertical tendon: de/d|th| = l = B at theta = 0, for either pivot.
   const ModalSummary m = modal_analysis(s, scene_devices(scene));
   for (int side : {0, 1}) {
-    CHECK(m.devices[side].at_rest == doctest::Approx(k_damper * 4 * B * B + k_tendon * B * B).epsilon(1e-14));
-    CHECK(m.devices[side].yielded == doctest::Approx(eps * k_damper * 4 * B * B + k_tendon * B * B).epsilon(1e-14));
-    CHECK(m.devices[side].held_moment == doctest::Approx(2e6 * B).epsilon(1e-14));
+    CHECK(m.devices[side].at_rest == close_to(k_damper * 4 * B * B + k_tendon * B * B, 1e-14));
+    CHECK(m.devices[side].yielded == close_to(eps * k_damper * 4 * B * B + k_tendon * B * B, 1e-14));
+    CHECK(m.devices[side].held_moment == close_to(2e6 * B, 1e-14));
   }
   // The reported frequency is the linearised rocking phase's with that stiffness.
   const RockingModes modes = rocking_modes(linearise_rocking(s, assemble(s), m.devices[1].at_rest));
   REQUIRE(modes.lambda[0] > 0);
-  CHECK(m.damper_pre_yield_hz == doctest::Approx(std::sqrt(modes.lambda[0]) / (2 * std::numbers::pi)).epsilon(1e-12));
+  CHECK(m.damper_pre_yield_hz == close_to(std::sqrt(modes.lambda[0]) / (2 * std::numbers::pi), 1e-12));
   CHECK(m.damper_pre_yield_hz > modal_analysis(s, edge_dampers(scene.damper, B)).damper_pre_yield_hz);
   // An anchor off the centre: its lever arm differs by pivot, l = B - s x.
   const Device off{"off", {1.0, Kinematics::vertical, 10.0}, ElasticLaw{0.0, 1e6}, 0};
-  CHECK(rocking_stiffness({off}, B, +1).at_rest == doctest::Approx(1e6 * (B - 1.0) * (B - 1.0)).epsilon(1e-14));
-  CHECK(rocking_stiffness({off}, B, -1).at_rest == doctest::Approx(1e6 * (B + 1.0) * (B + 1.0)).epsilon(1e-14));
+  CHECK(rocking_stiffness({off}, B, +1).at_rest == close_to(1e6 * (B - 1.0) * (B - 1.0), 1e-14));
+  CHECK(rocking_stiffness({off}, B, -1).at_rest == close_to(1e6 * (B + 1.0) * (B + 1.0), 1e-14));
 }
 
 TEST_CASE("devices on one side only: rocking about the other pivot is free, and the summary says unstable") {
@@ -106,6 +109,6 @@ TEST_CASE("devices on one side only: rocking about the other pivot is free, and 
   CHECK(rocking_modes(linearise_rocking(scene.structure, assemble(scene.structure), m.devices[0].at_rest)).lambda[0] > 0);
   // ... but the structure as a whole is not: free rocking about the right pivot.
   CHECK(m.damper_pre_yield_hz == 0.0);
-  CHECK(m.damper_post_yield_p == doctest::Approx(m.rocking_p).epsilon(1e-12));
+  CHECK(m.damper_post_yield_p == close_to(m.rocking_p, 1e-12));
   CHECK(m.rocking_p > 0);
 }

@@ -5,6 +5,7 @@
 // at scale 3, where the damper changes the rocking angle but little the forces.
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
+#include "close.hpp"
 #include <cmath>
 #include <string>
 #include <vector>
@@ -30,7 +31,10 @@ RunResult run_chimney(const std::string& record, double scale, std::vector<std::
 
 }  // namespace
 
-TEST_CASE("rk45, CVODE and ARKODE give the same El Centro chimney peaks to 1e-4 at tight tolerance") {
+TEST_CASE("rk45, CVODE and ARKODE give the same El Centro chimney peaks to 1e-6 at tight tolerance") {
+  // Each at rtol 1e-10 (CVODE 1e-11): their global errors, grown over 77
+  // impacts that restart the motion from located events, stay within
+  // 1e4 rtol, so two of them agree to 1e-6.
   const auto dir = records_dir();
   if (!dir) return;
   const std::string record = *dir + "/elcentro_1940_ns.at2";
@@ -45,7 +49,7 @@ TEST_CASE("rk45, CVODE and ARKODE give the same El Centro chimney peaks to 1e-4 
     CHECK(other->counts.impacts == rk45.counts.impacts);
     for (Quantity q : peak_quantities) {
       CAPTURE(info(q).name);
-      CHECK(std::abs(other->peak(q) / rk45.peak(q) - 1.0) < 1e-4);
+      CHECK(other->peak(q) == close_to(rk45.peak(q), 1e-6));
     }
   }
 }
@@ -54,10 +58,13 @@ TEST_CASE("El Centro unscaled: a peak total top displacement of the order of the
   const auto dir = records_dir();
   if (!dir) return;
   // Two versions of the same N-S record (SOURCES.md): 134 mm and 161 mm measured.
+  // The paper states "~160 mm" for a version it does not name: the PEER
+  // version within 5 % (the figure's reading), the classic one within 20 %
+  // (its own processing lowers the peak).
   const RunResult classic = run_chimney(*dir + "/elcentro_1940_ns.at2", 1.0);
   const RunResult peer = run_chimney(*dir + "/elcentro_1940_ns_peer_ielc180.at2", 1.0);
-  CHECK(classic.top_total_mm == doctest::Approx(160.0).epsilon(0.2));
-  CHECK(peer.top_total_mm == doctest::Approx(160.0).epsilon(0.05));
+  CHECK(classic.top_total_mm == close_to(160.0, 0.2));
+  CHECK(peer.top_total_mm == close_to(160.0, 0.05));
   CHECK(classic.counts.uplifts > 0);
 }
 

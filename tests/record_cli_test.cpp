@@ -2,15 +2,22 @@
 // as JSON (numbers equal to the library's), figures and their data, every
 // format through simulate, and one-line errors.
 #include <doctest/doctest.h>
+#include "close.hpp"
 #include <nlohmann/json.hpp>
+#include <fmt/format.h>
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <numbers>
 #include <filesystem>
 #include <string>
 #include "csv_table.hpp"
 #include "records.hpp"
 #include "run_program.hpp"
 #include "temp_path.hpp"
+import rocking.ground_motion;
+import rocking.intensity;
+import rocking.geometry;
 
 namespace fs = std::filesystem;
 using namespace cli;
@@ -29,17 +36,17 @@ TEST_CASE("record --json gives the measures and metadata of every format") {
                             "npts", "format", "event", "station", "component", "units", "stated_peak_g"})
       CHECK_MESSAGE(rec.contains(key), key);
   CHECK(j[0]["format"] == "at2");
-  CHECK(j[0]["pga_g"].get<double>() == doctest::Approx(0.3188).epsilon(1e-3));
+  CHECK(j[0]["pga_g"].get<double>() == close_to(0.3188, 1e-3));
   CHECK(j[0]["periods_s"].size() == 2);
   CHECK(j[0]["psa_g"].size() == 2);
   // Each file's PGA is the peak its header states, to 0.1 %.
   for (std::size_t i = 1; i < 4; ++i) {
     CAPTURE(j[i]["id"]);
-    CHECK(j[i]["pga_g"].get<double>() == doctest::Approx(j[i]["stated_peak_g"].get<double>()).epsilon(1e-3));
+    CHECK(j[i]["pga_g"].get<double>() == close_to(j[i]["stated_peak_g"].get<double>(), 1e-3));
   }
   CHECK(j[1]["format"] == "geonet");
   CHECK(j[1]["component"] == "N28W");
-  CHECK(j[1]["pga_g"].get<double>() == doctest::Approx(9.7331 / 9.81).epsilon(1e-3));
+  CHECK(j[1]["pga_g"].get<double>() == close_to(9.7331 / 9.81, 1e-3));
   CHECK(j[2]["format"] == "knet");
   CHECK(j[3]["format"] == "cosmos");
 }
@@ -134,7 +141,7 @@ TEST_CASE("ida --vertical runs each record with its file's vertical component: a
     return nlohmann::json::parse(s.out)["peaks"]["theta_over_alpha"].get<double>();
   };
   const double with = peak("--vertical Up"), without = peak("");
-  CHECK(std::stod(rows.at(0, "theta_over_alpha")) == doctest::Approx(with).epsilon(1e-8));
+  CHECK(std::stod(rows.at(0, "theta_over_alpha")) == close_to(with, 1e-8));
   CHECK(std::abs(with - without) > 1e-6 * without);  // the vertical motion made a difference
   const Result wrong = run("ida --no-plot --scales 0.5 --component N28W --vertical S62W --record " + waiau + " --out " +
                            out.string());
@@ -144,22 +151,52 @@ TEST_CASE("ida --vertical runs each record with its file's vertical component: a
   CHECK(csv_table(file_text(out / "ida.csv")).at(0, "error").find("component S62W is horizontal") != std::string::npos);
 }
 
-TEST_CASE("record --rotd: RotD50 and RotD100 of the Waiau file's two horizontals, as the README states them") {
+// RotD50 and RotD100 [g] by another route than the program's: the two
+// components' samples projected at every degree by hand, each projection's
+// PSA computed alone, the median (mean of the middle two) and the maximum of
+// the 180 taken.
+std::array<double, 2> rotd_by_rotation(const rocking::GroundMotion& a1, const rocking::GroundMotion& a2, double T) {
+  const std::vector<double> x1 = a1.sample_values(), x2 = a2.sample_values();
+  REQUIRE(a1.sample_interval() == a2.sample_interval());
+  std::vector<double> psa;
+  for (int k = 0; k < 180; ++k) {
+    const double phi = k * std::numbers::pi / 180;
+    std::vector<double> a(std::max(x1.size(), x2.size()), 0.0);
+    for (std::size_t i = 0; i < a.size(); ++i)
+      a[i] = (i < x1.size() ? x1[i] * std::cos(phi) : 0.0) + (i < x2.size() ? x2[i] * std::sin(phi) : 0.0);
+    psa.push_back(rocking::pseudo_spectral_acceleration(rocking::GroundMotion::evenly_sampled("rotated", a1.sample_interval(), a), T));
+  }
+  std::ranges::sort(psa);
+  return {0.5 * (psa[89] + psa[90]) / rocking::gravity, psa[179] / rocking::gravity};
+}
+
+TEST_CASE("record --rotd: RotD50 and RotD100 of the Waiau file's two horizontals equal the records rotated at every degree (1e-10)") {
   const auto dir = records_dir();
   if (!dir) return;
   const std::string waiau = *dir + "/formats/20161113_110259_WTMC_20.V2A";
-  const Result r = run("record " + waiau + " --rotd --periods 0.2,0.5,1,2");
-  REQUIRE_MESSAGE(r.code == 0, r.err);
-  CHECK(r.out.find("RotD of           N28W+S62W") != std::string::npos);
-  for (const char* line : {"  T = 0.2 s       1.7805 2.3369", "  T = 0.5 s       1.6275 1.8668", "  T = 1 s         1.0526 1.4637",
-                           "  T = 2 s         0.3886 0.4888"})
-    CHECK_MESSAGE(r.out.find(line) != std::string::npos, line);
-  const Result j = run("record " + waiau + " --rotd --periods 1 --json");
+  const std::vector<double> periods = {0.2, 0.5, 1, 2};
+  const rocking::GroundMotion n28w = rocking::read_record(waiau, {.component = "N28W"});
+  const rocking::GroundMotion s62w = rocking::read_record(waiau, {.component = "S62W"});
+  const Result j = run("record " + waiau + " --rotd --periods 0.2,0.5,1,2 --json");
   REQUIRE_MESSAGE(j.code == 0, j.err);
   const auto rec = nlohmann::json::parse(j.out)[0];
   CHECK(rec["rotd_components"] == nlohmann::json::array({"N28W", "S62W"}));
-  CHECK(rec["rotd50_g"][0].get<double>() == doctest::Approx(1.0526).epsilon(1e-4));
-  CHECK(rec["rotd100_g"][0].get<double>() == doctest::Approx(1.4637).epsilon(1e-4));
+  const Result r = run("record " + waiau + " --rotd --periods 0.2,0.5,1,2");
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  CHECK(r.out.find("RotD of           N28W+S62W") != std::string::npos);
+  for (std::size_t k = 0; k < periods.size(); ++k) {
+    CAPTURE(periods[k]);
+    const auto [rotd50, rotd100] = rotd_by_rotation(n28w, s62w, periods[k]);
+    // Superposition against rotation: equal to round-off (tests/intensity_test.cpp).
+    CHECK(rec["rotd50_g"][k].get<double>() == close_to(rotd50, 1e-10));
+    CHECK(rec["rotd100_g"][k].get<double>() == close_to(rotd100, 1e-10));
+    // The table prints the same numbers to 4 decimals.
+    const std::string line = fmt::format("  {:<16}{:.4f} {:.4f}", fmt::format("T = {:g} s", periods[k]), rotd50, rotd100);
+    CHECK_MESSAGE(r.out.find(line) != std::string::npos, line);
+  }
+  // The README's figures (README, "record --rotd"): T = 1 s, 1.0526 and 1.4637 g, to their 4 decimals.
+  CHECK(rec["rotd50_g"][2].get<double>() == within(1.0526, 5e-5));
+  CHECK(rec["rotd100_g"][2].get<double>() == within(1.4637, 5e-5));
   // A PEER pair with --second; a single-component file alone has no RotD.
   const std::string cbgs = *dir + "/christchurch2011_cbgs_";
   const Result pair = run("record " + cbgs + "n89w.at2 --rotd --second " + cbgs + "s01w.at2 --periods 1");
@@ -183,8 +220,8 @@ TEST_CASE("ida --im rotd50:1 scales each record by its two horizontals' RotD50")
   CHECK(r.code == 4);  // El Centro's file holds one component: its runs fail, saying why
   const CsvTable rows = csv_table(file_text(out / "ida.csv"));
   REQUIRE(rows.rows.size() == 2);
-  CHECK(std::stod(rows.at(0, "record_im")) == doctest::Approx(1.0526).epsilon(1e-4));
-  CHECK(std::stod(rows.at(0, "scale")) == doctest::Approx(0.5 / 1.0526).epsilon(1e-4));
+  CHECK(std::stod(rows.at(0, "record_im")) == close_to(1.0526, 1e-4));
+  CHECK(std::stod(rows.at(0, "scale")) == close_to(0.5 / 1.0526, 1e-4));
   CHECK(rows.at(1, "error").find("holds no other horizontal component") != std::string::npos);
 }
 
@@ -236,14 +273,14 @@ TEST_CASE("ida --azimuths: each azimuth a record of its own, row for row the run
                          waiau + " --out " + one.string());
     REQUIRE_MESSAGE(s.code == 0, s.err);
     const double theta = nlohmann::json::parse(s.out)["peaks"]["theta_over_alpha"].get<double>();
-    CHECK(std::stod(rows.at(i, "theta_over_alpha")) == doctest::Approx(theta).epsilon(1e-8));
+    CHECK(std::stod(rows.at(i, "theta_over_alpha")) == close_to(theta, 1e-8));
     largest = std::max(largest, theta);
   }
   const CsvTable summary = csv_table(file_text(out / "azimuths.csv"));
   REQUIRE(summary.rows.size() == 1);
   CHECK(summary.at(0, "record") == "20161113_110259_WTMC_20.V2A");
   CHECK(summary.at(0, "azimuths") == "3");
-  CHECK(std::stod(summary.at(0, "theta_over_alpha_max")) == doctest::Approx(largest).epsilon(1e-8));
+  CHECK(std::stod(summary.at(0, "theta_over_alpha_max")) == close_to(largest, 1e-8));
   const Result bad = run("ida --no-plot --scales 0.5 --azimuths 0,90 --record " + *dir + "/elcentro_1940_ns.at2 --out " +
                          out.string());
   CHECK(bad.code == 2);
@@ -263,7 +300,7 @@ TEST_CASE("ida --pairs: a PEER pair's second file is its record's other horizont
   REQUIRE_MESSAGE(r.code == 0, r.err);
   const CsvTable rows = csv_table(file_text(out / "ida.csv"));
   REQUIRE(rows.rows.size() == 1);
-  CHECK(std::stod(rows.at(0, "record_im")) == doctest::Approx(rotd50).epsilon(1e-8));
+  CHECK(std::stod(rows.at(0, "record_im")) == close_to(rotd50, 1e-8));
   // At 90 degrees the pair's run is its second file's.
   const Result turned = run("ida --no-plot --pairs --scales 1 --variants damper --azimuths 90 --record " + cbgs +
                             "n89w.at2 --record " + cbgs + "s01w.at2 --out " + out.string());
@@ -272,7 +309,7 @@ TEST_CASE("ida --pairs: a PEER pair's second file is its record's other horizont
   const Result alone = run("simulate --json --record " + cbgs + "s01w.at2 --out " + out.string() + "/one");
   REQUIRE_MESSAGE(alone.code == 0, alone.err);
   CHECK(std::stod(at90.at(0, "theta_over_alpha")) ==
-        doctest::Approx(nlohmann::json::parse(alone.out)["peaks"]["theta_over_alpha"].get<double>()).epsilon(1e-8));
+        close_to(nlohmann::json::parse(alone.out)["peaks"]["theta_over_alpha"].get<double>(), 1e-8));
   const Result odd = run("ida --no-plot --pairs --scales 1 --record " + cbgs + "n89w.at2 --out " + out.string());
   CHECK(odd.code == 2);
   CHECK(odd.err.find("--pairs: an odd number of record files (1)") != std::string::npos);

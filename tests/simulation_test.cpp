@@ -7,6 +7,7 @@
 #include <variant>
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
+#include "close.hpp"
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -112,7 +113,13 @@ TEST_CASE("initial elastic displacements: the chimney on a fixed base, released 
   std::vector<std::string> set = {"contact.rocking=false", "structure.damping_ratio=0.0", "excitation.kind=none",
                                   "excitation.duration=2"};
   std::string u = "initial.u=[";
-  for (Eigen::Index i = 0; i < phi.size(); ++i) u += (i ? "," : "") + std::to_string(0.01 * phi[i] / phi[phi.size() - 1]);
+  // Written with 17 digits: a release rounded (to_string's 6 decimals) would
+  // mix in the other modes at 1e-4 of the first.
+  for (Eigen::Index i = 0; i < phi.size(); ++i) {
+    std::ostringstream digits;
+    digits << std::setprecision(17) << 0.01 * phi[i] / phi[phi.size() - 1];
+    u += (i ? "," : "") + digits.str();
+  }
   set.push_back(u + "]");
   const Scene scene = chimney(set);
   REQUIRE(scene.initial.u.size() == 4);
@@ -125,12 +132,12 @@ TEST_CASE("initial elastic displacements: the chimney on a fixed base, released 
     runs.push_back(simulate(make_contact_model(scene, false), default_ground_motion(scene), o));
     const RunResult& r = runs.back();
     REQUIRE(r.outcome == Outcome::completed);
-    // Free vibration in one mode: the top never exceeds where it was released.
-    CHECK(r.peak(Quantity::delta_e) * scene.structure.heights[3] == doctest::Approx(scene.initial.u[3]).epsilon(1e-6));
-    // and follows u_N cos(omega_1 t) (2 s is 4.35 periods), to the 6 digits
-    // the release was written with; the final state is nodal.
+    // Free vibration in one mode: the top never exceeds where it was released
+    // (rtol 1e-12 over 4.35 periods: the integration's error, a few 1e-10).
+    CHECK(r.peak(Quantity::delta_e) * scene.structure.heights[3] == close_to(scene.initial.u[3], 1e-8));
+    // and follows u_N cos(omega_1 t) (2 s is 4.35 periods); the final state is nodal.
     const double w1 = m.body.matrices.fixed_base.omega[0];
-    CHECK(r.final_state[3] == doctest::Approx(scene.initial.u[3] * std::cos(w1 * 2.0)).epsilon(1e-4));
+    CHECK(r.final_state[3] == close_to(scene.initial.u[3] * std::cos(w1 * 2.0), 1e-8));
   }
   CHECK((runs[1].final_state - runs[0].final_state).norm() < 1e-9 * runs[0].final_state.norm());
 }
@@ -188,7 +195,7 @@ TEST_CASE("rigid block: each impact leaves r^2 of the energy, so the amplitudes 
     const double ratio = rigid_potential(scene.structure, g, amplitudes[k]) /
                          rigid_potential(scene.structure, g, amplitudes[k - 1]);
     CAPTURE(k);
-    CHECK(ratio == doctest::Approx(0.8 * 0.8).epsilon(1e-6));
+    CHECK(ratio == close_to(0.8 * 0.8, 1e-6));
   }
 }
 
@@ -203,7 +210,7 @@ TEST_CASE("rigid block: a small pulse does not lift it, a large one-sine pulse o
   CHECK(small.peak(Quantity::theta) == 0.0);
   const RunResult large = simulate(m, GroundMotion::pulse(PulseShape::one_sine, 3.0 * g_tan_alpha, 1.0), o);
   CHECK(large.outcome == Outcome::overturned);
-  CHECK(large.peak(Quantity::theta_over_alpha) == doctest::Approx(1.0).epsilon(1e-6));
+  CHECK(large.peak(Quantity::theta_over_alpha) == close_to(1.0, 1e-6));
   CHECK(large.t_end < o.duration);
 }
 
@@ -217,8 +224,8 @@ TEST_CASE("a very stiff flexible structure (EI x 1e4) rocks like the rigid block
   const RunResult as_built = simulate(make_contact_model(chimney(), false), pulse, o);
   REQUIRE(rigid.counts.uplifts >= 1);
   const double theta_rigid = rigid.peak(Quantity::theta);
-  CHECK(stiff.peak(Quantity::theta) == doctest::Approx(theta_rigid).epsilon(1e-3));
-  CHECK(stiff.first_uplift == doctest::Approx(rigid.first_uplift).epsilon(1e-3));
+  CHECK(stiff.peak(Quantity::theta) == close_to(theta_rigid, 1e-3));
+  CHECK(stiff.first_uplift == close_to(rigid.first_uplift, 1e-3));
   // ... while the real chimney's flexibility delays its uplift appreciably
   // (measured: 0.129 s against 0.065 s).
   CHECK(as_built.first_uplift > 1.5 * rigid.first_uplift);
@@ -265,7 +272,7 @@ TEST_CASE("a central tendon's prestress raises the uplift threshold: m a_g H_cg 
   const RunResult r = simulate(m, pulse, tight(1.0));
   // a_g = A sin(2 pi t / T) first reaches a_crit at t = T asin(a_crit / A) / (2 pi).
   const double expected = period * std::asin(a_crit / amplitude) / (2 * std::numbers::pi);
-  CHECK(r.first_uplift == doctest::Approx(expected).epsilon(1e-8));
+  CHECK(r.first_uplift == close_to(expected, 1e-8));
   // Without the tendon it lifts sooner, at g tan(alpha).
   const RunResult bare = simulate(make_contact_model(scene, false), pulse, tight(1.0));
   CHECK(bare.first_uplift < r.first_uplift - 1e-3);
@@ -333,9 +340,9 @@ TEST_CASE("a device reaching its capacity fractures once, at a located event, an
   // Its peak elongation is the capacity, to the event location's accuracy.
   // The largest force it carried is the one at fracture; the work done on it,
   // all lost when it broke, is the energy it stored there: P0 e_u + k e_u^2 / 2.
-  CHECK(tendon.peak_force == doctest::Approx(P0 + k * e_u).epsilon(1e-8));
-  CHECK(tendon.peak_elongation == doctest::Approx(e_u).epsilon(1e-9));
-  CHECK(tendon.work == doctest::Approx(P0 * e_u + 0.5 * k * e_u * e_u).epsilon(1e-6));
+  CHECK(tendon.peak_force == close_to(P0 + k * e_u, 1e-8));
+  CHECK(tendon.peak_elongation == close_to(e_u, 1e-9));
+  CHECK(tendon.work == close_to(P0 * e_u + 0.5 * k * e_u * e_u, 1e-6));
   // The balance still closes: the work on the devices includes the tendon's.
   CHECK(std::abs(r.energy.residual()) < 1e-6 * r.energy.ground);
 }
@@ -383,7 +390,7 @@ TEST_CASE("the energy balance closes to 1e-6 of the input for every device law, 
       CHECK(d.peak_elongation > 0);  // every device was stretched
       work += d.work;
     }
-    CHECK(work == doctest::Approx(r.energy.damper).epsilon(1e-9));  // the devices' works add up to the total
+    CHECK(work == close_to(r.energy.damper, 1e-9));  // the devices' works add up to the total
     CHECK(std::abs(r.energy.damper) > 1e-3 * r.energy.ground);       // and the devices matter
     CHECK(std::abs(r.energy.residual()) < 1e-6 * r.energy.ground);
   }
@@ -414,18 +421,18 @@ TEST_CASE("a run in modal coordinates is the nodal run: same events, peaks and e
   CHECK(nodal.counts.uplifts > 5);
   CHECK(modal.counts.uplifts == nodal.counts.uplifts);
   CHECK(modal.counts.impacts == nodal.counts.impacts);
-  CHECK(modal.first_uplift == doctest::Approx(nodal.first_uplift).epsilon(1e-9));
-  CHECK(modal.first_impact == doctest::Approx(nodal.first_impact).epsilon(1e-9));
+  CHECK(modal.first_uplift == close_to(nodal.first_uplift, 1e-9));
+  CHECK(modal.first_impact == close_to(nodal.first_impact, 1e-9));
   // The top's acceleration weighs each mode by omega^2 (K u / m_N): the
   // highest modes, whose amplitudes the two runs share only to atol, count
   // (omega_N / omega_1)^2 more than in the displacements; 1e-6 for it.
   for (std::size_t k = 0; k < quantity_count; ++k) {
     const auto q = static_cast<Quantity>(k);
     CAPTURE(info(q).name);
-    CHECK(modal.peaks[k] == doctest::Approx(nodal.peaks[k]).epsilon(q == Quantity::a_top ? 1e-6 : 1e-7));
+    CHECK(modal.peaks[k] == close_to(nodal.peaks[k], q == Quantity::a_top ? 1e-6 : 1e-7));
   }
   // final_state is nodal in both
   CHECK((modal.final_state - nodal.final_state).norm() <= 1e-6 * nodal.final_state.norm());
   CHECK(std::abs(modal.energy.residual()) < 1e-6 * modal.energy.ground);
-  CHECK(modal.energy.viscous == doctest::Approx(nodal.energy.viscous).epsilon(1e-7));
+  CHECK(modal.energy.viscous == close_to(nodal.energy.viscous, 1e-7));
 }

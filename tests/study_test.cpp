@@ -5,6 +5,7 @@
 // fractiles, capacities and stripes match what is worked by hand.
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
+#include "close.hpp"
 #include <nlohmann/json.hpp>
 #include "temp_path.hpp"
 #include <algorithm>
@@ -152,8 +153,8 @@ TEST_CASE("size effect: one curve in normalised axes, and in seconds the larger 
   for (double a = 1.0; a <= 8.01; a += 0.5) amps.push_back(a);
   const BlockSpectrum small = overturning_spectrum(block, 1.0, PulseShape::one_sine, freqs, amps, 2);
   const BlockSpectrum large = overturning_spectrum(block, 4.0, PulseShape::one_sine, freqs, amps, 2);
-  CHECK(large.p == doctest::Approx(small.p / 2.0));  // p ~ 1 / sqrt(size)
-  CHECK(large.alpha == doctest::Approx(small.alpha));
+  CHECK(large.p == close_to(small.p / 2.0, 1e-12));  // p ~ 1 / sqrt(size)
+  CHECK(large.alpha == close_to(small.alpha, 1e-12));
   std::size_t same = 0, overturned = 0;
   for (std::size_t i = 0; i < small.points.size(); ++i) {
     same += small.points[i].overturned == large.points[i].overturned;
@@ -186,8 +187,8 @@ TEST_CASE("IM scaling is exact: every job's scaled record has the level's IM to 
                       {named_variant("damper")}, RunOptions{}, im);
     for (const Job& job : study.ladder({0.05, 0.3, 1.7})) {
       const GroundMotion scaled = study.motion(job.record)->scaled(job.scale);
-      CHECK(intensity(scaled, im) == doctest::Approx(job.level).epsilon(1e-9));
-      CHECK(job.scale == doctest::Approx(job.level / study.record_intensity(job.record)).epsilon(1e-15));
+      CHECK(intensity(scaled, im) == close_to(job.level, 1e-9));
+      CHECK(job.scale == close_to(job.level / study.record_intensity(job.record), 1e-15));
     }
   }
   // The scale factor is its own IM: the level is the scale.
@@ -274,12 +275,12 @@ TEST_CASE("the summary's fractiles, capacities and stripes, worked by hand") {
   const auto rows = summary.fractiles(0, Quantity::theta_over_alpha);
   REQUIRE(rows.size() == 3);
   // Level 1: 0.1 0.2 0.3 -> 16 %: 0.1 + 0.32 x 0.1; 50 %: 0.2; 84 %: 0.2 + 0.68 x 0.1.
-  CHECK(rows[0].edp[0] == doctest::Approx(0.132));
-  CHECK(rows[0].edp[1] == doctest::Approx(0.2));
-  CHECK(rows[0].edp[2] == doctest::Approx(0.268));
+  CHECK(rows[0].edp[0] == close_to(0.132, 1e-12));
+  CHECK(rows[0].edp[1] == close_to(0.2, 1e-12));
+  CHECK(rows[0].edp[2] == close_to(0.268, 1e-12));
   // Level 2: 0.3 0.7 inf -> the 84 % fractile falls on the collapse.
   CHECK(rows[1].collapsed == 1);
-  CHECK(rows[1].edp[1] == doctest::Approx(0.7));
+  CHECK(rows[1].edp[1] == close_to(0.7, 1e-12));
   CHECK(std::isinf(rows[1].edp[2]));
   // Overturning: record 0 never (censored at 3), record 1 at 2 (and survives 3), record 2 at 3.
   const auto over = summary.capacities(0, 0);
@@ -314,8 +315,8 @@ TEST_CASE("resurrections: the first-collapse convention against each level as it
   // 0.32 x 0.2, 50 %: 0.6, 84 %: inf, one collapsed.
   const auto k3 = keep.fractiles(0, Quantity::theta_over_alpha)[2];
   CHECK(k3.collapsed == 1);
-  CHECK(k3.edp[0] == doctest::Approx(0.464));
-  CHECK(k3.edp[1] == doctest::Approx(0.6));
+  CHECK(k3.edp[0] == close_to(0.464, 1e-12));
+  CHECK(k3.edp[1] == close_to(0.6, 1e-12));
   CHECK(std::isinf(k3.edp[2]));
   // Record 1 collapsed from level 2 on: 0.6, inf, inf -> every fractile past
   // position 0 falls on a collapse; two collapsed.
@@ -394,7 +395,7 @@ TEST_CASE("a suite's fragility: the bootstrap resamples records, the same seed g
   o.beta_modelling = 0.3;
   const nlohmann::json j = fragility_json(summary.fragility(0, 0, o), records);
   CHECK(j["capacity_fit"]["beta_total"].get<double>() ==
-        doctest::Approx(std::hypot(a.capacity_fit.beta, 0.3)));
+        close_to(std::hypot(a.capacity_fit.beta, 0.3), 1e-12));
   CHECK(j["capacity_fit"]["median"].get<double>() == a.capacity_fit.median);
   CHECK(j["capacity_fit"]["bootstrap"]["draws"].get<std::size_t>() == 400);
   o.beta_modelling = -1;

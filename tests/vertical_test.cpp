@@ -6,6 +6,7 @@
 // direction (its name says which, component_orientation).
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
+#include "close.hpp"
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -81,7 +82,7 @@ TEST_CASE("under constant a_v a rigid block lifts when a_h H_cg = (g + a_v) B (f
     REQUIRE(r.counts.uplifts >= 1);
     // a_h = A sin(2 pi t / T) first reaches a_crit at t = T asin(a_crit / A) / (2 pi)
     const double expected = period * std::asin(a_crit / amplitude) / (2 * std::numbers::pi);
-    CHECK(r.first_uplift == doctest::Approx(expected).epsilon(1e-8));
+    CHECK(r.first_uplift == close_to(expected, 1e-8));
   }
 }
 
@@ -194,7 +195,7 @@ TEST_CASE("a run specification's vertical motion: a component of the record's fi
   REQUIRE(up);
   CHECK(run.model.vertical_shaking);
   CHECK(up->info().component == "Up");
-  CHECK(up->peak() == doctest::Approx(0.5 * run.motion.peak()).epsilon(1e-3));  // the example's Up is half N10E, both scaled
+  CHECK(up->peak() == close_to(0.5 * run.motion.peak(), 1e-3));  // the example's Up is half N10E, both scaled
   CHECK(!run.label.vertical.empty());
   const std::vector<std::string> names = run.columns.names();
   CHECK(std::ranges::find(names, "a_v") != names.end());
@@ -204,7 +205,7 @@ TEST_CASE("a run specification's vertical motion: a component of the record's fi
   REQUIRE(!rows.rows.empty());
   double largest = 0;
   for (const Response& row : rows.rows) largest = std::max(largest, std::abs(row[Quantity::a_v]));
-  CHECK(largest == doctest::Approx(up->peak()).epsilon(1e-12));
+  CHECK(largest == close_to(up->peak(), 1e-12));
   CHECK(r.outcome != Outcome::failed);
 
   // Without a vertical motion the history has no a_v column.
@@ -230,9 +231,9 @@ TEST_CASE("a run specification's vertical motion: a component of the record's fi
                                   "excitation.vertical=\"Up\""});
   const PreparedRun s = prepare_run(own);
   REQUIRE(s.motion.vertical());
-  CHECK(s.motion.vertical()->peak() == doctest::Approx(0.5 * s.motion.peak()).epsilon(1e-3));
+  CHECK(s.motion.vertical()->peak() == close_to(0.5 * s.motion.peak(), 1e-3));
   // scaled with the horizontal one
   RunSpec doubled = own;
   doubled.motion.scale = 2;
-  CHECK(prepare_run(doubled).motion.vertical()->peak() == doctest::Approx(2 * s.motion.vertical()->peak()));
+  CHECK(prepare_run(doubled).motion.vertical()->peak() == close_to(2 * s.motion.vertical()->peak(), 1e-12));
 }

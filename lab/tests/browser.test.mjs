@@ -4,8 +4,10 @@
 // damper-thickness slider as a user would (arrow keys) and checks that the
 // rocking-angle trace and the summary change and equal the same run made by
 // `rocking simulate --json` (the summary to the digits shown, the trace to
-// the six digits sent), switches compare mode on, opens every lesson, and
-// saves a screenshot. Reports the page's re-run-and-redraw time.
+// the six digits sent), switches compare mode on, checks that every chart
+// has data in its plot area and that the structure drawn at its peak tilts by
+// the history's theta (times the drawing's exaggeration), opens every lesson,
+// and saves a screenshot. Reports the page's re-run-and-redraw time.
 //
 //   ROCKING_BIN=build/bin/rocking node lab/tests/browser.test.mjs
 // Environment: ROCKING_RECORDS (the records), ROCKING_LAB_SCREENSHOT (where
@@ -161,15 +163,59 @@ try {
   assert.equal(ida.rows, 20, 'ten levels for the structure and its twin');
   assert.ok(ida.chart, 'the IDA is drawn');
 
-  // The screenshot at the main run's peak rocking angle: the structures drawn rocking and bent.
+  // Every chart has data in its plot area: coloured pixels (the traces; grid
+  // and axes are grey) in most of the plot's columns, not only the one the
+  // time cursor crosses.
+  await page.evaluate(() => new Promise((ok) => requestAnimationFrame(() => ok())));
+  const covered = await page.evaluate(() => [...window.lab.charts, window.lab.idaChart].map((u) => {
+    const { left, top, width, height } = u.bbox;
+    const { data } = u.ctx.getImageData(Math.round(left), Math.round(top), Math.round(width), Math.round(height));
+    const w = Math.round(width);
+    const columns = new Set();
+    for (let i = 0; i < data.length; i += 4) {
+      const [r, g, b, a] = [data[i], data[i + 1], data[i + 2], data[i + 3]];
+      if (a > 128 && Math.max(r, g, b) - Math.min(r, g, b) > 60) columns.add((i / 4) % w);
+    }
+    return { title: u.root.querySelector('.u-title')?.textContent || '', fraction: columns.size / w };
+  }));
+  assert.ok(covered.length >= 2, 'the traces and the IDA are charts');
+  for (const [k, c] of covered.entries())
+    assert.ok(c.fraction >= (k === covered.length - 1 ? 0.25 : 0.5), `chart '${c.title}': data in ${(100 * c.fraction).toFixed(0)} % of its plot's columns`);
+
+  // The structure as drawn: the foundation beams' lines (the first path of
+  // width 3 of each run, main first) recorded as the page strokes them.
   await page.evaluate(() => {
+    const ctx = document.querySelector('#drawing').getContext('2d');
+    const move = ctx.moveTo.bind(ctx), line = ctx.lineTo.bind(ctx);
+    let from = null;
+    window.drawnSegments = [];
+    ctx.moveTo = (x, y) => { from = [x, y]; move(x, y); };
+    ctx.lineTo = (x, y) => {
+      if (from) window.drawnSegments.push({ from, to: [x, y], width: ctx.lineWidth, color: ctx.strokeStyle });
+      from = [x, y];
+      line(x, y);
+    };
+  });
+  // The screenshot at the main run's peak rocking angle: the structures drawn rocking and bent.
+  const peak = await page.evaluate(() => {
     const h = window.lab.data.history;
     let k = 0;
     h.theta.forEach((v, i) => { if (Math.abs(v) > Math.abs(h.theta[k])) k = i; });
+    window.drawnSegments = [];
     const time = document.querySelector('#time');
     time.value = h.t[k];
     time.dispatchEvent(new Event('input', { bubbles: true }));
+    return { theta: h.theta[k], factor: window.lab.factors.theta };
   });
+  await page.evaluate(() => new Promise((ok) => requestAnimationFrame(() => ok())));
+  const beams = await page.evaluate(() => window.drawnSegments.filter((s) => s.width === 3));
+  assert.ok(peak.theta !== 0, 'the run rocks');
+  assert.ok(beams.length >= 2, `the structure and its twin drawn: ${beams.length} foundation beams`);
+  // Screen y points down: the beam's angle atan2(dy, dx) is the drawn tilt theta x factor.
+  const drawnTilt = (b) => Math.atan2(b.to[1] - b.from[1], b.to[0] - b.from[0]);
+  assert.ok(Math.abs(drawnTilt(beams[0]) - peak.theta * peak.factor) <= 1e-9,
+    `the structure drawn at its peak tilts ${drawnTilt(beams[0])} rad, the history's theta ${peak.theta} x ${peak.factor}`);
+  assert.ok(Math.abs(drawnTilt(beams[1])) <= 1e-12, 'the fixed-base twin stands upright');
   mkdirSync(dirname(screenshot), { recursive: true });
   await page.screenshot({ path: screenshot, fullPage: true });
   console.log(`wrote ${screenshot}`);
