@@ -122,8 +122,8 @@ TEST_CASE("SIGINT and SIGTERM stop a hunt within 2 s, in the middle of its runs,
   for (const int signal : {SIGINT, SIGTERM}) {
     CAPTURE(signal);
     const fs::path out = dir / ("hunt" + std::to_string(signal));
-    const std::vector<std::string> args{"-q", "ida", "--record", record, "--hunt", "--scales", "0.2", "--hunt-step",
-                                        "0.05", "--hunt-max", "40", "--variants", "damper", "--no-plot", "--out",
+    const std::vector<std::string> args{"-q", "ida", "--record", record, "--hunt", "--scales", "0.5", "--hunt-step",
+                                        "0.5", "--hunt-max", "10", "--fill-step", "0.05", "--variants", "damper", "--no-plot", "--out",
                                         out.string()};
     // Stopped half a second into the one hunt (its runs under way).
     Clock::time_point seen{};
@@ -141,7 +141,7 @@ TEST_CASE("SIGINT and SIGTERM stop a hunt within 2 s, in the middle of its runs,
     CHECK(contains(s.err, "--resume"));
     check_whole_csv(out / "hunt.csv");
     CHECK(lines(file_text(out / "hunt.csv")) == 1);  // the hunt was cut short: no row of it
-    const Result resumed = run("-q ida --record " + record + " --hunt --scales 0.2 --hunt-step 0.05 --hunt-max 40 "
+    const Result resumed = run("-q ida --record " + record + " --hunt --scales 0.5 --hunt-step 0.5 --hunt-max 10 --fill-step 0.05 "
                                "--variants damper --no-plot --out " + out.string() + " --resume");
     CHECK_MESSAGE(resumed.code == 0, resumed.err);
     CHECK(lines(file_text(out / "hunt.csv")) == 2);
@@ -172,8 +172,8 @@ TEST_CASE("a background job started with SIGINT ignored keeps it ignored, and st
   const fs::path dir = scratch_dir("edges_stop_background");
   const std::string record = rocking_record(dir / "r.txt", 30);
   const fs::path out = dir / "hunt";
-  const std::vector<std::string> args{"-q", "ida", "--record", record, "--hunt", "--scales", "0.2", "--hunt-step",
-                                      "0.05", "--hunt-max", "40", "--variants", "damper", "--no-plot", "--out",
+  const std::vector<std::string> args{"-q", "ida", "--record", record, "--hunt", "--scales", "0.5", "--hunt-step",
+                                      "0.5", "--hunt-max", "10", "--fill-step", "0.05", "--variants", "damper", "--no-plot", "--out",
                                       out.string()};
   Clock::time_point seen{};
   // SIGINT, then half a second later SIGTERM: only the second stops it.
