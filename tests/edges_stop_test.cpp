@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -51,6 +52,7 @@ template <class Ready>
 Stopped run_and_signal(const std::vector<std::string>& args, Ready ready, const std::vector<int>& signals,
                        bool ignore_int = false) {
   const std::string err_file = temp_path("stop_stderr_" + std::to_string(::getpid()) + ".txt").string();
+  std::fflush(nullptr);  // the child would write the test's buffered output again
   const pid_t pid = ::fork();
   REQUIRE(pid >= 0);
   if (pid == 0) {
@@ -99,8 +101,6 @@ Stopped run_and_signal(const std::vector<std::string>& args, Ready ready, const 
   }
 }
 
-// Whether the file exists and holds at least `n` lines.
-bool has_lines(const fs::path& file, int n) { return fs::exists(file) && lines(file_text(file)) >= n; }
 
 // A whole CSV: ends with a newline, every row with the header's number of commas.
 void check_whole_csv(const fs::path& file) {
