@@ -92,6 +92,8 @@ TEST_CASE("a pulse period, an initial velocity and device values beyond what a s
           "d_y: must be >= 1e-06 and <= 10 [m]");
   refused("simulate --set 'device+={kind=\"bouc-wen\", at=\"edges\", k=2e7, eps=0.05, d_y=0.004, n=1e300}'",
           "n: must be > 0 and <= 50");
+  // The paper's dampers: their yield elongation 4B sin(theta_y/2) of a micron at least.
+  refused("simulate --set damper.theta_y=1e-300", "damper.theta_y: must be in [1.52e-07, pi/2) [rad]");
 }
 
 TEST_CASE("more devices than a scene holds are refused naming the scene") {

@@ -350,7 +350,7 @@ Contact read_contact(const toml::table& root, const std::string& file, const Ori
   return c;
 }
 
-Damper read_damper(const toml::table& root, const std::string& file, const Origins& origins) {
+Damper read_damper(const toml::table& root, const std::string& file, const Origins& origins, const Structure& st) {
   Damper d;
   if (!root.contains("damper")) {
     d.enabled = false;
@@ -363,7 +363,12 @@ Damper read_damper(const toml::table& root, const std::string& file, const Origi
   d.post_yield_ratio = t.number("post_yield_ratio", [](double e) { return e >= 0 && e < 1; }, "in [0, 1)");
   // The yield chord 4B sin(theta_y / 2) grows with theta_y up to pi; a
   // structure tilted by pi/2 lies on its side.
-  d.theta_y = t.number("theta_y", in_range(0, 1.5707963, false), "in (0, pi/2) [rad]");
+  // and its yield elongation d_y = 4B sin(theta_y / 2) is at least a micron,
+  // as a Bouc-Wen device's (rocking.devices): below, z' = e' / d_y outruns any step.
+  const double min_theta_y = 2 * std::asin(std::min(1.0, 1e-6 / (4 * st.half_width)));
+  d.theta_y = t.number("theta_y", in_range(min_theta_y, 1.5707963, true),
+                       fmt::format("in [{:.3g}, pi/2) [rad] (a yield elongation 4B sin(theta_y/2) of 1 um to the "
+                                   "structure on its side)", min_theta_y));
   d.alpha = t.number_or("alpha", 1.0, in_range(0, 100, true), "in [0, 100]");
   d.beta = t.number_or("beta", 0.0, [](double b) { return std::abs(b) <= 100; }, "in [-100, 100]");
   d.n = t.number_or("n", 1.0, [](double n) { return n >= 1 && n <= 50; }, "in [1, 50]");
@@ -619,7 +624,7 @@ Scene read_scene(toml::table root, const std::string& file, const std::vector<st
   }
   scene.structure = read_structure(root, file, origins);
   scene.contact = read_contact(root, file, origins);
-  scene.damper = read_damper(root, file, origins);
+  scene.damper = read_damper(root, file, origins, scene.structure);
   scene.devices = read_devices(root, file, origins, scene.structure, scene.damper);
   scene.excitation = read_excitation(root, file, origins);
   scene.initial = read_initial(root, file, origins, scene.structure, scene.contact);

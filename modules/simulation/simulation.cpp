@@ -239,6 +239,10 @@ class Driver {
       return fmt::format(": at the start of the run, the scene's values (the devices' parameters{}{}, the initial "
                          "velocities, the ground motion) ask for a motion faster than any step can follow",
                          names.empty() ? "" : ": ", names);
+    if (e.kind() == Kind::step_size_underflow)
+      return fmt::format(": the scene's values ask for a motion faster than any step can follow here (the devices' "
+                         "parameters{}{}: a small yield elongation against a large stiffness; the structure's "
+                         "stiffness and masses; the ground motion)", names.empty() ? "" : ": ", names);
     return {};
   }
 
