@@ -41,7 +41,7 @@ sanitize: setup
 FUZZ_SECONDS ?= 60
 fuzz: setup
 	@cmake --preset sanitize >/dev/null
-	@cmake --build --preset sanitize --target record_fuzz scene_fuzz set_override_fuzz number_list_fuzz cyclic_test_fuzz device_set_fuzz option_value_fuzz processing_fuzz lab_request_fuzz
+	@cmake --build --preset sanitize --target record_fuzz scene_fuzz set_override_fuzz number_list_fuzz cyclic_test_fuzz device_set_fuzz option_value_fuzz processing_fuzz lab_request_fuzz history_csv_fuzz study_csv_fuzz
 	@bash scripts/fuzz.sh $(FUZZ_SECONDS)
 
 # Reruns the paper's checks and the README's suite study, rewrites

@@ -19,8 +19,10 @@ declare -A seeds=(
   [option_value]=""
   [processing]=""
   [lab_request]=""
+  [history_csv]=""
+  [study_csv]=""
 )
-for target in record scene set_override number_list cyclic_test device_set option_value processing lab_request; do
+for target in record scene set_override number_list cyclic_test device_set option_value processing lab_request history_csv study_csv; do
   work="$here/build-sanitize/fuzz-corpus/$target"
   mkdir -p "$work"
   dirs=("$work")

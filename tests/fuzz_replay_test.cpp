@@ -42,3 +42,5 @@ TEST_CASE("fuzz inputs replayed: lab requests") { CHECK(replay("lab_request", fu
 TEST_CASE("fuzz inputs replayed: cyclic tests") { CHECK(replay("cyclic_test", fuzz::cyclic_test) > 0); }
 TEST_CASE("fuzz inputs replayed: one device key of every law") { CHECK(replay("device_set", fuzz::device_set) > 0); }
 TEST_CASE("fuzz inputs replayed: option values") { CHECK(replay("option_value", fuzz::option_value) > 0); }
+TEST_CASE("fuzz inputs replayed: histories read back by plot --from") { CHECK(replay("history_csv", fuzz::history_csv) > 0); }
+TEST_CASE("fuzz inputs replayed: study CSVs read back by --resume") { CHECK(replay("study_csv", fuzz::study_csv) > 0); }

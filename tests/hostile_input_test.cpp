@@ -118,12 +118,12 @@ TEST_CASE("values beyond what the model answers are refused with their key and r
   refused("simulate --atol 1e300 --out " + dir.string(), "--atol 1e+300: must be in [1e-16, 1e-3]");
   refused("simulate --rtol 1e-20 --out " + dir.string(), "--rtol 1e-20: must be in [1e-13, 0.1]");
   // A yield rotation past pi/2, device values beyond any device, a Bouc-Wen device without bounded hysteresis.
-  refused("modal --set damper.theta_y=7", "damper.theta_y: must be in (0, pi/2) [rad]");
+  refused("modal --set damper.theta_y=7", "damper.theta_y: must be in [1.52e-07, pi/2) [rad]");
   refused("modal --set 'device+={name=\"t\", kind=\"elastic\", at=0, kinematics=\"vertical\", free_length=33, P0=1e300, k=5e7}'",
           "device[0].P0: must be >= 0 and <= 1e+10 [N]");
   refused("modal --set 'device+={name=\"v\", kind=\"viscous\", at=\"edges\", c=1e5, a=1e300}'", "device[0].a: must be > 0 and <= 3");
   refused("modal --set 'device+={name=\"p\", kind=\"bouc-wen\", at=\"edges\", k=1e7, eps=0.05, d_y=1e300}'",
-          "device[0].d_y: must be > 0 and <= 10 [m]");
+          "device[0].d_y: must be >= 1e-06 and <= 10 [m]");
   refused("modal --set 'device+={name=\"p\", kind=\"bouc-wen\", at=\"edges\", k=1e7, eps=0.05, d_y=0.02, alpha=0, beta=0}'",
           "device[0]: bouc-wen law: beta: alpha + beta must be positive (bounded hysteresis)");
   // Masses and lengths too small for the eigenproblems; more nodes than seconds of work.
@@ -178,7 +178,7 @@ TEST_CASE("a summary that cannot be written ends with exit 3 naming the file and
     return;
   }
   const fs::path dir = scratch_dir("hostile_full_summary");
-  fs::create_symlink("/dev/full", dir / "summary.json.tmp");  // where the summary is written before its rename
+  fs::create_symlink("/dev/full", dir / "summary.json.reserved");  // the room the summary is written into before its rename
   const Result r = run("-q simulate --duration 1 --out " + dir.string());
   CHECK(r.code == 3);
   CHECK(lines(r.err) == 1);

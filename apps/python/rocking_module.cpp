@@ -251,12 +251,19 @@ PyRecord record_from_array(const py::array_t<double, py::array::c_style | py::ar
                            const std::string& units, const std::string& name) {
   if (acc.ndim() != 1) throw rocking::InputError(fmt::format("Record: acc has {} dimensions; give one", acc.ndim()));
   if (!(dt > 0) || !std::isfinite(dt)) throw rocking::InputError(fmt::format("Record: dt {}: must be positive", dt));
-  const double si = rocking::to_si(rocking::parse_acceleration_unit(units));
   const auto n = static_cast<std::size_t>(acc.shape(0));
+  // The bounds every record file is read within (rocking.ground_motion).
+  if (!(dt >= rocking::min_record_dt) || !(dt * static_cast<double>(n) <= rocking::max_record_duration))
+    throw rocking::InputError(fmt::format("Record: dt {:g}: must be at least {:g} s, and dt x {} samples at most {:g} s",
+                                          dt, rocking::min_record_dt, n, rocking::max_record_duration));
+  const double si = rocking::to_si(rocking::parse_acceleration_unit(units));
   std::vector<double> times(n), values(n);
   const double* a = acc.data();
   for (std::size_t i = 0; i < n; ++i) {
     if (!std::isfinite(a[i])) throw rocking::InputError(fmt::format("Record: acc[{}] is {}: not a number", i, a[i]));
+    if (!(std::abs(a[i] * si) <= rocking::max_acceleration_g * rocking::gravity))
+      throw rocking::InputError(fmt::format("Record: acc[{}] = {:g} {}: beyond {:g} g, not a ground motion", i, a[i],
+                                            units, rocking::max_acceleration_g));
     times[i] = static_cast<double>(i) * dt;
     values[i] = a[i] * si;
   }

@@ -4,12 +4,14 @@
 // record, with a moving cursor on the ground-motion and base-moment traces.
 #include "commands.hpp"
 #include "run_output.hpp"
+#include "stop_signals.hpp"
 #include <spdlog/spdlog.h>
 #include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <memory>
+#include <numbers>
 
 namespace rocking::app {
 
@@ -108,6 +110,10 @@ int animate(const AnimateArgs& a) {
   }
   const Scene twin = load_scene(SceneOptions{a.scene.path, twin_overrides});
   RunOptions ro = run_options(scene, a.solver, a.motion.record.empty());
+  // Ctrl-C or SIGTERM ends the runs within a step and gnuplot within 20 ms;
+  // no animation cut short is left under its name (main exits 130 or 143).
+  catch_stop_signals();
+  ro.stop = [] { return stop_signal() != 0; };
   const double duration = ro.duration > 0 ? ro.duration : motion.duration();
   // The span animated: --window (the run computes from t = 0 all the same).
   const auto window = time_window(a.window, {&motion});
@@ -115,6 +121,10 @@ int animate(const AnimateArgs& a) {
                shown_to = window ? std::min((*window)[1], duration) : duration;
   if (!(shown_to > shown_from))
     throw InputError(fmt::format("--window {}: the run ends at {:g} s", a.window, duration));
+  // At least two frames over the span shown: one per frame interval speed / fps.
+  if (!(a.speed <= (shown_to - shown_from) * a.fps))
+    throw InputError(fmt::format("--speed {:g}: at most {:.4g} (two frames over the {:g} s shown at {} fps)", a.speed,
+                                 (shown_to - shown_from) * a.fps, shown_to - shown_from, a.fps));
   // Frame times: real time / speed at fps, at most max_frames over the span shown.
   double frame_dt = a.speed / a.fps;
   if ((shown_to - shown_from) / frame_dt + 1 > a.max_frames) frame_dt = (shown_to - shown_from) / (a.max_frames - 1);
@@ -145,6 +155,17 @@ int animate(const AnimateArgs& a) {
   const double kr = a.rotation > 0                                   ? a.rotation
                     : scene.structure.rigid || peak_theta < 1e-9      ? 1.0
                                                                      : std::max(1.0, nice(0.1 / peak_theta));
+  // A factor the user gives draws the peak within the picture: the top's
+  // displacement at most the height, the rocking angle at most pi/2 (on its side).
+  if (a.exaggeration > 0 && !(a.exaggeration * top <= H))
+    throw InputError(fmt::format("--exaggerate {:g}: draws the peak top displacement {:.3g} m as {:.3g} m; at most "
+                                 "{:.3g} (the height, {:g} m)", a.exaggeration, top, a.exaggeration * top, H / top, H));
+  double both_theta = peak_theta;  // the twin is drawn with the same factor
+  for (const Response& r : twin_rec.rows) both_theta = std::max(both_theta, std::abs(r[Quantity::theta]));
+  if (a.rotation > 0 && !(a.rotation * both_theta <= std::numbers::pi / 2))
+    throw InputError(fmt::format("--exaggerate-rotation {:g}: draws the peak rocking angle {:.3g} rad as {:.3g} rad; "
+                                 "at most {:.3g} (the structure on its side at pi/2)", a.rotation, both_theta,
+                                 a.rotation * both_theta, std::numbers::pi / 2 / both_theta));
   const fs::path dir = gif.has_parent_path() ? gif.parent_path() : fs::path(".");
   const std::string stem = gif.stem().string();
   make_output_dir(dir / (stem + ".data"));

@@ -26,6 +26,7 @@ struct FitArgs {
   double thickness = 1;
   std::optional<double> stiffness, yield;
   std::string at = "edges", name = "plates";
+  std::string scene;  // the scene the table is for (empty: the built-in chimney)
   bool json = false;
   std::string out, figure_name = "fit", formats = "png,pdf,svg";
 };
@@ -67,6 +68,14 @@ int run_fit(const FitArgs& a) {
     const double x = std::strtod(a.at.c_str(), &end);
     if (a.at.empty() || end != a.at.c_str() + a.at.size() || !std::isfinite(x) || std::abs(x) > 1e4)
       throw InputError(fmt::format("--at {}: edges, or x [m] from the centre line (a finite number)", plot::comment(a.at)));
+    // The anchor lies on the base of the scene the table is written into.
+    const Scene scene = load_scene(SceneOptions{a.scene, {}});
+    const double B = scene.structure.half_width;
+    if (!(std::abs(x) <= B))
+      throw InputError(fmt::format("--at {:g}: x must lie on the base of {}, -B <= x <= B = {:g} m (--scene FILE for "
+                                   "another scene, or edges)", x, a.scene.empty() ? "the built-in chimney" : a.scene, B));
+  } else if (!a.scene.empty()) {
+    (void)load_scene(SceneOptions{a.scene, {}});  // a scene named is a scene that reads
   }
   if (!a.out.empty()) plot::check_name(a.figure_name, "--figure");
   const CyclicTest test = read_cyclic_test(a.file, a.columns);
@@ -170,6 +179,10 @@ Command add_fit_command(CLI::App& app) {
   cmd->add_option("--yield", a->yield, "The structure's plate yield elongation d_y [m] (shape kept)")->type_name("D");
   cmd->add_option("--at", a->at, "The table's anchor: edges (default) or x [m]")->type_name("X");
   cmd->add_option("--name", a->name, "The table's device name (default plates)")->type_name("NAME");
+  cmd->add_option("--scene", a->scene,
+                  "The scene the table is for, whose base bounds --at X (default: the\n"
+                  "Christchurch chimney built into the program)")
+      ->type_name("FILE");
   cmd->add_flag("--json", a->json, "Print the fit as JSON");
   cmd->add_option("--out", a->out,
                   "Write the figure (measured and fitted loops, residual), its data and the\n"

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 #include "commands.hpp"
+#include "stop_signals.hpp"
 
 namespace {
 
@@ -56,6 +57,23 @@ std::string unknown_subcommand(const CLI::App& app, int argc, char** argv) {
     return best.empty() ? fmt::format("unknown subcommand '{}' (`rocking --help` lists them)", word)
                         : fmt::format("unknown subcommand '{}'; did you mean '{}'?", word, best);
   }
+  return {};
+}
+
+// An option given an empty value (an unset variable in a script: --record
+// "$FILE") must not run what leaving the option out runs: an error naming the
+// option and what it takes, or empty.
+std::string empty_value(const CLI::App& app) {
+  for (const CLI::App* sub : app.get_subcommands())
+    for (const CLI::Option* opt : sub->get_options())
+      if (opt->count() > 0 && opt->get_type_size_max() > 0)
+        for (const std::string& value : opt->results())
+          if (value.find_first_not_of(" \t") == std::string::npos) {
+            const std::string name = opt->get_lnames().empty() ? opt->get_name() : "--" + opt->get_lnames().front();
+            const std::string takes = opt->get_type_name().empty() ? "a value" : opt->get_type_name();
+            return fmt::format("{} '{}': an empty value; it takes {} (leave the option out for its default)", name,
+                               value, takes);
+          }
   return {};
 }
 
@@ -132,6 +150,10 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "rocking: error: {}\n", e.what());
     return rocking::exit_input_error;
   }
+  if (const std::string empty = empty_value(app); !empty.empty()) {
+    fmt::print(stderr, "rocking: error: {}\n", empty);
+    return rocking::exit_input_error;
+  }
   spdlog::set_level(verbose ? spdlog::level::debug : quiet ? spdlog::level::warn : spdlog::level::info);
 
   try {
@@ -141,6 +163,12 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "rocking: error: {}\n", e.what());
     return rocking::exit_input_error;
   } catch (const rocking::RunError& e) {
+    // A run or a drawing that Ctrl-C or SIGTERM cut short: the files each
+    // command keeps are whole; the code is the signal's (130, 143).
+    if (const int signal = rocking::app::stop_signal(); signal != 0) {
+      fmt::print(stderr, "rocking: stopped by {}: {}\n", rocking::app::stop_signal_name(signal), e.what());
+      return rocking::app::stop_exit_code(signal);
+    }
     fmt::print(stderr, "rocking: run stopped: {}\n", e.what());
     return rocking::exit_run_error;
   } catch (const std::exception& e) {

@@ -2,6 +2,7 @@
 // as PNG, PDF and SVG, with their data and gnuplot script kept beside them.
 #include "commands.hpp"
 #include "run_output.hpp"
+#include "stop_signals.hpp"
 #include <spdlog/spdlog.h>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -65,6 +66,7 @@ struct ResponseArgs {
 int response(const ResponseArgs& a) {
   // Every option is checked before the first run.
   plot::Figure fig = figure(a.figure, "", 1000, 1300);
+  catch_stop_signals();  // a stop ends a run within a step, gnuplot within 20 ms (main exits 130, 143)
   std::vector<plot::ResponseSeries> series;
   std::string title;
   const fs::path data_dir = fs::path(a.figure.out) / (a.figure.name + ".data");
@@ -80,10 +82,15 @@ int response(const ResponseArgs& a) {
       series.push_back({label, (fs::path(a.figure.name + ".data") / (label + ".csv")).string(), content.has_damper,
                         content.rocks, content.elastic});
       // The run's own summary says what it was.
-      std::ifstream summary(fs::path(run_dir) / "summary.json");
+      const fs::path summary_file = fs::path(run_dir) / "summary.json";
+      std::ifstream summary(summary_file);
       const auto s = nlohmann::json::parse(summary, nullptr, false);
-      if (!s.is_discarded() && s.contains("scene") && s.contains("motion") && s["scene"].is_string() && s["motion"].is_string())
+      if (!s.is_discarded() && s.is_object() && s.contains("scene") && s.contains("motion") && s["scene"].is_string() &&
+          s["motion"].is_string())
         what.push_back(fmt::format("{}: {} under {}", label, s["scene"].get<std::string>(), s["motion"].get<std::string>()));
+      else if (summary.is_open())
+        spdlog::warn("{}: not a whole run summary (cut, or another program's); the title names the folders instead",
+                     summary_file.string());
     }
     title = what.size() == a.from.size() ? fmt::format("{}", fmt::join(what, "\n"))
                                          : fmt::format("Runs: {}", fmt::join(a.from, ", "));
@@ -109,6 +116,7 @@ int response(const ResponseArgs& a) {
       overrides.insert(overrides.end(), v.overrides.begin(), v.overrides.end());
       const Scene scene = load_scene(SceneOptions{a.scene.path, overrides});
       RunOptions ro = run_options(scene, a.solver, a.motion.record.empty());
+      ro.stop = [] { return stop_signal() != 0; };
       ro.output_interval = 0.005;
       const ContactModel model = make_contact_model(scene, false);
       // The variant's data file: its name with anything but letters, digits, _ - . as _ ("without_damper.csv").

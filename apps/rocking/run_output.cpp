@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <fstream>
 #include <thread>
+#include <fcntl.h>
 #include <unistd.h>
 
 namespace rocking::app {
@@ -22,15 +23,32 @@ HistoryCsv::HistoryCsv(const std::filesystem::path& file, const ContactModel& mo
       throw InputError(fmt::format("{}: a folder stands where the history goes; move it or choose another --out", p));
   file_ = std::fopen(partial_.c_str(), "w");
   if (file_ == nullptr) throw RunError(fmt::format("{}: cannot write: {}", partial_, std::strerror(errno)));
-  const std::string header = fmt::format("{}", fmt::join(columns().headers(), ","));
-  std::fputs(header.c_str(), file_);
-  std::fputs("\n", file_);
+  // Rows are buffered here (buffer_), in whole rows: stdio holds none back,
+  // so that what a full disk refused is known to the byte.
+  std::setvbuf(file_, nullptr, _IONBF, 0);
+  const std::string header = fmt::format("{}\n", fmt::join(columns().headers(), ","));
+  if (std::fputs(header.c_str(), file_) >= 0 && std::fflush(file_) == 0) committed_ = static_cast<long>(header.size());
 }
 
 HistoryCsv::~HistoryCsv() {
   if (file_ == nullptr) return;  // closed
-  std::fwrite(buffer_.data(), 1, used_, file_);  // what a run that threw had reached, into the .partial file
+  write_whole();  // what a run that threw had reached, into the .partial file, in whole rows
   std::fclose(file_);
+}
+
+bool HistoryCsv::write_whole() {
+  if (std::ferror(file_) == 0 && (used_ == 0 || std::fwrite(buffer_.data(), 1, used_, file_) == used_) &&
+      std::fflush(file_) == 0) {
+    committed_ += static_cast<long>(used_);
+    used_ = 0;
+    return true;
+  }
+  // A full disk took part of a row: the file keeps its whole rows only.
+  const int error = errno;
+  if (::ftruncate(::fileno(file_), committed_) == 0) std::fseek(file_, committed_, SEEK_SET);
+  used_ = 0;
+  errno = error;
+  return false;
 }
 
 void HistoryCsv::row(const Response&, const std::vector<double>& values) {
@@ -68,9 +86,9 @@ void HistoryCsv::print_row(const std::vector<double>& values) {
 }
 
 void HistoryCsv::flush() {
-  if (used_ > 0 && std::fwrite(buffer_.data(), 1, used_, file_) != used_)
-    throw RunError(fmt::format("{}: cannot write: {} (the rows written are in {})", path_, std::strerror(errno), partial_));
-  used_ = 0;
+  if (!write_whole())
+    throw RunError(fmt::format("{}: cannot write: {} (the whole rows written are in {})", path_, std::strerror(errno),
+                               partial_));
 }
 
 void HistoryCsv::close() {
@@ -87,6 +105,41 @@ void HistoryCsv::close() {
   std::filesystem::remove(path_, ec);
   std::filesystem::rename(partial_, path_, ec);
   if (ec) throw RunError(fmt::format("{}: cannot write: {} (the rows are in {})", path_, ec.message(), partial_));
+}
+
+ReservedFile::ReservedFile(std::filesystem::path file, std::size_t bytes)
+    : file_(std::move(file)), room_(file_.string() + ".reserved") {
+  fd_ = ::open(room_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw RunError(fmt::format("{}: cannot write: {}", file_.string(), std::strerror(errno)));
+  (void)::posix_fallocate(fd_, 0, static_cast<off_t>(bytes));  // a disk already full gives no room: write() says so
+}
+
+ReservedFile::~ReservedFile() {
+  if (fd_ < 0) return;  // written
+  ::close(fd_);
+  std::error_code ec;
+  std::filesystem::remove(room_, ec);
+}
+
+void ReservedFile::write(const std::string& text) {
+  std::size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n = ::pwrite(fd_, text.data() + done, text.size() - done, static_cast<off_t>(done));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    done += static_cast<std::size_t>(n);
+  }
+  int error = done == text.size() ? 0 : errno;
+  if (error == 0 && ::ftruncate(fd_, static_cast<off_t>(text.size())) != 0) error = errno;
+  if (::close(fd_) != 0 && error == 0) error = errno;
+  fd_ = -1;
+  std::error_code ec;
+  if (error == 0) std::filesystem::remove(file_, ec);
+  if (error == 0) std::filesystem::rename(room_, file_, ec);
+  if (error != 0 || ec) {
+    std::filesystem::remove(room_, ec);
+    throw RunError(fmt::format("{}: cannot write: {}", file_.string(), error != 0 ? std::strerror(error) : ec.message()));
+  }
 }
 
 void make_output_dir(const std::filesystem::path& dir) {

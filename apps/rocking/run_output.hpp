@@ -35,12 +35,32 @@ class HistoryCsv : public rocking::HistoryObserver {
 
  private:
   void print_row(const std::vector<double>& values);
-  void flush();  // writes the buffered rows; RunError if the disk refused
+  void flush();  // writes the buffered rows; RunError if the disk refused, the file cut back to its whole rows
+  bool write_whole();  // writes and flushes the buffer; false (the file cut back to committed_ bytes) if refused
   static constexpr std::size_t flush_size = 1 << 16;  // rows leave in blocks of about this many bytes
   std::vector<char> buffer_;  // rows not yet written: its first used_ bytes
   std::size_t used_ = 0;
   std::FILE* file_ = nullptr;
+  long committed_ = 0;  // bytes of the file in whole rows (and the header), written and flushed
   std::string path_, partial_;
+};
+
+// Room on the disk for a file written at the end (a run's summary): taken
+// when made, so that a history that fills the disk leaves room for the
+// summary that says so. write() puts the text in it and renames it to its
+// name (RunError naming the file if even that fails); a file never written is
+// removed.
+class ReservedFile {
+ public:
+  ReservedFile(std::filesystem::path file, std::size_t bytes);
+  ~ReservedFile();
+  ReservedFile(const ReservedFile&) = delete;
+  ReservedFile& operator=(const ReservedFile&) = delete;
+  void write(const std::string& text);
+
+ private:
+  std::filesystem::path file_, room_;
+  int fd_ = -1;
 };
 
 // Creates DIR (and parents) or fails with a one-line InputError.

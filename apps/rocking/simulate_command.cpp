@@ -58,6 +58,10 @@ void print_text(const nlohmann::json& s) {
              s["stats"]["rhs"].get<long>(), s["stats"]["steps"].get<long>(), s["wall_s"].get<double>());
 }
 
+// Bytes kept for summary.json while the run writes its history: several
+// times a summary of sixteen devices.
+constexpr std::size_t summary_room = 1 << 16;
+
 int run(const SimulateOptions& o) {
   const Scene scene = load_scene(o.scene);
   if (o.list_quantities) {
@@ -71,6 +75,8 @@ int run(const SimulateOptions& o) {
   ro.stop = [] { return stop_signal() != 0; };
   const std::filesystem::path dir(o.out);
   make_output_dir(dir);
+  // The summary's room first: a history that fills the disk leaves it.
+  ReservedFile summary_file(dir / "summary.json", summary_room);
   HistoryCsv history(dir / "history.csv", prepared.model, prepared.columns);
   spdlog::info("simulating '{}' under {}{} ({}) with {}", scene.name, prepared.motion.name(),
                prepared.motion.vertical() ? " and vertical " + prepared.motion.vertical()->name() : std::string(),
@@ -89,7 +95,7 @@ int run(const SimulateOptions& o) {
     summary["interrupted"] = true;
     summary["outcome"] = "interrupted";
   }
-  write_text(dir / "summary.json", summary.dump(2) + "\n");
+  summary_file.write(summary.dump(2) + "\n");
   if (o.json) std::cout << summary.dump(2) << '\n';
   else print_text(summary);
   spdlog::info("wrote {} and {}", (dir / "history.csv").string(), (dir / "summary.json").string());

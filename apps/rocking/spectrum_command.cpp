@@ -6,6 +6,7 @@
 #include "study_folder.hpp"
 #include <spdlog/spdlog.h>
 #include <fmt/format.h>
+#include <numbers>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -87,6 +88,27 @@ int spectrum(const SpectrumArgs& a) {
     for (double v : *grid)
       if (!(v > 0 && v <= 1000))
         throw InputError(fmt::format("{} {}: every ratio must be in (0, 1000] (got {:g})", flag, text, v));
+  // Each point is a pulse of a period and an amplitude that a ground motion
+  // can have: periods from a millisecond to a thousand seconds, peaks within
+  // max_acceleration_g, through Housner's p and the slenderness of each size.
+  for (double size : sizes) {
+    Structure st = scene.structure;
+    st.half_width *= size;
+    st.heights *= size;
+    const double R = std::hypot(st.half_width, centre_of_gravity_height(st));
+    const double p = std::sqrt(gravity * total_mass(st) * R / pivot_inertia(st)), tan_alpha = std::tan(slenderness(st));
+    const double low = 2 * std::numbers::pi / (1e3 * p), high = 2 * std::numbers::pi / (1e-3 * p);
+    for (double f : freqs)
+      if (!(f >= low && f <= high))
+        throw InputError(fmt::format("--frequencies {}: ratio {:g} is a pulse period of {:.3g} s for this block (size "
+                                     "{:g}); the ratios it takes are [{:.3g}, {:.3g}] (periods 1e-3 to 1e3 s)",
+                                     a.frequencies, f, 2 * std::numbers::pi / (f * p), size, low, high));
+    for (double amp : amps)
+      if (!(amp * tan_alpha <= max_acceleration_g))
+        throw InputError(fmt::format("--amplitudes {}: ratio {:g} is a pulse of {:.3g} g for this block (size {:g}); "
+                                     "the ratios it takes are at most {:.3g} ({:g} g)", a.amplitudes, amp,
+                                     amp * tan_alpha, size, max_acceleration_g / tan_alpha, max_acceleration_g));
+  }
   const int threads = thread_count(a.threads);
   const std::vector<std::string> formats = plot::parse_formats(a.formats);  // refused before any run
   const fs::path dir(a.out);

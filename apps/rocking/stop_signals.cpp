@@ -1,3 +1,4 @@
+#include "commands.hpp"  // rocking.plot
 #include "stop_signals.hpp"
 #include <csignal>
 #include <unistd.h>
@@ -23,8 +24,16 @@ void catch_stop_signals() {
   struct sigaction action {};
   action.sa_handler = on_stop_signal;
   sigemptyset(&action.sa_mask);
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
+  // A shell starts a script's background job (cmd &) with SIGINT ignored, so
+  // that a Ctrl-C meant for the script does not reach it: by convention the
+  // program keeps it ignored, and stops on SIGTERM alone.
+  for (int signal : {SIGINT, SIGTERM}) {
+    struct sigaction before {};
+    if (sigaction(signal, nullptr, &before) == 0 && before.sa_handler == SIG_IGN) continue;
+    sigaction(signal, &action, nullptr);
+  }
+  // gnuplot and ffmpeg are ended within 20 ms of a stop, their figure removed.
+  plot::set_interrupt([] { return requested != 0; });
 }
 
 int stop_signal() { return requested; }

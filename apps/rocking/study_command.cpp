@@ -226,25 +226,11 @@ Resumed read_resumed(const fs::path& csv_file, const fs::path& timing_file, cons
   const fs::path rows_file = resume_source(csv_file);
   std::ifstream in(rows_file);
   if (!in) throw InputError(fmt::format("--resume: {} not found: nothing to resume", csv_file.string()));
+  ResumedRows kept = read_resumed_rows(in, rows_file.string(), jobs, ids, st, columns);
+  if (!kept.rerun.empty()) spdlog::warn("{}", kept.rerun);
+  r.rows = std::move(kept.rows);
+  r.lines = std::move(kept.lines);
   std::string line;
-  if (!std::getline(in, line) || line + "\n" != study_csv_header(columns))
-    throw InputError(fmt::format("--resume: {}:1: not a study CSV of this version (header differs)", rows_file.string()));
-  for (int n = 2; std::getline(in, line); ++n) {
-    if (in.eof()) break;  // a last line without its newline was cut: run that job again
-    const std::size_t k = r.rows.size();
-    const std::vector<std::string> f = csv_fields(line);
-    const std::string expected = k < jobs.size() ? job_fields(st, ids, jobs[k]) : std::string("(no more jobs)");
-    const std::size_t nc = columns.size(), fields = job_field_count + nc + run_field_count;
-    if (k >= jobs.size() || f.size() < fields || !line.starts_with(expected + ","))
-      throw InputError(fmt::format("--resume: {}:{}: this row is not job {} of this study ({}): give the same scene, "
-                                   "--record, --im, --levels and --variants as the interrupted run",
-                                   rows_file.string(), n, k + 1, expected));
-    r.rows.push_back(line + "\n");
-    std::string data = f[4];  // the level, then the columns
-    for (std::size_t c = job_field_count; c < job_field_count + nc; ++c) data += "," + f[c];
-    const bool failed = !f[fields - 1].empty(), overturned = f[job_field_count + nc + 1] == "overturned";
-    r.lines.push_back(failed ? std::string() : data + (overturned ? ",1" : ",0"));
-  }
   std::ifstream timing(resume_source(timing_file));
   if (timing && std::getline(timing, line))
     while (r.timings.size() < r.rows.size() && std::getline(timing, line)) r.timings.push_back(line + "\n");
@@ -331,9 +317,18 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
     for (std::size_t i = 0; i < first; ++i) timing << (i < resumed.timings.size() ? resumed.timings[i] : std::string());
   }
   Progress progress(world.rank == 0 && spdlog::get_level() <= spdlog::level::info);
-  const std::size_t emitted = parallel_ordered<JobResult>(
+  // Rows in job order up to the first run a stop cut short: that one and any
+  // after it are left for --resume.
+  std::size_t emitted = 0;
+  bool halted = false;
+  parallel_ordered<JobResult>(
       mine.size(), threads, [&](std::size_t k) { return st.run(jobs[mine[k]]); },
       [&](std::size_t k, const JobResult& r) {
+        if (halted || (stop_signal() != 0 && !r.error.empty())) {
+          halted = true;
+          return;
+        }
+        ++emitted;
         const std::size_t i = mine[k];
         const std::string text = study_csv_row(st, columns, ids, jobs[i], r);
         const std::string time = fmt::format("{},{:.6f}\n", job_fields(st, ids, jobs[i]), r.run.wall_s);
@@ -445,11 +440,23 @@ std::vector<std::pair<std::string, HuntResult>> read_resumed_hunts(
     const std::vector<std::string> f = csv_fields(rest);
     if (f.size() < 10)
       throw InputError(fmt::format("--resume: {}:{}: this row is not hunt {} of this study", rows_file.string(), n, k + 1));
+    // Its levels and count are finite numbers: a row holding anything else
+    // (nan, inf, text) is hunted again, with every one after it.
+    auto number = [&](const std::string& text, double& v) {
+      char* end = nullptr;
+      v = std::strtod(text.c_str(), &end);
+      return !text.empty() && end == text.c_str() + text.size() && std::isfinite(v);
+    };
     HuntResult h;
+    double runs = 0;
     h.collapsed = !f[0].empty();
-    h.collapse_level = h.collapsed ? std::stod(f[0]) : 0.0;
-    h.survived_level = f[1].empty() ? 0.0 : std::stod(f[1]);
-    h.runs = std::stoi(f[8]);
+    if ((h.collapsed && !number(f[0], h.collapse_level)) || (!f[1].empty() && !number(f[1], h.survived_level)) ||
+        !number(f[8], runs) || runs < 0 || runs > 1e9) {
+      spdlog::warn("--resume: {}:{}: not a whole hunt row (collapse '{}', survived '{}', runs '{}'): hunt {} runs "
+                   "again, with the {} after it", rows_file.string(), n, f[0], f[1], f[8], k + 1, pairs.size() - k - 1);
+      break;
+    }
+    h.runs = static_cast<int>(runs);
     std::size_t at = 0;  // the error, last, may hold commas (quoted)
     for (int comma = 0; comma < 9; ++comma) at = rest.find(',', at) + 1;
     h.fixed_base = !st.can_overturn(pairs[k].second);
@@ -510,10 +517,19 @@ int run_hunt(const StudyArgs& a, const Study& st) {
                first > 0 ? fmt::format(" ({} hunts done before, resumed)", first) : "");
   catch_stop_signals();
   Progress progress(spdlog::get_level() <= spdlog::level::info);
-  const std::size_t emitted = parallel_ordered<HuntResult>(
+  // Hunts in order up to the first one a stop cut short (its runs stop
+  // within a step): that one and any after it are left for --resume.
+  std::size_t emitted = 0;
+  bool halted = false;
+  parallel_ordered<HuntResult>(
       pairs.size() - first, thread_count(a.threads),
       [&](std::size_t k) { return hunt_collapse(st, pairs[first + k].first, pairs[first + k].second, o); },
       [&](std::size_t k, const HuntResult& h) {
+        if (halted || (stop_signal() != 0 && !h.error.empty())) {
+          halted = true;
+          return;
+        }
+        ++emitted;
         const std::string& record = ids[pairs[first + k].first];
         const std::string variant = st.variants()[pairs[first + k].second].name;
         failed += h.error.empty() ? 0 : 1;
@@ -610,6 +626,9 @@ std::unique_ptr<Study> make_study(StudyArgs& a, const std::vector<std::string>& 
   ro.vertical_component = a.vertical;
   ro.other_horizontal = im.needs_pair();  // RotD: each record with its file's other horizontal component
   RunOptions run = run_options(scene, a.solver, false);
+  // Ctrl-C or SIGTERM ends the runs in flight within a step; their rows are
+  // not written (a stopped run is not a result), and --resume runs them again.
+  run.stop = [] { return stop_signal() != 0; };
   // --pairs: each record the first file of two, with the second as its other horizontal component.
   std::vector<StudyRecord> given;
   if (a.pairs) {

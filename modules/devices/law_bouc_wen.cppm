@@ -23,7 +23,8 @@ struct BoucWenLaw {
     using R = ParameterRole;
     return {{"k", "N/m", "pre-yield stiffness", R::stiffness, 2e7, 0, 0, true, 1e13},
             {"eps", "-", "post-yield stiffness ratio", R::hardening_ratio, 0.05, 0, 0, false, 1},
-            {"d_y", "m", "yield elongation", R::yield_elongation, 0.004, 0, 0, true, 10},
+            // A micron at least: below it z' = e' / d_y outruns any step the run can take.
+            {"d_y", "m", "yield elongation", R::yield_elongation, 0.004, 0, 1e-6, false, 10},
             // (d_y, alpha, beta) and (c d_y, c^n alpha, c^n beta) give the same
             // force for every c > 0 (z scales by 1/c): a fit holds alpha + beta = 1,
             // which makes d_y the yield elongation and |z| <= 1.

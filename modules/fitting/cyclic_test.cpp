@@ -8,6 +8,7 @@ module;
 #include <optional>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <vector>
 #include <fmt/format.h>
 module rocking.fitting;
@@ -124,6 +125,9 @@ int pick(const std::string& path, int line, const std::vector<Column>& cols, con
 
 }  // namespace
 
+constexpr double max_test_elongation = 10;  // [m]
+constexpr double max_test_force = 1e10;     // [N]
+
 CyclicTest read_cyclic_test(const std::string& path, const CyclicColumns& columns) {
   std::ifstream in(path);
   if (!in) throw InputError(fmt::format("{}: cannot open the cyclic test", path));
@@ -177,12 +181,27 @@ CyclicTest read_cyclic_test(const std::string& path, const CyclicColumns& column
                                      cols[static_cast<std::size_t>(c)].name));
       return v * factor;
     };
+    // Within what the device laws take (rocking.devices: forces P0, F_s up to
+    // 1e10 N; elongations d_y, g0 up to 10 m): beyond, a unit or a typo.
+    auto bounded = [&](int c, double v, double bound, const char* unit) {
+      if (!(std::abs(v) <= bound))
+        throw InputError(fmt::format("{}:{}: {:g} {} in column '{}' is beyond {:g} {}, more than any device takes",
+                                     path, number, v, unit, cols[static_cast<std::size_t>(c)].name, bound, unit));
+      return v;
+    };
     if (t_col >= 0) test.t.push_back(value(t_col, t_factor));
-    test.e.push_back(value(e_col, e_factor));
-    test.F.push_back(value(f_col, f_factor));
+    test.e.push_back(bounded(e_col, value(e_col, e_factor), max_test_elongation, "m"));
+    test.F.push_back(bounded(f_col, value(f_col, f_factor), max_test_force, "N"));
   }
   if (cols.empty()) throw InputError(fmt::format("{}: empty: a cyclic test needs a header row and samples", path));
   if (test.e.empty()) throw InputError(fmt::format("{}:{}: a header and no samples", path, header_line));
+  // A test that never moves or never loads the device determines no law.
+  for (const auto& [values, c, unit] : {std::tuple{&test.e, e_col, "m"}, std::tuple{&test.F, f_col, "N"}}) {
+    const auto [low, high] = std::minmax_element(values->begin(), values->end());
+    if (!(*high > *low))
+      throw InputError(fmt::format("{}: column '{}' holds {:g} {} in every row: a cyclic test must move and load the "
+                                   "device", path, cols[static_cast<std::size_t>(c)].name, *low, unit));
+  }
   return test;
 }
 

@@ -16,6 +16,7 @@ module;
 #include <optional>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <vector>
 #include <fmt/format.h>
 module rocking.ground_motion;
@@ -112,6 +113,20 @@ std::optional<Unit> cosmos_unit(int code) {
   }
 }
 
+// The real header's "unknown" value, stated in the text lines as "...
+// unknown/unspecified: -999, -999.00" (integer, then real); -999 if not.
+double unknown_real(const std::vector<Line>& lines, std::size_t text_lines) {
+  for (std::size_t i = 1; i < std::min(text_lines + 1, lines.size()); ++i) {
+    const std::string& t = lines[i].text;
+    const std::size_t k = find_word(t, "UNSPECIFIED:");
+    if (k == std::string::npos) continue;
+    const std::size_t comma = t.find(',', k);
+    if (comma == std::string::npos) continue;
+    if (const std::optional<double> v = whole_number(t.substr(comma + 1)); v && std::isfinite(*v)) return *v;
+  }
+  return -999.0;
+}
+
 GroundMotion read(const std::string& path, const std::vector<Line>& lines, const RecordOptions& o) {
   refuse_component(path, o, "COSMOS");
   const std::size_t with = find_word(lines[0].text, "WITH");
@@ -121,6 +136,7 @@ GroundMotion read(const std::string& path, const std::vector<Line>& lines, const
   const BlockHeader ints = block_header(path, lines, at, "integer-header");
   const std::vector<double> ih = block(path, lines, at + 1, ints.count, ints.fields, "integer-header values");
   at += 1 + (ints.count + ints.fields.per_line - 1) / ints.fields.per_line;
+  const std::size_t real_at = at;
   const BlockHeader reals = block_header(path, lines, at, "real-header");
   const std::vector<double> rh = block(path, lines, at + 1, reals.count, reals.fields, "real-header values");
   at += 1 + (reals.count + reals.fields.per_line - 1) / reals.fields.per_line;
@@ -148,12 +164,32 @@ GroundMotion read(const std::string& path, const std::vector<Line>& lines, const
   if (!unit) fail(path, data_line.number, "the data line names no acceleration unit this program knows (units=...(02|04|07|10|11))");
   if (unit->unit) file_unit(path, data_line.number, *unit->unit, o);
   else if (o.unit) fail(path, data_line.number, fmt::format("--units {}: the file states its own units", unit_name(*o.unit)));
-  // The time step: real field 62 [ms], else 34 [s]; -999 (or the file's own
-  // "unknown" value) where not given.
-  auto real = [&](std::size_t field) { return field <= rh.size() ? rh[field - 1] : -999.0; };
-  const double dt = real(62) > 0 ? real(62) / 1000.0 : real(34) > 0 ? real(34) : 0.0;
+  // The time step: real field 62 [ms], else 34 [s]; the file's "unknown"
+  // value (text line 13, "...unknown/unspecified: -999, -999.00") where not
+  // given. A field that is given must be a time step. (They may differ: a V2
+  // file's 34 can be the raw recording's step, its 62 the processed one's.)
+  const double unknown = unknown_real(lines, static_cast<std::size_t>(*ntext));
+  auto real = [&](std::size_t field) { return field <= rh.size() ? rh[field - 1] : unknown; };
+  auto real_line = [&](std::size_t field) { return lines[real_at + 1 + (field - 1) / reals.fields.per_line].number; };
+  const bool has62 = real(62) != unknown, has34 = real(34) != unknown;
+  for (const auto& [field, value, unit] : {std::tuple{62, real(62), "ms"}, std::tuple{34, real(34), "s"}})
+    if (value != unknown && !(value > 0) && (field == 62 || !has62))
+      fail(path, real_line(static_cast<std::size_t>(field)),
+           fmt::format("real header field {} (the time step) = {:g} {}: must be positive (or {:g}, unknown)", field,
+                       value, unit, unknown));
+  const double dt = has62 ? real(62) / 1000.0 : has34 ? real(34) : 0.0;
   if (!(dt > 0)) fail(path, data_line.number, "no time step in the real header (field 62 in ms or 34 in s)");
   refuse_dt(path, data_line.number, o, dt);
+  // "42000 acceleration pts, approx 210 secs": the length stated in whole
+  // seconds, checked against NPTS x dt within a second or 1 %.
+  if (const std::size_t approx = find_word(data_line.text, "APPROX"); approx != std::string::npos)
+    if (const std::optional<long> secs = leading_count(data_line.text.substr(approx + 6))) {
+      const double length = dt * static_cast<double>(data.count), stated = static_cast<double>(*secs);
+      if (std::abs(length - stated) > std::max(1.0, 1e-2 * stated))
+        fail(path, data_line.number,
+             fmt::format("{} points of {:g} s (the header's time step) last {:g} s, but the file states approx {} secs",
+                         data.count, dt, length, *secs));
+    }
   std::vector<double> values = block(path, lines, at + 1, data.count, data.fields, "accelerations");
   for (double& v : values) v *= unit->to_si;
   for (std::size_t i = 0; i < values.size(); ++i)

@@ -110,6 +110,15 @@ GroundMotion read(const std::string& path, const std::vector<Line>& lines, const
   if (!(dt > 0)) fail(path, lines[s + text_lines + (corrected ? 6 : 4)].number,
                       fmt::format("the time step in the numeric header is not positive ({})", dt));
   refuse_dt(path, head, o, dt);
+  // "Number of points 8192 Duration 163.82 sec": (NPTS - 1) x dt, to a step
+  // and the last digit printed.
+  if (const std::optional<Stated> duration = number_after(lines[s + 9].text, "DURATION")) {
+    const double length = dt * static_cast<double>(npts - 1);
+    if (!(std::abs(length - duration->value) <= dt + duration->resolution))
+      fail(path, lines[s + 9].number,
+           fmt::format("{} points of {:g} s (the numeric header's time step) last {:g} s, but the file states a "
+                       "Duration of {:g} sec", npts, dt, length, duration->value));
+  }
   const AccelerationUnit unit = file_unit(path, lines[s + 13].number, AccelerationUnit::mm_per_s2, o);
   // The data lines of this component: up to the next component's header.
   const std::size_t data = s + text_lines + header_lines;

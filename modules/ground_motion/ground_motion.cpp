@@ -77,6 +77,17 @@ GroundMotion GroundMotion::from_samples(std::string name, std::vector<double> ti
   for (std::size_t i = 1; i < times.size(); ++i)
     if (!(times[i] > times[i - 1]))
       throw InputError(fmt::format("{}: sample times must increase (t[{}] = {} after {})", g.name_, i, times[i], times[i - 1]));
+  for (std::size_t i = 1; i < times.size(); ++i)
+    if (times[i] - times[i - 1] < min_record_dt)
+      throw InputError(fmt::format("{}: t[{}] = {:g} s comes {:g} s after the sample before: below {:g} s, not a "
+                                   "record's time step", g.name_, i, times[i], times[i] - times[i - 1], min_record_dt));
+  if (!(times.front() >= 0) || !(times.back() <= max_record_duration))
+    throw InputError(fmt::format("{}: samples from t = {:g} s to {:g} s: a record lies within [0, {:g}] s", g.name_,
+                                 times.front(), times.back(), max_record_duration));
+  for (std::size_t i = 0; i < accelerations.size(); ++i)
+    if (!(std::abs(accelerations[i]) <= max_acceleration_g * gravity))
+      throw InputError(fmt::format("{}: acceleration [{}] = {:g} m/s2 is beyond {:g} g", g.name_, i, accelerations[i],
+                                   max_acceleration_g));
   const double dt = (times.back() - times.front()) / static_cast<double>(times.size() - 1);
   const bool even = std::all_of(times.begin(), times.end(), [&, i = 0.0](double t) mutable {
     return std::abs(t - (times.front() + dt * i++)) <= 1e-9 * dt;

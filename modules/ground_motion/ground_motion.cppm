@@ -72,6 +72,11 @@ PulseShape parse_pulse_shape(std::string_view text);  // "one-sine", "ricker"
 // Accelerations beyond this are not ground motion: records holding them are
 // refused at their line, and no scaling may take a motion there.
 inline constexpr double max_acceleration_g = 100;  // |a| [g]
+// Records beyond these are not records: refused (by every reader, and by
+// GroundMotion::from_samples) rather than run into a non-finite state or an
+// absurd amount of work.
+inline constexpr double max_record_duration = 1e5; // [s], about 28 hours
+inline constexpr double min_record_dt = 1e-6;      // [s]
 inline constexpr double max_scale_factor = 1e3;    // |factor| a scene may put on its excitation
 
 class GroundMotion {
@@ -308,10 +313,6 @@ struct FormatReader {
   std::string (*example)();
 };
 
-// Records beyond these are not records: refused with their line rather than
-// run into a non-finite state or an absurd amount of work.
-inline constexpr double max_record_duration = 1e5; // [s], about 28 hours
-inline constexpr double min_record_dt = 1e-6;      // [s]
 
 std::vector<Line> read_lines(const std::string& path);
 [[noreturn]] void fail(const std::string& path, int line, std::string_view what);

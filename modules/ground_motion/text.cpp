@@ -208,7 +208,7 @@ GroundMotion evenly_sampled(const std::string& path, int header_line, std::vecto
                                         dt, max_record_duration));
   double peak = 0;
   for (double v : values) peak = std::max(peak, std::abs(v));
-  if (info.stated_peak) {
+  if (info.stated_peak && *info.stated_peak != 0) {  // 0: a file that states no peak
     const double stated = *info.stated_peak;
     if (std::abs(peak - stated) > std::max(1e-3 * stated, stated_resolution))
       fail(path, header_line, fmt::format("the file states a peak of {:.6g} m/s2 but its data peak at {:.6g} m/s2",

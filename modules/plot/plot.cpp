@@ -1,5 +1,6 @@
 module;
 #include <cstdio>
+#include <csignal>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -198,6 +199,10 @@ void check_name(const std::string& name, const std::string& option) {
                                  option, comment(name)));
 }
 
+namespace {
+bool (*interrupt_requested)() = nullptr;
+}  // namespace
+
 int run_program(const fs::path& dir, const std::vector<std::string>& argv, const fs::path& log) {
   if (argv.empty()) return -1;
   std::vector<char*> args;
@@ -214,10 +219,27 @@ int run_program(const fs::path& dir, const std::vector<std::string>& argv, const
   posix_spawn_file_actions_destroy(&actions);
   if (spawned != 0) return -1;
   int status = 0;
-  while (::waitpid(pid, &status, 0) < 0)
-    if (errno != EINTR) return -1;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  if (interrupt_requested == nullptr) {
+    while (::waitpid(pid, &status, 0) < 0)
+      if (errno != EINTR) return -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+  // Polled every 20 ms: a stop ends the program within that.
+  for (;;) {
+    const pid_t done = ::waitpid(pid, &status, WNOHANG);
+    if (done == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    if (done < 0 && errno != EINTR) return -1;
+    if (interrupt_requested()) {
+      ::kill(pid, SIGTERM);
+      while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+      }
+      return -1;
+    }
+    ::usleep(20000);
+  }
 }
+
+void set_interrupt(bool (*requested)()) { interrupt_requested = requested; }
 
 std::vector<fs::path> render_script(const Figure& fig, const std::string& script) {
   check_name(fig.name, "figure name");
@@ -242,6 +264,12 @@ std::vector<fs::path> render_script(const Figure& fig, const std::string& script
       throw RunError(fmt::format("{}: gnuplot wrote it incomplete (a full disk?)", out.string()));
   }
   if (status != 0 || written.size() != fig.formats.size()) {
+    // A gnuplot that failed or was stopped may have left a figure cut short
+    // under its final name: none stays.
+    if (status != 0)
+      for (const std::string& f : fig.formats) fs::remove(fig.dir / (fig.name + "." + f), ec);
+    if (interrupt_requested != nullptr && interrupt_requested())
+      throw RunError(fmt::format("{}: stopped while gnuplot drew it", gp.string()));
     std::ifstream in(log);
     std::string first, line;
     while (std::getline(in, line))
@@ -304,26 +332,25 @@ int HistoryContent::column(std::string_view name) const {
 }
 
 HistoryContent check_history(const fs::path& file) {
-  std::ifstream in(file);
+  std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(fmt::format("{}: history file not found", file.string()));
-  std::string line;
-  int rows = 0;
+  std::stringstream whole;
+  whole << in.rdbuf();
+  const std::string text = whole.str();
   HistoryContent content;
-  // The value of a column (1-based) of a CSV row, 0 when absent or not a number.
-  auto value = [](const std::string& row, int k) {
-    if (k <= 0) return 0.0;
-    std::size_t start = 0;
-    for (int c = 1; c < k; ++c) {
-      start = row.find(',', start);
-      if (start == std::string::npos) return 0.0;
-      ++start;
-    }
-    const double v = std::strtod(row.c_str() + start, nullptr);
-    return std::isfinite(v) ? v : 0.0;
-  };
   const auto name = [](Quantity q) { return info(q).name; };
-  int theta = 0, delta_e = 0, a_g = 0, damper_d = 0;
-  for (int n = 1; std::getline(in, line); ++n) {
+  int theta = 0, delta_e = 0, a_g = 0, damper_d = 0, phase = 0;
+  int rows = 0;
+  std::size_t fields = 0;
+  std::size_t at = 0;
+  for (int n = 1; at < text.size(); ++n) {
+    const std::size_t eol = text.find('\n', at);
+    // A history is written in whole rows: one that the file ends inside was cut.
+    if (eol == std::string::npos)
+      throw InputError(fmt::format("{}:{}: the file ends inside this row (no line end): a cut history; plot a "
+                                   "complete run's", file.string(), n));
+    const std::string line = text.substr(at, eol - at);
+    at = eol + 1;
     if (n == 1) {
       if (!line.starts_with("t [s],")) throw InputError(fmt::format("{}:1: not a rocking history (header 't [s],...')", file.string()));
       std::stringstream header(line);
@@ -332,6 +359,7 @@ HistoryContent check_history(const fs::path& file) {
         const auto unit = field.find(" [");
         content.columns.emplace_back(field.substr(0, unit), ++k);
       }
+      fields = content.columns.size();
       const std::string elongation = fmt::format(".{}", info(DeviceQuantity::elongation).name);
       for (const auto& [c, k2] : content.columns)
         if (c.ends_with(elongation) && content.column(c.substr(0, c.size() - elongation.size()) + "." +
@@ -341,17 +369,51 @@ HistoryContent check_history(const fs::path& file) {
       delta_e = content.column(name(Quantity::delta_e));
       a_g = content.column(name(Quantity::a_g));
       damper_d = content.column(name(Quantity::damper_d));
+      phase = content.column(name(Quantity::phase));
       content.ground = a_g > 0;
       continue;
     }
     if (line.empty()) continue;
+    // Every row whole: the header's number of fields, each a finite number,
+    // empty (a broken device's value) or the phase's label.
+    std::vector<double> row;
+    std::size_t start = 0;
+    for (std::size_t k = 1;; ++k) {
+      const std::size_t comma = line.find(',', start);
+      const std::string field = line.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+      if (k > fields)
+        throw InputError(fmt::format("{}:{}: more fields than the header's {}: not a rocking history", file.string(), n,
+                                     fields));
+      double v = 0;
+      if (static_cast<int>(k) == phase && (field == "contact" || field == "rock+" || field == "rock-")) {
+        v = field == "contact" ? 0 : 1;
+      } else if (!field.empty()) {
+        char* end = nullptr;
+        v = std::strtod(field.c_str(), &end);
+        if (end != field.c_str() + field.size() || !std::isfinite(v))
+          throw InputError(fmt::format("{}:{}: '{:.20}' in column {}: not a finite number", file.string(), n, field,
+                                       content.columns[k - 1].first));
+      }
+      row.push_back(v);
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+    if (row.size() != fields)
+      throw InputError(fmt::format("{}:{}: {} fields where the header has {}: a cut or foreign row", file.string(), n,
+                                   row.size(), fields));
     ++rows;
-    content.rocks = content.rocks || value(line, theta) != 0;
-    content.elastic = content.elastic || value(line, delta_e) != 0;
-    content.ground_moves = content.ground_moves || value(line, a_g) != 0;
-    content.has_damper = content.has_damper || value(line, damper_d) != 0;
+    auto value = [&](int k) { return k > 0 ? row[static_cast<std::size_t>(k - 1)] : 0.0; };
+    content.rocks = content.rocks || value(theta) != 0;
+    content.elastic = content.elastic || value(delta_e) != 0;
+    content.ground_moves = content.ground_moves || value(a_g) != 0;
+    content.has_damper = content.has_damper || value(damper_d) != 0;
   }
   if (rows < 2) throw InputError(fmt::format("{}: empty history ({} rows): nothing to plot", file.string(), rows));
+  // The response figure's one panel every run has: the drift.
+  if (content.column(name(Quantity::delta_t)) == 0)
+    throw InputError(fmt::format("{}:1: no {} column: the response figure draws the drift (a history of "
+                                 "`rocking simulate` with its default columns, or --history {},...)",
+                                 file.string(), name(Quantity::delta_t), name(Quantity::delta_t)));
   return content;
 }
 

@@ -176,6 +176,11 @@ std::string comment(std::string_view text);
 // killed by a signal).
 int run_program(const std::filesystem::path& dir, const std::vector<std::string>& argv,
                 const std::filesystem::path& log);
+// A check that run_program polls while its program runs (the program's stop
+// request: Ctrl-C, SIGTERM); once it returns true the program is ended with
+// SIGTERM, run_program returns -1 and render_script throws RunError, leaving
+// no figure file it was writing. None (the default): programs run to the end.
+void set_interrupt(bool (*requested)());
 
 // Writes DIR/NAME.gp and runs gnuplot on it in DIR; returns the files
 // NAME.<format> it made, one per fig.formats entry (RunError if any is missing).

@@ -159,6 +159,10 @@ constexpr double max_mass = 1e12;      // [kg], a mountain
 constexpr double max_length = 1e4;     // [m] (and m^4 for second moments)
 constexpr double max_modulus = 1e13;   // [Pa], ten times diamond
 constexpr double max_duration = 1e5;   // [s], about 28 hours
+constexpr double min_pulse_period = 1e-3, max_pulse_period = 1e3;  // [s]
+// The fastest an initial condition may move any point of the structure:
+// a hundred times the fastest ground (about 1 m/s).
+constexpr double max_initial_speed = 100;  // [m/s]
 // Lower bounds that keep K and M within the range of doubles and the
 // eigenproblems well posed, far below any structure: a gram, a millimetre.
 constexpr double min_mass = 1e-3;      // [kg]
@@ -355,7 +359,7 @@ Contact read_contact(const toml::table& root, const std::string& file, const Ori
   return c;
 }
 
-Damper read_damper(const toml::table& root, const std::string& file, const Origins& origins) {
+Damper read_damper(const toml::table& root, const std::string& file, const Origins& origins, const Structure& st) {
   Damper d;
   if (!root.contains("damper")) {
     d.enabled = false;
@@ -368,7 +372,12 @@ Damper read_damper(const toml::table& root, const std::string& file, const Origi
   d.post_yield_ratio = t.number("post_yield_ratio", [](double e) { return e >= 0 && e < 1; }, "in [0, 1)");
   // The yield chord 4B sin(theta_y / 2) grows with theta_y up to pi; a
   // structure tilted by pi/2 lies on its side.
-  d.theta_y = t.number("theta_y", in_range(0, 1.5707963, false), "in (0, pi/2) [rad]");
+  // and its yield elongation d_y = 4B sin(theta_y / 2) is at least a micron,
+  // as a Bouc-Wen device's (rocking.devices): below, z' = e' / d_y outruns any step.
+  const double min_theta_y = 2 * std::asin(std::min(1.0, 1e-6 / (4 * st.half_width)));
+  d.theta_y = t.number("theta_y", in_range(min_theta_y, 1.5707963, true),
+                       fmt::format("in [{:.3g}, pi/2) [rad] (a yield elongation 4B sin(theta_y/2) of 1 um to the "
+                                   "structure on its side)", min_theta_y));
   d.alpha = t.number_or("alpha", 1.0, in_range(0, 100, true), "in [0, 100]");
   d.beta = t.number_or("beta", 0.0, [](double b) { return std::abs(b) <= 100; }, "in [-100, 100]");
   d.n = t.number_or("n", 1.0, [](double n) { return n >= 1 && n <= 50; }, "in [1, 50]");
@@ -418,8 +427,8 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
     const std::string kinematics = t.string_or("kinematics", "chord");
     if (kinematics == "vertical") {
       geometry.kinematics = Kinematics::vertical;
-      geometry.free_length = t.number("free_length", in_range(0, max_length, false),
-                                      fmt::format("positive and at most {:g} m", max_length));
+      geometry.free_length = t.number("free_length", in_range(min_length, max_length, true),
+                                      fmt::format("in [{:g}, {:g}] m", min_length, max_length));
     } else if (kinematics == "chord") {
       if (t.has("free_length")) t.fail(&t.required("free_length"), "free_length", "only a vertical device has a free length");
     } else {
@@ -461,6 +470,11 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
       out.push_back(std::move(d));
     }
   }
+  // Each device's state is a slot of a fixed array (rocking.contact).
+  const std::size_t edge = damper.enabled ? 2 : 0;
+  if (out.size() + edge > static_cast<std::size_t>(max_device_states))
+    throw InputError(fmt::format("{}: device: {} devices{}: a scene holds at most {}", file, out.size() + edge,
+                                 edge > 0 ? " (with the damper's two)" : "", max_device_states));
   return out;
 }
 
@@ -536,7 +550,10 @@ Excitation read_excitation(const toml::table& root, const std::string& file, con
   e.amplitude = t.number("amplitude_g", [](double a) { return std::abs(a) <= max_acceleration_g; },
                          fmt::format("within +-{:g} [g]", max_acceleration_g)) *
                 to_si(AccelerationUnit::g);
-  e.period = t.number("period", positive, "positive [s]");
+  // From a millisecond (1 kHz, beyond any ground motion and below the steps
+  // a run can resolve) to a thousand seconds (longer than any earthquake).
+  e.period = t.number("period", in_range(min_pulse_period, max_pulse_period, true),
+                      fmt::format("in [{:g}, {:g}] [s]", min_pulse_period, max_pulse_period));
   return e;
 }
 
@@ -547,15 +564,24 @@ Initial read_initial(const toml::table& root, const std::string& file, const Ori
   Initial init;
   if (!root.contains("initial")) return init;
   const TableReader t(root, "initial", file, origins);
-  const auto any = [](double) { return true; };
   init.theta = t.number_or("theta", 0.0, [](double v) { return std::abs(v) < 1.5707963; }, "in (-pi/2, pi/2) [rad]");
-  init.theta_dot = t.number_or("theta_dot", 0.0, any, "a number [rad/s]");
+  // Bounds from the structure: no point faster than max_initial_speed, no
+  // elastic displacement beyond the height.
+  const double H = s.heights.size() > 0 ? s.heights.maxCoeff() : 1.0;
+  const double max_theta_dot = max_initial_speed / std::hypot(H, 2 * s.half_width);
+  init.theta_dot = t.number_or("theta_dot", 0.0, [&](double v) { return std::abs(v) <= max_theta_dot; },
+                               fmt::format("within +-{:.3g} [rad/s] (the structure's far corner at {:g} m/s)",
+                                           max_theta_dot, max_initial_speed));
   if ((init.theta != 0 || init.theta_dot != 0) && !c.rocking)
     t.fail(&t.required(t.has("theta") ? "theta" : "theta_dot"), t.has("theta") ? "theta" : "theta_dot",
            "a fixed base (contact.rocking = false) cannot tilt");
   for (const char* key : {"u", "u_dot"}) {
     if (!t.has(key)) continue;
-    Eigen::VectorXd v = t.numbers(key, any, "a number");
+    const bool speed = std::string_view(key) == "u_dot";
+    Eigen::VectorXd v = speed ? t.numbers(key, [](double x) { return std::abs(x) <= max_initial_speed; },
+                                          fmt::format("within +-{:g} [m/s]", max_initial_speed))
+                              : t.numbers(key, [H](double x) { return std::abs(x) <= H; },
+                                          fmt::format("within +-{:g} [m] (the height)", H));
     if (s.rigid) {  // zeros say nothing (a flexible scene made rigid with --set)
       if (!v.isZero(0.0)) t.fail(&t.required(key), key, "a rigid block has no elastic displacements");
       continue;
@@ -611,7 +637,7 @@ Scene read_scene(toml::table root, const std::string& file, const std::vector<st
   }
   scene.structure = read_structure(root, file, origins);
   scene.contact = read_contact(root, file, origins);
-  scene.damper = read_damper(root, file, origins);
+  scene.damper = read_damper(root, file, origins, scene.structure);
   scene.devices = read_devices(root, file, origins, scene.structure, scene.damper);
   scene.excitation = read_excitation(root, file, origins);
   scene.initial = read_initial(root, file, origins, scene.structure, scene.contact);

@@ -200,6 +200,9 @@ class Driver {
       } else {
         loop();
       }
+    } catch (const ode::IntegrationError& e) {
+      result_.outcome = Outcome::failed;
+      result_.failure = fmt::format("{} (phase {}){}", e.what(), phase_name(d_.phase), failure_cause(e));
     } catch (const RunError& e) {
       result_.outcome = Outcome::failed;
       result_.failure = fmt::format("{} (phase {})", e.what(), phase_name(d_.phase));
@@ -209,6 +212,40 @@ class Driver {
   }
 
  private:
+  // What made a run's state non-finite or its step vanish, in terms of the
+  // input: the part of the state (and its rate) that is not finite at the
+  // failure names the values that drive it; a step that vanished on finite
+  // values at the start is the scene's values, too fast for any step.
+  std::string failure_cause(const ode::IntegrationError& e) const {
+    using Kind = ode::IntegrationError::Kind;
+    if (e.kind() != Kind::non_finite_state && e.kind() != Kind::step_size_underflow) return {};
+    const Layout& l = m_.layout;
+    Eigen::VectorXd y = active_ != nullptr ? Eigen::VectorXd(active_->state()) : y_;
+    Eigen::VectorXd dydt = Eigen::VectorXd::Zero(y.size());
+    if (y.allFinite()) phase_rhs(m_, d_, ground_at(e.time()), y, dydt);
+    auto bad = [&](const StateRange& r) {
+      return r.count > 0 && !(y.segment(r.start, r.count).allFinite() && dydt.segment(r.start, r.count).allFinite());
+    };
+    std::string names;
+    for (const Device& dev : m_.devices) names += (names.empty() ? "" : ", ") + dev.name;
+    if (bad(l.z))
+      return fmt::format(": the devices' hysteresis ({}): their parameters (a yield elongation d_y or a sharpness n "
+                         "against the stiffness k) drive it beyond what the run can follow", names);
+    if (bad(l.u) || bad(l.u_dot))
+      return ": the structure's elastic motion: check initial.u, initial.u_dot and the structure's stiffness and masses";
+    if (bad(l.theta) || bad(l.theta_dot))
+      return ": the rocking motion: check initial.theta, initial.theta_dot and the ground motion's scale";
+    if (e.time() <= 1e-9 * std::max(1.0, t_end_))
+      return fmt::format(": at the start of the run, the scene's values (the devices' parameters{}{}, the initial "
+                         "velocities, the ground motion) ask for a motion faster than any step can follow",
+                         names.empty() ? "" : ": ", names);
+    if (e.kind() == Kind::step_size_underflow)
+      return fmt::format(": the scene's values ask for a motion faster than any step can follow here (the devices' "
+                         "parameters{}{}: a small yield elongation against a large stiffness; the structure's "
+                         "stiffness and masses; the ground motion)", names.empty() ? "" : ": ", names);
+    return {};
+  }
+
   // The ground's acceleration at t: along the plane, and upward when shaken so.
   GroundAcceleration ground_at(double t) const {
     return vertical_ ? GroundAcceleration{ground_.acceleration(t), vertical_->acceleration(t)}

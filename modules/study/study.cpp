@@ -166,6 +166,9 @@ std::vector<std::string> Study::device_names(std::size_t variant) const {
   return out;
 }
 
+// More values than any study runs in a day (and a bound on the memory a typo reserves).
+constexpr std::size_t max_list_values = 1000001;
+
 std::vector<double> parse_number_list(const std::string& text) {
   auto fail = [&] {
     throw InputError(fmt::format("'{}': expected FIRST:LAST:STEP (e.g. 1:20:1) or a list (0.5,1,2)", text));
@@ -188,7 +191,13 @@ std::vector<double> parse_number_list(const std::string& text) {
     for (std::string p; std::getline(ss, p, ':');) parts.push_back(p);
     if (parts.size() != 3) fail();
     const double first = number(parts[0]), last = number(parts[1]), step = number(parts[2]);
-    if (!(step > 0) || last < first || (last - first) / step > 1e6) fail();
+    if (!(step > 0))
+      throw InputError(fmt::format("'{}': STEP {:g} must be positive (FIRST:LAST:STEP counts up from FIRST)", text, step));
+    if (last < first)
+      throw InputError(fmt::format("'{}': LAST {:g} is below FIRST {:g} (FIRST:LAST:STEP counts up)", text, last, first));
+    if ((last - first) / step > max_list_values - 1)
+      throw InputError(fmt::format("'{}': {:.3g} values; a list holds at most {} (a larger STEP or a shorter span)",
+                                   text, std::floor((last - first) / step) + 1, max_list_values));
     const auto n = static_cast<long>(std::floor((last - first) / step + 1e-9));
     // Each value as its decimal reads (0.15, not 0.15000000000000002).
     for (long i = 0; i <= n; ++i) out.push_back(decimal(first + static_cast<double>(i) * step));
@@ -196,6 +205,8 @@ std::vector<double> parse_number_list(const std::string& text) {
     if (text.ends_with(",")) fail();
     std::stringstream ss(text);
     for (std::string p; std::getline(ss, p, ',');) out.push_back(number(p));
+    if (out.size() > max_list_values)
+      throw InputError(fmt::format("'{}': {} values; a list holds at most {}", text, out.size(), max_list_values));
   }
   if (out.empty()) fail();
   return out;

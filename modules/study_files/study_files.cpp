@@ -7,9 +7,11 @@ module;
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <istream>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -130,8 +132,11 @@ std::vector<std::string> record_ids(const std::vector<std::string>& paths) {
 }
 
 std::string study_csv_header(const StudyColumns& columns) {
-  return fmt::format("record,scale,variant,im,level,record_im,{},top_total_mm,outcome,uplifts,impacts,rhs,error\n",
-                     fmt::join(columns.names(), ","));
+  // No quantity columns (no variant could be built: every run fails) leave
+  // none in the header either, as in the rows.
+  const auto names = columns.names();
+  return fmt::format("record,scale,variant,im,level,record_im,{}top_total_mm,outcome,uplifts,impacts,rhs,error\n",
+                     names.empty() ? std::string() : fmt::format("{},", fmt::join(names, ",")));
 }
 
 std::string job_fields(const Study& st, const std::vector<std::string>& ids, const Job& job) {
@@ -151,6 +156,42 @@ std::string study_csv_row(const Study& st, const StudyColumns& columns, const st
   return fmt::format("{},{}{},{},{},{},{}\n", job_fields(st, ids, job), q,
                      r.error.empty() ? fmt::format("{:.6g}", run.top_total_mm) : "", outcome_name(run.outcome),
                      run.counts.uplifts, fmt::format("{},{}", run.counts.impacts, run.stats.rhs), csv_field(r.error));
+}
+
+ResumedRows read_resumed_rows(std::istream& in, const std::string& name, const std::vector<Job>& jobs,
+                              const std::vector<std::string>& ids, const Study& st, const StudyColumns& columns) {
+  ResumedRows r;
+  std::string line;
+  if (!std::getline(in, line) || line + "\n" != study_csv_header(columns))
+    throw InputError(fmt::format("--resume: {}:1: not a study CSV of this version (header differs)", name));
+  for (int n = 2; std::getline(in, line); ++n) {
+    if (in.eof()) break;  // a last line without its newline was cut: run that job again
+    const std::size_t k = r.rows.size();
+    const std::vector<std::string> f = csv_fields(line);
+    const std::string expected = k < jobs.size() ? job_fields(st, ids, jobs[k]) : std::string("(no more jobs)");
+    const std::size_t nc = columns.size(), fields = job_field_count + nc + run_field_count;
+    if (k >= jobs.size() || f.size() < fields || !line.starts_with(expected + ","))
+      throw InputError(fmt::format("--resume: {}:{}: this row is not job {} of this study ({}): give the same scene, "
+                                   "--record, --im, --levels and --variants as the interrupted run",
+                                   name, n, k + 1, expected));
+    // A kept row holds finite numbers: one with nan or inf (a run gone wrong,
+    // or an edited file) runs again, with every job after it.
+    for (std::size_t c = job_field_count - 2; c < job_field_count + nc + 1; ++c) {
+      char* end = nullptr;
+      const double v = std::strtod(f[c].c_str(), &end);
+      if (!f[c].empty() && end == f[c].c_str() + f[c].size() && !std::isfinite(v)) {
+        r.rerun = fmt::format("--resume: {}:{}: '{}' in column {}: job {} runs again, with the {} after it", name, n,
+                              f[c], c + 1, k + 1, jobs.size() - k - 1);
+        return r;
+      }
+    }
+    r.rows.push_back(line + "\n");
+    std::string data = f[4];  // the level, then the columns
+    for (std::size_t c = job_field_count; c < job_field_count + nc; ++c) data += "," + f[c];
+    const bool failed = !f[fields - 1].empty(), overturned = f[job_field_count + nc + 1] == "overturned";
+    r.lines.push_back(failed ? std::string() : data + (overturned ? ",1" : ",0"));
+  }
+  return r;
 }
 
 std::vector<std::string> csv_fields(const std::string& row) {

@@ -11,6 +11,7 @@ module;
 #include <nlohmann/json.hpp>
 #include <cstddef>
 #include <filesystem>
+#include <istream>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -55,6 +56,20 @@ JobResult line_result(const StudyColumns& columns, const std::string& line);
 // end adds to a StudySummary, so that a study's summary is the same whether
 // its runs were fresh, resumed from rows or sent by other processes.
 JobResult as_written(const StudyColumns& columns, const Job& job, const JobResult& r);
+
+// What an interrupted study left in its CSV (`name`: the file, for messages):
+// its rows in job order, each checked against the job it must be. rows: the
+// text of each row kept; lines: its figure line (empty for a failed run);
+// rerun: why the rows stop early when a row holds a value that is not finite
+// (that job and every one after it run again), else empty. A last line
+// without its newline was cut: its job runs again. InputError naming the
+// file and line for a header or row of another study or version.
+struct ResumedRows {
+  std::vector<std::string> rows, lines;
+  std::string rerun;
+};
+ResumedRows read_resumed_rows(std::istream& in, const std::string& name, const std::vector<Job>& jobs,
+                              const std::vector<std::string>& ids, const Study& st, const StudyColumns& columns);
 
 // records.csv: what each record id is, as its file says.
 std::string records_csv(const Study& st, const std::vector<std::string>& ids);

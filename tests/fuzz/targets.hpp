@@ -11,6 +11,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -18,6 +20,7 @@
 #include <unistd.h>
 import rocking.scene;
 import rocking.study;
+import rocking.study_files;
 import rocking.fitting;
 import rocking.modal;
 import rocking.intensity;
@@ -81,9 +84,72 @@ inline void set_override(const std::uint8_t* data, std::size_t size) {
 }
 
 // --scales, --levels, --sizes, --rtols: FIRST:LAST:STEP or a comma list.
+// Accepted lists are finite values, at most a million and one of them.
 inline void number_list(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
-  input_or_error([&] { (void)rocking::parse_number_list(text); });
+  input_or_error([&] {
+    const std::vector<double> v = rocking::parse_number_list(text);
+    if (v.empty() || v.size() > 1000001) __builtin_trap();
+    for (double x : v)
+      if (!std::isfinite(x)) __builtin_trap();
+  });
+}
+
+// A history.csv read back by `plot response --from` (rocking.plot's
+// check_history): accepted only as whole rows of finite numbers (or empty
+// fields, or the phase's labels) under a header with a drift column.
+inline void history_csv(const std::uint8_t* data, std::size_t size) {
+  const std::string path = as_file(data, size, "history.csv");
+  input_or_error([&] {
+    const rocking::plot::HistoryContent c = rocking::plot::check_history(path);
+    if (c.columns.empty() || c.column("delta_t") == 0) __builtin_trap();
+  });
+  std::remove(path.c_str());
+}
+
+// An ida.csv read back by --resume (rocking.study_files' read_resumed_rows)
+// for a study of the built-in chimney under a short pulse-like record, two
+// variants at three levels: only rows of its jobs, in order, are kept, and
+// every kept row's numbers are finite.
+inline void study_csv(const std::uint8_t* data, std::size_t size) {
+  struct Fixture {
+    std::unique_ptr<rocking::Study> study;
+    std::vector<rocking::Job> jobs;
+    std::vector<std::string> ids;
+    rocking::StudyColumns columns;
+  };
+  static const Fixture f = [] {
+    std::vector<double> t, a;
+    for (int i = 0; i <= 100; ++i) {
+      t.push_back(0.01 * i);
+      a.push_back(0.3 * 9.81 * std::sin(0.2 * i));
+    }
+    const auto motion = std::make_shared<const rocking::GroundMotion>(
+        rocking::GroundMotion::from_samples("fuzz.at2", t, a));
+    Fixture x;
+    x.study = std::make_unique<rocking::Study>(
+        "", std::vector<std::string>{}, std::vector<rocking::StudyRecord>{{"fuzz.at2", motion}}, rocking::RecordOptions{},
+        std::vector<rocking::Variant>{rocking::named_variant("damper"), rocking::named_variant("no-damper")},
+        rocking::RunOptions{});
+    x.jobs = x.study->ladder({1, 2, 3});
+    x.ids = rocking::record_ids(x.study->records());
+    x.columns = rocking::study_columns(*x.study);
+    return x;
+  }();
+  std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));
+  input_or_error([&] {
+    const rocking::ResumedRows r = rocking::read_resumed_rows(in, "ida.csv", f.jobs, f.ids, *f.study, f.columns);
+    if (r.rows.size() > f.jobs.size() || r.lines.size() != r.rows.size()) __builtin_trap();
+    for (const std::string& line : r.lines) {
+      std::size_t at = 0;
+      while (at <= line.size() && !line.empty()) {
+        const std::size_t comma = std::min(line.find(',', at), line.size());
+        const std::string field = line.substr(at, comma - at);
+        if (!field.empty() && !std::isfinite(std::strtod(field.c_str(), nullptr))) __builtin_trap();
+        at = comma + 1;
+      }
+    }
+  });
 }
 
 // --process SPEC: parsed, and when accepted applied to a short record, whose
