@@ -270,7 +270,7 @@ TEST_CASE("a curl -d body is taken up to the lab's limit and refused beyond it w
   REQUIRE(over);
   CHECK(over->status == 413);
   const std::string message = json::parse(over->body)["error"];
-  CHECK_MESSAGE(message == "the request is too large for /api/simulate (at most 64 KB)", message);
+  CHECK_MESSAGE(message == "the request is too large for /api/simulate (at most 64 KB, 65536 bytes)", message);
   // A bad override and a bad record answer without the machine's folders.
   for (const std::string& bad : {std::string(R"({"set": ["structure.EI_scale=-1"]})"),
                                  std::string(R"({"set": ["nonsense.key=1"]})"),

@@ -259,7 +259,8 @@ int serve(const RockingServeConfig& c) {
     close_after_answer = true;
   };
   const auto too_large = [](const std::string& path, std::size_t limit) {
-    return "the request is too large for " + path + " (at most " + bytes_text(limit) + ")" +
+    return "the request is too large for " + path + " (at most " + bytes_text(limit) + ", " + std::to_string(limit) +
+           " bytes)" +
            (path == "/api/upload" ? ": upload a shorter record" : "");
   };
   // Before any body is read: where the request comes from, what it is
