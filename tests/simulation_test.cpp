@@ -282,8 +282,8 @@ TEST_CASE("a tendon with no prestress and no stiffness, or a dashpot with c = 0,
   Scene scene = load_default_scene({"damper.enabled=false"});
   const GroundMotion pulse = GroundMotion::pulse(PulseShape::one_sine, 4.0, 0.6);
   const RunResult bare = simulate(make_contact_model(scene, false), pulse, tight(4.0));
-  for (const Device& nothing : {Device{"t", {0.0, Kinematics::vertical, 5.0}, ElasticLaw{0, 0}, 0},
-                                Device{"v", {-0.5, Kinematics::chord, 0}, ViscousLaw{0, 1}, 0}}) {
+  for (const Device& nothing : {Device{"t", {0.0, Kinematics::vertical, 5.0}, ElasticLaw{0, 0}, 0, false, "t"},
+                                Device{"v", {-0.5, Kinematics::chord, 0}, ViscousLaw{0, 1}, 0, false, "v"}}) {
     CAPTURE(nothing.name);
     const RunResult with = simulate(make_contact_model(scene, false, {nothing}), pulse, tight(4.0));
     CHECK(with.counts.uplifts == bare.counts.uplifts);
