@@ -138,7 +138,8 @@ TEST_CASE("IDA figures draw collapse as collapse, start peaks at zero, and name 
   const fs::path dir = scratch_dir("first_use_collapse");
   // 0.3 g for 2.5 s: the chimney without damper survives it, and overturns at x3.
   const std::string rec = short_record(dir / "p.txt", 0.3, 2.5, 8);
-  const Result r = run("-q ida --record " + rec + " --scales 1,3,6 --formats png --out " + (dir / "ida").string());
+  const Result r = run("-q ida --record " + rec + " --scales 1,3,6 --variants damper,no-damper,fixed-base --formats png --out " +
+                       (dir / "ida").string());
   REQUIRE_MESSAGE(r.code == 0, r.err);
   const std::string csv = file_text(dir / "ida" / "ida.csv");
   REQUIRE(contains(csv, "p.txt,1,no-damper,"));

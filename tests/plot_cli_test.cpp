@@ -53,13 +53,15 @@ std::array<double, 2> arias_window(const rocking::GroundMotion& g) {
   return {std::max(0.0, t5 - margin), std::min(static_cast<double>(a.size() - 1) * dt, t95 + margin)};
 }
 
-// The numbers of a gnuplot script's first "set xrange [A:B]".
-std::array<double, 2> xrange_of(const std::string& script) {
-  const std::size_t at = script.find("set xrange [");
-  REQUIRE(at != std::string::npos);
-  double lo = 0, hi = 0;
-  REQUIRE(std::sscanf(script.c_str() + at, "set xrange [%lf:%lf]", &lo, &hi) == 2);
-  return {lo, hi};
+// The numbers of every "set xrange [A:B]" of a gnuplot script (an animation
+// sets its drawing's range as well as its traces' time range).
+std::vector<std::array<double, 2>> xranges_of(const std::string& script) {
+  std::vector<std::array<double, 2>> out;
+  for (std::size_t at = script.find("set xrange ["); at != std::string::npos; at = script.find("set xrange [", at + 1)) {
+    double lo = 0, hi = 0;
+    if (std::sscanf(script.c_str() + at, "set xrange [%lf:%lf]", &lo, &hi) == 2) out.push_back({lo, hi});
+  }
+  return out;
 }
 
 std::uint32_t big_endian(const std::string& s, std::size_t at) {
@@ -421,9 +423,11 @@ TEST_CASE("--window: T0:T1 or the record's strong shaking on the time axes, refu
   REQUIRE_MESSAGE(anim.code == 0, anim.err);
   const std::string script = file_text(dir / "waiau.gp");
   for (const std::string& gp : {file_text(dir / "waiau" / "response.gp"), file_text(dir / "record" / "record.gp"), script}) {
-    const auto [from, to] = xrange_of(gp);
-    CHECK(from == within(lo, 5e-5));
-    CHECK(to == within(hi, 5e-5));
+    // One of its time axes spans the window, to the 6 digits a script prints.
+    const auto ranges = xranges_of(gp);
+    CHECK(std::any_of(ranges.begin(), ranges.end(), [&](const std::array<double, 2>& r) {
+      return std::abs(r[0] - lo) <= 5e-5 && std::abs(r[1] - hi) <= 5e-5;
+    }));
   }
   // The frames whose times (i / 4 s) lie in the window.
   const std::string frames = fmt::format("do for [i={}:{}]", static_cast<int>(std::ceil(4 * lo)), static_cast<int>(std::floor(4 * hi)));
