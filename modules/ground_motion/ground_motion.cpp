@@ -78,7 +78,7 @@ GroundMotion GroundMotion::from_samples(std::string name, std::vector<double> ti
     if (!(times[i] > times[i - 1]))
       throw InputError(fmt::format("{}: sample times must increase (t[{}] = {} after {})", g.name_, i, times[i], times[i - 1]));
   for (std::size_t i = 1; i < times.size(); ++i)
-    if (times[i] - times[i - 1] < min_record_dt)
+    if (times[i] - times[i - 1] < min_record_dt * (1 - 1e-9))  // samples i dt apart meet the bound despite round-off
       throw InputError(fmt::format("{}: t[{}] = {:g} s comes {:g} s after the sample before: below {:g} s, not a "
                                    "record's time step", g.name_, i, times[i], times[i] - times[i - 1], min_record_dt));
   if (!(times.front() >= 0) || !(times.back() <= max_record_duration))
