@@ -451,6 +451,10 @@ TEST_CASE("rocking serve: bad input leaves it serving, 20 requests at once come 
     CHECK_MESSAGE(message.find(says) != std::string::npos, message);
     CHECK(message.find('\n') == std::string::npos);
   }
+  // The server refuses a body over its limit as it arrives and closes the
+  // connection; the client's write then fails with EPIPE, which httplib's
+  // client does not mask: ignored here, as a client would, rather than end the test.
+  std::signal(SIGPIPE, SIG_IGN);
   const auto huge = client.Post("/api/simulate", std::string(10 * 1024 * 1024, '['), "application/json");
   if (huge) {  // the server may also close the connection on a body this size
     CHECK(huge->status == 413);
