@@ -85,4 +85,4 @@ bench: build
 	@ROCKING_BIN=build/bin/rocking ROCKING_LAB_MOVES=40 node lab/tests/browser.test.mjs
 
 clean:
-	@rm -rf build build-sanitize build-pgo
+	@rm -rf build build-sanitize build-pgo build-quick
