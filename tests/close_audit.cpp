@@ -8,7 +8,8 @@
 //   - an absolute check admits zero for a value that is never zero: its
 //     tolerance exceeds every |expected| it met, so it admits almost anything;
 //   - any test source still uses doctest's Approx, whose default scale adds
-//     an absolute margin of epsilon to every check.
+//     an absolute margin of epsilon to every check, or writes a relative
+//     check by hand (CHECK(abs(a / b - 1) < r)), which the log never sees.
 // It prints, per check, the stated tolerance, the largest observed relative
 // difference and the values, so the audit can be read as well as run.
 //
@@ -45,6 +46,8 @@ std::string name(const std::string& file) { return fs::path(file).filename().str
 int scan_sources(const fs::path& tests) {
   int found = 0;
   const std::regex raw(R"((^|[^A-Za-z_])Approx\s*\()");
+  // CHECK(std::abs(a / b - 1.0) < r): a closeness check the log never sees.
+  const std::regex by_hand(R"(CHECK[A-Z_]*\(\s*(std::)?f?abs\([^;]*/[^;]*-\s*1(\.0*)?\s*\)\s*<)");
   for (const auto& entry : fs::recursive_directory_iterator(tests)) {
     const auto ext = entry.path().extension();
     if (!entry.is_regular_file() || (ext != ".cpp" && ext != ".hpp")) continue;
@@ -55,6 +58,10 @@ int scan_sources(const fs::path& tests) {
       if (std::regex_search(line, raw)) {
         std::cout << "FAIL " << entry.path().filename().string() << ":" << n
                   << ": doctest Approx (adds an absolute margin of epsilon); use close_to or within (tests/close.hpp)\n";
+        ++found;
+      } else if (std::regex_search(line, by_hand)) {
+        std::cout << "FAIL " << entry.path().filename().string() << ":" << n
+                  << ": a relative check written by hand (abs(a / b - 1) < r) escapes this audit; use close_to\n";
         ++found;
       }
   }

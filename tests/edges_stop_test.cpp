@@ -20,22 +20,28 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include <nlohmann/json.hpp>
+#include "rocking_record.hpp"
 #include "run_program.hpp"
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+using namespace std::chrono_literals;
 
 namespace {
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+// Ready once `file` has existed for `delay`: a study's partial file appears
+// when its runs start.
+auto once_there_for(fs::path file, std::chrono::milliseconds delay) {
+  return [file = std::move(file), delay, seen = Clock::time_point{}]() mutable {
+    if (seen == Clock::time_point{} && fs::exists(file)) seen = Clock::now();
+    return seen != Clock::time_point{} && Clock::now() - seen > delay;
+  };
+}
 
-std::string rocking_record(const fs::path& file, double seconds) {
-  std::ofstream out(file);
-  for (int i = 0; 0.01 * i <= seconds + 1e-9; ++i) {
-    const double t = 0.01 * i;
-    out << t << ' ' << 0.25 * std::sin(2 * M_PI * t / 1.7) * std::sin(M_PI * t / seconds) << '\n';
-  }
-  return file.string();
+// A hunt of the chimney without its damper under `record`, into `out`.
+std::vector<std::string> hunt_args(const std::string& record, const fs::path& out) {
+  return {"-q", "ida", "--record", record, "--hunt", "--scales", "0.5", "--hunt-step", "0.5", "--hunt-max", "10",
+          "--fill-step", "0.05", "--variants", "damper", "--no-plot", "--out", out.string()};
 }
 
 struct Stopped {
@@ -52,19 +58,7 @@ template <class Ready>
 Stopped run_and_signal(const std::vector<std::string>& args, Ready ready, const std::vector<int>& signals,
                        bool ignore_int = false) {
   const std::string err_file = temp_path("stop_stderr_" + std::to_string(::getpid()) + ".txt").string();
-  std::fflush(nullptr);  // the child would write the test's buffered output again
-  const pid_t pid = ::fork();
-  REQUIRE(pid >= 0);
-  if (pid == 0) {
-    std::vector<char*> argv{const_cast<char*>(ROCKING_BIN)};
-    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    if (ignore_int) ::signal(SIGINT, SIG_IGN);
-    ::freopen("/dev/null", "w", stdout);
-    ::freopen(err_file.c_str(), "w", stderr);
-    ::execv(ROCKING_BIN, argv.data());
-    std::_Exit(127);
-  }
+  const pid_t pid = spawn(args, err_file, ignore_int);
   Stopped s;
   int status = 0;
   auto finish = [&](bool ended) {
@@ -122,18 +116,8 @@ TEST_CASE("SIGINT and SIGTERM stop a hunt within 2 s, in the middle of its runs,
   for (const int signal : {SIGINT, SIGTERM}) {
     CAPTURE(signal);
     const fs::path out = dir / ("hunt" + std::to_string(signal));
-    const std::vector<std::string> args{"-q", "ida", "--record", record, "--hunt", "--scales", "0.5", "--hunt-step",
-                                        "0.5", "--hunt-max", "10", "--fill-step", "0.05", "--variants", "damper", "--no-plot", "--out",
-                                        out.string()};
     // Stopped half a second into the one hunt (its runs under way).
-    Clock::time_point seen{};
-    const Stopped s = run_and_signal(
-        args,
-        [&] {
-          if (seen == Clock::time_point{} && fs::exists(out / "hunt.csv.partial")) seen = Clock::now();
-          return seen != Clock::time_point{} && Clock::now() - seen > std::chrono::milliseconds(500);
-        },
-        {signal});
+    const Stopped s = run_and_signal(hunt_args(record, out), once_there_for(out / "hunt.csv.partial", 500ms), {signal});
     REQUIRE_FALSE(s.ended_before);
     CHECK(s.code == 128 + signal);
     CHECK(s.seconds < 2.0);
@@ -153,15 +137,9 @@ TEST_CASE("SIGINT stops a study of a tall tower within 2 s, its runs in flight c
   const std::string record = rocking_record(dir / "r.txt", 30);
   const fs::path out = dir / "tower";
   const std::string tower = std::string(ROCKING_SOURCE_DIR) + "/data/scenes/towers/tower_64.toml";
-  Clock::time_point seen{};
-  const Stopped s = run_and_signal(
-      {"-q", "ida", tower, "--record", record, "--scales", "1,2", "--integrator", "rk45", "--threads", "2", "--no-plot",
-       "--out", out.string()},
-      [&] {
-        if (seen == Clock::time_point{} && fs::exists(out / "ida.csv.partial")) seen = Clock::now();
-        return seen != Clock::time_point{} && Clock::now() - seen > std::chrono::milliseconds(1500);
-      },
-      {SIGINT});
+  const Stopped s = run_and_signal({"-q", "ida", tower, "--record", record, "--scales", "1,2", "--integrator", "rk45",
+                                    "--threads", "2", "--no-plot", "--out", out.string()},
+                                   once_there_for(out / "ida.csv.partial", 1500ms), {SIGINT});
   REQUIRE_FALSE(s.ended_before);
   CHECK(s.code == 130);
   CHECK(s.seconds < 2.0);
@@ -172,18 +150,9 @@ TEST_CASE("a background job started with SIGINT ignored keeps it ignored, and st
   const fs::path dir = scratch_dir("edges_stop_background");
   const std::string record = rocking_record(dir / "r.txt", 30);
   const fs::path out = dir / "hunt";
-  const std::vector<std::string> args{"-q", "ida", "--record", record, "--hunt", "--scales", "0.5", "--hunt-step",
-                                      "0.5", "--hunt-max", "10", "--fill-step", "0.05", "--variants", "damper", "--no-plot", "--out",
-                                      out.string()};
-  Clock::time_point seen{};
   // SIGINT, then half a second later SIGTERM: only the second stops it.
-  const Stopped s = run_and_signal(
-      args,
-      [&] {
-        if (seen == Clock::time_point{} && fs::exists(out / "hunt.csv.partial")) seen = Clock::now();
-        return seen != Clock::time_point{} && Clock::now() - seen > std::chrono::milliseconds(300);
-      },
-      {SIGINT, SIGTERM}, true);
+  const Stopped s =
+      run_and_signal(hunt_args(record, out), once_there_for(out / "hunt.csv.partial", 300ms), {SIGINT, SIGTERM}, true);
   REQUIRE_FALSE(s.ended_before);
   CHECK(s.code == 143);
   CHECK(contains(s.err, "SIGTERM"));

@@ -21,32 +21,12 @@
 #include <unistd.h>
 #include <nlohmann/json.hpp>
 #include "records.hpp"
+#include "rocking_record.hpp"
 #include "run_program.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
-// Runs the program and checks: exit `code`, one line on stderr holding `says`.
-void refused(const std::string& args, const std::string& says, int code = 2) {
-  const Result r = run(args);
-  CHECK_MESSAGE(r.code == code, args << " -> " << r.code << " " << r.err);
-  CHECK_MESSAGE(lines(r.err) == 1, args << " -> " << r.err);
-  CHECK_MESSAGE(contains(r.err, says), args << " -> " << r.err);
-  CHECK_MESSAGE(!contains(r.err, "internal error"), args);
-}
-
-// A two-column record (t [s], a [g]) of `seconds` that makes the chimney rock.
-std::string rocking_record(const fs::path& file, double seconds) {
-  std::ofstream out(file);
-  for (int i = 0; 0.01 * i <= seconds + 1e-9; ++i) {
-    const double t = 0.01 * i;
-    out << t << ' ' << 0.25 * std::sin(2 * M_PI * t / 1.7) * std::sin(M_PI * t / seconds) << '\n';
-  }
-  return file.string();
-}
 
 // The file's text with its line `n` (1-based) replaced by `f(line)`.
 template <class F>

@@ -45,7 +45,7 @@ CyclicTest protocol(const std::vector<double>& amplitudes, double frequency = 0.
 void check_recovered(const Fit& fit, const std::vector<std::pair<std::string, double>>& truth, double rtol) {
   for (const auto& [key, value] : truth) {
     INFO(key << " = " << fit.value(key) << ", true " << value);
-    CHECK(std::abs(fit.value(key) - value) <= rtol * std::abs(value) + 1e-12);
+    CHECK(fit.value(key) == close_to(value, rtol));
   }
 }
 

@@ -15,8 +15,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
-
 // A PEER-style file: three header lines, the NPTS/DT line, then the values.
 std::string at2(const fs::path& file, const std::string& header_line, const std::string& values = "0.1 0.2 0.1 0.0\n") {
   std::ofstream(file) << "PEER NGA STRONG MOTION DATABASE RECORD\nTest, 1/1/2000, STATION, N\n"
@@ -24,15 +22,6 @@ std::string at2(const fs::path& file, const std::string& header_line, const std:
                       << header_line << "\n"
                       << values;
   return file.string();
-}
-
-// Runs the program and checks: exit `code`, one line on stderr holding `says`.
-void refused(const std::string& args, const std::string& says, int code = 2) {
-  const Result r = run(args);
-  CHECK_MESSAGE(r.code == code, args << " -> " << r.code << " " << r.err);
-  CHECK_MESSAGE(lines(r.err) == 1, args << " -> " << r.err);
-  CHECK_MESSAGE(contains(r.err, says), args << " -> " << r.err);
-  CHECK_MESSAGE(!contains(r.err, "internal error"), args);
 }
 
 }  // namespace

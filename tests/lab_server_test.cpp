@@ -27,6 +27,7 @@
 #include <unistd.h>
 #include "records.hpp"
 #include "run_program.hpp"
+#include "serve_process.hpp"
 
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
@@ -34,46 +35,6 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-// `rocking serve --port 0 ARGS` in a process of its own, stopped with SIGINT.
-struct Server {
-  pid_t pid = -1;
-  int port = 0;
-  FILE* out = nullptr;
-  explicit Server(const std::string& args) {
-    int fd[2];
-    REQUIRE(::pipe(fd) == 0);
-    pid = ::fork();
-    REQUIRE(pid >= 0);
-    if (pid == 0) {
-      ::dup2(fd[1], STDOUT_FILENO);
-      ::close(fd[0]);
-      ::execl("/bin/sh", "sh", "-c", (std::string("exec ") + ROCKING_BIN + " serve --port 0 " + args).c_str(),
-              static_cast<char*>(nullptr));
-      ::_exit(127);
-    }
-    ::close(fd[1]);
-    out = ::fdopen(fd[0], "r");
-    char line[512] = {};
-    const std::string first = std::fgets(line, sizeof line, out) != nullptr ? line : "";
-    const auto at = first.find("http://127.0.0.1:");
-    if (at != std::string::npos) port = std::stoi(first.substr(at + 17));
-  }
-  // The server's peak resident memory so far [MB] (the kernel's VmHWM).
-  double peak_mb() const {
-    std::ifstream status("/proc/" + std::to_string(pid) + "/status");
-    std::string line;
-    while (std::getline(status, line))
-      if (line.starts_with("VmHWM:")) return std::stod(line.substr(6)) / 1024;
-    return -1;
-  }
-  ~Server() {
-    ::kill(pid, SIGINT);
-    int status = 0;
-    ::waitpid(pid, &status, 0);
-    std::fclose(out);
-  }
-};
 
 // A raw TCP connection to the server, for requests no well-behaved client sends.
 struct Socket {

@@ -32,8 +32,6 @@ double column_peak(const CsvTable& t, const std::string& header) {
   return peak;
 }
 
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
-
 }  // namespace
 
 TEST_CASE("the wall reports its tendon and each damper under their names, with the peaks of their own histories") {

@@ -3,9 +3,13 @@
 #pragma once
 #include <doctest/doctest.h>
 #include <array>
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
+#include <vector>
 #include <sys/wait.h>
+#include <unistd.h>
 
 namespace cli {
 
@@ -42,8 +46,42 @@ inline int lines(const std::string& s) {
   return n;
 }
 
+inline bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// Runs the program and checks: exit `code`, one line on stderr holding `says`.
+inline void refused(const std::string& args, const std::string& says, int code = 2) {
+  const Result r = run(args);
+  CHECK_MESSAGE(r.code == code, args << " -> " << r.code << " " << r.err);
+  CHECK_MESSAGE(lines(r.err) == 1, args << " -> " << r.err);
+  CHECK_MESSAGE(contains(r.err, says), args << " -> " << r.err);
+  CHECK_MESSAGE(!contains(r.err, "internal error"), args);
+}
+
+// Starts the program with `args` (argument words, no shell) in a process of
+// its own, stdout to /dev/null and stderr to `err_file`, SIGINT ignored when
+// `ignore_int` (as a shell starts a background job); returns its pid.
+inline pid_t spawn(const std::vector<std::string>& args, const std::string& err_file, bool ignore_int = false) {
+  std::fflush(nullptr);  // the child would write the test's buffered output again
+  const pid_t pid = ::fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    std::vector<char*> argv{const_cast<char*>(ROCKING_BIN)};
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    if (ignore_int) ::signal(SIGINT, SIG_IGN);
+    (void)std::freopen("/dev/null", "w", stdout);
+    (void)std::freopen(err_file.c_str(), "w", stderr);
+    ::execv(ROCKING_BIN, argv.data());
+    std::_Exit(127);
+  }
+  return pid;
+}
+
 }  // namespace cli
 
 using cli::Result;
 using cli::run;
 using cli::lines;
+using cli::contains;
+using cli::refused;
+using cli::spawn;

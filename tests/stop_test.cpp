@@ -16,21 +16,12 @@
 #include <sys/file.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include "rocking_record.hpp"
 #include "run_program.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
-
-// A 30 s two-column record (t [s], a [g]) that makes the chimney rock.
-std::string long_record(const fs::path& file, double seconds = 30) {
-  std::ofstream out(file);
-  for (int i = 0; 0.01 * i <= seconds + 1e-9; ++i) {
-    const double t = 0.01 * i;
-    out << t << ' ' << 0.25 * std::sin(2 * M_PI * t / 1.7) * std::sin(M_PI * t / seconds) << '\n';
-  }
-  return file.string();
-}
 
 int lines_of(const fs::path& file) {
   std::ifstream in(file);
@@ -42,17 +33,7 @@ int lines_of(const fs::path& file) {
 // Starts the program with `args`, waits until `file` has `rows` lines (or the
 // program has ended), sends `signal`; returns the exit status (-1: killed).
 int run_and_stop(const std::vector<std::string>& args, const fs::path& file, int rows, int signal) {
-  const pid_t pid = ::fork();
-  REQUIRE(pid >= 0);
-  if (pid == 0) {
-    std::vector<char*> argv{const_cast<char*>(ROCKING_BIN)};
-    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    ::freopen("/dev/null", "w", stdout);
-    ::freopen((file.parent_path().string() + ".stderr.txt").c_str(), "w", stderr);  // beside the output folder
-    ::execv(ROCKING_BIN, argv.data());
-    std::_Exit(127);
-  }
+  const pid_t pid = spawn(args, file.parent_path().string() + ".stderr.txt");  // beside the output folder
   int status = 0;
   for (int i = 0; i < 60000; ++i) {  // at most 60 s
     if (::waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -68,7 +49,7 @@ int run_and_stop(const std::vector<std::string>& args, const fs::path& file, int
 
 TEST_CASE("SIGINT and SIGTERM stop a study cleanly, and --resume ends with the CSV of an uninterrupted run") {
   const fs::path dir = scratch_dir("stop_ida");
-  const std::string record = long_record(dir / "long.txt");
+  const std::string record = rocking_record(dir / "long.txt", 30);
   const std::vector<std::string> study = {"-q", "ida", "--record", record, "--scales", "1:8:0.02", "--no-plot"};
   auto with = [&](std::vector<std::string> extra) {
     std::vector<std::string> args = study;
@@ -132,7 +113,7 @@ TEST_CASE("SIGINT and SIGTERM stop a study cleanly, and --resume ends with the C
 
 TEST_CASE("one study at a time in a folder, and no folder where a study's file goes") {
   const fs::path dir = scratch_dir("stop_lock");
-  const std::string record = long_record(dir / "short.txt", 2);
+  const std::string record = rocking_record(dir / "short.txt", 2);
   const std::string ida = "-q ida --record " + record + " --scales 1,2 --no-plot --out " + (dir / "out").string();
   fs::create_directories(dir / "out");
   {
@@ -158,7 +139,7 @@ TEST_CASE("one study at a time in a folder, and no folder where a study's file g
 
 TEST_CASE("SIGINT stops a simulation with its history up to there and a summary marked interrupted") {
   const fs::path dir = scratch_dir("stop_simulate");
-  const std::string record = long_record(dir / "long.txt", 600);
+  const std::string record = rocking_record(dir / "long.txt", 600);
   const int code = run_and_stop({"-q", "simulate", "--record", record, "--rtol", "1e-10", "--integrate-contact", "--out",
                                  dir.string()},
                                 dir / "history.csv.partial", 2000, SIGINT);
@@ -175,7 +156,7 @@ TEST_CASE("SIGINT stops a simulation with its history up to there and a summary 
 TEST_CASE("SIGINT stops a hunt with its finished hunts kept whole, and --resume ends with the hunt.csv of an uninterrupted run") {
   const fs::path dir = scratch_dir("stop_hunt");
   std::string records;
-  for (int k = 1; k <= 6; ++k) records += " " + long_record(dir / ("r" + std::to_string(k) + ".txt"), 10 + k);
+  for (int k = 1; k <= 6; ++k) records += " " + rocking_record(dir / ("r" + std::to_string(k) + ".txt"), 10 + k);
   const std::string hunt = "-q ida --record" + records + " --hunt --scales 1 --hunt-max 20 --variants damper,no-damper "
                            "--no-plot --threads 2 --out ";
   REQUIRE(run(hunt + (dir / "whole").string()).code == 0);
