@@ -270,3 +270,20 @@ export function drawnRows(t, columns, buckets) {
   for (let i = 0; i < n; i += 1) if (keep[i]) out.push(i);
   return out;
 }
+
+// The run's energy budget as bars (summary.energy_J, MODEL.md's energy
+// bookkeeping, sections 7 and 11): what was put in (the initial tilt's energy, the ground's work),
+// where it went (the devices, the impacts, viscous damping) and what is left
+// at the end; null when the run does not track energy. {label, kind, J}.
+export function energyBars(summary) {
+  const e = summary && summary.energy_J;
+  if (!e) return null;
+  return [
+    { label: 'at the start', kind: 'in', J: e.initial },
+    { label: 'put in by the ground', kind: 'in', J: e.ground_input },
+    { label: 'dissipated by the devices', kind: 'out', J: e.damper },
+    { label: 'lost at impacts', kind: 'out', J: e.impacts },
+    { label: 'by viscous damping', kind: 'out', J: e.viscous },
+    { label: 'left at the end', kind: 'left', J: e.final },
+  ];
+}

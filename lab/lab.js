@@ -5,7 +5,7 @@
 // browser test.
 import {
   formatG, buildRequest, twinChoices, tendonOf, damperDevices, peakOf, exaggeration, bodyPoints, pulses, ownPulse, groundStill,
-  forStudents, axisRange, describeRun, peakTitle, groundDrawn, scaleBar, drawnRows,
+  forStudents, axisRange, describeRun, peakTitle, groundDrawn, scaleBar, drawnRows, energyBars,
 } from './format.js';
 import { lessons } from './lessons.js';
 
@@ -509,6 +509,32 @@ function drawLoops(t) {
   }
 }
 
+// --- energy -------------------------------------------------------------------
+
+// The run's energy budget: a bar for each share, as long as its share of the largest.
+function drawEnergy() {
+  const bars = energyBars(state.data.summary);
+  $('energy-box').hidden = !bars;
+  if (!bars) return;
+  const most = Math.max(...bars.map((b) => Math.abs(b.J)), 1e-300);
+  $('energy').replaceChildren(...bars.map((b) => {
+    const row = document.createElement('div');
+    row.className = 'bar-row';
+    const name = document.createElement('span');
+    name.textContent = b.label;
+    const bar = document.createElement('div');
+    bar.className = 'bar';
+    bar.dataset.kind = b.kind;
+    bar.style.width = `${(100 * Math.abs(b.J)) / most}%`;
+    bar.setAttribute('aria-hidden', 'true');
+    const value = document.createElement('span');
+    value.className = 'value';
+    value.textContent = `${formatG(b.J, 3)} J`;
+    row.append(name, bar, value);
+    return row;
+  }));
+}
+
 // --- summary ------------------------------------------------------------------
 
 function drawSummary() {
@@ -566,6 +592,7 @@ function drawAll() {
   state.timing.charts = performance.now() - t;
   t = performance.now();
   drawSummary();
+  drawEnergy();
   state.timing.summary = performance.now() - t;
   t = performance.now();
   drawFrame();

@@ -289,6 +289,33 @@ try {
     assert.match(shifts.factors, /ground motion ×\d+/);
   });
 
+  await check('the energy view: what went in, where it went, what is left, closing as the run\'s balance does', async () => {
+    await page.goto(`${url}?lesson=3`, { waitUntil: 'load' });
+    await settled(page, 0);
+    const shown = await page.evaluate(() => ({
+      hidden: document.querySelector('#energy-box').hidden,
+      rows: [...document.querySelectorAll('#energy .bar-row')].map((r) => ({
+        label: r.children[0].textContent, width: r.children[1].getBoundingClientRect().width, text: r.children[2].textContent,
+      })),
+      e: window.lab.data.summary.energy_J,
+    }));
+    assert.equal(shown.hidden, false);
+    const J = Object.fromEntries(shown.rows.map((r) => [r.label, Number(r.text.replace(' J', ''))]));
+    const e = shown.e;
+    const near = (a, b) => Math.abs(a - b) <= 5e-3 * Math.abs(b) + 1e-9;  // three digits shown
+    assert.ok(near(J['put in by the ground'], e.ground_input) && near(J['dissipated by the devices'], e.damper) &&
+      near(J['lost at impacts'], e.impacts) && near(J['left at the end'], e.final), JSON.stringify(shown.rows));
+    assert.ok(e.ground_input > 0 && e.damper > 0 && e.impacts > 0, 'the ground works, the dampers and the impacts dissipate');
+    // The balance: what went out and what is left less what went in is the run's residual, small beside the input.
+    const residual = e.damper + e.impacts + e.viscous + e.final - e.initial - e.ground_input;
+    assert.ok(Math.abs(residual - e.balance_residual) <= 1e-9 * (e.initial + e.ground_input), `${residual} vs ${e.balance_residual}`);
+    assert.ok(Math.abs(e.balance_residual) <= 1e-2 * (e.initial + e.ground_input), `residual ${e.balance_residual} J`);
+    // Bars as long as their shares: the ground's input against the dampers' work.
+    const w = Object.fromEntries(shown.rows.map((r) => [r.label, r.width]));
+    const ratio = w['dissipated by the devices'] / w['put in by the ground'];
+    assert.ok(Math.abs(ratio - e.damper / e.ground_input) <= 0.02, `bar ratio ${ratio}, energy ratio ${e.damper / e.ground_input}`);
+  });
+
   await check('reset, slow motion 0.1x-1x and frame steps', async () => {
     await page.goto(url, { waitUntil: 'load' });
     await settled(page, 0);
