@@ -12,8 +12,10 @@
 // own pulse is moved by the pulse sliders; a tower is shaken; a weak K-NET
 // record lists its PGA; the loop's labels are not clipped; every lesson's
 // prediction is answered by its run; the glossary and tooltips explain the
-// symbols; the ground is drawn moving with a scale bar; reset, slow motion
-// and frame steps work.
+// symbols; the ground is drawn moving with a scale bar; the energy view
+// closes as the run's balance does; reset, slow motion and frame steps work.
+// How fast a move is redrawn is measured by redraw.bench.mjs (make bench),
+// not here.
 //
 //   ROCKING_BIN=build/bin/rocking node lab/tests/classroom.test.mjs
 // Environment: ROCKING_RECORDS (the records), ROCKING_LAB_SHOTS (where the
