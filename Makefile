@@ -83,6 +83,8 @@ bench: build
 	@build/bin/lab_bench
 	@echo "command: ROCKING_BIN=build/bin/rocking ROCKING_LAB_MOVES=40 node lab/tests/browser.test.mjs"
 	@ROCKING_BIN=build/bin/rocking ROCKING_LAB_MOVES=40 node lab/tests/browser.test.mjs
+	@echo "command: ROCKING_BIN=build/bin/rocking node lab/tests/redraw.bench.mjs"
+	@ROCKING_BIN=build/bin/rocking node lab/tests/redraw.bench.mjs
 
 clean:
 	@rm -rf build build-sanitize build-pgo build-quick

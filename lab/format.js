@@ -233,3 +233,57 @@ export function scaleBar(scale, px = 100) {
   const m = target / p;
   return (m >= 5 ? 5 : m >= 2 ? 2 : 1) * p;
 }
+
+// The rows of a history worth drawing in `buckets` pixel columns: in each
+// column's span of time, the rows of each column's least and greatest value
+// (nulls skipped), and the first and last rows. A line through them covers,
+// in every pixel column, what a line through all the rows covers there. All
+// rows when there are few (under four per column). Returns ascending indices.
+export function drawnRows(t, columns, buckets) {
+  const n = t.length;
+  if (n <= 4 * buckets || buckets < 1) return Array.from({ length: n }, (_, i) => i);
+  const t0 = t[0];
+  const span = t[n - 1] - t0;
+  const keep = new Uint8Array(n);
+  keep[0] = 1;
+  keep[n - 1] = 1;
+  for (const y of columns) {
+    let bucket = -1;
+    let lo = -1;
+    let hi = -1;
+    for (let i = 0; i <= n; i += 1) {
+      const b = i < n ? Math.min(buckets - 1, Math.floor(((t[i] - t0) / span) * buckets)) : buckets;
+      if (b !== bucket) {
+        if (lo >= 0) { keep[lo] = 1; keep[hi] = 1; }
+        bucket = b;
+        lo = -1;
+        hi = -1;
+      }
+      if (i === n) break;
+      const v = y[i];
+      if (v === null || v === undefined) continue;
+      if (lo < 0 || v < y[lo]) lo = i;
+      if (hi < 0 || v > y[hi]) hi = i;
+    }
+  }
+  const out = [];
+  for (let i = 0; i < n; i += 1) if (keep[i]) out.push(i);
+  return out;
+}
+
+// The run's energy budget as bars (summary.energy_J, MODEL.md's energy
+// bookkeeping, sections 7 and 11): what was put in (the initial tilt's energy, the ground's work),
+// where it went (the devices, the impacts, viscous damping) and what is left
+// at the end; null when the run does not track energy. {label, kind, J}.
+export function energyBars(summary) {
+  const e = summary && summary.energy_J;
+  if (!e) return null;
+  return [
+    { label: 'at the start', kind: 'in', J: e.initial },
+    { label: 'put in by the ground', kind: 'in', J: e.ground_input },
+    { label: 'dissipated by the devices', kind: 'out', J: e.damper },
+    { label: 'lost at impacts', kind: 'out', J: e.impacts },
+    { label: 'by viscous damping', kind: 'out', J: e.viscous },
+    { label: 'left at the end', kind: 'left', J: e.final },
+  ];
+}

@@ -5,7 +5,7 @@
 // browser test.
 import {
   formatG, buildRequest, twinChoices, tendonOf, damperDevices, peakOf, exaggeration, bodyPoints, pulses, ownPulse, groundStill,
-  forStudents, axisRange, describeRun, peakTitle, groundDrawn, scaleBar,
+  forStudents, axisRange, describeRun, peakTitle, groundDrawn, scaleBar, drawnRows, energyBars,
 } from './format.js';
 import { lessons } from './lessons.js';
 
@@ -160,15 +160,18 @@ const chartDefs = [
 ];
 const chartHeight = 250;
 
-function chartData(def) {
+// A chart's series and data: each run's columns at the rows worth drawing
+// in `columns` pixel columns (drawnRows), on one time axis.
+function chartData(def, columns) {
   const runs = [['', state.data], [' (twin)', state.data.twin]].filter(([, r]) => r);
   const tables = [];
   const series = [{}];
   for (const [suffix, run] of runs) {
+    const ys = [];
     for (const [name, factor, label] of def.series) {
       const y = column(run, name, factor);
       if (!y || (name === 'a_g' && suffix)) continue;  // the twin shakes under the same ground
-      tables.push([run.history.t, y]);
+      ys.push(y);
       series.push({
         label: label + suffix,
         stroke: suffix ? colors.twin : name === 'a_g' || name === 'delta_t' ? colors.main : '#6a9fd8',
@@ -179,9 +182,12 @@ function chartData(def) {
       });
       if (name === 'delta_e' && !suffix) series[series.length - 1].stroke = '#7aa7d9';
     }
+    if (ys.length === 0) continue;
+    const rows = drawnRows(run.history.t, ys, columns);
+    tables.push([rows.map((i) => run.history.t[i]), ...ys.map((y) => rows.map((i) => y[i]))]);
   }
   if (tables.length === 0) return null;
-  return { data: uPlot.join(tables), series };
+  return { data: tables.length === 1 ? tables[0] : uPlot.join(tables), series };
 }
 
 // A red line at the drawing's time on every trace.
@@ -202,36 +208,59 @@ const timeCursor = {
   },
 };
 
-function drawCharts() {
-  for (const c of state.charts) c.destroy();
-  state.charts = [];
+// The traces. A run whose charts have the same series as those on screen
+// (a slider's move) only gives them its data, drawn at their width;
+// otherwise they are built anew (and measured in the page's grid).
+function drawCharts(rebuild = false) {
   const host = $('charts');
-  host.replaceChildren();
   const still = peakOf(state.data.history.a_g) === 0 && peakOf(state.data.history.a_v) === 0;
-  for (const def of chartDefs) {
-    const built = chartData(def);
-    if (!built) continue;
-    const div = document.createElement('div');
-    div.dataset.chart = def.series[0][0];
-    div.setAttribute('role', 'img');
-    host.append(div);
-    const width = Math.max(240, div.clientWidth - 2);
+  const columns = (width) => Math.round(width * (window.devicePixelRatio || 1));
+  const build = (width) => chartDefs.map((def) => ({ def, ...(chartData(def, columns(width)) || {}) })).filter((b) => b.data);
+  let width = state.chartWidth || Math.max(240, host.clientWidth - 2);
+  let built = build(width);
+  const key = JSON.stringify(built.map((b) => [b.def.title, b.series.map((x) => x.label || '')]));
+  const reuse = !rebuild && key === state.chartKey && state.charts.length === built.length;
+  const divs = [];
+  if (!reuse) {
+    for (const c of state.charts) c.destroy();
+    state.charts = [];
+    host.replaceChildren(...built.map(({ def }) => {
+      const div = document.createElement('div');
+      div.dataset.chart = def.series[0][0];
+      div.setAttribute('role', 'img');
+      divs.push(div);
+      return div;
+    }));
+    const measured = Math.max(240, (divs[0] ? divs[0].clientWidth : host.clientWidth) - 2);
+    if (measured !== width) built = build(measured);
+    width = measured;
+  }
+  state.chartKey = key;
+  state.chartWidth = width;
+  built.forEach(({ def, data, series }, k) => {
     const title = def.series[0][0] === 'a_g' && still ? `${def.title}: none (the ground stays still)` : def.title;
-    const peaks = built.series.slice(1).map((s, k) => `${s.label} peak ${formatG(peakOf(built.data[k + 1]), 3)}`);
-    div.setAttribute('aria-label', `chart of ${title} [${def.y}] against time: ${peaks.join(', ')}`);
-    const chart = new uPlot({
+    const peaks = series.slice(1).map((x, j) => `${x.label} peak ${formatG(peakOf(data[j + 1]), 3)}`);
+    const label = `chart of ${title} [${def.y}] against time: ${peaks.join(', ')}`;
+    if (reuse) {
+      const chart = state.charts[k];
+      chart.setData(data);
+      chart.root.querySelector('.u-title').textContent = title;
+      chart.root.parentElement.setAttribute('aria-label', label);
+      return;
+    }
+    divs[k].setAttribute('aria-label', label);
+    state.charts.push(new uPlot({
       title,
       width,
       height: chartHeight,
       cursor: { sync: { key: 'lab' }, drag: { x: true, y: false } },
       scales: { x: { time: false }, y: { range: (u, min, max) => axisRange(min, max, def.zero) } },
       axes: [{ label: 'time t [s]', size: 40 }, { label: def.y, size: 64, labelSize: 20 }],
-      series: built.series,
+      series,
       legend: { live: true },
       plugins: [timeCursor],
-    }, built.data, div);
-    state.charts.push(chart);
-  }
+    }, data, divs[k]));
+  });
 }
 
 // --- drawing ------------------------------------------------------------------
@@ -480,6 +509,32 @@ function drawLoops(t) {
   }
 }
 
+// --- energy -------------------------------------------------------------------
+
+// The run's energy budget: a bar for each share, as long as its share of the largest.
+function drawEnergy() {
+  const bars = energyBars(state.data.summary);
+  $('energy-box').hidden = !bars;
+  if (!bars) return;
+  const most = Math.max(...bars.map((b) => Math.abs(b.J)), 1e-300);
+  $('energy').replaceChildren(...bars.map((b) => {
+    const row = document.createElement('div');
+    row.className = 'bar-row';
+    const name = document.createElement('span');
+    name.textContent = b.label;
+    const bar = document.createElement('div');
+    bar.className = 'bar';
+    bar.dataset.kind = b.kind;
+    bar.style.width = `${(100 * Math.abs(b.J)) / most}%`;
+    bar.setAttribute('aria-hidden', 'true');
+    const value = document.createElement('span');
+    value.className = 'value';
+    value.textContent = `${formatG(b.J, 3)} J`;
+    row.append(name, bar, value);
+    return row;
+  }));
+}
+
 // --- summary ------------------------------------------------------------------
 
 function drawSummary() {
@@ -537,6 +592,7 @@ function drawAll() {
   state.timing.charts = performance.now() - t;
   t = performance.now();
   drawSummary();
+  drawEnergy();
   state.timing.summary = performance.now() - t;
   t = performance.now();
   drawFrame();
@@ -804,7 +860,7 @@ async function start() {
   $('loop-view').addEventListener('change', () => state.data && drawLoops(Number($('time').value)));
   $('ida-quantity').addEventListener('change', () => state.ida && drawIda());
   $('play').addEventListener('click', () => play(!state.playing));
-  window.addEventListener('resize', () => state.data && drawCharts());
+  window.addEventListener('resize', () => state.data && drawCharts(true));
   await rerun();
 }
 

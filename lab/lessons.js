@@ -94,7 +94,10 @@ export const lessons = [
       question: 'Under a 1.2 g pulse of 0.5 s, does the small block (1.5 m tall) stay up?',
       choices: ['it stays up', 'it overturns'],
       answer: (d) => (d.summary.outcome === 'overturned' ? 1 : 0),
-      because: (d) => `the run ended: ${d.summary.outcome}. Now make it four times larger, as the text says.`,
+      because: (d) => (d.summary.outcome === 'overturned'
+        ? `it overturned at t = ${fmt(d.summary.t_end)} s, after ${d.summary.counts.uplifts} uplifts.`
+        : `it stayed up: peak θ/α_cg ${fmt(peak(d, 'theta_over_alpha'))} (1: the tipping point at rest).`) +
+        ' Now make it four times larger, as the text says.',
     },
     controls: { scene: 'rigid_block', record: '', scale: 3, extra: 'excitation.period=0.5' },
     text:

@@ -136,8 +136,9 @@ TEST_CASE("a lab run is the command line's run: summary, twin and history rows")
   const std::size_t column = history_column(table, "delta_t");
   for (std::size_t i = 0; i < table.rows.size(); i += 97)
     CHECK(h["delta_t"][i].get<double>() == close_to(std::stod(table.rows[i][column]), 1e-5));
-  // The page's columns: the rocking angle, the nodes' bending and both dampers' loops.
-  for (const char* c : {"t", "a_g", "theta_over_alpha", "delta_t", "delta_e", "base_moment", "node4.u",
+  // The page's columns: the ground's displacement (drawn moving; a column only on request), the rocking
+  // angle, the nodes' bending and both dampers' loops.
+  for (const char* c : {"t", "a_g", "x_g", "theta_over_alpha", "delta_t", "delta_e", "base_moment", "node4.u",
                         "damper_left.elongation", "damper_right.force"})
     CHECK_MESSAGE(lab_answer["history"].contains(c), c);
   CHECK(lab_answer["structure"]["heights"].size() == 4);

@@ -15,50 +15,20 @@
 // moves timed, default 8; `make bench` asks for more), CI=true (a missing
 // browser or record is a failure, not a skip).
 import assert from 'node:assert/strict';
-import { spawn, execFileSync } from 'node:child_process';
-import { existsSync, mkdirSync, mkdtempSync, readFileSync, rmSync } from 'node:fs';
+import { execFileSync } from 'node:child_process';
+import { mkdirSync, mkdtempSync, readFileSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
-import { dirname, join, resolve } from 'node:path';
-import { fileURLToPath } from 'node:url';
+import { dirname, join } from 'node:path';
 import { formatG } from '../format.js';
 import { lessons } from '../lessons.js';
+import {
+  repo, bin, records, requireBrowserAndRecords, startServer, launchBrowser, settled, runsOf,
+} from './harness.mjs';
 
-const here = dirname(fileURLToPath(import.meta.url));
-const repo = resolve(here, '..', '..');
-const bin = process.env.ROCKING_BIN || join(repo, 'build', 'bin', 'rocking');
-const records = process.env.ROCKING_RECORDS || join(repo, '..', 'shared', 'data', 'records');
-const chromium = '/usr/bin/chromium';
 const screenshot = process.env.ROCKING_LAB_SCREENSHOT || join(repo, 'build', 'lab', 'lab.png');
 const moves = Number(process.env.ROCKING_LAB_MOVES || 8);
 const record = 'elcentro_1940_ns.at2';
-
-function skipOrFail(why) {
-  if (process.env.CI === 'true') {
-    console.error(`browser test: ${why}`);
-    process.exit(1);
-  }
-  console.error(`browser test SKIPPED: ${why}`);
-  process.exit(77);
-}
-if (!existsSync(chromium)) skipOrFail(`${chromium} is missing (scripts/setup.sh installs Debian's chromium)`);
-if (!existsSync(join(records, record))) skipOrFail(`${join(records, record)} is missing (set ROCKING_RECORDS)`);
-const puppeteer = (await import('puppeteer-core')).default;
-
-// The server, on a free port it prints.
-function startServer() {
-  const server = spawn(bin, ['serve', '--port', '0', '--records', records], { stdio: ['ignore', 'pipe', 'pipe'] });
-  let err = '';
-  server.stderr.on('data', (d) => { err += d; });
-  return new Promise((ok, fail) => {
-    let out = '';
-    server.stdout.on('data', (d) => {
-      out += d;
-      const m = out.match(/http:\/\/127\.0\.0\.1:(\d+)\//);
-      if (m) ok({ server, url: m[0] });
-    });
-    server.on('exit', (code) => fail(new Error(`rocking serve exited (${code}): ${err}`)));
-  });
-}
+requireBrowserAndRecords('browser test', [record, 'christchurch2011_pphs_s57e.at2']);  // and the lessons'
 
 // The same run by the command line: its summary and its history.
 function commandLine(set) {
@@ -74,20 +44,12 @@ function commandLine(set) {
   return { summary, theta };
 }
 
-const settled = (page, runs) => page.waitForFunction(
-  (n) => window.lab && window.lab.runs > n && !window.lab.busy, { timeout: 30000 }, runs);
-const runsOf = (page) => page.evaluate(() => window.lab.runs);
-
 // The summary cells the page shows for the main run: {peak: text}.
 const shownPeaks = (page) => page.evaluate(() => Object.fromEntries(
   [...document.querySelectorAll('td[data-run="main"]')].map((td) => [td.dataset.peak, td.textContent])));
 
 const { server, url } = await startServer();
-const browser = await puppeteer.launch({
-  executablePath: chromium,
-  headless: true,
-  args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage'],
-});
+const browser = await launchBrowser();
 const failures = [];
 try {
   const page = await browser.newPage();

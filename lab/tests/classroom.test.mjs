@@ -12,70 +12,30 @@
 // own pulse is moved by the pulse sliders; a tower is shaken; a weak K-NET
 // record lists its PGA; the loop's labels are not clipped; every lesson's
 // prediction is answered by its run; the glossary and tooltips explain the
-// symbols; the ground is drawn moving with a scale bar; reset, slow motion
-// and frame steps work.
+// symbols; the ground is drawn moving with a scale bar; the energy view
+// closes as the run's balance does; reset, slow motion and frame steps work.
+// How fast a move is redrawn is measured by redraw.bench.mjs (make bench),
+// not here.
 //
 //   ROCKING_BIN=build/bin/rocking node lab/tests/classroom.test.mjs
 // Environment: ROCKING_RECORDS (the records), ROCKING_LAB_SHOTS (where the
 // screenshots go; default build/lab), CI=true (a missing browser or record is
 // a failure, not a skip).
 import assert from 'node:assert/strict';
-import { spawn } from 'node:child_process';
-import { existsSync, mkdirSync } from 'node:fs';
+import { mkdirSync, readFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
-import { dirname, join, resolve } from 'node:path';
-import { fileURLToPath } from 'node:url';
+import { join } from 'node:path';
+import {
+  repo, requireBrowserAndRecords, startServer, launchBrowser, settled, runsOf, move,
+} from './harness.mjs';
 
-const here = dirname(fileURLToPath(import.meta.url));
-const repo = resolve(here, '..', '..');
-const bin = process.env.ROCKING_BIN || join(repo, 'build', 'bin', 'rocking');
-const records = process.env.ROCKING_RECORDS || join(repo, '..', 'shared', 'data', 'records');
 const shots = process.env.ROCKING_LAB_SHOTS || join(repo, 'build', 'lab');
-const chromium = '/usr/bin/chromium';
-const speedLimit = Number(process.env.ROCKING_LAB_SPEED_MS || 150);
-const axeSource = createRequire(import.meta.url).resolve('axe-core/axe.min.js');
+// axe-core from npm (lab/package-lock.json), evaluated in the page through
+// the DevTools protocol: the page's Content-Security-Policy (script-src
+// 'self') rightly refuses the inline <script> that addScriptTag would add.
+const axeSource = readFileSync(createRequire(import.meta.url).resolve('axe-core/axe.min.js'), 'utf8');
 
-function skipOrFail(why) {
-  if (process.env.CI === 'true') {
-    console.error(`classroom test: ${why}`);
-    process.exit(1);
-  }
-  console.error(`classroom test SKIPPED: ${why}`);
-  process.exit(77);
-}
-if (!existsSync(chromium)) skipOrFail(`${chromium} is missing (scripts/setup.sh installs Debian's chromium)`);
-if (!existsSync(join(records, 'elcentro_1940_ns.at2'))) skipOrFail(`no records at ${records} (set ROCKING_RECORDS)`);
-const puppeteer = (await import('puppeteer-core')).default;
-
-function startServer() {
-  const server = spawn(bin, ['serve', '--port', '0', '--records', records], { stdio: ['ignore', 'pipe', 'pipe'] });
-  let err = '';
-  server.stderr.on('data', (d) => { err += d; });
-  return new Promise((ok, fail) => {
-    let out = '';
-    server.stdout.on('data', (d) => {
-      out += d;
-      const m = out.match(/http:\/\/127\.0\.0\.1:(\d+)\//);
-      if (m) ok({ server, url: m[0] });
-    });
-    server.on('exit', (code) => fail(new Error(`rocking serve exited (${code}): ${err}`)));
-  });
-}
-
-const settled = (page, runs) => page.waitForFunction(
-  (n) => window.lab && window.lab.runs > n && !window.lab.busy, { timeout: 60000 }, runs);
-const runsOf = (page) => page.evaluate(() => window.lab.runs);
-
-// Sets a control's value as a user's move does (an input event).
-async function move(page, id, value) {
-  const n = await runsOf(page);
-  await page.$eval(`#${id}`, (e, v) => {
-    if (e.type === 'checkbox') e.checked = v;
-    else e.value = v;
-    e.dispatchEvent(new Event('input', { bubbles: true }));
-  }, value);
-  await settled(page, n);
-}
+requireBrowserAndRecords('classroom test', ['elcentro_1940_ns.at2', 'christchurch2011_pphs_s57e.at2']);  // the lessons' records
 
 // What the page lays out: the page's width, the charts' boxes, the time
 // slider's width, the controls smaller than a finger, the charts' axes.
@@ -112,7 +72,7 @@ const layout = (page) => page.evaluate(() => {
 const overlap = (a, b) => a.left < b.right - 1 && b.left < a.right - 1 && a.top < b.bottom - 1 && b.top < a.bottom - 1;
 
 async function axe(page) {
-  await page.addScriptTag({ path: axeSource });
+  await page.evaluate(axeSource);
   return page.evaluate(async () => {
     const r = await window.axe.run(document, { resultTypes: ['violations'] });
     return r.violations.filter((v) => v.impact === 'serious' || v.impact === 'critical')
@@ -121,9 +81,7 @@ async function axe(page) {
 }
 
 const { server, url } = await startServer();
-const browser = await puppeteer.launch({
-  executablePath: chromium, headless: true, args: ['--no-sandbox', '--disable-gpu', '--disable-dev-shm-usage'],
-});
+const browser = await launchBrowser();
 const failures = [];
 const check = async (name, fn) => {
   try {
@@ -256,13 +214,23 @@ try {
     assert.ok(shown.ground && Math.abs(shown.ground[0]) <= 1 && Math.abs(shown.ground[1]) <= 1, `the ground axis ${shown.ground}`);
     assert.equal(shown.restitutionDisabled, false);
     assert.deepEqual(shown.dampers, [false, true], 'the rigid block shows no dampers ticked');
-    const before = await page.evaluate(() => window.lab.data.summary.counts.impacts);
+    // A rigid block keeps its energy between impacts, and each impact keeps r of its rocking speed at
+    // theta = 0, where all of it is kinetic (MODEL.md 6: th'+ = r th'-), so r^2 of the energy: after n
+    // impacts E = r^(2n) E_0, to the energy balance's residual. (The count of impacts in the run's 5 s
+    // is no measure: a block that loses more comes to rest sooner by ever quicker impacts, 18 of them
+    // at the scene's r against 7 at 0.98.)
+    const energy = () => page.evaluate(() => ({ e: window.lab.data.summary.energy_J, impacts: window.lab.data.summary.counts.impacts }));
+    const before = await energy();
     await move(page, 'restitution', '0.98');
-    const after = await page.evaluate(() => ({ set: window.lab.request.set, impacts: window.lab.data.summary.counts.impacts,
-      own: document.querySelector('#own-restitution').checked }));
+    const after = await page.evaluate(() => ({ set: window.lab.request.set, own: document.querySelector('#own-restitution').checked }));
+    const kept = await energy();
     assert.ok(after.set.includes('contact.restitution=0.98'), after.set.join(' '));
     assert.equal(after.own, false, 'the box says the scene\'s own restitution is no longer used');
-    assert.ok(after.impacts > before, `less energy lost, more impacts (${before} -> ${after.impacts})`);
+    assert.ok(kept.impacts > 0, 'the block lands');
+    const closed = kept.e.initial * 0.98 ** (2 * kept.impacts);
+    assert.ok(Math.abs(kept.e.final - closed) <= 1e-3 * kept.e.initial,
+      `energy at the end ${kept.e.final} J after ${kept.impacts} impacts, r^(2n) E_0 = ${closed} J`);
+    assert.ok(kept.e.final > before.e.final, `less energy lost: ${before.e.final} J at r of the scene, ${kept.e.final} J at 0.98`);
   });
 
   await check("the scene's own pulse is moved by the pulse sliders; a tower is shaken; a weak K-NET record's PGA shows", async () => {
@@ -323,6 +291,33 @@ try {
     assert.match(shifts.factors, /ground motion ×\d+/);
   });
 
+  await check('the energy view: what went in, where it went, what is left, closing as the run\'s balance does', async () => {
+    await page.goto(`${url}?lesson=3`, { waitUntil: 'load' });
+    await settled(page, 0);
+    const shown = await page.evaluate(() => ({
+      hidden: document.querySelector('#energy-box').hidden,
+      rows: [...document.querySelectorAll('#energy .bar-row')].map((r) => ({
+        label: r.children[0].textContent, width: r.children[1].getBoundingClientRect().width, text: r.children[2].textContent,
+      })),
+      e: window.lab.data.summary.energy_J,
+    }));
+    assert.equal(shown.hidden, false);
+    const J = Object.fromEntries(shown.rows.map((r) => [r.label, Number(r.text.replace(' J', ''))]));
+    const e = shown.e;
+    const near = (a, b) => Math.abs(a - b) <= 5e-3 * Math.abs(b) + 1e-9;  // three digits shown
+    assert.ok(near(J['put in by the ground'], e.ground_input) && near(J['dissipated by the devices'], e.damper) &&
+      near(J['lost at impacts'], e.impacts) && near(J['left at the end'], e.final), JSON.stringify(shown.rows));
+    assert.ok(e.ground_input > 0 && e.damper > 0 && e.impacts > 0, 'the ground works, the dampers and the impacts dissipate');
+    // The balance: what went out and what is left less what went in is the run's residual, small beside the input.
+    const residual = e.damper + e.impacts + e.viscous + e.final - e.initial - e.ground_input;
+    assert.ok(Math.abs(residual - e.balance_residual) <= 1e-9 * (e.initial + e.ground_input), `${residual} vs ${e.balance_residual}`);
+    assert.ok(Math.abs(e.balance_residual) <= 1e-2 * (e.initial + e.ground_input), `residual ${e.balance_residual} J`);
+    // Bars as long as their shares: the ground's input against the dampers' work.
+    const w = Object.fromEntries(shown.rows.map((r) => [r.label, r.width]));
+    const ratio = w['dissipated by the devices'] / w['put in by the ground'];
+    assert.ok(Math.abs(ratio - e.damper / e.ground_input) <= 0.02, `bar ratio ${ratio}, energy ratio ${e.damper / e.ground_input}`);
+  });
+
   await check('reset, slow motion 0.1x-1x and frame steps', async () => {
     await page.goto(url, { waitUntil: 'load' });
     await settled(page, 0);
@@ -340,48 +335,23 @@ try {
     await page.click('#step-back');
     const back = await page.evaluate(() => [Number(document.querySelector('#time').value), window.lab.data.history.t[1]]);
     assert.ok(Math.abs(back[0] - back[1]) < 1e-9, 'one back');
-    // Played at 0.1x for half a second of the clock, the drawing's time moves about 0.05 s.
+    // Played at 0.1x, the drawing's time moves a tenth of the clock's: measured by the page's own clock
+    // between its play and pause (a loaded machine stretches the half second asked for), less up to
+    // 0.3 s of frames not yet drawn at either end.
     await page.select('#speed', '0.1');
-    const t0 = await page.evaluate(() => Number(document.querySelector('#time').value));
-    await page.click('#play');
-    await new Promise((ok) => setTimeout(ok, 500));
-    await page.click('#play');
-    const t1 = await page.evaluate(() => Number(document.querySelector('#time').value));
-    assert.ok(t1 - t0 > 0.01 && t1 - t0 < 0.1, `0.1x for 0.5 s moved the time by ${t1 - t0} s`);
+    const played = await page.evaluate(async () => {
+      const time = () => Number(document.querySelector('#time').value);
+      const t0 = time();
+      const c0 = performance.now();
+      document.querySelector('#play').click();
+      await new Promise((ok) => setTimeout(ok, 500));
+      document.querySelector('#play').click();
+      return { moved: time() - t0, clock: (performance.now() - c0) / 1000 };
+    });
+    assert.ok(played.moved > 0 && played.moved <= 0.1 * played.clock + 1e-9 && played.moved >= 0.1 * (played.clock - 0.3),
+      `0.1x for ${played.clock} s of the clock moved the time by ${played.moved} s`);
   });
 
-  await check(`input to redraw for every scene with its twin under El Centro and Chi-Chi, each within ${speedLimit} ms`, async () => {
-    await page.goto(url, { waitUntil: 'load' });
-    await settled(page, 0);
-    const scenes = await page.evaluate(() => window.lab.scenes.map((s) => s.id));
-    const rows = [];
-    for (const record of ['elcentro_1940_ns.at2', 'chichi1999_chy028_n.at2']) {
-      let n = await runsOf(page);
-      await page.select('#record', record);
-      await settled(page, n);
-      for (const scene of scenes) {
-        n = await runsOf(page);
-        await page.select('#scene', scene);
-        await settled(page, n);
-        const twin = await page.evaluate(() => [...document.querySelector('#compare').options].map((o) => o.value)
-          .find((v) => v === 'fixed-base') || '');
-        n = await runsOf(page);
-        if (twin) await page.select('#compare', twin);
-        else await move(page, 'scale', '1.1');
-        if (twin) await settled(page, n);
-        // Timed: a scale step, as a student's move, with the twin.
-        const times = [];
-        for (const scale of ['1.2', '1']) {
-          await move(page, 'scale', scale);
-          times.push(await page.evaluate(() => window.lab.redrawMs));
-        }
-        rows.push({ scene, record, twin, ms: Math.max(...times) });
-      }
-    }
-    for (const r of rows) console.log(`  ${r.scene} under ${r.record}${r.twin ? ` with its ${r.twin} twin` : ''}: ${r.ms.toFixed(0)} ms`);
-    const slow = rows.filter((r) => r.ms > speedLimit);
-    assert.deepEqual(slow.map((r) => `${r.scene} ${r.record}`), [], `over ${speedLimit} ms`);
-  });
 } finally {
   await browser.close();
   server.kill('SIGINT');

@@ -7,6 +7,7 @@ import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import {
   formatG, buildRequest, twinChoices, exaggeration, bodyPoints, splitOverrides, forStudents, axisRange, describeRun, groundStill,
+  drawnRows,
 } from '../format.js';
 import { lessons } from '../lessons.js';
 
@@ -147,4 +148,36 @@ test('every lesson names a scene and a record the lab has', () => {
       assert.ok(existsSync(join(records, l.controls.record)), `${l.title}: record ${l.controls.record}`);
     assert.ok(l.text.length > 100, `${l.title} says what to look for`);
   }
+});
+
+test('drawnRows keeps, in every pixel column, the rows of each trace\'s least and greatest value', () => {
+  // 10 000 rows of a chirp with a spike and a gap, in 100 columns.
+  const n = 10000;
+  const t = Array.from({ length: n }, (_, i) => i * 0.01);
+  const a = t.map((x) => Math.sin(x * x));
+  const b = t.map((x, i) => (i >= 4000 && i < 4100 ? null : Math.cos(3 * x)));
+  a[7777] = 5;
+  const rows = drawnRows(t, [a, b], 100);
+  assert.ok(rows.length <= 2 * 2 * 100 + 2, `${rows.length} rows`);
+  assert.ok(rows.every((r, k) => k === 0 || r > rows[k - 1]), 'ascending');
+  assert.equal(rows[0], 0);
+  assert.equal(rows[rows.length - 1], n - 1);
+  assert.ok(rows.includes(7777), 'the spike is kept');
+  // Column by column, the kept rows reach the same least and greatest values as all rows.
+  const column = (i) => Math.min(99, Math.floor((t[i] / t[n - 1]) * 100));
+  for (const y of [a, b]) {
+    const all = new Map();
+    const kept = new Map();
+    const add = (m, i) => {
+      if (y[i] === null) return;
+      const c = column(i);
+      const [lo, hi] = m.get(c) || [Infinity, -Infinity];
+      m.set(c, [Math.min(lo, y[i]), Math.max(hi, y[i])]);
+    };
+    for (let i = 0; i < n; i += 1) add(all, i);
+    for (const i of rows) add(kept, i);
+    assert.deepEqual([...kept.entries()].sort(), [...all.entries()].sort());
+  }
+  // Few rows: all of them.
+  assert.deepEqual(drawnRows([0, 1, 2], [[1, 2, 3]], 100), [0, 1, 2]);
 });

@@ -118,8 +118,9 @@ std::vector<std::string> lab_columns(const ContactModel& model) {
                                                 "theta_over_alpha", "delta_t", "delta_e", "base_moment", "M_dev"};
   const std::vector<std::string> all = history_columns(model).names();
   std::vector<std::string> out;
+  // x_g is a column only on request (it is always there to give).
   for (std::string_view w : wanted)
-    if (std::find(all.begin(), all.end(), w) != all.end()) out.emplace_back(w);
+    if (w == "x_g" || std::find(all.begin(), all.end(), w) != all.end()) out.emplace_back(w);
   // The bending as the page draws it: every node up to 16, else 16 evenly
   // spaced up to the top (the page interpolates between them; a 64-node
   // tower's history is then a third of its size).
