@@ -32,6 +32,13 @@ void elastic_force(const Columns& c, double a, Eigen::Ref<const Eigen::VectorXd>
   f -= a * c.structure.masses;
 }
 
+// x'A x without a temporary.
+double quadratic(const Eigen::MatrixXd& A, Eigen::Ref<const Eigen::VectorXd> x) {
+  double sum = 0;
+  for (Eigen::Index j = 0; j < x.size(); ++j) sum += x[j] * A.col(j).dot(x);
+  return sum;
+}
+
 }  // namespace
 
 Columns make_columns(const ColumnGroup& group, const Structure& structure, double g) {
@@ -60,6 +67,8 @@ Columns make_columns(const ColumnGroup& group, const Structure& structure, doubl
   if (c.flexible) {
     c.matrices = assemble(structure);
     c.inverse_masses = structure.masses.cwiseInverse();
+    c.shear_K = c.matrices.K.colwise().sum().transpose();
+    c.shear_C = c.matrices.C.colwise().sum().transpose();
   }
   const double b = group.half_width, h = group.half_height;
   c.R = std::hypot(b, h);
@@ -150,7 +159,7 @@ double uplift_guard(const Columns& c, int s, GroundAcceleration a, double held_m
   const double rhs_theta = -(c.columns_mass + 2.0 * c.deck_mass) * (s * (c.g + a.v) * b + a.h * h) - s * held_moment;
   // 1'f = -m_s a_g - 1'(K u + C u') for a flexible deck; a rigid deck's masses
   // ride on theta (their inertia and load are in J and rhs_theta).
-  const double shear = c.flexible ? -c.structure_mass * a.h - (c.matrices.K * u + c.matrices.C * u_dot).sum() : 0.0;
+  const double shear = c.flexible ? -c.structure_mass * a.h - c.shear_K.dot(u) - c.shear_C.dot(u_dot) : 0.0;
   return s * (rhs_theta - 2.0 * h * shear);
 }
 
@@ -193,7 +202,7 @@ ColumnsEnergy mechanical_energy(const Columns& c, int s, const Coordinates& q) {
   const Eigen::Index n = nodes(c);
   if (n > 0) {
     e.kinetic = 0.5 * q.u_dot.dot(c.structure.masses.cwiseProduct(q.u_dot));
-    e.elastic = 0.5 * q.u.dot(c.matrices.K * q.u);
+    e.elastic = 0.5 * quadratic(c.matrices.K, q.u);
   }
   if (s != 0) {
     const Angle p = phi_of(c, s, q.tilt);
@@ -218,7 +227,7 @@ double ground_input_power(const Columns& c, int s, GroundAcceleration a, const C
 }
 
 double viscous_power(const Columns& c, Eigen::Ref<const Eigen::VectorXd> u_dot) {
-  return nodes(c) > 0 ? u_dot.dot(c.matrices.C * u_dot) : 0.0;
+  return nodes(c) > 0 ? quadratic(c.matrices.C, u_dot) : 0.0;
 }
 
 TopContact top_contact_forces(const Columns& c, int s, GroundAcceleration a, const Coordinates& q, double theta_ddot,

@@ -60,11 +60,12 @@ struct Columns {
   double g = gravity;
   // Derived: R [m], alpha [rad] with its sine and cosine; n m_c, m_s = 1'M1,
   // m_d = m0 + m_s [kg]; J = (4/3) n m_c R^2 + 4 R^2 m_d [kg m^2]; the
-  // gravity lever R (n m_c + 2 m_d) [kg m]; 1/m per node; each column's axis
-  // along the beam [m].
+  // gravity lever R (n m_c + 2 m_d) [kg m]; 1/m per node; 1'K and 1'C (the
+  // base shear 1'(K u + C u') as two dot products); each column's axis along
+  // the beam [m].
   double R = 0, alpha = 0, sin_alpha = 0, cos_alpha = 1;
   double columns_mass = 0, structure_mass = 0, deck_mass = 0, inertia = 0, lever = 0;
-  Eigen::VectorXd inverse_masses, axes;
+  Eigen::VectorXd inverse_masses, shear_K, shear_C, axes;
   bool flexible = false;          // elastic coordinates u (one per node)
 };
 // Throws std::invalid_argument naming the first field that breaks an
@@ -102,7 +103,8 @@ void full_contact_acceleration(const Columns& c, double a_g, Eigen::Ref<const Ei
                                Eigen::Ref<const Eigen::VectorXd> u_dot, Eigen::Ref<Eigen::VectorXd> rates);
 
 // (u', u'') into rates (2N entries; none when rigid) and theta'' as the
-// result, while rocking about s with device moment D [N m]. Allocates nothing.
+// result, while rocking about s with device moment D [N m]. These, the guard,
+// the impact, the energy and powers and the top forces allocate nothing.
 double rocking_acceleration(const Columns& c, int s, GroundAcceleration a, double device_moment, const Coordinates& q,
                             Eigen::Ref<Eigen::VectorXd> rates);
 
