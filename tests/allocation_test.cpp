@@ -1,14 +1,16 @@
 // rk45 allocates nothing per step: every work vector is sized at construction
 // and reset; nor does rocking.chain's right-hand side or its reactions, which
-// work in a workspace sized once. Counted by interposing malloc in this executable (Eigen allocates
+// work in a workspace sized once, nor rocking.columns' equations. Counted by interposing malloc in this executable (Eigen allocates
 // with std::malloc, operator new calls malloc too); glibc's own allocator
 // (__libc_malloc) does the work.
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
 #include <atomic>
+#include <cmath>
 #include <cstdlib>
 import rocking.integrator;
 import rocking.chain;
+import rocking.columns;
 
 namespace {
 std::atomic<long> allocations{0};
@@ -71,4 +73,32 @@ TEST_CASE("the chain's right-hand side and joint reactions make no heap allocati
   }
   CHECK(allocations.load() - before == 0);
   CHECK(r[1].N > 0);
+}
+
+TEST_CASE("the rocking frame's right-hand sides, guard, impact, energy and top forces make no heap allocation") {
+  using namespace rocking;
+  Structure deck;
+  deck.base_mass = 8000;
+  deck.heights = (Eigen::VectorXd(3) << 3.0, 6.0, 9.0).finished();
+  deck.masses = (Eigen::VectorXd(3) << 1e4, 8e3, 6e3).finished();
+  deck.EI = (Eigen::VectorXd(3) << 6e8, 5e8, 4e8).finished();
+  deck.damping_ratio = 0.05;
+  const Columns c = make_columns({3, 0.3, 2.5, 3000.0, 6.0}, deck);
+  const Eigen::VectorXd u = (Eigen::VectorXd(3) << 0.01, -0.02, 0.03).finished();
+  Eigen::VectorXd v = (Eigen::VectorXd(3) << 0.1, 0.2, -0.3).finished();
+  Eigen::VectorXd rates(6);
+  double normal[3];
+  const long before = allocations.load();
+  double sum = 0;
+  for (int k = 0; k < 100; ++k) {
+    const Coordinates q{u, v, Tilt(0.01 * (k % 7)), 0.2};
+    const double thdd = rocking_acceleration(c, +1, {0.5, 0.1}, 1e3, q, rates);
+    sum += top_contact_forces(c, +1, {0.5, 0.1}, q, thdd, rates.tail(3), normal).smallest;
+    full_contact_acceleration(c, 0.5, u, v, rates);
+    sum += uplift_guard(c, -1, {0.5, 0.1}, 0.0, u, v);
+    sum += mechanical_energy(c, +1, q).total() + ground_input_power(c, +1, {0.5, 0.1}, q) + viscous_power(c, v);
+    sum += impact(c, +1, -0.1, v).theta_dot;
+  }
+  CHECK(allocations.load() - before == 0);
+  CHECK(std::isfinite(sum));
 }

@@ -288,3 +288,62 @@ TEST_CASE("devices are listed as the scene names them: the [damper] is the devic
     for (const Device& d : scene_devices(less)) CHECK(d.group != g.name);
   }
 }
+
+namespace {
+// The chimney on rocking columns: its [columns] table with `keys`.
+std::string chimney_on_columns(const std::string& keys) {
+  return chimney_with("[excitation]", "[columns]\n" + keys + "\n\n[excitation]");
+}
+}  // namespace
+
+TEST_CASE("[columns]: the rocking columns under the structure are read and checked as the engine needs them") {
+  const Scene s = load_scene(chimney_on_columns("count = 3\nhalf_width = 0.4\nhalf_height = 3.0\nmass = 2.0e4\nspacing = 6.0"));
+  REQUIRE(s.columns.has_value());
+  CHECK(s.columns->count == 3);
+  CHECK(s.columns->half_width == 0.4);
+  CHECK(s.columns->half_height == 3.0);
+  CHECK(s.columns->mass == 2.0e4);
+  CHECK(s.columns->spacing == 6.0);
+  const Columns c = make_columns(*s.columns, s.structure);  // the engine takes what the scene read
+  CHECK(c.deck_mass == close_to(s.structure.base_mass + s.structure.masses.sum(), 1e-15));
+  // one column needs no spacing; a scene without [columns] has none
+  const Scene one = load_scene(chimney_on_columns("count = 1\nhalf_width = 0.4\nhalf_height = 3.0\nmass = 2.0e4"));
+  CHECK(one.columns->spacing == 0.0);
+  CHECK_FALSE(load_default_scene().columns.has_value());
+  // the run path does not simulate columns yet: it says so in one line
+  const std::string refused = one_line_error<InputError>([&] { (void)make_contact_model(s, false); }, "make_contact_model");
+  CHECK(refused.find("[columns]: a structure on rocking columns is not simulated") != std::string::npos);
+}
+
+TEST_CASE("a wrong [columns] is a one-line error naming the key, its range and the line") {
+  const std::string ok = "half_width = 0.4\nhalf_height = 3.0\nmass = 2.0e4\n";
+  struct Case {
+    std::string keys, expected;
+  };
+  const Case cases[] = {
+      {"count = 0\nspacing = 6.0\n" + ok, "columns.count: must be a whole number from 1 to 1000 (got 0)"},
+      {"count = 2.5\nspacing = 6.0\n" + ok, "columns.count: must be a whole number from 1 to 1000 (got 2.5)"},
+      {"count = 2\nspacing = 6.0\nhalf_width = 0.0\nhalf_height = 3.0\nmass = 2.0e4", "columns.half_width: must be in [0.001, 10000] m (got 0)"},
+      {"count = 2\nspacing = 6.0\nhalf_width = 0.4\nhalf_height = -3.0\nmass = 2.0e4", "columns.half_height: must be in [0.001, 10000] m (got -3)"},
+      {"count = 2\nspacing = 6.0\nhalf_width = 0.4\nhalf_height = 3.0\nmass = 0.0", "columns.mass: must be in [0.001, 1e+12] kg (got 0)"},
+      {"count = 2\nspacing = 0.7\n" + ok, "columns.spacing: must be at least a column's width, 2 half_width = 0.8 m, and at most 10000 m (got 0.7)"},
+      {"count = 2\n" + ok, "columns.spacing: missing key"},
+      {"count = 2\nspacing = 6.0\nheight = 3.0\n" + ok, "columns.height: unknown key"},
+  };
+  for (const Case& c : cases) {
+    const std::string path = chimney_on_columns(c.keys);
+    const std::string error = error_of(path);
+    CHECK_MESSAGE(error.find(c.expected) != std::string::npos, error);
+    CHECK_MESSAGE(error.find(path) == 0, error);  // where: the file (and its line)
+  }
+  // through --set, the --set is named
+  const std::string set = one_line_error<InputError>(
+      [] { load_default_scene({"columns.count=-1"}); },
+      "--set columns.count=-1");
+  CHECK_MESSAGE(set.find("--set columns.count=-1: columns.count: must be a whole number") != std::string::npos, set);
+  // [columns] beside [[joint]] tables is refused in one line
+  const std::string both = error_of(chimney_on_columns("count = 2\nspacing = 6.0\n" + ok + "\n[[joint]]\nnode = 2"));
+  CHECK_MESSAGE(both.find("[columns] with [[joint]]: a structure on rocking columns that also rocks at its own joints is not supported") !=
+                    std::string::npos,
+                both);
+}

@@ -37,6 +37,7 @@ const std::map<std::string, std::set<std::string, std::less<>>, std::less<>> sch
     {"damper", {"enabled", "stiffness", "post_yield_ratio", "theta_y", "alpha", "beta", "n",
                 "thickness", "capacity"}},
     {"output", {"history", "interval"}},
+    {"columns", {"count", "half_width", "half_height", "mass", "spacing"}},
 };
 
 std::string where(const toml::source_region& src, std::string_view fallback) {
@@ -336,6 +337,27 @@ Structure read_structure(const toml::table& root, const std::string& file, const
   return s;
 }
 
+// [columns] (MODEL.md 16): n identical rigid columns under the structure's
+// foundation beam. spacing (between the outer columns' axes) is needed from
+// two columns on, and must leave room for the columns' width.
+std::optional<ColumnGroup> read_columns(const toml::table& root, const std::string& file, const Origins& origins) {
+  if (!root.contains("columns")) return std::nullopt;
+  const TableReader t(root, "columns", file, origins);
+  constexpr double max_columns = 1000;
+  ColumnGroup c;
+  c.count = static_cast<int>(t.number("count", [](double v) { return v >= 1 && v <= max_columns && v == std::floor(v); },
+                                      fmt::format("a whole number from 1 to {:g}", max_columns)));
+  const std::string length_range = fmt::format("in [{:g}, {:g}] m", min_length, max_length);
+  c.half_width = t.number("half_width", in_range(min_length, max_length, true), length_range);
+  c.half_height = t.number("half_height", in_range(min_length, max_length, true), length_range);
+  c.mass = t.number("mass", in_range(min_mass, max_mass, true), fmt::format("in [{:g}, {:g}] kg", min_mass, max_mass));
+  if (c.count >= 2 || t.has("spacing"))
+    c.spacing = t.number("spacing", [&](double v) { return v >= 2 * c.half_width && v <= max_length; },
+                         fmt::format("at least a column's width, 2 half_width = {:g} m, and at most {:g} m",
+                                     2 * c.half_width, max_length));
+  return c;
+}
+
 Contact read_contact(const toml::table& root, const std::string& file, const Origins& origins) {
   Contact c;
   if (!root.contains("contact")) return c;
@@ -626,6 +648,9 @@ Output read_output(const toml::table& root, const std::string& file, const Origi
 Scene read_scene(toml::table root, const std::string& file, const std::vector<std::string>& overrides) {
   Origins origins;
   for (const std::string& o : overrides) apply_override(root, o, origins);
+  if (root.contains("columns") && root.contains("joint"))
+    throw InputError(fmt::format("{}: [columns] with [[joint]]: a structure on rocking columns that also rocks at "
+                                 "its own joints is not supported", file));
   check_known_keys(root, file);
   Scene scene;
   scene.source = file;
@@ -639,6 +664,7 @@ Scene read_scene(toml::table root, const std::string& file, const std::vector<st
   scene.contact = read_contact(root, file, origins);
   scene.damper = read_damper(root, file, origins, scene.structure);
   scene.devices = read_devices(root, file, origins, scene.structure, scene.damper);
+  scene.columns = read_columns(root, file, origins);
   scene.excitation = read_excitation(root, file, origins);
   scene.initial = read_initial(root, file, origins, scene.structure, scene.contact);
   scene.output = read_output(root, file, origins, scene.structure);
@@ -712,6 +738,9 @@ std::vector<DeviceGroup> device_groups(const Scene& scene) {
 }
 
 ContactModel make_contact_model(const Scene& scene, bool track_energy, std::vector<Device> extra) {
+  if (scene.columns)
+    throw InputError(fmt::format("{}: [columns]: a structure on rocking columns is not simulated by this program yet "
+                                 "(its engine is rocking.columns)", scene.source));
   std::vector<Device> devices = scene_devices(scene);
   for (Device& d : extra) devices.push_back(std::move(d));
   return make_contact_model(scene.structure, scene.contact, std::move(devices), track_energy);

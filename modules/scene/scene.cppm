@@ -4,7 +4,9 @@
 // ([contact]), the paper's dampers ([damper]), any other devices at the
 // rocking interface ([[device]] tables: kind = a law of rocking.devices, at =
 // x [m] or "edges", kinematics, free_length, capacity, name, and the law's
-// keys) and its default excitation ([excitation]:
+// keys), the rocking columns it may stand on ([columns], MODEL.md 16: count,
+// half_width, half_height, mass, spacing; structure.base_mass is then the cap
+// beam) and its default excitation ([excitation]:
 // an analytic pulse, a record file, or none), its initial state
 // ([initial]: a release from a tilt, initial velocities and displacements)
 // and what a run reports ([output]: the history's columns and interval);
@@ -24,6 +26,7 @@ export module rocking.scene;
 export import rocking.geometry;
 export import rocking.hysteresis;
 export import rocking.devices;
+export import rocking.columns;
 export import rocking.contact;
 export import rocking.ground_motion;
 export import rocking.quantities;
@@ -75,6 +78,10 @@ struct Scene {
   Contact contact;
   Damper damper;       // damper.enabled = false when the scene has none
   std::vector<Device> devices;  // the [[device]] tables, in order
+  // [columns]: the structure stands on rocking columns (checked as
+  // make_columns requires; the run path does not simulate them yet and
+  // make_contact_model refuses such a scene).
+  std::optional<ColumnGroup> columns;
   Excitation excitation;
   Initial initial;
   Output output;
@@ -102,7 +109,8 @@ struct DeviceGroup {
 std::vector<DeviceGroup> device_groups(const Scene& scene);
 
 // The model the scene describes (rocking.contact), with energy accumulators
-// when asked; `extra` devices act after the scene's own.
+// when asked; `extra` devices act after the scene's own. InputError for a
+// scene on [columns], which this model does not describe.
 ContactModel make_contact_model(const Scene& scene, bool track_energy, std::vector<Device> extra = {});
 
 // The scene's excitation as a ground motion (reads the record if it names
