@@ -109,11 +109,22 @@ int animate(const AnimateArgs& a) {
     twin_overrides.insert(twin_overrides.end(), twin_variant.overrides.begin(), twin_variant.overrides.end());
   }
   const Scene twin = load_scene(SceneOptions{a.scene.path, twin_overrides});
-  RunOptions ro = run_options(scene, a.solver, a.motion.record.empty());
-  // Ctrl-C or SIGTERM ends the runs within a step and gnuplot within 20 ms;
-  // no animation cut short is left under its name (main exits 130 or 143).
+  // Both runs as `rocking simulate` makes them (rocking.run), under the motion
+  // read once; the frames read no energy.
+  auto prepared = [&](const Scene& s, double every) {
+    PreparedRun run = prepare_run({.scene = s,
+                                   .motion = a.motion,
+                                   .solver = a.solver,
+                                   .history = {.columns = {}, .every = every},
+                                   .track_energy = false},
+                                  motion);
+    // Ctrl-C or SIGTERM ends the runs within a step and gnuplot within 20 ms;
+    // no animation cut short is left under its name (main exits 130 or 143).
+    run.options.stop = [] { return stop_signal() != 0; };
+    return run;
+  };
   catch_stop_signals();
-  ro.stop = [] { return stop_signal() != 0; };
+  const RunOptions ro = prepared(scene, 0.01).options;  // the duration, checked
   const double duration = ro.duration > 0 ? ro.duration : motion.duration();
   // The span animated: --window (the run computes from t = 0 all the same).
   const auto window = time_window(a.window, {&motion});
@@ -130,11 +141,11 @@ int animate(const AnimateArgs& a) {
   if ((shown_to - shown_from) / frame_dt + 1 > a.max_frames) frame_dt = (shown_to - shown_from) / (a.max_frames - 1);
   // The traces are sampled more finely than the frames: every frame is every m-th row.
   const int m = std::max(1, static_cast<int>(std::ceil(frame_dt / 0.01 - 1e-9)));
-  ro.output_interval = frame_dt / m;
-  FrameRecorder main_rec(ro.output_interval), twin_rec(ro.output_interval);
-  const ContactModel main_model = make_contact_model(scene, false), twin_model = make_contact_model(twin, false);
-  const RunResult r1 = simulate(main_model, motion, ro, &main_rec);
-  const RunResult r2 = simulate(twin_model, motion, ro, &twin_rec);
+  const PreparedRun main_run = prepared(scene, frame_dt / m), twin_run = prepared(twin, frame_dt / m);
+  const ContactModel &main_model = main_run.model, &twin_model = twin_run.model;
+  FrameRecorder main_rec(main_run.options.output_interval), twin_rec(twin_run.options.output_interval);
+  const RunResult r1 = simulate(main_model, main_run.motion, main_run.options, &main_rec);
+  const RunResult r2 = simulate(twin_model, twin_run.motion, twin_run.options, &twin_rec);
   for (const RunResult* r : {&r1, &r2})
     if (r->outcome == Outcome::failed) throw RunError(r->failure);
   const std::size_t rows = std::min(main_rec.rows.size(), twin_rec.rows.size());

@@ -114,18 +114,20 @@ int response(const ResponseArgs& a) {
                                     : variant_label(key);
       std::vector<std::string> overrides = a.scene.overrides;
       overrides.insert(overrides.end(), v.overrides.begin(), v.overrides.end());
-      const Scene scene = load_scene(SceneOptions{a.scene.path, overrides});
-      RunOptions ro = run_options(scene, a.solver, a.motion.record.empty());
-      ro.stop = [] { return stop_signal() != 0; };
-      ro.output_interval = 0.005;
-      const ContactModel model = make_contact_model(scene, false);
+      // The variant's run as `rocking simulate` makes it (rocking.run), under
+      // the motion read once, sampled every 5 ms; the figure reads no energy.
+      PreparedRun run = prepare_run({.scene = load_scene(SceneOptions{a.scene.path, overrides}), .motion = a.motion,
+                                     .solver = a.solver, .history = {.columns = {}, .every = 0.005}, .track_energy = false},
+                                    motion);
+      run.options.stop = [] { return stop_signal() != 0; };
+      const ContactModel& model = run.model;
       // The variant's data file: its name with anything but letters, digits, _ - . as _ ("without_damper.csv").
       std::string stem = key;
       for (char& c : stem)
         if (std::isalnum(static_cast<unsigned char>(c)) == 0 && c != '_' && c != '-' && c != '.') c = '_';
       const fs::path csv = data_dir / (stem + ".csv");
-      HistoryCsv history(csv, model);
-      const RunResult r = simulate(model, motion, ro, &history);
+      HistoryCsv history(csv, model);  // every column the figure may draw, whatever the scene's [output]
+      const RunResult r = simulate(model, run.motion, run.options, &history);
       history.close();
       if (r.outcome == Outcome::failed) throw RunError(fmt::format("variant {}: {}", key, r.failure));
       fmt::print("{:<22} top {:7.1f} mm, theta/alpha {:.4f}, M/M_ref {}, {} uplifts, {}\n", label, r.top_total_mm,

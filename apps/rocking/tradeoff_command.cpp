@@ -101,6 +101,15 @@ RunOptions options_at(const RunOptions& base, Method m, double rtol) {
   return o;
 }
 
+// The run each measurement varies the integrator of, as `rocking simulate`
+// makes it (rocking.run) with the default solver and --duration; no energy
+// balance is integrated (the costs compared are the motion's).
+PreparedRun measured_run(const Scene& scene, const TradeoffArgs& a) {
+  SolverOptions solver;
+  if (a.duration != 0) solver.duration = a.duration;
+  return prepare_run({.scene = scene, .motion = a.motion, .solver = solver, .history = {}, .track_energy = false});
+}
+
 // The figures of this command: wide, for a legend of every method.
 plot::Figure wide_figure(const fs::path& dir, std::string name, const std::string& formats) {
   plot::Figure fig;
@@ -222,14 +231,12 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
   };
   for (const std::string& path : a.scenes) {
     const Scene scene = load_scene(SceneOptions{path, a.scene.overrides});
-    const GroundMotion motion = load_motion(scene, a.motion);
-    const ContactModel model = make_contact_model(scene, false);
+    const PreparedRun run = measured_run(scene, a);
+    const GroundMotion& motion = run.motion;
+    const ContactModel& model = run.model;
     if (model.layout.n == 0)
       throw InputError(fmt::format("--scenes {}: a rigid block has no nodes to put on the N axis", path));
-    SolverOptions solver;
-    if (a.duration != 0) solver.duration = a.duration;
-    RunOptions base = run_options(scene, solver, a.motion.record.empty());
-    base.track_energy = false;
+    RunOptions base = run.options;
     base.stop = [] { return stop_signal() != 0; };
     const long n = static_cast<long>(model.layout.n);
     auto key = [&](const std::string& name) { return fmt::format("\"{}\",{},{}", path, n, name); };
@@ -311,12 +318,10 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
 
 int tradeoff(const TradeoffArgs& a) {
   const Scene scene = load_scene(a.scene);
-  const GroundMotion motion = load_motion(scene, a.motion);
-  SolverOptions solver;
-  if (a.duration != 0) solver.duration = a.duration;
-  RunOptions base = run_options(scene, solver, a.motion.record.empty());
-  base.track_energy = false;
-  const ContactModel model = make_contact_model(scene, false);
+  const PreparedRun run = measured_run(scene, a);
+  const GroundMotion& motion = run.motion;
+  const ContactModel& model = run.model;
+  RunOptions base = run.options;
   if (a.repeats < 1 || a.repeats > 100) throw InputError(fmt::format("--repeats {}: must be in [1, 100]", a.repeats));
   std::vector<double> rtols;
   for (double r : number_list("--rtols", a.rtols)) {
@@ -418,7 +423,7 @@ int tradeoff(const TradeoffArgs& a) {
   fmt::print("wrote {}\n", (dir / "tradeoff.csv").string());
   plot::Figure fig = wide_figure(dir, "work_precision", a.formats);
   fig.title = fmt::format("{}: work-precision, {}, rtol {} (reference: rk45 at rtol 1e-12)\n{}", scene.name,
-                          motion_scale(scene, a.motion).describe(), a.rtols, motion_title(motion));
+                          run.scale.describe(), a.rtols, motion_title(motion));
   // Each point is labelled with its rtol (the exponent: "-4" for 1e-4).
   const std::string rtol_label = "sprintf('%d', floor(log10($4) + 0.5))";
   const std::vector<plot::Panel> panels = {
