@@ -64,8 +64,10 @@ void write_frames(const fs::path& file, const Structure& s, const FrameRecorder&
                   std::size_t frames, bool has_damper) {
   const char* damper = has_damper ? " 1\n" : " 2\n";  // 2: not drawn
   std::ofstream out(file);
-  out << "# one block per frame (index i): the axis, the base, the damper; column 3: 1 for the damper\n";
+  out << "# one block per frame (index i), each under its header: the axis, the base, the damper; part 1 for the "
+         "damper, 2 for none drawn\n";
   for (std::size_t f = 0; f < frames; ++f) {
+    out << "x y part\n";
     const std::size_t i = f * static_cast<std::size_t>(m);
     const Response& r = rec.rows[i];
     const Eigen::VectorXd u = i < rec.u.size() ? rec.u[i] : Eigen::VectorXd();
@@ -184,7 +186,11 @@ int animate(const AnimateArgs& a) {
   write_frames(dir / (stem + ".data") / "twin.dat", twin.structure, twin_rec, k, kr, m, frames, twin_model.has_damper);
   {
     std::ofstream tr(dir / (stem + ".data") / "traces.dat");
-    tr << "# t [s], a_g [g], M/M_ref main, M/M_ref twin, theta/alpha_cg main\n";
+    // Named by the schema (rocking.quantities): the twin's moment as twin_base_moment; a_g in g.
+    tr << "# t [s], a_g [g], M/M_ref main, M/M_ref twin, theta/alpha_cg main\n"
+       << fmt::format("{} {} {} twin_{} {}\n", info(Quantity::t).name, info(Quantity::a_g).name,
+                      info(Quantity::base_moment).name, info(Quantity::base_moment).name,
+                      info(Quantity::theta_over_alpha).name);
     for (std::size_t i = 0; i < rows; ++i)
       tr << fmt::format("{:.6g} {:.6g} {:.6g} {:.6g} {:.6g}\n", main_rec.rows[i].t,
                         motion.acceleration(main_rec.rows[i].t) / gravity, main_rec.rows[i][Quantity::base_moment],
@@ -194,36 +200,49 @@ int animate(const AnimateArgs& a) {
   // Alone: the structure spans the width, and the right trace is its rocking
   // angle (a block has no section forces); else the two side by side and the
   // base moments of both.
+  // Every column by its header name (write_frames' x y part, the schema's
+  // names in traces.dat).
+  const std::string structure = fmt::format("({}):({} == 0 ? {} : NaN)", plot::column("x"), plot::column("part"),
+                                            plot::column("y")),
+                    damper = fmt::format("({}):({} == 1 ? {} : NaN)", plot::column("x"), plot::column("part"),
+                                         plot::column("y"));
+  auto trace = [](Quantity q, const std::string& prefix = "") {
+    return fmt::format("({}):({})", plot::column(info(Quantity::t).name),
+                       plot::column(prefix + std::string(info(q).name)));
+  };
   const std::string panels =
       alone ? fmt::format(
                   "  set origin 0.25,0.38\n  set size 0.5,0.57\n  set title {} noenhanced\n"
-                  "  plot d.\"main.dat\" index i using 1:($3 == 0 ? $2 : NaN) with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#1f4e9c\", "
-                  "d.\"main.dat\" index i using 1:($3 == 1 ? $2 : NaN) with lines lw 4 lc rgb \"#d35400\", "
+                  "  plot d.\"main.dat\" index i using {structure} with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#1f4e9c\", "
+                  "d.\"main.dat\" index i using {damper} with lines lw 4 lc rgb \"#d35400\", "
                   "0 with lines lc rgb \"#555555\" lw 2\n",
-                  plot::quote(scene.name))
+                  plot::quote(scene.name), fmt::arg("structure", structure), fmt::arg("damper", damper))
             : fmt::format(
                   "  set origin 0,0.38\n  set size 0.5,0.57\n  set title {} noenhanced\n"
-                  "  plot d.\"main.dat\" index i using 1:($3 == 0 ? $2 : NaN) with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#1f4e9c\", "
-                  "d.\"main.dat\" index i using 1:($3 == 1 ? $2 : NaN) with lines lw 4 lc rgb \"#d35400\", "
+                  "  plot d.\"main.dat\" index i using {structure} with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#1f4e9c\", "
+                  "d.\"main.dat\" index i using {damper} with lines lw 4 lc rgb \"#d35400\", "
                   "0 with lines lc rgb \"#555555\" lw 2\n"
                   "  set origin 0.5,0.38\n  set size 0.5,0.57\n  set title {} noenhanced\n"
-                  "  plot d.\"twin.dat\" index i using 1:($3 == 0 ? $2 : NaN) with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#27864a\", "
-                  "d.\"twin.dat\" index i using 1:($3 == 1 ? $2 : NaN) with lines lw 4 lc rgb \"#d35400\", "
+                  "  plot d.\"twin.dat\" index i using {structure} with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#27864a\", "
+                  "d.\"twin.dat\" index i using {damper} with lines lw 4 lc rgb \"#d35400\", "
                   "0 with lines lc rgb \"#555555\" lw 2\n",
-                  plot::quote(scene.name), plot::quote(twin_label));
+                  plot::quote(scene.name), plot::quote(twin_label), fmt::arg("structure", structure),
+                  fmt::arg("damper", damper));
   const std::string right_trace =
-      alone ? std::string("  set ylabel \"rocking angle {/Symbol q}/{/Symbol a}_{cg}\"\n"
-                          "  plot d.\"traces.dat\" using 1:5 with lines lc rgb \"#1f4e9c\" notitle\n")
+      alone ? fmt::format("  set ylabel \"rocking angle {{/Symbol q}}/{{/Symbol a}}_{{cg}}\"\n"
+                          "  plot d.\"traces.dat\" using {} with lines lc rgb \"#1f4e9c\" notitle\n",
+                          trace(Quantity::theta_over_alpha))
             // the key above the panel, off the traces; the twin dashed (greyscale print)
             : fmt::format("  set ylabel \"base moment M/M_{{ref}}\"\n"
                           "  set key outside top center horizontal nobox samplen 2.5 width 1\n"
-                          "  plot d.\"traces.dat\" using 1:3 with lines lc rgb \"#1f4e9c\" title \"rocking\", "
-                          "'' using 1:4 with lines dashtype 2 lc rgb \"#27864a\" title {}\n",
-                          plot::quote(twin_label));
+                          "  plot d.\"traces.dat\" using {} with lines lc rgb \"#1f4e9c\" title \"rocking\", "
+                          "'' using {} with lines dashtype 2 lc rgb \"#27864a\" title {}\n",
+                          trace(Quantity::base_moment), trace(Quantity::base_moment, "twin_"), plot::quote(twin_label));
   const double span = std::max(3 * B, 0.5 * H);
   std::string script = fmt::format(
       "# rocking: animation ({} frames, {:.3g} s of simulation per frame). Re-render: gnuplot {}.gp\n"
       "{}"
+      "set datafile columnheaders\n"
       "d = {}\n"
       "unset key\n"
       "do for [i={}:{}] {{\n"
@@ -235,7 +254,7 @@ int animate(const AnimateArgs& a) {
       "  set size noratio\n  set autoscale xy\n  set xrange [{:.6g}:{:.6g}]\n  set xtics\n  set xlabel \"time t [s]\"\n  unset title\n"
       "  set arrow 1 from t, graph 0 to t, graph 1 nohead lc rgb \"#c0392b\" lw 2\n"
       "  set origin 0,0\n  set size 0.5,0.38\n  set ylabel \"a_g [g]\"\n"
-      "  plot d.\"traces.dat\" using 1:2 with lines lc rgb \"#555555\"\n"
+      "  plot d.\"traces.dat\" using {} with lines lc rgb \"#555555\"\n"
       "  set origin 0.5,0\n  set size 0.5,0.38\n"
       "{}"
       "  unset key\n  unset arrow 1\n  unset xlabel\n"
@@ -251,7 +270,7 @@ int animate(const AnimateArgs& a) {
                               motion.vertical() ? " with vertical " + motion.vertical()->info().component : std::string(),
                               motion_scale(scene, a.motion).describe())),
       plot::quote(fmt::format("\n(drawn with rotation x{:g}, elastic deformation x{:g})", kr, k)), -span, span, H, H,
-      panels, shown_from, shown_to, right_trace);
+      panels, shown_from, shown_to, trace(Quantity::a_g), right_trace);
   plot::Figure fig;
   fig.dir = dir;
   fig.name = stem;

@@ -158,6 +158,7 @@ int modes(const SceneOptions& scene_opts, const FigureArgs& fa) {
     columns.col(k).tail(n) = m.fixed_base.shapes.col(k);
     left.labels.push_back(fmt::format("mode {}: {:.2f} Hz", k + 1, m.fixed_base_hz[static_cast<std::size_t>(k)]));
     left.colours.push_back(static_cast<int>(k));
+    left.columns.push_back(fmt::format("fixed_base_{}", k + 1));
   }
   // Mode k of the rocking phase takes the colour of fixed-base mode k; the
   // rocking mode R the last colour of the palette (grey).
@@ -167,6 +168,7 @@ int modes(const SceneOptions& scene_opts, const FigureArgs& fa) {
     const Eigen::VectorXd u = rm.shapes.col(k).head(n);
     columns.col(n + k).tail(n) = u + H * rm.shapes(n, k);
     const double lambda = rm.lambda[k];
+    right.columns.push_back(fmt::format("rocking_{}", k + 1));
     if (lambda < 0) {
       right.labels.push_back(fmt::format("R: p = {:.3f} rad/s", std::sqrt(-lambda)));
       right.colours.push_back(5);
@@ -184,7 +186,10 @@ int modes(const SceneOptions& scene_opts, const FigureArgs& fa) {
   make_output_dir(fig.dir);
   const std::string data = fa.name + ".dat";
   std::ofstream out(fig.dir / data);
-  out << "# height [m], fixed-base shapes 1.." << n << ", rocking-phase shapes (u + H theta), top = 1\n";
+  out << "# height [m], fixed-base shapes 1.." << n << ", rocking-phase shapes (u + H theta), top = 1\nheight";
+  for (const plot::ModePanel* p : {&left, &right})
+    for (const std::string& name : p->columns) out << ' ' << name;
+  out << '\n';
   for (Eigen::Index i = 0; i <= n; ++i) {
     out << (i == 0 ? 0.0 : H[i - 1]);
     for (Eigen::Index c = 0; c < columns.cols(); ++c) out << ' ' << columns(i, c);

@@ -133,7 +133,8 @@ void study_figures(const StudyArgs& a, const Study& st, const StudyColumns& colu
   std::vector<bool> force_like;  // forces, moments, accelerations: the panels --log may make logarithmic
   for (std::size_t k : shown) {
     const QuantityName q(columns.quantities[k]);
-    panels.push_back({"peak " + axis_label(q), "$1", fmt::format("${}*{:.9g}", k + 2, figure_factor(q)), true, ""});
+    panels.push_back({"peak " + axis_label(q), plot::column("level"),
+                      fmt::format("{}*{:.9g}", plot::column(q.name()), figure_factor(q)), true, ""});
     const std::string_view unit = q.unit();
     force_like.push_back(unit == "V_ref" || unit == "M_ref" || unit == "N" || unit == "N m" || unit == "m/s2");
   }
@@ -157,15 +158,15 @@ void study_figures(const StudyArgs& a, const Study& st, const StudyColumns& colu
       for (std::size_t i = 0; i < jobs.size(); ++i) {
         if (jobs[i].record != r || jobs[i].variant != v || lines[i].empty()) continue;
         const bool down = lines[i].ends_with(",1");
-        const int code = down ? (fallen ? 2 : 1) : (fallen ? 3 : 0);
+        const plot::Collapse code = plot::collapse_of(down, fallen);
         fallen = fallen || down;
-        codes |= code > 0 ? 1u << code : 0u;
+        codes |= code != plot::Collapse::standing ? plot::collapse_bit(code) : 0u;
         levels.push_back(jobs[i].level);
-        out << lines[i].substr(0, lines[i].size() - 1) << code << '\n';
+        out << lines[i].substr(0, lines[i].size() - 1) << static_cast<unsigned>(code) << '\n';
         ++rows;
       }
       if (rows == 0) continue;
-      plot::Series s{variant_label(st.variants()[v].name), file, {}, fallen ? static_cast<int>(columns.size()) + 2 : 0};
+      plot::Series s{variant_label(st.variants()[v].name), file, {}, fallen ? "collapse" : ""};
       s.collapse_codes = codes;
       // The variants' collapse markers side by side: a fifth of the levels' spacing apart.
       std::ranges::sort(levels);

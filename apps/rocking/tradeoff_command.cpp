@@ -301,15 +301,16 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
                           "{} to {}", a.accuracy, first_name, last_name);
   std::vector<plot::Series> series;
   for (const std::string& name : names) series.push_back({name, (fs::path("tradeoff_n.data") / (name + ".csv")).string(), {}, 0});
-  const std::string rtol_label = "sprintf('%d', floor(log10($4) + 0.5))";
+  const std::string rtol_label = fmt::format("sprintf('%d', floor(log10({}) + 0.5))", plot::column("rtol"));
   // The node counts' own range, widened by a fifth on the log axis each side.
   const std::string xrange = fmt::format("[{:.6g}:{:.6g}]", smallest_n / 1.2, largest_n * 1.2);
   // A tick at each scene's N.
   std::sort(node_counts.begin(), node_counts.end());
   const std::string xtics = fmt::format("({})", fmt::join(node_counts, ", "));
   const std::vector<plot::Panel> panels = {
-      {"wall time per run [s]", "$1", "$2", false, rtol_label, missing, xrange, false, xtics},
-      {"right-hand-side evaluations", "$1", "$3", false, rtol_label, missing, xrange, false, xtics}};
+      {"wall time per run [s]", plot::column("n"), plot::column("wall_s"), false, rtol_label, missing, xrange, false, xtics},
+      {"right-hand-side evaluations", plot::column("n"), plot::column("rhs"), false, rtol_label, missing, xrange, false,
+       xtics}};
   for (const fs::path& f :
        plot::render_panels(fig, 1, 2, "nodes N   (labels: log_{10} rtol)", panels, series, true))
     fmt::print("wrote {}\n", f.string());
@@ -425,10 +426,12 @@ int tradeoff(const TradeoffArgs& a) {
   fig.title = fmt::format("{}: work-precision, {}, rtol {} (reference: rk45 at rtol 1e-12)\n{}", scene.name,
                           run.scale.describe(), a.rtols, motion_title(motion));
   // Each point is labelled with its rtol (the exponent: "-4" for 1e-4).
-  const std::string rtol_label = "sprintf('%d', floor(log10($4) + 0.5))";
+  const std::string rtol_label = fmt::format("sprintf('%d', floor(log10({}) + 0.5))", plot::column("rtol"));
   const std::vector<plot::Panel> panels = {
-      {"relative error of peak total drift {/Symbol d}_t", "$1", "$2", false, rtol_label},
-      {"relative error of peak rocking angle {/Symbol q}", "$1", "$3", false, rtol_label}};
+      {"relative error of peak total drift {/Symbol d}_t", plot::column("wall_s"), plot::column("err_delta_t"), false,
+       rtol_label},
+      {"relative error of peak rocking angle {/Symbol q}", plot::column("wall_s"), plot::column("err_theta"), false,
+       rtol_label}};
   for (const fs::path& f : plot::render_panels(fig, 1, 2, "wall time per run [s]   (labels: log_{10} rtol)", panels, series, true))
     fmt::print("wrote {}\n", f.string());
   return 0;
