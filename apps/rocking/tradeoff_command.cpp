@@ -300,7 +300,7 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
   fig.title = fmt::format("cost against the number of nodes at equal accuracy (peak delta_t within {:.0e}), "
                           "{} to {}", a.accuracy, first_name, last_name);
   std::vector<plot::Series> series;
-  for (const std::string& name : names) series.push_back({name, (fs::path("tradeoff_n.data") / (name + ".csv")).string(), {}, 0});
+  for (const std::string& name : names) series.push_back({name, (fs::path("tradeoff_n.data") / (name + ".csv")).string(), {}});
   const std::string rtol_label = fmt::format("sprintf('%d', floor(log10({}) + 0.5))", plot::column("rtol"));
   // The node counts' own range, widened by a fifth on the log axis each side.
   const std::string xrange = fmt::format("[{:.6g}:{:.6g}]", smallest_n / 1.2, largest_n * 1.2);
@@ -418,7 +418,7 @@ int tradeoff(const TradeoffArgs& a) {
       fmt::print("{:<10} {:>7.0e} {:>10.2f} {:>9} {:>10.2e} {:>10.2e} {:>5}/{}\n", name, rtol, 1e3 * r.wall_s,
                  r.stats.rhs, e_dt, e_th, r.counts.impacts, ref.counts.impacts);
     }
-    series.push_back({name, file, {}, 0});
+    series.push_back({name, file, {}});
   }
   csv.close();
   fmt::print("wrote {}\n", (dir / "tradeoff.csv").string());
