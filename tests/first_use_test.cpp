@@ -17,6 +17,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 #include "run_program.hpp"
+#include "gnuplot_columns.hpp"
 #include "csv_table.hpp"
 #include "housner.hpp"
 import rocking.scene;
@@ -172,7 +173,7 @@ TEST_CASE("IDA figures draw collapse as collapse, start peaks at zero, and name 
       collapses = collapses || code > 0;
     }
     char shifted[64];
-    std::snprintf(shifted, sizeof shifted, "(($1) + %.9g)", 0.2 * 2 * (v - 1));
+    std::snprintf(shifted, sizeof shifted, "((column('level')) + %.9g)", 0.2 * 2 * (v - 1));
     CHECK_MESSAGE(contains(gp, shifted) == collapses, v);
   }
   CHECK(drawn[1]);
@@ -191,11 +192,12 @@ TEST_CASE("mode shapes: one colour per mode in both panels, and no internal docu
   REQUIRE(run("-q plot modes --formats png --out " + dir.string()).code == 0);
   const std::string gp = file_text(dir / "modes.gp");
   CHECK_FALSE(contains(gp, "MODEL.md 8"));
-  // Mode 1 is line style 1 in the fixed-base panel (column 2) and in the
-  // rocking panel, where it follows the rocking mode R (column 7).
-  CHECK(contains(gp, "using 2:1 with linespoints linestyle 1 title 'mode 1:"));
-  CHECK(contains(gp, "using 7:1 with linespoints linestyle 1 title 'mode 1:"));
-  CHECK(contains(gp, "using 6:1 with linespoints linestyle 6 title 'R:"));
+  // Mode 1 is line style 1 in the fixed-base panel and in the rocking panel,
+  // where it follows the rocking mode R (the rocking phase's first shape).
+  CHECK(contains(gp, "using (column('fixed_base_1')):(column('height')) with linespoints linestyle 1 title 'mode 1:"));
+  CHECK(contains(gp, "using (column('rocking_2')):(column('height')) with linespoints linestyle 1 title 'mode 1:"));
+  CHECK(contains(gp, "using (column('rocking_1')):(column('height')) with linespoints linestyle 6 title 'R:"));
+  CHECK_MESSAGE(numbered_column(gp).empty(), numbered_column(gp));  // columns by header name
   // The keys sit below the panels, kept clear of the axis label by its empty second line.
   CHECK(contains(gp, "set key outside below"));
   CHECK(contains(gp, "set xlabel \"lateral displacement (normalised, top = 1) [-]\\n\""));
@@ -336,6 +338,8 @@ TEST_CASE("figure scripts: time axes end at the run's end, fixed bases draw no r
   CHECK(contains(sp, "#701f4e9c"));                         // the first size translucent and solid,
   CHECK(contains(sp, "with boxxyerror fillstyle pattern 1 transparent noborder linecolor rgb \"#c0392b\""));  // the next cross-hatched
   // Outside each size's own grid, in seconds and g, hatched as never computed.
-  CHECK(contains(sp, "stats 'spectrum.data/size_2.csv' skip 1 using 12:14 nooutput prefix \"HI1\""));
+  CHECK(contains(sp, "stats 'spectrum.data/size_2.csv' using (column('period_high_s')):(column('amplitude_high_g')) "
+                    "nooutput prefix \"HI1\""));
   CHECK(contains(sp, "title 'not computed for block x2'"));
+  CHECK_MESSAGE(numbered_column(sp).empty(), numbered_column(sp));  // columns by header name
 }

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 #include "run_program.hpp"
+#include "gnuplot_columns.hpp"
 #include "records.hpp"
 #include "csv_table.hpp"
 import rocking.ground_motion;
@@ -291,7 +292,12 @@ TEST_CASE("animate writes a valid animated GIF with one image per frame, both st
   // The base moments' key above their panel, not over the traces; the twin dashed.
   CHECK(gp.find("set key outside top") != std::string::npos);
   CHECK(gp.find("set key top right") == std::string::npos);
-  CHECK(gp.find("using 1:4 with lines dashtype 2") != std::string::npos);
+  CHECK(gp.find("using (column('t')):(column('twin_base_moment')) with lines dashtype 2") != std::string::npos);
+  // Every column by its header name: the check finds a numbered one where there is one.
+  CHECK_MESSAGE(numbered_column(gp).empty(), numbered_column(gp));
+  CHECK_FALSE(numbered_column("  plot d.\"traces.dat\" using 1:5 with lines\n").empty());
+  CHECK_FALSE(numbered_column("  plot 'a.csv' using (column('t')):($3 == 0 ? 1 : NaN) with lines\n").empty());
+  CHECK_FALSE(numbered_column("  stats 'a.csv' using (column('t')):4 nooutput\n").empty());
   const Result bad = run("animate --out " + (dir / "a.avi").string());
   CHECK(bad.code == 2);
   CHECK(lines(bad.err) == 1);

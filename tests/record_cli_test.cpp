@@ -14,6 +14,7 @@
 #include "csv_table.hpp"
 #include "records.hpp"
 #include "run_program.hpp"
+#include "gnuplot_columns.hpp"
 #include "temp_path.hpp"
 import rocking.ground_motion;
 import rocking.intensity;
@@ -64,6 +65,8 @@ TEST_CASE("record writes the record and spectrum figures with their data, and ma
   const std::string script = file_text(out / "spectrum.gp");
   CHECK(script.find("T1 = 0.460 s") != std::string::npos);  // the chimney's first fixed-base period
   CHECK(script.find("set logscale xy") != std::string::npos);
+  for (const char* gp : {"spectrum.gp", "record.gp"})  // columns by header name
+    CHECK_MESSAGE(numbered_column(file_text(out / gp)).empty(), gp, ": ", numbered_column(file_text(out / gp)));
 }
 
 TEST_CASE("simulate takes every format: record errors are one line with exit 2") {

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 #include "run_program.hpp"
+#include "gnuplot_columns.hpp"
 #include "csv_table.hpp"
 #include "records.hpp"
 
@@ -123,6 +124,7 @@ TEST_CASE("tradeoff measures each backend against the reference and draws the wo
   CHECK(rk45_errors[1] < rk45_errors[0]);  // a tighter tolerance is more accurate
   // Each point of the work-precision figure is labelled with its rtol.
   CHECK(file_text(dir / "work_precision.gp").find("with labels") != std::string::npos);
+  CHECK_MESSAGE(numbered_column(file_text(dir / "work_precision.gp")).empty(), numbered_column(file_text(dir / "work_precision.gp")));
   CHECK(file_text(dir / "tradeoff.data" / "rk45.csv").find(",1e-03\n") != std::string::npos);
   CHECK(rk45_errors[0] < 1e-2);
   CHECK(fs::is_regular_file(dir / "work_precision.png"));

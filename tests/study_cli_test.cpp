@@ -19,6 +19,7 @@
 #include <vector>
 #include <unistd.h>
 #include "run_program.hpp"
+#include "gnuplot_columns.hpp"
 #include "csv_table.hpp"
 #include "records.hpp"
 import rocking.intensity;
@@ -88,6 +89,8 @@ TEST_CASE("an IDA's CSV is byte-identical with 1 thread, 2 threads and mpirun -n
                               (dir / "mpi_fig").string();
   REQUIRE(std::system(mpi_fig.c_str()) == 0);
   CHECK(fs::is_regular_file(dir / "mpi_fig" / "ida_pulse.png"));
+  const std::string script = file_text(dir / "one_fig" / "ida_pulse.gp");
+  CHECK_MESSAGE(numbered_column(script).empty(), numbered_column(script));  // columns by header name
   for (const char* data : {"ida_pulse.data/0.csv", "ida_pulse.data/1.csv", "ida_pulse.data/2.csv", "ida_pulse.gp"})
     CHECK_MESSAGE(file_text(dir / "one_fig" / data) == file_text(dir / "mpi_fig" / data), data);
 }

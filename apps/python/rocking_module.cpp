@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 #include <algorithm>
+#include <numeric>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -494,8 +495,8 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
           const std::string& resurrection, bool hunt, std::optional<double> hunt_step, double hunt_growth,
           std::optional<double> hunt_max, std::optional<double> precision, std::optional<double> fill_step) {
   const PyScene s = scene_of(scene_arg);
-  std::vector<rocking::Limit> limits{rocking::overturning_limit()};
-  for (const std::string& l : limit_texts.value_or(std::vector<std::string>{})) limits.push_back(rocking::parse_limit(l));
+  const std::vector<std::string> limit_names = limit_texts.value_or(std::vector<std::string>{});
+  for (const std::string& l : limit_names) (void)rocking::parse_limit(l);  // refused before the records are read
   // Records: Record objects (kept as they are in memory) and paths of files,
   // folders or list files (read as the program reads them).
   std::vector<rocking::StudyRecord> records;
@@ -549,44 +550,42 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
                                                             std::move(variants), ro, im);
   const rocking::Study& study = *shared_study;
   std::sort(levels.begin(), levels.end());
-  for (const rocking::Limit& l : limits) rocking::check_limit(study, l);
   const rocking::Resurrection convention = rocking::parse_resurrection(resurrection);
   PyIda out;
   out.study = shared_study;
   out.threads = threads;
   out.hunt = hunt;
   for (const rocking::Variant& v : study.variants()) out.variants.push_back(v.name);
-  for (const rocking::Limit& l : limits) out.limits.push_back(l.name);
   out.records = study.records();
+  // The runs as `rocking ida` runs them (rocking.study_run), a Ctrl-C their stop.
+  const rocking::StudyCallbacks callbacks{.progress = {}, .stop = [stop] { return stop->load(); }};
   if (hunt) {
     // `rocking ida --hunt`: the hunt from the lowest level for each (record, variant).
-    if (limits.size() > 1) throw rocking::InputError("ida: limits: a hunt looks for overturning only; run a ladder for limits");
+    if (!limit_names.empty()) throw rocking::InputError("ida: limits: a hunt looks for overturning only; run a ladder for limits");
+    out.limits.push_back(rocking::overturning_limit().name);
     const rocking::HuntOptions o = rocking::hunt_options(levels.front(), hunt_step, hunt_growth, hunt_max, precision, fill_step);
     study.check_level(o.max, "hunt_max");
     out.hunt_options = o;
-    const std::size_t nv = study.variants().size(), pairs = study.records().size() * nv;
+    const std::size_t nv = study.variants().size();
     interruptible(*stop, [&] {
-      return rocking::parallel_ordered<rocking::HuntResult>(
-          pairs, threads, [&](std::size_t k) { return rocking::hunt_collapse(study, k / nv, k % nv, o); },
-          [&](std::size_t, const rocking::HuntResult& h) { out.hunts.push_back(h); }, {},
-          [stop] { return stop->load(); });
+      return rocking::run_hunts(study, o, 0, threads,
+                                [&](std::size_t, const rocking::HuntResult& h) { out.hunts.push_back(h); }, callbacks);
     });
     for (std::size_t k = 0; k < out.hunts.size(); ++k)  // with the GIL held again
       out.hunt_rows.append(hunt_row(out.hunts[k], study.records()[k / nv], study.variants()[k % nv].name, im, o));
     return out;
   }
-  const std::vector<rocking::Job> jobs = study.ladder(levels);
-  auto summary = std::make_shared<rocking::StudySummary>(study, levels, limits, convention);
+  const rocking::Ladder ladder = rocking::plan_ladder(study, levels, limit_names);
+  for (const rocking::Limit& l : ladder.limits) out.limits.push_back(l.name);
+  const std::vector<rocking::Job>& jobs = ladder.jobs;
+  auto summary = std::make_shared<rocking::StudySummary>(study, levels, ladder.limits, convention);
   std::vector<rocking::JobResult> results(jobs.size());
-  const rocking::StudyColumns columns = rocking::study_columns(study);
+  const rocking::StudyColumns& columns = ladder.columns;
+  std::vector<std::size_t> all(jobs.size());
+  std::iota(all.begin(), all.end(), std::size_t{0});
   const std::size_t done = interruptible(*stop, [&] {
-    return rocking::parallel_ordered<rocking::JobResult>(
-        jobs.size(), threads, [&](std::size_t i) { return study.run(jobs[i]); },
-        [&](std::size_t i, const rocking::JobResult& r) {
-          results[i] = r;
-          summary->add(jobs[i], rocking::as_written(columns, jobs[i], r));  // as the program's summary
-        },
-        {}, [stop] { return stop->load(); });
+    return rocking::run_ladder(study, ladder, all, threads, summary.get(),
+                               [&](std::size_t i, const rocking::JobResult& r) { results[i] = r; }, callbacks);
   });
   out.summary = summary;
   out.jobs.assign(jobs.begin(), jobs.begin() + static_cast<long>(done));

@@ -64,8 +64,10 @@ void write_frames(const fs::path& file, const Structure& s, const FrameRecorder&
                   std::size_t frames, bool has_damper) {
   const char* damper = has_damper ? " 1\n" : " 2\n";  // 2: not drawn
   std::ofstream out(file);
-  out << "# one block per frame (index i): the axis, the base, the damper; column 3: 1 for the damper\n";
+  out << "# one block per frame (index i), each under its header: the axis, the base, the damper; part 1 for the "
+         "damper, 2 for none drawn\n";
   for (std::size_t f = 0; f < frames; ++f) {
+    out << "x y part\n";
     const std::size_t i = f * static_cast<std::size_t>(m);
     const Response& r = rec.rows[i];
     const Eigen::VectorXd u = i < rec.u.size() ? rec.u[i] : Eigen::VectorXd();
@@ -109,11 +111,22 @@ int animate(const AnimateArgs& a) {
     twin_overrides.insert(twin_overrides.end(), twin_variant.overrides.begin(), twin_variant.overrides.end());
   }
   const Scene twin = load_scene(SceneOptions{a.scene.path, twin_overrides});
-  RunOptions ro = run_options(scene, a.solver, a.motion.record.empty());
-  // Ctrl-C or SIGTERM ends the runs within a step and gnuplot within 20 ms;
-  // no animation cut short is left under its name (main exits 130 or 143).
+  // Both runs as `rocking simulate` makes them (rocking.run), under the motion
+  // read once; the frames read no energy.
+  auto prepared = [&](const Scene& s, double every) {
+    PreparedRun run = prepare_run({.scene = s,
+                                   .motion = a.motion,
+                                   .solver = a.solver,
+                                   .history = {.columns = {}, .every = every},
+                                   .track_energy = false},
+                                  motion);
+    // Ctrl-C or SIGTERM ends the runs within a step and gnuplot within 20 ms;
+    // no animation cut short is left under its name (main exits 130 or 143).
+    run.options.stop = [] { return stop_signal() != 0; };
+    return run;
+  };
   catch_stop_signals();
-  ro.stop = [] { return stop_signal() != 0; };
+  const RunOptions ro = prepared(scene, 0.01).options;  // the duration, checked
   const double duration = ro.duration > 0 ? ro.duration : motion.duration();
   // The span animated: --window (the run computes from t = 0 all the same).
   const auto window = time_window(a.window, {&motion});
@@ -130,11 +143,11 @@ int animate(const AnimateArgs& a) {
   if ((shown_to - shown_from) / frame_dt + 1 > a.max_frames) frame_dt = (shown_to - shown_from) / (a.max_frames - 1);
   // The traces are sampled more finely than the frames: every frame is every m-th row.
   const int m = std::max(1, static_cast<int>(std::ceil(frame_dt / 0.01 - 1e-9)));
-  ro.output_interval = frame_dt / m;
-  FrameRecorder main_rec(ro.output_interval), twin_rec(ro.output_interval);
-  const ContactModel main_model = make_contact_model(scene, false), twin_model = make_contact_model(twin, false);
-  const RunResult r1 = simulate(main_model, motion, ro, &main_rec);
-  const RunResult r2 = simulate(twin_model, motion, ro, &twin_rec);
+  const PreparedRun main_run = prepared(scene, frame_dt / m), twin_run = prepared(twin, frame_dt / m);
+  const ContactModel &main_model = main_run.model, &twin_model = twin_run.model;
+  FrameRecorder main_rec(main_run.options.output_interval), twin_rec(twin_run.options.output_interval);
+  const RunResult r1 = simulate(main_model, main_run.motion, main_run.options, &main_rec);
+  const RunResult r2 = simulate(twin_model, twin_run.motion, twin_run.options, &twin_rec);
   for (const RunResult* r : {&r1, &r2})
     if (r->outcome == Outcome::failed) throw RunError(r->failure);
   const std::size_t rows = std::min(main_rec.rows.size(), twin_rec.rows.size());
@@ -173,7 +186,11 @@ int animate(const AnimateArgs& a) {
   write_frames(dir / (stem + ".data") / "twin.dat", twin.structure, twin_rec, k, kr, m, frames, twin_model.has_damper);
   {
     std::ofstream tr(dir / (stem + ".data") / "traces.dat");
-    tr << "# t [s], a_g [g], M/M_ref main, M/M_ref twin, theta/alpha_cg main\n";
+    // Named by the schema (rocking.quantities): the twin's moment as twin_base_moment; a_g in g.
+    tr << "# t [s], a_g [g], M/M_ref main, M/M_ref twin, theta/alpha_cg main\n"
+       << fmt::format("{} {} {} twin_{} {}\n", info(Quantity::t).name, info(Quantity::a_g).name,
+                      info(Quantity::base_moment).name, info(Quantity::base_moment).name,
+                      info(Quantity::theta_over_alpha).name);
     for (std::size_t i = 0; i < rows; ++i)
       tr << fmt::format("{:.6g} {:.6g} {:.6g} {:.6g} {:.6g}\n", main_rec.rows[i].t,
                         motion.acceleration(main_rec.rows[i].t) / gravity, main_rec.rows[i][Quantity::base_moment],
@@ -183,36 +200,49 @@ int animate(const AnimateArgs& a) {
   // Alone: the structure spans the width, and the right trace is its rocking
   // angle (a block has no section forces); else the two side by side and the
   // base moments of both.
+  // Every column by its header name (write_frames' x y part, the schema's
+  // names in traces.dat).
+  const std::string structure = fmt::format("({}):({} == 0 ? {} : NaN)", plot::column("x"), plot::column("part"),
+                                            plot::column("y")),
+                    damper = fmt::format("({}):({} == 1 ? {} : NaN)", plot::column("x"), plot::column("part"),
+                                         plot::column("y"));
+  auto trace = [](Quantity q, const std::string& prefix = "") {
+    return fmt::format("({}):({})", plot::column(info(Quantity::t).name),
+                       plot::column(prefix + std::string(info(q).name)));
+  };
   const std::string panels =
       alone ? fmt::format(
                   "  set origin 0.25,0.38\n  set size 0.5,0.57\n  set title {} noenhanced\n"
-                  "  plot d.\"main.dat\" index i using 1:($3 == 0 ? $2 : NaN) with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#1f4e9c\", "
-                  "d.\"main.dat\" index i using 1:($3 == 1 ? $2 : NaN) with lines lw 4 lc rgb \"#d35400\", "
+                  "  plot d.\"main.dat\" index i using {structure} with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#1f4e9c\", "
+                  "d.\"main.dat\" index i using {damper} with lines lw 4 lc rgb \"#d35400\", "
                   "0 with lines lc rgb \"#555555\" lw 2\n",
-                  plot::quote(scene.name))
+                  plot::quote(scene.name), fmt::arg("structure", structure), fmt::arg("damper", damper))
             : fmt::format(
                   "  set origin 0,0.38\n  set size 0.5,0.57\n  set title {} noenhanced\n"
-                  "  plot d.\"main.dat\" index i using 1:($3 == 0 ? $2 : NaN) with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#1f4e9c\", "
-                  "d.\"main.dat\" index i using 1:($3 == 1 ? $2 : NaN) with lines lw 4 lc rgb \"#d35400\", "
+                  "  plot d.\"main.dat\" index i using {structure} with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#1f4e9c\", "
+                  "d.\"main.dat\" index i using {damper} with lines lw 4 lc rgb \"#d35400\", "
                   "0 with lines lc rgb \"#555555\" lw 2\n"
                   "  set origin 0.5,0.38\n  set size 0.5,0.57\n  set title {} noenhanced\n"
-                  "  plot d.\"twin.dat\" index i using 1:($3 == 0 ? $2 : NaN) with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#27864a\", "
-                  "d.\"twin.dat\" index i using 1:($3 == 1 ? $2 : NaN) with lines lw 4 lc rgb \"#d35400\", "
+                  "  plot d.\"twin.dat\" index i using {structure} with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#27864a\", "
+                  "d.\"twin.dat\" index i using {damper} with lines lw 4 lc rgb \"#d35400\", "
                   "0 with lines lc rgb \"#555555\" lw 2\n",
-                  plot::quote(scene.name), plot::quote(twin_label));
+                  plot::quote(scene.name), plot::quote(twin_label), fmt::arg("structure", structure),
+                  fmt::arg("damper", damper));
   const std::string right_trace =
-      alone ? std::string("  set ylabel \"rocking angle {/Symbol q}/{/Symbol a}_{cg}\"\n"
-                          "  plot d.\"traces.dat\" using 1:5 with lines lc rgb \"#1f4e9c\" notitle\n")
+      alone ? fmt::format("  set ylabel \"rocking angle {{/Symbol q}}/{{/Symbol a}}_{{cg}}\"\n"
+                          "  plot d.\"traces.dat\" using {} with lines lc rgb \"#1f4e9c\" notitle\n",
+                          trace(Quantity::theta_over_alpha))
             // the key above the panel, off the traces; the twin dashed (greyscale print)
             : fmt::format("  set ylabel \"base moment M/M_{{ref}}\"\n"
                           "  set key outside top center horizontal nobox samplen 2.5 width 1\n"
-                          "  plot d.\"traces.dat\" using 1:3 with lines lc rgb \"#1f4e9c\" title \"rocking\", "
-                          "'' using 1:4 with lines dashtype 2 lc rgb \"#27864a\" title {}\n",
-                          plot::quote(twin_label));
+                          "  plot d.\"traces.dat\" using {} with lines lc rgb \"#1f4e9c\" title \"rocking\", "
+                          "'' using {} with lines dashtype 2 lc rgb \"#27864a\" title {}\n",
+                          trace(Quantity::base_moment), trace(Quantity::base_moment, "twin_"), plot::quote(twin_label));
   const double span = std::max(3 * B, 0.5 * H);
   std::string script = fmt::format(
       "# rocking: animation ({} frames, {:.3g} s of simulation per frame). Re-render: gnuplot {}.gp\n"
       "{}"
+      "set datafile columnheaders\n"
       "d = {}\n"
       "unset key\n"
       "do for [i={}:{}] {{\n"
@@ -224,7 +254,7 @@ int animate(const AnimateArgs& a) {
       "  set size noratio\n  set autoscale xy\n  set xrange [{:.6g}:{:.6g}]\n  set xtics\n  set xlabel \"time t [s]\"\n  unset title\n"
       "  set arrow 1 from t, graph 0 to t, graph 1 nohead lc rgb \"#c0392b\" lw 2\n"
       "  set origin 0,0\n  set size 0.5,0.38\n  set ylabel \"a_g [g]\"\n"
-      "  plot d.\"traces.dat\" using 1:2 with lines lc rgb \"#555555\"\n"
+      "  plot d.\"traces.dat\" using {} with lines lc rgb \"#555555\"\n"
       "  set origin 0.5,0\n  set size 0.5,0.38\n"
       "{}"
       "  unset key\n  unset arrow 1\n  unset xlabel\n"
@@ -240,7 +270,7 @@ int animate(const AnimateArgs& a) {
                               motion.vertical() ? " with vertical " + motion.vertical()->info().component : std::string(),
                               motion_scale(scene, a.motion).describe())),
       plot::quote(fmt::format("\n(drawn with rotation x{:g}, elastic deformation x{:g})", kr, k)), -span, span, H, H,
-      panels, shown_from, shown_to, right_trace);
+      panels, shown_from, shown_to, trace(Quantity::a_g), right_trace);
   plot::Figure fig;
   fig.dir = dir;
   fig.name = stem;

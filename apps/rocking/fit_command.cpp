@@ -104,7 +104,7 @@ int run_fit(const FitArgs& a) {
     toml << table;
     figures = plot::render_fit(fig, data.filename().string(),
                                fmt::format("fitted {} (RMS error {:.3g} kN)", fit.law, fit.rms_error / 1000),
-                               test.t.empty() ? "sample" : "time t [s]");
+                               test.t.empty() ? "sample" : "time t [s]", test.t.empty() ? "sample" : "t [s]");
   }
   if (a.json) {
     nlohmann::json params = nlohmann::json::array();

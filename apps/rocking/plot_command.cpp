@@ -114,18 +114,20 @@ int response(const ResponseArgs& a) {
                                     : variant_label(key);
       std::vector<std::string> overrides = a.scene.overrides;
       overrides.insert(overrides.end(), v.overrides.begin(), v.overrides.end());
-      const Scene scene = load_scene(SceneOptions{a.scene.path, overrides});
-      RunOptions ro = run_options(scene, a.solver, a.motion.record.empty());
-      ro.stop = [] { return stop_signal() != 0; };
-      ro.output_interval = 0.005;
-      const ContactModel model = make_contact_model(scene, false);
+      // The variant's run as `rocking simulate` makes it (rocking.run), under
+      // the motion read once, sampled every 5 ms; the figure reads no energy.
+      PreparedRun run = prepare_run({.scene = load_scene(SceneOptions{a.scene.path, overrides}), .motion = a.motion,
+                                     .solver = a.solver, .history = {.columns = {}, .every = 0.005}, .track_energy = false},
+                                    motion);
+      run.options.stop = [] { return stop_signal() != 0; };
+      const ContactModel& model = run.model;
       // The variant's data file: its name with anything but letters, digits, _ - . as _ ("without_damper.csv").
       std::string stem = key;
       for (char& c : stem)
         if (std::isalnum(static_cast<unsigned char>(c)) == 0 && c != '_' && c != '-' && c != '.') c = '_';
       const fs::path csv = data_dir / (stem + ".csv");
-      HistoryCsv history(csv, model);
-      const RunResult r = simulate(model, motion, ro, &history);
+      HistoryCsv history(csv, model);  // every column the figure may draw, whatever the scene's [output]
+      const RunResult r = simulate(model, run.motion, run.options, &history);
       history.close();
       if (r.outcome == Outcome::failed) throw RunError(fmt::format("variant {}: {}", key, r.failure));
       fmt::print("{:<22} top {:7.1f} mm, theta/alpha {:.4f}, M/M_ref {}, {} uplifts, {}\n", label, r.top_total_mm,
@@ -156,6 +158,7 @@ int modes(const SceneOptions& scene_opts, const FigureArgs& fa) {
     columns.col(k).tail(n) = m.fixed_base.shapes.col(k);
     left.labels.push_back(fmt::format("mode {}: {:.2f} Hz", k + 1, m.fixed_base_hz[static_cast<std::size_t>(k)]));
     left.colours.push_back(static_cast<int>(k));
+    left.columns.push_back(fmt::format("fixed_base_{}", k + 1));
   }
   // Mode k of the rocking phase takes the colour of fixed-base mode k; the
   // rocking mode R the last colour of the palette (grey).
@@ -165,6 +168,7 @@ int modes(const SceneOptions& scene_opts, const FigureArgs& fa) {
     const Eigen::VectorXd u = rm.shapes.col(k).head(n);
     columns.col(n + k).tail(n) = u + H * rm.shapes(n, k);
     const double lambda = rm.lambda[k];
+    right.columns.push_back(fmt::format("rocking_{}", k + 1));
     if (lambda < 0) {
       right.labels.push_back(fmt::format("R: p = {:.3f} rad/s", std::sqrt(-lambda)));
       right.colours.push_back(5);
@@ -182,7 +186,10 @@ int modes(const SceneOptions& scene_opts, const FigureArgs& fa) {
   make_output_dir(fig.dir);
   const std::string data = fa.name + ".dat";
   std::ofstream out(fig.dir / data);
-  out << "# height [m], fixed-base shapes 1.." << n << ", rocking-phase shapes (u + H theta), top = 1\n";
+  out << "# height [m], fixed-base shapes 1.." << n << ", rocking-phase shapes (u + H theta), top = 1\nheight";
+  for (const plot::ModePanel* p : {&left, &right})
+    for (const std::string& name : p->columns) out << ' ' << name;
+  out << '\n';
   for (Eigen::Index i = 0; i <= n; ++i) {
     out << (i == 0 ? 0.0 : H[i - 1]);
     for (Eigen::Index c = 0; c < columns.cols(); ++c) out << ' ' << columns(i, c);

@@ -144,15 +144,15 @@ void write_figures(const RecordArgs& a, const std::vector<Measured>& rs, const s
   const std::string window = window_range(a.window, motions);
   std::vector<std::filesystem::path> written = plot::render_panels(
       fig, 3, 1, "time t [s]",
-      {plot::Panel{"ground acceleration a_g [g]", "$1", "$2", false, "", {}, window},
-       plot::Panel{"ground velocity v_g [m/s]", "$1", "$3", false, "", {}, window},
-       plot::Panel{"ground displacement d_g [m]", "$1", "$4", false, "", {}, window}},
+      {plot::Panel{"ground acceleration a_g [g]", plot::column("t_s"), plot::column("a_g"), false, "", {}, window},
+       plot::Panel{"ground velocity v_g [m/s]", plot::column("t_s"), plot::column("v_m_s"), false, "", {}, window},
+       plot::Panel{"ground displacement d_g [m]", plot::column("t_s"), plot::column("d_m"), false, "", {}, window}},
       histories);
   fig.name = "spectrum";
   fig.title = fmt::format("Pseudo-spectral acceleration, {:g} % damped{}", 100 * a.damping,
                           marks.empty() ? "" : fmt::format("\ndashed: the fixed-base periods of {}", scene_name));
   fig.height = 800;
-  const auto more = plot::render_panels(fig, 1, 1, "T [s]", {plot::Panel{"PSA [g]", "$1", "$2", !a.log_axes, "", marks}},
+  const auto more = plot::render_panels(fig, 1, 1, "T [s]", {plot::Panel{"PSA [g]", plot::column("period_s"), plot::column("psa_g"), !a.log_axes, "", marks}},
                                         spectra, a.log_axes);
   written.insert(written.end(), more.begin(), more.end());
   for (const auto& f : written) spdlog::info("wrote {}", f.string());

@@ -176,7 +176,7 @@ int spectrum(const SpectrumArgs& a) {
     const double width = 2 * scene.structure.half_width * size, height = scene.structure.heights.maxCoeff() * size;
     fmt::print("block x{}: {:.2f} m wide, top node at {:.2f} m, p = {:.3f} rad/s, alpha = {:.4f} rad: {} of {} pulses overturn it\n",
                size, width, height, s.p, s.alpha, overturned, s.points.size());
-    series.push_back({fmt::format("block x{} (p = {:.2f} rad/s)", size, s.p), file, {}, 0});
+    series.push_back({fmt::format("block x{} (p = {:.2f} rad/s)", size, s.p), file, {}});
   }
   plot::Figure fig;
   fig.dir = dir;

@@ -133,7 +133,8 @@ void study_figures(const StudyArgs& a, const Study& st, const StudyColumns& colu
   std::vector<bool> force_like;  // forces, moments, accelerations: the panels --log may make logarithmic
   for (std::size_t k : shown) {
     const QuantityName q(columns.quantities[k]);
-    panels.push_back({"peak " + axis_label(q), "$1", fmt::format("${}*{:.9g}", k + 2, figure_factor(q)), true, ""});
+    panels.push_back({"peak " + axis_label(q), plot::column("level"),
+                      fmt::format("{}*{:.9g}", plot::column(q.name()), figure_factor(q)), true, ""});
     const std::string_view unit = q.unit();
     force_like.push_back(unit == "V_ref" || unit == "M_ref" || unit == "N" || unit == "N m" || unit == "m/s2");
   }
@@ -157,15 +158,15 @@ void study_figures(const StudyArgs& a, const Study& st, const StudyColumns& colu
       for (std::size_t i = 0; i < jobs.size(); ++i) {
         if (jobs[i].record != r || jobs[i].variant != v || lines[i].empty()) continue;
         const bool down = lines[i].ends_with(",1");
-        const int code = down ? (fallen ? 2 : 1) : (fallen ? 3 : 0);
+        const plot::Collapse code = plot::collapse_of(down, fallen);
         fallen = fallen || down;
-        codes |= code > 0 ? 1u << code : 0u;
+        codes |= code != plot::Collapse::standing ? plot::collapse_bit(code) : 0u;
         levels.push_back(jobs[i].level);
-        out << lines[i].substr(0, lines[i].size() - 1) << code << '\n';
+        out << lines[i].substr(0, lines[i].size() - 1) << static_cast<unsigned>(code) << '\n';
         ++rows;
       }
       if (rows == 0) continue;
-      plot::Series s{variant_label(st.variants()[v].name), file, {}, fallen ? static_cast<int>(columns.size()) + 2 : 0};
+      plot::Series s{variant_label(st.variants()[v].name), file, {}, fallen ? "collapse" : ""};
       s.collapse_codes = codes;
       // The variants' collapse markers side by side: a fifth of the levels' spacing apart.
       std::ranges::sort(levels);
@@ -252,13 +253,9 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
   const std::vector<double> levels = study_levels(a, st.intensity_measure());
   const FragilityOptions fragility_opts = fragility_options(a);  // refused before any run
   const Resurrection resurrection = parse_resurrection(a.resurrection);
-  std::vector<Limit> limits{overturning_limit()};
-  for (const std::string& l : a.limits) {
-    limits.push_back(parse_limit(l));
-    check_limit(st, limits.back());
-  }
+  const Ladder ladder = plan_ladder(st, levels, a.limits);
   st.check_level(*std::max_element(levels.begin(), levels.end()), a.scales.empty() ? "--levels" : "--scales");
-  const std::vector<Job> jobs = st.ladder(levels);
+  const std::vector<Job>& jobs = ladder.jobs;
   if (static_cast<double>(jobs.size()) > a.max_runs)
     throw InputError(fmt::format("{} runs ({} records x {} levels x {} variants): more than --max-runs {:g}; raise it "
                                  "to run them all",
@@ -276,7 +273,7 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
                              "summary.csv", "fragility.csv", "fragility_points.csv", "summary.json", "inputs.txt"});
     record_inputs(dir, inputs_of(a, st, kind), a.resume);
   }
-  const StudyColumns columns = study_columns(st);
+  const StudyColumns& columns = ladder.columns;
   const Resumed resumed = a.resume ? read_resumed(csv_file, timing_file, jobs, ids, st, columns) : Resumed{};
   const std::size_t first = resumed.rows.size();
   if (world.size == 1) catch_stop_signals();
@@ -295,7 +292,7 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
   const std::size_t nr = st.records().size();
   const bool per_record_figures = !a.no_plot && (nr <= 3 || a.per_record);
   const bool keep_lines = per_record_figures || world.size > 1;
-  StudySummary summary(st, levels, limits, resurrection);
+  StudySummary summary(st, levels, ladder.limits, resurrection);
   std::vector<std::pair<long, std::string>> rows, timings, lines;
   std::size_t failed = 0;
   for (std::size_t i = 0; i < first; ++i) {
@@ -318,24 +315,16 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
   }
   Progress progress(world.rank == 0 && spdlog::get_level() <= spdlog::level::info);
   // Rows in job order up to the first run a stop cut short: that one and any
-  // after it are left for --resume.
-  std::size_t emitted = 0;
-  bool halted = false;
-  parallel_ordered<JobResult>(
-      mine.size(), threads, [&](std::size_t k) { return st.run(jobs[mine[k]]); },
-      [&](std::size_t k, const JobResult& r) {
-        if (halted || (stop_signal() != 0 && !r.error.empty())) {
-          halted = true;
-          return;
-        }
-        ++emitted;
-        const std::size_t i = mine[k];
+  // after it are left for --resume (rocking.study_run). Under mpirun rank 0
+  // summarises the gathered rows.
+  const std::size_t emitted = rocking::run_ladder(
+      st, ladder, mine, threads, world.size == 1 ? &summary : nullptr,
+      [&](std::size_t i, const JobResult& r) {
         const std::string text = study_csv_row(st, columns, ids, jobs[i], r);
         const std::string time = fmt::format("{},{:.6f}\n", job_fields(st, ids, jobs[i]), r.run.wall_s);
         if (world.size == 1) {
           csv << text << std::flush;
           timing << time;
-          summary.add(jobs[i], as_written(columns, jobs[i], r));
           failed += r.error.empty() ? 0 : 1;
         } else {
           rows.emplace_back(static_cast<long>(i), text);
@@ -343,7 +332,8 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
         }
         if (keep_lines) lines.emplace_back(static_cast<long>(i), figure_line(columns, jobs[i], r));
       },
-      [&](std::size_t done, std::size_t total) { progress(done, total); }, [] { return stop_signal() != 0; });
+      {.progress = [&](std::size_t done, std::size_t total) { progress(done, total); },
+       .stop = [] { return stop_signal() != 0; }});
   if (world.size > 1) {
     auto all = gather_rows(world, rows);
     auto all_timings = gather_rows(world, timings);
@@ -518,20 +508,13 @@ int run_hunt(const StudyArgs& a, const Study& st) {
   catch_stop_signals();
   Progress progress(spdlog::get_level() <= spdlog::level::info);
   // Hunts in order up to the first one a stop cut short (its runs stop
-  // within a step): that one and any after it are left for --resume.
-  std::size_t emitted = 0;
-  bool halted = false;
-  parallel_ordered<HuntResult>(
-      pairs.size() - first, thread_count(a.threads),
-      [&](std::size_t k) { return hunt_collapse(st, pairs[first + k].first, pairs[first + k].second, o); },
+  // within a step): that one and any after it are left for --resume
+  // (rocking.study_run).
+  const std::size_t emitted = run_hunts(
+      st, o, first, thread_count(a.threads),
       [&](std::size_t k, const HuntResult& h) {
-        if (halted || (stop_signal() != 0 && !h.error.empty())) {
-          halted = true;
-          return;
-        }
-        ++emitted;
-        const std::string& record = ids[pairs[first + k].first];
-        const std::string variant = st.variants()[pairs[first + k].second].name;
+        const std::string& record = ids[pairs[k].first];
+        const std::string variant = st.variants()[pairs[k].second].name;
         failed += h.error.empty() ? 0 : 1;
         csv << hunt_csv_row(h, record, variant, im, o) << std::flush;
         points << hunt_points_rows(h, record, variant, im) << std::flush;
@@ -547,7 +530,8 @@ int run_hunt(const StudyArgs& a, const Study& st) {
         fmt::print("{} / {}: {}\n", record, variant, what);
         hunts.push_back(h);
       },
-      [&](std::size_t done, std::size_t total) { progress(done, total); }, [] { return stop_signal() != 0; });
+      {.progress = [&](std::size_t done, std::size_t total) { progress(done, total); },
+       .stop = [] { return stop_signal() != 0; }});
   csv.close();
   points.close();
   if (!csv || !points) throw RunError(fmt::format("{}: cannot write", (!csv ? partial : points_partial).string()));

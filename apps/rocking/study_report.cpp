@@ -127,8 +127,8 @@ std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, c
       }
       write_text(dir / (stem + "_records.csv"), curves);
       write_text(dir / (stem + "_overturns.csv"), crosses);
-      panel.lines.push_back({Style::thin_grey, "each record", stem + "_records.csv", 0});
-      panel.lines.push_back({Style::crosses, "overturns (x)", stem + "_overturns.csv", 5});
+      panel.lines.push_back({Style::thin_grey, "each record", stem + "_records.csv", 0, 0, 0, {"edp", "level"}});
+      panel.lines.push_back({Style::crosses, "overturns (x)", stem + "_overturns.csv", 5, 0, 0, {"edp", "level"}});
       const auto rows_f = summary.fractiles(v, axis_q);
       const char* names[] = {"16", "50", "84"};
       for (std::size_t i = 0; i < 3; ++i) {
@@ -149,7 +149,7 @@ std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, c
         write_text(dir / file, text);
         // Told apart in greyscale: 50 % solid, 16 % dashed, 84 % dotted.
         panel.lines.push_back({Style::bold, fmt::format("{} % fractile", names[i]), file, i == 1 ? 0 : 1,
-                               i == 1 ? 0 : i == 0 ? 1 : 2});
+                               i == 1 ? 0 : i == 0 ? 1 : 2, 0, {"edp", "level"}});
       }
       panels.push_back(panel);
     }
@@ -214,11 +214,12 @@ std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, c
       write_text(dir / (stem + "_band.csv"), band(f.capacity_bootstrap, f.beta_modelling));
       write_text(dir / (stem + "_stripes_fit.csv"), fit_curve(f.stripes_fit, 0));
       const int colour = static_cast<int>(v), marker = variant_marker(v);
-      if (f.capacity_bootstrap.computed()) panel.lines.push_back({Style::band, "", stem + "_band.csv", colour});
-      panel.lines.push_back({Style::bold, "", stem + "_fit.csv", colour, 0, marker});
-      panel.lines.push_back({Style::circles, "", stem + "_records.csv", colour});
-      panel.lines.push_back({Style::squares, "", stem + "_stripes.csv", colour});
-      panel.lines.push_back({Style::bold_dashed, "", stem + "_stripes_fit.csv", colour, 0, marker});
+      if (f.capacity_bootstrap.computed())
+        panel.lines.push_back({Style::band, "", stem + "_band.csv", colour, 0, 0, {"im", "low", "high"}});
+      panel.lines.push_back({Style::bold, "", stem + "_fit.csv", colour, 0, marker, {"im", "p"}});
+      panel.lines.push_back({Style::circles, "", stem + "_records.csv", colour, 0, 0, {"im", "p"}});
+      panel.lines.push_back({Style::squares, "", stem + "_stripes.csv", colour, 0, 0, {"im", "p"}});
+      panel.lines.push_back({Style::bold_dashed, "", stem + "_stripes_fit.csv", colour, 0, marker, {"im", "p"}});
       // The key: a colour and marker per variant, then a style per series
       // (alike in every panel).
       if (!keyed[v]) panel.lines.push_back({Style::bold, label, "", colour, 0, marker});
@@ -262,10 +263,10 @@ std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, c
         const std::string title = limit_title(f.limit);
         const int colour = static_cast<int>(l);
         if (f.capacity_bootstrap.computed()) {
-          panel.lines.push_back({Style::band, "", stem + "_band.csv", colour});
+          panel.lines.push_back({Style::band, "", stem + "_band.csv", colour, 0, 0, {"im", "low", "high"}});
           banded = true;
         }
-        panel.lines.push_back({Style::bold, title, stem + "_fit.csv", colour, static_cast<int>(l)});
+        panel.lines.push_back({Style::bold, title, stem + "_fit.csv", colour, static_cast<int>(l), 0, {"im", "p"}});
       }
       if (v + 1 == nv && banded)
         panel.lines.push_back({Style::band, interval_words + " (bootstrap)", "", -1});

@@ -101,6 +101,15 @@ RunOptions options_at(const RunOptions& base, Method m, double rtol) {
   return o;
 }
 
+// The run each measurement varies the integrator of, as `rocking simulate`
+// makes it (rocking.run) with the default solver and --duration; no energy
+// balance is integrated (the costs compared are the motion's).
+PreparedRun measured_run(const Scene& scene, const TradeoffArgs& a) {
+  SolverOptions solver;
+  if (a.duration != 0) solver.duration = a.duration;
+  return prepare_run({.scene = scene, .motion = a.motion, .solver = solver, .history = {}, .track_energy = false});
+}
+
 // The figures of this command: wide, for a legend of every method.
 plot::Figure wide_figure(const fs::path& dir, std::string name, const std::string& formats) {
   plot::Figure fig;
@@ -222,14 +231,12 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
   };
   for (const std::string& path : a.scenes) {
     const Scene scene = load_scene(SceneOptions{path, a.scene.overrides});
-    const GroundMotion motion = load_motion(scene, a.motion);
-    const ContactModel model = make_contact_model(scene, false);
+    const PreparedRun run = measured_run(scene, a);
+    const GroundMotion& motion = run.motion;
+    const ContactModel& model = run.model;
     if (model.layout.n == 0)
       throw InputError(fmt::format("--scenes {}: a rigid block has no nodes to put on the N axis", path));
-    SolverOptions solver;
-    if (a.duration != 0) solver.duration = a.duration;
-    RunOptions base = run_options(scene, solver, a.motion.record.empty());
-    base.track_energy = false;
+    RunOptions base = run.options;
     base.stop = [] { return stop_signal() != 0; };
     const long n = static_cast<long>(model.layout.n);
     auto key = [&](const std::string& name) { return fmt::format("\"{}\",{},{}", path, n, name); };
@@ -293,16 +300,17 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
   fig.title = fmt::format("cost against the number of nodes at equal accuracy (peak delta_t within {:.0e}), "
                           "{} to {}", a.accuracy, first_name, last_name);
   std::vector<plot::Series> series;
-  for (const std::string& name : names) series.push_back({name, (fs::path("tradeoff_n.data") / (name + ".csv")).string(), {}, 0});
-  const std::string rtol_label = "sprintf('%d', floor(log10($4) + 0.5))";
+  for (const std::string& name : names) series.push_back({name, (fs::path("tradeoff_n.data") / (name + ".csv")).string(), {}});
+  const std::string rtol_label = fmt::format("sprintf('%d', floor(log10({}) + 0.5))", plot::column("rtol"));
   // The node counts' own range, widened by a fifth on the log axis each side.
   const std::string xrange = fmt::format("[{:.6g}:{:.6g}]", smallest_n / 1.2, largest_n * 1.2);
   // A tick at each scene's N.
   std::sort(node_counts.begin(), node_counts.end());
   const std::string xtics = fmt::format("({})", fmt::join(node_counts, ", "));
   const std::vector<plot::Panel> panels = {
-      {"wall time per run [s]", "$1", "$2", false, rtol_label, missing, xrange, false, xtics},
-      {"right-hand-side evaluations", "$1", "$3", false, rtol_label, missing, xrange, false, xtics}};
+      {"wall time per run [s]", plot::column("n"), plot::column("wall_s"), false, rtol_label, missing, xrange, false, xtics},
+      {"right-hand-side evaluations", plot::column("n"), plot::column("rhs"), false, rtol_label, missing, xrange, false,
+       xtics}};
   for (const fs::path& f :
        plot::render_panels(fig, 1, 2, "nodes N   (labels: log_{10} rtol)", panels, series, true))
     fmt::print("wrote {}\n", f.string());
@@ -311,12 +319,10 @@ int cost_against_n(const TradeoffArgs& a, const std::vector<double>& rtols) {
 
 int tradeoff(const TradeoffArgs& a) {
   const Scene scene = load_scene(a.scene);
-  const GroundMotion motion = load_motion(scene, a.motion);
-  SolverOptions solver;
-  if (a.duration != 0) solver.duration = a.duration;
-  RunOptions base = run_options(scene, solver, a.motion.record.empty());
-  base.track_energy = false;
-  const ContactModel model = make_contact_model(scene, false);
+  const PreparedRun run = measured_run(scene, a);
+  const GroundMotion& motion = run.motion;
+  const ContactModel& model = run.model;
+  RunOptions base = run.options;
   if (a.repeats < 1 || a.repeats > 100) throw InputError(fmt::format("--repeats {}: must be in [1, 100]", a.repeats));
   std::vector<double> rtols;
   for (double r : number_list("--rtols", a.rtols)) {
@@ -412,18 +418,20 @@ int tradeoff(const TradeoffArgs& a) {
       fmt::print("{:<10} {:>7.0e} {:>10.2f} {:>9} {:>10.2e} {:>10.2e} {:>5}/{}\n", name, rtol, 1e3 * r.wall_s,
                  r.stats.rhs, e_dt, e_th, r.counts.impacts, ref.counts.impacts);
     }
-    series.push_back({name, file, {}, 0});
+    series.push_back({name, file, {}});
   }
   csv.close();
   fmt::print("wrote {}\n", (dir / "tradeoff.csv").string());
   plot::Figure fig = wide_figure(dir, "work_precision", a.formats);
   fig.title = fmt::format("{}: work-precision, {}, rtol {} (reference: rk45 at rtol 1e-12)\n{}", scene.name,
-                          motion_scale(scene, a.motion).describe(), a.rtols, motion_title(motion));
+                          run.scale.describe(), a.rtols, motion_title(motion));
   // Each point is labelled with its rtol (the exponent: "-4" for 1e-4).
-  const std::string rtol_label = "sprintf('%d', floor(log10($4) + 0.5))";
+  const std::string rtol_label = fmt::format("sprintf('%d', floor(log10({}) + 0.5))", plot::column("rtol"));
   const std::vector<plot::Panel> panels = {
-      {"relative error of peak total drift {/Symbol d}_t", "$1", "$2", false, rtol_label},
-      {"relative error of peak rocking angle {/Symbol q}", "$1", "$3", false, rtol_label}};
+      {"relative error of peak total drift {/Symbol d}_t", plot::column("wall_s"), plot::column("err_delta_t"), false,
+       rtol_label},
+      {"relative error of peak rocking angle {/Symbol q}", plot::column("wall_s"), plot::column("err_theta"), false,
+       rtol_label}};
   for (const fs::path& f : plot::render_panels(fig, 1, 2, "wall time per run [s]   (labels: log_{10} rtol)", panels, series, true))
     fmt::print("wrote {}\n", f.string());
   return 0;

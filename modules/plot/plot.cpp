@@ -4,6 +4,7 @@ module;
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cctype>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
@@ -169,6 +170,14 @@ bool complete(const fs::path& file, const std::string& format) {
 bool executable(const fs::path& p) { return ::access(p.c_str(), X_OK) == 0 && fs::is_regular_file(p); }
 
 }  // namespace
+
+std::string column(std::string_view name) {
+  const bool plain = !name.empty() && std::ranges::all_of(name, [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) != 0 || std::string_view("_.-/ []").find(c) != std::string_view::npos;
+  });
+  if (!plain) throw InputError(fmt::format("gnuplot column {}: not a header name the program writes", quote(name)));
+  return fmt::format("column('{}')", name);
+}
 
 std::string quote(std::string_view text) {
   std::string out = "'";
@@ -584,7 +593,8 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
 }
 
 std::vector<fs::path> render_fit(const Figure& fig, const std::string& data_file, const std::string& fitted_label,
-                                 const std::string& time_label) {
+                                 const std::string& time_label, const std::string& time_column) {
+  const std::string e = column("e [m]"), measured = column("F measured [N]"), fitted = column("F fitted [N]");
   const std::vector<std::string> labels{"measured", fitted_label};
   const int points = font_points(fig, 1100, 480);
   const Grid grid = shared_key_grid(fig, 1, 2, points, labels);
@@ -593,13 +603,15 @@ std::vector<fs::path> render_fit(const Figure& fig, const std::string& data_file
   body += grid.panels[0] + "  set xlabel \"elongation e [mm]\"\n  set ylabel \"force F [kN]\"\n";
   // The fitted line first and thin, the measured points over it, open and
   // dark: both stay visible where they agree.
-  body += plot_command({fmt::format("{} skip 1 using ($2*1000):($4/1000) with lines linestyle 1 linewidth 1.1 notitle", data),
-                        fmt::format("{} skip 1 using ($2*1000):($3/1000) with points pointtype 6 pointsize 0.45 "
+  body += plot_command({fmt::format("{} using ({}*1000):({}/1000) with lines linestyle 1 linewidth 1.1 notitle", data,
+                                    e, fitted),
+                        fmt::format("{} using ({}*1000):({}/1000) with points pointtype 6 pointsize 0.45 "
                                     "linewidth 0.8 linecolor rgb \"#303030\" notitle",
-                                    data)});
+                                    data, e, measured)});
   body += grid.panels[1] + fmt::format("  set xlabel {} noenhanced\n", quote(time_label)) +
           "  set ylabel \"residual F_{fit} - F [kN]\"\n";
-  body += plot_command({fmt::format("{} skip 1 using 1:(($4-$3)/1000) with lines linestyle 2 notitle", data)});
+  body += plot_command({fmt::format("{} using ({}):(({}-{})/1000) with lines linestyle 2 notitle", data,
+                                    column(time_column), fitted, measured)});
   body += key_plot(grid, {"NaN with points pointtype 6 pointsize 0.8 linewidth 0.8 linecolor rgb \"#303030\" title "
                           "\"measured\" noenhanced",
                           fmt::format("NaN with lines linestyle 1 linewidth 1.1 title {} noenhanced", quote(fitted_label))});
@@ -608,6 +620,7 @@ std::vector<fs::path> render_fit(const Figure& fig, const std::string& data_file
       "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
       "# Data: time or sample, elongation [m], measured force [N], fitted force [N].\n"
       "set datafile separator \",\"\n"
+      "set datafile columnheaders\n"
       "{}{}",
       fig.name, style_lines(1.8, 1.0), render_loop(fig, body, points));
   return render_script(fig, script);
@@ -666,9 +679,14 @@ std::vector<fs::path> render_lines(const Figure& fig, int rows, int cols, const 
     }
     std::vector<std::string> items;
     for (const Line& l : panel.lines)
-      if (!l.file.empty())
-        items.push_back(fmt::format("{} skip 1 using {} {} notitle", quote(l.file),
-                                    l.style == Line::Style::band ? "1:2:3" : "1:2", style(l)));
+      if (!l.file.empty()) {
+        if (l.columns.size() != (l.style == Line::Style::band ? 3u : 2u))
+          throw InputError(fmt::format("figure line {}: name its {} columns", quote(l.file),
+                                       l.style == Line::Style::band ? "x, low and high" : "x and y"));
+        std::string spec;
+        for (const std::string& c : l.columns) spec += fmt::format("{}({})", spec.empty() ? "" : ":", column(c));
+        items.push_back(fmt::format("{} using {} {} notitle", quote(l.file), spec, style(l)));
+      }
     body += plot_command(items);
   }
   body += "  unset title\n  set xrange [*:*]\n  set yrange [*:*]\n";
@@ -677,6 +695,7 @@ std::vector<fs::path> render_lines(const Figure& fig, int rows, int cols, const 
       "# rocking: curves over a suite of records (IDA curves, fragility).\n"
       "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
       "set datafile separator \",\"\n"
+      "set datafile columnheaders\n"
       "{}",
       fig.name, render_loop(fig, body, points));
   return render_script(fig, script);
@@ -696,22 +715,22 @@ std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const
   if (series.empty()) throw InputError("figure: no series to plot");
   // The collapse markers the key explains: those some series draws.
   struct Marker {
-    unsigned code;
+    Collapse code;
     const char* style;
     const char* words;
   };
   static constexpr std::array<Marker, 3> markers{
-      Marker{1, "pointtype 2 pointsize 2.6 linewidth 3", "first overturning"},
-      Marker{2, "pointtype 2 pointsize 1.2", "overturned again"},
-      Marker{3, "pointtype 6 pointsize 1.2", "standing again after overturning"}};
+      Marker{Collapse::first, "pointtype 2 pointsize 2.6 linewidth 3", "first overturning"},
+      Marker{Collapse::again, "pointtype 2 pointsize 1.2", "overturned again"},
+      Marker{Collapse::standing_again, "pointtype 6 pointsize 1.2", "standing again after overturning"}};
   std::vector<std::string> labels;
   unsigned codes = 0;
   for (const Series& s : series) {
     labels.push_back(s.label);
-    if (s.collapse_column > 0) codes |= s.collapse_codes;
+    if (!s.collapse_column.empty()) codes |= s.collapse_codes;
   }
   for (const Marker& m : markers)
-    if ((codes >> m.code & 1u) != 0) labels.push_back(m.words);
+    if ((codes & collapse_bit(m.code)) != 0) labels.push_back(m.words);
   const int points = font_points(fig, 550 * cols, 320 * rows);
   const Grid grid = shared_key_grid(fig, rows, cols, points, labels);
   std::string body = grid.begin + fmt::format("  set grid\n  set autoscale xfix\n  set offsets 0, 0, graph 0.05, 0\n"
@@ -753,22 +772,23 @@ std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const
       if (std::find(s.absent.begin(), s.absent.end(), p) != s.absent.end()) continue;
       const std::string file = quote(s.file);
       const std::string title = fmt::format("title {} noenhanced", quote(s.label));
-      if (s.collapse_column == 0) {
-        items.push_back(fmt::format("{} skip 1 using ({}):({}) with {} {}", file, panel.x, y, line_style(s, i), title));
+      if (s.collapse_column.empty()) {
+        items.push_back(fmt::format("{} using ({}):({}) with {} {}", file, panel.x, y, line_style(s, i), title));
       } else {
-        const std::string code = fmt::format("${}", s.collapse_column);
-        items.push_back(fmt::format("{} skip 1 using ({}):({} == 0 ? {} : NaN) with linespoints linestyle {} {}", file,
+        const std::string code = column(s.collapse_column);
+        items.push_back(fmt::format("{} using ({}):({} == 0 ? {} : NaN) with linespoints linestyle {} {}", file,
                                     panel.x, code, y, i + 1, title));
         for (const Marker& m : markers)
-          if ((s.collapse_codes >> m.code & 1u) != 0)
-            items.push_back(fmt::format("{} skip 1 using (({}) + {:.9g}):({} == {} ? {} : NaN) with points linestyle {} "
+          if ((s.collapse_codes & collapse_bit(m.code)) != 0)
+            items.push_back(fmt::format("{} using (({}) + {:.9g}):({} == {} ? {} : NaN) with points linestyle {} "
                                         "{} notitle",
-                                        file, panel.x, s.dodge, code, m.code, y, i + 1, m.style));
+                                        file, panel.x, s.dodge, code, static_cast<unsigned>(m.code), y, i + 1,
+                                        m.style));
       }
       // Point labels above the points of even series and below those of odd
       // ones, so that neighbouring series' labels keep apart.
       if (!panel.point_label.empty())
-        items.push_back(fmt::format("{} skip 1 using ({}):({}):({}) with labels offset char 0,{} font \",{}\" "
+        items.push_back(fmt::format("{} using ({}):({}):({}) with labels offset char 0,{} font \",{}\" "
                                     "textcolor rgb \"#{}\" notitle",
                                     file, panel.x, y, panel.point_label, i % 2 == 0 ? "0.9" : "-0.9",
                                     std::max(7, points - 3), palette[i % palette_size]));
@@ -785,13 +805,14 @@ std::vector<fs::path> render_panels(const Figure& fig, int rows, int cols, const
   for (std::size_t i = 0; i < series.size(); ++i)
     entries.push_back(fmt::format("NaN with {} title {} noenhanced", line_style(series[i], i), quote(series[i].label)));
   for (const Marker& m : markers)
-    if ((codes >> m.code & 1u) != 0)
+    if ((codes & collapse_bit(m.code)) != 0)
       entries.push_back(fmt::format("NaN with points {} linecolor rgb \"#222222\" title \"{}\"", m.style, m.words));
   body += key_plot(grid, entries);
   const std::string script = fmt::format(
       "# rocking: study figure (peaks against the scale factor or a parameter).\n"
       "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
       "set datafile separator \",\"\n"
+      "set datafile columnheaders\n"
       "{}{}",
       fig.name, style_lines(1.5, 0.7), render_loop(fig, body, points));
   return render_script(fig, script);
@@ -809,13 +830,16 @@ std::vector<fs::path> render_spectrum(const Figure& fig, const std::vector<Serie
                   : fmt::format("fillstyle pattern {} transparent noborder linecolor rgb \"#{}\"", i % 2 == 1 ? 1 : 2,
                                 palette[i % palette_size]);
   };
-  auto panel = [&](int x, int y, int cell) {
+  // A panel of x against y, each overturning point's cell from x_low to
+  // x_high and y_low to y_high (the names of the cell's columns).
+  auto panel = [&](std::string_view x, std::string_view y, std::string_view x_low, std::string_view x_high,
+                   std::string_view y_low, std::string_view y_high) {
     std::vector<std::string> items;
     for (std::size_t i = 0; i < series.size(); ++i)
-      items.push_back(fmt::format("{} skip 1 using {}:($5 > 0 ? ${} : NaN):{}:{}:{}:{} with boxxyerror {} title {} "
+      items.push_back(fmt::format("{} using ({}):({} > 0 ? {} : NaN):({}):({}):({}):({}) with boxxyerror {} title {} "
                                   "noenhanced",
-                                  quote(series[i].file), x, y, cell, cell + 1, cell + 2, cell + 3, fill(i),
-                                  quote(series[i].label)));
+                                  quote(series[i].file), column(x), column("overturned"), column(y), column(x_low),
+                                  column(x_high), column(y_low), column(y_high), fill(i), quote(series[i].label)));
     return plot_command(items);
   };
   // A series' label without its parenthesised note: "block x1".
@@ -828,16 +852,18 @@ std::vector<fs::path> render_spectrum(const Figure& fig, const std::vector<Serie
   const Grid grid = shared_key_grid(fig, 1, 2, points, labels);
   std::string body = grid.begin + grid.panels[0] + "  unset key\n  set grid front\n  set autoscale xfix\n  set autoscale yfix\n" +
                      fmt::format("  set xlabel {}\n  set ylabel {}\n", quote(normalised_x), quote(normalised_y));
-  body += panel(1, 2, 7);
+  body += panel("frequency_ratio", "amplitude_ratio", "frequency_ratio_low", "frequency_ratio_high",
+                "amplitude_ratio_low", "amplitude_ratio_high");
   body += grid.panels[1] + "  set xlabel \"pulse period T [s]\"\n  set ylabel \"pulse amplitude a_p / g [-]\"\n";
   // In seconds and g the series' grids cover different regions: outside its
   // own (the extremes of its cells, found by stats), a series was never
   // computed, which is hatched in its colour rather than left white.
   std::string extents;
   for (std::size_t i = 0; several && i < series.size(); ++i) {
-    extents += fmt::format("stats {0} skip 1 using 11:13 nooutput prefix \"LO{1}\"\n"
-                           "stats {0} skip 1 using 12:14 nooutput prefix \"HI{1}\"\n",
-                           quote(series[i].file), i);
+    extents += fmt::format("stats {0} using ({2}):({3}) nooutput prefix \"LO{1}\"\n"
+                           "stats {0} using ({4}):({5}) nooutput prefix \"HI{1}\"\n",
+                           quote(series[i].file), i, column("period_low_s"), column("amplitude_low_g"),
+                           column("period_high_s"), column("amplitude_high_g"));
     const std::string hatch = fmt::format("front fillstyle pattern {} transparent noborder fillcolor rgb \"#{}\"",
                                           6 + i % 2, palette[i % palette_size]);
     const std::size_t id = 10 * (i + 1);
@@ -848,7 +874,7 @@ std::vector<fs::path> render_spectrum(const Figure& fig, const std::vector<Serie
         "  set object {5} rectangle from first LO{1}_min_x, first HI{1}_max_y to first HI{1}_max_x, graph 1 {2}\n",
         id, i, hatch, id + 1, id + 2, id + 3);
   }
-  body += panel(3, 4, 11);
+  body += panel("period_s", "amplitude_g", "period_low_s", "period_high_s", "amplitude_low_g", "amplitude_high_g");
   if (several) body += "  unset object\n";
   std::vector<std::string> entries;
   for (std::size_t i = 0; i < series.size(); ++i)
@@ -863,19 +889,23 @@ std::vector<fs::path> render_spectrum(const Figure& fig, const std::vector<Serie
       "# rocking: overturning spectrum (filled: the block overturns; hatched,\n"
       "# right: outside a series' grid, never computed).\n"
       "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
-      "set datafile separator \",\"\n{}{}",
+      "set datafile separator \",\"\nset datafile columnheaders\n{}{}",
       fig.name, extents, render_loop(fig, body, points));
   return render_script(fig, script);
 }
 
 std::vector<fs::path> render_modes(const Figure& fig, const std::string& data_file, const ModePanel& left,
                                    const ModePanel& right) {
-  auto panel = [&](const ModePanel& p, std::size_t first_column) {
+  auto panel = [&](const ModePanel& p) {
+    if (p.columns.size() != p.labels.size())
+      throw InputError(fmt::format("mode figure {}: {} shapes named, {} labelled", quote(p.title), p.columns.size(),
+                                   p.labels.size()));
     std::vector<std::string> items;
     for (std::size_t i = 0; i < p.labels.size(); ++i) {
       const int colour = i < p.colours.size() ? p.colours[i] : static_cast<int>(i);
-      items.push_back(fmt::format("{} using {}:1 with linespoints linestyle {} title {} noenhanced", quote(data_file),
-                                  first_column + i, colour % static_cast<int>(palette_size) + 1, quote(p.labels[i])));
+      items.push_back(fmt::format("{} using ({}):({}) with linespoints linestyle {} title {} noenhanced",
+                                  quote(data_file), column(p.columns[i]), column("height"),
+                                  colour % static_cast<int>(palette_size) + 1, quote(p.labels[i])));
     }
     return fmt::format("  set title {} noenhanced\n", quote(p.title)) + plot_command(items);
   };
@@ -888,12 +918,13 @@ std::vector<fs::path> render_modes(const Figure& fig, const std::string& data_fi
       "  set ylabel \"height [m]\"\n"
       "  set xzeroaxis\n",
       quote(fig.title));
-  body += panel(left, 2);
-  body += panel(right, 2 + left.labels.size());
+  body += panel(left);
+  body += panel(right);
   const std::string script = fmt::format(
       "# rocking: mode shapes in the style of the paper's Fig. 3.\n"
       "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
-      "# Data: {} (height, then one column per shape).\n"
+      "# Data: {} (height, then one column per shape, named in its header).\n"
+      "set datafile columnheaders\n"
       "{}{}",
       fig.name, comment(data_file), style_lines(2, 1), render_loop(fig, body, font_points(fig, 1200, 800)));
   return render_script(fig, script);

@@ -67,20 +67,22 @@ HistoryContent check_history(const std::filesystem::path& file);
 // dampers: the flag-shaped loop of controlled rocking).
 std::vector<std::filesystem::path> render_response(const Figure& fig, const std::vector<ResponseSeries>& runs);
 
-// Mode shapes: data file with one row per node (height first, then one column
-// per shape), and one legend per shape column; two panels side by side.
+// Mode shapes: a data file of whitespace-separated columns under a header
+// row naming them, one row per node (the column "height", then one column per
+// shape), and one legend per shape column; two panels side by side.
 struct ModePanel {
   std::string title;
   std::vector<std::string> labels;  // one per shape column
   std::vector<int> colours;         // palette index per shape column (the same mode, the same colour)
+  std::vector<std::string> columns = {};  // one per shape column: its name in the data file's header
 };
 std::vector<std::filesystem::path> render_modes(const Figure& fig, const std::string& data_file,
                                                 const ModePanel& left, const ModePanel& right);
 
 // A grid of panels sharing the x axis quantity, one line per series: for IDA
-// curves and parametric studies. Each series is a CSV file (header row
-// skipped); each panel says which columns it plots, as gnuplot expressions
-// ("$1", "$2*100").
+// curves and parametric studies. Each series is a CSV file whose header row
+// names its columns; each panel says what it plots as gnuplot expressions of
+// columns by name (column("delta_t") + "*100").
 // A vertical line across a panel at x, labelled at its top (a period).
 struct Mark {
   double x;
@@ -90,24 +92,36 @@ struct Panel {
   std::string ylabel;
   std::string x, y;
   bool from_zero = false;   // the y axis starts at zero (peaks of magnitudes)
-  std::string point_label;  // non-empty: a text at every point (e.g. "sprintf('%.0e', $4)")
+  std::string point_label;  // non-empty: a text at every point (e.g. "sprintf('%.0e', column('rtol'))")
   std::vector<Mark> marks = {};
   std::string xrange = {};  // non-empty: the x axis's range, e.g. "[6:170]" (else autoscaled)
   bool log_y = false;       // a logarithmic y axis (from_zero ignored; values <= 0 not drawn)
   std::string xtics = {};   // non-empty: the x axis's tics, e.g. "(8, 16, 32)" (else gnuplot's)
 };
+// Where a point of an IDA curve stands against overturning: a survivor
+// below the first overturning (joined by the line), the first overturning (a
+// large cross, the line ends before it), a later one (a small cross), a
+// survivor above an overturning (an open point, not joined). Figure data
+// hold it as its number.
+enum class Collapse : unsigned { standing = 0, first = 1, again = 2, standing_again = 3 };
+// A point's Collapse: whether its run overturned, and whether a run at a
+// lower level of the same curve did (`fallen`).
+constexpr Collapse collapse_of(bool overturned, bool fallen) {
+  return overturned ? (fallen ? Collapse::again : Collapse::first)
+                    : (fallen ? Collapse::standing_again : Collapse::standing);
+}
+constexpr unsigned collapse_bit(Collapse c) { return 1u << static_cast<unsigned>(c); }
 struct Series {
   std::string label;
   std::string file;  // relative to the figure's folder, or absolute
   // Panels (indices) whose quantity this series does not have (a fixed base's
   // rocking angle): nothing is drawn there, no zero line, no key entry.
   std::vector<std::size_t> absent;
-  // > 0: the column coding collapse, as IDA curves draw it: 0 a survivor below
-  // the first collapse (joined by the line), 1 the first collapse (a large
-  // cross, the line ends before it), 2 a later collapse (a small cross),
-  // 3 a survivor above a collapse (an open point, not joined).
-  int collapse_column = 0;
-  // The codes above 0 that occur (bit k for code k): the key explains those.
+  // Non-empty: the column (its header name) holding each point's Collapse
+  // as its number, drawn as IDA curves draw it.
+  std::string collapse_column = {};
+  // The collapses other than standing that occur (bit k for Collapse k:
+  // collapse_bit): the key explains those.
   unsigned collapse_codes = 0;
   // Added to x at this series' collapse markers, so that the markers of
   // series that collapse at the same point stand side by side (data units).
@@ -135,6 +149,8 @@ struct Line {
   int colour = 0;     // palette index (not for thin_grey); -1: dark grey
   int dash = 0;       // bold: gnuplot dash type - 1 (0 solid), to tell curves apart in greyscale
   int marker = 0;     // bold, bold_dashed: > 0, a gnuplot point type drawn at a few points along the line
+  // The file's columns drawn, by header name: x and y (a band: x, low, high).
+  std::vector<std::string> columns = {};
 };
 struct LinePanel {
   std::string title;
@@ -146,15 +162,18 @@ std::vector<std::filesystem::path> render_lines(const Figure& fig, int rows, int
                                                 const std::string& ylabel, const std::vector<LinePanel>& panels);
 
 // A law fitted to a cyclic test (the paper's Fig. 2, top right): the data
-// file has columns sample time or number, elongation [m], measured force [N],
-// fitted force [N]. Left: measured (grey points) and fitted loops, force against
-// elongation; right: the residual (fitted - measured) against time.
+// file has, by header name, the column `time_column` (the sample time or
+// number), "e [m]" (elongation), "F measured [N]" and "F fitted [N]". Left:
+// measured (grey points) and fitted loops, force against elongation; right:
+// the residual (fitted - measured) against time.
 std::vector<std::filesystem::path> render_fit(const Figure& fig, const std::string& data_file,
-                                              const std::string& fitted_label, const std::string& time_label);
-// Overturning spectra: each series file has columns frequency_ratio,
-// amplitude_ratio, period_s, amplitude_g, overturned (0/1), then the cell of
-// each grid point: its low and high frequency ratio, amplitude ratio, period
-// and amplitude (columns 7-14). The cells where the block overturns are
+                                              const std::string& fitted_label, const std::string& time_label,
+                                              const std::string& time_column);
+// Overturning spectra: each series file has, by header name, the columns
+// frequency_ratio, amplitude_ratio, period_s, amplitude_g, overturned (0/1),
+// and the cell of each grid point: frequency_ratio_low/_high,
+// amplitude_ratio_low/_high, period_low_s/period_high_s and
+// amplitude_low_g/amplitude_high_g. The cells where the block overturns are
 // filled, one translucent colour per series, normalised axes on the left,
 // seconds and g on the right.
 std::vector<std::filesystem::path> render_spectrum(const Figure& fig, const std::vector<Series>& series,
@@ -169,6 +188,13 @@ std::string quote(std::string_view text);
 
 // Text for a gnuplot comment: one line, control characters as spaces.
 std::string comment(std::string_view text);
+
+// A data file's column by its header name, for a `using` clause of a script
+// that reads its data with `set datafile columnheaders`: "column('delta_t')".
+// Only names the program makes (the schema's, a file's own header words:
+// letters, digits, _ . - / space and the brackets of a unit, "t [s]") are
+// accepted, never text from input (a device's name): InputError otherwise.
+std::string column(std::string_view name);
 
 // Runs a program (argv[0] an absolute path, no shell) in `dir` with its
 // standard output and error going to `log` and standard input from

@@ -21,6 +21,7 @@ export import rocking.simulation;
 export import rocking.plot;
 export import rocking.study;
 export import rocking.study_files;
+export import rocking.study_run;
 export import rocking.drawing;
 export import rocking.report;
 export import rocking.run;

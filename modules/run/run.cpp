@@ -149,9 +149,10 @@ RunOptions run_options(const Scene& scene, const SolverChoice& c, bool scene_exc
   return ro;
 }
 
-PreparedRun prepare_run(const RunSpec& spec) {
+PreparedRun prepare_run(const RunSpec& spec) { return prepare_run(spec, load_motion(spec.scene, spec.motion, spec.prefix)); }
+
+PreparedRun prepare_run(const RunSpec& spec, GroundMotion motion) {
   const Scene& scene = spec.scene;
-  GroundMotion motion = load_motion(scene, spec.motion, spec.prefix);
   RunOptions ro = run_options(scene, spec.solver, spec.motion.scene_excitation(), spec.prefix);
   const double every = history_interval(scene, spec.history.every);
   if (!(every > 0) || !std::isfinite(every))
@@ -162,7 +163,8 @@ PreparedRun prepare_run(const RunSpec& spec) {
                                  "interval",
                                  spec.prefix, every, duration / every, duration, max_history_rows));
   ro.output_interval = every;
-  ContactModel model = make_contact_model(scene, true);
+  ro.track_energy = spec.track_energy;
+  ContactModel model = make_contact_model(scene, spec.track_energy);
   model.vertical_shaking = motion.vertical() != nullptr;
   HistoryColumns columns =
       history_columns(scene, model, spec.history.columns, spec.prefix + spec.columns_name);

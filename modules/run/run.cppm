@@ -96,6 +96,9 @@ struct RunSpec {
   HistoryChoice history;
   std::string prefix = "--";           // how messages spell a choice's name
   std::string columns_name = "history";  // ... and the history's columns ("columns" in Python)
+  // The model integrates its energy balance (the run summary's); a figure or
+  // a timing that reads no energy leaves it out.
+  bool track_energy = true;
 };
 
 // Everything a run needs, checked: InputError of one line otherwise.
@@ -108,5 +111,9 @@ struct PreparedRun {
   RunLabel label;
 };
 PreparedRun prepare_run(const RunSpec& spec);
+// The same under a motion already loaded from spec.motion (load_motion with
+// the same scene's excitation): runs of several variants of one scene under
+// one record read it once.
+PreparedRun prepare_run(const RunSpec& spec, GroundMotion motion);
 
 }  // namespace rocking
