@@ -201,7 +201,7 @@ TEST_CASE("a rigid stack under a ramp a_g = c t: the joint with the smaller stat
 }
 
 TEST_CASE("a top that cannot lift: the run equals the one-joint structure's, by the chain and by today's equations") {
-  const std::string pulse = "\n[excitation]\npulse = \"one-sine\"\namplitude_g = 0.4\nperiod = 0.5\nduration = 3.0\n";
+  const std::string pulse = "\n[excitation]\npulse = \"one-sine\"\namplitude_g = 0.4\nperiod = 0.5\nduration = 6.0\n";
   // A joint at node 3 with the upper segment 25 times wider than the base and no slab of its own:
   // the masses are the one-joint block's.
   const std::string text = fmt::format(R"(
