@@ -54,6 +54,18 @@ void print_text(const nlohmann::json& s) {
     fmt::print("  {:<17} {}: peak e {:.4g} m, F {:.4g} N{}{}\n", d["name"].get<std::string>(), law,
                d["peak_elongation_m"].get<double>(), d["peak_force_N"].get<double>(), work, broke);
   }
+  if (const auto j = s.find("joints"); j != s.end())  // a structure with joints: one line each, the base first
+    for (const auto& k : *j) {
+      const auto at = [&](const char* key) {
+        return k[key].is_null() ? std::string("never") : fmt::format("t = {:.4f} s", k[key].get<double>());
+      };
+      fmt::print("  {:<17} first uplift {}, first impact {}; {}, {}; peak theta {:.4g} rad, |V|/N {}\n",
+                 fmt::format("joint {}", k["joint"].get<int>()), at("first_uplift_s"), at("first_impact_s"),
+                 count(k["uplifts"].get<long>(), "uplift"), count(k["impacts"].get<long>(), "impact"),
+                 k["peak_theta"].get<double>(),
+                 k["peak_friction_demand"].is_null() ? std::string("-")
+                                                     : fmt::format("{:.3g}", k["peak_friction_demand"].get<double>()));
+    }
   fmt::print("  {:<17} {} ({} rhs, {} steps, {:.3g} s)\n", "cost", s["integrator"].get<std::string>(),
              s["stats"]["rhs"].get<long>(), s["stats"]["steps"].get<long>(), s["wall_s"].get<double>());
 }

@@ -26,11 +26,14 @@ module;
 #include <array>
 #include <optional>
 #include <cstdint>
+#include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 export module rocking.contact;
 export import rocking.dynamics;
 export import rocking.devices;
+export import rocking.chain;
 
 export namespace rocking {
 
@@ -75,6 +78,21 @@ struct Discrete;
 // A device's elongation [m] and force [N] (active_damper below).
 struct DamperState {
   double elongation = 0, force = 0;
+};
+
+// A structure that rocks at more than one level (MODEL.md 15): the chain of
+// segments rocking.chain integrates, with each joint's rules. A model that
+// carries one is run by the chain's equations (rocking.simulation); the rest
+// of ContactModel then describes the structure as one piece on its base (for
+// its name, slenderness and devices).
+struct JointedModel {
+  Chain chain;
+  std::vector<double> restitution;     // per joint: r, or < 0 for the momentum law (MODEL.md 15)
+  std::vector<double> initial_theta;   // per joint [rad]: a release from a tilt
+  std::vector<double> friction_limit;  // per joint: |V| / N beyond it ends the run (infinity: not checked)
+  std::vector<double> overturn_angle;  // per joint [rad]: the slenderness of everything above it
+  std::vector<std::string> tendons;    // the devices' names, one tendon each (ChainData::tendons' order)
+  double theta_dot_min = 0.0015;       // Eq. 8's threshold, per joint [rad/s]
 };
 
 struct ContactModel {
@@ -130,6 +148,9 @@ struct ContactModel {
   // body.moment_row the terms of both uplift guards, which are sampled
   // several times a step: [M1; 0], [0; MH].
   Eigen::VectorXd mass_row, momentum_row;
+  // Set for a structure with joints above its base (or the momentum law at
+  // its base): the run is the chain's.
+  std::shared_ptr<const JointedModel> jointed;
 };
 // The model of a structure meeting the ground by these rules, with these
 // devices (ignored on a fixed base); energy accumulators when asked.

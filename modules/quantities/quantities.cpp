@@ -97,6 +97,25 @@ std::optional<MemberQuantityName> parse_member_quantity(std::string_view text) {
   return q;
 }
 
+std::string JointQuantityName::name() const { return fmt::format("joint{}.{}", joint, info(which).name); }
+
+std::optional<JointQuantityName> parse_joint_quantity(std::string_view text) {
+  if (!text.starts_with("joint")) return std::nullopt;
+  const std::string_view rest = text.substr(5);
+  const auto dot = rest.find('.');
+  if (rest.empty() || dot == 0 || dot == std::string_view::npos || dot > 4 || rest[0] == '0') return std::nullopt;
+  int joint = 0;
+  for (char c : rest.substr(0, dot)) {
+    if (c < '0' || c > '9') return std::nullopt;
+    joint = 10 * joint + (c - '0');
+  }
+  if (joint > 1000) return std::nullopt;
+  const std::string_view what = rest.substr(dot + 1);
+  for (std::size_t k = 0; k < joint_quantity_table.size(); ++k)
+    if (joint_quantity_table[k].name == what) return JointQuantityName{joint, static_cast<JointQuantity>(k)};
+  return std::nullopt;
+}
+
 std::string_view value_label(Quantity q, double v) {
   if (q != Quantity::phase) return {};
   return v == 0 ? "contact" : v > 0 ? "rock+" : "rock-";

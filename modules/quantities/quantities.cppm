@@ -219,6 +219,31 @@ struct MemberQuantityName {
 };
 std::optional<MemberQuantityName> parse_member_quantity(std::string_view text);
 
+// What each joint above the base reports (a structure that rocks at more
+// than one level, MODEL.md 15), under "jointK.NAME" for K = 1 .. J (joint 0,
+// the base, keeps the scalar names theta, theta_dot, phase): its rocking
+// angle and rate relative to the face below, its phase, and its friction
+// demand |V| / N (the coefficient it needs not to slide; a rocking joint's
+// N and V are its pivot's).
+enum class JointQuantity : unsigned char { theta, theta_dot, phase, friction, count_ };
+inline constexpr std::size_t joint_quantity_count = static_cast<std::size_t>(JointQuantity::count_);
+inline constexpr std::array<MemberQuantityInfo, joint_quantity_count> joint_quantity_table = {{
+    {"theta", "rad", "rocking angle at the joint (relative to the face below)", "{/Symbol q}", 1, "rad", Needs::rocking},
+    {"theta_dot", "rad/s", "rocking velocity at the joint", "d{/Symbol q}/dt", 1, "rad/s", Needs::rocking},
+    {"phase", "", "phase at the joint (pivot: -1 left, 0 full contact, +1 right)", "phase", 1, "", Needs::rocking},
+    {"friction", "-", "friction demand |V|/N at the joint", "|V|/N", 1, "-", Needs::rocking},
+}};
+constexpr const MemberQuantityInfo& info(JointQuantity q) { return joint_quantity_table[static_cast<std::size_t>(q)]; }
+struct JointQuantityName {
+  int joint = 1;  // 1 .. J
+  JointQuantity which = JointQuantity::theta;
+  std::string name() const;  // "joint2.theta"
+  bool operator==(const JointQuantityName&) const = default;
+};
+// "joint2.theta_dot"; nothing for another text (the joint is not checked
+// against a scene here: 1 .. 1000 parse).
+std::optional<JointQuantityName> parse_joint_quantity(std::string_view text);
+
 // A reported quantity by name: a scalar one, or one of a named device's.
 struct QuantityName {
   QuantityName(Quantity q) : scalar(q) {}  // NOLINT: a scalar quantity is its own name

@@ -7,6 +7,7 @@ module;
 #include <optional>
 #include <span>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -98,6 +99,20 @@ json run_summary(const RunLabel& label, const RunResult& r) {
                        {"fracture_s", finite_or_null(d.fracture_time)},
                        {"state", std::isfinite(d.fracture_time) ? "broken" : "intact"}});
   out["devices"] = devices;
+  if (!r.joints.empty()) {  // a structure with joints (MODEL.md 15): the base first
+    json joints = json::array();
+    for (std::size_t j = 0; j < r.joints.size(); ++j) {
+      const JointResult& k = r.joints[j];
+      joints.push_back({{"joint", j},
+                        {"first_uplift_s", finite_or_null(k.first_uplift)},
+                        {"first_impact_s", finite_or_null(k.first_impact)},
+                        {"uplifts", k.uplifts},
+                        {"impacts", k.impacts},
+                        {"peak_theta", k.peak_theta},
+                        {"peak_friction_demand", finite_or_null(k.peak_friction)}});
+    }
+    out["joints"] = joints;
+  }
   if (r.energy_tracked) {
     const EnergyBalance& e = r.energy;
     out["energy_J"] = {{"initial", e.initial}, {"final", e.final}, {"ground_input", e.ground},
@@ -122,12 +137,18 @@ HistoryColumns history_columns(const ContactModel& m) {
   const Presence has = presence(m);
   HistoryColumns c;
   for (Quantity q : history_quantities)
-    if (has.has(info(q).needs)) c.columns.push_back({.quantity = q, .member = std::nullopt});
+    if (has.has(info(q).needs) && !(m.jointed && q == Quantity::device_moment))
+      c.columns.push_back({.quantity = q, .member = std::nullopt});
   for (std::size_t k = 0; k < m.devices.size(); ++k) {
     c.device_names.push_back(m.devices[k].name);
     for (const DeviceQuantityInfo& dq : device_quantity_table)
       c.columns.push_back({.quantity = std::nullopt, .member = std::nullopt, .device = k, .of = dq.id});
   }
+  // Each joint above the base: its angle, rate and phase (joint 0's are theta, theta_dot, phase).
+  const int joints = m.jointed ? m.jointed->chain.joints : 1;
+  for (int j = 1; j < joints; ++j)
+    for (JointQuantity q : {JointQuantity::theta, JointQuantity::theta_dot, JointQuantity::phase})
+      c.columns.push_back({.quantity = std::nullopt, .member = std::nullopt, .joint = JointQuantityName{j, q}});
   return c;
 }
 
@@ -144,10 +165,22 @@ HistoryColumns history_columns(const ContactModel& m, const std::vector<std::str
       const QuantityInfo& i = info(*q->scalar);
       if (!i.is(Role::history) && !i.is(Role::on_request))
         throw InputError(fmt::format("{} {}: not a history quantity", option, text));
-      if (!has.has(i.needs)) throw InputError(fmt::format("{} {}: this scene does not report it", option, text));
+      if (!has.has(i.needs) || (m.jointed && *q->scalar == Quantity::device_moment))
+        throw InputError(fmt::format("{} {}: this scene does not report it", option, text));
       if (*q->scalar == Quantity::t) continue;  // always first
       col.quantity = q->scalar;
+    } else if (const std::optional<JointQuantityName> joint = parse_joint_quantity(text)) {
+      const int above = m.jointed ? m.jointed->chain.joints - 1 : 0;
+      if (joint->joint > above)
+        throw InputError(fmt::format("{} {}: no joint {} ({})", option, text, joint->joint,
+                                     above == 0 ? "this scene has no [[joint]] above its base"
+                                                : fmt::format("this scene's joints above the base are 1 to {}", above)));
+      col.joint = joint;
     } else if (const std::optional<MemberQuantityName> member = parse_member_quantity(text)) {
+      if (m.jointed)
+        throw InputError(fmt::format("{} {}: node and element quantities of a structure with joints are not reported "
+                                     "(its joints' are: jointK.theta, jointK.theta_dot, jointK.phase, jointK.friction)",
+                                     option, text));
       const char* what = member->of == MemberQuantityName::Of::node ? "node" : "element";
       if (member->index < 1 || member->index > nodes)
         throw InputError(fmt::format("{} {}: no {} {} (this structure's {}s are 1 to {})", option, text, what,
@@ -167,8 +200,8 @@ HistoryColumns history_columns(const ContactModel& m, const std::vector<std::str
       throw InputError(fmt::format("{} {}: unknown quantity (rocking simulate --list-quantities lists them)", option, text));
     }
     const bool again = std::ranges::any_of(c.columns, [&](const HistoryColumns::Column& o) {
-      return o.quantity == col.quantity && o.member == col.member &&
-             (col.quantity || col.member || (o.device == col.device && o.of == col.of));
+      return o.quantity == col.quantity && o.member == col.member && o.joint == col.joint &&
+             (col.quantity || col.member || col.joint || (o.device == col.device && o.of == col.of));
     });
     if (again) throw InputError(fmt::format("{} {}: named twice", option, text));
     c.columns.push_back(col);
@@ -192,6 +225,7 @@ std::vector<std::string> HistoryColumns::names() const {
   for (const Column& c : columns)
     out.push_back(c.quantity ? std::string(info(*c.quantity).name)
                   : c.member ? c.member->name()
+                  : c.joint  ? c.joint->name()
                              : device_quantity_name(device_names[c.device], c.of));
   return out;
 }
@@ -201,7 +235,10 @@ std::vector<std::string> HistoryColumns::headers() const {
   const std::vector<std::string> n = names();
   for (std::size_t k = 0; k < columns.size(); ++k) {
     const Column& c = columns[k];
-    out.push_back(column_header(n[k], c.quantity ? info(*c.quantity).unit : c.member ? c.member->info().unit : info(c.of).unit));
+    out.push_back(column_header(n[k], c.quantity ? info(*c.quantity).unit
+                                      : c.member ? c.member->info().unit
+                                      : c.joint  ? info(c.joint->which).unit
+                                                 : info(c.of).unit));
   }
   return out;
 }
@@ -210,12 +247,31 @@ bool HistoryColumns::has_members() const {
   return std::ranges::any_of(columns, [](const Column& c) { return c.member.has_value(); });
 }
 
+namespace {
+// A joint column's value: NaN when the run handed over no sample for that
+// joint (it ended before its first row).
+double joint_value(std::span<const JointSample> joints, const JointQuantityName& q) {
+  const auto j = static_cast<std::size_t>(q.joint);
+  if (j >= joints.size()) return std::numeric_limits<double>::quiet_NaN();
+  const JointSample& s = joints[j];
+  switch (q.which) {
+    case JointQuantity::theta: return s.theta;
+    case JointQuantity::theta_dot: return s.theta_dot;
+    case JointQuantity::phase: return s.phase.is_rocking() ? sign(*s.phase.pivot()) : 0.0;
+    case JointQuantity::friction: return s.friction();
+    case JointQuantity::count_: break;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+}  // namespace
+
 void HistoryColumns::values(const ContactModel& m, const Response& r, const std::vector<DeviceSample>& samples,
                             Eigen::Ref<const Eigen::VectorXd> u, Eigen::Ref<const Eigen::VectorXd> u_dot,
-                            std::vector<double>& out) const {
+                            std::vector<double>& out, std::span<const JointSample> joints) const {
   out.clear();
   for (const Column& c : columns) {
     if (c.quantity) out.push_back(r[*c.quantity]);
+    else if (c.joint) out.push_back(joint_value(joints, *c.joint));
     else if (c.member && c.member->of == MemberQuantityName::Of::node)
       out.push_back(node_value(m, c.member->node_quantity(), c.member->index, r, u, u_dot));
     else if (c.member) out.push_back(element_value(m, c.member->element_quantity(), c.member->index, u));
@@ -233,7 +289,7 @@ void HistoryObserver::nodal(Eigen::Ref<const Eigen::VectorXd> u, Eigen::Ref<cons
 }
 
 void HistoryObserver::record(const Response& r) {
-  columns_.values(*model_, r, devices_, u_, u_dot_, values_);
+  columns_.values(*model_, r, devices_, u_, u_dot_, values_, joints_);
   row(r, values_);
 }
 
@@ -247,6 +303,11 @@ std::vector<QuantityRow> quantity_rows(const ContactModel& m) {
     for (const DeviceQuantityInfo& q : device_quantity_table)
       rows.push_back({device_quantity_name(d.name, q.id), std::string(q.unit),
                       fmt::format("{} of {} ({})", q.words, d.name, law_name(d.law)), true, true, true, true});
+  if (m.jointed)
+    for (const MemberQuantityInfo& q : joint_quantity_table)
+      rows.push_back({fmt::format("jointK.{}", q.name), std::string(q.unit),
+                      fmt::format("{} K (K = 1 to {})", q.words, m.jointed->chain.joints - 1), true, false, false, true,
+                      q.name == "friction"});
   const std::size_t n = static_cast<std::size_t>(m.body.structure.heights.size());
   using Members = std::pair<const char*, std::span<const MemberQuantityInfo>>;
   for (const auto& [word, table] : {Members{"node", node_quantity_table}, Members{"element", element_quantity_table}})

@@ -9,6 +9,7 @@ module;
 #include <rocking/eigen.hpp>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -58,6 +59,7 @@ struct HistoryColumns {
   struct Column {
     std::optional<Quantity> quantity;                // a scalar quantity, or ...
     std::optional<MemberQuantityName> member;        // ... a node's or an element's, or ...
+    std::optional<JointQuantityName> joint;          // ... a joint's above the base, or ...
     std::size_t device = 0;                          // ... the model's device (index) ...
     DeviceQuantity of = DeviceQuantity::elongation;  // ... and which of its quantities
   };
@@ -70,9 +72,10 @@ struct HistoryColumns {
   // One row's values in the columns' order (out is resized): a broken
   // device's are NaN. u, u_dot: the nodal elastic displacements and
   // velocities (Observer::nodal), read by node and element columns only.
+  // joints: every joint's sample (Observer::joints), read by joint columns only.
   void values(const ContactModel& m, const Response& r, const std::vector<DeviceSample>& devices,
               Eigen::Ref<const Eigen::VectorXd> u, Eigen::Ref<const Eigen::VectorXd> u_dot,
-              std::vector<double>& out) const;
+              std::vector<double>& out, std::span<const JointSample> joints = {}) const;
 };
 HistoryColumns history_columns(const ContactModel& m);
 // The chosen quantities by name, t first whether named or not; InputError
@@ -102,6 +105,7 @@ class HistoryObserver : public Observer {
   void devices(const std::vector<DeviceSample>& samples) override { devices_ = samples; }
   void nodal(Eigen::Ref<const Eigen::VectorXd> u, Eigen::Ref<const Eigen::VectorXd> u_dot) override;
   bool wants_velocities() const override { return members_; }
+  void joints(std::span<const JointSample> samples) override { joints_.assign(samples.begin(), samples.end()); }
 
  protected:
   virtual void row(const Response& r, const std::vector<double>& values) = 0;
@@ -113,6 +117,7 @@ class HistoryObserver : public Observer {
   std::vector<DeviceSample> devices_;
   Eigen::VectorXd u_, u_dot_;
   std::vector<double> values_;
+  std::vector<JointSample> joints_;
 };
 
 // The schema as this model reports it: each quantity's name, unit, roles

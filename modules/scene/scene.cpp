@@ -9,6 +9,8 @@ module;
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <memory>
+#include <stdexcept>
 #include <ranges>
 #include <set>
 #include <sstream>
@@ -30,7 +32,7 @@ const std::map<std::string, std::set<std::string, std::less<>>, std::less<>> sch
     {"scene", {"name", "description"}},
     {"structure", {"half_width", "heights", "masses", "base_mass", "second_moments",
                    "youngs_modulus", "EI_scale", "damping_ratio", "rigid"}},
-    {"contact", {"rocking", "restitution", "theta_dot_min", "overturn_angle"}},
+    {"contact", {"rocking", "restitution", "theta_dot_min", "overturn_angle", "friction"}},
     {"excitation", {"kind", "pulse", "amplitude_g", "period", "record", "component", "units", "dt", "scale", "duration",
                     "vertical", "vertical_component", "vertical_units"}},
     {"initial", {"theta", "theta_dot", "u", "u_dot"}},
@@ -182,9 +184,15 @@ void check_known_keys(const toml::table& root, const std::string& file) {
                                      where(table_key.source(), file)));
       continue;
     }
+    if (table_key.str() == "joint") {  // read_joints checks each table's keys
+      if (!node.is_array())
+        throw InputError(fmt::format("{}: joint: joints are [[joint]] tables (an array of tables)",
+                                     where(table_key.source(), file)));
+      continue;
+    }
     const auto known = schema.find(table_key.str());
     if (known == schema.end())
-      throw InputError(fmt::format("{}: unknown table [{}] (known: {}, [[device]])", where(table_key.source(), file),
+      throw InputError(fmt::format("{}: unknown table [{}] (known: {}, [[device]], [[joint]])", where(table_key.source(), file),
                                    table_key.str(), fmt::join(schema | std::views::keys, ", ")));
     if (const toml::table* table = node.as_table())
       for (auto&& [key, value] : *table)
@@ -281,8 +289,58 @@ bool apply_device_override(toml::table& root, const std::string& text, Origins& 
   return true;
 }
 
+// The [[joint]] forms of --set: joint+={...} appends a joint, joint=[...]
+// replaces them all (joint=[] removes them), joint[I].KEY=VALUE sets one key
+// of joint I (from 0). Returns false for any other text.
+bool apply_joint_override(toml::table& root, const std::string& text, Origins& origins) {
+  if (!text.starts_with("joint")) return false;
+  const std::string origin = "--set " + text;
+  const auto eq = text.find('=');
+  if (eq == std::string::npos) return false;
+  const std::string key = text.substr(0, eq), value = text.substr(eq + 1);
+  toml::array* list = root.get_as<toml::array>("joint");
+  if (key == "joint+") {
+    const toml::table parsed = parse_override_value(value, origin);
+    const toml::node* node = parsed.get("v");
+    if (!node->is_table())
+      throw InputError(fmt::format("{}: expected one joint as an inline table, e.g. joint+={{node=3, half_width=1.5, "
+                                   "base_mass=0}}", origin));
+    if (list == nullptr) {
+      root.insert_or_assign("joint", toml::array{});
+      list = root.get_as<toml::array>("joint");
+    }
+    origins[fmt::format("joint[{}]", list->size())] = origin;
+    list->push_back(*node->as_table());
+    return true;
+  }
+  if (key == "joint") {
+    const toml::table parsed = parse_override_value(value, origin);
+    const toml::node* node = parsed.get("v");
+    if (!node->is_array() || !(node->as_array()->empty() || node->as_array()->is_array_of_tables()))
+      throw InputError(fmt::format("{}: expected an array of inline tables (joint=[] removes every joint)", origin));
+    root.insert_or_assign("joint", *node->as_array());
+    for (std::size_t i = 0; i < node->as_array()->size(); ++i) origins[fmt::format("joint[{}]", i)] = origin;
+    return true;
+  }
+  std::size_t index = 0, leaf_at = 0;
+  if (std::sscanf(key.c_str(), "joint[%zu].%zn", &index, &leaf_at) != 1 || leaf_at == 0 || leaf_at >= key.size())
+    return false;
+  const std::string leaf = key.substr(leaf_at);
+  if (leaf.find_first_of(".[") != std::string::npos) return false;
+  const std::size_t count = list == nullptr ? 0 : list->size();
+  if (index >= count)
+    throw InputError(fmt::format("{}: no joint [{}]: the scene has {} joint table{} (joint+={{...}} adds one)", origin,
+                                 index, count, count == 1 ? "" : "s"));
+  toml::table* table = list->get_as<toml::table>(index);
+  if (table == nullptr) throw InputError(fmt::format("{}: joint[{}] is not a table", origin, index));
+  table->insert_or_assign(leaf, *parse_override_value(value, origin).get("v"));
+  origins[key] = origin;
+  return true;
+}
+
 void apply_override(toml::table& root, const std::string& text, Origins& origins) {
   if (apply_device_override(root, text, origins)) return;
+  if (apply_joint_override(root, text, origins)) return;
   const auto eq = text.find('=');
   const std::string key = eq == std::string::npos ? "" : text.substr(0, eq);
   const std::string value = eq == std::string::npos ? "" : text.substr(eq + 1);
@@ -358,7 +416,7 @@ std::optional<ColumnGroup> read_columns(const toml::table& root, const std::stri
   return c;
 }
 
-Contact read_contact(const toml::table& root, const std::string& file, const Origins& origins) {
+Contact read_contact(const toml::table& root, const std::string& file, const Origins& origins, Scene& scene) {
   Contact c;
   if (!root.contains("contact")) return c;
   const TableReader t(root, "contact", file, origins);
@@ -366,13 +424,16 @@ Contact read_contact(const toml::table& root, const std::string& file, const Ori
   c.theta_dot_min = t.number_or("theta_dot_min", c.theta_dot_min, non_negative, "non-negative");
   c.overturn_angle = t.number_or("overturn_angle", 0.0, [](double a) { return a > 0 && a < 1.5707963; },
                                  "in (0, pi/2) [rad]");
+  scene.base_friction = t.number_or("friction", scene.base_friction, [](double v) { return v > 0 && v <= 100; },
+                                    "a friction coefficient in (0, 100] (leave it out: not checked)");
   if (t.has("restitution")) {
     const toml::node& r = t.required("restitution");
     if (r.is_string()) {
       const std::string rule = *r.value<std::string>();
       if (rule == "eq10") c.restitution_rule = RestitutionRule::eq10;
       else if (rule == "eq9") c.restitution_rule = RestitutionRule::eq9;
-      else t.fail(&r, "restitution", fmt::format("must be a number in [0, 1], eq10 or eq9 (got '{}')", rule));
+      else if (rule == "momentum") scene.momentum_base = true;  // MODEL.md 15's law: the chain's (Eq. 10 for a rigid block)
+      else t.fail(&r, "restitution", fmt::format("must be a number in [0, 1], eq10, eq9 or momentum (got '{}')", rule));
     } else {
       c.restitution_rule = RestitutionRule::constant;
       c.restitution = t.number("restitution", [](double v) { return v >= 0 && v <= 1; }, "in [0, 1], eq10 or eq9");
@@ -414,7 +475,8 @@ Damper read_damper(const toml::table& root, const std::string& file, const Origi
 // NAME_left and NAME_right), kinematics (chord, or vertical with free_length
 // [m]), capacity [m] (optional), name (optional), and the law's own keys.
 std::vector<Device> read_devices(const toml::table& root, const std::string& file, const Origins& origins,
-                                 const Structure& st, const Damper& damper) {
+                                 const Structure& st, const Damper& damper, std::size_t joints,
+                                 std::vector<int>& segments) {
   std::vector<Device> out;
   const toml::array* list = root.get_as<toml::array>("device");
   if (list == nullptr) return out;
@@ -434,7 +496,8 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
     if (law == laws.end())
       t.fail(&t.required("kind"), "kind",
              fmt::format("unknown law '{}' (laws: {})", kind, fmt::join(laws | std::views::transform(&LawInfo::name), ", ")));
-    std::set<std::string, std::less<>> known = {"name", "kind", "at", "kinematics", "free_length", "capacity"};
+    std::set<std::string, std::less<>> known = {"name", "kind", "at", "kinematics", "free_length", "capacity",
+                                                "segment"};
     for (const LawParameter& p : law->parameters) known.insert(p.key);
     for (auto&& [key, value] : *table)
       if (!known.contains(key.str()))
@@ -457,6 +520,15 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
       t.fail(&t.required("kinematics"), "kinematics", fmt::format("must be chord or vertical (got '{}')", kinematics));
     }
     const double capacity = t.number_or("capacity", 0.0, positive, "positive [m] (leave it out: never breaks)");
+    // The segment its upper anchor is on, with [[joint]] tables (0 .. J).
+    int segment = -1;
+    if (t.has("segment")) {
+      if (joints == 0)
+        t.fail(&t.required("segment"), "segment", "only a structure with [[joint]] tables has segments above its base");
+      segment = static_cast<int>(t.number("segment", [joints](double v) {
+        return v >= 0 && v <= static_cast<double>(joints) && v == std::floor(v);
+      }, fmt::format("a segment of the structure, an integer 0 to {} (one per [[joint]] above the base)", joints)));
+    }
     std::map<std::string, double, std::less<>> given;
     for (const LawParameter& p : law->parameters)
       if (t.has(p.key)) given[p.key] = t.number(p.key, [&p](double v) { return within(p, v); }, bounds_text(p));
@@ -486,6 +558,7 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
       t.fail(t.has("name") ? &t.required("name") : nullptr, "name",
              "'damper' names the scene's [damper] (its two edge dampers): choose another name");
     for (Device& d : made) {
+      segments.push_back(segment);
       d.group = name;
       if (!names.insert(d.name).second)
         t.fail(t.has("name") ? &t.required("name") : nullptr, "name", fmt::format("'{}' names two devices", d.name));
@@ -497,6 +570,74 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
   if (out.size() + edge > static_cast<std::size_t>(max_device_states))
     throw InputError(fmt::format("{}: device: {} devices{}: a scene holds at most {}", file, out.size() + edge,
                                  edge > 0 ? " (with the damper's two)" : "", max_device_states));
+  return out;
+}
+
+// [[joint]] tables (MODEL.md 15), from the ground up: node (1 .. N-1, above
+// the previous joint's), half_width, base_mass, restitution ("momentum" or r),
+// initial_theta, friction (a limit on |V| / N), rigid (the segment above).
+std::vector<JointTable> read_joints(const toml::table& root, const std::string& file, const Origins& origins,
+                                    const Structure& st, const Contact& contact) {
+  std::vector<JointTable> out;
+  const toml::array* list = root.get_as<toml::array>("joint");
+  if (list == nullptr || list->empty()) return out;
+  const std::size_t nodes = static_cast<std::size_t>(st.heights.size());
+  const auto origin = [&](std::size_t i) {
+    const auto set = origins.find(fmt::format("joint[{}]", i));
+    return set != origins.end() ? set->second : where(list->get(i)->source(), file);
+  };
+  if (list->size() + 1 > nodes)
+    throw InputError(fmt::format("{}: joint: {} joints for a structure of {} node{}: at most {} (one per node from 1 to "
+                                 "N-1; the top node carries none)", origin(0), list->size(), nodes, nodes == 1 ? "" : "s",
+                                 nodes - 1));
+  if (!contact.rocking)
+    throw InputError(fmt::format("{}: joint: a structure with joints rocks at its base too (contact.rocking = true)",
+                                 origin(0)));
+  const std::set<std::string, std::less<>> known = {"node", "half_width", "base_mass", "restitution",
+                                                    "initial_theta", "friction", "rigid"};
+  const std::string length_range = fmt::format("in [{:g}, {:g}] m", min_length, max_length);
+  for (std::size_t i = 0; i < list->size(); ++i) {
+    const std::string table_name = fmt::format("joint[{}]", i);
+    const toml::table* table = list->get_as<toml::table>(i);
+    if (table == nullptr) throw InputError(fmt::format("{}: {}: must be a table", origin(i), table_name));
+    const TableReader t(table, table_name, file, origins);
+    for (auto&& [key, value] : *table)
+      if (!known.contains(key.str()))
+        t.fail(&value, key.str(), fmt::format("unknown key for a joint (known: {})", fmt::join(known, ", ")));
+    JointTable j;
+    const double low = out.empty() ? 1.0 : out.back().node + 1.0, high = static_cast<double>(nodes - 1);
+    const double node = t.number("node", [](double v) { return v == std::floor(v) && std::abs(v) <= 1e6; },
+                                 "a node's number, an integer");
+    if (!(node >= 1 && node <= high))
+      t.fail(&t.required("node"), "node",
+             fmt::format("must be a node of [structure] above the base and below the top, 1 to N-1 = {} (got {})",
+                         nodes - 1, node));
+    if (!(node >= low))
+      t.fail(&t.required("node"), "node",
+             fmt::format("joints go up the structure in order: above joint[{}] on node {}, so {} to {} (got {})", i - 1,
+                         out.back().node, low, high, node));
+    j.node = static_cast<int>(node);
+    j.half_width = t.number("half_width", in_range(min_length, max_length, true), length_range);
+    j.base_mass = t.number_or("base_mass", 0.0, in_range(0, max_mass, true),
+                              fmt::format("non-negative and at most {:g} kg", max_mass));
+    if (t.has("restitution")) {
+      const toml::node& r = t.required("restitution");
+      if (r.is_string()) {
+        if (*r.value<std::string>() != "momentum")
+          t.fail(&r, "restitution", fmt::format("must be \"momentum\" or a number in [0, 1] (got '{}')",
+                                                *r.value<std::string>()));
+      } else {
+        j.restitution = t.number("restitution", [](double v) { return v >= 0 && v <= 1; },
+                                 "\"momentum\" or a number in [0, 1]");
+      }
+    }
+    j.initial_theta = t.number_or("initial_theta", 0.0, [](double v) { return std::abs(v) < 1.5707963; },
+                                  "in (-pi/2, pi/2) [rad]");
+    j.friction = t.number_or("friction", j.friction, [](double v) { return v > 0 && v <= 100; },
+                             "a friction coefficient in (0, 100] (leave it out: not checked)");
+    j.rigid = t.boolean_or("rigid", st.rigid);
+    out.push_back(j);
+  }
   return out;
 }
 
@@ -661,13 +802,19 @@ Scene read_scene(toml::table root, const std::string& file, const std::vector<st
     scene.description = meta.string_or("description", "");
   }
   scene.structure = read_structure(root, file, origins);
-  scene.contact = read_contact(root, file, origins);
+  scene.contact = read_contact(root, file, origins, scene);
   scene.damper = read_damper(root, file, origins, scene.structure);
-  scene.devices = read_devices(root, file, origins, scene.structure, scene.damper);
+  scene.joints = read_joints(root, file, origins, scene.structure, scene.contact);
+  scene.devices = read_devices(root, file, origins, scene.structure, scene.damper, scene.joints.size(),
+                               scene.device_segments);
   scene.columns = read_columns(root, file, origins);
   scene.excitation = read_excitation(root, file, origins);
   scene.initial = read_initial(root, file, origins, scene.structure, scene.contact);
   scene.output = read_output(root, file, origins, scene.structure);
+  if (std::isfinite(scene.base_friction) && !scene.jointed())
+    throw InputError(fmt::format("{}: contact.friction: the friction demand is checked for a structure with joints "
+                                 "([[joint]] tables or contact.restitution = \"momentum\")", file));
+  if (scene.jointed()) (void)jointed_model(scene);  // what the chain cannot model is refused here, before any run
   if (scene.structure.rigid && !scene.contact.rocking)
     throw InputError(fmt::format("{}: structure.rigid = true with contact.rocking = false: a rigid "
                                  "block on a fixed base has no motion to compute", file));
@@ -737,13 +884,92 @@ std::vector<DeviceGroup> device_groups(const Scene& scene) {
   return out;
 }
 
+JointedModel jointed_model(const Scene& scene) {
+  const std::string& file = scene.source;
+  const Structure& st = scene.structure;
+  if (!scene.contact.rocking)
+    throw InputError(fmt::format("{}: contact.restitution = \"momentum\": a fixed base (contact.rocking = false) has "
+                                 "no impacts", file));
+  if (scene.damper.enabled)
+    throw InputError(fmt::format("{}: damper: the paper's edge dampers are not modelled on a structure with joints "
+                                 "(--set damper.enabled=false, or a [[device]] tendon)", file));
+  if (!scene.momentum_base && scene.contact.restitution_rule == RestitutionRule::eq9)
+    throw InputError(fmt::format("{}: contact.restitution = eq9: not modelled on a structure with joints (\"momentum\", "
+                                 "eq10 or a number)", file));
+  if (scene.initial.u.size() > 0 || scene.initial.u_dot.size() > 0)
+    throw InputError(fmt::format("{}: initial.u, initial.u_dot: a structure with joints starts with its elastic "
+                                 "displacements and velocities at zero", file));
+  std::vector<ChainJointSpec> specs;
+  for (const JointTable& j : scene.joints) specs.push_back({j.node, j.half_width, j.base_mass, j.rigid});
+  ChainData data = split_structure(st, specs);
+  const int top = static_cast<int>(data.segments.size()) - 1;
+  JointedModel out;
+  for (std::size_t k = 0; k < scene.devices.size(); ++k) {
+    const Device& d = scene.devices[k];
+    if (std::string_view(law_name(d.law)) != "elastic" || d.geometry.kinematics != Kinematics::vertical || d.capacity > 0)
+      throw InputError(fmt::format("{}: device '{}': on a structure with joints a device is a tendon (kind = "
+                                   "\"elastic\", kinematics = \"vertical\", no capacity)", file, d.name));
+    const int seg = scene.device_segments[k] < 0 ? top : scene.device_segments[k];
+    const ChainSegment& sg = data.segments[static_cast<std::size_t>(seg)];
+    // From the ground at x to the top of its segment, at the same x; e from the rest distance.
+    const double z_top = sg.heights[sg.heights.size() - 1] - sg.base_height;
+    data.tendons.push_back({.from = {.segment = -1, .x = d.geometry.x, .z = 0.0},
+                            .to = {.segment = seg, .x = d.geometry.x, .z = z_top},
+                            .prestress = law_force_at_rest(d.law, 0.0),
+                            .stiffness = law_stiffness(d.law),
+                            .free_length = 0.0});
+    out.tendons.push_back(d.name);
+  }
+  try {
+    out.chain = make_chain(data);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(fmt::format("{}: joint: {}", file, e.what()));
+  }
+  // Eq. 10 of the whole structure on its base, for restitution = "eq10".
+  const double r_eq10 = make_contact_model(st, scene.contact, {}, false).r_eq10;
+  out.restitution.push_back(scene.momentum_base ? -1.0
+                            : scene.contact.restitution_rule == RestitutionRule::constant ? scene.contact.restitution
+                                                                                           : r_eq10);
+  out.initial_theta.push_back(scene.initial.theta);
+  out.friction_limit.push_back(scene.base_friction);
+  for (const JointTable& j : scene.joints) {
+    out.restitution.push_back(j.restitution);
+    out.initial_theta.push_back(j.initial_theta);
+    out.friction_limit.push_back(j.friction);
+  }
+  // Each joint's overturning angle: the slenderness about its corner of
+  // everything above it, atan(B_j / (H_cg,j - h_j)) (MODEL.md 15's threshold);
+  // the base's is contact.overturn_angle when given.
+  for (int j = 0; j <= top; ++j) {
+    double m = 0, mz = 0;
+    for (int k = j; k <= top; ++k) {
+      const ChainSegment& sg = data.segments[static_cast<std::size_t>(k)];
+      m += sg.base_mass;
+      mz += sg.base_mass * sg.base_height;
+      m += sg.masses.sum();
+      mz += sg.masses.dot(sg.heights);
+    }
+    const ChainSegment& sg = data.segments[static_cast<std::size_t>(j)];
+    out.overturn_angle.push_back(j == 0 && scene.contact.overturn_angle > 0
+                                     ? scene.contact.overturn_angle
+                                     : std::atan(sg.half_width / (mz / m - sg.base_height)));
+  }
+  out.theta_dot_min = scene.contact.theta_dot_min;
+  return out;
+}
+
 ContactModel make_contact_model(const Scene& scene, bool track_energy, std::vector<Device> extra) {
   if (scene.columns)
     throw InputError(fmt::format("{}: [columns]: a structure on rocking columns is not simulated by this program yet "
                                  "(its engine is rocking.columns)", scene.source));
   std::vector<Device> devices = scene_devices(scene);
   for (Device& d : extra) devices.push_back(std::move(d));
-  return make_contact_model(scene.structure, scene.contact, std::move(devices), track_energy);
+  if (scene.jointed() && !extra.empty())
+    throw InputError(fmt::format("{}: device '{}': a device added to a structure with joints is not modelled (give it "
+                                 "as a [[device]] tendon of the scene)", scene.source, extra.front().name));
+  ContactModel m = make_contact_model(scene.structure, scene.contact, std::move(devices), track_energy);
+  if (scene.jointed()) m.jointed = std::make_shared<const JointedModel>(jointed_model(scene));
+  return m;
 }
 
 double excitation_scale(const Scene& scene) { return scene.excitation.none ? 1.0 : scene.excitation.record_options.scale; }

@@ -18,6 +18,7 @@
 // text), which key, what is wrong.
 module;
 #include <rocking/eigen.hpp>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -70,6 +71,19 @@ struct Output {
   double interval = 0;  // [s]
 };
 
+// A joint above the base ([[joint]] tables, from the ground up; MODEL.md 15):
+// the structure rocks there too. The segment above stands on node `node` of
+// [structure] (1 .. N-1) with a slab of its own at that height.
+struct JointTable {
+  int node = 0;               // the node of [structure] it stands on
+  double half_width = 0;      // B_j [m]
+  double base_mass = 0;       // m0_j, the slab of the segment above [kg]
+  double restitution = -1;    // r; < 0: "momentum", the momentum law of MODEL.md 15
+  double initial_theta = 0;   // a release from a tilt [rad]
+  double friction = std::numeric_limits<double>::infinity();  // the friction coefficient the run checks |V|/N against
+  bool rigid = false;         // the segment above is rigid (default: as [structure])
+};
+
 struct Scene {
   std::string name;
   std::string description;
@@ -82,6 +96,15 @@ struct Scene {
   // make_columns requires; the run path does not simulate them yet and
   // make_contact_model refuses such a scene).
   std::optional<ColumnGroup> columns;
+  // Per device of `devices`: the segment its upper anchor is on with joints
+  // ([[device]] segment, 0 .. J; -1: the top segment).
+  std::vector<int> device_segments;
+  std::vector<JointTable> joints;  // the [[joint]] tables, from the ground up
+  bool momentum_base = false;      // [contact] restitution = "momentum"
+  double base_friction = std::numeric_limits<double>::infinity();  // [contact] friction
+  // The structure rocks by the chain's equations (MODEL.md 15): joints, or
+  // the momentum law at its base.
+  bool jointed() const { return !joints.empty() || momentum_base; }
   Excitation excitation;
   Initial initial;
   Output output;
@@ -108,9 +131,19 @@ struct DeviceGroup {
 };
 std::vector<DeviceGroup> device_groups(const Scene& scene);
 
+// The chain of a scene with joints (MODEL.md 15, rocking.chain): [structure]
+// split at the joints' nodes, each device a tendon from the ground at x to
+// the top of its segment (an elastic law, vertical kinematics), each joint's
+// restitution, initial tilt, friction limit and overturning angle (the
+// slenderness about its corner of everything above it). InputError for what
+// the chain does not model (a flexible segment on a flexible one, the
+// [damper], a device other than an elastic vertical one, eq9, initial u).
+JointedModel jointed_model(const Scene& scene);
+
 // The model the scene describes (rocking.contact), with energy accumulators
-// when asked; `extra` devices act after the scene's own. InputError for a
-// scene on [columns], which this model does not describe.
+// when asked; `extra` devices act after the scene's own. A scene with joints
+// carries its chain (ContactModel::jointed). InputError for a scene on
+// [columns], which this model does not describe.
 ContactModel make_contact_model(const Scene& scene, bool track_energy, std::vector<Device> extra = {});
 
 // The scene's excitation as a ground motion (reads the record if it names

@@ -12,6 +12,13 @@ import rocking.errors;
 namespace rocking {
 
 Presence presence(const ContactModel& m) {
+  // A structure with joints reports its joints' rocking, the whole
+  // structure's drift and its tendons' elongations and forces; its elastic
+  // quantities are not computed (nor the devices' moment M_dev: rocking.report
+  // leaves it out).
+  if (m.jointed)
+    return {.rocking = true, .elasticity = false, .dampers = false, .devices = !m.devices.empty(),
+            .vertical = m.vertical_shaking};
   return {.rocking = m.kind != ModelKind::fixed_base,
           .elasticity = m.layout.u.present(),
           .dampers = m.has_damper,

@@ -32,6 +32,7 @@ module;
 #include <functional>
 #include <limits>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -66,6 +67,17 @@ struct Event {
   double t = 0;
   Pivot pivot = Pivot::right;  // the pivot lifted onto, struck, overturned about or rocked about at a fracture
   std::optional<int> device;  // a fracture's device
+  int joint = 0;  // where it happened: 0 the base, 1 .. J the joints above (MODEL.md 15)
+};
+
+// One joint's state at an instant (a structure with joints, MODEL.md 15):
+// its phase, rocking angle and rate relative to the face below, and its
+// reaction (rocking.chain's JointReaction: N compression > 0, V, M).
+struct JointSample {
+  Phase phase;
+  double theta = 0, theta_dot = 0;
+  double N = 0, V = 0, M = 0;
+  double friction() const;  // |V| / N (infinity when N <= 0)
 };
 
 // Receives the response as it is computed (history files, plots, tests).
@@ -87,6 +99,9 @@ class Observer {
   virtual void devices(const std::vector<DeviceSample>& samples) { (void)samples; }
   // Each phase change, as it happens (before the row recorded at it).
   virtual void event(const Event& e) { (void)e; }
+  // A structure with joints: every joint's sample (joint 0, the base, first)
+  // at the instant of the next record(), called just before it.
+  virtual void joints(std::span<const JointSample> samples) { (void)samples; }
 };
 
 struct InitialState {
@@ -148,6 +163,15 @@ struct DeviceResult {
   double fracture_time = std::numeric_limits<double>::quiet_NaN();  // [s]; NaN: intact
 };
 
+// What one joint did in a run of a structure with joints (MODEL.md 15).
+struct JointResult {
+  double first_uplift = std::numeric_limits<double>::quiet_NaN();  // [s]
+  double first_impact = std::numeric_limits<double>::quiet_NaN();  // [s]
+  long uplifts = 0, impacts = 0;
+  double peak_theta = 0;     // max |theta| [rad]
+  double peak_friction = 0;  // max |V| / N while closed or rocking [-]
+};
+
 struct EnergyBalance {
   double initial = 0, final = 0;                 // mechanical: kinetic + gravity + elastic [J]
   double ground = 0, viscous = 0, damper = 0, impacts = 0;  // [J]
@@ -165,6 +189,7 @@ struct RunResult {
   Presence presence;               // which quantities the model reports
   Counts counts;
   std::vector<DeviceResult> devices;  // one per device of the model, in its order
+  std::vector<JointResult> joints;    // a structure with joints: one per joint, the base first; else empty
   double first_uplift = std::numeric_limits<double>::quiet_NaN();
   double first_impact = std::numeric_limits<double>::quiet_NaN();
   EnergyBalance energy;
@@ -216,10 +241,19 @@ double element_value(const ContactModel& m, ElementQuantity q, int element, Eige
 ode::Backend choose_backend(const ContactModel& m, const GroundMotion& ground, ode::Backend requested);
 
 // Runs the model under the ground motion: along the model's plane and, when
-// it comes with one (GroundMotion::vertical), upward (MODEL.md 14). Never
-// throws for a run that cannot finish: the result says failed, with the
-// reason, and holds what was reached.
+// it comes with one (GroundMotion::vertical), upward (MODEL.md 14). A model
+// with joints (ContactModel::jointed) is run by the chain's equations
+// (MODEL.md 15) with the same backends, events, observers and energy balance.
+// Never throws for a run that cannot finish: the result says failed, with
+// the reason, and holds what was reached.
 RunResult simulate(const ContactModel& m, const GroundMotion& ground, const RunOptions& options,
                    Observer* observer = nullptr);
 
+}  // namespace rocking
+
+namespace rocking {
+// The run of a model with joints (ContactModel::jointed, MODEL.md 15), which
+// simulate() hands over to: chain_run.cpp.
+RunResult simulate_chain(const ContactModel& m, const GroundMotion& ground, const RunOptions& options,
+                         Observer* observer);
 }  // namespace rocking

@@ -39,7 +39,8 @@ std::vector<Variant> default_variants(const Scene& scene) {
   std::vector<Variant> out{named_variant("scene")};
   for (const DeviceGroup& g : device_groups(scene))
     if (g.dissipates) out.push_back(named_variant("without:" + g.name));
-  if (scene.contact.rocking && !scene.structure.rigid) out.push_back(named_variant("fixed-base"));
+  // A structure with joints has no fixed-base variant: its chain rocks at its base (MODEL.md 15).
+  if (scene.contact.rocking && !scene.structure.rigid && !scene.jointed()) out.push_back(named_variant("fixed-base"));
   return out;
 }
 

@@ -1,0 +1,482 @@
+// The run of a structure that rocks at more than one level (MODEL.md 15):
+// the chain's equations (rocking.chain) integrated by the same backends
+// (rocking.integrator, rocking.sundials) and reported through the same
+// observers, events, peaks and energy balance as the one-joint structure's
+// (simulation.cpp). The phase is one per joint. Guards, per joint j:
+// - closed: uplift about s when the resultant reaches the corner and the
+//   corner's relative acceleration points away from the face,
+//   min(s M_j - N_j B_j, s theta_j''), rising (Eq. 2/3 for the base);
+// - rocking about s: impact, s theta_j falling through 0; overturning, s
+//   theta_j rising through the slenderness of everything above the joint;
+// - any phase: tension, N_j falling through 0, and, with a stated friction
+//   limit mu_j, mu_j N_j - |V_j| falling through 0: each a stated outcome
+//   that ends the run as failed, never continued.
+// Resets: uplift (theta_j = theta_j' = 0, already so); impact by the momentum
+// law of MODEL.md 15 (chain_impact: impact-induced uplift of other joints is
+// an event; an outcome that is not unique, or none, ends the run, stated) or
+// a given r (theta_j'+ = r theta_j'-, the rest continuous); an impact slower
+// than contact.theta_dot_min closes the joint by the momentum law into full
+// contact (Eq. 8's threshold, which acts only when the motion dies out).
+// The state is [q, q', W_ground, W_viscous]: the works are integrals that
+// do not steer the steps. The mechanical energy is kinetic + gravity +
+// elastic; the tendons' stored energy is the work done on the devices.
+// Each device is a tendon (its elongation and force reported by its name);
+// the devices' moment M_dev is not computed.
+module;
+#include <rocking/eigen.hpp>
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+#include <fmt/format.h>
+module rocking.simulation;
+import :peaks;
+import rocking.errors;
+
+namespace rocking {
+
+double JointSample::friction() const { return N > 0 ? std::abs(V) / N : std::numeric_limits<double>::infinity(); }
+
+namespace {
+
+enum class ChainGuard { uplift, impact, overturn, tension, friction };
+
+struct ChainGuardDef {
+  ChainGuard what = ChainGuard::uplift;
+  int joint = 0;
+  Pivot pivot = Pivot::right;
+};
+
+class ChainDriver {
+ public:
+  ChainDriver(const ContactModel& m, const GroundMotion& ground, const RunOptions& o, Observer* observer)
+      : m_(m), jm_(*m.jointed), c_(jm_.chain), ground_(ground), vertical_(ground.vertical()), opt_(o),
+        observer_(observer), scales_(output_scales(m)), w_(make_workspace(c_)), n_(c_.size),
+        phases_(static_cast<std::size_t>(c_.joints)), reactions_(static_cast<std::size_t>(c_.joints)),
+        samples_(static_cast<std::size_t>(c_.joints)), y_(Eigen::VectorXd::Zero(2 * n_ + 2)), dense_(2 * n_ + 2),
+        qdd_(n_), elongation_(c_.data.tendons.size(), 0.0), device_samples_(c_.data.tendons.size()) {
+    auto rhs = [this](double t, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& dydt) {
+      derivatives(t, y, dydt);
+    };
+    ode::Options tolerances = o.tolerances;
+    tolerances.max_step = std::min(tolerances.max_step, ground.max_step());
+    if (vertical_) tolerances.max_step = std::min(tolerances.max_step, vertical_->max_step());
+    tolerances.error_components = 2 * n_;  // the works do not steer the steps
+    const ode::Backend backend = o.backend == ode::Backend::automatic ? ode::Backend::rk45 : o.backend;
+    integrator_ = ode::make_integrator(backend, 2 * n_ + 2, rhs, tolerances);
+    const bool own_samples = vertical_ && !(vertical_->sample_interval() > 0 &&
+                                            vertical_->sample_interval() == ground_.sample_interval() &&
+                                            vertical_->duration() <= ground_.duration());
+    integrator_->set_breakpoints([this, own_samples](double t) {
+      return own_samples ? std::min(ground_.next_breakpoint(t), vertical_->next_breakpoint(t))
+                         : ground_.next_breakpoint(t);
+    });
+    t_end_ = o.duration > 0 ? o.duration : ground.duration();
+    // The top node's local height on its segment: delta_t is its horizontal displacement over H_N.
+    const ChainSegment& top = c_.data.segments.back();
+    top_ = {.segment = c_.joints - 1, .x = 0.0, .z = top.heights[top.heights.size() - 1] - top.base_height,
+            .node = top.rigid ? -1 : static_cast<int>(top.heights.size()) - 1};
+  }
+
+  RunResult run() {
+    result_.integrator = integrator_->name();
+    result_.presence = presence(m_);
+    result_.energy_tracked = true;
+    result_.joints.resize(static_cast<std::size_t>(c_.joints));
+    // The devices are the chain's tendons, in the model's order.
+    for (const Device& dev : m_.devices)
+      result_.devices.push_back({.name = dev.name, .law = law_name(dev.law), .force_at_rest = law_force_at_rest(dev.law, 0.0),
+                                 .work = 0.0});
+    initial_state();
+    tendons_initial_ = energy().tendons;
+    result_.energy.initial = mechanical();
+    next_output_ = opt_.output_interval;
+    outputs_ = 1;
+    try {
+      for (int j = 0; j < c_.joints; ++j) lift_if_lifting(j, 0.0);
+      restart(0.0);
+      for (int j = 0; j < c_.joints; ++j)
+        if (phases_[j].is_rocking() && sign(*phases_[j].pivot()) * y_[j] >= jm_.overturn_angle[j]) {
+          announce({EventKind::overturn, 0.0, *phases_[j].pivot(), std::nullopt, j});
+          result_.outcome = Outcome::overturned;
+        }
+      if (result_.outcome != Outcome::overturned) loop();
+    } catch (const ode::IntegrationError& e) {
+      result_.outcome = Outcome::failed;
+      result_.failure = fmt::format("{} (phases {})", e.what(), phases_text());
+    } catch (const RunError& e) {
+      result_.outcome = Outcome::failed;
+      result_.failure = fmt::format("{} (phases {})", e.what(), phases_text());
+    }
+    finish();
+    return result_;
+  }
+
+ private:
+  GroundAcceleration ground_at(double t) const {
+    return vertical_ ? GroundAcceleration{ground_.acceleration(t), vertical_->acceleration(t)}
+                     : GroundAcceleration{ground_.acceleration(t)};
+  }
+
+  void derivatives(double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> dydt) {
+    const GroundAcceleration a = ground_at(t);
+    const auto q = y.head(n_), qd = y.segment(n_, n_);
+    chain_acceleration(c_, phases_, a, q, qd, dydt.segment(n_, n_), w_);
+    dydt.head(n_) = qd;
+    for (int j = 0; j < c_.joints; ++j)
+      if (!phases_[j].is_rocking()) dydt[j] = 0;  // a closed joint's theta stays 0
+    const ChainPower p = chain_power(c_, phases_, a, q, qd, w_);
+    dydt[2 * n_] = p.ground;
+    dydt[2 * n_ + 1] = p.damping;
+  }
+
+  std::string phases_text() const {
+    std::string out;
+    for (int j = 0; j < c_.joints; ++j) out += fmt::format("{}{}", j == 0 ? "" : ", ", phase_name(phases_[j]));
+    return out;
+  }
+
+  void initial_state() {
+    const InitialState& init = opt_.initial;
+    if (init.u.size() > 0 || init.u_dot.size() > 0)
+      throw InputError("initial u, u_dot: a structure with joints starts with its elastic displacements at zero");
+    for (int j = 0; j < c_.joints; ++j) {
+      const double theta = j == 0 ? init.theta : jm_.initial_theta[j];
+      const double rate = j == 0 ? init.theta_dot : 0.0;
+      if (theta == 0 && rate == 0) continue;
+      phases_[j] = Phase::rocking(theta > 0 || (theta == 0 && rate > 0) ? Pivot::right : Pivot::left);
+      y_[j] = theta;
+      y_[n_ + j] = rate;
+    }
+  }
+
+  ChainEnergy energy() { return chain_energy(c_, phases_, y_.head(n_), y_.segment(n_, n_), w_); }
+  double mechanical() {
+    const ChainEnergy e = energy();
+    return e.kinetic + e.gravity + e.elastic;
+  }
+
+  // Closed joint j lifts now (at the start or after an impact) when both
+  // uplift conditions already hold about one of its corners.
+  void lift_if_lifting(int j, double t) {
+    if (phases_[j].is_rocking()) return;
+    const GroundAcceleration a = ground_at(t);
+    const auto q = y_.head(n_), qd = y_.segment(n_, n_);
+    chain_reactions(c_, phases_, a, q, qd, reactions_, qdd_, w_);
+    for (Pivot s : pivots)
+      if (uplift_guard(c_, j, s, reactions_[j]) > 0 && corner_acceleration(c_, phases_, j, s, a, q, qd, w_) > 0) {
+        lift(j, s, t);
+        return;
+      }
+  }
+
+  void lift(int j, Pivot s, double t) {
+    phases_[j] = Phase::rocking(s);
+    y_[j] = 0;
+    y_[n_ + j] = 0;
+    JointResult& r = result_.joints[j];
+    if (r.uplifts++ == 0) r.first_uplift = t;
+    if (result_.counts.uplifts++ == 0) result_.first_uplift = t;
+    announce({EventKind::uplift, t, s, std::nullopt, j});
+  }
+
+  void announce(const Event& e) {
+    if (observer_ != nullptr) observer_->event(e);
+  }
+
+  void restart(double t) {
+    guards_.clear();
+    std::vector<ode::Direction> directions;
+    for (int j = 0; j < c_.joints; ++j) {
+      if (phases_[j].is_rocking()) {
+        guards_.push_back({ChainGuard::impact, j, *phases_[j].pivot()});
+        directions.push_back(ode::Direction::falling);
+        guards_.push_back({ChainGuard::overturn, j, *phases_[j].pivot()});
+        directions.push_back(ode::Direction::rising);
+      } else {
+        for (Pivot s : pivots) {
+          guards_.push_back({ChainGuard::uplift, j, s});
+          directions.push_back(ode::Direction::rising);
+        }
+      }
+      guards_.push_back({ChainGuard::tension, j});
+      directions.push_back(ode::Direction::falling);
+      if (std::isfinite(jm_.friction_limit[j])) {
+        guards_.push_back({ChainGuard::friction, j});
+        directions.push_back(ode::Direction::falling);
+      }
+    }
+    ode::Guards guards{[this](double tg, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& g) {
+                         guard_values(tg, y, g);
+                       },
+                       std::move(directions)};
+    integrator_->reset(t, y_, std::move(guards));
+    emit(t, y_, true);
+  }
+
+  void guard_values(double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> g) {
+    const GroundAcceleration a = ground_at(t);
+    const auto q = y.head(n_), qd = y.segment(n_, n_);
+    chain_reactions(c_, phases_, a, q, qd, reactions_, qdd_, w_);
+    for (std::size_t k = 0; k < guards_.size(); ++k) {
+      const ChainGuardDef& d = guards_[k];
+      const int j = d.joint;
+      const double s = sign(d.pivot);
+      const JointReaction& r = reactions_[j];
+      switch (d.what) {
+        case ChainGuard::uplift:
+          g[k] = std::min(uplift_guard(c_, j, d.pivot, r), corner_acceleration(c_, phases_, j, d.pivot, a, q, qd, w_));
+          break;
+        case ChainGuard::impact: g[k] = s * q[j]; break;
+        case ChainGuard::overturn: g[k] = s * q[j] - jm_.overturn_angle[j]; break;
+        case ChainGuard::tension: g[k] = r.N; break;
+        case ChainGuard::friction: g[k] = jm_.friction_limit[j] * r.N - std::abs(r.V); break;
+      }
+    }
+  }
+
+  void loop() {
+    while (integrator_->time() < t_end_) {
+      if (opt_.stop && opt_.stop())
+        throw RunError(fmt::format("stopped at t = {:.6g} s on request", integrator_->time()));
+      const ode::StepReport rep = integrator_->step(t_end_);
+      sample_step();
+      if (rep.reason == ode::Stop::event) {
+        if (!handle_event(guards_[static_cast<std::size_t>(rep.guard)], rep.t)) return;
+        continue;
+      }
+      // Round-off right after an uplift can put a theta on the wrong side
+      // without a crossing: treat it as the impact it is.
+      for (int j = 0; j < c_.joints; ++j)
+        if (phases_[j].is_rocking() && sign(*phases_[j].pivot()) * integrator_->state()[j] < 0) {
+          if (!handle_event({ChainGuard::impact, j, *phases_[j].pivot()}, integrator_->time())) return;
+          break;
+        }
+    }
+  }
+
+  // Returns false when the run ends (overturning).
+  bool handle_event(const ChainGuardDef& d, double t) {
+    y_ = integrator_->state();
+    const int j = d.joint;
+    if (++events_ > opt_.max_events)
+      throw RunError(fmt::format("phase change number {} at t = {:.9g} s exceeds the limit (chattering? raise "
+                                 "contact.theta_dot_min or the event limit)", events_, t));
+    switch (d.what) {
+      case ChainGuard::uplift: lift(j, d.pivot, t); break;
+      case ChainGuard::impact: impact(j, t); break;
+      case ChainGuard::overturn:
+        announce({EventKind::overturn, t, d.pivot, std::nullopt, j});
+        result_.outcome = Outcome::overturned;
+        return false;
+      case ChainGuard::tension:
+        throw RunError(fmt::format("joint {} in tension at t = {:.9g} s: its normal force N reached 0 (the part above "
+                                   "would leave it; not modelled)", j, t));
+      case ChainGuard::friction:
+        chain_reactions(c_, phases_, ground_at(t), y_.head(n_), y_.segment(n_, n_), reactions_, qdd_, w_);
+        throw RunError(fmt::format("joint {} would slide at t = {:.9g} s: its friction demand |V|/N reached the stated "
+                                   "limit {:g} (sliding is not modelled)", j, t, jm_.friction_limit[j]));
+    }
+    peaks_.break_continuity();
+    restart(t);
+    return true;
+  }
+
+  // Impact at joint j (theta_j back to 0): the momentum law or a given r.
+  void impact(int j, double t) {
+    const Pivot s = *phases_[j].pivot();
+    announce({EventKind::impact, t, s, std::nullopt, j});
+    y_[j] = 0;
+    const double before = mechanical();
+    const auto q = y_.head(n_);
+    const Eigen::VectorXd qd = y_.segment(n_, n_);
+    const double r = jm_.restitution[j];
+    if (std::abs(qd[j]) <= jm_.theta_dot_min || r == 0) {
+      // Too slow to rock on (Eq. 8), or r = 0: the joint closes, the rest by the momentum law.
+      std::vector<Phase> after = phases_;
+      after[j] = Phase::full_contact();
+      const ImpactCandidate cand = impact_into(c_, phases_, j, after, q, qd);
+      phases_ = cand.phases;
+      y_.segment(n_, n_) = cand.q_dot;
+    } else {
+      const ImpactOutcome out = chain_impact(c_, phases_, j, q, qd, r);
+      if (out.status != ImpactStatus::unique)
+        throw RunError(fmt::format("impact at joint {} at t = {:.9g} s: the momentum law gives {} ({} candidates "
+                                   "examined): the outcome is not decided",
+                                   j, t, out.status == ImpactStatus::none ? "no admissible outcome" : "more than one admissible outcome",
+                                   out.candidates.size()));
+      for (int k : out.uplifted) {  // impact-induced uplift
+        JointResult& rk = result_.joints[k];
+        if (rk.uplifts++ == 0) rk.first_uplift = t;
+        if (result_.counts.uplifts++ == 0) result_.first_uplift = t;
+        announce({EventKind::uplift, t, *out.phases[k].pivot(), std::nullopt, k});
+      }
+      phases_ = out.phases;
+      y_.segment(n_, n_) = out.q_dot;
+    }
+    for (int k = 0; k < c_.joints; ++k)
+      if (!phases_[k].is_rocking()) {
+        y_[k] = 0;
+        y_[n_ + k] = 0;
+      }
+    result_.energy.impacts += before - mechanical();
+    JointResult& rj = result_.joints[j];
+    if (rj.impacts++ == 0) rj.first_impact = t;
+    if (result_.counts.impacts++ == 0) result_.first_impact = t;
+    for (int k = 0; k < c_.joints; ++k) lift_if_lifting(k, t);
+  }
+
+  // The response of joint 0 and the whole structure in today's quantities,
+  // and every joint's sample (with its reaction when `reactions`).
+  Response response(double t, Eigen::Ref<const Eigen::VectorXd> y, bool reactions) {
+    const auto q = y.head(n_), qd = y.segment(n_, n_);
+    Response r;
+    r.t = t;
+    r.phase = phases_[0];
+    r[Quantity::t] = t;
+    r[Quantity::phase] = phases_[0].sign();
+    r[Quantity::theta] = q[0];
+    r[Quantity::theta_over_alpha] = q[0] * scales_.inverse_alpha_cg;
+    r[Quantity::theta_dot] = qd[0];
+    const Eigen::Vector2d top = anchor_position(c_, phases_, top_, q, w_);
+    r[Quantity::delta_t] = top.x() * scales_.inverse_H_N;
+    for (std::size_t k = 0; k < elongation_.size(); ++k)
+      elongation_[k] = tendon_elongation(c_, phases_, static_cast<int>(k), q, w_);
+    if (reactions) chain_reactions(c_, phases_, ground_at(t), q, qd, reactions_, qdd_, w_);
+    for (int j = 0; j < c_.joints; ++j) {
+      JointSample& s = samples_[j];
+      s.phase = phases_[j];
+      s.theta = q[j];
+      s.theta_dot = qd[j];
+      if (reactions) {
+        s.N = reactions_[j].N;
+        s.V = reactions_[j].V;
+        s.M = reactions_[j].M;
+      }
+    }
+    return r;
+  }
+
+  void track(const Response& r) {
+    peaks_.add(r.t, r.q);
+    for (int j = 0; j < c_.joints; ++j) {
+      JointResult& out = result_.joints[j];
+      out.peak_theta = std::max(out.peak_theta, std::abs(samples_[j].theta));
+      if (samples_[j].N > 0) out.peak_friction = std::max(out.peak_friction, samples_[j].friction());
+    }
+    for (std::size_t k = 0; k < result_.devices.size(); ++k) {
+      DeviceResult& out = result_.devices[k];
+      out.peak_elongation = std::max(out.peak_elongation, elongation_[k]);
+      out.peak_force = std::max(out.peak_force, tendon_force(k, elongation_[k]));
+    }
+  }
+
+  // F = max(0, P0 + k e) (MODEL.md 11's elastic law) and the energy it stores from rest.
+  double tendon_force(std::size_t k, double e) const {
+    const ChainTendon& t = c_.data.tendons[k];
+    return std::max(0.0, t.prestress + t.stiffness * e);
+  }
+  double tendon_stored(std::size_t k, double e) const {
+    const ChainTendon& t = c_.data.tendons[k];
+    const double slack = -t.prestress / t.stiffness;  // below it the tendon is slack
+    const double x = std::max(e, slack);
+    return t.prestress * x + 0.5 * t.stiffness * x * x;
+  }
+
+  void sample_step() {
+    const int count = integrator_->sample_count();
+    const double t0 = integrator_->previous_time(), t1 = integrator_->time();
+    for (int k = 1; k <= count; ++k) {
+      const Eigen::VectorXd& y = integrator_->sample(k, count);
+      track(response(ode::Integrator::sample_time(t0, t1, k, count), y, true));
+    }
+    if (observer_ == nullptr || !(opt_.output_interval > 0)) return;
+    while (next_output_ <= integrator_->time()) {
+      integrator_->dense(next_output_, dense_);
+      history_row(next_output_, dense_);
+      next_output_ = opt_.output_interval * static_cast<double>(++outputs_);
+    }
+  }
+
+  void history_row(double t, Eigen::Ref<const Eigen::VectorXd> y) {
+    Response r = response(t, y, true);
+    r[Quantity::a_g] = ground_.acceleration(t);
+    r[Quantity::a_v] = vertical_ ? vertical_->acceleration(t) : 0.0;
+    r[Quantity::x_g] = travel_.at(t).d;
+    observer_->nodal(y.head(0), y.head(0));
+    if (!device_samples_.empty()) {
+      for (std::size_t k = 0; k < device_samples_.size(); ++k)
+        device_samples_[k] = {.e = elongation_[k], .F = tendon_force(k, elongation_[k])};
+      observer_->devices(device_samples_);
+    }
+    observer_->joints(samples_);
+    observer_->record(r);
+  }
+
+  void emit(double t, Eigen::Ref<const Eigen::VectorXd> y, bool also_history) {
+    track(response(t, y, true));
+    if (also_history && observer_ != nullptr) history_row(t, y);
+  }
+
+  void finish() {
+    y_ = integrator_->state();
+    result_.t_end = integrator_->time();
+    result_.final_phase = phases_[0];
+    result_.final_theta = y_[0];
+    result_.final_state = y_;
+    result_.peaks = peaks_.peaks();
+    result_.top_total_mm = result_.peak(Quantity::delta_t) * scales_.H_N * 1000.0;
+    result_.stats = integrator_->stats();
+    result_.energy.final = mechanical();
+    result_.energy.ground = y_[2 * n_];
+    result_.energy.viscous = y_[2 * n_ + 1];
+    result_.energy.damper = energy().tendons - tendons_initial_;
+    for (std::size_t k = 0; k < result_.devices.size(); ++k)
+      result_.devices[k].work = tendon_stored(k, tendon_elongation(c_, phases_, static_cast<int>(k), y_.head(n_), w_)) -
+                                tendon_stored(k, 0.0);
+  }
+
+  const ContactModel& m_;
+  const JointedModel& jm_;
+  const Chain& c_;
+  const GroundMotion& ground_;
+  const GroundMotion* vertical_;
+  const RunOptions& opt_;
+  Observer* observer_;
+  OutputScales scales_;
+  ChainWorkspace w_;
+  int n_;
+  std::vector<Phase> phases_;
+  std::vector<JointReaction> reactions_;
+  std::vector<JointSample> samples_;
+  Eigen::VectorXd y_, dense_, qdd_;
+  std::vector<double> elongation_;  // per tendon, at the last response
+  std::vector<DeviceSample> device_samples_;  // per tendon, for the history's device columns
+  ChainAnchor top_;
+  std::vector<ChainGuardDef> guards_;
+  GroundTravel travel_{ground_};
+  std::unique_ptr<ode::Integrator> integrator_;
+  double t_end_ = 0, next_output_ = 0, tendons_initial_ = 0;
+  long outputs_ = 0, events_ = 0;
+  PeakTracker peaks_;
+  RunResult result_;
+};
+
+}  // namespace
+
+RunResult simulate_chain(const ContactModel& m, const GroundMotion& ground, const RunOptions& options,
+                         Observer* observer) {
+  const auto start = std::chrono::steady_clock::now();
+  ChainDriver driver(m, ground, options, observer);
+  RunResult result = driver.run();
+  result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace rocking

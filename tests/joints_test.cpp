@@ -1,0 +1,332 @@
+// Scenes with joints (MODEL.md 15), run the way every front end runs them
+// (rocking.run's prepare_run, then simulate): the [[joint]] tables and their
+// bad input, the chain's run against the one-joint run, the closed forms of
+// section 15 (a slender block on a heavy one released from a tilt; a rigid
+// stack under a ramp) and the energy balance. Runs use rk45 at rtol 1e-10
+// (1e-12 for the energy), so that the tolerances stated (1e-6 for event
+// times and ratios, 1e-9 for energy) sit far above the integration error;
+// the closed forms are computed from the chain's data, not from the run.
+#include <rocking/eigen.hpp>
+#include <doctest/doctest.h>
+#include <gsl/gsl_integration.h>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <fstream>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "close.hpp"
+#include "one_line_error.hpp"
+#ifdef ROCKING_BIN
+#include "run_program.hpp"
+#endif
+#include "temp_path.hpp"
+import rocking.run;
+import rocking.errors;
+
+using namespace rocking;
+
+namespace {
+
+Scene scene_from(const std::string& name, const std::string& toml, const std::vector<std::string>& overrides = {}) {
+  const std::filesystem::path path = temp_path(name + ".toml");
+  std::ofstream(path) << toml;
+  return load_scene(path.string(), overrides);
+}
+
+// Two rigid blocks with their masses on the centre line: a lower one
+// (half-width B0, two nodes of m_lower each at 0.25 and 0.75 m, a 1 kg cap at
+// 1 m, the joint's face) and an upper one standing on node 3 (half-width B1,
+// a 10 kg slab at 1 m, three 30 kg nodes at 1 + height (1/6, 1/2, 5/6)).
+std::string two_blocks(double B0, double m_lower, double B1, double height, const std::string& more = "") {
+  return fmt::format(R"(
+[structure]
+rigid = true
+half_width = {}
+heights = [0.25, 0.75, 1.0, {}, {}, {}]
+masses = [{}, {}, 1.0, 30.0, 30.0, 30.0]
+base_mass = 10.0
+
+[contact]
+restitution = "momentum"
+
+[[joint]]
+node = 3
+half_width = {}
+base_mass = 10.0
+{}
+)",
+                     B0, 1 + height / 6, 1 + height / 2, 1 + 5 * height / 6, m_lower, m_lower, B1, more);
+}
+
+// No ground motion for `duration` seconds.
+std::string still(double duration) { return fmt::format("\n[excitation]\nkind = \"none\"\nduration = {}\n", duration); }
+
+// Every phase change and every history row's joint samples.
+struct Watch : Observer {
+  std::vector<Event> events;
+  std::vector<std::size_t> row_after;  // per event: the index of the row recorded at it
+  std::vector<double> times;
+  std::vector<std::vector<JointSample>> rows;
+  std::vector<JointSample> pending;
+  void joints(std::span<const JointSample> s) override { pending.assign(s.begin(), s.end()); }
+  void record(const Response& r) override {
+    times.push_back(r.t);
+    rows.push_back(pending);
+  }
+  void event(const Event& e) override {
+    events.push_back(e);
+    row_after.push_back(rows.size());
+  }
+};
+
+struct Ran {
+  RunResult result;
+  Watch watch;
+};
+
+Ran run(const Scene& scene, double rtol, std::shared_ptr<const GroundMotion> motion = nullptr,
+        std::optional<double> duration = std::nullopt) {
+  RunSpec spec{.scene = scene};
+  spec.motion.given = std::move(motion);
+  spec.solver.integrator = "rk45";
+  spec.solver.rtol = rtol;
+  spec.solver.atol = rtol * 1e-2;
+  spec.solver.duration = duration;
+  spec.history.every = 0.01;
+  const PreparedRun p = prepare_run(spec);
+  Ran out;
+  out.result = simulate(p.model, p.motion, p.options, &out.watch);
+  return out;
+}
+
+// Mass, first moment and pivot inertia about joint j's corner of everything above it.
+struct Above {
+  double mass = 0, first = 0, J = 0;
+};
+Above above(const ChainData& d, int j) {
+  Above out;
+  const double h = d.segments[j].base_height, B = d.segments[j].half_width;
+  for (std::size_t k = j; k < d.segments.size(); ++k) {
+    const ChainSegment& s = d.segments[k];
+    out.mass += s.base_mass + s.masses.sum();
+    out.first += s.base_mass * (s.base_height - h) + s.masses.dot((s.heights.array() - h).matrix());
+    out.J += s.base_mass * (std::pow(s.base_height - h, 2) + B * B) +
+             (s.masses.array() * ((s.heights.array() - h).square() + B * B)).sum();
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("a slender block on a heavy wide block, released from a tilt: first impact at the energy quadrature, r = 1 - 2 m B^2 / J_p, the lower block never lifts") {
+  const Scene probe = scene_from("slender", two_blocks(1.0, 5000, 0.1, 1.0, still(2.0)));
+  const ChainData d = jointed_model(probe).chain.data;
+  const Above up = above(d, 1);
+  const double B = d.segments[1].half_width, g = d.g;
+  const double th0 = 0.6 * std::atan(B * up.mass / up.first);
+  const Scene scene = scene_from("slender", two_blocks(1.0, 5000, 0.1, 1.0, still(2.0)),
+                                 {fmt::format("joint[0].initial_theta={:.17g}", th0)});
+
+  // 1/2 J_p th'^2 = V(th0) - V(th), V = g (M B sin th + S cos th); th = th0 - x^2
+  // removes the endpoint singularity of t = int_0^th0 dth / sqrt(2 (V0 - V) / J_p).
+  struct Params {
+    double th0, M, S, B, J, g;
+  } prm{th0, up.mass, up.first, B, up.J, g};
+  gsl_function F{[](double x, void* p) {
+                   const auto& q = *static_cast<Params*>(p);
+                   const double half = 0.5 * x * x, mid = q.th0 - half;
+                   const double sinc = half > 0 ? std::sin(half) / half : 1.0;
+                   const double bracket = q.M * q.B * std::cos(mid) - q.S * std::sin(mid);
+                   return 2.0 / std::sqrt(2.0 * q.g * sinc * bracket / q.J);
+                 },
+                 &prm};
+  gsl_integration_workspace* iw = gsl_integration_workspace_alloc(1000);
+  double t_quad = 0, err = 0;
+  gsl_integration_qag(&F, 0.0, std::sqrt(th0), 0.0, 1e-13, 1000, GSL_INTEG_GAUSS61, iw, &t_quad, &err);
+  gsl_integration_workspace_free(iw);
+  const double rate_before = -std::sqrt(2 * g * (up.mass * B * std::sin(th0) + up.first * (std::cos(th0) - 1)) / up.J);
+  const double r = 1.0 - 2.0 * up.mass * B * B / up.J;
+
+  const Ran ran = run(scene, 1e-10);
+  REQUIRE(ran.result.outcome == Outcome::completed);
+  REQUIRE(ran.result.joints.size() == 2);
+  CHECK(ran.result.joints[1].first_impact == close_to(t_quad, 1e-6));
+  MESSAGE("first impact " << ran.result.joints[1].first_impact << " s, quadrature " << t_quad << " s");
+  const auto impact = std::ranges::find_if(ran.watch.events, [](const Event& e) { return e.kind == EventKind::impact; });
+  REQUIRE(impact != ran.watch.events.end());
+  CHECK(impact->joint == 1);
+  const std::size_t row = ran.watch.row_after[static_cast<std::size_t>(impact - ran.watch.events.begin())];
+  REQUIRE(row < ran.watch.rows.size());
+  CHECK(ran.watch.rows[row][1].theta_dot / rate_before == close_to(r, 1e-6));
+  MESSAGE("rate ratio " << ran.watch.rows[row][1].theta_dot / rate_before << ", 1 - 2 m B^2 / J_p = " << r);
+  CHECK(ran.result.joints[1].impacts > 1);
+  CHECK(ran.result.joints[0].uplifts == 0);  // over the whole run, every impact included
+}
+
+TEST_CASE("a rigid stack under a ramp a_g = c t: the joint with the smaller static threshold lifts first, at the exact time") {
+  const double c = 2.5, g = gravity;  // [m/s^3]
+  const auto ramp = std::make_shared<const GroundMotion>(GroundMotion::from_samples("ramp", {0.0, 10.0}, {0.0, 10 * c}));
+  struct Stack {
+    const char* name;
+    double B0, m_lower, B1, height;
+    int first;  // the joint expected to lift first
+  };
+  for (const Stack& s : {Stack{"slender top", 1.0, 500, 0.1, 1.0, 1}, Stack{"squat top", 0.25, 500, 0.25, 0.3, 0}}) {
+    CAPTURE(s.name);
+    const Scene scene = scene_from("stack", two_blocks(s.B0, s.m_lower, s.B1, s.height));
+    const ChainData d = jointed_model(scene).chain.data;
+    double threshold[2];
+    for (int j = 0; j < 2; ++j) {
+      const Above a = above(d, j);
+      threshold[j] = d.segments[j].half_width / (a.first / a.mass);  // B_j / (H_cg,j - h_j)
+    }
+    REQUIRE((threshold[s.first] < threshold[1 - s.first]));
+    const double t_first = threshold[s.first] * g / c;
+    const Ran ran = run(scene, 1e-10, ramp, 1.05 * t_first);
+    REQUIRE(!ran.watch.events.empty());
+    CHECK(ran.watch.events.front().kind == EventKind::uplift);
+    CHECK(ran.watch.events.front().joint == s.first);
+    CHECK(ran.result.first_uplift == close_to(t_first, 1e-6));
+    CHECK(ran.result.joints[s.first].first_uplift == close_to(t_first, 1e-6));
+    MESSAGE(s.name << ": joint " << s.first << " lifts at " << ran.result.first_uplift << " s, threshold / c = " << t_first);
+  }
+}
+
+TEST_CASE("a top that cannot lift: the run equals the one-joint structure's, by the chain and by today's equations") {
+  const std::string pulse = "\n[excitation]\npulse = \"one-sine\"\namplitude_g = 0.4\nperiod = 0.5\nduration = 6.0\n";
+  // A joint at node 3 with the upper segment 25 times wider than the base and no slab of its own:
+  // the masses are the one-joint block's.
+  const std::string text = fmt::format(R"(
+[structure]
+rigid = true
+half_width = 0.2
+heights = [0.25, 0.75, 1.0, 1.25, 1.5, 1.75]
+masses = [50.0, 50.0, 50.0, 50.0, 50.0, 50.0]
+base_mass = 10.0
+
+[contact]
+restitution = "momentum"
+
+[[joint]]
+node = 3
+half_width = 5.0
+base_mass = 0.0
+{})", pulse);
+  const Ran two = run(scene_from("top", text), 1e-10);
+  const Ran one = run(scene_from("top", text, {"joint=[]"}), 1e-10);
+  const Ran today = run(scene_from("top", text, {"joint=[]", "contact.restitution=eq10"}), 1e-10);
+  REQUIRE(two.result.outcome == Outcome::completed);
+  REQUIRE(two.result.joints.size() == 2);
+  CHECK(one.result.joints.size() == 1);
+  CHECK(today.result.joints.empty());  // today's path: no chain
+  CHECK(two.result.joints[1].uplifts == 0);
+  REQUIRE(two.result.counts.impacts > 2);
+  const double peak = two.result.peak(Quantity::theta);
+  for (const Ran* other : {&one, &today}) {
+    CHECK(other->result.first_uplift == close_to(two.result.first_uplift, 1e-6));
+    CHECK(other->result.first_impact == close_to(two.result.first_impact, 1e-6));
+  }
+  CHECK(one.result.counts.uplifts == two.result.counts.uplifts);
+  CHECK(one.result.counts.impacts == two.result.counts.impacts);
+  // Row by row on the history's grid (rows at events fall at times of their own): theta of joint 0 to 1e-6 of its peak.
+  std::map<double, double> grid;
+  for (std::size_t k = 0; k < one.watch.rows.size(); ++k) grid[one.watch.times[k]] = one.watch.rows[k][0].theta;
+  double worst = 0;
+  std::size_t compared = 0;
+  for (std::size_t k = 0; k < two.watch.rows.size(); ++k) {
+    const double t = two.watch.times[k];
+    if (std::abs(t / 0.01 - std::round(t / 0.01)) > 1e-9) continue;  // an event's row
+    const auto at = grid.find(t);
+    REQUIRE(at != grid.end());
+    worst = std::max(worst, std::abs(at->second - two.watch.rows[k][0].theta));
+    ++compared;
+  }
+  CHECK(compared >= 300);
+  CHECK(worst == within(0.0, 1e-6 * peak));
+  MESSAGE("peak theta " << peak << " rad; largest row difference, two joints vs one " << worst << " rad");
+}
+
+TEST_CASE("energy: constant between impacts without damping or ground motion, and over a run the balance closes with the impact losses") {
+  const Scene probe = scene_from("energy", two_blocks(0.3, 200, 0.1, 1.0, still(1.0)));
+  const ChainData d = jointed_model(probe).chain.data;
+  const Above all = above(d, 0);
+  const double scale = d.g * all.first;  // m g H_cg [J]
+  const std::vector<std::string> tilt = {"initial.theta=0.05", "joint[0].initial_theta=-0.08"};
+  const Scene scene = scene_from("energy", two_blocks(0.3, 200, 0.1, 1.0, still(1.0)), tilt);
+  const Ran whole = run(scene, 1e-12);
+  REQUIRE(whole.result.outcome == Outcome::completed);
+  REQUIRE(whole.result.counts.impacts > 0);
+  const double first = whole.result.first_impact;
+  const Ran before = run(scene, 1e-12, nullptr, 0.9 * first);
+  CHECK(before.result.counts.impacts == 0);
+  CHECK(before.result.energy.final - before.result.energy.initial == within(0.0, 1e-9 * scale));
+  CHECK(whole.result.energy.impacts > 1e-6 * scale);
+  CHECK(whole.result.energy.residual() == within(0.0, 1e-9 * scale));
+  MESSAGE("m g H_cg " << scale << " J; drift to the first impact " << before.result.energy.final - before.result.energy.initial
+                      << " J; impact losses " << whole.result.energy.impacts << " J; residual " << whole.result.energy.residual());
+}
+
+TEST_CASE("bad [[joint]] input: one line naming the key and its range, before any run") {
+  const std::string text = two_blocks(1.0, 500, 0.1, 1.0, still(1.0));
+  struct Case {
+    std::vector<std::string> set;
+    std::vector<std::string> says;
+  };
+  const std::string tendon = "device+={kind=\"elastic\", at=0, kinematics=\"vertical\", free_length=2, P0=1e3, k=1e6, "
+                             "segment=2}";
+  for (const Case& c : {
+           Case{{"joint[0].node=0"}, {"joint[0].node", "1 to N-1 = 5"}},
+           Case{{"joint[0].node=6"}, {"joint[0].node", "1 to N-1 = 5"}},
+           Case{{"joint+={node=2, half_width=0.1}"}, {"joint[1].node", "in order", "4 to 5"}},
+           Case{{"joint[0].half_width=0"}, {"joint[0].half_width", "in [0.001, 10000] m"}},
+           Case{{"joint[0].half_width=-0.2"}, {"joint[0].half_width", "in [0.001, 10000] m"}},
+           Case{{"joint=[{node=1, half_width=0.1}, {node=2, half_width=0.1}, {node=3, half_width=0.1}, "
+                 "{node=4, half_width=0.1}, {node=5, half_width=0.1}, {node=5, half_width=0.1}]"},
+                {"joint", "6 joints", "at most 5"}},
+           Case{{tendon}, {"device[0].segment", "0 to 1"}},
+           Case{{"joint[0].restitution=elastic"}, {"joint[0].restitution", "momentum"}},
+       }) {
+    CAPTURE(c.set.front());
+    const std::string what = one_line_error<InputError>([&] { (void)scene_from("bad", text, c.set); }, c.set.front());
+    for (const std::string& s : c.says) CHECK_MESSAGE(what.find(s) != std::string::npos, what);
+  }
+#ifdef ROCKING_BIN
+  // The program: exit 2 with that line, and no history written.
+  const std::filesystem::path file = temp_path("bad_cli.toml");
+  std::ofstream(file) << text;
+  const std::filesystem::path out = scratch_dir("bad_cli_out");
+  const cli::Result r = cli::run(fmt::format("simulate {} --set joint[0].node=0 --out {}", file.string(), out.string()), 60);
+  CHECK(r.code == 2);
+  CHECK(cli::lines(r.err) == 1);
+  CHECK_MESSAGE(r.err.find("joint[0].node") != std::string::npos, r.err);
+  CHECK(!std::filesystem::exists(out / "history.csv"));
+#endif
+}
+
+TEST_CASE("a scene with joints reports its joints: history columns joint1.theta, ..., and the summary's joints") {
+  const Scene scene = scene_from("report", two_blocks(1.0, 5000, 0.1, 1.0, still(1.0)),
+                                 {"joint[0].initial_theta=0.1"});
+  const PreparedRun p = prepare_run(RunSpec{.scene = scene});
+  const std::vector<std::string> names = p.columns.names();
+  for (const char* n : {"theta", "theta_dot", "phase", "joint1.theta", "joint1.theta_dot", "joint1.phase"})
+    CHECK_MESSAGE(std::ranges::find(names, n) != names.end(), n);
+  CHECK(std::ranges::find(names, "u_N") == names.end());
+  const std::string why = one_line_error<InputError>(
+      [&] { (void)prepare_run(RunSpec{.scene = scene, .history = {.columns = {"joint2.theta"}}}); }, "joint2");
+  CHECK_MESSAGE(why.find("joints above the base are 1 to 1") != std::string::npos, why);
+  const RunResult r = simulate(p.model, p.motion, p.options);
+  const nlohmann::json s = run_summary(p.label, r);
+  REQUIRE(s.contains("joints"));
+  REQUIRE(s["joints"].size() == 2);
+  CHECK(s["joints"][1]["impacts"].get<long>() == r.joints[1].impacts);
+  CHECK(s["joints"][1]["first_impact_s"].get<double>() == r.joints[1].first_impact);
+  CHECK(r.joints[1].peak_theta == close_to(0.1, 1e-12));  // released from it: never beyond
+}
