@@ -115,6 +115,7 @@ Stretch beam_device_stretch(const Columns& c, double ground_x, double ground_y, 
   const double rx = beam_x - ground_x, ry = beam_y - ground_y;
   const double L = free_length > 0 ? free_length : std::hypot(rx, ry);
   const double x = rx + m.dx, y = ry + m.dy, length = std::hypot(x, y);
+  if (length == 0) return {-L, 0.0};  // anchors that meet: no direction, no lever
   // de/dtheta = n . d(dx, dy)/dtheta; de/d|theta| = s de/dtheta
   return {length - L, s * (x * m.jx + y * m.jy) / length};
 }
