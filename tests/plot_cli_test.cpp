@@ -158,7 +158,8 @@ TEST_CASE("plot modes writes the Fig. 3 figure with its data file") {
   REQUIRE(r.code == 0);
   check_png(dir / "modes.png", 600, 400);
   const std::string data = file_text(dir / "modes.dat");
-  CHECK(lines(data) == 1 + 5);  // header, the foundation and four nodes
+  CHECK(lines(data) == 2 + 5);  // a comment, the columns' names, the foundation and four nodes
+  CHECK(data.find("\nheight fixed_base_1 fixed_base_2 fixed_base_3 fixed_base_4 rocking_1 ") != std::string::npos);
   CHECK(file_text(dir / "modes.gp").find("R: p = 0.650 rad/s") != std::string::npos);
 }
 
