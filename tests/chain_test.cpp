@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "chain_ode.hpp"
+#include "chain_sums.hpp"
 #include "chain_reference.hpp"
 #include "records.hpp"
 import rocking.chain;
@@ -41,23 +42,6 @@ ChainSegment rigid_segment(double h, double B, double m0, std::vector<double> he
   s.masses = Eigen::Map<Vec>(masses.data(), static_cast<Eigen::Index>(masses.size()));
   s.rigid = true;
   return s;
-}
-
-// Pivot inertia, total mass and first moment sum m z of a segment about its own joint.
-struct SegmentSums {
-  double J = 0, mass = 0, first = 0;
-};
-SegmentSums sums_above(const ChainData& d, int j) {
-  SegmentSums out;
-  const double h = d.segments[j].base_height, B = d.segments[j].half_width;
-  for (std::size_t k = j; k < d.segments.size(); ++k) {
-    const ChainSegment& s = d.segments[k];
-    out.mass += s.base_mass + s.masses.sum();
-    out.first += s.base_mass * (s.base_height - h) + s.masses.dot((s.heights.array() - h).matrix());
-    out.J += s.base_mass * (std::pow(s.base_height - h, 2) + B * B) +
-             (s.masses.array() * ((s.heights.array() - h).square() + B * B)).sum();
-  }
-  return out;
 }
 
 }  // namespace

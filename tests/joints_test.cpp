@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "close.hpp"
+#include "chain_sums.hpp"
 #include "one_line_error.hpp"
 #ifdef ROCKING_BIN
 #include "run_program.hpp"
@@ -107,29 +108,12 @@ Ran run(const Scene& scene, double rtol, std::shared_ptr<const GroundMotion> mot
   return out;
 }
 
-// Mass, first moment and pivot inertia about joint j's corner of everything above it.
-struct Above {
-  double mass = 0, first = 0, J = 0;
-};
-Above above(const ChainData& d, int j) {
-  Above out;
-  const double h = d.segments[j].base_height, B = d.segments[j].half_width;
-  for (std::size_t k = j; k < d.segments.size(); ++k) {
-    const ChainSegment& s = d.segments[k];
-    out.mass += s.base_mass + s.masses.sum();
-    out.first += s.base_mass * (s.base_height - h) + s.masses.dot((s.heights.array() - h).matrix());
-    out.J += s.base_mass * (std::pow(s.base_height - h, 2) + B * B) +
-             (s.masses.array() * ((s.heights.array() - h).square() + B * B)).sum();
-  }
-  return out;
-}
-
 }  // namespace
 
 TEST_CASE("a slender block on a heavy wide block, released from a tilt: first impact at the energy quadrature, r = 1 - 2 m B^2 / J_p, the lower block never lifts") {
   const Scene probe = scene_from("slender", two_blocks(1.0, 5000, 0.1, 1.0, still(2.0)));
   const ChainData d = jointed_model(probe).chain.data;
-  const Above up = above(d, 1);
+  const SegmentSums up = sums_above(d, 1);
   const double B = d.segments[1].half_width, g = d.g;
   const double th0 = 0.6 * std::atan(B * up.mass / up.first);
   const Scene scene = scene_from("slender", two_blocks(1.0, 5000, 0.1, 1.0, still(2.0)),
@@ -185,7 +169,7 @@ TEST_CASE("a rigid stack under a ramp a_g = c t: the joint with the smaller stat
     const ChainData d = jointed_model(scene).chain.data;
     double threshold[2];
     for (int j = 0; j < 2; ++j) {
-      const Above a = above(d, j);
+      const SegmentSums a = sums_above(d, j);
       threshold[j] = d.segments[j].half_width / (a.first / a.mass);  // B_j / (H_cg,j - h_j)
     }
     REQUIRE((threshold[s.first] < threshold[1 - s.first]));
@@ -257,7 +241,7 @@ base_mass = 0.0
 TEST_CASE("energy: constant between impacts without damping or ground motion, and over a run the balance closes with the impact losses") {
   const Scene probe = scene_from("energy", two_blocks(0.3, 200, 0.1, 1.0, still(1.0)));
   const ChainData d = jointed_model(probe).chain.data;
-  const Above all = above(d, 0);
+  const SegmentSums all = sums_above(d, 0);
   const double scale = d.g * all.first;  // m g H_cg [J]
   const std::vector<std::string> tilt = {"initial.theta=0.05", "joint[0].initial_theta=-0.08"};
   const Scene scene = scene_from("energy", two_blocks(0.3, 200, 0.1, 1.0, still(1.0)), tilt);
