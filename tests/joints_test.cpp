@@ -119,23 +119,7 @@ TEST_CASE("a slender block on a heavy wide block, released from a tilt: first im
   const Scene scene = scene_from("slender", two_blocks(1.0, 5000, 0.1, 1.0, still(2.0)),
                                  {fmt::format("joint[0].initial_theta={:.17g}", th0)});
 
-  // 1/2 J_p th'^2 = V(th0) - V(th), V = g (M B sin th + S cos th); th = th0 - x^2
-  // removes the endpoint singularity of t = int_0^th0 dth / sqrt(2 (V0 - V) / J_p).
-  struct Params {
-    double th0, M, S, B, J, g;
-  } prm{th0, up.mass, up.first, B, up.J, g};
-  gsl_function F{[](double x, void* p) {
-                   const auto& q = *static_cast<Params*>(p);
-                   const double half = 0.5 * x * x, mid = q.th0 - half;
-                   const double sinc = half > 0 ? std::sin(half) / half : 1.0;
-                   const double bracket = q.M * q.B * std::cos(mid) - q.S * std::sin(mid);
-                   return 2.0 / std::sqrt(2.0 * q.g * sinc * bracket / q.J);
-                 },
-                 &prm};
-  gsl_integration_workspace* iw = gsl_integration_workspace_alloc(1000);
-  double t_quad = 0, err = 0;
-  gsl_integration_qag(&F, 0.0, std::sqrt(th0), 0.0, 1e-13, 1000, GSL_INTEG_GAUSS61, iw, &t_quad, &err);
-  gsl_integration_workspace_free(iw);
+  const double t_quad = release_to_impact_time(th0, up, B, g);
   const double rate_before = -std::sqrt(2 * g * (up.mass * B * std::sin(th0) + up.first * (std::cos(th0) - 1)) / up.J);
   const double r = 1.0 - 2.0 * up.mass * B * B / up.J;
 
