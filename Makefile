@@ -37,7 +37,8 @@ sanitize: setup
 # the committed corpus and the shared records and scenes as seeds; new inputs
 # that reach new code go to build-sanitize/fuzz-corpus. A crash stops with the
 # input saved as build-sanitize/crash-*: fix it, and commit the input under
-# tests/fuzz/regressions/TARGET, which make test replays.
+# tests/fuzz/regressions/TARGET, which make test replays. FUZZ_TARGETS="scene
+# set_override" (names as in scripts/fuzz.sh) runs only those.
 FUZZ_SECONDS ?= 60
 fuzz: setup
 	@cmake --preset sanitize >/dev/null

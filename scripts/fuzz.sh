@@ -22,7 +22,7 @@ declare -A seeds=(
   [history_csv]=""
   [study_csv]=""
 )
-for target in record scene set_override number_list cyclic_test device_set option_value processing lab_request history_csv study_csv; do
+for target in ${FUZZ_TARGETS:-record scene set_override number_list cyclic_test device_set option_value processing lab_request history_csv study_csv}; do
   work="$here/build-sanitize/fuzz-corpus/$target"
   mkdir -p "$work"
   dirs=("$work")
