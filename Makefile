@@ -49,8 +49,8 @@ fuzz: setup
 # tests/golden/paper_checks.tsv and tests/golden/suite_fragility.csv, and prints
 # the README's table: only after a change that moves the numbers on purpose.
 golden: build
-	@ROCKING_WRITE_GOLDEN=1 build/bin/golden_test -tc="the paper's checks*" -s 2>&1 | sed -n '/^| case/,/^$$/p'
-	@ROCKING_WRITE_GOLDEN=1 build/bin/golden_test -tc="the README's suite study*" >/dev/null 2>&1 || true
+	@ROCKING_WRITE_GOLDEN=1 build/bin/unit_tests -tc="the paper's checks*" -s 2>&1 | sed -n '/^| case/,/^$$/p'
+	@ROCKING_WRITE_GOLDEN=1 build/bin/unit_tests -tc="the README's suite study*" >/dev/null 2>&1 || true
 	@echo "rewrote tests/golden/suite_fragility.csv:"; cat tests/golden/suite_fragility.csv
 
 # Records a new profile for the release build's profile-guided optimisation
@@ -61,6 +61,7 @@ pgo: setup
 
 # Machine, command and results: Google Benchmark prints the CPU and the load.
 bench: build
+	@cmake --build --preset default --target benchmarks
 	@echo "machine: $$(nproc) cores, $$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
 	@echo "command: build/bin/integrators_bench --benchmark_counters_tabular=true"
 	@build/bin/integrators_bench --benchmark_counters_tabular=true
