@@ -13,7 +13,7 @@ using rocking::pivot_inertia;
 
 // Gravity potential of a rigid block tilted by theta about a pivot (u = 0):
 // V = g (B (1'M1 + m0) sin(theta) + H'M1 (cos(theta) - 1)).
-double rigid_potential(const Structure& s, double g, double theta) {
+inline double rigid_potential(const Structure& s, double g, double theta) {
   const double BM = s.half_width * (s.masses.sum() + s.base_mass), HM = s.heights.dot(s.masses);
   return g * (BM * std::sin(theta) + HM * (std::cos(theta) - 1.0));
 }
@@ -26,7 +26,7 @@ struct FallParams {
 // Housner: released at rest from theta0, the block reaches theta = 0 after
 // t = integral_0^theta0 dtheta / sqrt(2 (V(theta0) - V(theta)) / J_p).
 // The 1/sqrt singularity at theta0 is the weight (theta0 - theta)^(-1/2) of GSL's QAWS.
-double housner_quarter_period(const Structure& s, double g, double theta0) {
+inline double housner_quarter_period(const Structure& s, double g, double theta0) {
   FallParams p{&s, g, theta0};
   gsl_function f;
   f.function = [](double th, void* vp) {
