@@ -398,7 +398,7 @@ TEST_CASE("plot response with a tendon and dampers draws each device's loop and 
 }
 
 TEST_CASE("plot response of a structure with joints: one panel of the joints' rotations, a curve per joint named by its dash") {
-  // The segmental pier: four joints above its footing and a tendon. The
+  // The segmental pier: three joints above its footing and a tendon. The
   // joints' panel reads jointK.theta by name, one dash per joint named in
   // its axis label; the tendon draws its loop; a jointed run reports no M_dev,
   // so no moment panel.
@@ -407,24 +407,29 @@ TEST_CASE("plot response of a structure with joints: one panel of the joints' ro
                        "--formats png --out " + dir.string());
   REQUIRE_MESSAGE(r.code == 0, r.err);
   const std::string script = file_text(dir / "response.gp");
-  CHECK(script.find("time t [s]   (solid joint 1, dashed joint 2, dotted joint 3, dash-dot joint 4)") != std::string::npos);
-  for (int j = 1; j <= 4; ++j) {
+  CHECK(script.find("time t [s]   (solid joint 1, dashed joint 2, dotted joint 3)") != std::string::npos);
+  for (int j = 1; j <= 3; ++j) {
     CAPTURE(j);
     CHECK(script.find(fmt::format("using (column('t [s]')):(column('joint{}.theta [rad]')*1) with lines linestyle 1 "
                                   "dashtype {} notitle", j, j)) != std::string::npos);
   }
-  CHECK(script.find("joint5") == std::string::npos);
+  CHECK(script.find("joint4") == std::string::npos);
   CHECK(script.find("rocking angle at the joint") != std::string::npos);
   CHECK(script.find("column('tendon.force [N]')") != std::string::npos);
   CHECK(script.find("M_dev") == std::string::npos);
   CHECK_MESSAGE(numbered_column(script).empty(), numbered_column(script));
-  // The panel draws something: the run's joints above the base open.
-  const CsvTable history = csv_table(file_text(dir / "response.data" / "scene.csv"));
+  CHECK(fs::file_size(dir / "response.png") > 1000);
+  // The stacked blocks: the artefact rocks on its plinth, so the one joint's
+  // curve is drawn from a column that moves.
+  const Result blocks = run("plot response " ROCKING_SOURCE_DIR "/data/scenes/stacked_blocks.toml --variants scene "
+                            "--formats png --out " + (dir / "blocks").string());
+  REQUIRE_MESSAGE(blocks.code == 0, blocks.err);
+  CHECK(file_text(dir / "blocks" / "response.gp").find("time t [s]   (solid joint 1)") != std::string::npos);
+  const CsvTable history = csv_table(file_text(dir / "blocks" / "response.data" / "scene.csv"));
   const std::size_t theta1 = history.column("joint1.theta [rad]");
   double peak = 0;
   for (const auto& row : history.rows) peak = std::max(peak, std::abs(std::stod(row[theta1])));
-  CHECK(peak > 1e-4);
-  CHECK(fs::file_size(dir / "response.png") > 1000);
+  CHECK(peak > 1e-3);
   // A scene without joints has no joints' panel.
   const Result block = run("plot response " ROCKING_SOURCE_DIR "/data/scenes/rigid_block.toml --variants scene "
                            "--formats png --out " + (dir / "block").string());

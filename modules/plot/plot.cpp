@@ -615,6 +615,7 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
           const std::string spec =
               loop(i, device_quantity_name(device, x_info.id), x_info.figure_factor,
                    device_quantity_name(device, y_info.id), y_info.figure_factor);
+          if (spec.empty()) continue;
           items.push_back(fmt::format("{} using {} with linespoints linestyle {} dashtype {} pointnumber 12 notitle",
                                       quote(runs[i].history), spec, i + 1,
                                       static_cast<std::size_t>(dash) % dashes.size() + 1));
