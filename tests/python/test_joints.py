@@ -46,6 +46,11 @@ def test_a_jointed_scene_hands_over_its_joints_histories_and_summary_as_the_prog
     # summary's to within what the rows miss between two of them.
     assert np.max(np.abs(theta)) <= joints[1]["peak_theta"] * (1 + 1e-12)
     assert np.max(np.abs(theta)) >= 0.99 * joints[1]["peak_theta"]
+    # Each event says where it happened; the artefact's uplifts are at joint 1.
+    assert {e["joint"] for e in result.events} <= {0, 1}
+    uplifts = [e for e in result.events if e["kind"] == "uplift" and e["joint"] == 1]
+    assert len(uplifts) == joints[1]["uplifts"]
+    assert uplifts[0]["t"] == joints[1]["first_uplift_s"]
     phase = result.history["joint1.phase"]
     assert set(np.unique(phase)) <= {-1.0, 0.0, 1.0}
     assert np.any(phase != 0)
