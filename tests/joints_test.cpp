@@ -445,7 +445,7 @@ struct PierWatch : Watch {
 
 }  // namespace
 
-TEST_CASE("segmental pier under El Centro through the run path: the independent reference agrees to 1e-6 up to the first impact; the tendon's force is P0 + k sum B_j |theta_j| to first order") {
+TEST_CASE("segmental pier under El Centro through the run path: the independent reference agrees to 1e-6 up to the first impact, and the tendon's force is P0 + k sum B_j |theta_j| to first order") {
   const auto records = records_dir();
   if (!records) return;
   const Scene scene = load_scene(std::string(ROCKING_SCENES) + "/segmental_pier.toml");

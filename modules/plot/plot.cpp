@@ -496,6 +496,7 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
   // The panels of the schema, in the order of their ranks.
   struct Planned {
     unsigned char rank;
+    std::size_t order;  // in the schema's tables, for panels of one rank
     FigureRole role;
     std::optional<Quantity> scalar;        // a scalar quantity's panel, or ...
     std::optional<DeviceQuantity> device;  // ... the devices' loops, or ...
@@ -513,17 +514,20 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
                                          (q.needs == Needs::devices && !other_devices) ||
                                          (q.needs == Needs::dampers && other_devices)))
       continue;
-    plan.push_back({use.rank, use.role, q.id, std::nullopt, std::nullopt});
+    plan.push_back({use.rank, plan.size(), use.role, q.id, std::nullopt, std::nullopt});
   }
   if (other_devices)
     for (const DeviceQuantityInfo& q : device_quantity_table)
-      if (q.figure.role == FigureRole::loop) plan.push_back({q.figure.rank, q.figure.role, std::nullopt, q.id, std::nullopt});
+      if (q.figure.role == FigureRole::loop)
+        plan.push_back({q.figure.rank, plan.size(), q.figure.role, std::nullopt, q.id, std::nullopt});
   const int joints = std::ranges::max(contents, {}, &HistoryContent::joints).joints;
   for (std::size_t k = 0; k < joint_quantity_count && joints > 0; ++k)
     if (joint_quantity_table[k].figure.role == FigureRole::joints)
-      plan.push_back({joint_quantity_table[k].figure.rank, FigureRole::joints, std::nullopt, std::nullopt,
+      plan.push_back({joint_quantity_table[k].figure.rank, plan.size(), FigureRole::joints, std::nullopt, std::nullopt,
                       static_cast<JointQuantity>(k)});
-  std::ranges::stable_sort(plan, {}, &Planned::rank);
+  std::ranges::sort(plan, [](const Planned& a, const Planned& b) {
+    return a.rank != b.rank ? a.rank < b.rank : a.order < b.order;
+  });
   const int panels = static_cast<int>(plan.size());
   const double panel_px = 0.8 * fig.height / std::max(panels, 1);
   // A y label longer than its panel is tall (about half an em a visible
