@@ -414,7 +414,7 @@ namespace {
 // the scene states it (anchored in the footing and at the top, P0 = 1.5 MN,
 // k = 3.9e7 N/m, free length the pier's height).
 chainref::Chain pier_reference(const Scene& scene) {
-  const Structure& st = scene.structure;
+  const auto& st = scene.structure;
   chainref::Chain c;
   int first = 0;  // the first node (0-based) of the segment
   for (std::size_t j = 0; j <= scene.joints.size(); ++j) {
