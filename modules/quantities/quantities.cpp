@@ -1,4 +1,5 @@
 module;
+#include <iterator>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -54,6 +55,52 @@ std::string axis_label(const QuantityName& q) {
 
 double figure_factor(const QuantityName& q) {
   return q.scalar ? info(*q.scalar).figure_factor : q.joint ? info(q.joint->which).figure_factor : info(q.of).figure_factor;
+}
+
+std::string plain_text(std::string_view enhanced) {
+  // gnuplot's Symbol font: the Latin letter that stands for each Greek one.
+  static constexpr std::string_view latin = "abcdefghiklmnopqrstuwxyzDFGLPQSW";
+  static constexpr std::string_view greek[] = {"α", "β", "χ", "δ", "ε", "φ", "γ", "η", "ι", "κ", "λ", "μ", "ν",
+                                               "ο", "π", "θ", "ρ", "σ", "τ", "υ", "ω", "ξ", "ψ", "ζ", "Δ", "Φ",
+                                               "Γ", "Λ", "Π", "Θ", "Σ", "Ω"};
+  static_assert(std::size(greek) == latin.size());
+  static constexpr std::string_view symbol = "{/Symbol ";
+  std::string out;
+  for (std::size_t i = 0; i < enhanced.size();) {
+    if (enhanced.substr(i).starts_with(symbol)) {
+      const std::size_t close = enhanced.find('}', i);
+      const std::string_view letters =
+          enhanced.substr(i + symbol.size(), close == std::string_view::npos ? std::string_view::npos : close - i - symbol.size());
+      for (char c : letters) {
+        const std::size_t k = latin.find(c);
+        if (k == std::string_view::npos) out += c;
+        else out += greek[k];
+      }
+      i = close == std::string_view::npos ? enhanced.size() : close + 1;
+      continue;
+    }
+    if (enhanced[i] != '{' && enhanced[i] != '}') out += enhanced[i];
+    ++i;
+  }
+  return out;
+}
+
+std::string plain_symbol(const QuantityName& q) {
+  if (q.scalar) return plain_text(info(*q.scalar).symbol);
+  if (q.joint) return fmt::format("{}_{}", plain_text(info(q.joint->which).symbol), q.joint->joint);
+  return fmt::format("{} {}", q.device, plain_text(info(q.of).symbol));
+}
+
+std::string_view plain_words(const QuantityName& q) {
+  return axis_words(q.scalar ? info(*q.scalar).words : q.joint ? info(q.joint->which).words : info(q.of).words);
+}
+
+std::string_view figure_unit(const QuantityName& q) {
+  return q.scalar ? info(*q.scalar).figure_unit : q.joint ? info(q.joint->which).figure_unit : info(q.of).figure_unit;
+}
+
+LabUse lab_use(const QuantityName& q) {
+  return q.scalar ? info(*q.scalar).lab : q.joint ? info(q.joint->which).lab : info(q.of).lab;
 }
 
 std::optional<QuantityName> parse_quantity_name(std::string_view text) {

@@ -7,7 +7,10 @@
 // fractiles). How each is computed lives beside the response it belongs to
 // (rocking.simulation's evaluate); every output lists quantities from this
 // table, never by hand. Devices report under their own scene names:
-// NAME.elongation [m] and NAME.force [N] (DeviceQuantity).
+// NAME.elongation [m] and NAME.force [N] (DeviceQuantity). The energy
+// balance's terms (MODEL.md 7 and 11: E(t) - E(0) = W_ground - W_viscous -
+// W_devices - W_impacts, each W from the start) are history columns on
+// request, filled by the run's drivers (rocking.simulation) at each row.
 // A new quantity: its entry in Quantity and in quantity_table (the same
 // order), and its computation.
 module;
@@ -26,6 +29,7 @@ export namespace rocking {
 enum class Quantity : unsigned char {
   t, phase, u_top, theta, theta_over_alpha, theta_dot, delta_t, delta_e, damper_d, damper_F,
   base_shear, base_moment, mid_shear, mid_moment, a_top, a_g, a_v, device_moment, x_g,
+  energy, work_ground, work_viscous, work_devices, work_impacts,
   count_
 };
 inline constexpr std::size_t quantity_count = static_cast<std::size_t>(Quantity::count_);
@@ -38,11 +42,12 @@ enum class Needs : unsigned char {
   dampers,     // the paper's [damper] pair (MODEL.md 5)
   devices,     // any device at the rocking interface
   vertical,    // the run shakes the ground vertically too (MODEL.md 14)
+  energy,      // the run integrates its energy balance (MODEL.md 7 and 11)
 };
 
 // What a model has, for Needs.
 struct Presence {
-  bool rocking = true, elasticity = true, dampers = true, devices = true, vertical = true;
+  bool rocking = true, elasticity = true, dampers = true, devices = true, vertical = true, energy = true;
   constexpr bool has(Needs n) const {
     switch (n) {
       case Needs::always: return true;
@@ -51,6 +56,7 @@ struct Presence {
       case Needs::dampers: return dampers;
       case Needs::devices: return devices;
       case Needs::vertical: return vertical;
+      case Needs::energy: return energy;
     }
     return false;
   }
@@ -78,6 +84,20 @@ struct FigureUse {
   unsigned char rank = 0;  // the panel's place, top to bottom
 };
 
+// How the browser lab (rocking.lab's answer, drawn by lab/lab.js) uses a
+// quantity a run's history holds: not at all; in its drawing (the structure
+// moved, the devices' loops, the energy bars); or also charted against time,
+// the quantities of one chart number sharing a chart, the charts in the order
+// of their numbers. The lab sends the columns of the quantities it uses, each
+// with its name, unit, words, plain-text symbol, display unit and factor
+// (figure_unit, figure_factor) and chart, and draws its charts from those.
+enum class LabRole : unsigned char { none, drawn, chart };
+struct LabUse {
+  LabRole role = LabRole::none;
+  unsigned char chart = 0;  // a charted quantity's chart
+  bool ground = false;      // the ground's, the same for a run's twin: drawn once
+};
+
 struct QuantityInfo {
   Quantity id;
   std::string_view name;    // "delta_t"
@@ -90,44 +110,56 @@ struct QuantityInfo {
   unsigned char roles;      // Role bits
   FigureUse figure;         // its panel in the response figure
   Quantity figure_x;        // a loop's x quantity (t otherwise)
+  LabUse lab;               // its use in the browser lab
   constexpr bool is(Role r) const { return (roles & r) != 0; }
 };
 
 inline constexpr std::array<QuantityInfo, quantity_count> quantity_table = {{
-    {Quantity::t, "t", "s", "time", "t", 1, "s", Needs::always, history, {}, Quantity::t},
+    {Quantity::t, "t", "s", "time", "t", 1, "s", Needs::always, history, {}, Quantity::t, {LabRole::drawn, 0}},
     {Quantity::phase, "phase", "", "phase (pivot: -1 left, 0 full contact, +1 right)", "phase", 1, "", Needs::always,
-     history, {}, Quantity::t},
-    {Quantity::u_top, "u_N", "m", "elastic top displacement", "u_N", 1000, "mm", Needs::elasticity, history, {}, Quantity::t},
-    {Quantity::theta, "theta", "rad", "rocking angle", "{/Symbol q}", 1, "rad", Needs::rocking, history | peak, {}, Quantity::t},
+     history, {}, Quantity::t, {}},
+    {Quantity::u_top, "u_N", "m", "elastic top displacement", "u_N", 1000, "mm", Needs::elasticity, history, {}, Quantity::t, {}},
+    {Quantity::theta, "theta", "rad", "rocking angle", "{/Symbol q}", 1, "rad", Needs::rocking, history | peak, {}, Quantity::t, {LabRole::drawn, 0}},
     {Quantity::theta_over_alpha, "theta_over_alpha", "-", "rocking angle over slenderness",
-     "{/Symbol q}/{/Symbol a}_{cg}", 1, "-", Needs::rocking, history | peak | study, {FigureRole::response, 4}, Quantity::t},
+     "{/Symbol q}/{/Symbol a}_{cg}", 1, "-", Needs::rocking, history | peak | study, {FigureRole::response, 4}, Quantity::t, {LabRole::chart, 2}},
     {Quantity::theta_dot, "theta_dot", "rad/s", "rocking velocity", "d{/Symbol q}/dt", 1, "rad/s", Needs::rocking,
-     history | peak | study, {}, Quantity::t},
+     history | peak | study, {}, Quantity::t, {}},
     {Quantity::delta_t, "delta_t", "-", "total top drift", "{/Symbol d}_t", 100, "%", Needs::always,
-     history | peak | study, {FigureRole::response, 2}, Quantity::t},
+     history | peak | study, {FigureRole::response, 2}, Quantity::t, {LabRole::chart, 3}},
     {Quantity::delta_e, "delta_e", "-", "elastic top drift", "{/Symbol d}_e", 100, "%", Needs::elasticity,
-     history | peak | study, {FigureRole::response, 3}, Quantity::t},
+     history | peak | study, {FigureRole::response, 3}, Quantity::t, {LabRole::chart, 3}},
     {Quantity::damper_d, "damper_d", "m", "damper elongation (signed by the pivot)", "d", 1000, "mm", Needs::dampers,
-     history | peak | study, {}, Quantity::t},
+     history | peak | study, {}, Quantity::t, {}},
     {Quantity::damper_F, "damper_F", "N", "damper force (signed by the pivot)", "F_{hd}", 1e-3, "kN", Needs::dampers,
-     history | peak, {FigureRole::loop, 9}, Quantity::damper_d},
+     history | peak, {FigureRole::loop, 9}, Quantity::damper_d, {}},
     {Quantity::base_shear, "base_shear", "V_ref", "base shear", "V/V_{ref}", 1, "-", Needs::elasticity,
-     history | peak | study, {}, Quantity::t},
+     history | peak | study, {}, Quantity::t, {}},
     {Quantity::base_moment, "base_moment", "M_ref", "base moment", "M/M_{ref}", 1, "-", Needs::elasticity,
-     history | peak | study, {}, Quantity::t},
+     history | peak | study, {}, Quantity::t, {LabRole::chart, 4}},
     {Quantity::mid_shear, "mid_shear", "V_ref", "mid-height shear", "V/V_{ref}", 1, "-", Needs::elasticity,
-     history | peak | study, {}, Quantity::t},
+     history | peak | study, {}, Quantity::t, {}},
     {Quantity::mid_moment, "mid_moment", "M_ref", "mid-height moment", "M/M_{ref}", 1, "-", Needs::elasticity,
-     history | peak | study, {}, Quantity::t},
+     history | peak | study, {}, Quantity::t, {}},
     {Quantity::a_top, "a_N", "m/s2", "top absolute acceleration (along the structure's width)", "a_N", 1 / 9.81, "g",
-     Needs::elasticity, history | peak | study, {}, Quantity::t},
-    {Quantity::a_g, "a_g", "m/s2", "ground acceleration", "a_g", 1 / 9.81, "g", Needs::always, history, {FigureRole::excitation, 1}, Quantity::t},
+     Needs::elasticity, history | peak | study, {}, Quantity::t, {}},
+    {Quantity::a_g, "a_g", "m/s2", "ground acceleration", "a_g", 1 / 9.81, "g", Needs::always, history,
+     {FigureRole::excitation, 1}, Quantity::t, {LabRole::chart, 1, true}},
     {Quantity::a_v, "a_v", "m/s2", "vertical ground acceleration (upward)", "a_v", 1 / 9.81, "g", Needs::vertical,
-     history, {}, Quantity::t},
+     history, {}, Quantity::t, {LabRole::chart, 1, true}},
     {Quantity::device_moment, "M_dev", "N m", "devices' moment (signed as theta)", "M_{dev}", 1e-6, "MN m",
-     Needs::devices, history, {FigureRole::loop, 8}, Quantity::theta},
+     Needs::devices, history, {FigureRole::loop, 8}, Quantity::theta, {LabRole::drawn, 0}},
     {Quantity::x_g, "x_g", "m", "ground displacement (a_g integrated from rest, no baseline correction)", "x_g", 1000,
-     "mm", Needs::always, on_request, {}, Quantity::t},
+     "mm", Needs::always, on_request, {}, Quantity::t, {LabRole::drawn, 0, true}},
+    {Quantity::energy, "E", "J", "mechanical energy (kinetic + gravity + elastic)", "E", 1, "J", Needs::energy,
+     on_request, {}, Quantity::t, {LabRole::drawn, 0}},
+    {Quantity::work_ground, "W_ground", "J", "work done by the ground since the start", "W_{ground}", 1, "J",
+     Needs::energy, on_request, {}, Quantity::t, {LabRole::drawn, 0}},
+    {Quantity::work_viscous, "W_viscous", "J", "energy dissipated by viscous damping since the start", "W_{viscous}", 1,
+     "J", Needs::energy, on_request, {}, Quantity::t, {LabRole::drawn, 0}},
+    {Quantity::work_devices, "W_devices", "J", "work done on the devices since the start (stored + dissipated)",
+     "W_{devices}", 1, "J", Needs::energy, on_request, {}, Quantity::t, {LabRole::drawn, 0}},
+    {Quantity::work_impacts, "W_impacts", "J", "energy lost at impacts since the start", "W_{impacts}", 1, "J",
+     Needs::energy, on_request, {}, Quantity::t, {LabRole::drawn, 0}},
 }};
 
 constexpr const QuantityInfo& info(Quantity q) { return quantity_table[static_cast<std::size_t>(q)]; }
@@ -175,10 +207,13 @@ struct DeviceQuantityInfo {
   std::string_view figure_unit;
   FigureUse figure;            // its panel in the response figure (every device's curves in one)
   DeviceQuantity figure_x;     // a loop's x quantity (of the same device)
+  LabUse lab;                  // its use in the browser lab (each device's loop)
 };
 inline constexpr std::array<DeviceQuantityInfo, device_quantity_count> device_quantity_table = {{
-    {DeviceQuantity::elongation, "elongation", "m", "elongation", "e", 1000, "mm", {}, DeviceQuantity::elongation},
-    {DeviceQuantity::force, "force", "N", "force", "F", 1e-3, "kN", {FigureRole::loop, 7}, DeviceQuantity::elongation},
+    {DeviceQuantity::elongation, "elongation", "m", "elongation", "e", 1000, "mm", {}, DeviceQuantity::elongation,
+     {LabRole::drawn, 0}},
+    {DeviceQuantity::force, "force", "N", "force", "F", 1e-3, "kN", {FigureRole::loop, 7}, DeviceQuantity::elongation,
+     {LabRole::drawn, 0}},
 }};
 constexpr const DeviceQuantityInfo& info(DeviceQuantity q) { return device_quantity_table[static_cast<std::size_t>(q)]; }
 std::string device_quantity_name(std::string_view device, DeviceQuantity q);  // "plates.elongation"
@@ -206,18 +241,20 @@ struct MemberQuantityInfo {
   double figure_factor;
   std::string_view figure_unit;
   Needs needs;
+  LabUse lab;  // its use in the browser lab (for a node's: the lab chooses which nodes it sends)
 };
 inline constexpr std::array<MemberQuantityInfo, node_quantity_count> node_quantity_table = {{
-    {"u", "m", "elastic displacement (in the foundation's frame)", "u", 1000, "mm", Needs::elasticity},
-    {"x", "m", "horizontal displacement (from rest, relative to the ground)", "x", 1000, "mm", Needs::always},
-    {"y", "m", "vertical displacement (from rest)", "y", 1000, "mm", Needs::always},
-    {"x_abs", "m", "absolute horizontal displacement (x + x_g)", "x_{abs}", 1000, "mm", Needs::always},
-    {"a_abs", "m/s2", "absolute acceleration (along the structure's width)", "a", 1 / 9.81, "g", Needs::elasticity},
+    {"u", "m", "elastic displacement (in the foundation's frame)", "u", 1000, "mm", Needs::elasticity,
+     {LabRole::drawn, 0}},
+    {"x", "m", "horizontal displacement (from rest, relative to the ground)", "x", 1000, "mm", Needs::always, {}},
+    {"y", "m", "vertical displacement (from rest)", "y", 1000, "mm", Needs::always, {}},
+    {"x_abs", "m", "absolute horizontal displacement (x + x_g)", "x_{abs}", 1000, "mm", Needs::always, {}},
+    {"a_abs", "m/s2", "absolute acceleration (along the structure's width)", "a", 1 / 9.81, "g", Needs::elasticity, {}},
 }};
 inline constexpr std::array<MemberQuantityInfo, element_quantity_count> element_quantity_table = {{
-    {"V", "N", "shear", "V", 1e-3, "kN", Needs::elasticity},
-    {"M_bottom", "N m", "lower-end moment", "M_{bottom}", 1e-3, "kN m", Needs::elasticity},
-    {"M_top", "N m", "upper-end moment", "M_{top}", 1e-3, "kN m", Needs::elasticity},
+    {"V", "N", "shear", "V", 1e-3, "kN", Needs::elasticity, {}},
+    {"M_bottom", "N m", "lower-end moment", "M_{bottom}", 1e-3, "kN m", Needs::elasticity, {}},
+    {"M_top", "N m", "upper-end moment", "M_{top}", 1e-3, "kN m", Needs::elasticity, {}},
 }};
 constexpr const MemberQuantityInfo& info(NodeQuantity q) { return node_quantity_table[static_cast<std::size_t>(q)]; }
 constexpr const MemberQuantityInfo& info(ElementQuantity q) {
@@ -256,16 +293,17 @@ struct JointQuantityInfo {
   std::string_view figure_unit;
   unsigned char roles;  // Role bits
   FigureUse figure;     // its panel in the response figure
+  LabUse lab;           // its use in the browser lab (every joint's curve in one chart)
   constexpr bool is(Role r) const { return (roles & r) != 0; }
 };
 inline constexpr std::array<JointQuantityInfo, joint_quantity_count> joint_quantity_table = {{
     {"theta", "rad", "rocking angle at the joint (relative to the face below)", "{/Symbol q}", 1, "rad",
-     history | peak | study, {FigureRole::joints, 5}},
-    {"theta_dot", "rad/s", "rocking velocity at the joint", "d{/Symbol q}/dt", 1, "rad/s", history, {}},
-    {"phase", "", "phase at the joint (pivot: -1 left, 0 full contact, +1 right)", "phase", 1, "", history, {}},
-    {"friction", "-", "friction demand |V|/N at the joint", "|V|/N", 1, "-", on_request | peak | study, {}},
+     history | peak | study, {FigureRole::joints, 5}, {LabRole::chart, 5}},
+    {"theta_dot", "rad/s", "rocking velocity at the joint", "d{/Symbol q}/dt", 1, "rad/s", history, {}, {}},
+    {"phase", "", "phase at the joint (pivot: -1 left, 0 full contact, +1 right)", "phase", 1, "", history, {}, {}},
+    {"friction", "-", "friction demand |V|/N at the joint", "|V|/N", 1, "-", on_request | peak | study, {}, {}},
     {"theta_over_alpha", "-", "rocking angle at the joint over the slenderness above it",
-     "{/Symbol q}/{/Symbol a}", 1, "-", on_request | peak | study, {}},
+     "{/Symbol q}/{/Symbol a}", 1, "-", on_request | peak | study, {}, {}},
 }};
 constexpr const JointQuantityInfo& info(JointQuantity q) { return joint_quantity_table[static_cast<std::size_t>(q)]; }
 struct JointQuantityName {
@@ -298,6 +336,17 @@ struct QuantityName {
 std::string_view axis_words(std::string_view words);  // "damper force (signed by the pivot)" -> "damper force"
 std::string axis_label(const QuantityName& q);
 double figure_factor(const QuantityName& q);
+
+// The same for a page that shows plain text (the browser lab): gnuplot's
+// enhanced text as Unicode ("{/Symbol q}/{/Symbol a}_{cg}" -> "θ/α_cg");
+// a quantity's symbol so ("θ_2" for joint 2's theta, "dampers F" for a
+// device's force), its words without their note, its figure's unit, and its
+// use in the lab.
+std::string plain_text(std::string_view enhanced);
+std::string plain_symbol(const QuantityName& q);
+std::string_view plain_words(const QuantityName& q);
+std::string_view figure_unit(const QuantityName& q);
+LabUse lab_use(const QuantityName& q);
 
 // "delta_t", "joint2.theta" or "NAME.elongation" / "NAME.force" (the joint
 // and the device are not checked here: a scene's are not known); nothing

@@ -405,11 +405,21 @@ class ChainDriver {
     }
   }
 
+  // A history row, with the energy balance's terms so far: the mechanical
+  // energy and the tendons' stored energy of the state, its ground and
+  // viscous accumulators, the impacts' losses up to now.
   void history_row(double t, Eigen::Ref<const Eigen::VectorXd> y) {
+    last_row_ = t;
     Response r = response(t, y, true);
     r[Quantity::a_g] = ground_.acceleration(t);
     r[Quantity::a_v] = vertical_ ? vertical_->acceleration(t) : 0.0;
     r[Quantity::x_g] = travel_.at(t).d;
+    const ChainEnergy e = chain_energy(c_, phases_, y.head(n_), y.segment(n_, n_), w_);
+    r[Quantity::energy] = e.kinetic + e.gravity + e.elastic;
+    r[Quantity::work_ground] = y[2 * n_];
+    r[Quantity::work_viscous] = y[2 * n_ + 1];
+    r[Quantity::work_devices] = e.tendons - tendons_initial_;
+    r[Quantity::work_impacts] = result_.energy.impacts;
     observer_->nodal(y.head(0), y.head(0));
     if (!device_samples_.empty()) {
       for (std::size_t k = 0; k < device_samples_.size(); ++k)
@@ -441,6 +451,8 @@ class ChainDriver {
     for (std::size_t k = 0; k < result_.devices.size(); ++k)
       result_.devices[k].work = tendon_stored(k, tendon_elongation(c_, phases_, static_cast<int>(k), y_.head(n_), w_)) -
                                 tendon_stored(k, 0.0);
+    if (opt_.final_row && observer_ != nullptr && opt_.output_interval > 0 && last_row_ < result_.t_end)
+      history_row(result_.t_end, y_);
   }
 
   const ContactModel& m_;
@@ -464,6 +476,7 @@ class ChainDriver {
   GroundTravel travel_{ground_};
   std::unique_ptr<ode::Integrator> integrator_;
   double t_end_ = 0, next_output_ = 0, tendons_initial_ = 0;
+  double last_row_ = -std::numeric_limits<double>::infinity();  // the last history row's time
   long outputs_ = 0, events_ = 0;
   PeakTracker peaks_;
   RunResult result_;

@@ -18,12 +18,13 @@ Presence presence(const ContactModel& m) {
   // leaves it out).
   if (m.jointed)
     return {.rocking = true, .elasticity = false, .dampers = false, .devices = !m.devices.empty(),
-            .vertical = m.vertical_shaking};
+            .vertical = m.vertical_shaking, .energy = true};
   return {.rocking = m.kind != ModelKind::fixed_base,
           .elasticity = m.layout.u.present(),
           .dampers = m.has_damper,
           .devices = !m.devices.empty(),
-          .vertical = m.vertical_shaking};
+          .vertical = m.vertical_shaking,
+          .energy = m.layout.energy.present()};
 }
 
 std::string_view outcome_name(Outcome o) {

@@ -4,6 +4,7 @@ module;
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <new>
@@ -353,13 +354,23 @@ class Driver {
   }
 
   // A history row: the response with the ground's acceleration and
-  // displacement and the devices' moment, the devices' samples and the nodal
-  // displacements handed over first.
+  // displacement, the devices' moment and the energy balance's terms so far
+  // (the accumulators of the state, the impacts' losses up to now), the
+  // devices' samples and the nodal displacements handed over first.
   Response history_row(double t, Eigen::Ref<const Eigen::VectorXd> y) {
+    last_row_ = t;
     Response r = evaluate(m_, scales_, d_, t, y);
     r[Quantity::a_g] = ground_.acceleration(t);
     r[Quantity::a_v] = vertical_ ? vertical_->acceleration(t) : 0.0;
     r[Quantity::x_g] = travel_.at(t).d;
+    if (m_.layout.energy.present()) {
+      const Eigen::Index e = m_.layout.energy.start;
+      r[Quantity::energy] = mechanical_energy(m_, d_.phase, y);
+      r[Quantity::work_ground] = y[e];
+      r[Quantity::work_viscous] = y[e + 1];
+      r[Quantity::work_devices] = y[e + 2];
+      r[Quantity::work_impacts] = result_.energy.impacts;
+    }
     pass_nodal(y);
     if (!m_.devices.empty()) {
       device_samples(m_, d_, y, samples_);
@@ -436,6 +447,8 @@ class Driver {
       for (std::size_t k = 0; k < result_.devices.size() && m_.layout.energy.count > 3; ++k)
         result_.devices[k].work = y_[m_.layout.energy.start + 3 + static_cast<Eigen::Index>(k)];
     }
+    if (opt_.final_row && observer_ != nullptr && opt_.output_interval > 0 && last_row_ < result_.t_end)
+      observer_->record(history_row(result_.t_end, y_));
   }
 
   ode::Backend backend_;                     // choose_backend's
@@ -455,6 +468,7 @@ class Driver {
   std::unique_ptr<ode::Integrator> integrator_, exact_;  // the backend; full contact under a record
   ode::Integrator* active_ = nullptr;                    // the one stepping the current phase
   double t_end_ = 0, next_output_ = 0, work_at_event_ = 0;
+  double last_row_ = -std::numeric_limits<double>::infinity();  // the last history row's time
   long outputs_ = 0, events_ = 0;
   PeakTracker peaks_;
   std::array<Response, 4> batch_;  // samples awaiting the peak tracker

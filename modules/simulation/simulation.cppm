@@ -46,7 +46,8 @@ export namespace rocking {
 
 // The response at one instant: every quantity of rocking.quantities. Forces
 // are normalised (V_ref, M_ref); a quantity the model lacks (Presence) is 0.
-// a_g, a_v, M_dev and x_g are filled for history rows only (the peaks do not need them).
+// a_g, a_v, M_dev, x_g and the energy balance's terms (E, W_*) are filled for
+// history rows only (the peaks do not need them).
 struct Response {
   double t = 0;
   Phase phase;
@@ -119,6 +120,9 @@ struct RunOptions {
   ode::Options tolerances{.rtol = 1e-4, .atol = 1e-7};
   double duration = 0;           // simulated time [s]; 0: the motion's duration
   double output_interval = 0.01; // history rows every this many s (and at every event)
+  // A history row at the run's end too, when the last is earlier: its
+  // energy columns are then the summary's totals (the browser lab's bars).
+  bool final_row = false;
   bool track_energy = true;
   // Full contact is linear (Eq. 1) and a record is linear between samples, so
   // a flexible structure in full contact under a record is stepped exactly
