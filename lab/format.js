@@ -271,19 +271,112 @@ export function drawnRows(t, columns, buckets) {
   return out;
 }
 
-// The run's energy budget as bars (summary.energy_J, MODEL.md's energy
-// bookkeeping, sections 7 and 11): what was put in (the initial tilt's energy, the ground's work),
-// where it went (the devices, the impacts, viscous damping) and what is left
-// at the end; null when the run does not track energy. {label, kind, J}.
-export function energyBars(summary) {
-  const e = summary && summary.energy_J;
-  if (!e) return null;
-  return [
-    { label: 'at the start', kind: 'in', J: e.initial },
-    { label: 'put in by the ground', kind: 'in', J: e.ground_input },
-    { label: 'dissipated by the devices', kind: 'out', J: e.damper },
-    { label: 'lost at impacts', kind: 'out', J: e.impacts },
-    { label: 'by viscous damping', kind: 'out', J: e.viscous },
-    { label: 'left at the end', kind: 'left', J: e.final },
+// The run's energy budget at row i of its history, as bars: the terms of
+// the energy balance E(t) - E(0) = W_ground - W_viscous - W_devices -
+// W_impacts (MODEL.md 7 and 11), columns the server sends by their schema
+// names, each W from the start: what was put in (the energy at the start, the
+// ground's work), where it went (the devices, the impacts, viscous damping)
+// and what is there now; each labelled by the schema's words. At the run's
+// last row (its end) they are summary.energy_J's totals. null when the run
+// does not track energy. {name, label, kind, J}; residual: the balance's
+// residual at row i.
+export function energyBars(run, i) {
+  const h = run && run.history;
+  const names = ['E', 'W_ground', 'W_devices', 'W_impacts', 'W_viscous'];
+  if (!h || names.some((n) => !h[n] || h[n].length === 0)) return null;
+  const words = (n) => ((run.columns || []).find((c) => c.name === n) || { words: n }).words;
+  const at = (n, k) => h[n][Math.max(0, Math.min(k, h[n].length - 1))] ?? 0;
+  const bars = [
+    { name: 'E', label: `${words('E')} at the start`, kind: 'in', J: at('E', 0) },
+    { name: 'W_ground', label: words('W_ground'), kind: 'in', J: at('W_ground', i) },
+    { name: 'W_devices', label: words('W_devices'), kind: 'out', J: at('W_devices', i) },
+    { name: 'W_impacts', label: words('W_impacts'), kind: 'out', J: at('W_impacts', i) },
+    { name: 'W_viscous', label: words('W_viscous'), kind: 'out', J: at('W_viscous', i) },
+    { name: 'E', label: `${words('E')} now`, kind: 'left', J: at('E', i) },
   ];
+  const J = (k) => bars[k].J;
+  return { bars, residual: (J(5) - J(0)) - (J(1) - J(4) - J(2) - J(3)) };
+}
+
+// The charts against time, from the columns' schema entries the server sent
+// with each run (name, words, symbol, display unit and factor, use, chart):
+// one chart per chart number, in their order, with the columns of that number
+// (the main run's first, then any only the twin has). Each: {key (its first
+// column's name), title (its first column's words), y (the axis's title:
+// the symbols and the display unit), series: [{name, symbol, factor, ground}]}.
+export function chartsFrom(columnLists) {
+  const byChart = new Map();
+  for (const columns of columnLists)
+    for (const c of columns || []) {
+      if (c.use !== 'chart') continue;
+      if (!byChart.has(c.chart)) byChart.set(c.chart, []);
+      const list = byChart.get(c.chart);
+      if (!list.some((x) => x.name === c.name)) list.push(c);
+    }
+  return [...byChart.keys()].sort((a, b) => a - b).map((k) => {
+    const cols = byChart.get(k);
+    const units = [...new Set(cols.map((c) => c.display_unit))];
+    return {
+      key: cols[0].name,
+      title: cols[0].words,
+      y: `${cols.map((c) => c.symbol).join(', ')} [${units.join(', ') || '–'}]`,
+      series: cols.map((c) => ({ name: c.name, symbol: c.symbol, factor: c.factor, ground: Boolean(c.ground) })),
+    };
+  });
+}
+
+// A column's schema entry (the server's) of a run, or null.
+export function columnOf(run, name) {
+  return ((run && run.columns) || []).find((c) => c.name === name) || null;
+}
+
+// A rigid segment's (or block's) top: its nodes' heights above its base,
+// when they are the middles of equal slices, end half a slice above the
+// last; otherwise the last node is its top face.
+export function segmentTop(base, heights) {
+  const n = heights.length;
+  const first = heights[0] - base;
+  const last = heights[n - 1] - base;
+  return Math.abs(last - (2 * n - 1) * first) <= 1e-9 * Math.max(1, last) ? heights[n - 1] + first : heights[n - 1];
+}
+
+// A structure with joints (MODEL.md 15) drawn: segment j turns by thetas[j]
+// (its rotation relative to the face below; j = 0: the base's theta) about
+// the corner of its joint on the side of its sign, the face being segment
+// j-1's at the joint's height; a point (x, z) of segment j (z its height at
+// rest) is then placed through every segment below. Returns per segment its
+// place function, base corners, top corners and angle (the sum of the
+// rotations up to it), and each device (a tendon) from its anchor on the
+// ground (x, 0) to its end on its segment.
+export function chainPoints(structure, thetas) {
+  const segments = structure.segments;
+  const places = [];
+  const out = segments.map((g, j) => {
+    const th = thetas[j] || 0;
+    const s = th > 0 ? 1 : th < 0 ? -1 : 0;
+    const c = Math.cos(th);
+    const sn = Math.sin(th);
+    const B = g.half_width;
+    const h = g.base_height;
+    const below = j > 0 ? places[j - 1] : (x, z) => [x, z];
+    const place = (x, z) => {
+      const px = x - s * B;
+      const zl = z - h;
+      return below(s * B + px * c + zl * sn, h - px * sn + zl * c);
+    };
+    places.push(place);
+    const top = j + 1 < segments.length ? segments[j + 1].base_height : segmentTop(h, g.heights);
+    return {
+      place,
+      angle: thetas.slice(0, j + 1).reduce((a, b) => a + (b || 0), 0),
+      left: place(-B, h), right: place(B, h), topLeft: place(-B, top), topRight: place(B, top),
+      nodes: g.heights.map((z) => place(0, z)),
+    };
+  });
+  const devices = (structure.devices || []).map((d) => ({
+    name: d.name,
+    from: [d.x, 0],
+    to: d.segment !== undefined && out[d.segment] ? out[d.segment].place(d.x, d.top) : [d.x, 0],
+  }));
+  return { segments: out, devices };
 }

@@ -5,7 +5,8 @@
 // browser test.
 import {
   formatG, buildRequest, twinChoices, tendonOf, damperDevices, peakOf, exaggeration, bodyPoints, pulses, ownPulse, groundStill,
-  forStudents, axisRange, describeRun, peakTitle, groundDrawn, scaleBar, drawnRows, energyBars,
+  forStudents, axisRange, describeRun, peakTitle, groundDrawn, scaleBar, drawnRows, energyBars, chartsFrom, columnOf,
+  chainPoints,
 } from './format.js';
 import { lessons } from './lessons.js';
 
@@ -150,15 +151,12 @@ function column(run, name, factor = 1) {
   return c ? c.map((v) => (v === null ? null : v * factor)) : null;
 }
 
-// Each chart: its title, its y axis's title and unit, the span shown when
-// the trace is all zero, and its series [column, factor, label].
-const chartDefs = [
-  { title: 'ground acceleration', y: 'a [g]', zero: 0.1, series: [['a_g', 1 / 9.81, 'a_g'], ['a_v', 1 / 9.81, 'a_v']] },
-  { title: 'rocking angle θ/α_cg (1: tipping point at rest)', y: 'θ/α_cg [–]', zero: 0.1, series: [['theta_over_alpha', 1, 'θ/α']] },
-  { title: 'top drift', y: 'drift [% of height]', zero: 0.1, series: [['delta_t', 100, 'total'], ['delta_e', 100, 'elastic']] },
-  { title: 'base moment', y: 'M [M_ref]', zero: 0.1, series: [['base_moment', 1, 'M/M_ref']] },
-];
+// The charts, as the server's schema entries of the runs' columns give them
+// (chartsFrom): their titles, axes, series and display factors. The span
+// shown when a trace is all zero, in its display unit:
+const zeroSpan = 0.1;
 const chartHeight = 250;
+const seriesShades = ['#1f5fa8', '#6a9fd8', '#0b2f57', '#3d8bd9', '#7aa7d9'];
 
 // A chart's series and data: each run's columns at the rows worth drawing
 // in `columns` pixel columns (drawnRows), on one time axis.
@@ -168,20 +166,19 @@ function chartData(def, columns) {
   const series = [{}];
   for (const [suffix, run] of runs) {
     const ys = [];
-    for (const [name, factor, label] of def.series) {
+    def.series.forEach(({ name, symbol, factor, ground }, k) => {
       const y = column(run, name, factor);
-      if (!y || (name === 'a_g' && suffix)) continue;  // the twin shakes under the same ground
+      if (!y || (ground && suffix)) return;  // the twin shakes under the same ground
       ys.push(y);
       series.push({
-        label: label + suffix,
-        stroke: suffix ? colors.twin : name === 'a_g' || name === 'delta_t' ? colors.main : '#6a9fd8',
+        label: symbol + suffix,
+        stroke: suffix ? colors.twin : seriesShades[k % seriesShades.length],
         dash: suffix ? [6, 4] : undefined,
         width: 1.3,
         spanGaps: true,
         value: (u, v) => (v === null ? '–' : formatG(v, 4)),
       });
-      if (name === 'delta_e' && !suffix) series[series.length - 1].stroke = '#7aa7d9';
-    }
+    });
     if (ys.length === 0) continue;
     const rows = drawnRows(run.history.t, ys, columns);
     tables.push([rows.map((i) => run.history.t[i]), ...ys.map((y) => rows.map((i) => y[i]))]);
@@ -213,9 +210,11 @@ const timeCursor = {
 // otherwise they are built anew (and measured in the page's grid).
 function drawCharts(rebuild = false) {
   const host = $('charts');
-  const still = peakOf(state.data.history.a_g) === 0 && peakOf(state.data.history.a_v) === 0;
+  // A chart of the ground's quantities only, all zero: the ground stays still.
+  const still = (def) => def.series.every((x) => x.ground && peakOf(state.data.history[x.name]) === 0);
   const columns = (width) => Math.round(width * (window.devicePixelRatio || 1));
-  const build = (width) => chartDefs.map((def) => ({ def, ...(chartData(def, columns(width)) || {}) })).filter((b) => b.data);
+  const defs = chartsFrom([state.data.columns, state.data.twin && state.data.twin.columns]);
+  const build = (width) => defs.map((def) => ({ def, ...(chartData(def, columns(width)) || {}) })).filter((b) => b.data);
   let width = state.chartWidth || Math.max(240, host.clientWidth - 2);
   let built = build(width);
   const key = JSON.stringify(built.map((b) => [b.def.title, b.series.map((x) => x.label || '')]));
@@ -226,7 +225,7 @@ function drawCharts(rebuild = false) {
     state.charts = [];
     host.replaceChildren(...built.map(({ def }) => {
       const div = document.createElement('div');
-      div.dataset.chart = def.series[0][0];
+      div.dataset.chart = def.key;
       div.setAttribute('role', 'img');
       divs.push(div);
       return div;
@@ -238,7 +237,7 @@ function drawCharts(rebuild = false) {
   state.chartKey = key;
   state.chartWidth = width;
   built.forEach(({ def, data, series }, k) => {
-    const title = def.series[0][0] === 'a_g' && still ? `${def.title}: none (the ground stays still)` : def.title;
+    const title = still(def) ? `${def.title}: none (the ground stays still)` : def.title;
     const peaks = series.slice(1).map((x, j) => `${x.label} peak ${formatG(peakOf(data[j + 1]), 3)}`);
     const label = `chart of ${title} [${def.y}] against time: ${peaks.join(', ')}`;
     if (reuse) {
@@ -254,7 +253,7 @@ function drawCharts(rebuild = false) {
       width,
       height: chartHeight,
       cursor: { sync: { key: 'lab' }, drag: { x: true, y: false } },
-      scales: { x: { time: false }, y: { range: (u, min, max) => axisRange(min, max, def.zero) } },
+      scales: { x: { time: false }, y: { range: (u, min, max) => axisRange(min, max, zeroSpan) } },
       axes: [{ label: 'time t [s]', size: 40 }, { label: def.y, size: 64, labelSize: 20 }],
       series,
       legend: { live: true },
@@ -300,8 +299,64 @@ function blockHeight(structure) {
   return h[h.length - 1] + h[0];
 }
 
+// The rotations of a structure with joints at row i: the base's theta, then jointK.theta, K = 1 ..
+function jointThetas(run, i) {
+  const out = [run.history.theta ? run.history.theta[i] ?? 0 : 0];
+  for (let k = 1; k < run.structure.segments.length; k += 1) {
+    const c = run.history[`joint${k}.theta`];
+    out.push(c ? c[i] ?? 0 : 0);
+  }
+  return out;
+}
+
+// A structure with joints: each segment drawn turning about its joint's
+// corner (chainPoints), its base as a thick line, its outline, its nodes and
+// the tendons.
+function drawChain(ctx, run, i, factors, X, Y, color) {
+  const p = chainPoints(run.structure, jointThetas(run, i).map((v) => v * factors.theta));
+  state.drawnChain = p.segments.map((g) => g.angle);
+  ctx.strokeStyle = color;
+  ctx.fillStyle = color;
+  for (const g of p.segments) {
+    ctx.lineWidth = 3;
+    ctx.beginPath();
+    ctx.moveTo(X(g.left), Y(g.left));
+    ctx.lineTo(X(g.right), Y(g.right));
+    ctx.stroke();
+    ctx.lineWidth = 2;
+    ctx.beginPath();
+    [g.left, g.topLeft, g.topRight, g.right].forEach((pt, k) => (k === 0 ? ctx.moveTo(X(pt), Y(pt)) : ctx.lineTo(X(pt), Y(pt))));
+    ctx.stroke();
+  }
+  ctx.save();
+  ctx.strokeStyle = '#e67e22';
+  ctx.lineWidth = 2.5;
+  for (const d of p.devices) {
+    ctx.beginPath();
+    ctx.moveTo(X(d.from), Y(d.from));
+    ctx.lineTo(X(d.to), Y(d.to));
+    ctx.stroke();
+  }
+  ctx.restore();
+  for (const g of p.segments)
+    for (const pt of g.nodes) {
+      ctx.beginPath();
+      ctx.arc(X(pt), Y(pt), 3, 0, 2 * Math.PI);
+      ctx.fill();
+    }
+  return p.segments[0].left;
+}
+
 function drawStructure(ctx, run, t, factors, origin, scale, color, label) {
   const i = indexAt(t, run.history.t);
+  if ((run.structure.segments || []).length > 0) {
+    const X = (pt) => origin[0] + pt[0] * scale;
+    const Y = (pt) => origin[1] - pt[1] * scale;
+    const at = drawChain(ctx, run, i, factors, X, Y, color);
+    ctx.font = '13px DejaVu Sans, sans-serif';
+    ctx.fillText(label, X(at) - 10, origin[1] + 20);
+    return;
+  }
   const theta = (run.history.theta ? run.history.theta[i] ?? 0 : 0) * factors.theta;
   const u = nodeDisplacements(run, i).map((v) => v * factors.u);
   const p = bodyPoints(run.structure, theta, u, blockHeight(run.structure));
@@ -383,15 +438,26 @@ function drawFrame() {
   $('time-value').textContent = `t = ${t.toFixed(2)} s`;
   for (const c of state.charts) c.redraw(false, false);
   drawLoops(t);
+  drawEnergy(indexAt(t, run.history.t));
 }
 
 // The loops' two views: each device's force against its elongation, or the
 // devices' moment about the pivot against the rocking angle (the flag of
-// controlled rocking), each axis in a readable unit.
-const loopViews = {
-  force: { title: 'devices: force against elongation', x: 'elongation [mm]', y: 'force [kN]', fx: 1e3, fy: 1e-3 },
-  moment: { title: "devices' moment against rotation", x: 'rotation θ [mrad]', y: 'M_dev [MN m]', fx: 1e3, fy: 1e-6 },
-};
+// controlled rocking). Each axis is its quantity's words, symbol and display
+// unit, at its display factor, as the server's schema entries give them.
+function loopView(run, which) {
+  const axis = (c) => (c ? { label: `${c.words} ${c.symbol.replace(/^\S+ /, '')} [${c.display_unit}]`, factor: c.factor }
+    : { label: '', factor: 1 });
+  if (which === 'moment') {
+    const x = axis(columnOf(run, 'theta'));
+    const y = axis(columnOf(run, 'M_dev'));
+    return { moment: true, title: `${y.label.split(' [')[0]} against ${x.label.split(' [')[0]}`, x: x.label, y: y.label, fx: x.factor, fy: y.factor };
+  }
+  const d = (run.structure.devices || [])[0];
+  const x = axis(d && columnOf(run, `${d.name}.elongation`));
+  const y = axis(d && columnOf(run, `${d.name}.force`));
+  return { moment: false, title: 'devices: force against elongation', x: x.label, y: y.label, fx: x.factor, fy: y.factor };
+}
 
 // Axis ends for a label: the data's extremes, zero when it is round-off
 // (four digits: 3920, not 3.92e+03).
@@ -403,14 +469,14 @@ function drawLoops(t) {
   const canvas = $('loop');
   const ctx = canvas.getContext('2d');
   ctx.clearRect(0, 0, canvas.width, canvas.height);
-  const view = loopViews[$('loop-view').value] || loopViews.force;
+  const view = loopView(state.data, $('loop-view').value);
   // Each device in a shade of its run's colour (this run blue, the twin red, dashed).
   const shades = { main: ['#1f5fa8', '#7aa7d9', '#0b2f57', '#3d8bd9'], twin: ['#c0392b', '#e8948a', '#6e1a12', '#e05a47'] };
   const runs = [[state.data, 'main', []], [state.data.twin, 'twin', [6, 4]]].filter(([r]) => r);
   const loops = [];
   for (const [run, which, dash] of runs) {
     const suffix = which === 'twin' ? ' (twin)' : '';
-    if (view === loopViews.moment) {
+    if (view.moment) {
       const e = run.history.theta;
       const f = run.history.M_dev;
       if (e && f) loops.push({ run, color: shades[which][0], dash, name: `all devices${suffix}`, e, f });
@@ -511,28 +577,42 @@ function drawLoops(t) {
 
 // --- energy -------------------------------------------------------------------
 
-// The run's energy budget: a bar for each share, as long as its share of the largest.
-function drawEnergy() {
-  const bars = energyBars(state.data.summary);
-  $('energy-box').hidden = !bars;
-  if (!bars) return;
-  const most = Math.max(...bars.map((b) => Math.abs(b.J)), 1e-300);
-  $('energy').replaceChildren(...bars.map((b) => {
-    const row = document.createElement('div');
-    row.className = 'bar-row';
-    const name = document.createElement('span');
+// The run's energy budget at history row i, the drawing's (energyBars): a
+// bar for each term, as long as its share of the most any term reaches in
+// the run, so that the bars grow and shrink as the animation plays. The rows
+// are made once per run; a frame sets their lengths and numbers.
+function drawEnergy(i) {
+  const e = energyBars(state.data, i);
+  $('energy-box').hidden = !e;
+  state.energyShown = e ? { index: i, J: e.bars.map((b) => b.J), residual: e.residual } : null;
+  if (!e) return;
+  const host = $('energy');
+  if (host.children.length !== e.bars.length || state.energyRun !== state.data) {
+    state.energyRun = state.data;
+    host.replaceChildren(...e.bars.map(() => energyRow()));
+  }
+  const h = state.data.history;
+  const most = Math.max(1e-300, ...e.bars.map((b) => peakOf(h[b.name])));
+  e.bars.forEach((b, k) => {
+    const [name, bar, value] = host.children[k].children;
     name.textContent = b.label;
-    const bar = document.createElement('div');
-    bar.className = 'bar';
     bar.dataset.kind = b.kind;
     bar.style.width = `${(100 * Math.abs(b.J)) / most}%`;
-    bar.setAttribute('aria-hidden', 'true');
-    const value = document.createElement('span');
-    value.className = 'value';
     value.textContent = `${formatG(b.J, 3)} J`;
-    row.append(name, bar, value);
-    return row;
-  }));
+  });
+}
+
+function energyRow() {
+  const row = document.createElement('div');
+  row.className = 'bar-row';
+  const name = document.createElement('span');
+  const bar = document.createElement('div');
+  bar.className = 'bar';
+  bar.setAttribute('aria-hidden', 'true');
+  const value = document.createElement('span');
+  value.className = 'value';
+  row.append(name, bar, value);
+  return row;
 }
 
 // --- summary ------------------------------------------------------------------
@@ -574,7 +654,9 @@ function drawAll() {
   const run = state.data;
   const all = [run, run.twin].filter(Boolean);
   const H = run.structure.heights[run.structure.heights.length - 1];
-  const peakTheta = Math.max(...all.map((r) => peakOf(r.history.theta)));
+  // The rocking angle drawn: the base's, and a structure with joints' each joint's.
+  const peakTheta = Math.max(...all.map((r) => Math.max(peakOf(r.history.theta),
+    ...Object.keys(r.history).filter((n) => /^joint\d+\.theta$/.test(n)).map((n) => peakOf(r.history[n])))));
   const peakU = Math.max(...all.map((r) => peakOf(r.history[`node${r.structure.heights.length}.u`])));
   state.factors = exaggeration(peakTheta, peakU, H);
   state.ground = groundDrawn(run.history.t, run.history.x_g);
@@ -592,7 +674,6 @@ function drawAll() {
   state.timing.charts = performance.now() - t;
   t = performance.now();
   drawSummary();
-  drawEnergy();
   state.timing.summary = performance.now() - t;
   t = performance.now();
   drawFrame();

@@ -129,10 +129,14 @@ TEST_CASE("a lab run is the command line's run: summary, twin and history rows")
   REQUIRE(twin.code == 0);
   CHECK(lab_answer["twin"]["variant"] == "fixed-base");
   CHECK(same_part(lab_answer["twin"]["summary"]) == same_part(json::parse(twin.out)));
-  // The history: the command line's rows (at the same interval and events), to six digits.
+  // The history: the command line's rows (at the same interval and events), to six digits, and one
+  // more at the run's end when the last is earlier (the energy bars' last frame).
   const CsvTable table = csv_table(read_text(out + "/history.csv"));
   const json& h = lab_answer["twin"]["history"];
-  REQUIRE(h["t"].size() == table.rows.size());
+  const double t_end = lab_answer["twin"]["summary"]["t_end"].get<double>();
+  const bool last_at_end = std::stod(table.rows.back()[0]) == close_to(t_end, 1e-6);
+  REQUIRE(h["t"].size() == table.rows.size() + (last_at_end ? 0 : 1));
+  CHECK(h["t"].back().get<double>() == close_to(t_end, 1e-6));
   const std::size_t column = history_column(table, "delta_t");
   for (std::size_t i = 0; i < table.rows.size(); i += 97)
     CHECK(h["delta_t"][i].get<double>() == close_to(std::stod(table.rows[i][column]), 1e-5));
@@ -143,6 +147,110 @@ TEST_CASE("a lab run is the command line's run: summary, twin and history rows")
     CHECK_MESSAGE(lab_answer["history"].contains(c), c);
   CHECK(lab_answer["structure"]["heights"].size() == 4);
   CHECK(lab_answer["structure"]["units"]["base_moment"] == "M_ref");
+}
+
+TEST_CASE("the lab's columns and their units, labels and display factors are the schema's, for every scene") {
+  const rocking::Lab lab = make_lab("");
+  const json scenes = lab.scenes();
+  int charted_joints = 0;
+  for (const json& scene : scenes) {
+    if (!scene["usable"].get<bool>() || scene["nodes"].get<int>() > 16) continue;
+    CAPTURE(scene["id"].get<std::string>());
+    const json a = answer_json(lab, "/api/simulate", {{"scene", scene["id"]}, {"duration", 0.5}});
+    REQUIRE(a["columns"].size() == a["history"].size());
+    for (const json& c : a["columns"]) {
+      const std::string name = c["name"].get<std::string>();
+      CAPTURE(name);
+      REQUIRE(a["history"].contains(name));
+      if (const auto q = rocking::parse_quantity_name(name)) {
+        // Each entry is the quantities module's: unit, words, display unit and factor, use.
+        CHECK(c["unit"] == std::string(q->unit()));
+        CHECK(c["words"] == std::string(rocking::plain_words(*q)));
+        CHECK(c["display_unit"] == std::string(rocking::figure_unit(*q)));
+        CHECK(c["factor"].get<double>() == rocking::figure_factor(*q));
+        CHECK(c["chart"].get<int>() == rocking::lab_use(*q).chart);
+        CHECK(c["use"] != "none");
+        if (q->joint) charted_joints += c["use"] == "chart" ? 1 : 0;
+      } else {
+        const auto m = rocking::parse_member_quantity(name);
+        REQUIRE(m);
+        CHECK(m->info().lab.role == rocking::LabRole::drawn);
+        CHECK(c["display_unit"] == std::string(m->info().figure_unit));
+      }
+    }
+  }
+  CHECK(charted_joints >= 4);  // the stacked blocks' joint and the pier's three
+  // Plain text for a page: gnuplot's enhanced text with its Greek letters as Unicode.
+  CHECK(rocking::plain_text("{/Symbol q}/{/Symbol a}_{cg}") == "θ/α_cg");
+  CHECK(rocking::plain_symbol(rocking::Quantity::delta_t) == "δ_t");
+  CHECK(rocking::plain_symbol(rocking::JointQuantityName{2, rocking::JointQuantity::theta}) == "θ_2");
+  // The ground acceleration's entry as the page reads it.
+  const json a = answer_json(lab, "/api/simulate", {{"duration", 0.5}});
+  bool found = false;
+  for (const json& c : a["columns"])
+    if (c["name"] == "a_g") {
+      found = true;
+      CHECK(c["symbol"] == "a_g");
+      CHECK(c["display_unit"] == "g");
+      CHECK(c["factor"].get<double>() == close_to(1 / 9.81, 1e-15));
+      CHECK(c["use"] == "chart");
+      CHECK(c["ground"] == true);
+    }
+  CHECK(found);
+}
+
+TEST_CASE("the lab's energy history closes the run's balance at every row and ends at the summary's totals") {
+  const rocking::Lab lab = make_lab("");
+  // The chimney's own pulse (its dampers work, it rocks and strikes) and the stacked blocks (joints, the momentum law).
+  for (const char* scene : {"christchurch_chimney", "stacked_blocks", "controlled_rocking_wall"}) {
+    CAPTURE(scene);
+    const json a = answer_json(lab, "/api/simulate", {{"scene", scene}});
+    const json& h = a["history"];
+    const json& e = a["summary"]["energy_J"];
+    for (const char* c : {"E", "W_ground", "W_viscous", "W_devices", "W_impacts"}) REQUIRE(h.contains(c));
+    const std::size_t n = h["t"].size();
+    REQUIRE(n > 10);
+    const double scale = e["initial"].get<double>() + e["ground_input"].get<double>();
+    REQUIRE(scale > 0);
+    CHECK(h["E"][0].get<double>() == close_to(e["initial"].get<double>(), 1e-5));
+    double worst = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto at = [&](const char* c) { return h[c][i].get<double>(); };
+      worst = std::max(worst, std::abs((at("E") - h["E"][0].get<double>()) -
+                                       (at("W_ground") - at("W_viscous") - at("W_devices") - at("W_impacts"))));
+    }
+    // The balance holds along the run as it does at its end (the run's own residual is below 1 %).
+    CHECK(worst <= 1e-2 * scale);
+    CHECK(std::abs(e["balance_residual"].get<double>()) <= 1e-2 * scale);
+    // The last row is the run's end: the summary's totals, to the six digits sent.
+    CHECK(h["t"][n - 1].get<double>() == close_to(a["summary"]["t_end"].get<double>(), 1e-6));
+    CHECK(h["E"][n - 1].get<double>() == close_to(e["final"].get<double>(), 1e-5));
+    CHECK(h["W_ground"][n - 1].get<double>() == close_to(e["ground_input"].get<double>(), 1e-5));
+    CHECK(h["W_devices"][n - 1].get<double>() == close_to(e["damper"].get<double>(), 1e-5));
+    CHECK(h["W_impacts"][n - 1].get<double>() == close_to(e["impacts"].get<double>(), 1e-5));
+    CHECK(h["W_viscous"][n - 1].get<double>() == close_to(e["viscous"].get<double>(), 1e-5));
+    CHECK(e["impacts"].get<double>() > 0);
+  }
+}
+
+TEST_CASE("the lab sends a structure's joints: its segments and each joint's rotation") {
+  const rocking::Lab lab = make_lab("");
+  const json a = answer_json(lab, "/api/simulate", {{"scene", "stacked_blocks"}});
+  const json& segments = a["structure"]["segments"];
+  REQUIRE(segments.size() == 2);
+  CHECK(segments[1]["base_height"].get<double>() == close_to(1.0, 1e-12));
+  CHECK(segments[1]["half_width"].get<double>() == close_to(0.15, 1e-12));
+  REQUIRE(a["history"].contains("joint1.theta"));
+  double peak = 0;
+  for (const json& v : a["history"]["joint1.theta"]) peak = std::max(peak, std::abs(v.get<double>()));
+  CHECK(peak > 0);  // the artefact rocks on its plinth
+  const json pier = answer_json(lab, "/api/simulate", {{"scene", "segmental_pier"}, {"duration", 0.5}});
+  CHECK(pier["structure"]["segments"].size() == 4);
+  REQUIRE(pier["structure"]["devices"].size() == 1);
+  CHECK(pier["structure"]["devices"][0]["segment"] == 3);
+  CHECK(pier["structure"]["devices"][0]["top"].get<double>() == close_to(8.0, 1e-12));
+  // A structure without joints has none.
+  CHECK(answer_json(lab, "/api/simulate", {{"duration", 0.5}})["structure"]["segments"].empty());
 }
 
 TEST_CASE("a lab run of a scene's own pulse, a wall's tendon and a rigid block matches the command line") {

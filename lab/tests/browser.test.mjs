@@ -7,7 +7,11 @@
 // the six digits sent), switches compare mode on, checks that every chart
 // has data in its plot area and that the structure drawn at its peak tilts by
 // the history's theta (times the drawing's exaggeration), opens every lesson,
-// and saves a screenshot. Reports the page's re-run-and-redraw time.
+// and saves a screenshot; checks that the charts are built from the schema
+// entries the server sends (altered on their way, the page shows the altered
+// words, symbol, unit and factor); draws the stacked blocks, each block
+// turning about its joint's corner by the history's rotations, with a chart
+// of the joints' rotations. Reports the page's re-run-and-redraw time.
 //
 //   ROCKING_BIN=build/bin/rocking node lab/tests/browser.test.mjs
 // Environment: ROCKING_RECORDS (the records), ROCKING_LAB_SCREENSHOT (where
@@ -89,7 +93,13 @@ try {
     assert.equal(after.peaks[name], formatG(value, 4), `peak ${name}: the page shows the command line's ${value}`);
   assert.equal(after.peaks.outcome, cli.summary.outcome);
   assert.equal(after.peaks.counts, `${cli.summary.counts.uplifts}, ${cli.summary.counts.impacts}`);
-  assert.equal(after.theta.length, cli.theta.length, 'the trace has the command line history\'s rows');
+  // The command line's rows, and one more at the run's end when the last is earlier (the energy bars' last frame).
+  const tEnd = await page.evaluate(() => window.lab.data.summary.t_end);
+  const pageT = await page.evaluate(() => window.lab.data.history.t);
+  assert.ok(after.theta.length === cli.theta.length || after.theta.length === cli.theta.length + 1,
+    `the trace has the command line history's rows (${after.theta.length} against ${cli.theta.length})`);
+  assert.ok(Math.abs(pageT[pageT.length - 1] - tEnd) <= 1e-6 * tEnd, 'the last row is the run\'s end');
+  after.theta.length = cli.theta.length;
   after.theta.forEach((v, i) => assert.ok(Math.abs(v - cli.theta[i]) <= 5e-6 * Math.abs(cli.theta[i]) + 1e-12,
     `theta/alpha at row ${i}: page ${v}, command line ${cli.theta[i]}`));
 
@@ -213,6 +223,78 @@ try {
     assert.equal(shown.title, lessons[k].title);
     assert.equal(shown.twin, Boolean(lessons[k].controls.compare), `lesson ${k}: its twin`);
   }
+  // The charts are built from what the server states: its schema entries, altered on their way to the
+  // page (the total drift's words, symbol, display unit and factor), are what the page shows.
+  await page.setRequestInterception(true);
+  page.on('request', async (request) => {
+    if (!request.url().endsWith('/api/simulate')) {
+      request.continue();
+      return;
+    }
+    const response = await fetch(request.url(), { method: 'POST', body: request.postData() });
+    const body = await response.json();
+    for (const c of body.columns || [])
+      if (c.name === 'delta_t') Object.assign(c, { words: 'sway as the server words it', symbol: 'Σ', display_unit: 'permille', factor: 1000 });
+    request.respond({ status: response.status, contentType: 'application/json', body: JSON.stringify(body) });
+  });
+  await page.goto(url, { waitUntil: 'load' });
+  await settled(page, 0);
+  const drift = await page.evaluate(() => {
+    const u = window.lab.charts.find((c) => c.root.parentElement.dataset.chart === 'delta_t');
+    const h = window.lab.data.history;
+    let k = 0;
+    h.delta_t.forEach((v, i) => { if (Math.abs(v) > Math.abs(h.delta_t[k])) k = i; });
+    const row = u.data[0].indexOf(h.t[k]);
+    return { title: u.root.querySelector('.u-title').textContent, axis: u.axes[1].label, legend: u.series[1].label,
+      shown: row >= 0 ? u.data[1][row] : null, value: h.delta_t[k] };
+  });
+  assert.equal(drift.title, 'sway as the server words it');
+  assert.match(drift.axis, /^Σ(, δ_e)? \[permille(, %)?\]$/, drift.axis);
+  assert.equal(drift.legend, 'Σ');
+  assert.ok(drift.shown !== null && Math.abs(drift.shown - 1000 * drift.value) <= 1e-9 * Math.abs(drift.shown),
+    `drawn at the factor stated: ${drift.shown} for ${drift.value}`);
+  await page.setRequestInterception(false);
+  page.removeAllListeners('request');
+
+  // Joints: the stacked blocks drawn block by block, the artefact turning on its plinth's corner by joint1.theta
+  // (times the drawing's exaggeration) at the frame of its peak, and a chart of the joints' rotations.
+  await page.goto(url, { waitUntil: 'load' });
+  await settled(page, 0);
+  n = await runsOf(page);
+  await page.select('#scene', 'stacked_blocks');
+  await settled(page, n);
+  const jointed = await page.evaluate(() => {
+    const ctx = document.querySelector('#drawing').getContext('2d');
+    const move = ctx.moveTo.bind(ctx), line = ctx.lineTo.bind(ctx);
+    let from = null;
+    window.drawnSegments = [];
+    ctx.moveTo = (x, y) => { from = [x, y]; move(x, y); };
+    ctx.lineTo = (x, y) => {
+      if (from) window.drawnSegments.push({ from, to: [x, y], width: ctx.lineWidth });
+      from = [x, y];
+      line(x, y);
+    };
+    const h = window.lab.data.history;
+    const j = h['joint1.theta'];
+    let k = 0;
+    j.forEach((v, i) => { if (Math.abs(v) > Math.abs(j[k])) k = i; });
+    const time = document.querySelector('#time');
+    time.value = h.t[k];
+    time.dispatchEvent(new Event('input', { bubbles: true }));
+    return { base: h.theta[k], joint: j[k], factor: window.lab.factors.theta, t: h.t[k],
+      beams: window.drawnSegments.filter((s) => s.width === 3),
+      charts: window.lab.charts.map((u) => u.root.parentElement.dataset.chart) };
+  });
+  assert.ok(jointed.joint !== 0, 'the artefact rocks');
+  assert.equal(jointed.beams.length, 2, 'the plinth and the artefact, each its own base');
+  const tilt = (b) => Math.atan2(b.to[1] - b.from[1], b.to[0] - b.from[0]);
+  assert.ok(Math.abs(tilt(jointed.beams[0]) - jointed.base * jointed.factor) <= 1e-9,
+    `the plinth drawn at t = ${jointed.t} s tilts ${tilt(jointed.beams[0])}, theta ${jointed.base} x ${jointed.factor}`);
+  assert.ok(Math.abs(tilt(jointed.beams[1]) - tilt(jointed.beams[0]) - jointed.joint * jointed.factor) <= 1e-9,
+    `the artefact drawn turns ${tilt(jointed.beams[1]) - tilt(jointed.beams[0])} on the plinth, joint1.theta ${jointed.joint} x ${jointed.factor}`);
+  assert.ok(jointed.charts.includes('joint1.theta'), `a chart of the joints' rotations: ${jointed.charts}`);
+  await page.screenshot({ path: screenshot.replace(/\.png$/, '-joints.png'), fullPage: true });
+
   consoleErrors.splice(0, consoleErrors.length, ...consoleErrors.filter((e) => !e.includes('status of 400')));
   assert.deepEqual(consoleErrors, [], 'no console errors');
 } catch (e) {

@@ -12,8 +12,10 @@
 // own pulse is moved by the pulse sliders; a tower is shaken; a weak K-NET
 // record lists its PGA; the loop's labels are not clipped; every lesson's
 // prediction is answered by its run; the glossary and tooltips explain the
-// symbols; the ground is drawn moving with a scale bar; the energy view
-// closes as the run's balance does; reset, slow motion and frame steps work.
+// symbols; the ground is drawn moving with a scale bar; the energy view's
+// bars are the history's energy columns at the frame drawn and, at the end,
+// the summary's totals, closing as the run's balance does; reset, slow
+// motion and frame steps work.
 // How fast a move is redrawn is measured by redraw.bench.mjs (make bench),
 // not here.
 //
@@ -291,30 +293,54 @@ try {
     assert.match(shifts.factors, /ground motion ×\d+/);
   });
 
-  await check('the energy view: what went in, where it went, what is left, closing as the run\'s balance does', async () => {
+  await check('the energy view: what went in, where it went, what is left, moving with the animation and closing as the run\'s balance does', async () => {
     await page.goto(`${url}?lesson=3`, { waitUntil: 'load' });
     await settled(page, 0);
-    const shown = await page.evaluate(() => ({
-      hidden: document.querySelector('#energy-box').hidden,
-      rows: [...document.querySelectorAll('#energy .bar-row')].map((r) => ({
-        label: r.children[0].textContent, width: r.children[1].getBoundingClientRect().width, text: r.children[2].textContent,
-      })),
-      e: window.lab.data.summary.energy_J,
-    }));
-    assert.equal(shown.hidden, false);
-    const J = Object.fromEntries(shown.rows.map((r) => [r.label, Number(r.text.replace(' J', ''))]));
-    const e = shown.e;
+    // The bars at a frame: set the drawing's time to history row k, read the bars.
+    const at = (k) => page.evaluate((row) => {
+      const h = window.lab.data.history;
+      const i = row < 0 ? h.t.length + row : row;
+      const time = document.querySelector('#time');
+      time.value = h.t[i];
+      time.dispatchEvent(new Event('input', { bubbles: true }));
+      return {
+        i,
+        hidden: document.querySelector('#energy-box').hidden,
+        rows: [...document.querySelectorAll('#energy .bar-row')].map((r) => ({
+          label: r.children[0].textContent, width: r.children[1].getBoundingClientRect().width, text: r.children[2].textContent,
+        })),
+        row: Object.fromEntries(['E', 'W_ground', 'W_devices', 'W_impacts', 'W_viscous'].map((n) => [n, h[n][i]])),
+        first: h.E[0],
+        e: window.lab.data.summary.energy_J,
+      };
+    }, k);
     const near = (a, b) => Math.abs(a - b) <= 5e-3 * Math.abs(b) + 1e-9;  // three digits shown
-    assert.ok(near(J['put in by the ground'], e.ground_input) && near(J['dissipated by the devices'], e.damper) &&
-      near(J['lost at impacts'], e.impacts) && near(J['left at the end'], e.final), JSON.stringify(shown.rows));
+    const values = (shown) => shown.rows.map((r) => Number(r.text.replace(' J', '')));
+    // Midway through the run: the bars are the history's row there (the energy at the start, the ground's
+    // work, the devices', the impacts', the viscous damping's, the energy now), not the run's totals.
+    const mid = await at(Math.floor((await page.evaluate(() => window.lab.data.history.t.length)) / 3));
+    assert.equal(mid.hidden, false);
+    const expected = [mid.first, mid.row.W_ground, mid.row.W_devices, mid.row.W_impacts, mid.row.W_viscous, mid.row.E];
+    values(mid).forEach((v, k) => assert.ok(near(v, expected[k]), `row ${mid.i}, bar ${mid.rows[k].label}: ${v} against ${expected[k]}`));
+    assert.ok(mid.row.W_ground < mid.e.ground_input, 'the ground has more work to do after that frame');
+    // At the end: the summary's totals.
+    const shown = await at(-1);
+    const [initial, ground, devices, impacts, viscous, final] = values(shown);
+    const e = shown.e;
+    assert.ok(near(initial, e.initial) && near(ground, e.ground_input) && near(devices, e.damper) &&
+      near(impacts, e.impacts) && near(viscous, e.viscous) && near(final, e.final), JSON.stringify(shown.rows));
+    assert.ok(shown.rows[1].label.includes('ground') && shown.rows[3].label.includes('impacts'), 'labelled by the schema\'s words');
     assert.ok(e.ground_input > 0 && e.damper > 0 && e.impacts > 0, 'the ground works, the dampers and the impacts dissipate');
-    // The balance: what went out and what is left less what went in is the run's residual, small beside the input.
-    const residual = e.damper + e.impacts + e.viscous + e.final - e.initial - e.ground_input;
-    assert.ok(Math.abs(residual - e.balance_residual) <= 1e-9 * (e.initial + e.ground_input), `${residual} vs ${e.balance_residual}`);
-    assert.ok(Math.abs(e.balance_residual) <= 1e-2 * (e.initial + e.ground_input), `residual ${e.balance_residual} J`);
+    // The balance: the bars' terms at the end, what went out and what is left less what went in, add to the
+    // run's residual (to the six digits each term is sent with; to the three shown), small beside the input.
+    const scale = e.initial + e.ground_input;
+    const sent = await page.evaluate(() => window.lab.energyShown.residual);
+    assert.ok(Math.abs(sent - e.balance_residual) <= 5e-6 * scale, `bars' residual ${sent} J, the run's ${e.balance_residual} J`);
+    const shownResidual = devices + impacts + viscous + final - initial - ground;
+    assert.ok(Math.abs(shownResidual - e.balance_residual) <= 5e-3 * scale, `shown ${shownResidual} J against ${e.balance_residual} J`);
+    assert.ok(Math.abs(e.balance_residual) <= 1e-2 * scale, `residual ${e.balance_residual} J`);
     // Bars as long as their shares: the ground's input against the dampers' work.
-    const w = Object.fromEntries(shown.rows.map((r) => [r.label, r.width]));
-    const ratio = w['dissipated by the devices'] / w['put in by the ground'];
+    const ratio = shown.rows[2].width / shown.rows[1].width;
     assert.ok(Math.abs(ratio - e.damper / e.ground_input) <= 0.02, `bar ratio ${ratio}, energy ratio ${e.damper / e.ground_input}`);
   });
 

@@ -8,6 +8,7 @@ import { fileURLToPath } from 'node:url';
 import {
   formatG, buildRequest, twinChoices, exaggeration, bodyPoints, splitOverrides, forStudents, axisRange, describeRun, groundStill,
   drawnRows,
+  chartsFrom, energyBars, chainPoints, segmentTop,
 } from '../format.js';
 import { lessons } from '../lessons.js';
 
@@ -180,4 +181,61 @@ test('drawnRows keeps, in every pixel column, the rows of each trace\'s least an
   }
   // Few rows: all of them.
   assert.deepEqual(drawnRows([0, 1, 2], [[1, 2, 3]], 100), [0, 1, 2]);
+});
+
+test('the charts are built from the schema entries the server sends: titles, axes, series, factors', () => {
+  // Entries as rocking.lab sends them; the words, symbols and units here are made up, so that
+  // nothing in the page can be drawing them from a list of its own.
+  const main = [
+    { name: 't', use: 'drawn', chart: 0 },
+    { name: 'a_g', words: 'shaking of the floor', symbol: 'ä', display_unit: 'furlong', factor: 7, use: 'chart', chart: 3, ground: true },
+    { name: 'delta_t', words: 'sway', symbol: 'δ_t', display_unit: '%', factor: 100, use: 'chart', chart: 1 },
+    { name: 'delta_e', words: 'bending', symbol: 'δ_e', display_unit: '%', factor: 100, use: 'chart', chart: 1 },
+    { name: 'theta', words: 'tilt', symbol: 'θ', display_unit: 'rad', factor: 1, use: 'drawn', chart: 0 },
+  ];
+  const twin = [{ name: 'joint1.theta', words: 'joint tilt', symbol: 'θ_1', display_unit: 'rad', factor: 1, use: 'chart', chart: 2 }];
+  const charts = chartsFrom([main, twin]);
+  assert.deepEqual(charts.map((c) => c.key), ['delta_t', 'joint1.theta', 'a_g'], 'in the order of their chart numbers');
+  assert.deepEqual(charts.map((c) => c.title), ['sway', 'joint tilt', 'shaking of the floor']);
+  assert.deepEqual(charts.map((c) => c.y), ['δ_t, δ_e [%]', 'θ_1 [rad]', 'ä [furlong]']);
+  assert.deepEqual(charts[2].series, [{ name: 'a_g', symbol: 'ä', factor: 7, ground: true }]);
+  assert.deepEqual(charts[0].series.map((s) => s.factor), [100, 100]);
+  assert.deepEqual(chartsFrom([main, main]).map((c) => c.series.length), [2, 1], 'a column both runs have is one series');
+});
+
+test('the energy bars at a row are the history\'s energy columns there, closing to the balance residual', () => {
+  const run = {
+    columns: [{ name: 'E', words: 'mechanical energy' }, { name: 'W_ground', words: 'work done by the ground since the start' }],
+    history: { E: [10, 12, 7], W_ground: [0, 5, 9], W_devices: [0, 2, 6], W_impacts: [0, 1, 4], W_viscous: [0, 0.5, 1.5] },
+  };
+  const e = energyBars(run, 1);
+  assert.deepEqual(e.bars.map((b) => b.J), [10, 5, 2, 1, 0.5, 12]);
+  assert.deepEqual(e.bars.map((b) => b.label).slice(0, 2), ['mechanical energy at the start', 'work done by the ground since the start']);
+  // (E_1 - E_0) - (W_g - W_v - W_d - W_i) = 2 - (5 - 0.5 - 2 - 1).
+  assert.equal(e.residual, 2 - 1.5);
+  assert.equal(energyBars(run, 99).bars[5].J, 7, 'past the end: the last row');
+  assert.equal(energyBars({ history: { E: [1] } }, 0), null, 'no energy columns: no bars');
+});
+
+test('a structure with joints is drawn segment by segment, each turning about its joint\'s corner', () => {
+  const structure = {
+    segments: [{ base_height: 0, half_width: 0.4, heights: [0.25, 0.75, 1.0] }, { base_height: 1.0, half_width: 0.15, heights: [1.15, 1.45, 1.75] }],
+    devices: [{ name: 'tendon', x: 0, segment: 1, top: 1.9 }],
+  };
+  const th = [0.02, -0.07];
+  const p = chainPoints(structure, th);
+  const angle = (a, b) => Math.atan2(-(b[1] - a[1]), b[0] - a[0]);  // clockwise, as theta > 0 turns
+  assert.ok(Math.abs(angle(p.segments[0].left, p.segments[0].right) - 0.02) < 1e-12);
+  assert.ok(Math.abs(angle(p.segments[1].left, p.segments[1].right) - (0.02 - 0.07)) < 1e-12, 'the upper block turns by both');
+  assert.ok(Math.abs(p.segments[1].angle - (0.02 - 0.07)) < 1e-15);
+  // Joint 1 rocks on its left corner (theta_1 < 0): that corner stays on the plinth's top face.
+  const corner = p.segments[0].place(-0.15, 1.0);
+  assert.ok(Math.hypot(p.segments[1].left[0] - corner[0], p.segments[1].left[1] - corner[1]) < 1e-12);
+  // The plinth rocks on its right corner, which stays where it was.
+  assert.deepEqual(p.segments[0].right, [0.4, 0]);
+  // Upright: every point where it stands at rest; the artefact 0.9 m tall (three slices of 0.3 m).
+  const rest = chainPoints(structure, [0, 0]);
+  assert.deepEqual(rest.segments[1].topRight, [0.15, 1.9]);
+  assert.deepEqual(rest.devices[0].to, [0, 1.9]);
+  assert.equal(segmentTop(6, [7, 8]), 8, 'a segment whose last node is its top face');
 });

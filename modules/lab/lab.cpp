@@ -109,28 +109,59 @@ std::vector<std::string> overrides_of(const json& r, std::size_t limit) {
   return out;
 }
 
-// The history the page draws: time, the ground (its acceleration and its
-// displacement, drawn moving), the rocking angle, the
-// drifts and base moment, the nodes' elastic displacements (to draw the
-// structure bent; at most 16 of them) and each device's elongation and force (its loop).
+// The history the page draws: the columns of the quantities the schema
+// gives a use in the lab (rocking.quantities' LabUse) that the model reports:
+// of its default history (a joint's, a device's among them), then those it
+// gives on request (the ground's displacement, the energy balance's terms),
+// then the nodes' elastic displacements (to draw the structure bent; at
+// most 16 of them).
 std::vector<std::string> lab_columns(const ContactModel& model) {
-  static constexpr std::string_view wanted[] = {"t",       "phase",   "a_g",         "a_v",   "x_g", "theta",
-                                                "theta_over_alpha", "delta_t", "delta_e", "base_moment", "M_dev"};
-  const std::vector<std::string> all = history_columns(model).names();
   std::vector<std::string> out;
-  // x_g is a column only on request (it is always there to give).
-  for (std::string_view w : wanted)
-    if (w == "x_g" || std::find(all.begin(), all.end(), w) != all.end()) out.emplace_back(w);
+  for (const std::string& name : history_columns(model).names())
+    if (const std::optional<QuantityName> q = parse_quantity_name(name); q && lab_use(*q).role != LabRole::none)
+      out.push_back(name);
+  const Presence has = presence(model);
+  for (const QuantityInfo& q : quantity_table)
+    if (q.is(Role::on_request) && !q.is(Role::history) && q.lab.role != LabRole::none && has.has(q.needs))
+      out.emplace_back(q.name);
   // The bending as the page draws it: every node up to 16, else 16 evenly
   // spaced up to the top (the page interpolates between them; a 64-node
   // tower's history is then a third of its size).
   constexpr Eigen::Index drawn_nodes = 16;
   const Eigen::Index n = model.body.structure.heights.size();
-  if (!model.body.structure.rigid)
+  const MemberQuantityInfo& u = info(NodeQuantity::u);
+  if (!model.body.structure.rigid && !model.jointed && u.lab.role != LabRole::none && has.has(u.needs))
     for (Eigen::Index j = 1; j <= std::min(n, drawn_nodes); ++j)
-      out.push_back(fmt::format("node{}.u", n <= drawn_nodes ? j : (j * n + drawn_nodes - 1) / drawn_nodes));
-  for (const std::string& n : all)
-    if (n.find('.') != std::string::npos) out.push_back(n);  // the devices' columns
+      out.push_back(fmt::format("node{}.{}", n <= drawn_nodes ? j : (j * n + drawn_nodes - 1) / drawn_nodes, u.name));
+  return out;
+}
+
+// What the page draws a column as, from the schema: its name, unit, words,
+// plain-text symbol, display unit and the factor to it, and its use in the
+// lab ("drawn" or "chart", with the chart's number).
+json column_schema(const std::string& name) {
+  json out{{"name", name}};
+  const auto use = [](LabUse u) { return u.role == LabRole::chart ? "chart" : u.role == LabRole::drawn ? "drawn" : "none"; };
+  if (const std::optional<QuantityName> q = parse_quantity_name(name)) {
+    out.update({{"unit", q->unit()},
+                {"words", plain_words(*q)},
+                {"symbol", plain_symbol(*q)},
+                {"display_unit", figure_unit(*q)},
+                {"factor", figure_factor(*q)},
+                {"use", use(lab_use(*q))},
+                {"chart", lab_use(*q).chart},
+                {"ground", lab_use(*q).ground}});
+  } else if (const std::optional<MemberQuantityName> m = parse_member_quantity(name)) {
+    const MemberQuantityInfo& i = m->info();
+    out.update({{"unit", i.unit},
+                {"words", axis_words(i.words)},
+                {"symbol", fmt::format("{}_{}", plain_text(i.symbol), m->index)},
+                {"display_unit", i.figure_unit},
+                {"factor", i.figure_factor},
+                {"use", use(i.lab)},
+                {"chart", i.lab.chart},
+                {"ground", i.lab.ground}});
+  }
   return out;
 }
 
@@ -189,12 +220,34 @@ json structure_json(const Scene& scene, const ContactModel& model) {
   json units = json::object();
   for (const QuantityRow& q : quantity_rows(model)) units[q.name] = q.unit;
   const Structure& s = model.body.structure;
+  // A structure with joints (MODEL.md 15): each segment's base (the joint it
+  // stands on: its height and half-width) and nodes, from the ground up; a
+  // device is a tendon whose upper end is on a segment, at a height above
+  // the ground at rest.
+  json segments = json::array();
+  if (model.jointed) {
+    const ChainData& chain = model.jointed->chain.data;
+    for (const ChainSegment& g : chain.segments)
+      segments.push_back({{"base_height", g.base_height},
+                          {"half_width", g.half_width},
+                          {"heights", std::vector<double>(g.heights.data(), g.heights.data() + g.heights.size())}});
+    for (json& d : devices) {
+      const auto& names = model.jointed->tendons;
+      const auto at = std::find(names.begin(), names.end(), d["name"].get<std::string>());
+      if (at == names.end()) continue;
+      const ChainAnchor& to = chain.tendons[static_cast<std::size_t>(at - names.begin())].to;
+      if (to.segment < 0) continue;
+      d["segment"] = to.segment;
+      d["top"] = chain.segments[static_cast<std::size_t>(to.segment)].base_height + to.z;
+    }
+  }
   return {{"name", scene.name},
           {"units", units},
           {"rigid", s.rigid},
           {"rocking", scene.contact.rocking},
           {"half_width", s.half_width},
           {"heights", std::vector<double>(s.heights.data(), s.heights.data() + s.heights.size())},
+          {"segments", segments},
           {"devices", devices}};
 }
 
@@ -227,6 +280,7 @@ void check_result(const RunResult& r, const Deadline& deadline, const LabLimits&
 Ran run_once(const RunSpec& spec, const LabLimits& limits, const Deadline& deadline) {
   PreparedRun prepared = prepare_run(spec);
   prepared.options.stop = [&deadline] { return deadline.passed(); };
+  prepared.options.final_row = true;  // the energy bars' last frame is the summary's totals
   const double duration = prepared.options.duration > 0 ? prepared.options.duration : prepared.motion.duration();
   if (duration > limits.duration)
     throw InputError(fmt::format("the motion lasts {:g} s, longer than the {:g} s the lab simulates: choose a "
@@ -443,7 +497,7 @@ LabRun Lab::read_simulate(const json& r) const {
   if (run.spec.solver.duration && *run.spec.solver.duration > limits_.duration)
     throw InputError(fmt::format("duration {:g}: at most {:g} s here", *run.spec.solver.duration, limits_.duration));
   run.spec.history.every = number_of(r, "every").value_or(0.02);
-  run.spec.history.columns = lab_columns(make_contact_model(run.spec.scene, false));
+  run.spec.history.columns = lab_columns(make_contact_model(run.spec.scene, true));
   run.twin = text_of(r, "compare");
   if (!run.twin.empty()) {  // the same run of the scene with the variant's overrides after the request's
     std::vector<std::string> all = overrides;
@@ -451,7 +505,7 @@ LabRun Lab::read_simulate(const json& r) const {
     all.insert(all.end(), variant.begin(), variant.end());
     run.twin_spec = run.spec;
     run.twin_spec->scene = scene_of(r, all);
-    run.twin_spec->history.columns = lab_columns(make_contact_model(run.twin_spec->scene, false));
+    run.twin_spec->history.columns = lab_columns(make_contact_model(run.twin_spec->scene, true));
   }
   return run;
 }
@@ -465,6 +519,10 @@ void append_run(std::string& out, const RunSpec& spec, const LabLimits& limits, 
   out += text(run_summary(ran.label, ran.result));
   out += R"(,"structure":)";
   out += text(ran.structure);
+  out += R"(,"columns":)";
+  json columns = json::array();
+  for (const std::string& name : ran.names) columns.push_back(column_schema(name));
+  out += text(columns);
   out += R"(,"history":)";
   append_history(out, ran.names, ran.values);
 }
