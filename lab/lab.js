@@ -314,7 +314,6 @@ function jointThetas(run, i) {
 // the tendons.
 function drawChain(ctx, run, i, factors, X, Y, color) {
   const p = chainPoints(run.structure, jointThetas(run, i).map((v) => v * factors.theta));
-  state.drawnChain = p.segments.map((g) => g.angle);
   ctx.strokeStyle = color;
   ctx.fillStyle = color;
   for (const g of p.segments) {
@@ -444,7 +443,9 @@ function drawFrame() {
 // The loops' two views: each device's force against its elongation, or the
 // devices' moment about the pivot against the rocking angle (the flag of
 // controlled rocking). Each axis is its quantity's words, symbol and display
-// unit, at its display factor, as the server's schema entries give them.
+// unit, at its display factor, as the server's schema entries give them (a
+// device's symbol, "dampers F", without the device's name: the axis is every
+// device's).
 function loopView(run, which) {
   const axis = (c) => (c ? { label: `${c.words} ${c.symbol.replace(/^\S+ /, '')} [${c.display_unit}]`, factor: c.factor }
     : { label: '', factor: 1 });
