@@ -204,12 +204,14 @@ TEST_CASE("the review of a script finds keys over data, series alike in greyscal
 
 // Every renderer is reviewed: sweep figures are IDA figures (render_panels),
 // and tradeoff --scenes draws with the work-precision figure's renderer.
-TEST_CASE("every figure kind passes the review: response, devices, modes, fit, animation, spectrum, records, IDA, suite, fragility, tradeoff") {
+TEST_CASE("every figure kind passes the review: response, devices, joints, modes, fit, animation, spectrum, records, IDA, suite, fragility, tradeoff") {
   const fs::path dir = temp_path("figure_review");
   const std::string out = dir.string();
   make("plot response --formats svg --out " + out + " --name response");
   make("plot response " ROCKING_SOURCE_DIR "/data/scenes/controlled_rocking_wall.toml "
        "--variants scene,without:tendon,without:dampers,no-devices --formats svg --out " + out + " --name devices");
+  make("plot response " ROCKING_SOURCE_DIR "/data/scenes/segmental_pier.toml --formats svg --out " + out +
+       " --name joints");
   make("plot modes --formats svg --out " + out);
   make("fit " ROCKING_SOURCE_DIR "/data/tests/bouc_wen_cyclic.csv --formats svg --out " + out + "/fit");
   make("animate --fps 2 --out " + out + "/animation/response.gif");

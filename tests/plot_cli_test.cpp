@@ -364,10 +364,15 @@ TEST_CASE("plot response with a tendon and dampers draws each device's loop and 
   // Each device named once, by its dash pattern, in the axis label (no key over the loops).
   CHECK(script.find("(solid damper_left, dashed damper_right, dotted tendon)") != std::string::npos);
   CHECK(script.find("dashtype 3 pointnumber 12 notitle") != std::string::npos);
-  // M_dev against theta, their columns found by name in the run's history.
+  // M_dev against theta and each device's loop, read by their header names in the run's history.
   const CsvTable history = csv_table(file_text(dir / "response.data" / "scene.csv"));
-  const std::size_t theta = history.column("theta [rad]") + 1, moment = history.column("M_dev [N m]") + 1;
-  CHECK(script.find("using " + std::to_string(theta) + ":($" + std::to_string(moment) + "*1e-06)") != std::string::npos);
+  REQUIRE(history.has("theta [rad]"));
+  REQUIRE(history.has("M_dev [N m]"));
+  CHECK(script.find("using (column('theta [rad]') == 0 || column('M_dev [N m]') == 0 ? NaN : "
+                    "column('theta [rad]')*1):(column('M_dev [N m]')*1e-06)") != std::string::npos);
+  CHECK(script.find("using (column('tendon.elongation [m]') == 0 || column('tendon.force [N]') == 0 ? NaN : "
+                    "column('tendon.elongation [m]')*1000):(column('tendon.force [N]')*0.001)") != std::string::npos);
+  CHECK_MESSAGE(numbered_column(script).empty(), numbered_column(script));
   CHECK(fs::file_size(dir / "response.png") > 1000);
   // A scene whose devices are all its own (the wall: a tendon and its own
   // dampers, no paper damper) draws them too, and a run without devices
@@ -388,10 +393,48 @@ TEST_CASE("plot response with a tendon and dampers draws each device's loop and 
   REQUIRE(plain.code == 0);
   CHECK(file_text(dir / "plain" / "response.gp").find("device force F") == std::string::npos);
   // A broken damper (zero force) draws no line along the elongation axis.
-  const CsvTable plain_history = csv_table(file_text(dir / "plain" / "response.data" / "scene.csv"));
-  const std::size_t d = plain_history.column("damper_d [m]") + 1, f = plain_history.column("damper_F [N]") + 1;
-  CHECK(file_text(dir / "plain" / "response.gp").find("$" + std::to_string(d) + " == 0 || $" + std::to_string(f) + " == 0 ? NaN") !=
+  CHECK(file_text(dir / "plain" / "response.gp").find("(column('damper_d [m]') == 0 || column('damper_F [N]') == 0 ? NaN") !=
         std::string::npos);
+}
+
+TEST_CASE("plot response of a structure with joints: one panel of the joints' rotations, a curve per joint named by its dash") {
+  // The segmental pier: three joints above its footing and a tendon. The
+  // joints' panel reads jointK.theta by name, one dash per joint named in
+  // its axis label; the tendon draws its loop; a jointed run reports no M_dev,
+  // so no moment panel.
+  const fs::path dir = scratch_dir("plot_test_joints");
+  const Result r = run("plot response " ROCKING_SOURCE_DIR "/data/scenes/segmental_pier.toml --variants scene "
+                       "--formats png --out " + dir.string());
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const std::string script = file_text(dir / "response.gp");
+  CHECK(script.find("time t [s]   (solid joint 1, dashed joint 2, dotted joint 3)") != std::string::npos);
+  for (int j = 1; j <= 3; ++j) {
+    CAPTURE(j);
+    CHECK(script.find(fmt::format("using (column('t [s]')):(column('joint{}.theta [rad]')*1) with lines linestyle 1 "
+                                  "dashtype {} notitle", j, j)) != std::string::npos);
+  }
+  CHECK(script.find("joint4") == std::string::npos);
+  CHECK(script.find("rocking angle at the joint") != std::string::npos);
+  CHECK(script.find("column('tendon.force [N]')") != std::string::npos);
+  CHECK(script.find("M_dev") == std::string::npos);
+  CHECK_MESSAGE(numbered_column(script).empty(), numbered_column(script));
+  CHECK(fs::file_size(dir / "response.png") > 1000);
+  // The stacked blocks: the artefact rocks on its plinth, so the one joint's
+  // curve is drawn from a column that moves.
+  const Result blocks = run("plot response " ROCKING_SOURCE_DIR "/data/scenes/stacked_blocks.toml --variants scene "
+                            "--formats png --out " + (dir / "blocks").string());
+  REQUIRE_MESSAGE(blocks.code == 0, blocks.err);
+  CHECK(file_text(dir / "blocks" / "response.gp").find("time t [s]   (solid joint 1)") != std::string::npos);
+  const CsvTable history = csv_table(file_text(dir / "blocks" / "response.data" / "scene.csv"));
+  const std::size_t theta1 = history.column("joint1.theta [rad]");
+  double peak = 0;
+  for (const auto& row : history.rows) peak = std::max(peak, std::abs(std::stod(row[theta1])));
+  CHECK(peak > 1e-3);
+  // A scene without joints has no joints' panel.
+  const Result block = run("plot response " ROCKING_SOURCE_DIR "/data/scenes/rigid_block.toml --variants scene "
+                           "--formats png --out " + (dir / "block").string());
+  REQUIRE_MESSAGE(block.code == 0, block.err);
+  CHECK(file_text(dir / "block" / "response.gp").find("joint") == std::string::npos);
 }
 
 TEST_CASE("--window: T0:T1 or the record's strong shaking on the time axes, refused in one line otherwise") {

@@ -375,7 +375,7 @@ PyResult simulate(const py::object& scene_arg, const py::object& record, double 
     out.history[py::str(collect.names[i])] = to_numpy(std::move(collect.history[i]));
   // A run has hundreds of events: their keys, kinds and device names are
   // made once, not once per event.
-  const py::str kind_key("kind"), t_key("t"), pivot_key("pivot"), device_key("device");
+  const py::str kind_key("kind"), t_key("t"), pivot_key("pivot"), device_key("device"), joint_key("joint");
   std::vector<py::object> kinds;  // by EventKind, each made when first met
   std::vector<py::str> device_names;
   for (const rocking::Device& dev : run.model.devices) device_names.emplace_back(dev.name);
@@ -388,6 +388,7 @@ PyResult simulate(const py::object& scene_arg, const py::object& record, double 
     d[t_key] = py::float_(e.t);
     d[pivot_key] = py::int_(rocking::sign(e.pivot));
     if (e.device) d[device_key] = device_names[static_cast<std::size_t>(*e.device)];
+    if (run.model.jointed) d[joint_key] = py::int_(e.joint);  // where: 0 the base, K joint K above it
     out.events.append(std::move(d));
   }
   if (result.outcome == rocking::Outcome::failed) {
@@ -771,7 +772,8 @@ PYBIND11_MODULE(rocking, m) {
                     "'phase' is the pivot: 0 full contact, +1 / -1 rocking on the right / left.")
       .def_readonly("events", &PyResult::events,
                     "Phase changes in time order: dicts of kind (uplift, impact, overturn,\n"
-                    "fracture), t [s], pivot, and device for a fracture.")
+                    "fracture), t [s], pivot, device for a fracture, and joint (0 the base, K\n"
+                    "the joint K above it) on a structure with [[joint]]s.")
       .def_readonly("outcome", &PyResult::outcome, "completed, overturned or failed")
       .def("to_pandas", [](const PyResult& r) { return to_pandas(r.history); },
            "The history as a pandas DataFrame (needs pandas; the project does not).")

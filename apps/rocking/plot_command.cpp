@@ -77,10 +77,9 @@ int response(const ResponseArgs& a) {
     for (const std::string& run_dir : a.from) {
       const fs::path history = fs::path(run_dir) / "history.csv";
       const std::string label = fs::path(run_dir).filename().string();
-      const plot::HistoryContent content = plot::check_history(history);
+      plot::check_history(history);  // refused before anything is copied
       fs::copy_file(history, data_dir / (label + ".csv"), fs::copy_options::overwrite_existing);
-      series.push_back({label, (fs::path(a.figure.name + ".data") / (label + ".csv")).string(), content.has_damper,
-                        content.rocks, content.elastic});
+      series.push_back({label, (fs::path(a.figure.name + ".data") / (label + ".csv")).string()});
       // The run's own summary says what it was.
       const fs::path summary_file = fs::path(run_dir) / "summary.json";
       std::ifstream summary(summary_file);
@@ -134,8 +133,7 @@ int response(const ResponseArgs& a) {
                  r.peak(Quantity::theta_over_alpha),
                  r.reports(Quantity::base_moment) ? fmt::format("{:.3f}", r.peak(Quantity::base_moment)) : "-", r.counts.uplifts,
                  outcome_name(r.outcome));
-      series.push_back({label, (fs::path(a.figure.name + ".data") / (stem + ".csv")).string(), model.has_damper,
-                        model.kind != ModelKind::fixed_base, model.kind != ModelKind::rigid_block});
+      series.push_back({label, (fs::path(a.figure.name + ".data") / (stem + ".csv")).string()});
     }
   }
   fig.title = title;
@@ -218,7 +216,8 @@ Command add_plot_command(CLI::App& app) {
   auto* resp = cmd->add_subcommand(
       "response",
       "Response figure in the style of the paper's Fig. 4: total and elastic top\n"
-      "drift, rocking angle over alpha_cg, and the damper's force-elongation loop,\n"
+      "drift, rocking angle over alpha_cg, the joints' rotations (a structure with\n"
+      "[[joint]]s), and the damper's force-elongation loop (or each device's),\n"
       "one line per variant. Runs the variants itself, or plots earlier runs'\n"
       "histories with --from. The figure's data (NAME.data/) and gnuplot script\n"
       "(NAME.gp) are kept beside it: restyle and re-render with `gnuplot NAME.gp`.");

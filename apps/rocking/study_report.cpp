@@ -34,9 +34,13 @@ std::string limit_title(const Limit& limit) {
   if (!limit.quantity) return limit.name;
   const QuantityName& q = *limit.quantity;
   const double factor = figure_factor(q);
-  const std::string unit(q.scalar ? info(*q.scalar).figure_unit : info(q.of).figure_unit);
+  const std::string unit(q.scalar  ? info(*q.scalar).figure_unit
+                         : q.joint ? info(q.joint->which).figure_unit
+                                   : info(q.of).figure_unit);
   const std::string words =
-      q.scalar ? std::string(axis_words(info(*q.scalar).words)) : q.device + " " + std::string(axis_words(info(q.of).words));
+      q.scalar  ? std::string(axis_words(info(*q.scalar).words))
+      : q.joint ? fmt::format("joint {}: {}", q.joint->joint, axis_words(info(q.joint->which).words))
+                : q.device + " " + std::string(axis_words(info(q.of).words));
   return fmt::format("{} ≥ {:g}{}", words, limit.value * factor, unit == "-" ? "" : " " + unit);
 }
 

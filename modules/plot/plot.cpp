@@ -9,6 +9,7 @@ module;
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -340,6 +341,16 @@ int HistoryContent::column(std::string_view name) const {
   return 0;
 }
 
+std::string HistoryContent::header(std::string_view name) const {
+  const int k = column(name);
+  return k > 0 ? headers[static_cast<std::size_t>(k - 1)] : std::string();
+}
+
+bool HistoryContent::moves(std::string_view name) const {
+  const int k = column(name);
+  return k > 0 && nonzero[static_cast<std::size_t>(k - 1)];
+}
+
 HistoryContent check_history(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(fmt::format("{}: history file not found", file.string()));
@@ -367,8 +378,12 @@ HistoryContent check_history(const fs::path& file) {
       for (std::string field; std::getline(header, field, ',');) {
         const auto unit = field.find(" [");
         content.columns.emplace_back(field.substr(0, unit), ++k);
+        content.headers.push_back(field);
+        if (const auto joint = parse_joint_quantity(content.columns.back().first))
+          content.joints = std::max(content.joints, joint->joint);
       }
       fields = content.columns.size();
+      content.nonzero.assign(fields, false);
       const std::string elongation = fmt::format(".{}", info(DeviceQuantity::elongation).name);
       for (const auto& [c, k2] : content.columns)
         if (c.ends_with(elongation) && content.column(c.substr(0, c.size() - elongation.size()) + "." +
@@ -404,6 +419,7 @@ HistoryContent check_history(const fs::path& file) {
                                        content.columns[k - 1].first));
       }
       row.push_back(v);
+      if (v != 0 && std::isfinite(v)) content.nonzero[k - 1] = true;
       if (comma == std::string::npos) break;
       start = comma + 1;
     }
@@ -428,52 +444,97 @@ HistoryContent check_history(const fs::path& file) {
 
 std::vector<fs::path> render_response(const Figure& fig, const std::vector<ResponseSeries>& runs) {
   if (runs.empty()) throw InputError("response figure: no runs to plot");
-  bool ground = true, ground_moves = false, any_rocks = false, any_elastic = false, any_damper = false;
   std::vector<HistoryContent> contents;  // per run: its columns, found by name
-  bool other_devices = false;  // some device besides the paper's edge dampers
-  for (const ResponseSeries& r : runs) {
+  for (const ResponseSeries& r : runs)
     contents.push_back(check_history(fs::path(r.history).is_absolute() ? fs::path(r.history) : fig.dir / r.history));
-    const HistoryContent& c = contents.back();
-    for (const std::string& d : c.devices) other_devices = other_devices || !d.starts_with("damper_");
-    ground = ground && c.ground;
-    ground_moves = ground_moves || c.ground_moves;
-    any_rocks = any_rocks || r.rocks;
-    any_elastic = any_elastic || r.elastic;
-    any_damper = any_damper || r.has_damper;
-  }
-  ground = ground && ground_moves;  // no panel for a ground that stays still
-  // The gnuplot column of a quantity in run i's history (0: it has none).
-  auto col = [&](std::size_t i, std::string_view name) { return contents[i].column(name); };
-  auto qcol = [&](std::size_t i, Quantity q) { return col(i, info(q).name); };
+  // Devices besides the paper's edge dampers (whose pair comes with the
+  // damper_d column): a tendon, a scene's own dampers. With some, the
+  // figure draws each device's loop and the devices' moment (the loops of
+  // quantities that need devices); without, the paper's one signed damper
+  // loop (those that need the paper's dampers).
+  bool other_devices = false;
+  for (const HistoryContent& c : contents)
+    other_devices = other_devices ||
+                    c.devices.size() > (c.column(info(Quantity::damper_d).name) > 0 ? std::size_t{2} : std::size_t{0});
+  // A column of run i's history as a gnuplot expression, by its header name
+  // ("column('delta_t [-]')"); empty when the history has none.
+  auto col = [&](std::size_t i, std::string_view name) {
+    const std::string h = contents[i].header(name);
+    return h.empty() ? std::string() : column(h);
+  };
+  auto any_run_has = [&](std::string_view name) {
+    return std::ranges::any_of(contents, [&](const HistoryContent& c) { return c.column(name) > 0; });
+  };
   // Each run has its colour (linestyle i + 1, with its point type) and its
-  // dash (series_dash).
-  // One curve per kept run; spec(i) gives its `using` columns, empty to skip
-  // it. The first run is drawn last, over the others it is compared with.
-  auto curves = [&](auto&& spec, auto&& keep) {
+  // dash (series_dash). One curve per run whose spec(i) (its `using`
+  // columns) is not empty; the first run is drawn last, over the others it
+  // is compared with.
+  auto curves = [&](auto&& spec) {
     std::vector<std::string> items;
     for (std::size_t i = runs.size(); i-- > 0;) {
-      if (!keep(runs[i])) continue;
       const std::string using_spec = spec(i);
       if (using_spec.empty()) continue;
-      items.push_back(fmt::format("{} skip 1 using {} with lines linestyle {} dashtype {} title {} noenhanced",
+      items.push_back(fmt::format("{} using {} with lines linestyle {} dashtype {} title {} noenhanced",
                                   quote(runs[i].history), using_spec, i + 1, series_dash(i), quote(runs[i].label)));
     }
     return plot_command(items);
   };
   // A quantity against time, in its figure unit.
-  auto in_time = [&](Quantity q) {
-    return [&, q](std::size_t i) {
-      const int t = qcol(i, Quantity::t), c = qcol(i, q);
-      return t > 0 && c > 0 ? fmt::format("{}:(${}*{:.9g})", t, c, info(q).figure_factor) : std::string();
-    };
+  auto in_time = [&](std::size_t i, std::string_view name, double factor) {
+    const std::string t = col(i, info(Quantity::t).name), c = col(i, name);
+    return t.empty() || c.empty() ? std::string() : fmt::format("({}):({}*{:.9g})", t, c, factor);
   };
+  // A loop: y against x, in their figure units, broken where either is zero
+  // (d = 0: full contact, and the impacts where one edge's damper hands over
+  // to the other's; F = 0: a broken device).
+  auto loop = [&](std::size_t i, std::string_view x, double fx, std::string_view y, double fy) {
+    const std::string cx = col(i, x), cy = col(i, y);
+    return cx.empty() || cy.empty() ? std::string()
+                                    : fmt::format("({} == 0 || {} == 0 ? NaN : {}*{:.9g}):({}*{:.9g})", cx, cy, cx, fx,
+                                                  cy, fy);
+  };
+  // The panels of the schema, in the order of their ranks.
+  struct Planned {
+    unsigned char rank;
+    std::size_t order;  // in the schema's tables, for panels of one rank
+    FigureRole role;
+    std::optional<Quantity> scalar;        // a scalar quantity's panel, or ...
+    std::optional<DeviceQuantity> device;  // ... the devices' loops, or ...
+    std::optional<JointQuantity> joint;    // ... the joints'
+  };
+  std::vector<Planned> plan;
+  for (const QuantityInfo& q : quantity_table) {
+    const FigureUse use = q.figure;
+    if (use.role == FigureRole::none || !any_run_has(q.name)) continue;
+    if (use.role == FigureRole::excitation &&
+        !(contents.front().column(q.name) > 0 &&
+          std::ranges::any_of(contents, [&](const HistoryContent& c) { return c.moves(q.name); })))
+      continue;  // no panel for a ground that stays still
+    if (use.role == FigureRole::loop && (!any_run_has(info(q.figure_x).name) ||
+                                         (q.needs == Needs::devices && !other_devices) ||
+                                         (q.needs == Needs::dampers && other_devices)))
+      continue;
+    plan.push_back({use.rank, plan.size(), use.role, q.id, std::nullopt, std::nullopt});
+  }
+  if (other_devices)
+    for (const DeviceQuantityInfo& q : device_quantity_table)
+      if (q.figure.role == FigureRole::loop)
+        plan.push_back({q.figure.rank, plan.size(), q.figure.role, std::nullopt, q.id, std::nullopt});
+  const int joints = std::ranges::max(contents, {}, &HistoryContent::joints).joints;
+  for (std::size_t k = 0; k < joint_quantity_count && joints > 0; ++k)
+    if (joint_quantity_table[k].figure.role == FigureRole::joints)
+      plan.push_back({joint_quantity_table[k].figure.rank, plan.size(), FigureRole::joints, std::nullopt, std::nullopt,
+                      static_cast<JointQuantity>(k)});
+  std::ranges::sort(plan, [](const Planned& a, const Planned& b) {
+    return a.rank != b.rank ? a.rank < b.rank : a.order < b.order;
+  });
+  const int panels = static_cast<int>(plan.size());
+  const double panel_px = 0.8 * fig.height / std::max(panels, 1);
   // A y label longer than its panel is tall (about half an em a visible
   // character: enhanced text's markup left out) goes on two lines: its
   // words, then its symbol and unit.
-  double panel_px = 0;  // set once the panels are counted
-  auto ylabel = [&](Quantity q) {
-    const std::string label = axis_label(q);
-    const QuantityInfo& i = info(q);
+  auto ylabel = [&](std::string_view words, std::string_view symbol, std::string_view unit) {
+    const std::string label = fmt::format("{} {} [{}]", axis_words(words), symbol, unit);
     std::size_t visible = 0;
     for (std::size_t k = 0; k < label.size(); ++k) {
       if (label.compare(k, 9, "{/Symbol ") == 0) k += 8;
@@ -481,101 +542,97 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
     }
     if (static_cast<double>(visible) * 0.5 * font_points(fig, 1000, 1300) <= panel_px)
       return fmt::format("  set ylabel {}\n", quote(label));
-    return fmt::format("  set ylabel {} . \"\\n\" . {}\n", quote(std::string(axis_words(i.words))),
-                       quote(fmt::format("{} [{}]", i.symbol, i.figure_unit)));
+    return fmt::format("  set ylabel {} . \"\\n\" . {}\n", quote(std::string(axis_words(words))),
+                       quote(fmt::format("{} [{}]", symbol, unit)));
   };
-  auto every = [](const ResponseSeries&) { return true; };
-  // Devices besides the paper's edge dampers (a tendon, a scene's own
-  // dampers): each device's loop and the devices' moment against theta.
-  // The paper's dampers alone: their one signed loop.
-  const bool device_panels = other_devices;
-  const int panels = 1 + (ground ? 1 : 0) + (any_elastic ? 1 : 0) + (any_rocks ? 1 : 0) + (device_panels ? 2 : any_damper ? 1 : 0);
-  panel_px = 0.8 * fig.height / panels;
+  auto scalar_ylabel = [&](Quantity q) { return ylabel(info(q).words, info(q).symbol, info(q).figure_unit); };
+  // Each device's and each joint's dash pattern, named in an axis label so that no key covers the curves.
+  static constexpr std::array<const char*, 5> dashes{"solid", "dashed", "dotted", "dash-dot", "dash-dot-dot"};
   std::vector<std::string> labels;
   for (const ResponseSeries& r : runs) labels.push_back(r.label);
   const int points = font_points(fig, 1000, 1300);
   const Grid grid = shared_key_grid(fig, panels, 1, points, labels);
-  std::string body = grid.begin + fmt::format("  set grid\n  set autoscale xfix\n  set xlabel {}\n  unset key\n",
-                                              quote(axis_label(Quantity::t)));
-  if (!fig.time_range.empty()) body += fmt::format("  set xrange {}\n", fig.time_range);
-  std::size_t next = 0;
-  if (ground) {  // the excitation the response answers, in g
-    body += grid.panels[next++] + ylabel(Quantity::a_g);
-    body += fmt::format("  plot {} skip 1 using {} with lines linecolor rgb \"#555555\" notitle\n",
-                        quote(runs.front().history), in_time(Quantity::a_g)(0));
+  // The time axis (set first, and again by a time panel that follows a loop).
+  const std::string time_label = fmt::format("  set autoscale xfix\n  set xlabel {}\n", quote(axis_label(Quantity::t)));
+  const std::string time_range = fig.time_range.empty() ? "" : fmt::format("  set xrange {}\n", fig.time_range);
+  const std::string time_axis = time_label + time_range;
+  std::string body = grid.begin + "  set grid\n" + time_label + "  unset key\n" + time_range;
+  bool x_is_time = true;
+  for (std::size_t p = 0; p < plan.size(); ++p) {
+    const Planned& pl = plan[p];
+    body += grid.panels[p];
+    const bool in_time_panel = pl.role != FigureRole::loop;
+    if (in_time_panel && !x_is_time) body += time_axis;
+    x_is_time = in_time_panel;
+    if (pl.role == FigureRole::excitation) {  // the excitation the response answers, the first run's
+      const QuantityInfo& q = info(*pl.scalar);
+      body += scalar_ylabel(q.id);
+      body += fmt::format("  plot {} using {} with lines linecolor rgb \"#555555\" notitle\n", quote(runs.front().history),
+                          in_time(0, q.name, q.figure_factor));
+    } else if (pl.role == FigureRole::response) {
+      const QuantityInfo& q = info(*pl.scalar);
+      body += scalar_ylabel(q.id);
+      body += curves([&](std::size_t i) { return in_time(i, q.name, q.figure_factor); });
+    } else if (pl.joint) {
+      // Each joint above the base against time, in its run's colour, with one
+      // dash pattern per joint (the same in every run), named in the x label.
+      const JointQuantityInfo& q = info(*pl.joint);
+      std::vector<std::string> legend;
+      for (int j = 1; j <= joints; ++j)
+        legend.push_back(fmt::format("{} joint {}", dashes[static_cast<std::size_t>(j - 1) % dashes.size()], j));
+      body += fmt::format("  set xlabel {} noenhanced\n",
+                          quote(fmt::format("{}   ({})", axis_label(Quantity::t), fmt::join(legend, ", "))));
+      body += ylabel(q.words, q.symbol, q.figure_unit);
+      std::vector<std::string> items;
+      for (std::size_t i = runs.size(); i-- > 0;)
+        for (int j = 1; j <= contents[i].joints; ++j) {
+          const std::string spec = in_time(i, JointQuantityName{j, *pl.joint}.name(), q.figure_factor);
+          if (spec.empty()) continue;
+          items.push_back(fmt::format("{} using {} with lines linestyle {} dashtype {} notitle", quote(runs[i].history),
+                                      spec, i + 1, static_cast<std::size_t>(j - 1) % dashes.size() + 1));
+        }
+      body += plot_command(items);
+      // The time axis's own label again for the panels below.
+      body += fmt::format("  set xlabel {}\n", quote(axis_label(Quantity::t)));
+    } else if (pl.device) {
+      // Each device's force against its elongation, in its run's colour and
+      // with its run's markers (about a dozen along the run), with one dash
+      // pattern per device name (the same in every run), named in the axis
+      // label so that no key covers the loops.
+      std::vector<std::string> names;
+      for (const HistoryContent& c : contents)
+        for (const std::string& name : c.devices)
+          if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+      std::vector<std::string> legend;
+      for (std::size_t k = 0; k < names.size(); ++k)
+        legend.push_back(fmt::format("{} {}", dashes[k % dashes.size()], names[k]));
+      const DeviceQuantityInfo &y_info = info(*pl.device), &x_info = info(y_info.figure_x);
+      body += fmt::format("  set autoscale x\n  set xlabel {} noenhanced\n",
+                          quote(fmt::format("device {} {} [{}]   ({})", x_info.words, x_info.symbol, x_info.figure_unit,
+                                            fmt::join(legend, ", ")))) +
+              fmt::format("  set ylabel {}\n",
+                          quote(fmt::format("device {} {} [{}]", y_info.words, y_info.symbol, y_info.figure_unit)));
+      std::vector<std::string> items;
+      for (std::size_t i = runs.size(); i-- > 0;)
+        for (const std::string& device : contents[i].devices) {
+          const auto dash = std::find(names.begin(), names.end(), device) - names.begin();
+          const std::string spec =
+              loop(i, device_quantity_name(device, x_info.id), x_info.figure_factor,
+                   device_quantity_name(device, y_info.id), y_info.figure_factor);
+          if (spec.empty()) continue;
+          items.push_back(fmt::format("{} using {} with linespoints linestyle {} dashtype {} pointnumber 12 notitle",
+                                      quote(runs[i].history), spec, i + 1,
+                                      static_cast<std::size_t>(dash) % dashes.size() + 1));
+        }
+      body += plot_command(items);
+    } else {  // a scalar loop: the paper's damper, the devices' moment against theta
+      const QuantityInfo &y = info(*pl.scalar), &x = info(y.figure_x);
+      body += fmt::format("  set autoscale x\n  set xlabel {} enhanced\n", quote(axis_label(x.id))) +
+              scalar_ylabel(y.id);
+      body += curves([&](std::size_t i) { return loop(i, x.name, x.figure_factor, y.name, y.figure_factor); });
+    }
   }
-  body += grid.panels[next++] + ylabel(Quantity::delta_t);
-  body += curves(in_time(Quantity::delta_t), every);
-  if (any_elastic) {
-    body += grid.panels[next++] + ylabel(Quantity::delta_e);
-    body += curves(in_time(Quantity::delta_e), [](const ResponseSeries& r) { return r.elastic; });
-  }
-  if (any_rocks) {
-    body += grid.panels[next++] + ylabel(Quantity::theta_over_alpha);
-    body += curves(in_time(Quantity::theta_over_alpha), [](const ResponseSeries& r) { return r.rocks; });
-  }
-  if (device_panels) {
-    // Each device's force against its elongation, in its run's colour and
-    // with its run's markers (about a dozen along the run), with one dash
-    // pattern per device name (the same in every run), named in the axis
-    // label so that no key covers the loops. A zero elongation (not
-    // stretched) or a zero force breaks the curve, as a broken device's empty
-    // fields do.
-    static constexpr std::array<const char*, 5> dashes{"solid", "dashed", "dotted", "dash-dot", "dash-dot-dot"};
-    std::vector<std::string> names;
-    for (const HistoryContent& c : contents)
-      for (const std::string& name : c.devices)
-        if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
-    std::vector<std::string> legend;
-    for (std::size_t k = 0; k < names.size(); ++k)
-      legend.push_back(fmt::format("{} {}", dashes[k % dashes.size()], names[k]));
-    const DeviceQuantityInfo &e_info = info(DeviceQuantity::elongation), &f_info = info(DeviceQuantity::force);
-    body += grid.panels[next++] +
-            fmt::format("  set autoscale x\n  set xlabel {} noenhanced\n",
-                        quote(fmt::format("device {} {} [{}]   ({})", e_info.words, e_info.symbol, e_info.figure_unit,
-                                          fmt::join(legend, ", ")))) +
-            fmt::format("  set ylabel {}\n", quote(fmt::format("device {} {} [{}]", f_info.words, f_info.symbol,
-                                                                f_info.figure_unit)));
-    std::vector<std::string> items;
-    for (std::size_t i = runs.size(); i-- > 0;)
-      for (const std::string& device : contents[i].devices) {
-        const int e = col(i, device_quantity_name(device, DeviceQuantity::elongation));
-        const int f = col(i, device_quantity_name(device, DeviceQuantity::force));
-        const auto dash = std::find(names.begin(), names.end(), device) - names.begin();
-        items.push_back(fmt::format("{} skip 1 using (${} == 0 || ${} == 0 ? NaN : ${}*{:.9g}):(${}*{:.9g}) with "
-                                    "linespoints linestyle {} dashtype {} pointnumber 12 notitle",
-                                    quote(runs[i].history), e, f, e, e_info.figure_factor, f, f_info.figure_factor,
-                                    i + 1, static_cast<std::size_t>(dash) % dashes.size() + 1));
-      }
-    body += plot_command(items);
-    // Their moment against the rotation: the rocking interface's hysteresis.
-    body += grid.panels[next++] +
-            fmt::format("  set autoscale x\n  set xlabel {} enhanced\n", quote(axis_label(Quantity::theta))) +
-            ylabel(Quantity::device_moment);
-    body += curves(
-        [&](std::size_t i) {
-          const int th = qcol(i, Quantity::theta), m = qcol(i, Quantity::device_moment);
-          return th > 0 && m > 0 ? fmt::format("{}:(${}*{:.9g})", th, m, info(Quantity::device_moment).figure_factor)
-                                 : std::string();
-        },
-        [&](const ResponseSeries& r) { return !contents[static_cast<std::size_t>(&r - runs.data())].devices.empty(); });
-  } else if (any_damper) {
-    body += grid.panels[next++] +
-            fmt::format("  set autoscale x\n  set xlabel {}\n", quote(axis_label(Quantity::damper_d))) +
-            ylabel(Quantity::damper_F);
-    // Break the loop where no damper is stretched (d = 0: full contact, and the
-    // impacts where one edge's damper hands over to the other's) or where it
-    // has broken (F = 0).
-    body += curves(
-        [&](std::size_t i) {
-          const int d = qcol(i, Quantity::damper_d), f = qcol(i, Quantity::damper_F);
-          return d > 0 && f > 0 ? fmt::format("(${} == 0 || ${} == 0 ? NaN : ${}*{:.9g}):(${}*{:.9g})", d, f, d,
-                                              info(Quantity::damper_d).figure_factor, f,
-                                              info(Quantity::damper_F).figure_factor)
-                                : std::string();
-        },
-        [](const ResponseSeries& r) { return r.has_damper; });
-  }
+  const bool device_panels = std::ranges::any_of(plan, [](const Planned& p) { return p.device.has_value(); });
   std::vector<std::string> entries;
   for (std::size_t i = 0; i < runs.size(); ++i)
     entries.push_back(fmt::format("NaN with {} linestyle {} dashtype {} title {} noenhanced",
@@ -584,9 +641,10 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
   const std::string script = fmt::format(
       "# rocking: response figure in the style of the paper's Fig. 4.\n"
       "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
-      "# Data: rocking simulate history CSVs, their columns found by name in\n"
-      "# each header (rocking simulate --list-quantities).\n"
+      "# Data: rocking simulate history CSVs, their columns read by their header\n"
+      "# names (rocking simulate --list-quantities).\n"
       "set datafile separator \",\"\n"
+      "set datafile columnheaders\n"
       "{}{}",
       fig.name, style_lines(1.5, 0.6), render_loop(fig, body, points));
   return render_script(fig, script);

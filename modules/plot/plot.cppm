@@ -40,31 +40,40 @@ std::vector<std::string> parse_formats(const std::string& list);
 struct ResponseSeries {
   std::string label;
   std::string history;
-  bool has_damper = true;  // draw its hysteresis loop
-  bool rocks = true;       // draw its rocking angle
-  bool elastic = true;     // draw its elastic drift (a rigid block has none)
 };
 
 // What a history file holds: InputError unless it has the header (t first)
 // and at least two rows. columns: each column's name (its header field
-// without the unit) and 1-based number; rocks / elastic / has_damper: some
-// row has theta / delta_e / damper_d other than zero; ground: it has the a_g
-// column, and ground_moves: some a_g is not zero; devices: the names of the
-// devices with NAME.elongation and NAME.force columns.
+// without the unit) and 1-based number, headers: each header field as
+// written ("delta_t [-]"), nonzero: whether some row of each column is not
+// zero; rocks / elastic / has_damper: some row has theta / delta_e / damper_d
+// other than zero; ground: it has the a_g column, and ground_moves: some a_g
+// is not zero; devices: the names of the devices with NAME.elongation and
+// NAME.force columns; joints: the highest K of its jointK.NAME columns (0:
+// none).
 struct HistoryContent {
   bool rocks = false, elastic = false, has_damper = false, ground = false, ground_moves = false;
   std::vector<std::string> devices;
+  int joints = 0;
   std::vector<std::pair<std::string, int>> columns;
-  int column(std::string_view name) const;  // its number; 0 when absent
+  std::vector<std::string> headers;
+  std::vector<bool> nonzero;
+  int column(std::string_view name) const;          // its number; 0 when absent
+  std::string header(std::string_view name) const;  // its header field; empty when absent
+  bool moves(std::string_view name) const;          // the column is there and not zero throughout
 };
 HistoryContent check_history(const std::filesystem::path& file);
 
-// Writes NAME.gp and renders it; returns the figure files written. Panels:
-// ground acceleration, drifts, rocking angle, and the hysteresis of the
-// devices: the paper's edge dampers as one loop signed by the pivot; any
-// other device (a tendon, a viscous damper) draws each device's force against
-// its elongation, and the devices' moment against theta (a tendon with
-// dampers: the flag-shaped loop of controlled rocking).
+// Writes NAME.gp and renders it; returns the figure files written. The
+// panels are those of the output schema (rocking.quantities' FigureUse), in
+// the order of their ranks, each drawn when some run's history has its
+// column: the ground acceleration, the drifts, the rocking angle, the
+// joints' rotations (one curve per joint, its dash named in the axis label),
+// and the hysteresis of the devices: the paper's edge dampers alone as one
+// loop signed by the pivot; any other device (a tendon, a viscous damper)
+// draws each device's force against its elongation, and the devices' moment
+// against theta (a tendon with dampers: the flag-shaped loop of controlled
+// rocking). Every column is read by its header name.
 std::vector<std::filesystem::path> render_response(const Figure& fig, const std::vector<ResponseSeries>& runs);
 
 // Mode shapes: a data file of whitespace-separated columns under a header

@@ -26,10 +26,12 @@ std::string device_quantity_name(std::string_view device, DeviceQuantity q) {
 }
 
 std::string QuantityName::name() const {
-  return scalar ? std::string(info(*scalar).name) : device_quantity_name(device, of);
+  return scalar ? std::string(info(*scalar).name) : joint ? joint->name() : device_quantity_name(device, of);
 }
 
-std::string_view QuantityName::unit() const { return scalar ? info(*scalar).unit : info(of).unit; }
+std::string_view QuantityName::unit() const {
+  return scalar ? info(*scalar).unit : joint ? info(joint->which).unit : info(of).unit;
+}
 
 std::string_view axis_words(std::string_view words) {
   const std::size_t note = words.find(" (");
@@ -41,14 +43,22 @@ std::string axis_label(const QuantityName& q) {
     const QuantityInfo& i = info(*q.scalar);
     return fmt::format("{} {} [{}]", axis_words(i.words), i.symbol, i.figure_unit);
   }
+  if (q.joint) {
+    const JointQuantityInfo& i = info(q.joint->which);
+    return fmt::format("joint {}: {} {}_{} [{}]", q.joint->joint, axis_words(i.words), i.symbol, q.joint->joint,
+                       i.figure_unit);
+  }
   const DeviceQuantityInfo& i = info(q.of);
   return fmt::format("{} {} {} [{}]", q.device, axis_words(i.words), i.symbol, i.figure_unit);
 }
 
-double figure_factor(const QuantityName& q) { return q.scalar ? info(*q.scalar).figure_factor : info(q.of).figure_factor; }
+double figure_factor(const QuantityName& q) {
+  return q.scalar ? info(*q.scalar).figure_factor : q.joint ? info(q.joint->which).figure_factor : info(q.of).figure_factor;
+}
 
 std::optional<QuantityName> parse_quantity_name(std::string_view text) {
   if (const auto q = find_quantity(text)) return QuantityName(*q);
+  if (const auto j = parse_joint_quantity(text)) return QuantityName(*j);
   const auto dot = text.rfind('.');
   if (dot == std::string_view::npos || dot == 0) return std::nullopt;
   const std::string_view what = text.substr(dot + 1);

@@ -63,6 +63,21 @@ enum Role : unsigned char {
   on_request = 8,  // a column of history.csv when asked for (--history, [output] history), not by default
 };
 
+// How the response figure (rocking.plot's render_response) draws a quantity
+// that a run's history holds; its panels are these, in the order of their
+// rank, each drawn when some run's history has the quantity's column.
+enum class FigureRole : unsigned char {
+  none,        // not drawn
+  excitation,  // a panel against time, the first run's curve only (in grey), when it is not zero throughout
+  response,    // a panel against time, one curve per run
+  loop,        // a hysteresis loop against its figure_x quantity, one curve per run, broken where either is zero
+  joints,      // a joint's quantity (jointK.NAME): one panel against time, one curve per joint and run
+};
+struct FigureUse {
+  FigureRole role = FigureRole::none;
+  unsigned char rank = 0;  // the panel's place, top to bottom
+};
+
 struct QuantityInfo {
   Quantity id;
   std::string_view name;    // "delta_t"
@@ -73,44 +88,46 @@ struct QuantityInfo {
   std::string_view figure_unit;  // ... in this unit ("%")
   Needs needs;
   unsigned char roles;      // Role bits
+  FigureUse figure;         // its panel in the response figure
+  Quantity figure_x;        // a loop's x quantity (t otherwise)
   constexpr bool is(Role r) const { return (roles & r) != 0; }
 };
 
 inline constexpr std::array<QuantityInfo, quantity_count> quantity_table = {{
-    {Quantity::t, "t", "s", "time", "t", 1, "s", Needs::always, history},
+    {Quantity::t, "t", "s", "time", "t", 1, "s", Needs::always, history, {}, Quantity::t},
     {Quantity::phase, "phase", "", "phase (pivot: -1 left, 0 full contact, +1 right)", "phase", 1, "", Needs::always,
-     history},
-    {Quantity::u_top, "u_N", "m", "elastic top displacement", "u_N", 1000, "mm", Needs::elasticity, history},
-    {Quantity::theta, "theta", "rad", "rocking angle", "{/Symbol q}", 1, "rad", Needs::rocking, history | peak},
+     history, {}, Quantity::t},
+    {Quantity::u_top, "u_N", "m", "elastic top displacement", "u_N", 1000, "mm", Needs::elasticity, history, {}, Quantity::t},
+    {Quantity::theta, "theta", "rad", "rocking angle", "{/Symbol q}", 1, "rad", Needs::rocking, history | peak, {}, Quantity::t},
     {Quantity::theta_over_alpha, "theta_over_alpha", "-", "rocking angle over slenderness",
-     "{/Symbol q}/{/Symbol a}_{cg}", 1, "-", Needs::rocking, history | peak | study},
+     "{/Symbol q}/{/Symbol a}_{cg}", 1, "-", Needs::rocking, history | peak | study, {FigureRole::response, 4}, Quantity::t},
     {Quantity::theta_dot, "theta_dot", "rad/s", "rocking velocity", "d{/Symbol q}/dt", 1, "rad/s", Needs::rocking,
-     history | peak | study},
+     history | peak | study, {}, Quantity::t},
     {Quantity::delta_t, "delta_t", "-", "total top drift", "{/Symbol d}_t", 100, "%", Needs::always,
-     history | peak | study},
+     history | peak | study, {FigureRole::response, 2}, Quantity::t},
     {Quantity::delta_e, "delta_e", "-", "elastic top drift", "{/Symbol d}_e", 100, "%", Needs::elasticity,
-     history | peak | study},
+     history | peak | study, {FigureRole::response, 3}, Quantity::t},
     {Quantity::damper_d, "damper_d", "m", "damper elongation (signed by the pivot)", "d", 1000, "mm", Needs::dampers,
-     history | peak | study},
+     history | peak | study, {}, Quantity::t},
     {Quantity::damper_F, "damper_F", "N", "damper force (signed by the pivot)", "F_{hd}", 1e-3, "kN", Needs::dampers,
-     history | peak},
+     history | peak, {FigureRole::loop, 9}, Quantity::damper_d},
     {Quantity::base_shear, "base_shear", "V_ref", "base shear", "V/V_{ref}", 1, "-", Needs::elasticity,
-     history | peak | study},
+     history | peak | study, {}, Quantity::t},
     {Quantity::base_moment, "base_moment", "M_ref", "base moment", "M/M_{ref}", 1, "-", Needs::elasticity,
-     history | peak | study},
+     history | peak | study, {}, Quantity::t},
     {Quantity::mid_shear, "mid_shear", "V_ref", "mid-height shear", "V/V_{ref}", 1, "-", Needs::elasticity,
-     history | peak | study},
+     history | peak | study, {}, Quantity::t},
     {Quantity::mid_moment, "mid_moment", "M_ref", "mid-height moment", "M/M_{ref}", 1, "-", Needs::elasticity,
-     history | peak | study},
+     history | peak | study, {}, Quantity::t},
     {Quantity::a_top, "a_N", "m/s2", "top absolute acceleration (along the structure's width)", "a_N", 1 / 9.81, "g",
-     Needs::elasticity, history | peak | study},
-    {Quantity::a_g, "a_g", "m/s2", "ground acceleration", "a_g", 1 / 9.81, "g", Needs::always, history},
+     Needs::elasticity, history | peak | study, {}, Quantity::t},
+    {Quantity::a_g, "a_g", "m/s2", "ground acceleration", "a_g", 1 / 9.81, "g", Needs::always, history, {FigureRole::excitation, 1}, Quantity::t},
     {Quantity::a_v, "a_v", "m/s2", "vertical ground acceleration (upward)", "a_v", 1 / 9.81, "g", Needs::vertical,
-     history},
+     history, {}, Quantity::t},
     {Quantity::device_moment, "M_dev", "N m", "devices' moment (signed as theta)", "M_{dev}", 1e-6, "MN m",
-     Needs::devices, history},
+     Needs::devices, history, {FigureRole::loop, 8}, Quantity::theta},
     {Quantity::x_g, "x_g", "m", "ground displacement (a_g integrated from rest, no baseline correction)", "x_g", 1000,
-     "mm", Needs::always, on_request},
+     "mm", Needs::always, on_request, {}, Quantity::t},
 }};
 
 constexpr const QuantityInfo& info(Quantity q) { return quantity_table[static_cast<std::size_t>(q)]; }
@@ -156,10 +173,12 @@ struct DeviceQuantityInfo {
   std::string_view name, unit, words, symbol;
   double figure_factor;
   std::string_view figure_unit;
+  FigureUse figure;            // its panel in the response figure (every device's curves in one)
+  DeviceQuantity figure_x;     // a loop's x quantity (of the same device)
 };
 inline constexpr std::array<DeviceQuantityInfo, device_quantity_count> device_quantity_table = {{
-    {DeviceQuantity::elongation, "elongation", "m", "elongation", "e", 1000, "mm"},
-    {DeviceQuantity::force, "force", "N", "force", "F", 1e-3, "kN"},
+    {DeviceQuantity::elongation, "elongation", "m", "elongation", "e", 1000, "mm", {}, DeviceQuantity::elongation},
+    {DeviceQuantity::force, "force", "N", "force", "F", 1e-3, "kN", {FigureRole::loop, 7}, DeviceQuantity::elongation},
 }};
 constexpr const DeviceQuantityInfo& info(DeviceQuantity q) { return device_quantity_table[static_cast<std::size_t>(q)]; }
 std::string device_quantity_name(std::string_view device, DeviceQuantity q);  // "plates.elongation"
@@ -221,19 +240,34 @@ std::optional<MemberQuantityName> parse_member_quantity(std::string_view text);
 
 // What each joint above the base reports (a structure that rocks at more
 // than one level, MODEL.md 15), under "jointK.NAME" for K = 1 .. J (joint 0,
-// the base, keeps the scalar names theta, theta_dot, phase): its rocking
-// angle and rate relative to the face below, its phase, and its friction
-// demand |V| / N (the coefficient it needs not to slide; a rocking joint's
-// N and V are its pivot's).
-enum class JointQuantity : unsigned char { theta, theta_dot, phase, friction, count_ };
+// the base, keeps the scalar names theta, theta_dot, phase, theta_over_alpha):
+// its rocking angle and rate relative to the face below, its phase, its
+// friction demand |V| / N (the coefficient it needs not to slide; a rocking
+// joint's N and V are its pivot's), and its angle over the slenderness of
+// everything above it (the angle at which that part overturns about the
+// joint's corner, alpha_j of MODEL.md 15). Roles as Role's; a peak is the
+// run's absolute peak (summary.json's joints list), a study quantity an IDA
+// and sweep column and a --limit.
+enum class JointQuantity : unsigned char { theta, theta_dot, phase, friction, theta_over_alpha, count_ };
 inline constexpr std::size_t joint_quantity_count = static_cast<std::size_t>(JointQuantity::count_);
-inline constexpr std::array<MemberQuantityInfo, joint_quantity_count> joint_quantity_table = {{
-    {"theta", "rad", "rocking angle at the joint (relative to the face below)", "{/Symbol q}", 1, "rad", Needs::rocking},
-    {"theta_dot", "rad/s", "rocking velocity at the joint", "d{/Symbol q}/dt", 1, "rad/s", Needs::rocking},
-    {"phase", "", "phase at the joint (pivot: -1 left, 0 full contact, +1 right)", "phase", 1, "", Needs::rocking},
-    {"friction", "-", "friction demand |V|/N at the joint", "|V|/N", 1, "-", Needs::rocking},
+struct JointQuantityInfo {
+  std::string_view name, unit, words, symbol;
+  double figure_factor;
+  std::string_view figure_unit;
+  unsigned char roles;  // Role bits
+  FigureUse figure;     // its panel in the response figure
+  constexpr bool is(Role r) const { return (roles & r) != 0; }
+};
+inline constexpr std::array<JointQuantityInfo, joint_quantity_count> joint_quantity_table = {{
+    {"theta", "rad", "rocking angle at the joint (relative to the face below)", "{/Symbol q}", 1, "rad",
+     history | peak | study, {FigureRole::joints, 5}},
+    {"theta_dot", "rad/s", "rocking velocity at the joint", "d{/Symbol q}/dt", 1, "rad/s", history, {}},
+    {"phase", "", "phase at the joint (pivot: -1 left, 0 full contact, +1 right)", "phase", 1, "", history, {}},
+    {"friction", "-", "friction demand |V|/N at the joint", "|V|/N", 1, "-", on_request | peak | study, {}},
+    {"theta_over_alpha", "-", "rocking angle at the joint over the slenderness above it",
+     "{/Symbol q}/{/Symbol a}", 1, "-", on_request | peak | study, {}},
 }};
-constexpr const MemberQuantityInfo& info(JointQuantity q) { return joint_quantity_table[static_cast<std::size_t>(q)]; }
+constexpr const JointQuantityInfo& info(JointQuantity q) { return joint_quantity_table[static_cast<std::size_t>(q)]; }
 struct JointQuantityName {
   int joint = 1;  // 1 .. J
   JointQuantity which = JointQuantity::theta;
@@ -244,11 +278,14 @@ struct JointQuantityName {
 // against a scene here: 1 .. 1000 parse).
 std::optional<JointQuantityName> parse_joint_quantity(std::string_view text);
 
-// A reported quantity by name: a scalar one, or one of a named device's.
+// A reported quantity by name: a scalar one, a joint's above the base, or
+// one of a named device's.
 struct QuantityName {
   QuantityName(Quantity q) : scalar(q) {}  // NOLINT: a scalar quantity is its own name
+  QuantityName(JointQuantityName j) : joint(j) {}  // NOLINT: so is a joint's
   QuantityName(std::string device_name, DeviceQuantity which) : device(std::move(device_name)), of(which) {}
   std::optional<Quantity> scalar;  // set for a scalar quantity
+  std::optional<JointQuantityName> joint;  // set for a joint's
   std::string device;              // else the device's name ...
   DeviceQuantity of = DeviceQuantity::elongation;  // ... and which of its quantities
   std::string name() const;
@@ -262,8 +299,9 @@ std::string_view axis_words(std::string_view words);  // "damper force (signed b
 std::string axis_label(const QuantityName& q);
 double figure_factor(const QuantityName& q);
 
-// "delta_t" or "NAME.elongation" / "NAME.force" (the device is not checked
-// here: a scene's devices are not known); nothing for another text.
+// "delta_t", "joint2.theta" or "NAME.elongation" / "NAME.force" (the joint
+// and the device are not checked here: a scene's are not known); nothing
+// for another text.
 std::optional<QuantityName> parse_quantity_name(std::string_view text);
 
 // The word a categorical quantity's value stands for ("contact", "rock+",

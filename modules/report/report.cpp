@@ -109,6 +109,7 @@ json run_summary(const RunLabel& label, const RunResult& r) {
                         {"uplifts", k.uplifts},
                         {"impacts", k.impacts},
                         {"peak_theta", k.peak_theta},
+                        {"peak_theta_over_alpha", k.peak_theta_over_alpha},
                         {"peak_friction_demand", finite_or_null(k.peak_friction)}});
     }
     out["joints"] = joints;
@@ -147,8 +148,10 @@ HistoryColumns history_columns(const ContactModel& m) {
   // Each joint above the base: its angle, rate and phase (joint 0's are theta, theta_dot, phase).
   const int joints = m.jointed ? m.jointed->chain.joints : 1;
   for (int j = 1; j < joints; ++j)
-    for (JointQuantity q : {JointQuantity::theta, JointQuantity::theta_dot, JointQuantity::phase})
-      c.columns.push_back({.quantity = std::nullopt, .member = std::nullopt, .joint = JointQuantityName{j, q}});
+    for (std::size_t q = 0; q < joint_quantity_count; ++q)
+      if (joint_quantity_table[q].is(Role::history))
+        c.columns.push_back({.quantity = std::nullopt, .member = std::nullopt,
+                             .joint = JointQuantityName{j, static_cast<JointQuantity>(q)}});
   return c;
 }
 
@@ -177,10 +180,12 @@ HistoryColumns history_columns(const ContactModel& m, const std::vector<std::str
                                                 : fmt::format("this scene's joints above the base are 1 to {}", above)));
       col.joint = joint;
     } else if (const std::optional<MemberQuantityName> member = parse_member_quantity(text)) {
+      std::vector<std::string> joint_names;
+      for (const JointQuantityInfo& q : joint_quantity_table) joint_names.push_back(fmt::format("jointK.{}", q.name));
       if (m.jointed)
         throw InputError(fmt::format("{} {}: node and element quantities of a structure with joints are not reported "
-                                     "(its joints' are: jointK.theta, jointK.theta_dot, jointK.phase, jointK.friction)",
-                                     option, text));
+                                     "(its joints' are: {})",
+                                     option, text, fmt::join(joint_names, ", ")));
       const char* what = member->of == MemberQuantityName::Of::node ? "node" : "element";
       if (member->index < 1 || member->index > nodes)
         throw InputError(fmt::format("{} {}: no {} {} (this structure's {}s are 1 to {})", option, text, what,
@@ -249,8 +254,9 @@ bool HistoryColumns::has_members() const {
 
 namespace {
 // A joint column's value: NaN when the run handed over no sample for that
-// joint (it ended before its first row).
-double joint_value(std::span<const JointSample> joints, const JointQuantityName& q) {
+// joint (it ended before its first row). theta_over_alpha is theta over the
+// joint's overturning angle (the slenderness of everything above it).
+double joint_value(const ContactModel& m, std::span<const JointSample> joints, const JointQuantityName& q) {
   const auto j = static_cast<std::size_t>(q.joint);
   if (j >= joints.size()) return std::numeric_limits<double>::quiet_NaN();
   const JointSample& s = joints[j];
@@ -259,6 +265,7 @@ double joint_value(std::span<const JointSample> joints, const JointQuantityName&
     case JointQuantity::theta_dot: return s.theta_dot;
     case JointQuantity::phase: return s.phase.is_rocking() ? sign(*s.phase.pivot()) : 0.0;
     case JointQuantity::friction: return s.friction();
+    case JointQuantity::theta_over_alpha: return s.theta / m.jointed->overturn_angle[j];
     case JointQuantity::count_: break;
   }
   return std::numeric_limits<double>::quiet_NaN();
@@ -271,7 +278,7 @@ void HistoryColumns::values(const ContactModel& m, const Response& r, const std:
   out.clear();
   for (const Column& c : columns) {
     if (c.quantity) out.push_back(r[*c.quantity]);
-    else if (c.joint) out.push_back(joint_value(joints, *c.joint));
+    else if (c.joint) out.push_back(joint_value(m, joints, *c.joint));
     else if (c.member && c.member->of == MemberQuantityName::Of::node)
       out.push_back(node_value(m, c.member->node_quantity(), c.member->index, r, u, u_dot));
     else if (c.member) out.push_back(element_value(m, c.member->element_quantity(), c.member->index, u));
@@ -304,10 +311,10 @@ std::vector<QuantityRow> quantity_rows(const ContactModel& m) {
       rows.push_back({device_quantity_name(d.name, q.id), std::string(q.unit),
                       fmt::format("{} of {} ({})", q.words, d.name, law_name(d.law)), true, true, true, true});
   if (m.jointed)
-    for (const MemberQuantityInfo& q : joint_quantity_table)
+    for (const JointQuantityInfo& q : joint_quantity_table)
       rows.push_back({fmt::format("jointK.{}", q.name), std::string(q.unit),
-                      fmt::format("{} K (K = 1 to {})", q.words, m.jointed->chain.joints - 1), true, false, false, true,
-                      q.name == "friction"});
+                      fmt::format("{} K (K = 1 to {})", q.words, m.jointed->chain.joints - 1), q.is(Role::history),
+                      q.is(Role::peak), q.is(Role::study), true, q.is(Role::on_request)});
   const std::size_t n = static_cast<std::size_t>(m.body.structure.heights.size());
   using Members = std::pair<const char*, std::span<const MemberQuantityInfo>>;
   for (const auto& [word, table] : {Members{"node", node_quantity_table}, Members{"element", element_quantity_table}})

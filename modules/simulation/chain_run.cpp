@@ -368,6 +368,7 @@ class ChainDriver {
     for (int j = 0; j < c_.joints; ++j) {
       JointResult& out = result_.joints[j];
       out.peak_theta = std::max(out.peak_theta, std::abs(samples_[j].theta));
+      out.peak_theta_over_alpha = out.peak_theta / jm_.overturn_angle[j];
       if (samples_[j].N > 0) out.peak_friction = std::max(out.peak_friction, samples_[j].friction());
     }
     for (std::size_t k = 0; k < result_.devices.size(); ++k) {

@@ -170,6 +170,7 @@ struct JointResult {
   long uplifts = 0, impacts = 0;
   double peak_theta = 0;     // max |theta| [rad]
   double peak_friction = 0;  // max |V| / N while closed or rocking [-]
+  double peak_theta_over_alpha = 0;  // max |theta| over alpha_j, the slenderness of everything above the joint [-]
 };
 
 struct EnergyBalance {

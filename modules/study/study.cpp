@@ -157,7 +157,12 @@ bool Study::can_overturn(std::size_t variant) const {
 bool Study::reports(std::size_t variant, const QuantityName& q) const {
   if (!models_[variant]) return false;
   if (q.scalar) return presence(*models_[variant]).has(info(*q.scalar).needs);
+  if (q.joint) return q.joint->joint <= joints(variant);
   return std::ranges::any_of(models_[variant]->devices, [&](const Device& d) { return d.name == q.device; });
+}
+
+int Study::joints(std::size_t variant) const {
+  return models_[variant] && models_[variant]->jointed ? models_[variant]->jointed->chain.joints - 1 : 0;
 }
 
 std::vector<std::string> Study::device_names(std::size_t variant) const {

@@ -164,6 +164,8 @@ class Study {
   bool reports(std::size_t variant, const QuantityName& q) const;
   // The names of the variant's devices (none when its scene failed to load).
   std::vector<std::string> device_names(std::size_t variant) const;
+  // How many joints the variant's structure has above its base (MODEL.md 15; 0: none, or its scene failed to load).
+  int joints(std::size_t variant) const;
   // The record as read (unscaled), or null when it could not be read.
   const GroundMotion* motion(std::size_t record) const {
     return motions_[record] ? &*motions_[record] : nullptr;
@@ -252,22 +254,26 @@ Limit overturning_limit();
 // otherwise. A device's quantity is checked against the study's devices by
 // check_limit.
 Limit parse_limit(const std::string& text);
-// InputError when a limit names a device that no variant of the study has.
+// InputError when a limit names a device or a joint that no variant of the study has.
 void check_limit(const Study& study, const Limit& limit);
 // A study quantity by name (a scalar one of Role::study, or a device's);
 // InputError naming the text and the choices otherwise.
 QuantityName parse_study_quantity(std::string_view text);
-std::string study_quantity_names();  // "delta_t, delta_e, ..., or DEVICE.elongation, DEVICE.force"
+// "delta_t, delta_e, ..., jointK.theta, jointK.theta_over_alpha, ..., or DEVICE.elongation, DEVICE.force"
+std::string study_quantity_names();
 
 // The columns of a study's results (CSV, figure data, Python rows): the
-// schema's study quantities that some variant reports, then each device's
-// quantities, the devices taken over every variant in order of first appearance.
+// schema's study quantities that some variant reports, then each joint's
+// above the base (jointK.NAME, K = 1 .. the most joints of any variant),
+// then each device's quantities, the devices taken over every variant in
+// order of first appearance.
 struct StudyColumns {
   std::vector<Quantity> quantities;
+  std::vector<JointQuantityName> joints;
   std::vector<std::string> devices;
   std::vector<QuantityName> all() const;
   std::vector<std::string> names() const;
-  std::size_t size() const { return quantities.size() + devices.size() * device_quantity_count; }
+  std::size_t size() const { return quantities.size() + joints.size() + devices.size() * device_quantity_count; }
   // A run's peaks in the columns' order: NaN where its model does not report one.
   std::vector<double> values(const RunResult& run) const;
   // The run a row of values stands for (peaks and devices; NaN where absent),

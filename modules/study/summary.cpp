@@ -20,24 +20,49 @@ namespace rocking {
 Limit overturning_limit() { return {"overturning", std::nullopt, 0}; }
 
 std::string study_quantity_names() {
-  return fmt::format("{}, or DEVICE.elongation, DEVICE.force", quantity_names(Role::study));
+  std::string joints;
+  for (const JointQuantityInfo& q : joint_quantity_table)
+    if (q.is(Role::study)) joints += fmt::format(", jointK.{}", q.name);
+  return fmt::format("{}{}, or DEVICE.elongation, DEVICE.force", quantity_names(Role::study), joints);
 }
 
+namespace {
+// A name of the schema that is no study quantity (a scalar or a joint's without Role::study) names none.
+std::optional<QuantityName> study_quantity(std::string_view text) {
+  std::optional<QuantityName> q = parse_quantity_name(text);
+  if (q && q->scalar && !info(*q->scalar).is(Role::study)) return std::nullopt;
+  if (q && q->joint && !info(q->joint->which).is(Role::study)) return std::nullopt;
+  return q;
+}
+
+// A joint's peak in a run: NaN when the run's structure has no such joint.
+double joint_peak(const RunResult& run, const JointQuantityName& q) {
+  const auto j = static_cast<std::size_t>(q.joint);
+  if (j >= run.joints.size()) return std::nan("");
+  const JointResult& r = run.joints[j];
+  switch (q.which) {
+    case JointQuantity::theta: return r.peak_theta;
+    case JointQuantity::friction: return r.peak_friction;
+    case JointQuantity::theta_over_alpha: return r.peak_theta_over_alpha;
+    default: return std::nan("");  // no peak tracked (not a study quantity)
+  }
+}
+}  // namespace
+
 QuantityName parse_study_quantity(std::string_view text) {
-  const std::optional<QuantityName> q = parse_quantity_name(text);
-  if (!q || (q->scalar && !info(*q->scalar).is(Role::study)))
-    throw InputError(fmt::format("unknown quantity '{}' (choose from {})", text, study_quantity_names()));
+  const std::optional<QuantityName> q = study_quantity(text);
+  if (!q) throw InputError(fmt::format("unknown quantity '{}' (choose from {})", text, study_quantity_names()));
   return *q;
 }
 
 Limit parse_limit(const std::string& text) {
   const auto eq = text.find('=');
   const std::string key = text.substr(0, eq);
-  std::optional<QuantityName> quantity = parse_quantity_name(key);
-  if (quantity && quantity->scalar && !info(*quantity->scalar).is(Role::study)) quantity.reset();
+  const std::optional<QuantityName> quantity = study_quantity(key);
   if (eq == std::string::npos || !quantity)
     throw InputError(fmt::format("--limit '{}': expected QUANTITY=VALUE with QUANTITY one of {} (e.g. "
-                                 "theta_over_alpha=0.5, damper_d=0.07, plates.elongation=0.07)",
+                                 "theta_over_alpha=0.5, joint1.theta_over_alpha=0.5, damper_d=0.07, "
+                                 "plates.elongation=0.07)",
                                  text, study_quantity_names()));
   const std::string number = text.substr(eq + 1);
   std::size_t used = 0;
@@ -54,6 +79,16 @@ Limit parse_limit(const std::string& text) {
 
 void check_limit(const Study& study, const Limit& limit) {
   if (!limit.quantity || limit.quantity->scalar) return;
+  if (limit.quantity->joint) {
+    int joints = 0;  // the most joints above the base of any variant
+    for (std::size_t v = 0; v < study.variants().size(); ++v) joints = std::max(joints, study.joints(v));
+    if (limit.quantity->joint->joint > joints)
+      throw InputError(fmt::format("--limit '{}': no joint {} in the study's scene ({})", limit.name,
+                                   limit.quantity->joint->joint,
+                                   joints == 0 ? "it has no [[joint]] above its base"
+                                               : fmt::format("its joints above the base are 1 to {}", joints)));
+    return;
+  }
   const std::vector<std::string> names = study_columns(study).devices;  // every variant's, in order
   if (std::ranges::find(names, limit.quantity->device) == names.end())
     throw InputError(fmt::format("--limit '{}': no device '{}' in the study's scene (devices: {})", limit.name,
@@ -63,6 +98,7 @@ void check_limit(const Study& study, const Limit& limit) {
 std::vector<QuantityName> StudyColumns::all() const {
   std::vector<QuantityName> out;
   for (Quantity q : quantities) out.emplace_back(q);
+  for (const JointQuantityName& j : joints) out.emplace_back(j);
   for (const std::string& d : devices)
     for (const DeviceQuantityInfo& i : device_quantity_table) out.emplace_back(d, i.id);
   return out;
@@ -78,6 +114,7 @@ std::vector<double> StudyColumns::values(const RunResult& run) const {
   std::vector<double> out;
   out.reserve(size());
   for (Quantity q : quantities) out.push_back(run.reports(q) ? run.peak(q) : std::nan(""));
+  for (const JointQuantityName& j : joints) out.push_back(joint_peak(run, j));
   for (const std::string& d : devices) {
     const auto it = std::ranges::find(run.devices, d, &DeviceResult::name);
     static_assert(device_quantity_count == 2, "a device's study values: elongation and force");
@@ -93,8 +130,22 @@ RunResult StudyColumns::run(const std::vector<double>& values, Outcome outcome) 
   // Every quantity counts as reported: an absent one's value is NaN.
   r.presence = {.rocking = true, .elasticity = true, .dampers = true, .devices = true};
   for (std::size_t i = 0; i < quantities.size(); ++i) r.peaks[index(quantities[i])] = values.at(i);
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    const double v = values.at(quantities.size() + i);
+    if (std::isnan(v)) continue;  // the run's structure has no such joint
+    const auto j = static_cast<std::size_t>(joints[i].joint);
+    if (r.joints.size() <= j) r.joints.resize(j + 1);
+    JointResult& out = r.joints[j];
+    switch (joints[i].which) {
+      case JointQuantity::theta: out.peak_theta = v; break;
+      case JointQuantity::friction: out.peak_friction = v; break;
+      case JointQuantity::theta_over_alpha: out.peak_theta_over_alpha = v; break;
+      default: break;
+    }
+  }
+  const std::size_t first_device = quantities.size() + joints.size();
   for (std::size_t k = 0; k < devices.size(); ++k) {
-    const double e = values.at(quantities.size() + 2 * k), f = values.at(quantities.size() + 2 * k + 1);
+    const double e = values.at(first_device + 2 * k), f = values.at(first_device + 2 * k + 1);
     if (std::isnan(e)) continue;  // the run's model has no such device
     DeviceResult d;
     d.name = devices[k];
@@ -113,6 +164,11 @@ StudyColumns study_columns(const Study& study) {
         c.quantities.push_back(q);
         break;
       }
+  int joints = 0;
+  for (std::size_t v = 0; v < study.variants().size(); ++v) joints = std::max(joints, study.joints(v));
+  for (int j = 1; j <= joints; ++j)
+    for (std::size_t k = 0; k < joint_quantity_count; ++k)
+      if (joint_quantity_table[k].is(Role::study)) c.joints.push_back({j, static_cast<JointQuantity>(k)});
   for (std::size_t v = 0; v < study.variants().size(); ++v)
     for (const std::string& d : study.device_names(v))
       if (std::ranges::find(c.devices, d) == c.devices.end()) c.devices.push_back(d);
@@ -151,9 +207,15 @@ double StudySummary::value(const Cell& c, const QuantityName& q) const {
     const auto at = std::ranges::find(columns_.quantities, *q.scalar);
     return at == columns_.quantities.end() ? std::nan("") : c.peaks[static_cast<std::size_t>(at - columns_.quantities.begin())];
   }
+  if (q.joint) {
+    const auto at = std::ranges::find(columns_.joints, *q.joint);
+    return at == columns_.joints.end() ? std::nan("")
+                                       : c.peaks[columns_.quantities.size() + static_cast<std::size_t>(at - columns_.joints.begin())];
+  }
   const auto at = std::ranges::find(columns_.devices, q.device);
   if (at == columns_.devices.end()) return std::nan("");
-  return c.peaks[columns_.quantities.size() + device_quantity_count * static_cast<std::size_t>(at - columns_.devices.begin()) +
+  return c.peaks[columns_.quantities.size() + columns_.joints.size() +
+                 device_quantity_count * static_cast<std::size_t>(at - columns_.devices.begin()) +
                  static_cast<std::size_t>(q.of)];
 }
 
