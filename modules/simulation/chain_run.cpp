@@ -64,20 +64,8 @@ class ChainDriver {
     auto rhs = [this](double t, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& dydt) {
       derivatives(t, y, dydt);
     };
-    ode::Options tolerances = o.tolerances;
-    tolerances.max_step = std::min(tolerances.max_step, ground.max_step());
-    if (vertical_) tolerances.max_step = std::min(tolerances.max_step, vertical_->max_step());
-    tolerances.error_components = 2 * n_;  // the works do not steer the steps
-    const ode::Backend backend = o.backend == ode::Backend::automatic ? ode::Backend::rk45 : o.backend;
-    integrator_ = ode::make_integrator(backend, 2 * n_ + 2, rhs, tolerances);
-    const bool own_samples = vertical_ && !(vertical_->sample_interval() > 0 &&
-                                            vertical_->sample_interval() == ground_.sample_interval() &&
-                                            vertical_->duration() <= ground_.duration());
-    integrator_->set_breakpoints([this, own_samples](double t) {
-      return own_samples ? std::min(ground_.next_breakpoint(t), vertical_->next_breakpoint(t))
-                         : ground_.next_breakpoint(t);
-    });
-    t_end_ = o.duration > 0 ? o.duration : ground.duration();
+    integrator_ = motion_integrator(o, ground, 2 * n_ + 2, rhs, motion_tolerances(o, ground, 2 * n_));
+    t_end_ = run_end(o, ground);
     // The top node's local height on its segment: delta_t is its horizontal displacement over H_N.
     const ChainSegment& top = c_.data.segments.back();
     top_ = {.segment = c_.joints - 1, .x = 0.0, .z = top.heights[top.heights.size() - 1] - top.base_height,
@@ -96,8 +84,6 @@ class ChainDriver {
     initial_state();
     tendons_initial_ = energy().tendons;
     result_.energy.initial = mechanical();
-    next_output_ = opt_.output_interval;
-    outputs_ = 1;
     try {
       for (int j = 0; j < c_.joints; ++j) lift_if_lifting(j, 0.0);
       restart(0.0);
@@ -119,10 +105,7 @@ class ChainDriver {
   }
 
  private:
-  GroundAcceleration ground_at(double t) const {
-    return vertical_ ? GroundAcceleration{ground_.acceleration(t), vertical_->acceleration(t)}
-                     : GroundAcceleration{ground_.acceleration(t)};
-  }
+  GroundAcceleration ground_at(double t) const { return rocking::ground_at(ground_, vertical_, t); }
 
   void derivatives(double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> dydt) {
     const GroundAcceleration a = ground_at(t);
@@ -265,9 +248,7 @@ class ChainDriver {
   bool handle_event(const ChainGuardDef& d, double t) {
     y_ = integrator_->state();
     const int j = d.joint;
-    if (++events_ > opt_.max_events)
-      throw RunError(fmt::format("phase change number {} at t = {:.9g} s exceeds the limit (chattering? raise "
-                                 "contact.theta_dot_min or the event limit)", events_, t));
+    count_phase_change(events_, opt_, t);
     switch (d.what) {
       case ChainGuard::uplift: lift(j, d.pivot, t); break;
       case ChainGuard::impact: impact(j, t); break;
@@ -396,12 +377,8 @@ class ChainDriver {
       const Eigen::VectorXd& y = integrator_->sample(k, count);
       track(response(ode::Integrator::sample_time(t0, t1, k, count), y, true));
     }
-    if (observer_ == nullptr || !(opt_.output_interval > 0)) return;
-    while (next_output_ <= integrator_->time()) {
-      integrator_->dense(next_output_, dense_);
-      history_row(next_output_, dense_);
-      next_output_ = opt_.output_interval * static_cast<double>(++outputs_);
-    }
+    if (observer_ == nullptr) return;
+    history_.rows(*integrator_, dense_, [this](double t, const Eigen::VectorXd& y) { history_row(t, y); });
   }
 
   void history_row(double t, Eigen::Ref<const Eigen::VectorXd> y) {
@@ -462,8 +439,9 @@ class ChainDriver {
   std::vector<ChainGuardDef> guards_;
   GroundTravel travel_{ground_};
   std::unique_ptr<ode::Integrator> integrator_;
-  double t_end_ = 0, next_output_ = 0, tendons_initial_ = 0;
-  long outputs_ = 0, events_ = 0;
+  double t_end_ = 0, tendons_initial_ = 0;
+  long events_ = 0;
+  HistoryGrid history_{opt_.output_interval};
   PeakTracker peaks_;
   RunResult result_;
 };
