@@ -84,22 +84,19 @@ class ChainDriver {
     initial_state();
     tendons_initial_ = energy().tendons;
     result_.energy.initial = mechanical();
-    try {
-      for (int j = 0; j < c_.joints; ++j) lift_if_lifting(j, 0.0);
-      restart(0.0);
-      for (int j = 0; j < c_.joints; ++j)
-        if (phases_[j].is_rocking() && sign(*phases_[j].pivot()) * y_[j] >= jm_.overturn_angle[j]) {
-          announce({EventKind::overturn, 0.0, *phases_[j].pivot(), std::nullopt, j});
-          result_.outcome = Outcome::overturned;
-        }
-      if (result_.outcome != Outcome::overturned) loop();
-    } catch (const ode::IntegrationError& e) {
-      result_.outcome = Outcome::failed;
-      result_.failure = fmt::format("{} (phases {})", e.what(), phases_text());
-    } catch (const RunError& e) {
-      result_.outcome = Outcome::failed;
-      result_.failure = fmt::format("{} (phases {})", e.what(), phases_text());
-    }
+    run_stated(
+        result_,
+        [this] {
+          for (int j = 0; j < c_.joints; ++j) lift_if_lifting(j, 0.0);
+          restart(0.0);
+          for (int j = 0; j < c_.joints; ++j)
+            if (phases_[j].is_rocking() && sign(*phases_[j].pivot()) * y_[j] >= jm_.overturn_angle[j]) {
+              announce({EventKind::overturn, 0.0, *phases_[j].pivot(), std::nullopt, j});
+              result_.outcome = Outcome::overturned;
+            }
+          if (result_.outcome != Outcome::overturned) loop();
+        },
+        [this] { return fmt::format("phases {}", phases_text()); });
     finish();
     return result_;
   }
@@ -226,8 +223,7 @@ class ChainDriver {
 
   void loop() {
     while (integrator_->time() < t_end_) {
-      if (opt_.stop && opt_.stop())
-        throw RunError(fmt::format("stopped at t = {:.6g} s on request", integrator_->time()));
+      check_stop(opt_, integrator_->time());
       const ode::StepReport rep = integrator_->step(t_end_);
       sample_step();
       if (rep.reason == ode::Stop::event) {
@@ -450,11 +446,7 @@ class ChainDriver {
 
 RunResult simulate_chain(const ContactModel& m, const GroundMotion& ground, const RunOptions& options,
                          Observer* observer) {
-  const auto start = std::chrono::steady_clock::now();
-  ChainDriver driver(m, ground, options, observer);
-  RunResult result = driver.run();
-  result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return result;
+  return timed_run<ChainDriver>(m, ground, options, observer);
 }
 
 }  // namespace rocking

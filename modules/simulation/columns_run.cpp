@@ -32,7 +32,6 @@ module;
 #include <rocking/eigen.hpp>
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -78,22 +77,19 @@ class ColumnsDriver {
     result_.columns.emplace();
     initial_state();
     result_.energy.initial = mechanical();
-    try {
-      lift_if_lifting(0.0);
-      restart(0.0);
-      if (phase_.is_rocking() && sign(*phase_.pivot()) * y_[0] >= cm_.overturn_angle) {
-        announce({EventKind::overturn, 0.0, *phase_.pivot(), std::nullopt});
-        result_.outcome = Outcome::overturned;
-      } else {
-        loop();
-      }
-    } catch (const ode::IntegrationError& e) {
-      result_.outcome = Outcome::failed;
-      result_.failure = fmt::format("{} (phase {})", e.what(), phase_name(phase_));
-    } catch (const RunError& e) {
-      result_.outcome = Outcome::failed;
-      result_.failure = fmt::format("{} (phase {})", e.what(), phase_name(phase_));
-    }
+    run_stated(
+        result_,
+        [this] {
+          lift_if_lifting(0.0);
+          restart(0.0);
+          if (phase_.is_rocking() && sign(*phase_.pivot()) * y_[0] >= cm_.overturn_angle) {
+            announce({EventKind::overturn, 0.0, *phase_.pivot(), std::nullopt});
+            result_.outcome = Outcome::overturned;
+          } else {
+            loop();
+          }
+        },
+        [this] { return fmt::format("phase {}", phase_name(phase_)); });
     finish();
     return result_;
   }
@@ -222,8 +218,7 @@ class ColumnsDriver {
 
   void loop() {
     while (integrator_->time() < t_end_) {
-      if (opt_.stop && opt_.stop())
-        throw RunError(fmt::format("stopped at t = {:.6g} s on request", integrator_->time()));
+      check_stop(opt_, integrator_->time());
       const ode::StepReport rep = integrator_->step(t_end_);
       sample_step();
       if (rep.reason == ode::Stop::event) {
@@ -368,11 +363,7 @@ class ColumnsDriver {
 
 RunResult simulate_columns(const ContactModel& m, const GroundMotion& ground, const RunOptions& options,
                            Observer* observer) {
-  const auto start = std::chrono::steady_clock::now();
-  ColumnsDriver driver(m, ground, options, observer);
-  RunResult result = driver.run();
-  result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return result;
+  return timed_run<ColumnsDriver>(m, ground, options, observer);
 }
 
 }  // namespace rocking

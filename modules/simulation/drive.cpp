@@ -1,10 +1,12 @@
 // What the drivers of chain_run.cpp and columns_run.cpp share (declared in
 // simulation.cppm): the ground's acceleration (MODEL.md 14), the
 // integrator's limits and breakpoints from the motion, the run's end and the
-// limit on phase changes (MODEL.md 6).
+// limit on phase changes, a stop on request and a failure's statement (MODEL.md 6).
 module;
 #include <rocking/eigen.hpp>
 #include <algorithm>
+#include <functional>
+#include <string>
 #include <memory>
 #include <utility>
 #include <fmt/format.h>
@@ -48,6 +50,22 @@ void count_phase_change(long& events, const RunOptions& o, double t) {
   if (++events > o.max_events)
     throw RunError(fmt::format("phase change number {} at t = {:.9g} s exceeds the limit (chattering? raise "
                                "contact.theta_dot_min or the event limit)", events, t));
+}
+
+void check_stop(const RunOptions& o, double t) {
+  if (o.stop && o.stop()) throw RunError(fmt::format("stopped at t = {:.6g} s on request", t));
+}
+
+void run_stated(RunResult& result, const std::function<void()>& body, const std::function<std::string()>& phase) {
+  try {
+    body();
+  } catch (const ode::IntegrationError& e) {
+    result.outcome = Outcome::failed;
+    result.failure = fmt::format("{} ({})", e.what(), phase());
+  } catch (const RunError& e) {
+    result.outcome = Outcome::failed;
+    result.failure = fmt::format("{} ({})", e.what(), phase());
+  }
 }
 
 }  // namespace rocking

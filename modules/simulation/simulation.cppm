@@ -29,6 +29,7 @@
 module;
 #include <rocking/eigen.hpp>
 #include <array>
+#include <chrono>
 #include <functional>
 #include <limits>
 #include <memory>
@@ -290,6 +291,21 @@ std::unique_ptr<ode::Integrator> motion_integrator(const RunOptions& o, const Gr
 double run_end(const RunOptions& o, const GroundMotion& ground);
 // One more phase change at t: RunError beyond the run's limit (chattering).
 void count_phase_change(long& events, const RunOptions& o, double t);
+// RunError ("stopped at t = ...") when the caller asks the run to stop.
+void check_stop(const RunOptions& o, double t);
+// Runs body; a failure it throws (the integrator's, or a stated outcome's
+// RunError) ends the run as failed, with the phase as `phase` tells it.
+void run_stated(RunResult& result, const std::function<void()>& body, const std::function<std::string()>& phase);
+
+// A driver's run, timed from its set-up (the wall time counts it).
+template <class Driver>
+RunResult timed_run(const ContactModel& m, const GroundMotion& ground, const RunOptions& options, Observer* observer) {
+  const auto start = std::chrono::steady_clock::now();
+  Driver driver(m, ground, options, observer);
+  RunResult result = driver.run();
+  result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
 
 // The history's rows every output_interval after t = 0 (the start's row is
 // the caller's): row(t, y) at each one the integrator has passed.
