@@ -26,6 +26,7 @@ export namespace rocking {
 enum class Quantity : unsigned char {
   t, phase, u_top, theta, theta_over_alpha, theta_dot, delta_t, delta_e, damper_d, damper_F,
   base_shear, base_moment, mid_shear, mid_moment, a_top, a_g, a_v, device_moment, x_g,
+  columns_theta, columns_theta_over_alpha, columns_theta_dot, beam_x, columns_top_force,
   count_
 };
 inline constexpr std::size_t quantity_count = static_cast<std::size_t>(Quantity::count_);
@@ -38,11 +39,13 @@ enum class Needs : unsigned char {
   dampers,     // the paper's [damper] pair (MODEL.md 5)
   devices,     // any device at the rocking interface
   vertical,    // the run shakes the ground vertically too (MODEL.md 14)
+  columns,     // the structure stands on rocking columns (MODEL.md 16)
 };
 
 // What a model has, for Needs.
 struct Presence {
   bool rocking = true, elasticity = true, dampers = true, devices = true, vertical = true;
+  bool columns = false;
   constexpr bool has(Needs n) const {
     switch (n) {
       case Needs::always: return true;
@@ -51,6 +54,7 @@ struct Presence {
       case Needs::dampers: return dampers;
       case Needs::devices: return devices;
       case Needs::vertical: return vertical;
+      case Needs::columns: return columns;
     }
     return false;
   }
@@ -128,6 +132,20 @@ inline constexpr std::array<QuantityInfo, quantity_count> quantity_table = {{
      Needs::devices, history, {FigureRole::loop, 8}, Quantity::theta},
     {Quantity::x_g, "x_g", "m", "ground displacement (a_g integrated from rest, no baseline correction)", "x_g", 1000,
      "mm", Needs::always, on_request, {}, Quantity::t},
+    // A structure on rocking columns (MODEL.md 16): the columns' common
+    // rocking angle (signed as theta), over their slenderness alpha, its rate, the cap
+    // beam's horizontal displacement relative to the ground, and the smallest
+    // of the columns' normal forces on the deck (compression > 0).
+    {Quantity::columns_theta, "columns.theta", "rad", "columns' rocking angle", "{/Symbol q}_c", 1, "rad",
+     Needs::columns, history | peak, {}, Quantity::t},
+    {Quantity::columns_theta_over_alpha, "columns.theta_over_alpha", "-", "columns' rocking angle over their slenderness",
+     "{/Symbol q}_c/{/Symbol a}_c", 1, "-", Needs::columns, history | peak, {}, Quantity::t},
+    {Quantity::columns_theta_dot, "columns.theta_dot", "rad/s", "columns' rocking velocity", "d{/Symbol q}_c/dt", 1,
+     "rad/s", Needs::columns, history | peak, {}, Quantity::t},
+    {Quantity::beam_x, "beam.x", "m", "cap beam's horizontal displacement (relative to the ground)", "x_b", 1000, "mm",
+     Needs::columns, history | peak, {}, Quantity::t},
+    {Quantity::columns_top_force, "columns.top_force_min", "N", "smallest column-top contact force (compression > 0)",
+     "N_{min}", 1e-3, "kN", Needs::columns, history, {}, Quantity::t},
 }};
 
 constexpr const QuantityInfo& info(Quantity q) { return quantity_table[static_cast<std::size_t>(q)]; }
