@@ -26,7 +26,8 @@ demo: program
 
 # The whole suite under AddressSanitizer + UndefinedBehaviorSanitizer, in its
 # own build folder (build-sanitize); the allocation test, which replaces the
-# allocator, is not built there. The mpirun test's ranks run without leak
+# allocator, is not built there, and the seven tests that run whole studies
+# skip themselves (tests/sanitizers.hpp: `make test` runs them). The mpirun test's ranks run without leak
 # detection (OpenMPI's own leaks come unnamed; tests/study_cli_test.cpp says why).
 sanitize: setup
 	@cmake --preset sanitize >/dev/null

@@ -14,6 +14,7 @@
 //   make golden      (ROCKING_WRITE_GOLDEN=1 build/bin/golden_test)
 // which rewrites the file and prints the table to paste into the README.
 #include <doctest/doctest.h>
+#include "sanitizers.hpp"
 #include "close.hpp"
 #include <nlohmann/json.hpp>
 #include <fmt/format.h>
@@ -265,6 +266,7 @@ double log_phi(double z) { return -0.5 * z * z - 0.5 * std::log(2 * std::numbers
 }  // namespace
 
 TEST_CASE("the README's suite study: its fragility.csv matches the golden file, and the README quotes it") {
+  skip_under_sanitizers("the README's 1,440-run suite study");
   const auto records = records_dir();
   if (!records) return;
   const fs::path out = scratch_dir("golden_suite");

@@ -3,6 +3,7 @@
 // and `--resume` ends with the byte-identical CSV of an uninterrupted run; on a
 // running simulation they keep the history and mark the summary interrupted.
 #include <doctest/doctest.h>
+#include "sanitizers.hpp"
 #include "temp_path.hpp"
 #include <chrono>
 #include <cmath>
@@ -48,6 +49,7 @@ int run_and_stop(const std::vector<std::string>& args, const fs::path& file, int
 }  // namespace
 
 TEST_CASE("SIGINT and SIGTERM stop a study cleanly, and --resume ends with the CSV of an uninterrupted run") {
+  skip_under_sanitizers("a study run whole and again with --resume");
   const fs::path dir = scratch_dir("stop_ida");
   const std::string record = rocking_record(dir / "long.txt", 30);
   const std::vector<std::string> study = {"-q", "ida", "--record", record, "--scales", "1:8:0.02", "--no-plot"};
@@ -154,6 +156,7 @@ TEST_CASE("SIGINT stops a simulation with its history up to there and a summary 
 }
 
 TEST_CASE("SIGINT stops a hunt with its finished hunts kept whole, and --resume ends with the hunt.csv of an uninterrupted run") {
+  skip_under_sanitizers("hunts run whole and again with --resume");
   const fs::path dir = scratch_dir("stop_hunt");
   std::string records;
   for (int k = 1; k <= 6; ++k) records += " " + rocking_record(dir / ("r" + std::to_string(k) + ".txt"), 10 + k);
@@ -186,6 +189,7 @@ TEST_CASE("SIGINT stops a hunt with its finished hunts kept whole, and --resume 
 }
 
 TEST_CASE("SIGINT stops a spectrum with the pulses done kept, and --resume ends with the spectrum of an uninterrupted run") {
+  skip_under_sanitizers("a spectrum run whole and again with --resume");
   const fs::path dir = scratch_dir("stop_spectrum");
   const std::string grid = " --sizes 1,2 --frequencies 0.5:10:0.5 --amplitudes 0.5:8:0.05 --formats png --out ";
   REQUIRE(run("-q spectrum" + grid + (dir / "whole").string()).code == 0);

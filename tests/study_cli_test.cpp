@@ -5,6 +5,7 @@
 // rest finish; folders and list files name suites; a sweep gives one line per
 // parameter value.
 #include <doctest/doctest.h>
+#include "sanitizers.hpp"
 #include "close.hpp"
 #include "temp_path.hpp"
 #include <algorithm>
@@ -217,6 +218,7 @@ TEST_CASE("a folder of records: unrecognised files are skipped, an unreadable re
 }
 
 TEST_CASE("the hunt finds the first overturning that a 0.05 g ladder finds, where the growing trace jumps over it") {
+  skip_under_sanitizers("a hunt and a 0.05 g ladder of a real record");
   // christchurch2011_rehs_n02e under Sa(T1): without dampers the trace up
   // (0.5, 1, 1.75, ..., 10.9, 16.6 g) survives every level it runs below
   // --hunt-max 25 although a window opens near 7.5 g; with dampers the first
@@ -249,6 +251,7 @@ TEST_CASE("the hunt finds the first overturning that a 0.05 g ladder finds, wher
 }
 
 TEST_CASE("two more records: a collapse the old trace censored, and a window a 0.05 g ladder steps over") {
+  skip_under_sanitizers("hunts of two real records");
   // Under Sa(T1) (fill step 0.05 g, precision 0.025 g):
   // - christchurch2011_cbgs_s01w with dampers survives every level below
   //   17.5 g; the trace (..., 10.9, 16.6, 25 g) overturns only at --hunt-max,

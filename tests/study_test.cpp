@@ -5,6 +5,7 @@
 // fractiles, capacities and stripes match what is worked by hand.
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
+#include "sanitizers.hpp"
 #include "close.hpp"
 #include <nlohmann/json.hpp>
 #include "temp_path.hpp"
@@ -206,6 +207,7 @@ TEST_CASE("a record of zero IM cannot be scaled to a level: its jobs fail, sayin
 }
 
 TEST_CASE("on El Centro the hunt finds the first overturning of a 0.01-step ladder, and its resurrections") {
+  skip_under_sanitizers("a hunt of El Centro to a 0.01 step, with resurrections");
   const auto dir = records_dir();
   if (!dir) return;
   const Study study("", {}, {*dir + "/elcentro_1940_ns.at2"}, RecordOptions{},
