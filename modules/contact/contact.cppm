@@ -106,6 +106,7 @@ struct ColumnsModel {
   double restitution = -1;        // r, or < 0 for the momentum law (MODEL.md 15, 16's r for a rigid deck)
   double theta_dot_min = 0.0015;  // Eq. 8's threshold [rad/s]
   double overturn_angle = 0;      // the columns' alpha [rad]: past it gravity tips the frame over
+  bool rocking = true;            // contact.rocking: false holds the columns down (no uplift)
 };
 
 struct ContactModel {

@@ -983,6 +983,7 @@ ContactModel columns_contact_model(const Scene& scene, bool track_energy, const 
                         ? scene.contact.restitution
                         : -1.0;
   on->theta_dot_min = scene.contact.theta_dot_min;
+  on->rocking = scene.contact.rocking;
   on->overturn_angle = scene.contact.overturn_angle > 0 ? scene.contact.overturn_angle : on->columns.alpha;
   Contact fixed = scene.contact;
   fixed.rocking = false;

@@ -148,7 +148,7 @@ class ColumnsDriver {
   // In full contact (at the start or after an impact): lift now if the uplift
   // condition already holds about one side.
   void lift_if_lifting(double t) {
-    if (phase_.is_rocking() || !m_.contact.rocking) return;
+    if (phase_.is_rocking() || !cm_.rocking) return;
     const GroundAcceleration a = ground_at(t);
     for (Pivot p : pivots)
       if (uplift_guard(c_, sign(p), a, 0.0, y_.segment(2, n_), y_.segment(2 + n_, n_)) > 0) {
@@ -177,7 +177,7 @@ class ColumnsDriver {
       directions.push_back(ode::Direction::falling);
       guards_.push_back({ColumnsGuard::overturn, *phase_.pivot()});
       directions.push_back(ode::Direction::rising);
-    } else if (m_.contact.rocking) {
+    } else if (cm_.rocking) {
       for (Pivot p : pivots) {
         guards_.push_back({ColumnsGuard::uplift, p});
         directions.push_back(ode::Direction::rising);
