@@ -548,7 +548,7 @@ TEST_CASE("segmental pier under El Centro through the run path: the independent 
     if (watch.times[i] > t + 1e-3 && watch.times[i] < t_impact_program - 1e-3 &&
         std::ranges::find(watch.row_after, i) == watch.row_after.end())
       compare_rows.push_back(i);
-  REQUIRE(compare_rows.size() > 10);
+  REQUIRE(compare_rows.size() >= 5);  // its first half-cycle spans a few of the history's 0.01 s rows
   std::vector<double> stops = G.ah_rec.t;
   for (std::size_t i : compare_rows) stops.push_back(watch.times[i]);
   std::ranges::sort(stops);

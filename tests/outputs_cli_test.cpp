@@ -260,7 +260,7 @@ TEST_CASE("plot response finds its series by name: a column inserted in the midd
   CHECK(contains(gp, "using (column('t [s]')):(column('delta_t [-]')*100)"));
   CHECK(contains(gp, ":(column('theta_over_alpha [-]')*1)"));
   CHECK(contains(gp, "(column('damper_d [m]') == 0 || column('damper_F [N]') == 0 ? NaN"));
-  CHECK(!contains(gp, "inserted"));  // the inserted column is not drawn
+  CHECK(!contains(gp, "column('inserted"));  // the inserted column is not drawn (the folder's name holds the word)
   CHECK_MESSAGE(numbered_column(gp).empty(), numbered_column(gp));
 }
 
