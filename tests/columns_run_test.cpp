@@ -81,7 +81,8 @@ std::string flexible_frame(double zeta, const std::string& columns, const std::s
 half_width = 0.3
 heights = [3.0, 6.0, 9.0]
 masses = [10000.0, 8000.0, 6000.0]
-EI = [6e8, 5e8, 4e8]
+second_moments = [6.0, 5.0, 4.0]
+youngs_modulus = 1.0e8
 damping_ratio = {}
 base_mass = 8000.0
 
