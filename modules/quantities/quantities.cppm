@@ -137,9 +137,10 @@ inline constexpr std::array<QuantityInfo, quantity_count> quantity_table = {{
     // beam's horizontal displacement relative to the ground, and the smallest
     // of the columns' normal forces on the deck (compression > 0).
     {Quantity::columns_theta, "columns.theta", "rad", "columns' rocking angle", "{/Symbol q}_c", 1, "rad",
-     Needs::columns, history | peak, {}, Quantity::t},
+     Needs::columns, history | peak | study, {}, Quantity::t},
     {Quantity::columns_theta_over_alpha, "columns.theta_over_alpha", "-", "columns' rocking angle over their slenderness",
-     "{/Symbol q}_c/{/Symbol a}_c", 1, "-", Needs::columns, history | peak, {}, Quantity::t},
+     "{/Symbol q}_c/{/Symbol a}_c", 1, "-", Needs::columns, history | peak | study, {FigureRole::response, 4},
+     Quantity::t},
     {Quantity::columns_theta_dot, "columns.theta_dot", "rad/s", "columns' rocking velocity", "d{/Symbol q}_c/dt", 1,
      "rad/s", Needs::columns, history | peak, {}, Quantity::t},
     {Quantity::beam_x, "beam.x", "m", "cap beam's horizontal displacement (relative to the ground)", "x_b", 1000, "mm",
