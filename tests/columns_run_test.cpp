@@ -496,3 +496,35 @@ TEST_CASE("bad columns input: exit 2 with one line naming the key") {
   const std::filesystem::path both = write_scene("both", std::string(rigid_frame(1, "")) + "\n[[joint]]\nnode = 1\nhalf_width = 0.2\n");
   cli::refused(fmt::format("simulate {} --out {}", both.string(), out), "[[joint]]");
 }
+
+TEST_CASE("the deck lesson: under 0.5 g for 1 s the bent with its deck survives and its piers alone overturn") {
+  // docs/teaching.md lesson 7's commands and numbers.
+  const std::string frame = std::string(ROCKING_SCENES) + "/rocking_frame.toml";
+  const std::string pulse = " --set excitation.amplitude_g=0.5 --set excitation.duration=15";
+  const std::filesystem::path deck = temp_path("lesson_deck"), bare = temp_path("lesson_bare");
+  const cli::Result a = cli::run("-q simulate " + frame + pulse + " --out " + deck.string(), 120);
+  REQUIRE_MESSAGE(a.code == 0, a.err);
+  const cli::Result b = cli::run("-q simulate " + frame + pulse +
+                                     " --set structure.masses=[1.0] --set structure.base_mass=1.0 --out " + bare.string(),
+                                 120);
+  REQUIRE_MESSAGE(b.code == 0, b.err);
+  const auto with = nlohmann::json::parse(file_text(deck / "summary.json"));
+  const auto without = nlohmann::json::parse(file_text(bare / "summary.json"));
+  CHECK(with["outcome"] == "completed");
+  CHECK(with["columns"]["impacts"] == 7);
+  CHECK(with["columns"]["peak_theta_over_alpha"].get<double>() == within(0.53, 0.005));
+  CHECK(without["outcome"] == "overturned");
+  CHECK(without["t_end"].get<double>() == within(2.6, 0.05));
+  // p-hat as the lesson prints it, from MODEL.md 16 with the scene's numbers.
+  const double R = std::hypot(0.8, 4.8), p2 = 3 * gravity / (4 * R);
+  const double gamma = (500000.0 + 120000.0) / (2 * 59000.0), gamma0 = 2.0 / (2 * 59000.0);
+  CHECK(gamma == within(5.3, 0.05));
+  CHECK(std::sqrt(p2 * (1 + 2 * gamma) / (1 + 3 * gamma)) == within(1.02, 0.005));
+  CHECK(std::sqrt(p2 * (1 + 2 * gamma0) / (1 + 3 * gamma0)) == within(1.23, 0.005));
+  const cli::Result s = cli::run(fmt::format("spectrum {} --sizes 1 --frequencies 1:1:1 --amplitudes 1:1:1 --formats svg "
+                                             "--out {}",
+                                             frame, temp_path("lesson_spectrum").string()),
+                                 120);
+  REQUIRE_MESSAGE(s.code == 0, s.err);
+  CHECK_MESSAGE(cli::contains(s.out, "p-hat = 1.019 rad/s"), s.out);
+}
