@@ -44,8 +44,8 @@ void pair(const Case& a, const Case& b, const std::string& record, int repeats, 
       t->best_s = std::min(t->best_s, t->last.wall_s);
     }
   for (const auto& [c, t] : {std::pair{&a, &ta}, std::pair{&b, &tb}})
-    fmt::print("  {:<44} {:9.3f} ms  {:>8} rhs  {:>4} impacts  {}\n", c->label, 1e3 * t.best_s, t.last.stats.rhs,
-               t.last.counts.impacts, outcome_name(t.last.outcome));
+    fmt::print("  {:<44} {:9.3f} ms  {:>8} rhs  {:>4} impacts  {}\n", c->label, 1e3 * t->best_s, t->last.stats.rhs,
+               t->last.counts.impacts, outcome_name(t->last.outcome));
   const double ratio = ta.best_s / tb.best_s;
   if (target > 0)
     fmt::print("  ratio {:.2f} (target at most {:.1f}): {}\n\n", ratio, target, ratio <= target ? "met" : "MISSED");
