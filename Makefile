@@ -76,6 +76,8 @@ bench: build
 	@build/bin/records_bench
 	@echo "command: build/bin/suite_bench"
 	@build/bin/suite_bench
+	@echo "command: build/bin/structures_bench"
+	@build/bin/structures_bench
 	@echo "command: build/bin/tower_bench --integrators auto --peaks"
 	@build/bin/tower_bench --integrators auto --peaks
 	@echo "command: build/bin/tower_bench --integrators rk45 --n 8,16,32 --budget 60"

@@ -22,6 +22,7 @@
 #include "chain_ode.hpp"
 #include "close.hpp"
 #include "columns_reference.hpp"
+#include "frame_quadrature.hpp"
 import rocking.columns;
 import rocking.dynamics;
 
@@ -81,28 +82,6 @@ colref::Frame reference_of(const Columns& c) {
       }
   }
   return f;
-}
-
-// First impact of free rocking from rest at theta0 > 0 under
-// theta'' = -p2 sin(alpha - theta): t = int_0^theta0 dth / sqrt(2 p2 (cos(alpha -
-// theta0) - cos(alpha - th))); th = theta0 - w^2 removes the endpoint singularity:
-// t = int_0^sqrt(theta0) 2 dw / sqrt(2 p2 sin(alpha - theta0 + w^2/2) sinc(w^2/2)).
-double quadrature_impact_time(double alpha, double p2, double theta0) {
-  struct P {
-    double a, p2, t0;
-  } par{alpha, p2, theta0};
-  gsl_function F{[](double w, void* v) {
-                   const P& p = *static_cast<P*>(v);
-                   const double x = 0.5 * w * w;
-                   const double sinc = x > 0 ? std::sin(x) / x : 1.0;
-                   return 2.0 / std::sqrt(2.0 * p.p2 * std::sin(p.a - p.t0 + x) * sinc);
-                 },
-                 &par};
-  gsl_integration_workspace* ws = gsl_integration_workspace_alloc(1000);
-  double t = 0, err = 0;
-  gsl_integration_qag(&F, 0.0, std::sqrt(theta0), 0.0, 1e-13, 1000, GSL_INTEG_GAUSS61, ws, &t, &err);
-  gsl_integration_workspace_free(ws);
-  return t;
 }
 
 // The engine's state as one vector for chain_ode: [theta, u (N), theta', u' (N)].

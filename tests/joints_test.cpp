@@ -25,11 +25,9 @@
 #include "close.hpp"
 #include "chain_sums.hpp"
 #include "one_line_error.hpp"
-#ifdef ROCKING_BIN
 #include "run_program.hpp"
 #include "csv_table.hpp"
 #include "rocking_record.hpp"
-#endif
 #include "chain_ode.hpp"
 #include "chain_reference.hpp"
 #include "records.hpp"
@@ -271,7 +269,6 @@ TEST_CASE("bad [[joint]] input: one line naming the key and its range, before an
     const std::string what = one_line_error<InputError>([&] { (void)scene_from("bad", text, c.set); }, c.set.front());
     for (const std::string& s : c.says) CHECK_MESSAGE(what.find(s) != std::string::npos, what);
   }
-#ifdef ROCKING_BIN
   // The program: exit 2 with that line, and no history written.
   const std::filesystem::path file = temp_path("bad_cli.toml");
   std::ofstream(file) << text;
@@ -281,7 +278,6 @@ TEST_CASE("bad [[joint]] input: one line naming the key and its range, before an
   CHECK(cli::lines(r.err) == 1);
   CHECK_MESSAGE(r.err.find("joint[0].node") != std::string::npos, r.err);
   CHECK(!std::filesystem::exists(out / "history.csv"));
-#endif
 }
 
 TEST_CASE("a scene with joints reports its joints: history columns joint1.theta, ..., and the summary's joints") {
@@ -345,7 +341,6 @@ TEST_CASE("the shipped scenes with joints run their own excitation to the end") 
   }
 }
 
-#ifdef ROCKING_BIN
 TEST_CASE("a study limits a joint's quantity: --limit joint1.theta_over_alpha, its ida.csv column, a one-line refusal for a joint the scene lacks") {
   // The stacked blocks under a 0.25 g sine (tests/rocking_record.hpp) at
   // scales 1 and 2: the artefact (B_1 = 0.15 m, three 40 kg nodes 0.15, 0.45
@@ -403,7 +398,6 @@ TEST_CASE("a study limits a joint's quantity: --limit joint1.theta_over_alpha, i
   CHECK(lines(rate.err) == 1);
   CHECK_MESSAGE(contains(rate.err, "jointK.theta_over_alpha"), rate.err);  // the choices named
 }
-#endif
 
 namespace {
 

@@ -310,9 +310,9 @@ TEST_CASE("[columns]: the rocking columns under the structure are read and check
   const Scene one = load_scene(chimney_on_columns("count = 1\nhalf_width = 0.4\nhalf_height = 3.0\nmass = 2.0e4"));
   CHECK(one.columns->spacing == 0.0);
   CHECK_FALSE(load_default_scene().columns.has_value());
-  // the run path does not simulate columns yet: it says so in one line
+  // the chimney's dampers on columns are not simulated yet: the run path says so in one line, naming the device
   const std::string refused = one_line_error<InputError>([&] { (void)make_contact_model(s, false); }, "make_contact_model");
-  CHECK(refused.find("[columns]: a structure on rocking columns is not simulated") != std::string::npos);
+  CHECK(refused.find("devices on a structure on rocking columns are not simulated yet") != std::string::npos);
 }
 
 TEST_CASE("a wrong [columns] is a one-line error naming the key, its range and the line") {

@@ -66,6 +66,16 @@ void print_text(const nlohmann::json& s) {
                  k["peak_friction_demand"].is_null() ? std::string("-")
                                                      : fmt::format("{:.3g}", k["peak_friction_demand"].get<double>()));
     }
+  if (const auto c = s.find("columns"); c != s.end()) {  // a structure on rocking columns (MODEL.md 16)
+    const auto at = [&](const char* key) {
+      return (*c)[key].is_null() ? std::string("never") : fmt::format("t = {:.4f} s", (*c)[key].get<double>());
+    };
+    fmt::print("  {:<17} first uplift {}, first impact {}; smallest top contact force {}\n", "columns",
+               at("first_uplift_s"), at("first_impact_s"),
+               (*c)["smallest_top_force_N"].is_null()
+                   ? std::string("-")
+                   : fmt::format("{:.4g} N at {}", (*c)["smallest_top_force_N"].get<double>(), at("smallest_top_force_s")));
+  }
   fmt::print("  {:<17} {} ({} rhs, {} steps, {:.3g} s)\n", "cost", s["integrator"].get<std::string>(),
              s["stats"]["rhs"].get<long>(), s["stats"]["steps"].get<long>(), s["wall_s"].get<double>());
 }

@@ -1,5 +1,6 @@
-// `rocking spectrum`: the overturning spectrum of a rigid block under pulses,
-// the classic teaching figure, for one or more block sizes.
+// `rocking spectrum`: the overturning spectrum of a rigid block (or of a rigid
+// frame on rocking columns) under pulses, the classic teaching figure, for one
+// or more block sizes.
 #include "commands.hpp"
 #include "run_output.hpp"
 #include "stop_signals.hpp"
@@ -92,11 +93,8 @@ int spectrum(const SpectrumArgs& a) {
   // can have: periods from a millisecond to a thousand seconds, peaks within
   // max_acceleration_g, through Housner's p and the slenderness of each size.
   for (double size : sizes) {
-    Structure st = scene.structure;
-    st.half_width *= size;
-    st.heights *= size;
-    const double R = std::hypot(st.half_width, centre_of_gravity_height(st));
-    const double p = std::sqrt(gravity * total_mass(st) * R / pivot_inertia(st)), tan_alpha = std::tan(slenderness(st));
+    const SpectrumScale scale = spectrum_scale(scene, size);
+    const double p = scale.p, tan_alpha = std::tan(scale.alpha);
     const double low = 2 * std::numbers::pi / (1e3 * p), high = 2 * std::numbers::pi / (1e-3 * p);
     for (double f : freqs)
       if (!(f >= low && f <= high))
@@ -173,9 +171,16 @@ int spectrum(const SpectrumArgs& a) {
     }
     write_text(path, out);
     fs::remove(partial, ec);
-    const double width = 2 * scene.structure.half_width * size, height = scene.structure.heights.maxCoeff() * size;
-    fmt::print("block x{}: {:.2f} m wide, top node at {:.2f} m, p = {:.3f} rad/s, alpha = {:.4f} rad: {} of {} pulses overturn it\n",
-               size, width, height, s.p, s.alpha, overturned, s.points.size());
+    if (scene.columns)
+      fmt::print("frame x{}: {} columns {:.2f} m wide and {:.2f} m tall, p-hat = {:.3f} rad/s, alpha = {:.4f} rad: {} "
+                 "of {} pulses overturn it\n",
+                 size, scene.columns->count, 2 * scene.columns->half_width * size,
+                 2 * scene.columns->half_height * size, s.p, s.alpha, overturned, s.points.size());
+    else
+      fmt::print("block x{}: {:.2f} m wide, top node at {:.2f} m, p = {:.3f} rad/s, alpha = {:.4f} rad: {} of {} pulses "
+                 "overturn it\n",
+                 size, 2 * scene.structure.half_width * size, scene.structure.heights.maxCoeff() * size, s.p, s.alpha,
+                 overturned, s.points.size());
     series.push_back({fmt::format("block x{} (p = {:.2f} rad/s)", size, s.p), file, {}});
   }
   plot::Figure fig;
@@ -201,6 +206,9 @@ Command add_spectrum_command(CLI::App& app) {
       "slenderness) also in seconds and g, which shows Housner's size effect.\n"
       "A flexible scene is made rigid. p = sqrt(m g R / J_p) is Housner's frequency\n"
       "parameter (R from the pivot to the centre of gravity), as `rocking modal` prints.\n"
+      "A scene on [columns] gives the rigid frame's spectrum: p is then the frame's\n"
+      "p-hat, p^2 (1 + 2 gamma) / (1 + 3 gamma), and alpha its columns' (MODEL.md 16);\n"
+      "--sizes scales the columns with the structure.\n"
       "Ctrl-C or SIGTERM stops it with the pulses done kept (exit 130 / 143);\n"
       "--resume continues.");
   auto a = std::make_shared<SpectrumArgs>();

@@ -34,6 +34,7 @@ export module rocking.contact;
 export import rocking.dynamics;
 export import rocking.devices;
 export import rocking.chain;
+export import rocking.columns;
 
 export namespace rocking {
 
@@ -95,6 +96,19 @@ struct JointedModel {
   double theta_dot_min = 0.0015;       // Eq. 8's threshold, per joint [rad/s]
 };
 
+// A structure standing on rocking columns (MODEL.md 16): the frame
+// rocking.columns integrates, with the impact rule of [contact]. A model that
+// carries one is run by the columns' equations (rocking.simulation); the rest
+// of ContactModel then describes the structure on the cap beam as on a fixed
+// base (a rigid one as a block: its outputs only).
+struct ColumnsModel {
+  Columns columns;
+  double restitution = -1;        // r, or < 0 for the momentum law (MODEL.md 15, 16's r for a rigid deck)
+  double theta_dot_min = 0.0015;  // Eq. 8's threshold [rad/s]
+  double overturn_angle = 0;      // the columns' alpha [rad]: past it gravity tips the frame over
+  bool rocking = true;            // contact.rocking: false holds the columns down (no uplift)
+};
+
 struct ContactModel {
   ModelKind kind = ModelKind::flexible;
   RockingBody body;
@@ -151,6 +165,8 @@ struct ContactModel {
   // Set for a structure with joints above its base (or the momentum law at
   // its base): the run is the chain's.
   std::shared_ptr<const JointedModel> jointed;
+  // Set for a structure on rocking columns: the run is the columns'.
+  std::shared_ptr<const ColumnsModel> on_columns;
 };
 // The model of a structure meeting the ground by these rules, with these
 // devices (ignored on a fixed base); energy accumulators when asked.

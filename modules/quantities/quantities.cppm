@@ -30,6 +30,7 @@ enum class Quantity : unsigned char {
   t, phase, u_top, theta, theta_over_alpha, theta_dot, delta_t, delta_e, damper_d, damper_F,
   base_shear, base_moment, mid_shear, mid_moment, a_top, a_g, a_v, device_moment, x_g,
   energy, work_ground, work_viscous, work_devices, work_impacts,
+  columns_theta, columns_theta_over_alpha, columns_theta_dot, beam_x, columns_top_force,
   count_
 };
 inline constexpr std::size_t quantity_count = static_cast<std::size_t>(Quantity::count_);
@@ -43,11 +44,13 @@ enum class Needs : unsigned char {
   devices,     // any device at the rocking interface
   vertical,    // the run shakes the ground vertically too (MODEL.md 14)
   energy,      // the run integrates its energy balance (MODEL.md 7 and 11)
+  columns,     // the structure stands on rocking columns (MODEL.md 16)
 };
 
 // What a model has, for Needs.
 struct Presence {
   bool rocking = true, elasticity = true, dampers = true, devices = true, vertical = true, energy = true;
+  bool columns = false;
   constexpr bool has(Needs n) const {
     switch (n) {
       case Needs::always: return true;
@@ -57,6 +60,7 @@ struct Presence {
       case Needs::devices: return devices;
       case Needs::vertical: return vertical;
       case Needs::energy: return energy;
+      case Needs::columns: return columns;
     }
     return false;
   }
@@ -160,6 +164,21 @@ inline constexpr std::array<QuantityInfo, quantity_count> quantity_table = {{
      "W_{devices}", 1, "J", Needs::energy, on_request, {}, Quantity::t, {LabRole::drawn, 0}},
     {Quantity::work_impacts, "W_impacts", "J", "energy lost at impacts since the start", "W_{impacts}", 1, "J",
      Needs::energy, on_request, {}, Quantity::t, {LabRole::drawn, 0}},
+    // A structure on rocking columns (MODEL.md 16): the columns' common
+    // rocking angle (signed as theta), over their slenderness alpha, its rate, the cap
+    // beam's horizontal displacement relative to the ground, and the smallest
+    // of the columns' normal forces on the deck (compression > 0).
+    {Quantity::columns_theta, "columns.theta", "rad", "columns' rocking angle", "{/Symbol q}_c", 1, "rad",
+     Needs::columns, history | peak | study, {}, Quantity::t, {}},
+    {Quantity::columns_theta_over_alpha, "columns.theta_over_alpha", "-", "columns' rocking angle over their slenderness",
+     "{/Symbol q}_c/{/Symbol a}_c", 1, "-", Needs::columns, history | peak | study, {FigureRole::response, 4},
+     Quantity::t, {LabRole::chart, 2}},
+    {Quantity::columns_theta_dot, "columns.theta_dot", "rad/s", "columns' rocking velocity", "d{/Symbol q}_c/dt", 1,
+     "rad/s", Needs::columns, history | peak, {}, Quantity::t, {}},
+    {Quantity::beam_x, "beam.x", "m", "cap beam's horizontal displacement (relative to the ground)", "x_b", 1000, "mm",
+     Needs::columns, history | peak, {}, Quantity::t, {}},
+    {Quantity::columns_top_force, "columns.top_force_min", "N", "smallest column-top contact force (compression > 0)",
+     "N_{min}", 1e-3, "kN", Needs::columns, history, {}, Quantity::t, {}},
 }};
 
 constexpr const QuantityInfo& info(Quantity q) { return quantity_table[static_cast<std::size_t>(q)]; }

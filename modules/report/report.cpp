@@ -114,6 +114,18 @@ json run_summary(const RunLabel& label, const RunResult& r) {
     }
     out["joints"] = joints;
   }
+  if (r.columns) {  // a structure on rocking columns (MODEL.md 16): their uplifts and impacts are the run's
+    const ColumnsResult& c = *r.columns;
+    out["columns"] = {{"first_uplift_s", finite_or_null(r.first_uplift)},
+                      {"first_impact_s", finite_or_null(r.first_impact)},
+                      {"uplifts", r.counts.uplifts},
+                      {"impacts", r.counts.impacts},
+                      {"peak_theta", r.peak(Quantity::columns_theta)},
+                      {"peak_theta_over_alpha", r.peak(Quantity::columns_theta_over_alpha)},
+                      {"peak_beam_x_m", r.peak(Quantity::beam_x)},
+                      {"smallest_top_force_N", finite_or_null(c.smallest_top_force)},
+                      {"smallest_top_force_s", finite_or_null(c.smallest_top_force_time)}};
+  }
   if (r.energy_tracked) {
     const EnergyBalance& e = r.energy;
     out["energy_J"] = {{"initial", e.initial}, {"final", e.final}, {"ground_input", e.ground},
@@ -186,6 +198,10 @@ HistoryColumns history_columns(const ContactModel& m, const std::vector<std::str
         throw InputError(fmt::format("{} {}: node and element quantities of a structure with joints are not reported "
                                      "(its joints' are: {})",
                                      option, text, fmt::join(joint_names, ", ")));
+      if (m.on_columns && member->of == MemberQuantityName::Of::node && member->node_quantity() != NodeQuantity::u &&
+          member->node_quantity() != NodeQuantity::a_abs)
+        throw InputError(fmt::format("{} {}: a node's displacement from the ground is not reported for a structure on "
+                                     "rocking columns (beam.x plus nodeK.u is)", option, text));
       const char* what = member->of == MemberQuantityName::Of::node ? "node" : "element";
       if (member->index < 1 || member->index > nodes)
         throw InputError(fmt::format("{} {}: no {} {} (this structure's {}s are 1 to {})", option, text, what,

@@ -958,10 +958,44 @@ JointedModel jointed_model(const Scene& scene) {
   return out;
 }
 
+namespace {
+
+// A scene on [columns] (MODEL.md 16): the structure on the cap beam as on a
+// fixed base (its outputs), carrying the columns' frame and impact rule.
+ContactModel columns_contact_model(const Scene& scene, bool track_energy, const std::vector<Device>& extra) {
+  const std::string& file = scene.source;
+  const std::vector<Device> devices = scene_devices(scene);
+  if (!devices.empty() || !extra.empty())
+    throw InputError(fmt::format("{}: device '{}': devices on a structure on rocking columns are not simulated yet "
+                                 "(remove it, or the [columns] table)", file,
+                                 devices.empty() ? extra.front().name : devices.front().group.empty()
+                                                                          ? devices.front().name : devices.front().group));
+  if (scene.contact.restitution_rule == RestitutionRule::eq9 && !scene.momentum_base)
+    throw InputError(fmt::format("{}: contact.restitution = eq9: not modelled for rocking columns (\"momentum\", "
+                                 "eq10, the same law here, or a number)", file));
+  auto on = std::make_shared<ColumnsModel>();
+  try {
+    on->columns = make_columns(*scene.columns, scene.structure);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(fmt::format("{}: {}", file, e.what()));
+  }
+  on->restitution = !scene.momentum_base && scene.contact.restitution_rule == RestitutionRule::constant
+                        ? scene.contact.restitution
+                        : -1.0;
+  on->theta_dot_min = scene.contact.theta_dot_min;
+  on->rocking = scene.contact.rocking;
+  on->overturn_angle = scene.contact.overturn_angle > 0 ? scene.contact.overturn_angle : on->columns.alpha;
+  Contact fixed = scene.contact;
+  fixed.rocking = false;
+  ContactModel m = make_contact_model(scene.structure, fixed, {}, track_energy);
+  m.on_columns = std::move(on);
+  return m;
+}
+
+}  // namespace
+
 ContactModel make_contact_model(const Scene& scene, bool track_energy, std::vector<Device> extra) {
-  if (scene.columns)
-    throw InputError(fmt::format("{}: [columns]: a structure on rocking columns is not simulated by this program yet "
-                                 "(its engine is rocking.columns)", scene.source));
+  if (scene.columns) return columns_contact_model(scene, track_energy, extra);
   std::vector<Device> devices = scene_devices(scene);
   for (Device& d : extra) devices.push_back(std::move(d));
   if (scene.jointed() && !extra.empty())

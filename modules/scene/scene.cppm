@@ -92,9 +92,10 @@ struct Scene {
   Contact contact;
   Damper damper;       // damper.enabled = false when the scene has none
   std::vector<Device> devices;  // the [[device]] tables, in order
-  // [columns]: the structure stands on rocking columns (checked as
-  // make_columns requires; the run path does not simulate them yet and
-  // make_contact_model refuses such a scene).
+  // [columns]: the structure stands on rocking columns (MODEL.md 16;
+  // checked as make_columns requires). [contact] then applies to the
+  // columns: restitution "momentum" (or eq10, the same law: 16's r for a
+  // rigid deck) or a number; contact.rocking = false holds them down.
   std::optional<ColumnGroup> columns;
   // Per device of `devices`: the segment its upper anchor is on with joints
   // ([[device]] segment, 0 .. J; -1: the top segment).
@@ -103,8 +104,8 @@ struct Scene {
   bool momentum_base = false;      // [contact] restitution = "momentum"
   double base_friction = std::numeric_limits<double>::infinity();  // [contact] friction
   // The structure rocks by the chain's equations (MODEL.md 15): joints, or
-  // the momentum law at its base.
-  bool jointed() const { return !joints.empty() || momentum_base; }
+  // the momentum law at its base (not on columns, which take it as their own).
+  bool jointed() const { return !columns && (!joints.empty() || momentum_base); }
   Excitation excitation;
   Initial initial;
   Output output;
@@ -142,8 +143,9 @@ JointedModel jointed_model(const Scene& scene);
 
 // The model the scene describes (rocking.contact), with energy accumulators
 // when asked; `extra` devices act after the scene's own. A scene with joints
-// carries its chain (ContactModel::jointed). InputError for a scene on
-// [columns], which this model does not describe.
+// carries its chain (ContactModel::jointed), a scene on [columns] its
+// columns (ContactModel::on_columns; InputError for a device, which the
+// columns' run does not model yet, or eq9).
 ContactModel make_contact_model(const Scene& scene, bool track_energy, std::vector<Device> extra = {});
 
 // The scene's excitation as a ground motion (reads the record if it names

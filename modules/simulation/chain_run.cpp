@@ -64,20 +64,8 @@ class ChainDriver {
     auto rhs = [this](double t, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& dydt) {
       derivatives(t, y, dydt);
     };
-    ode::Options tolerances = o.tolerances;
-    tolerances.max_step = std::min(tolerances.max_step, ground.max_step());
-    if (vertical_) tolerances.max_step = std::min(tolerances.max_step, vertical_->max_step());
-    tolerances.error_components = 2 * n_;  // the works do not steer the steps
-    const ode::Backend backend = o.backend == ode::Backend::automatic ? ode::Backend::rk45 : o.backend;
-    integrator_ = ode::make_integrator(backend, 2 * n_ + 2, rhs, tolerances);
-    const bool own_samples = vertical_ && !(vertical_->sample_interval() > 0 &&
-                                            vertical_->sample_interval() == ground_.sample_interval() &&
-                                            vertical_->duration() <= ground_.duration());
-    integrator_->set_breakpoints([this, own_samples](double t) {
-      return own_samples ? std::min(ground_.next_breakpoint(t), vertical_->next_breakpoint(t))
-                         : ground_.next_breakpoint(t);
-    });
-    t_end_ = o.duration > 0 ? o.duration : ground.duration();
+    integrator_ = motion_integrator(o, ground, 2 * n_ + 2, rhs, motion_tolerances(o, ground, 2 * n_));
+    t_end_ = run_end(o, ground);
     // The top node's local height on its segment: delta_t is its horizontal displacement over H_N.
     const ChainSegment& top = c_.data.segments.back();
     top_ = {.segment = c_.joints - 1, .x = 0.0, .z = top.heights[top.heights.size() - 1] - top.base_height,
@@ -96,33 +84,25 @@ class ChainDriver {
     initial_state();
     tendons_initial_ = energy().tendons;
     result_.energy.initial = mechanical();
-    next_output_ = opt_.output_interval;
-    outputs_ = 1;
-    try {
-      for (int j = 0; j < c_.joints; ++j) lift_if_lifting(j, 0.0);
-      restart(0.0);
-      for (int j = 0; j < c_.joints; ++j)
-        if (phases_[j].is_rocking() && sign(*phases_[j].pivot()) * y_[j] >= jm_.overturn_angle[j]) {
-          announce({EventKind::overturn, 0.0, *phases_[j].pivot(), std::nullopt, j});
-          result_.outcome = Outcome::overturned;
-        }
-      if (result_.outcome != Outcome::overturned) loop();
-    } catch (const ode::IntegrationError& e) {
-      result_.outcome = Outcome::failed;
-      result_.failure = fmt::format("{} (phases {})", e.what(), phases_text());
-    } catch (const RunError& e) {
-      result_.outcome = Outcome::failed;
-      result_.failure = fmt::format("{} (phases {})", e.what(), phases_text());
-    }
+    run_stated(
+        result_,
+        [this] {
+          for (int j = 0; j < c_.joints; ++j) lift_if_lifting(j, 0.0);
+          restart(0.0);
+          for (int j = 0; j < c_.joints; ++j)
+            if (phases_[j].is_rocking() && sign(*phases_[j].pivot()) * y_[j] >= jm_.overturn_angle[j]) {
+              announce({EventKind::overturn, 0.0, *phases_[j].pivot(), std::nullopt, j});
+              result_.outcome = Outcome::overturned;
+            }
+          if (result_.outcome != Outcome::overturned) loop();
+        },
+        [this] { return fmt::format("phases {}", phases_text()); });
     finish();
     return result_;
   }
 
  private:
-  GroundAcceleration ground_at(double t) const {
-    return vertical_ ? GroundAcceleration{ground_.acceleration(t), vertical_->acceleration(t)}
-                     : GroundAcceleration{ground_.acceleration(t)};
-  }
+  GroundAcceleration ground_at(double t) const { return rocking::ground_at(ground_, vertical_, t); }
 
   void derivatives(double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> dydt) {
     const GroundAcceleration a = ground_at(t);
@@ -243,8 +223,7 @@ class ChainDriver {
 
   void loop() {
     while (integrator_->time() < t_end_) {
-      if (opt_.stop && opt_.stop())
-        throw RunError(fmt::format("stopped at t = {:.6g} s on request", integrator_->time()));
+      check_stop(opt_, integrator_->time());
       const ode::StepReport rep = integrator_->step(t_end_);
       sample_step();
       if (rep.reason == ode::Stop::event) {
@@ -265,9 +244,7 @@ class ChainDriver {
   bool handle_event(const ChainGuardDef& d, double t) {
     y_ = integrator_->state();
     const int j = d.joint;
-    if (++events_ > opt_.max_events)
-      throw RunError(fmt::format("phase change number {} at t = {:.9g} s exceeds the limit (chattering? raise "
-                                 "contact.theta_dot_min or the event limit)", events_, t));
+    count_phase_change(events_, opt_, t);
     switch (d.what) {
       case ChainGuard::uplift: lift(j, d.pivot, t); break;
       case ChainGuard::impact: impact(j, t); break;
@@ -397,12 +374,8 @@ class ChainDriver {
       const Eigen::VectorXd& y = integrator_->sample(k, count);
       track(response(ode::Integrator::sample_time(t0, t1, k, count), y, true));
     }
-    if (observer_ == nullptr || !(opt_.output_interval > 0)) return;
-    while (next_output_ <= integrator_->time()) {
-      integrator_->dense(next_output_, dense_);
-      history_row(next_output_, dense_);
-      next_output_ = opt_.output_interval * static_cast<double>(++outputs_);
-    }
+    if (observer_ == nullptr) return;
+    history_.rows(*integrator_, dense_, [this](double t, const Eigen::VectorXd& y) { history_row(t, y); });
   }
 
   // A history row, with the energy balance's terms so far: the mechanical
@@ -475,9 +448,10 @@ class ChainDriver {
   std::vector<ChainGuardDef> guards_;
   GroundTravel travel_{ground_};
   std::unique_ptr<ode::Integrator> integrator_;
-  double t_end_ = 0, next_output_ = 0, tendons_initial_ = 0;
+  double t_end_ = 0, tendons_initial_ = 0;
   double last_row_ = -std::numeric_limits<double>::infinity();  // the last history row's time
-  long outputs_ = 0, events_ = 0;
+  long events_ = 0;
+  HistoryGrid history_{opt_.output_interval};
   PeakTracker peaks_;
   RunResult result_;
 };
@@ -486,11 +460,7 @@ class ChainDriver {
 
 RunResult simulate_chain(const ContactModel& m, const GroundMotion& ground, const RunOptions& options,
                          Observer* observer) {
-  const auto start = std::chrono::steady_clock::now();
-  ChainDriver driver(m, ground, options, observer);
-  RunResult result = driver.run();
-  result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return result;
+  return timed_run<ChainDriver>(m, ground, options, observer);
 }
 
 }  // namespace rocking

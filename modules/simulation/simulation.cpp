@@ -502,6 +502,7 @@ RunResult simulate(const ContactModel& m, const GroundMotion& ground, const RunO
   // The run's wall time counts its set-up: the integrators, the exact steps'
   // eigen forms, the output scales.
   if (m.jointed) return simulate_chain(m, ground, options, observer);  // MODEL.md 15: chain_run.cpp
+  if (m.on_columns) return simulate_columns(m, ground, options, observer);  // MODEL.md 16: columns_run.cpp
   const auto start = std::chrono::steady_clock::now();
   Driver driver(m, ground, options, observer);
   RunResult result = driver.run();

@@ -29,8 +29,10 @@
 module;
 #include <rocking/eigen.hpp>
 #include <array>
+#include <chrono>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -177,6 +179,15 @@ struct JointResult {
   double peak_theta_over_alpha = 0;  // max |theta| over alpha_j, the slenderness of everything above the joint [-]
 };
 
+// What the columns did in a run of a structure on rocking columns (MODEL.md
+// 16; their uplifts and impacts are the run's counts, their peaks the
+// columns.* quantities'): the smallest column-top contact force over the
+// run and when, sampled as the peaks are.
+struct ColumnsResult {
+  double smallest_top_force = std::numeric_limits<double>::infinity();  // [N]; compression > 0
+  double smallest_top_force_time = std::numeric_limits<double>::quiet_NaN();  // [s]
+};
+
 struct EnergyBalance {
   double initial = 0, final = 0;                 // mechanical: kinetic + gravity + elastic [J]
   double ground = 0, viscous = 0, damper = 0, impacts = 0;  // [J]
@@ -195,6 +206,7 @@ struct RunResult {
   Counts counts;
   std::vector<DeviceResult> devices;  // one per device of the model, in its order
   std::vector<JointResult> joints;    // a structure with joints: one per joint, the base first; else empty
+  std::optional<ColumnsResult> columns;  // a structure on rocking columns; else none
   double first_uplift = std::numeric_limits<double>::quiet_NaN();
   double first_impact = std::numeric_limits<double>::quiet_NaN();
   EnergyBalance energy;
@@ -248,7 +260,9 @@ ode::Backend choose_backend(const ContactModel& m, const GroundMotion& ground, o
 // Runs the model under the ground motion: along the model's plane and, when
 // it comes with one (GroundMotion::vertical), upward (MODEL.md 14). A model
 // with joints (ContactModel::jointed) is run by the chain's equations
-// (MODEL.md 15) with the same backends, events, observers and energy balance.
+// (MODEL.md 15), one on rocking columns (ContactModel::on_columns) by the
+// columns' (MODEL.md 16), with the same backends, events, observers and
+// energy balance.
 // Never throws for a run that cannot finish: the result says failed, with
 // the reason, and holds what was reached.
 RunResult simulate(const ContactModel& m, const GroundMotion& ground, const RunOptions& options,
@@ -261,4 +275,60 @@ namespace rocking {
 // simulate() hands over to: chain_run.cpp.
 RunResult simulate_chain(const ContactModel& m, const GroundMotion& ground, const RunOptions& options,
                          Observer* observer);
+// The run of a structure on rocking columns (ContactModel::on_columns,
+// MODEL.md 16): columns_run.cpp.
+RunResult simulate_columns(const ContactModel& m, const GroundMotion& ground, const RunOptions& options,
+                           Observer* observer);
+
+// What the drivers of chain_run.cpp and columns_run.cpp share (drive.cpp;
+// MODEL.md 6 and 14).
+// The ground's acceleration at t: along the plane, and upward when shaken so.
+GroundAcceleration ground_at(const GroundMotion& ground, const GroundMotion* vertical, double t);
+// The run's tolerances with steps no longer than the motion's (and its
+// vertical motion's), the error measured on the first `steering` components
+// only (the energy accumulators after them are integrals nothing depends on).
+ode::Options motion_tolerances(const RunOptions& o, const GroundMotion& ground, Eigen::Index steering);
+// The backend asked for (automatic: rk45; rosw without a stiff part is its
+// explicit order-3 method), stopping at every sample of the records.
+std::unique_ptr<ode::Integrator> motion_integrator(const RunOptions& o, const GroundMotion& ground, Eigen::Index size,
+                                                   ode::Rhs rhs, const ode::Options& tolerances);
+// Where the run ends: the duration asked for, else the motion's.
+double run_end(const RunOptions& o, const GroundMotion& ground);
+// One more phase change at t: RunError beyond the run's limit (chattering).
+void count_phase_change(long& events, const RunOptions& o, double t);
+// RunError ("stopped at t = ...") when the caller asks the run to stop.
+void check_stop(const RunOptions& o, double t);
+// Runs body; a failure it throws (the integrator's, or a stated outcome's
+// RunError) ends the run as failed, with the phase as `phase` tells it.
+void run_stated(RunResult& result, const std::function<void()>& body, const std::function<std::string()>& phase);
+
+// A driver's run, timed from its set-up (the wall time counts it).
+template <class Driver>
+RunResult timed_run(const ContactModel& m, const GroundMotion& ground, const RunOptions& options, Observer* observer) {
+  const auto start = std::chrono::steady_clock::now();
+  Driver driver(m, ground, options, observer);
+  RunResult result = driver.run();
+  result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+// The history's rows every output_interval after t = 0 (the start's row is
+// the caller's): row(t, y) at each one the integrator has passed.
+class HistoryGrid {
+ public:
+  explicit HistoryGrid(double interval) : interval_(interval), next_(interval) {}
+  template <class Row>
+  void rows(ode::Integrator& integrator, Eigen::VectorXd& dense, Row&& row) {
+    if (!(interval_ > 0)) return;
+    while (next_ <= integrator.time()) {
+      integrator.dense(next_, dense);
+      row(next_, dense);
+      next_ = interval_ * static_cast<double>(++count_);
+    }
+  }
+
+ private:
+  double interval_, next_;
+  long count_ = 1;
+};
 }  // namespace rocking

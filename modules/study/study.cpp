@@ -39,8 +39,11 @@ std::vector<Variant> default_variants(const Scene& scene) {
   std::vector<Variant> out{named_variant("scene")};
   for (const DeviceGroup& g : device_groups(scene))
     if (g.dissipates) out.push_back(named_variant("without:" + g.name));
-  // A structure with joints has no fixed-base variant: its chain rocks at its base (MODEL.md 15).
-  if (scene.contact.rocking && !scene.structure.rigid && !scene.jointed()) out.push_back(named_variant("fixed-base"));
+  // A structure with joints has no fixed-base variant: its chain rocks at its base (MODEL.md 15). Nor has one
+  // on rocking columns: contact.rocking = false there holds the columns still, with the beam still free on
+  // them (MODEL.md 16), which is not the structure on a fixed base.
+  if (scene.contact.rocking && !scene.structure.rigid && !scene.jointed() && !scene.columns)
+    out.push_back(named_variant("fixed-base"));
   return out;
 }
 
@@ -356,11 +359,10 @@ std::vector<std::pair<std::size_t, Capacity>> hunt_capacities(const std::vector<
   return out;
 }
 
-BlockSpectrum overturning_spectrum(const Scene& rigid_block, double size, PulseShape pulse,
-                                   const std::vector<double>& frequency_ratios,
-                                   const std::vector<double>& amplitude_ratios, int threads,
-                                   const std::function<void(std::size_t, std::size_t)>& progress,
-                                   const std::vector<std::pair<bool, bool>>& done, const std::function<bool()>& stop) {
+namespace {
+
+// The scene with its lengths scaled by `size`, columns included; no damper.
+Scene scaled_block(const Scene& rigid_block, double size) {
   if (!rigid_block.structure.rigid)
     throw InputError(fmt::format("{}: the overturning spectrum needs a rigid block (structure.rigid = true)",
                                  rigid_block.source));
@@ -368,16 +370,44 @@ BlockSpectrum overturning_spectrum(const Scene& rigid_block, double size, PulseS
   Scene scene = rigid_block;
   scene.structure.half_width *= size;
   scene.structure.heights *= size;
+  if (scene.columns) {
+    scene.columns->half_width *= size;
+    scene.columns->half_height *= size;
+    scene.columns->spacing *= size;
+  }
   scene.damper.enabled = false;
-  const ContactModel model = make_contact_model(scene, false);
-  const Structure& st = model.body.structure;
-  BlockSpectrum out;
-  out.size = size;
-  out.alpha = slenderness(st);
+  return scene;
+}
+
+SpectrumScale scale_of(const ContactModel& model) {
+  if (model.on_columns) {
+    const Columns& c = model.on_columns->columns;
+    return {std::sqrt(frame_p2(c)), c.alpha};
+  }
   // Housner's frequency parameter p^2 = m g R / J_p, R from the pivot to the
   // centre of gravity (what rocking.report's block summary gives).
+  const Structure& st = model.body.structure;
   const double R = std::hypot(st.half_width, centre_of_gravity_height(st));
-  out.p = std::sqrt(model.body.g * total_mass(st) * R / pivot_inertia(st));
+  return {std::sqrt(model.body.g * total_mass(st) * R / pivot_inertia(st)), slenderness(st)};
+}
+
+}  // namespace
+
+SpectrumScale spectrum_scale(const Scene& rigid_block, double size) {
+  return scale_of(make_contact_model(scaled_block(rigid_block, size), false));
+}
+
+BlockSpectrum overturning_spectrum(const Scene& rigid_block, double size, PulseShape pulse,
+                                   const std::vector<double>& frequency_ratios,
+                                   const std::vector<double>& amplitude_ratios, int threads,
+                                   const std::function<void(std::size_t, std::size_t)>& progress,
+                                   const std::vector<std::pair<bool, bool>>& done, const std::function<bool()>& stop) {
+  const ContactModel model = make_contact_model(scaled_block(rigid_block, size), false);
+  const SpectrumScale scale = scale_of(model);
+  BlockSpectrum out;
+  out.size = size;
+  out.alpha = scale.alpha;
+  out.p = scale.p;
   const double a_uplift = model.body.g * std::tan(out.alpha);
   for (double f : frequency_ratios)
     for (double a : amplitude_ratios) {

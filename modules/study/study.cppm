@@ -110,8 +110,8 @@ struct Variant {
 Variant named_variant(const std::string& name);
 // The variants a study of the scene runs unless told: as built ("scene"),
 // without each of its energy-dissipating devices ("without:NAME", by the
-// laws' traits), and on a fixed base when it rocks and is flexible. None
-// needs a key the scene lacks.
+// laws' traits), and on a fixed base when it is flexible and rocks on its
+// own base (not at joints, not on columns). None needs a key the scene lacks.
 std::vector<Variant> default_variants(const Scene& scene);
 
 struct Job {
@@ -411,7 +411,17 @@ struct BlockSpectrum {
   std::vector<SpectrumPoint> points;  // frequency-major
   std::size_t complete = 0;           // points [0, complete) are computed (all, unless stopped)
 };
-// rigid_block must be a rigid scene. Runs on `threads` threads; progress(done, total).
+// The normalised axes' scale of a rigid scene whose lengths are scaled by
+// `size` (the same slenderness): Housner's p and the block's alpha; on
+// [columns] (MODEL.md 16), the rigid frame's p-hat, p^2 (1 + 2 gamma) /
+// (1 + 3 gamma), and its columns' alpha, which make the frame's equation of
+// motion the single block's.
+struct SpectrumScale {
+  double p = 0, alpha = 0;
+};
+SpectrumScale spectrum_scale(const Scene& rigid_block, double size);
+// rigid_block must be a rigid scene, on its base or on [columns]. Runs on
+// `threads` threads; progress(done, total).
 // `done`: the outcomes (uplift, overturned) of the first points from an
 // earlier, stopped computation, taken as they are. When stop() turns true no
 // new point starts; `complete` says how far the points go.

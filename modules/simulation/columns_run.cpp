@@ -1,0 +1,369 @@
+// The run of a structure on rocking columns (MODEL.md 16): the frame's
+// equations (rocking.columns) integrated by the same backends
+// (rocking.integrator, rocking.sundials) and reported through the same
+// observers, events, peaks and energy balance as the other drivers
+// (simulation.cpp, chain_run.cpp; what they share is drive.cpp's). The phase
+// is the columns': full contact (the structure on the cap beam as on a fixed
+// base, MODEL.md 3) or rocking about either side. Guards:
+// - full contact: uplift about s when the frame's equations give s theta'' > 0
+//   at theta = theta' = 0 (uplift_guard, MODEL.md 16's Eq. 2 for the frame),
+//   rising; none when contact.rocking = false holds the columns down;
+// - rocking about s: impact, s theta falling through 0; overturning, s theta
+//   rising through the columns' slenderness alpha (where gravity's moment on
+//   the frame changes sign) or contact.overturn_angle;
+// - any phase: tension, the smallest column-top contact force falling
+//   through 0: the beam would leave a column, which the model assumes it does
+//   not; the run ends there as failed, stated (MODEL.md 16).
+// Resets: uplift (theta = theta' = 0, already so); impact by MODEL.md 15's
+// momentum law (16's r for a rigid deck; a flexible deck's nodes keep their
+// horizontal momentum) or a given r, into full contact when the ratio is not
+// positive or |theta'| is below contact.theta_dot_min (Eq. 8's threshold);
+// after an impact into full contact the frame lifts at once if the uplift
+// condition already holds. The state is [theta, theta', u, u', W_ground,
+// W_viscous] (u nodal, none for a rigid deck); the works do not steer the
+// steps. The structure's outputs are those of the structure on a fixed base
+// (rocking.simulation's evaluate on the model's fixed-base description) with
+// the total top drift measured from the ground, (beam dx + u_N) / H_N, H_N
+// from the column tops; a_N is -(K u + C u')_N / m_N in both phases (node N's
+// Newton law, the beam's acceleration included). The columns report
+// columns.theta, columns.theta_over_alpha (over their alpha),
+// columns.theta_dot, beam.x and columns.top_force_min.
+module;
+#include <rocking/eigen.hpp>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <tuple>
+#include <vector>
+#include <fmt/format.h>
+module rocking.simulation;
+import :peaks;
+import rocking.errors;
+
+namespace rocking {
+
+namespace {
+
+enum class ColumnsGuard { uplift, impact, overturn, tension };
+
+struct ColumnsGuardDef {
+  ColumnsGuard what = ColumnsGuard::uplift;
+  Pivot pivot = Pivot::right;
+};
+
+class ColumnsDriver {
+ public:
+  ColumnsDriver(const ContactModel& m, const GroundMotion& ground, const RunOptions& o, Observer* observer)
+      : m_(m), cm_(*m.on_columns), c_(cm_.columns), ground_(ground), vertical_(ground.vertical()), opt_(o),
+        observer_(observer), scales_(output_scales(m)), n_(elastic_size(c_)), size_(2 + 2 * n_ + 2),
+        y_(Eigen::VectorXd::Zero(size_)), dense_(size_), rates_(Eigen::VectorXd::Zero(2 * n_)),
+        fixed_(Eigen::VectorXd::Zero(m.layout.size)), normal_(static_cast<std::size_t>(c_.group.count)),
+        history_(o.output_interval) {
+    auto rhs = [this](double t, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& dydt) {
+      derivatives(t, y, dydt);
+    };
+    integrator_ = motion_integrator(o, ground, size_, rhs, motion_tolerances(o, ground, 2 + 2 * n_));
+    t_end_ = run_end(o, ground);
+  }
+
+  RunResult run() {
+    result_.integrator = integrator_->name();
+    result_.presence = presence(m_);
+    result_.energy_tracked = true;
+    result_.columns.emplace();
+    initial_state();
+    result_.energy.initial = mechanical();
+    run_stated(
+        result_,
+        [this] {
+          lift_if_lifting(0.0);
+          restart(0.0);
+          if (phase_.is_rocking() && sign(*phase_.pivot()) * y_[0] >= cm_.overturn_angle) {
+            announce({EventKind::overturn, 0.0, *phase_.pivot(), std::nullopt});
+            result_.outcome = Outcome::overturned;
+          } else {
+            loop();
+          }
+        },
+        [this] { return fmt::format("phase {}", phase_name(phase_)); });
+    finish();
+    return result_;
+  }
+
+ private:
+  int s() const { return phase_.sign(); }
+  GroundAcceleration ground_at(double t) const { return rocking::ground_at(ground_, vertical_, t); }
+  Coordinates coordinates(Eigen::Ref<const Eigen::VectorXd> y) const {
+    return {y.segment(2, n_), y.segment(2 + n_, n_), Tilt(y[0]), y[1]};
+  }
+
+  // theta'' (0 in full contact) with (u', u'') into rates_, as the phase's equations give them.
+  double accelerations(double t, Eigen::Ref<const Eigen::VectorXd> y) {
+    const GroundAcceleration a = ground_at(t);
+    if (!phase_.is_rocking()) {
+      full_contact_acceleration(c_, a.h, y.segment(2, n_), y.segment(2 + n_, n_), rates_);
+      return 0.0;
+    }
+    return rocking_acceleration(c_, s(), a, 0.0, coordinates(y), rates_);
+  }
+
+  void derivatives(double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> dydt) {
+    const double theta_ddot = accelerations(t, y);
+    dydt[0] = phase_.is_rocking() ? y[1] : 0.0;  // a closed frame's theta stays 0
+    dydt[1] = theta_ddot;
+    dydt.segment(2, 2 * n_) = rates_;
+    const GroundAcceleration a = ground_at(t);
+    dydt[2 + 2 * n_] = ground_input_power(c_, s(), a, coordinates(y));
+    dydt[3 + 2 * n_] = viscous_power(c_, y.segment(2 + n_, n_));
+  }
+
+  // The column-top contact forces now (normal_ filled).
+  TopContact top_forces(double t, Eigen::Ref<const Eigen::VectorXd> y) {
+    const double theta_ddot = accelerations(t, y);
+    return top_contact_forces(c_, s(), ground_at(t), coordinates(y), theta_ddot,
+                              rates_.tail(n_), normal_);
+  }
+
+  void initial_state() {
+    const InitialState& init = opt_.initial;
+    for (const auto& [v, at, what] : {std::tuple{&init.u, Eigen::Index{2}, "u"}, std::tuple{&init.u_dot, 2 + n_, "u_dot"}}) {
+      if (v->size() == 0) continue;
+      if (v->size() != n_)
+        throw InputError(fmt::format("initial {}: {} entries for a structure with {} elastic coordinates on the columns",
+                                     what, v->size(), n_));
+      y_.segment(at, n_) = *v;
+    }
+    if (init.theta == 0 && init.theta_dot == 0) return;
+    phase_ = Phase::rocking(init.theta > 0 || (init.theta == 0 && init.theta_dot > 0) ? Pivot::right : Pivot::left);
+    y_[0] = init.theta;
+    y_[1] = init.theta_dot;
+  }
+
+  double mechanical() { return mechanical_energy(c_, s(), coordinates(y_)).total(); }
+
+  // In full contact (at the start or after an impact): lift now if the uplift
+  // condition already holds about one side.
+  void lift_if_lifting(double t) {
+    if (phase_.is_rocking() || !cm_.rocking) return;
+    const GroundAcceleration a = ground_at(t);
+    for (Pivot p : pivots)
+      if (uplift_guard(c_, sign(p), a, 0.0, y_.segment(2, n_), y_.segment(2 + n_, n_)) > 0) {
+        lift(p, t);
+        return;
+      }
+  }
+
+  void lift(Pivot p, double t) {
+    phase_ = Phase::rocking(p);
+    y_[0] = 0;
+    y_[1] = 0;
+    if (result_.counts.uplifts++ == 0) result_.first_uplift = t;
+    announce({EventKind::uplift, t, p, std::nullopt});
+  }
+
+  void announce(const Event& e) {
+    if (observer_ != nullptr) observer_->event(e);
+  }
+
+  void restart(double t) {
+    guards_.clear();
+    std::vector<ode::Direction> directions;
+    if (phase_.is_rocking()) {
+      guards_.push_back({ColumnsGuard::impact, *phase_.pivot()});
+      directions.push_back(ode::Direction::falling);
+      guards_.push_back({ColumnsGuard::overturn, *phase_.pivot()});
+      directions.push_back(ode::Direction::rising);
+    } else if (cm_.rocking) {
+      for (Pivot p : pivots) {
+        guards_.push_back({ColumnsGuard::uplift, p});
+        directions.push_back(ode::Direction::rising);
+      }
+    }
+    guards_.push_back({ColumnsGuard::tension});
+    directions.push_back(ode::Direction::falling);
+    ode::Guards guards{[this](double tg, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& g) {
+                         guard_values(tg, y, g);
+                       },
+                       std::move(directions)};
+    integrator_->reset(t, y_, std::move(guards));
+    const TopContact top = top_forces(t, y_);
+    if (top.smallest < 0) tension(t);
+    emit(t, y_);
+  }
+
+  void guard_values(double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> g) {
+    const GroundAcceleration a = ground_at(t);
+    for (std::size_t k = 0; k < guards_.size(); ++k) {
+      const ColumnsGuardDef& d = guards_[k];
+      const double sd = sign(d.pivot);
+      switch (d.what) {
+        case ColumnsGuard::uplift:
+          g[k] = uplift_guard(c_, sign(d.pivot), a, 0.0, y.segment(2, n_), y.segment(2 + n_, n_));
+          break;
+        case ColumnsGuard::impact: g[k] = sd * y[0]; break;
+        case ColumnsGuard::overturn: g[k] = sd * y[0] - cm_.overturn_angle; break;
+        case ColumnsGuard::tension: g[k] = top_forces(t, y).smallest; break;
+      }
+    }
+  }
+
+  [[noreturn]] void tension(double t) {
+    throw RunError(fmt::format("a column-top contact force turned tensile at t = {:.9g} s: the cap beam would lift off "
+                               "a column, which the model assumes it does not (MODEL.md 16)", t));
+  }
+
+  void loop() {
+    while (integrator_->time() < t_end_) {
+      check_stop(opt_, integrator_->time());
+      const ode::StepReport rep = integrator_->step(t_end_);
+      sample_step();
+      if (rep.reason == ode::Stop::event) {
+        if (!handle_event(guards_[static_cast<std::size_t>(rep.guard)], rep.t)) return;
+      } else if (phase_.sign() * integrator_->state()[0] < 0) {
+        // Round-off right after an uplift can put theta on the wrong side
+        // without a crossing: treat it as the impact it is.
+        if (!handle_event({ColumnsGuard::impact, *phase_.pivot()}, integrator_->time())) return;
+      }
+    }
+  }
+
+  // Returns false when the run ends (overturning).
+  bool handle_event(const ColumnsGuardDef& d, double t) {
+    y_ = integrator_->state();
+    count_phase_change(events_, opt_, t);
+    switch (d.what) {
+      case ColumnsGuard::uplift: lift(d.pivot, t); break;
+      case ColumnsGuard::impact: impact(t); break;
+      case ColumnsGuard::overturn:
+        announce({EventKind::overturn, t, d.pivot, std::nullopt});
+        result_.outcome = Outcome::overturned;
+        return false;
+      case ColumnsGuard::tension: tension(t);
+    }
+    peaks_.break_continuity();
+    restart(t);
+    return true;
+  }
+
+  // Impact at theta = 0: the momentum law or a given r (rocking.columns' impact).
+  void impact(double t) {
+    const Pivot p = *phase_.pivot();
+    announce({EventKind::impact, t, p, std::nullopt});
+    y_[0] = 0;
+    const double before = mechanical();
+    Eigen::VectorXd u_dot = y_.segment(2 + n_, n_);
+    const ColumnsImpact out = rocking::impact(c_, sign(p), y_[1], u_dot, cm_.restitution, cm_.theta_dot_min);
+    y_.segment(2 + n_, n_) = u_dot;
+    phase_ = out.after;
+    y_[1] = out.theta_dot;
+    result_.energy.impacts += before - mechanical();
+    if (result_.counts.impacts++ == 0) result_.first_impact = t;
+    lift_if_lifting(t);
+  }
+
+  // The structure's response on the cap beam (its fixed-base outputs) with the
+  // drift from the ground and the columns' quantities; the top forces when asked.
+  Response response(double t, Eigen::Ref<const Eigen::VectorXd> y, bool forces) {
+    const Layout& l = m_.layout;
+    if (l.u.present()) {
+      from_nodal(m_.body, y.segment(2, n_), fixed_.segment(l.u.start, l.n));
+      from_nodal(m_.body, y.segment(2 + n_, n_), fixed_.segment(l.u_dot.start, l.n));
+    }
+    Response r = evaluate(m_, scales_, contact_, t, fixed_);
+    r.phase = phase_;
+    r[Quantity::phase] = phase_.sign();
+    const double dx = phase_.is_rocking() ? beam_motion(c_, s(), Tilt(y[0])).dx : 0.0;
+    const double u_top = n_ > 0 ? y[2 + n_ - 1] : 0.0;
+    r[Quantity::delta_t] = (dx + u_top) * scales_.inverse_H_N;
+    r[Quantity::columns_theta] = y[0];
+    r[Quantity::columns_theta_over_alpha] = y[0] / c_.alpha;
+    r[Quantity::columns_theta_dot] = y[1];
+    r[Quantity::beam_x] = dx;
+    if (forces) {
+      const double smallest = top_forces(t, y).smallest;
+      r[Quantity::columns_top_force] = smallest;
+      ColumnsResult& cr = *result_.columns;
+      if (smallest < cr.smallest_top_force) {
+        cr.smallest_top_force = smallest;
+        cr.smallest_top_force_time = t;
+      }
+    }
+    return r;
+  }
+
+  void sample_step() {
+    const int count = integrator_->sample_count();
+    const double t0 = integrator_->previous_time(), t1 = integrator_->time();
+    for (int k = 1; k <= count; ++k) {
+      const Eigen::VectorXd& y = integrator_->sample(k, count);
+      const Response r = response(ode::Integrator::sample_time(t0, t1, k, count), y, true);
+      peaks_.add(r.t, r.q);
+    }
+    if (observer_ == nullptr) return;
+    history_.rows(*integrator_, dense_, [this](double t, const Eigen::VectorXd& y) { history_row(t, y); });
+  }
+
+  void history_row(double t, Eigen::Ref<const Eigen::VectorXd> y) {
+    Response r = response(t, y, true);
+    r[Quantity::a_g] = ground_.acceleration(t);
+    r[Quantity::a_v] = vertical_ ? vertical_->acceleration(t) : 0.0;
+    r[Quantity::x_g] = travel_.at(t).d;
+    observer_->nodal(y.segment(2, n_), y.segment(2 + n_, n_));
+    observer_->record(r);
+  }
+
+  void emit(double t, Eigen::Ref<const Eigen::VectorXd> y) {
+    const Response r = response(t, y, true);
+    peaks_.add(r.t, r.q);
+    if (observer_ != nullptr) history_row(t, y);
+  }
+
+  void finish() {
+    y_ = integrator_->state();
+    result_.t_end = integrator_->time();
+    result_.final_phase = phase_;
+    result_.final_theta = y_[0];
+    result_.final_state = y_;
+    result_.peaks = peaks_.peaks();
+    result_.top_total_mm = result_.peak(Quantity::delta_t) * scales_.H_N * 1000.0;
+    result_.stats = integrator_->stats();
+    result_.energy.final = mechanical();
+    result_.energy.ground = y_[2 + 2 * n_];
+    result_.energy.viscous = y_[3 + 2 * n_];
+  }
+
+  const ContactModel& m_;
+  const ColumnsModel& cm_;
+  const Columns& c_;
+  const GroundMotion& ground_;
+  const GroundMotion* vertical_;
+  const RunOptions& opt_;
+  Observer* observer_;
+  OutputScales scales_;
+  Eigen::Index n_, size_;
+  Phase phase_;
+  Discrete contact_;  // the structure's own phase on the beam: full contact
+  Eigen::VectorXd y_, dense_, rates_, fixed_;
+  std::vector<double> normal_;
+  std::vector<ColumnsGuardDef> guards_;
+  GroundTravel travel_{ground_};
+  std::unique_ptr<ode::Integrator> integrator_;
+  double t_end_ = 0;
+  long events_ = 0;
+  HistoryGrid history_;
+  PeakTracker peaks_;
+  RunResult result_;
+};
+
+}  // namespace
+
+RunResult simulate_columns(const ContactModel& m, const GroundMotion& ground, const RunOptions& options,
+                           Observer* observer) {
+  return timed_run<ColumnsDriver>(m, ground, options, observer);
+}
+
+}  // namespace rocking

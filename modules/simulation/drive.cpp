@@ -1,0 +1,71 @@
+// What the drivers of chain_run.cpp and columns_run.cpp share (declared in
+// simulation.cppm): the ground's acceleration (MODEL.md 14), the
+// integrator's limits and breakpoints from the motion, the run's end and the
+// limit on phase changes, a stop on request and a failure's statement (MODEL.md 6).
+module;
+#include <rocking/eigen.hpp>
+#include <algorithm>
+#include <functional>
+#include <string>
+#include <memory>
+#include <utility>
+#include <fmt/format.h>
+module rocking.simulation;
+import rocking.errors;
+
+namespace rocking {
+
+GroundAcceleration ground_at(const GroundMotion& ground, const GroundMotion* vertical, double t) {
+  return vertical ? GroundAcceleration{ground.acceleration(t), vertical->acceleration(t)}
+                  : GroundAcceleration{ground.acceleration(t)};
+}
+
+ode::Options motion_tolerances(const RunOptions& o, const GroundMotion& ground, Eigen::Index steering) {
+  ode::Options t = o.tolerances;
+  t.max_step = std::min(t.max_step, ground.max_step());
+  if (const GroundMotion* v = ground.vertical()) t.max_step = std::min(t.max_step, v->max_step());
+  t.error_components = steering;
+  return t;
+}
+
+std::unique_ptr<ode::Integrator> motion_integrator(const RunOptions& o, const GroundMotion& ground, Eigen::Index size,
+                                                   ode::Rhs rhs, const ode::Options& tolerances) {
+  const ode::Backend backend = o.backend == ode::Backend::automatic ? ode::Backend::rk45 : o.backend;
+  std::unique_ptr<ode::Integrator> integrator = ode::make_integrator(backend, size, std::move(rhs), tolerances);
+  // A vertical record sampled as the horizontal one and no longer than it
+  // adds no breakpoints of its own.
+  const GroundMotion* vertical = ground.vertical();
+  const bool own_samples = vertical && !(vertical->sample_interval() > 0 &&
+                                         vertical->sample_interval() == ground.sample_interval() &&
+                                         vertical->duration() <= ground.duration());
+  integrator->set_breakpoints([&ground, vertical, own_samples](double t) {
+    return own_samples ? std::min(ground.next_breakpoint(t), vertical->next_breakpoint(t)) : ground.next_breakpoint(t);
+  });
+  return integrator;
+}
+
+double run_end(const RunOptions& o, const GroundMotion& ground) { return o.duration > 0 ? o.duration : ground.duration(); }
+
+void count_phase_change(long& events, const RunOptions& o, double t) {
+  if (++events > o.max_events)
+    throw RunError(fmt::format("phase change number {} at t = {:.9g} s exceeds the limit (chattering? raise "
+                               "contact.theta_dot_min or the event limit)", events, t));
+}
+
+void check_stop(const RunOptions& o, double t) {
+  if (o.stop && o.stop()) throw RunError(fmt::format("stopped at t = {:.6g} s on request", t));
+}
+
+void run_stated(RunResult& result, const std::function<void()>& body, const std::function<std::string()>& phase) {
+  try {
+    body();
+  } catch (const ode::IntegrationError& e) {
+    result.outcome = Outcome::failed;
+    result.failure = fmt::format("{} ({})", e.what(), phase());
+  } catch (const RunError& e) {
+    result.outcome = Outcome::failed;
+    result.failure = fmt::format("{} ({})", e.what(), phase());
+  }
+}
+
+}  // namespace rocking
