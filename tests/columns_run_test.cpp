@@ -37,6 +37,7 @@
 #include "rocking_record.hpp"
 #include "run_program.hpp"
 #include "temp_path.hpp"
+#include "watched_run.hpp"
 import rocking.run;
 import rocking.study;
 import rocking.errors;
@@ -111,26 +112,10 @@ struct Watch : Observer {
   }
 };
 
-struct Ran {
-  RunResult result;
-  Watch watch;
-};
-
-Ran run(const Scene& scene, double rtol, std::shared_ptr<const GroundMotion> motion = nullptr,
-        std::optional<double> duration = std::nullopt, const std::string& integrator = "rk45",
-        std::shared_ptr<const GroundMotion> vertical = nullptr) {
-  RunSpec spec{.scene = scene};
-  spec.motion.given = std::move(motion);
-  spec.motion.given_vertical = std::move(vertical);
-  spec.solver.integrator = integrator;
-  spec.solver.rtol = rtol;
-  spec.solver.atol = rtol * 1e-2;
-  spec.solver.duration = duration;
-  spec.history.every = 0.01;
-  const PreparedRun p = prepare_run(spec);
-  Ran out;
-  out.result = simulate(p.model, p.motion, p.options, &out.watch);
-  return out;
+using Ran = WatchedRun<Watch>;
+template <class... Args>
+Ran run(const Scene& scene, double rtol, Args&&... args) {
+  return watched_run<Watch>(scene, rtol, std::forward<Args>(args)...);
 }
 
 }  // namespace

@@ -15,6 +15,14 @@ SOURCE = pathlib.Path(os.environ.get("ROCKING_SOURCE_DIR", pathlib.Path(__file__
 SCENES = SOURCE / "data" / "scenes"
 
 
+def read_history(path):
+    """history.csv's column names (units dropped) and its rows as text fields."""
+    lines = path.read_text().splitlines()
+    names = [h.split(" [")[0] for h in lines[0].split(",")]
+    rows = [line.split(",") for line in lines[1:] if line]
+    return names, rows
+
+
 def records_dir():
     env = os.environ.get("ROCKING_RECORDS")
     return pathlib.Path(env) if env else SOURCE.parent / "shared" / "data" / "records"

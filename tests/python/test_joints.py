@@ -7,14 +7,7 @@ import json
 import numpy as np
 
 import rocking
-from conftest import SCENES
-
-
-def read_history(path):
-    lines = path.read_text().splitlines()
-    names = [h.split(" [")[0] for h in lines[0].split(",")]
-    rows = [line.split(",") for line in lines[1:] if line]
-    return names, rows
+from conftest import SCENES, read_history
 
 
 def test_a_jointed_scene_hands_over_its_joints_histories_and_summary_as_the_program_writes_them(cli, tmp_path):
