@@ -201,8 +201,10 @@ TEST_CASE("the lab's columns and their units, labels and display factors are the
 
 TEST_CASE("the lab's energy history closes the run's balance at every row and ends at the summary's totals") {
   const rocking::Lab lab = make_lab("");
-  // The chimney's own pulse (its dampers work, it rocks and strikes) and the stacked blocks (joints, the momentum law).
-  for (const char* scene : {"christchurch_chimney", "stacked_blocks", "controlled_rocking_wall"}) {
+  // The chimney's own pulse (its dampers work, it rocks and strikes), the stacked blocks (joints, the momentum
+  // law) and the two structures on rocking columns (the columns' own driver).
+  for (const char* scene : {"christchurch_chimney", "stacked_blocks", "controlled_rocking_wall", "rocking_frame",
+                            "chimney_on_columns"}) {
     CAPTURE(scene);
     const json a = answer_json(lab, "/api/simulate", {{"scene", scene}});
     const json& h = a["history"];

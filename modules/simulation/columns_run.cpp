@@ -307,11 +307,20 @@ class ColumnsDriver {
     history_.rows(*integrator_, dense_, [this](double t, const Eigen::VectorXd& y) { history_row(t, y); });
   }
 
+  // A history row, with the energy balance's terms so far (MODEL.md 7): the
+  // state's mechanical energy, the ground's and the damping's accumulators,
+  // the impacts' losses up to now; no device stands on columns.
   void history_row(double t, Eigen::Ref<const Eigen::VectorXd> y) {
+    last_row_ = t;
     Response r = response(t, y, true);
     r[Quantity::a_g] = ground_.acceleration(t);
     r[Quantity::a_v] = vertical_ ? vertical_->acceleration(t) : 0.0;
     r[Quantity::x_g] = travel_.at(t).d;
+    r[Quantity::energy] = mechanical_energy(c_, s(), coordinates(y)).total();
+    r[Quantity::work_ground] = y[2 + 2 * n_];
+    r[Quantity::work_viscous] = y[3 + 2 * n_];
+    r[Quantity::work_devices] = 0.0;
+    r[Quantity::work_impacts] = result_.energy.impacts;
     observer_->nodal(y.segment(2, n_), y.segment(2 + n_, n_));
     observer_->record(r);
   }
@@ -334,6 +343,8 @@ class ColumnsDriver {
     result_.energy.final = mechanical();
     result_.energy.ground = y_[2 + 2 * n_];
     result_.energy.viscous = y_[3 + 2 * n_];
+    if (opt_.final_row && observer_ != nullptr && opt_.output_interval > 0 && last_row_ < result_.t_end)
+      history_row(result_.t_end, y_);
   }
 
   const ContactModel& m_;
@@ -348,6 +359,7 @@ class ColumnsDriver {
   Phase phase_;
   Discrete contact_;  // the structure's own phase on the beam: full contact
   Eigen::VectorXd y_, dense_, rates_, fixed_;
+  double last_row_ = -std::numeric_limits<double>::infinity();  // the last history row's time
   std::vector<double> normal_;
   std::vector<ColumnsGuardDef> guards_;
   GroundTravel travel_{ground_};

@@ -20,11 +20,10 @@ Presence presence(const ContactModel& m) {
     return {.rocking = true, .elasticity = false, .dampers = false, .devices = !m.devices.empty(),
             .vertical = m.vertical_shaking, .energy = true};
   // A structure on rocking columns reports the columns' rocking (columns.*),
-  // its own elastic quantities, and no rocking of its own on the cap beam;
-  // its driver (columns_run.cpp) does not write the energy history columns.
+  // its own elastic quantities, and no rocking of its own on the cap beam.
   if (m.on_columns)
     return {.rocking = false, .elasticity = m.layout.u.present(), .dampers = false, .devices = false,
-            .vertical = m.vertical_shaking, .energy = false, .columns = true};
+            .vertical = m.vertical_shaking, .energy = true, .columns = true};
   return {.rocking = m.kind != ModelKind::fixed_base,
           .elasticity = m.layout.u.present(),
           .dampers = m.has_damper,
