@@ -513,3 +513,33 @@ TEST_CASE("the deck lesson: under 0.5 g for 1 s the bent with its deck survives 
   REQUIRE_MESSAGE(s.code == 0, s.err);
   CHECK_MESSAGE(cli::contains(s.out, "p-hat = 1.019 rad/s"), s.out);
 }
+
+TEST_CASE("rocking modal on columns: the frame's alpha, gamma, p-hat and r by MODEL.md 16, and the structure's fixed-base modes") {
+  const std::string frame = std::string(ROCKING_SCENES) + "/rocking_frame.toml";
+  const cli::Result r = cli::run("modal " + frame + " --json", 60);
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const auto c = nlohmann::json::parse(r.out)["columns"];
+  // The scene's numbers: piers b = 0.8, h = 4.8, 59 t each; a 500 t deck on a 120 t beam.
+  const double alpha = std::atan(0.8 / 4.8), R = std::hypot(0.8, 4.8), gamma = 620000.0 / (2 * 59000.0);
+  const double p2 = 3 * gravity / (4 * R);
+  CHECK(c["alpha"].get<double>() == close_to(alpha, 1e-12));
+  CHECK(c["gamma"].get<double>() == close_to(gamma, 1e-12));
+  CHECK(c["p"].get<double>() == close_to(std::sqrt(p2), 1e-12));
+  CHECK(c["p_hat"].get<double>() == close_to(std::sqrt(p2 * (1 + 2 * gamma) / (1 + 3 * gamma)), 1e-12));
+  CHECK(c["r_rigid_deck"].get<double>() ==
+        close_to((1 - 1.5 * std::pow(std::sin(alpha), 2) + 3 * gamma * std::cos(2 * alpha)) / (1 + 3 * gamma), 1e-12));
+  CHECK(c["uplift_g"].get<double>() == close_to(0.8 / 4.8, 1e-12));
+  const cli::Result table = cli::run("modal " + frame, 60);
+  REQUIRE_MESSAGE(table.code == 0, table.err);
+  CHECK_MESSAGE(cli::contains(table.out, "p-hat     1.0188"), table.out);
+  CHECK_FALSE(cli::contains(table.out, "Eq. 10"));  // nothing of a structure rocking on its own base
+  // The chimney on its columns: while they stand, the chimney's fixed-base modes.
+  const cli::Result on = cli::run(fmt::format("modal {}/chimney_on_columns.toml --json", ROCKING_SCENES), 60);
+  const cli::Result twin = cli::run(fmt::format("modal {}/christchurch_chimney.toml --json", ROCKING_SCENES), 60);
+  REQUIRE_MESSAGE(on.code == 0, on.err);
+  REQUIRE_MESSAGE(twin.code == 0, twin.err);
+  const auto a = nlohmann::json::parse(on.out)["fixed_base_hz"].get<std::vector<double>>();
+  const auto b = nlohmann::json::parse(twin.out)["fixed_base_hz"].get<std::vector<double>>();
+  REQUIRE(a.size() == b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) CHECK(a[k] == close_to(b[k], 1e-12));
+}

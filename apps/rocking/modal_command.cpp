@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
 #include <cmath>
 #include <iostream>
 #include "commands.hpp"
@@ -75,6 +76,35 @@ int rigid_block(const Scene& scene) {
   return 0;
 }
 
+// A structure on rocking columns: the columns' frame (MODEL.md 16) and the
+// structure on the beam as on a fixed base, as rocking.report's modal_summary
+// gives them.
+int on_columns(const Scene& scene) {
+  const nlohmann::json m = modal_summary(scene);
+  const nlohmann::json& c = m["columns"];
+  const auto v = [&](const char* key) { return c[key].get<double>(); };
+  fmt::print("{} ({}): a structure on {} rocking columns (MODEL.md 16)\n\n", scene.name, scene.source,
+             c["count"].get<int>());
+  fmt::print("Columns (each), rocking together while the beam translates\n");
+  fmt::print("  b         {:<12.4f} m       half-width\n", v("half_width_m"));
+  fmt::print("  h         {:<12.4f} m       half-height ({:.4g} m tall)\n", v("half_height_m"), 2 * v("half_height_m"));
+  fmt::print("  mass      {:<12.5g} kg      one column\n", v("mass_kg"));
+  fmt::print("  alpha     {:<12.4f} rad     slenderness, atan(b / h); a rigid deck lifts them at a_g = g tan(alpha) = "
+             "{:.3f} g\n",
+             v("alpha"), v("uplift_g"));
+  fmt::print("  R         {:<12.4f} m       corner to centre\n", v("R_m"));
+  fmt::print("  p         {:<12.4f} rad/s   one column alone, sqrt(3 g / 4R)\n", v("p"));
+  fmt::print("  gamma     {:<12.4f} -       the deck's mass (beam and structure) over the columns'\n", v("gamma"));
+  fmt::print("  p-hat     {:<12.4f} rad/s   the frame's, p sqrt((1 + 2 gamma) / (1 + 3 gamma)): it rocks as one "
+             "column\n",
+             v("p_hat"));
+  fmt::print("  r         {:<12.4f} -       a rigid deck's impacts by the momentum law\n", v("r_rigid_deck"));
+  if (m.contains("fixed_base_hz"))
+    fmt::print("\nThe structure on the beam while the columns stand (a fixed base)\n  f = {} Hz\n",
+               hz_list(m["fixed_base_hz"].get<std::vector<double>>()));
+  return 0;
+}
+
 }  // namespace
 
 Command add_modal_command(CLI::App& app) {
@@ -84,7 +114,9 @@ Command add_modal_command(CLI::App& app) {
       "theta = 0 (free, with the devices at rest, with them yielded), the devices'\n"
       "rocking stiffness sum k (de/dth)^2 and the moment their prestress holds, the\n"
       "geometric restitution r of Eq. 10, and the reference forces M_ref, V_ref. For a rigid\n"
-      "block (structure.rigid = true): its geometry, p and r.");
+      "block (structure.rigid = true): its geometry, p and r. For a structure on rocking\n"
+      "columns ([columns]): the columns' alpha, p, the frame's gamma, p-hat and r, and the\n"
+      "structure's modes on the beam while the columns stand.");
   auto opts = std::make_shared<SceneOptions>();
   auto json = std::make_shared<bool>(false);
   add_scene_options(*cmd, *opts);
@@ -96,6 +128,7 @@ Command add_modal_command(CLI::App& app) {
       std::cout << modal_summary(scene).dump(2) << '\n';
       return 0;
     }
+    if (scene.columns) return on_columns(scene);
     if (scene.structure.rigid) return rigid_block(scene);
     spdlog::debug("modal analysis of '{}' from {}", scene.name, scene.source);
     const ModalSummary m = modal_analysis(scene.structure, scene_devices(scene));

@@ -372,7 +372,31 @@ BlockSummary block_summary(const Scene& scene) {
   return b;
 }
 
+// A structure on rocking columns (MODEL.md 16): the columns rock as one
+// column of their slenderness with the frame's p-hat (a rigid deck lifts them
+// at a_g = g tan alpha, and its impacts keep 16's r); the structure on the
+// beam, while they stand, is on a fixed base (MODEL.md 8).
+json columns_modal(const Scene& scene) {
+  const Columns c = make_columns(*scene.columns, scene.structure);
+  json out = {{"columns",
+               {{"count", c.group.count},
+                {"half_width_m", c.group.half_width},
+                {"half_height_m", c.group.half_height},
+                {"mass_kg", c.group.mass},
+                {"spacing_m", c.group.spacing},
+                {"alpha", c.alpha},
+                {"R_m", c.R},
+                {"gamma", frame_gamma(c)},
+                {"p", std::sqrt(3 * c.g / (4 * c.R))},
+                {"p_hat", std::sqrt(frame_p2(c))},
+                {"r_rigid_deck", frame_restitution(c)},
+                {"uplift_g", std::tan(c.alpha)}}}};
+  if (!scene.structure.rigid) out["fixed_base_hz"] = modal_analysis(scene.structure, {}).fixed_base_hz;
+  return out;
+}
+
 json modal_summary(const Scene& scene) {
+  if (scene.columns) return columns_modal(scene);
   if (scene.structure.rigid) return block_modal(block_summary(scene));
   return flexible_modal(modal_analysis(scene.structure, scene_devices(scene)));
 }
