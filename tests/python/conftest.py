@@ -23,6 +23,19 @@ def read_history(path):
     return names, rows
 
 
+def program_and_module(cli, tmp_path, scene_file):
+    """`rocking simulate` on the scene file (its summary.json, and history.csv's
+    names and rows) and rocking.simulate on the same file, for comparison."""
+    import rocking
+
+    out = tmp_path / "cli"
+    r = cli.run("simulate", scene_file, "--out", out)
+    assert r.returncode == 0, r.stderr
+    expected = json.loads((out / "summary.json").read_text())
+    names, rows = read_history(out / "history.csv")
+    return expected, names, rows, rocking.simulate(rocking.Scene.load(str(scene_file)))
+
+
 def records_dir():
     env = os.environ.get("ROCKING_RECORDS")
     return pathlib.Path(env) if env else SOURCE.parent / "shared" / "data" / "records"

@@ -2,22 +2,13 @@
 columns' histories under the names history.csv gives them (columns.theta,
 beam.x, ...) and summary.json's columns object, as `rocking simulate` writes
 them for the same scene."""
-import json
-
 import numpy as np
 
-import rocking
-from conftest import SCENES, read_history
+from conftest import SCENES, program_and_module
 
 
 def test_a_frame_hands_over_its_columns_histories_and_summary_as_the_program_writes_them(cli, tmp_path):
-    scene_file = SCENES / "rocking_frame.toml"
-    out = tmp_path / "cli"
-    r = cli.run("simulate", scene_file, "--out", out)
-    assert r.returncode == 0, r.stderr
-    expected = json.loads((out / "summary.json").read_text())
-    names, rows = read_history(out / "history.csv")
-    result = rocking.simulate(rocking.Scene.load(str(scene_file)))
+    expected, names, rows, result = program_and_module(cli, tmp_path, SCENES / "rocking_frame.toml")
     assert list(result.history) == names
     for name in ("columns.theta", "columns.theta_over_alpha", "columns.theta_dot", "beam.x", "columns.top_force_min"):
         assert name in result.history, name

@@ -2,22 +2,14 @@
 (MODEL.md 15): the joints' histories under the names history.csv gives them
 (joint1.theta, ...) and summary.json's joints list, as `rocking simulate`
 writes them for the same scene."""
-import json
-
 import numpy as np
 
 import rocking
-from conftest import SCENES, read_history
+from conftest import SCENES, program_and_module
 
 
 def test_a_jointed_scene_hands_over_its_joints_histories_and_summary_as_the_program_writes_them(cli, tmp_path):
-    scene_file = SCENES / "stacked_blocks.toml"
-    out = tmp_path / "cli"
-    r = cli.run("simulate", scene_file, "--out", out)
-    assert r.returncode == 0, r.stderr
-    expected = json.loads((out / "summary.json").read_text())
-    names, rows = read_history(out / "history.csv")
-    result = rocking.simulate(rocking.Scene.load(str(scene_file)))
+    expected, names, rows, result = program_and_module(cli, tmp_path, SCENES / "stacked_blocks.toml")
     # The same columns in the same order, the joint's among them.
     assert list(result.history) == names
     for name in ("joint1.theta", "joint1.theta_dot", "joint1.phase"):
