@@ -543,3 +543,17 @@ TEST_CASE("rocking modal on columns: the frame's alpha, gamma, p-hat and r by MO
   REQUIRE(a.size() == b.size());
   for (std::size_t k = 0; k < a.size(); ++k) CHECK(a[k] == close_to(b[k], 1e-12));
 }
+
+TEST_CASE("plot response names the rocking measure a run has: the columns' theta/alpha on the frame, none on a fixed base") {
+  const cli::Result frame = cli::run(fmt::format("plot response {}/rocking_frame.toml --formats svg --out {}", ROCKING_SCENES,
+                                                 temp_path("frame_plot").string()),
+                                     120);
+  REQUIRE_MESSAGE(frame.code == 0, frame.err);
+  CHECK_MESSAGE(cli::contains(frame.out, "columns' theta/alpha 0.3"), frame.out);  // the summary's 0.349
+  const cli::Result fixed = cli::run(fmt::format("plot response {}/christchurch_chimney.toml --variants fixed-base --formats svg "
+                                                 "--out {}",
+                                                 ROCKING_SCENES, temp_path("fixed_plot").string()),
+                                     120);
+  REQUIRE_MESSAGE(fixed.code == 0, fixed.err);
+  CHECK_MESSAGE(cli::contains(fixed.out, "theta/alpha -,"), fixed.out);
+}

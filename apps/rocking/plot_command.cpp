@@ -129,10 +129,15 @@ int response(const ResponseArgs& a) {
       const RunResult r = simulate(model, run.motion, run.options, &history);
       history.close();
       if (r.outcome == Outcome::failed) throw RunError(fmt::format("variant {}: {}", key, r.failure));
-      fmt::print("{:<22} top {:7.1f} mm, theta/alpha {:.4f}, M/M_ref {}, {} uplifts, {}\n", label, r.top_total_mm,
-                 r.peak(Quantity::theta_over_alpha),
-                 r.reports(Quantity::base_moment) ? fmt::format("{:.3f}", r.peak(Quantity::base_moment)) : "-", r.counts.uplifts,
-                 outcome_name(r.outcome));
+      // The rocking measure the run has: its base's, its columns' (MODEL.md 16), or none (a fixed base).
+      const auto peak_or_dash = [&](Quantity q, const char* format) {
+        return r.reports(q) ? fmt::format(fmt::runtime(format), r.peak(q)) : std::string("-");
+      };
+      const bool columns = r.reports(Quantity::columns_theta_over_alpha);
+      fmt::print("{:<22} top {:7.1f} mm, {} {}, M/M_ref {}, {} uplifts, {}\n", label, r.top_total_mm,
+                 columns ? "columns' theta/alpha" : "theta/alpha",
+                 peak_or_dash(columns ? Quantity::columns_theta_over_alpha : Quantity::theta_over_alpha, "{:.4f}"),
+                 peak_or_dash(Quantity::base_moment, "{:.3f}"), r.counts.uplifts, outcome_name(r.outcome));
       series.push_back({label, (fs::path(a.figure.name + ".data") / (stem + ".csv")).string()});
     }
   }
