@@ -299,6 +299,26 @@ function blockHeight(structure) {
   return h[h.length - 1] + h[0];
 }
 
+// The polyline through points (drawing coordinates by X, Y), to be stroked.
+function tracePath(ctx, points, X, Y) {
+  points.forEach((pt, k) => (k === 0 ? ctx.moveTo(X(pt), Y(pt)) : ctx.lineTo(X(pt), Y(pt))));
+}
+
+// The devices, in orange: each a line from its anchor to its other end (a
+// damper's stretch is the gap it spans).
+function strokeDevices(ctx, devices, X, Y) {
+  ctx.save();
+  ctx.strokeStyle = '#e67e22';
+  ctx.lineWidth = 2.5;
+  for (const d of devices) {
+    ctx.beginPath();
+    ctx.moveTo(X(d.from), Y(d.from));
+    ctx.lineTo(X(d.to), Y(d.to));
+    ctx.stroke();
+  }
+  ctx.restore();
+}
+
 // The rotations of a structure with joints at row i: the base's theta, then jointK.theta, K = 1 ..
 function jointThetas(run, i) {
   const out = [run.history.theta ? run.history.theta[i] ?? 0 : 0];
@@ -324,19 +344,10 @@ function drawChain(ctx, run, i, factors, X, Y, color) {
     ctx.stroke();
     ctx.lineWidth = 2;
     ctx.beginPath();
-    [g.left, g.topLeft, g.topRight, g.right].forEach((pt, k) => (k === 0 ? ctx.moveTo(X(pt), Y(pt)) : ctx.lineTo(X(pt), Y(pt))));
+    tracePath(ctx, [g.left, g.topLeft, g.topRight, g.right], X, Y);
     ctx.stroke();
   }
-  ctx.save();
-  ctx.strokeStyle = '#e67e22';
-  ctx.lineWidth = 2.5;
-  for (const d of p.devices) {
-    ctx.beginPath();
-    ctx.moveTo(X(d.from), Y(d.from));
-    ctx.lineTo(X(d.to), Y(d.to));
-    ctx.stroke();
-  }
-  ctx.restore();
+  strokeDevices(ctx, p.devices, X, Y);
   for (const g of p.segments)
     for (const pt of g.nodes) {
       ctx.beginPath();
@@ -370,24 +381,15 @@ function drawStructure(ctx, run, t, factors, origin, scale, color, label) {
   ctx.stroke();
   ctx.lineWidth = run.structure.rigid ? 1.5 : 4;
   ctx.beginPath();
-  p.axis.forEach((pt, k) => (k === 0 ? ctx.moveTo(X(pt), Y(pt)) : ctx.lineTo(X(pt), Y(pt))));
+  tracePath(ctx, p.axis, X, Y);
   ctx.stroke();
   if (run.structure.rigid) {  // the block's outline, as tall as twice its centre of mass
     ctx.lineWidth = 2;
     ctx.beginPath();
-    [p.left, p.topLeft, p.topRight, p.right].forEach((pt, k) => (k === 0 ? ctx.moveTo(X(pt), Y(pt)) : ctx.lineTo(X(pt), Y(pt))));
+    tracePath(ctx, [p.left, p.topLeft, p.topRight, p.right], X, Y);
     ctx.stroke();
   }
-  ctx.save();  // the devices, in orange: a damper's stretch is the gap it spans
-  ctx.strokeStyle = '#e67e22';
-  ctx.lineWidth = 2.5;
-  for (const d of p.devices) {
-    ctx.beginPath();
-    ctx.moveTo(X(d.from), Y(d.from));
-    ctx.lineTo(X(d.to), Y(d.to));
-    ctx.stroke();
-  }
-  ctx.restore();
+  strokeDevices(ctx, p.devices, X, Y);
   for (const pt of p.axis.slice(1)) {
     ctx.beginPath();
     ctx.arc(X(pt), Y(pt), 4, 0, 2 * Math.PI);

@@ -52,6 +52,24 @@ function commandLine(set) {
 const shownPeaks = (page) => page.evaluate(() => Object.fromEntries(
   [...document.querySelectorAll('td[data-run="main"]')].map((td) => [td.dataset.peak, td.textContent])));
 
+// From now on, every line segment the page strokes on #drawing (from, to,
+// width, colour) goes into window.drawnSegments, emptied here; the recorder
+// is installed once on the canvas's context.
+const recordStrokes = (page) => page.evaluate(() => {
+  const ctx = document.querySelector('#drawing').getContext('2d');
+  window.drawnSegments = [];
+  if (ctx.strokesRecorded) return;
+  ctx.strokesRecorded = true;
+  const move = ctx.moveTo.bind(ctx), line = ctx.lineTo.bind(ctx);
+  let from = null;
+  ctx.moveTo = (x, y) => { from = [x, y]; move(x, y); };
+  ctx.lineTo = (x, y) => {
+    if (from) window.drawnSegments.push({ from, to: [x, y], width: ctx.lineWidth, color: ctx.strokeStyle });
+    from = [x, y];
+    line(x, y);
+  };
+});
+
 const { server, url } = await startServer();
 const browser = await launchBrowser();
 const failures = [];
@@ -156,18 +174,7 @@ try {
 
   // The structure as drawn: the foundation beams' lines (the first path of
   // width 3 of each run, main first) recorded as the page strokes them.
-  await page.evaluate(() => {
-    const ctx = document.querySelector('#drawing').getContext('2d');
-    const move = ctx.moveTo.bind(ctx), line = ctx.lineTo.bind(ctx);
-    let from = null;
-    window.drawnSegments = [];
-    ctx.moveTo = (x, y) => { from = [x, y]; move(x, y); };
-    ctx.lineTo = (x, y) => {
-      if (from) window.drawnSegments.push({ from, to: [x, y], width: ctx.lineWidth, color: ctx.strokeStyle });
-      from = [x, y];
-      line(x, y);
-    };
-  });
+  await recordStrokes(page);
   // The screenshot at the main run's peak rocking angle: the structures drawn rocking and bent.
   const peak = await page.evaluate(() => {
     const h = window.lab.data.history;
@@ -263,17 +270,8 @@ try {
   n = await runsOf(page);
   await page.select('#scene', 'stacked_blocks');
   await settled(page, n);
+  await recordStrokes(page);
   const jointed = await page.evaluate(() => {
-    const ctx = document.querySelector('#drawing').getContext('2d');
-    const move = ctx.moveTo.bind(ctx), line = ctx.lineTo.bind(ctx);
-    let from = null;
-    window.drawnSegments = [];
-    ctx.moveTo = (x, y) => { from = [x, y]; move(x, y); };
-    ctx.lineTo = (x, y) => {
-      if (from) window.drawnSegments.push({ from, to: [x, y], width: ctx.lineWidth });
-      from = [x, y];
-      line(x, y);
-    };
     const h = window.lab.data.history;
     const j = h['joint1.theta'];
     let k = 0;
