@@ -53,8 +53,17 @@ std::string axis_label(const QuantityName& q) {
   return fmt::format("{} {} {} [{}]", q.device, axis_words(i.words), i.symbol, i.figure_unit);
 }
 
+namespace {
+// A field of the schema entry a name stands for: a scalar quantity's, a
+// joint quantity's or a device quantity's.
+template <class Field>
+auto entry_of(const QuantityName& q, Field field) {
+  return q.scalar ? field(info(*q.scalar)) : q.joint ? field(info(q.joint->which)) : field(info(q.of));
+}
+}  // namespace
+
 double figure_factor(const QuantityName& q) {
-  return q.scalar ? info(*q.scalar).figure_factor : q.joint ? info(q.joint->which).figure_factor : info(q.of).figure_factor;
+  return entry_of(q, [](const auto& i) { return i.figure_factor; });
 }
 
 std::string plain_text(std::string_view enhanced) {
@@ -92,15 +101,15 @@ std::string plain_symbol(const QuantityName& q) {
 }
 
 std::string_view plain_words(const QuantityName& q) {
-  return axis_words(q.scalar ? info(*q.scalar).words : q.joint ? info(q.joint->which).words : info(q.of).words);
+  return axis_words(entry_of(q, [](const auto& i) { return i.words; }));
 }
 
 std::string_view figure_unit(const QuantityName& q) {
-  return q.scalar ? info(*q.scalar).figure_unit : q.joint ? info(q.joint->which).figure_unit : info(q.of).figure_unit;
+  return entry_of(q, [](const auto& i) { return i.figure_unit; });
 }
 
 LabUse lab_use(const QuantityName& q) {
-  return q.scalar ? info(*q.scalar).lab : q.joint ? info(q.joint->which).lab : info(q.of).lab;
+  return entry_of(q, [](const auto& i) { return i.lab; });
 }
 
 std::optional<QuantityName> parse_quantity_name(std::string_view text) {
