@@ -241,6 +241,14 @@ json structure_json(const Scene& scene, const ContactModel& model) {
       d["top"] = chain.segments[static_cast<std::size_t>(to.segment)].base_height + to.z;
     }
   }
+  // A structure on rocking columns (MODEL.md 16): the columns, alike, and
+  // the distance between the outer ones' axes; the structure stands on the
+  // cap beam, which rests on the column tops.
+  json columns = nullptr;
+  if (scene.columns) {
+    const ColumnGroup& c = *scene.columns;
+    columns = {{"count", c.count}, {"half_width", c.half_width}, {"half_height", c.half_height}, {"spacing", c.spacing}};
+  }
   return {{"name", scene.name},
           {"units", units},
           {"rigid", s.rigid},
@@ -248,6 +256,7 @@ json structure_json(const Scene& scene, const ContactModel& model) {
           {"half_width", s.half_width},
           {"heights", std::vector<double>(s.heights.data(), s.heights.data() + s.heights.size())},
           {"segments", segments},
+          {"columns", columns},
           {"devices", devices}};
 }
 
