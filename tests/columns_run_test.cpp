@@ -475,7 +475,6 @@ TEST_CASE("bad columns input: exit 2 with one line naming the key") {
            {"columns.mass=0", "columns.mass"},
            {"columns.spacing=1.0", "columns.spacing"},
            {"contact.restitution=eq9", "eq9"},
-           {"device+={kind=\"elastic\",name=\"tie\",at=0.0,kinematics=\"vertical\",free_length=5.0,P0=0.0,k=1e7}", "device 'tie'"},
        })
     cli::refused(fmt::format("simulate {} --set '{}' --out {}", frame.string(), set, out), says);
   const std::filesystem::path both = write_scene("both", std::string(rigid_frame(1, "")) + "\n[[joint]]\nnode = 1\nhalf_width = 0.2\n");

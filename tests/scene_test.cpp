@@ -310,9 +310,16 @@ TEST_CASE("[columns]: the rocking columns under the structure are read and check
   const Scene one = load_scene(chimney_on_columns("count = 1\nhalf_width = 0.4\nhalf_height = 3.0\nmass = 2.0e4"));
   CHECK(one.columns->spacing == 0.0);
   CHECK_FALSE(load_default_scene().columns.has_value());
-  // the chimney's dampers on columns are not simulated yet: the run path says so in one line, naming the device
-  const std::string refused = one_line_error<InputError>([&] { (void)make_contact_model(s, false); }, "make_contact_model");
-  CHECK(refused.find("devices on a structure on rocking columns are not simulated yet") != std::string::npos);
+  // the chimney's dampers on columns stand at the edges of each column's base (x = -b and +b), each
+  // stretched about the far corner with the lever 2b
+  const ContactModel m = make_contact_model(s, false);
+  REQUIRE(m.devices.size() == 2);
+  CHECK(m.devices[0].geometry.x == -0.4);
+  CHECK(m.devices[1].geometry.x == 0.4);
+  for (Pivot p : pivots) {
+    REQUIRE(m.acting[index(p)].size() == 1);
+    CHECK(m.acting[index(p)][0].lever == close_to(0.8, 1e-15));
+  }
 }
 
 TEST_CASE("a wrong [columns] is a one-line error naming the key, its range and the line") {

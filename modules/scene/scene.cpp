@@ -398,6 +398,21 @@ Structure read_structure(const toml::table& root, const std::string& file, const
 // [columns] (MODEL.md 16): n identical rigid columns under the structure's
 // foundation beam. spacing (between the outer columns' axes) is needed from
 // two columns on, and must leave room for the columns' width.
+// The rocking base the devices of a scene stand on (MODEL.md 11): the
+// structure's own, or on [columns] one column as a rigid block (half-width b,
+// its mass at mid-height), every device standing at the base of each column
+// alike (MODEL.md 16: the columns rock in unison).
+Structure device_base(const Scene& scene) {
+  if (!scene.columns) return scene.structure;
+  Structure column;
+  column.rigid = true;
+  column.half_width = scene.columns->half_width;
+  column.heights = Eigen::VectorXd::Constant(1, scene.columns->half_height);
+  column.masses = Eigen::VectorXd::Constant(1, scene.columns->mass);
+  column.base_mass = 0;
+  return column;
+}
+
 std::optional<ColumnGroup> read_columns(const toml::table& root, const std::string& file, const Origins& origins) {
   if (!root.contains("columns")) return std::nullopt;
   const TableReader t(root, "columns", file, origins);
@@ -475,7 +490,7 @@ Damper read_damper(const toml::table& root, const std::string& file, const Origi
 // NAME_left and NAME_right), kinematics (chord, or vertical with free_length
 // [m]), capacity [m] (optional), name (optional), and the law's own keys.
 std::vector<Device> read_devices(const toml::table& root, const std::string& file, const Origins& origins,
-                                 const Structure& st, const Damper& damper, std::size_t joints,
+                                 const Structure& st, bool on_columns, const Damper& damper, std::size_t joints,
                                  std::vector<int>& segments) {
   std::vector<Device> out;
   const toml::array* list = root.get_as<toml::array>("device");
@@ -551,7 +566,9 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
       made.back().geometry.x = B;
     } else {
       geometry.x = t.number("at", [B](double x) { return std::abs(x) <= B; },
-                            fmt::format("on the base, -B <= x <= B = {:g} [m]", B));
+                            on_columns
+                                ? fmt::format("on a column's base, from its axis: -b <= x <= b = {:g} [m]", B)
+                                : fmt::format("on the base, -B <= x <= B = {:g} [m]", B));
       made.push_back({name, geometry, device_law, capacity});
     }
     if (damper.enabled && name == "damper")
@@ -803,11 +820,13 @@ Scene read_scene(toml::table root, const std::string& file, const std::vector<st
   }
   scene.structure = read_structure(root, file, origins);
   scene.contact = read_contact(root, file, origins, scene);
-  scene.damper = read_damper(root, file, origins, scene.structure);
-  scene.joints = read_joints(root, file, origins, scene.structure, scene.contact);
-  scene.devices = read_devices(root, file, origins, scene.structure, scene.damper, scene.joints.size(),
-                               scene.device_segments);
   scene.columns = read_columns(root, file, origins);
+  // The devices stand on the rocking base: the structure's, or each column's.
+  const Structure base = device_base(scene);
+  scene.damper = read_damper(root, file, origins, base);
+  scene.joints = read_joints(root, file, origins, scene.structure, scene.contact);
+  scene.devices = read_devices(root, file, origins, base, scene.columns.has_value(), scene.damper, scene.joints.size(),
+                               scene.device_segments);
   scene.excitation = read_excitation(root, file, origins);
   scene.initial = read_initial(root, file, origins, scene.structure, scene.contact);
   scene.output = read_output(root, file, origins, scene.structure);
@@ -862,7 +881,7 @@ std::string scene_toml(const std::string& path, const std::vector<std::string>& 
 
 std::vector<Device> scene_devices(const Scene& scene) {
   std::vector<Device> all;
-  if (scene.damper.enabled) all = edge_dampers(scene.damper, scene.structure.half_width);
+  if (scene.damper.enabled) all = edge_dampers(scene.damper, device_base(scene).half_width);
   all.insert(all.end(), scene.devices.begin(), scene.devices.end());
   return all;
 }
@@ -961,15 +980,16 @@ JointedModel jointed_model(const Scene& scene) {
 namespace {
 
 // A scene on [columns] (MODEL.md 16): the structure on the cap beam as on a
-// fixed base (its outputs), carrying the columns' frame and impact rule.
-ContactModel columns_contact_model(const Scene& scene, bool track_energy, const std::vector<Device>& extra) {
+// fixed base (its outputs), carrying the columns' frame and impact rule. Its
+// devices (devices, acting, breakable, damper, idle_slots) are those of one
+// column as a rigid block (device_base): each device stands at the base of
+// every column alike, its lever arms taken about the column's corners (b), and
+// its state slots counted as a rigid block's, from 2 after theta and theta'
+// (the columns' run keeps its state in that order).
+ContactModel columns_contact_model(const Scene& scene, bool track_energy, std::vector<Device> extra) {
   const std::string& file = scene.source;
-  const std::vector<Device> devices = scene_devices(scene);
-  if (!devices.empty() || !extra.empty())
-    throw InputError(fmt::format("{}: device '{}': devices on a structure on rocking columns are not simulated yet "
-                                 "(remove it, or the [columns] table)", file,
-                                 devices.empty() ? extra.front().name : devices.front().group.empty()
-                                                                          ? devices.front().name : devices.front().group));
+  std::vector<Device> devices = scene_devices(scene);
+  for (Device& d : extra) devices.push_back(std::move(d));
   if (scene.contact.restitution_rule == RestitutionRule::eq9 && !scene.momentum_base)
     throw InputError(fmt::format("{}: contact.restitution = eq9: not modelled for rocking columns (\"momentum\", "
                                  "eq10, the same law here, or a number)", file));
@@ -988,6 +1008,17 @@ ContactModel columns_contact_model(const Scene& scene, bool track_energy, const 
   Contact fixed = scene.contact;
   fixed.rocking = false;
   ContactModel m = make_contact_model(scene.structure, fixed, {}, track_energy);
+  if (!devices.empty()) {
+    Contact column_contact = scene.contact;
+    column_contact.rocking = true;
+    ContactModel column = make_contact_model(device_base(scene), column_contact, std::move(devices), false);
+    m.devices = std::move(column.devices);
+    m.acting = std::move(column.acting);
+    m.breakable = std::move(column.breakable);
+    m.damper = column.damper;
+    m.idle_slots = column.idle_slots;
+    m.has_damper = column.has_damper;
+  }
   m.on_columns = std::move(on);
   return m;
 }
@@ -995,7 +1026,7 @@ ContactModel columns_contact_model(const Scene& scene, bool track_energy, const 
 }  // namespace
 
 ContactModel make_contact_model(const Scene& scene, bool track_energy, std::vector<Device> extra) {
-  if (scene.columns) return columns_contact_model(scene, track_energy, extra);
+  if (scene.columns) return columns_contact_model(scene, track_energy, std::move(extra));
   std::vector<Device> devices = scene_devices(scene);
   for (Device& d : extra) devices.push_back(std::move(d));
   if (scene.jointed() && !extra.empty())

@@ -19,15 +19,22 @@
 // horizontal momentum) or a given r, into full contact when the ratio is not
 // positive or |theta'| is below contact.theta_dot_min (Eq. 8's threshold);
 // after an impact into full contact the frame lifts at once if the uplift
-// condition already holds. The state is [theta, theta', u, u', W_ground,
-// W_viscous] (u nodal, none for a rigid deck); the works do not steer the
-// steps. The structure's outputs are those of the structure on a fixed base
+// condition already holds. Devices (MODEL.md 11) stand at the base of every
+// column alike, as the model's devices of one column (rocking.scene): each
+// acts while the columns rock, with its lever arm about the column's pivot,
+// and the n alike exert n times its moment D and power; their states z rest
+// in full contact and resume on the next uplift about the same side, and a
+// device reaching its capacity fractures (an event, in every column at once).
+// The state is [theta, theta', z (the devices' states, as a rigid block's
+// slots), u, u', W_ground, W_viscous, W_devices, the work on each device] (u
+// nodal, none for a rigid deck); the works do not steer the steps. The structure's outputs are those of the structure on a fixed base
 // (rocking.simulation's evaluate on the model's fixed-base description) with
 // the total top drift measured from the ground, (beam dx + u_N) / H_N, H_N
 // from the column tops; a_N is -(K u + C u')_N / m_N in both phases (node N's
 // Newton law, the beam's acceleration included). The columns report
 // columns.theta, columns.theta_over_alpha (over their alpha),
-// columns.theta_dot, beam.x and columns.top_force_min.
+// columns.theta_dot, beam.x and columns.top_force_min; each device its
+// elongation and force (one column's) and M_dev the n devices' moment.
 module;
 #include <rocking/eigen.hpp>
 #include <algorithm>
@@ -48,25 +55,37 @@ namespace rocking {
 
 namespace {
 
-enum class ColumnsGuard { uplift, impact, overturn, tension };
+enum class ColumnsGuard { uplift, impact, overturn, tension, fracture };
 
 struct ColumnsGuardDef {
   ColumnsGuard what = ColumnsGuard::uplift;
   Pivot pivot = Pivot::right;
+  int acting = 0;  // a fracture guard's device, by its place in the pivot's acting list
 };
+
+// The states z of the devices: the slots after theta and theta' that the
+// model's acting devices use (rocking.scene counts them as a rigid block's).
+Eigen::Index device_states(const ContactModel& m) {
+  Eigen::Index end = 2;
+  for (const auto& acting : m.acting)
+    for (const ContactModel::Acting& a : acting)
+      if (a.slot) end = std::max(end, *a.slot + 1);
+  return end - 2;
+}
 
 class ColumnsDriver {
  public:
   ColumnsDriver(const ContactModel& m, const GroundMotion& ground, const RunOptions& o, Observer* observer)
       : m_(m), cm_(*m.on_columns), c_(cm_.columns), ground_(ground), vertical_(ground.vertical()), opt_(o),
-        observer_(observer), scales_(output_scales(m)), n_(elastic_size(c_)), size_(2 + 2 * n_ + 2),
+        observer_(observer), scales_(output_scales(m)), n_(elastic_size(c_)), u_(2 + device_states(m)),
+        work_(u_ + 2 * n_), size_(work_ + 3 + static_cast<Eigen::Index>(m.devices.size())),
         y_(Eigen::VectorXd::Zero(size_)), dense_(size_), rates_(Eigen::VectorXd::Zero(2 * n_)),
         fixed_(Eigen::VectorXd::Zero(m.layout.size)), normal_(static_cast<std::size_t>(c_.group.count)),
         history_(o.output_interval) {
     auto rhs = [this](double t, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& dydt) {
       derivatives(t, y, dydt);
     };
-    integrator_ = motion_integrator(o, ground, size_, rhs, motion_tolerances(o, ground, 2 + 2 * n_));
+    integrator_ = motion_integrator(o, ground, size_, rhs, motion_tolerances(o, ground, work_));
     t_end_ = run_end(o, ground);
   }
 
@@ -75,6 +94,9 @@ class ColumnsDriver {
     result_.presence = presence(m_);
     result_.energy_tracked = true;
     result_.columns.emplace();
+    for (const Device& dev : m_.devices)
+      result_.devices.push_back({.name = dev.name, .law = law_name(dev.law), .force_at_rest = law_force_at_rest(dev.law, 0.0),
+                                 .work = 0.0});
     initial_state();
     result_.energy.initial = mechanical();
     run_stated(
@@ -98,28 +120,68 @@ class ColumnsDriver {
   int s() const { return phase_.sign(); }
   GroundAcceleration ground_at(double t) const { return rocking::ground_at(ground_, vertical_, t); }
   Coordinates coordinates(Eigen::Ref<const Eigen::VectorXd> y) const {
-    return {y.segment(2, n_), y.segment(2 + n_, n_), Tilt(y[0]), y[1]};
+    return {y.segment(u_, n_), y.segment(u_ + n_, n_), Tilt(y[0]), y[1]};
+  }
+  double count() const { return c_.group.count; }
+  double base_half_width() const { return c_.group.half_width; }
+  const std::vector<ContactModel::Acting>& acting() const { return m_.acting[index(*phase_.pivot())]; }
+
+  // While rocking: the n alike devices' moment D = n sum F de/d|theta| [N m],
+  // with their states' rates into dydt (when given) and the power on each
+  // device's n copies into power_ (the acting ones; the others 0).
+  double device_terms(Eigen::Ref<const Eigen::VectorXd> y, double* dydt) {
+    if (m_.devices.empty() || !phase_.is_rocking()) return 0.0;
+    std::fill(power_.begin(), power_.end(), 0.0);
+    const Tilt tilt(y[0]);
+    double moment = 0;
+    for (const ContactModel::Acting& a : acting()) {
+      const ContactModel::DeviceTerms t = a.terms(a, devices_, base_half_width(), s(), tilt, y[1], y.data(),
+                                                  dydt != nullptr ? dydt : scratch_.data());
+      moment += t.moment;
+      power_[static_cast<std::size_t>(a.device)] = count() * t.power;
+    }
+    return count() * moment;
   }
 
   // theta'' (0 in full contact) with (u', u'') into rates_, as the phase's equations give them.
   double accelerations(double t, Eigen::Ref<const Eigen::VectorXd> y) {
     const GroundAcceleration a = ground_at(t);
     if (!phase_.is_rocking()) {
-      full_contact_acceleration(c_, a.h, y.segment(2, n_), y.segment(2 + n_, n_), rates_);
+      full_contact_acceleration(c_, a.h, y.segment(u_, n_), y.segment(u_ + n_, n_), rates_);
       return 0.0;
     }
-    return rocking_acceleration(c_, s(), a, 0.0, coordinates(y), rates_);
+    return rocking_acceleration(c_, s(), a, device_terms(y, nullptr), coordinates(y), rates_);
   }
 
   void derivatives(double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> dydt) {
-    const double theta_ddot = accelerations(t, y);
-    dydt[0] = phase_.is_rocking() ? y[1] : 0.0;  // a closed frame's theta stays 0
-    dydt[1] = theta_ddot;
-    dydt.segment(2, 2 * n_) = rates_;
     const GroundAcceleration a = ground_at(t);
-    dydt[2 + 2 * n_] = ground_input_power(c_, s(), a, coordinates(y));
-    dydt[3 + 2 * n_] = viscous_power(c_, y.segment(2 + n_, n_));
+    // The devices' states rest unless the pivot's acting devices write theirs.
+    dydt.segment(2, u_ - 2).setZero();
+    dydt.tail(size_ - work_ - 2).setZero();
+    if (!phase_.is_rocking()) {
+      full_contact_acceleration(c_, a.h, y.segment(u_, n_), y.segment(u_ + n_, n_), rates_);
+      dydt[0] = 0.0;  // a closed frame's theta stays 0
+      dydt[1] = 0.0;
+    } else {
+      const double moment = device_terms(y, dydt.data());
+      dydt[0] = y[1];
+      dydt[1] = rocking_acceleration(c_, s(), a, moment, coordinates(y), rates_);
+      if (!m_.devices.empty()) {
+        double total = 0;
+        for (std::size_t k = 0; k < power_.size(); ++k) {
+          dydt[work_ + 3 + static_cast<Eigen::Index>(k)] = power_[k];
+          total += power_[k];
+        }
+        dydt[work_ + 2] = total;
+      }
+    }
+    dydt.segment(u_, 2 * n_) = rates_;
+    dydt[work_] = ground_input_power(c_, s(), a, coordinates(y));
+    dydt[work_ + 1] = viscous_power(c_, y.segment(u_ + n_, n_));
   }
+
+  // The moment the intact devices hold against uplift about p at rest: n sum F(e = 0) l.
+  double held(Pivot p) const { return m_.devices.empty() ? 0.0 : count() * held_moment(m_, devices_, p); }
 
   // The column-top contact forces now (normal_ filled).
   TopContact top_forces(double t, Eigen::Ref<const Eigen::VectorXd> y) {
@@ -130,7 +192,7 @@ class ColumnsDriver {
 
   void initial_state() {
     const InitialState& init = opt_.initial;
-    for (const auto& [v, at, what] : {std::tuple{&init.u, Eigen::Index{2}, "u"}, std::tuple{&init.u_dot, 2 + n_, "u_dot"}}) {
+    for (const auto& [v, at, what] : {std::tuple{&init.u, u_, "u"}, std::tuple{&init.u_dot, u_ + n_, "u_dot"}}) {
       if (v->size() == 0) continue;
       if (v->size() != n_)
         throw InputError(fmt::format("initial {}: {} entries for a structure with {} elastic coordinates on the columns",
@@ -138,7 +200,7 @@ class ColumnsDriver {
       y_.segment(at, n_) = *v;
     }
     if (init.theta == 0 && init.theta_dot == 0) return;
-    phase_ = Phase::rocking(init.theta > 0 || (init.theta == 0 && init.theta_dot > 0) ? Pivot::right : Pivot::left);
+    set_phase(Phase::rocking(init.theta > 0 || (init.theta == 0 && init.theta_dot > 0) ? Pivot::right : Pivot::left));
     y_[0] = init.theta;
     y_[1] = init.theta_dot;
   }
@@ -151,16 +213,32 @@ class ColumnsDriver {
     if (phase_.is_rocking() || !cm_.rocking) return;
     const GroundAcceleration a = ground_at(t);
     for (Pivot p : pivots)
-      if (uplift_guard(c_, sign(p), a, 0.0, y_.segment(2, n_), y_.segment(2 + n_, n_)) > 0) {
+      if (uplift_guard(c_, sign(p), a, held(p), y_.segment(u_, n_), y_.segment(u_ + n_, n_)) > 0) {
         lift(p, t);
         return;
       }
   }
 
+  // The phase, with the devices': the acting devices of a new rocking phase
+  // resume the states they kept.
+  void set_phase(Phase phase) {
+    phase_ = phase;
+    devices_.phase = phase;
+    if (phase.is_rocking())
+      for (const ContactModel::Acting& a : acting())
+        if (a.slot) y_[*a.slot] = devices_.z(a.device);
+  }
+
+  // The acting devices keep their states for their next rocking phase.
+  void keep_device_states() {
+    for (const ContactModel::Acting& a : acting())
+      if (a.slot) devices_.set_z(a.device, y_[*a.slot]);
+  }
+
   void lift(Pivot p, double t) {
-    phase_ = Phase::rocking(p);
     y_[0] = 0;
     y_[1] = 0;
+    set_phase(Phase::rocking(p));
     if (result_.counts.uplifts++ == 0) result_.first_uplift = t;
     announce({EventKind::uplift, t, p, std::nullopt});
   }
@@ -177,6 +255,10 @@ class ColumnsDriver {
       directions.push_back(ode::Direction::falling);
       guards_.push_back({ColumnsGuard::overturn, *phase_.pivot()});
       directions.push_back(ode::Direction::rising);
+      for (int i : m_.breakable[index(*phase_.pivot())]) {
+        guards_.push_back({ColumnsGuard::fracture, *phase_.pivot(), i});
+        directions.push_back(ode::Direction::rising);
+      }
     } else if (cm_.rocking) {
       for (Pivot p : pivots) {
         guards_.push_back({ColumnsGuard::uplift, p});
@@ -202,11 +284,18 @@ class ColumnsDriver {
       const double sd = sign(d.pivot);
       switch (d.what) {
         case ColumnsGuard::uplift:
-          g[k] = uplift_guard(c_, sign(d.pivot), a, 0.0, y.segment(2, n_), y.segment(2 + n_, n_));
+          g[k] = uplift_guard(c_, sign(d.pivot), a, held(d.pivot), y.segment(u_, n_), y.segment(u_ + n_, n_));
           break;
         case ColumnsGuard::impact: g[k] = sd * y[0]; break;
         case ColumnsGuard::overturn: g[k] = sd * y[0] - cm_.overturn_angle; break;
         case ColumnsGuard::tension: g[k] = top_forces(t, y).smallest; break;
+        case ColumnsGuard::fracture: {
+          const ContactModel::Acting& dev = acting()[static_cast<std::size_t>(d.acting)];
+          g[k] = devices_.is_broken(dev.device)
+                     ? -1.0
+                     : stretch(dev.geometry, base_half_width(), s(), Tilt(y[0])).e - dev.capacity;
+          break;
+        }
       }
     }
   }
@@ -243,6 +332,13 @@ class ColumnsDriver {
         result_.outcome = Outcome::overturned;
         return false;
       case ColumnsGuard::tension: tension(t);
+      case ColumnsGuard::fracture: {
+        const int device = acting()[static_cast<std::size_t>(d.acting)].device;
+        announce({EventKind::fracture, t, d.pivot, device});
+        fracture(devices_, device);
+        result_.devices[static_cast<std::size_t>(device)].fracture_time = t;
+        break;
+      }
     }
     peaks_.break_continuity();
     restart(t);
@@ -255,10 +351,11 @@ class ColumnsDriver {
     announce({EventKind::impact, t, p, std::nullopt});
     y_[0] = 0;
     const double before = mechanical();
-    Eigen::VectorXd u_dot = y_.segment(2 + n_, n_);
+    keep_device_states();
+    Eigen::VectorXd u_dot = y_.segment(u_ + n_, n_);
     const ColumnsImpact out = rocking::impact(c_, sign(p), y_[1], u_dot, cm_.restitution, cm_.theta_dot_min);
-    y_.segment(2 + n_, n_) = u_dot;
-    phase_ = out.after;
+    y_.segment(u_ + n_, n_) = u_dot;
+    set_phase(out.after);
     y_[1] = out.theta_dot;
     result_.energy.impacts += before - mechanical();
     if (result_.counts.impacts++ == 0) result_.first_impact = t;
@@ -270,14 +367,14 @@ class ColumnsDriver {
   Response response(double t, Eigen::Ref<const Eigen::VectorXd> y, bool forces) {
     const Layout& l = m_.layout;
     if (l.u.present()) {
-      from_nodal(m_.body, y.segment(2, n_), fixed_.segment(l.u.start, l.n));
-      from_nodal(m_.body, y.segment(2 + n_, n_), fixed_.segment(l.u_dot.start, l.n));
+      from_nodal(m_.body, y.segment(u_, n_), fixed_.segment(l.u.start, l.n));
+      from_nodal(m_.body, y.segment(u_ + n_, n_), fixed_.segment(l.u_dot.start, l.n));
     }
     Response r = evaluate(m_, scales_, contact_, t, fixed_);
     r.phase = phase_;
     r[Quantity::phase] = phase_.sign();
     const double dx = phase_.is_rocking() ? beam_motion(c_, s(), Tilt(y[0])).dx : 0.0;
-    const double u_top = n_ > 0 ? y[2 + n_ - 1] : 0.0;
+    const double u_top = n_ > 0 ? y[u_ + n_ - 1] : 0.0;
     r[Quantity::delta_t] = (dx + u_top) * scales_.inverse_H_N;
     r[Quantity::columns_theta] = y[0];
     r[Quantity::columns_theta_over_alpha] = y[0] / c_.alpha;
@@ -302,14 +399,47 @@ class ColumnsDriver {
       const Eigen::VectorXd& y = integrator_->sample(k, count);
       const Response r = response(ode::Integrator::sample_time(t0, t1, k, count), y, true);
       peaks_.add(r.t, r.q);
+      device_peaks(y);
     }
     if (observer_ == nullptr) return;
     history_.rows(*integrator_, dense_, [this](double t, const Eigen::VectorXd& y) { history_row(t, y); });
   }
 
+  // Each device's elongation and force (one column's; NaN once broken) into
+  // samples_, with the moment its n copies exert against the tilt; returns
+  // the sum of those moments, M_dev [N m].
+  double sample_devices(Eigen::Ref<const Eigen::VectorXd> y) {
+    samples_.assign(m_.devices.size(), DeviceSample{});
+    for (std::size_t k = 0; k < samples_.size(); ++k)
+      if (devices_.is_broken(static_cast<int>(k))) samples_[k] = {std::nan(""), std::nan(""), 0.0};
+    if (!phase_.is_rocking()) return 0.0;
+    const Tilt tilt(y[0]);
+    double moment = 0;
+    for (const ContactModel::Acting& a : acting()) {
+      if (devices_.is_broken(a.device)) continue;
+      const DamperState st = a.state(a, devices_, base_half_width(), s(), tilt, y[1], y.data());
+      const double de_dtheta = stretch(a.geometry, base_half_width(), s(), tilt).de_dtheta;
+      samples_[static_cast<std::size_t>(a.device)] = {st.elongation, st.force, count() * s() * st.force * de_dtheta};
+      moment += count() * s() * st.force * de_dtheta;
+    }
+    return moment;
+  }
+
+  // Peak elongation and force of the intact devices.
+  void device_peaks(Eigen::Ref<const Eigen::VectorXd> y) {
+    if (m_.devices.empty() || !phase_.is_rocking()) return;
+    sample_devices(y);
+    for (std::size_t k = 0; k < samples_.size(); ++k) {
+      if (devices_.is_broken(static_cast<int>(k))) continue;  // its peaks are those it had when it broke
+      DeviceResult& out = result_.devices[k];
+      out.peak_elongation = std::max(out.peak_elongation, samples_[k].e);
+      out.peak_force = std::max(out.peak_force, std::abs(samples_[k].F));
+    }
+  }
+
   // A history row, with the energy balance's terms so far (MODEL.md 7): the
-  // state's mechanical energy, the ground's and the damping's accumulators,
-  // the impacts' losses up to now; no device stands on columns.
+  // state's mechanical energy, the ground's, the damping's and the devices'
+  // accumulators, the impacts' losses up to now.
   void history_row(double t, Eigen::Ref<const Eigen::VectorXd> y) {
     last_row_ = t;
     Response r = response(t, y, true);
@@ -317,17 +447,22 @@ class ColumnsDriver {
     r[Quantity::a_v] = vertical_ ? vertical_->acceleration(t) : 0.0;
     r[Quantity::x_g] = travel_.at(t).d;
     r[Quantity::energy] = mechanical_energy(c_, s(), coordinates(y)).total();
-    r[Quantity::work_ground] = y[2 + 2 * n_];
-    r[Quantity::work_viscous] = y[3 + 2 * n_];
-    r[Quantity::work_devices] = 0.0;
+    r[Quantity::work_ground] = y[work_];
+    r[Quantity::work_viscous] = y[work_ + 1];
+    r[Quantity::work_devices] = y[work_ + 2];
     r[Quantity::work_impacts] = result_.energy.impacts;
-    observer_->nodal(y.segment(2, n_), y.segment(2 + n_, n_));
+    if (!m_.devices.empty()) {
+      r[Quantity::device_moment] = sample_devices(y);
+      observer_->devices(samples_);
+    }
+    observer_->nodal(y.segment(u_, n_), y.segment(u_ + n_, n_));
     observer_->record(r);
   }
 
   void emit(double t, Eigen::Ref<const Eigen::VectorXd> y) {
     const Response r = response(t, y, true);
     peaks_.add(r.t, r.q);
+    device_peaks(y);
     if (observer_ != nullptr) history_row(t, y);
   }
 
@@ -341,8 +476,11 @@ class ColumnsDriver {
     result_.top_total_mm = result_.peak(Quantity::delta_t) * scales_.H_N * 1000.0;
     result_.stats = integrator_->stats();
     result_.energy.final = mechanical();
-    result_.energy.ground = y_[2 + 2 * n_];
-    result_.energy.viscous = y_[3 + 2 * n_];
+    result_.energy.ground = y_[work_];
+    result_.energy.viscous = y_[work_ + 1];
+    result_.energy.damper = y_[work_ + 2];
+    for (std::size_t k = 0; k < result_.devices.size(); ++k)
+      result_.devices[k].work = y_[work_ + 3 + static_cast<Eigen::Index>(k)];
     if (opt_.final_row && observer_ != nullptr && opt_.output_interval > 0 && last_row_ < result_.t_end)
       history_row(result_.t_end, y_);
   }
@@ -355,9 +493,14 @@ class ColumnsDriver {
   const RunOptions& opt_;
   Observer* observer_;
   OutputScales scales_;
-  Eigen::Index n_, size_;
+  // Elastic coordinates; where u and the works start in the state; its size.
+  Eigen::Index n_, u_, work_, size_;
   Phase phase_;
   Discrete contact_;  // the structure's own phase on the beam: full contact
+  Discrete devices_;  // the devices': the columns' phase, the states kept, the fractures
+  std::vector<double> power_ = std::vector<double>(m_.devices.size(), 0.0);  // on each device's n copies [W]
+  Eigen::VectorXd scratch_ = Eigen::VectorXd::Zero(size_);  // the state rates device_terms writes when not asked
+  std::vector<DeviceSample> samples_;
   Eigen::VectorXd y_, dense_, rates_, fixed_;
   double last_row_ = -std::numeric_limits<double>::infinity();  // the last history row's time
   std::vector<double> normal_;

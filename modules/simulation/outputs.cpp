@@ -20,9 +20,10 @@ Presence presence(const ContactModel& m) {
     return {.rocking = true, .elasticity = false, .dampers = false, .devices = !m.devices.empty(),
             .vertical = m.vertical_shaking, .energy = true};
   // A structure on rocking columns reports the columns' rocking (columns.*),
-  // its own elastic quantities, and no rocking of its own on the cap beam.
+  // its own elastic quantities, no rocking of its own on the cap beam, and
+  // the devices at the columns' bases.
   if (m.on_columns)
-    return {.rocking = false, .elasticity = m.layout.u.present(), .dampers = false, .devices = false,
+    return {.rocking = false, .elasticity = m.layout.u.present(), .dampers = false, .devices = !m.devices.empty(),
             .vertical = m.vertical_shaking, .energy = true, .columns = true};
   return {.rocking = m.kind != ModelKind::fixed_base,
           .elasticity = m.layout.u.present(),
