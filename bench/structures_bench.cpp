@@ -1,10 +1,11 @@
 // What rocking at joints and on columns costs against the structures they
 // extend (issues 54 and 55), under El Centro N-S at the default tolerance:
 // each pair's two runs alternate, best of N each, so that their ratio is
-// measured in one run on the same machine state. The targets: the rigid
-// frame costs about the rigid block; the chimney on columns at most twice the
-// chimney (as shipped, and its fixed-base twin). The jointed scenes are
-// reported against their one-joint twins (joints removed) for information.
+// measured in one run on the same machine state. The targets (issue 55): the
+// rigid frame costs about the rigid block; the chimney on columns at most
+// twice the chimney. Its fixed-base twin, stepped exactly with no right-hand
+// side, and the stacked blocks against the rigid block are reported for
+// information.
 // Usage: structures_bench [RECORDS_DIR] [--repeats N]
 //   RECORDS_DIR: default ../shared/data/records or $ROCKING_RECORDS.
 #include <fmt/format.h>
@@ -71,7 +72,7 @@ int main(int argc, char** argv) {
          {"chimney (christchurch_chimney.toml)", "christchurch_chimney.toml", {}}, elcentro, repeats, 2.0);
     pair({"chimney on columns", "chimney_on_columns.toml", {}},
          {"its fixed-base twin (no dampers)", "christchurch_chimney.toml", {"contact.rocking=false", "damper.enabled=false"}},
-         elcentro, repeats, 2.0);
+         elcentro, repeats, 0);
     pair({"stacked blocks (stacked_blocks.toml)", "stacked_blocks.toml", {}},
          {"rigid block (rigid_block.toml)", "rigid_block.toml", {}}, elcentro, repeats, 0);
   } catch (const std::exception& e) {

@@ -27,7 +27,11 @@
 // device reaching its capacity fractures (an event, in every column at once).
 // The state is [theta, theta', z (the devices' states, as a rigid block's
 // slots), u, u', W_ground, W_viscous, W_devices, the work on each device] (u
-// nodal, none for a rigid deck); the works do not steer the steps. The structure's outputs are those of the structure on a fixed base
+// nodal, none for a rigid deck); the works do not steer the steps. Full
+// contact of a flexible structure under a piecewise-linear record is stepped
+// exactly (rocking.integrator's make_exact_linear), as a structure on its own
+// base is in simulation.cpp. The structure's outputs are those of the
+// structure on a fixed base
 // (rocking.simulation's evaluate on the model's fixed-base description) with
 // the total top drift measured from the ground, (beam dx + u_N) / H_N, H_N
 // from the column tops; a_N is -(K u + C u')_N / m_N in both phases (node N's
@@ -49,6 +53,7 @@ module;
 #include <fmt/format.h>
 module rocking.simulation;
 import :peaks;
+import :modes;
 import rocking.errors;
 
 namespace rocking {
@@ -87,10 +92,34 @@ class ColumnsDriver {
     };
     integrator_ = motion_integrator(o, ground, size_, rhs, motion_tolerances(o, ground, work_));
     t_end_ = run_end(o, ground);
+    // Full contact of a flexible structure under a piecewise-linear record:
+    // the structure on the still beam is MODEL.md 3's linear system, stepped
+    // exactly from sample to sample (as a structure on its own base is),
+    // with the ground's and the viscous work as its quadratures.
+    if (o.exact_full_contact && n_ > 0 && m.body.coordinates == ElasticCoordinates::nodal && ground.piecewise_linear() &&
+        (!vertical_ || vertical_->piecewise_linear())) {
+      LinearPhase phase = full_contact_matrices(m);
+      ode::LinearSystem system{size_, u_, std::move(phase.A), std::move(phase.b),
+                               [this](double t) { return ground_.acceleration(t); }, {}};
+      system.quadratures.push_back({work_, Eigen::MatrixXd(), std::move(phase.ground)});
+      system.quadratures.push_back({work_ + 1, std::move(phase.viscous), Eigen::VectorXd()});
+      ode::Options exact;
+      exact.sample_spacing = shortest_period(m) / 8;
+      exact.max_steps = o.tolerances.max_steps;
+      exact_ = ode::make_exact_linear(std::move(system), exact);
+      const bool own_samples = vertical_ && !(vertical_->sample_interval() > 0 &&
+                                              vertical_->sample_interval() == ground.sample_interval() &&
+                                              vertical_->duration() <= ground.duration());
+      exact_->set_breakpoints([this, own_samples](double t) {
+        return own_samples ? std::min(ground_.next_breakpoint(t), vertical_->next_breakpoint(t)) : ground_.next_breakpoint(t);
+      });
+    }
+    active_ = integrator_.get();
   }
 
   RunResult run() {
     result_.integrator = integrator_->name();
+    result_.exact_full_contact = exact_ != nullptr;
     result_.presence = presence(m_);
     result_.energy_tracked = true;
     result_.columns.emplace();
@@ -144,8 +173,7 @@ class ColumnsDriver {
   }
 
   // theta'' (0 in full contact) with (u', u'') into rates_, as the phase's equations give them.
-  double accelerations(double t, Eigen::Ref<const Eigen::VectorXd> y) {
-    const GroundAcceleration a = ground_at(t);
+  double accelerations(GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> y) {
     if (!phase_.is_rocking()) {
       full_contact_acceleration(c_, a.h, y.segment(u_, n_), y.segment(u_ + n_, n_), rates_);
       return 0.0;
@@ -184,10 +212,9 @@ class ColumnsDriver {
   double held(Pivot p) const { return m_.devices.empty() ? 0.0 : count() * held_moment(m_, devices_, p); }
 
   // The column-top contact forces now (normal_ filled).
-  TopContact top_forces(double t, Eigen::Ref<const Eigen::VectorXd> y) {
-    const double theta_ddot = accelerations(t, y);
-    return top_contact_forces(c_, s(), ground_at(t), coordinates(y), theta_ddot,
-                              rates_.tail(n_), normal_);
+  TopContact top_forces(GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> y) {
+    const double theta_ddot = accelerations(a, y);
+    return top_contact_forces(c_, s(), a, coordinates(y), theta_ddot, rates_.tail(n_), normal_);
   }
 
   void initial_state() {
@@ -271,8 +298,9 @@ class ColumnsDriver {
                          guard_values(tg, y, g);
                        },
                        std::move(directions)};
-    integrator_->reset(t, y_, std::move(guards));
-    const TopContact top = top_forces(t, y_);
+    active_ = !phase_.is_rocking() && exact_ ? exact_.get() : integrator_.get();
+    active_->reset(t, y_, std::move(guards));
+    const TopContact top = top_forces(ground_at(t), y_);
     if (top.smallest < 0) tension(t);
     emit(t, y_);
   }
@@ -288,7 +316,7 @@ class ColumnsDriver {
           break;
         case ColumnsGuard::impact: g[k] = sd * y[0]; break;
         case ColumnsGuard::overturn: g[k] = sd * y[0] - cm_.overturn_angle; break;
-        case ColumnsGuard::tension: g[k] = top_forces(t, y).smallest; break;
+        case ColumnsGuard::tension: g[k] = top_forces(a, y).smallest; break;
         case ColumnsGuard::fracture: {
           const ContactModel::Acting& dev = acting()[static_cast<std::size_t>(d.acting)];
           g[k] = devices_.is_broken(dev.device)
@@ -306,23 +334,23 @@ class ColumnsDriver {
   }
 
   void loop() {
-    while (integrator_->time() < t_end_) {
-      check_stop(opt_, integrator_->time());
-      const ode::StepReport rep = integrator_->step(t_end_);
+    while (active_->time() < t_end_) {
+      check_stop(opt_, active_->time());
+      const ode::StepReport rep = active_->step(t_end_);
       sample_step();
       if (rep.reason == ode::Stop::event) {
         if (!handle_event(guards_[static_cast<std::size_t>(rep.guard)], rep.t)) return;
-      } else if (phase_.sign() * integrator_->state()[0] < 0) {
+      } else if (phase_.sign() * active_->state()[0] < 0) {
         // Round-off right after an uplift can put theta on the wrong side
         // without a crossing: treat it as the impact it is.
-        if (!handle_event({ColumnsGuard::impact, *phase_.pivot()}, integrator_->time())) return;
+        if (!handle_event({ColumnsGuard::impact, *phase_.pivot()}, active_->time())) return;
       }
     }
   }
 
   // Returns false when the run ends (overturning).
   bool handle_event(const ColumnsGuardDef& d, double t) {
-    y_ = integrator_->state();
+    y_ = active_->state();
     count_phase_change(events_, opt_, t);
     switch (d.what) {
       case ColumnsGuard::uplift: lift(d.pivot, t); break;
@@ -381,7 +409,7 @@ class ColumnsDriver {
     r[Quantity::columns_theta_dot] = y[1];
     r[Quantity::beam_x] = dx;
     if (forces) {
-      const double smallest = top_forces(t, y).smallest;
+      const double smallest = top_forces(ground_at(t), y).smallest;
       r[Quantity::columns_top_force] = smallest;
       ColumnsResult& cr = *result_.columns;
       if (smallest < cr.smallest_top_force) {
@@ -393,16 +421,16 @@ class ColumnsDriver {
   }
 
   void sample_step() {
-    const int count = integrator_->sample_count();
-    const double t0 = integrator_->previous_time(), t1 = integrator_->time();
+    const int count = active_->sample_count();
+    const double t0 = active_->previous_time(), t1 = active_->time();
     for (int k = 1; k <= count; ++k) {
-      const Eigen::VectorXd& y = integrator_->sample(k, count);
+      const Eigen::VectorXd& y = active_->sample(k, count);
       const Response r = response(ode::Integrator::sample_time(t0, t1, k, count), y, true);
       peaks_.add(r.t, r.q);
       device_peaks(y);
     }
     if (observer_ == nullptr) return;
-    history_.rows(*integrator_, dense_, [this](double t, const Eigen::VectorXd& y) { history_row(t, y); });
+    history_.rows(*active_, dense_, [this](double t, const Eigen::VectorXd& y) { history_row(t, y); });
   }
 
   // Each device's elongation and force (one column's; NaN once broken) into
@@ -467,14 +495,22 @@ class ColumnsDriver {
   }
 
   void finish() {
-    y_ = integrator_->state();
-    result_.t_end = integrator_->time();
+    y_ = active_->state();
+    result_.t_end = active_->time();
     result_.final_phase = phase_;
     result_.final_theta = y_[0];
     result_.final_state = y_;
     result_.peaks = peaks_.peaks();
     result_.top_total_mm = result_.peak(Quantity::delta_t) * scales_.H_N * 1000.0;
     result_.stats = integrator_->stats();
+    if (exact_) {
+      const ode::Stats e = exact_->stats();
+      result_.stats.rhs += e.rhs;
+      result_.stats.steps += e.steps;
+      result_.stats.rejected += e.rejected;
+      result_.stats.events += e.events;
+      result_.stats.guards += e.guards;
+    }
     result_.energy.final = mechanical();
     result_.energy.ground = y_[work_];
     result_.energy.viscous = y_[work_ + 1];
@@ -506,7 +542,8 @@ class ColumnsDriver {
   std::vector<double> normal_;
   std::vector<ColumnsGuardDef> guards_;
   GroundTravel travel_{ground_};
-  std::unique_ptr<ode::Integrator> integrator_;
+  std::unique_ptr<ode::Integrator> integrator_, exact_;  // the backend; full contact under a record
+  ode::Integrator* active_ = nullptr;                    // the one stepping the current phase
   double t_end_ = 0;
   long events_ = 0;
   HistoryGrid history_;
