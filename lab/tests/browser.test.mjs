@@ -11,11 +11,16 @@
 // entries the server sends (altered on their way, the page shows the altered
 // words, symbol, unit and factor); draws the stacked blocks, each block
 // turning about its joint's corner by the history's rotations, with a chart
-// of the joints' rotations. Reports the page's re-run-and-redraw time.
+// of the joints' rotations; draws the chimney on rocking columns, each column
+// turned about its pivot corner by the columns' rocking angle and the cap
+// beam moved on their tops as MODEL.md 16 says, the chimney standing on it.
+// Reports the page's re-run-and-redraw time.
 //
 //   ROCKING_BIN=build/bin/rocking node lab/tests/browser.test.mjs
 // Environment: ROCKING_RECORDS (the records), ROCKING_LAB_SCREENSHOT (where
-// the screenshot goes; default build/lab/lab.png), ROCKING_LAB_MOVES (slider
+// the screenshot goes, and beside it, named -joints and -columns, those of
+// the stacked blocks and of the chimney on columns; default
+// build/lab/lab.png), ROCKING_LAB_MOVES (slider
 // moves timed, default 8; `make bench` asks for more), CI=true (a missing
 // browser or record is a failure, not a skip).
 import assert from 'node:assert/strict';
@@ -292,6 +297,76 @@ try {
     `the artefact drawn turns ${tilt(jointed.beams[1]) - tilt(jointed.beams[0])} on the plinth, joint1.theta ${jointed.joint} x ${jointed.factor}`);
   assert.ok(jointed.charts.includes('joint1.theta'), `a chart of the joints' rotations: ${jointed.charts}`);
   await page.screenshot({ path: screenshot.replace(/\.png$/, '-joints.png'), fullPage: true });
+
+  // Columns: the chimney on rocking columns at the frame of the columns' peak rocking angle. Each column's
+  // corners are drawn where its rest corners go, turned by theta (times the drawing's exaggeration) about
+  // its bottom corner on theta's side; the cap beam, moved by MODEL.md 16's (dx, dy) without turning; the
+  // chimney's axis standing on the beam's middle. Theta is the history's columns.theta, or its
+  // columns.theta_over_alpha times the columns' alpha = atan(b/h) where only that is sent.
+  n = await runsOf(page);
+  await page.select('#scene', 'chimney_on_columns');
+  await settled(page, n);
+  await recordStrokes(page);
+  const onColumns = await page.evaluate(() => {
+    const { history: h, structure } = window.lab.data;
+    const c = structure.columns;
+    const theta = h['columns.theta'] || h['columns.theta_over_alpha'].map((v) => v * Math.atan(c.half_width / c.half_height));
+    let k = 0;
+    theta.forEach((v, i) => { if (Math.abs(v) > Math.abs(theta[k])) k = i; });
+    window.drawnSegments = [];
+    const time = document.querySelector('#time');
+    time.value = h.t[k];
+    time.dispatchEvent(new Event('input', { bubbles: true }));
+    return { columns: c, theta: theta[k], t: h.t[k], factor: window.lab.factors.theta, scale: window.lab.scaleBar.scale,
+      origin: window.lab.origins[0], segments: window.drawnSegments.filter((x) => x.color === '#1f5fa8'),
+      peaks: window.lab.data.summary.peaks, text: document.querySelector('#run-text').textContent };
+  });
+  {
+    const { columns: c, theta, factor, scale, origin, segments } = onColumns;
+    assert.ok(c && c.count >= 2, `the scene stands on columns: ${JSON.stringify(c)}`);
+    assert.ok(theta !== 0, 'the columns rock');
+    const phi = theta * factor;
+    const s = Math.sign(phi);
+    const R = Math.hypot(c.half_width, c.half_height);
+    const alpha = Math.atan(c.half_width / c.half_height);
+    const b = c.half_width;
+    const top = 2 * c.half_height;
+    // A point [m] of the ground's frame where the page draws it [px]: y up in metres, down on the screen.
+    const px = ([x, y]) => [origin[0] + x * scale, origin[1] - y * scale];
+    const near = (drawn, expected, what) => drawn.forEach((v, j) => assert.ok(Math.abs(v - expected[j]) <= 1e-9 * Math.max(1, Math.abs(expected[j])),
+      `${what} at t = ${onColumns.t} s: drawn at ${drawn}, expected ${expected}`));
+    // Turned clockwise by phi (theta > 0 tips the top towards +x) about the pivot.
+    const turned = ([x, y], [px0, py0]) => [px0 + (x - px0) * Math.cos(phi) + (y - py0) * Math.sin(phi),
+      py0 - (x - px0) * Math.sin(phi) + (y - py0) * Math.cos(phi)];
+    const outlines = segments.filter((x) => x.width === 2);
+    assert.ok(outlines.length >= 4 * c.count, `${outlines.length} outline strokes for ${c.count} columns`);
+    for (let k = 0; k < c.count; k += 1) {
+      const axis = -c.spacing / 2 + (c.spacing * k) / (c.count - 1);
+      const pivot = [axis + s * b, 0];
+      const rest = [[axis - b, 0], [axis - b, top], [axis + b, top], [axis + b, 0], [axis - b, 0]];
+      for (let j = 0; j < 4; j += 1) {
+        const stroke = outlines[4 * k + j];
+        near(stroke.from, px(turned(rest[j], pivot)), `column ${k}, corner ${j}`);
+        near(stroke.to, px(turned(rest[j + 1], pivot)), `column ${k}, corner ${j + 1}`);
+      }
+    }
+    const dx = 2 * R * s * (Math.sin(alpha) - Math.sin(alpha - s * phi));
+    const dy = 2 * R * (Math.cos(alpha - s * phi) - Math.cos(alpha));
+    const beams = segments.filter((x) => x.width === 3);
+    assert.equal(beams.length, 1, 'one cap beam');
+    const ends = [-c.spacing / 2 - b, c.spacing / 2 + b];
+    near(beams[0].from, px([ends[0] + dx, top + dy]), 'the beam\'s left end');
+    near(beams[0].to, px([ends[1] + dx, top + dy]), 'the beam\'s right end');
+    const tower = segments.filter((x) => x.width === 4);
+    assert.ok(tower.length > 0, 'the chimney drawn');
+    near(tower[0].from, px([dx, top + dy]), 'the chimney\'s base, on the beam\'s middle');
+    // The server's beam.x is this dx (relative to the ground) at true scale: its peak is dx at the peak theta.
+    const p = onColumns.peaks;
+    const peakDx = 2 * R * (Math.sin(alpha) - Math.sin(alpha - Math.abs(p['columns.theta'])));
+    assert.ok(Math.abs(p['beam.x'] - peakDx) <= 1e-6 * peakDx, `peak beam.x ${p['beam.x']} m, 2R (sin alpha - sin(alpha - theta)) ${peakDx} m`);
+    assert.match(onColumns.text, /rocking columns.*tilt together/, 'the words say the columns rock');
+  }
+  await page.screenshot({ path: screenshot.replace(/\.png$/, '-columns.png'), fullPage: true });
 
   consoleErrors.splice(0, consoleErrors.length, ...consoleErrors.filter((e) => !e.includes('status of 400')));
   assert.deepEqual(consoleErrors, [], 'no console errors');

@@ -8,7 +8,7 @@ import { fileURLToPath } from 'node:url';
 import {
   formatG, buildRequest, twinChoices, exaggeration, bodyPoints, splitOverrides, forStudents, axisRange, describeRun, groundStill,
   drawnRows,
-  chartsFrom, energyBars, chainPoints, segmentTop,
+  chartsFrom, energyBars, chainPoints, segmentTop, columnsPoints, columnsThetaOf,
 } from '../format.js';
 import { lessons } from '../lessons.js';
 
@@ -238,4 +238,54 @@ test('a structure with joints is drawn segment by segment, each turning about it
   assert.deepEqual(rest.segments[1].topRight, [0.15, 1.9]);
   assert.deepEqual(rest.devices[0].to, [0, 1.9]);
   assert.equal(segmentTop(6, [7, 8]), 8, 'a segment whose last node is its top face');
+});
+
+test('a structure on rocking columns: each column turns about its pivot corner, the beam moves with the tops opposite them', () => {
+  const columns = { count: 3, half_width: 0.8, half_height: 4.8, spacing: 6 };
+  const R = Math.hypot(0.8, 4.8);
+  for (const theta of [0.09, -0.13, 0]) {
+    const p = columnsPoints(columns, theta);
+    const s = Math.sign(theta);
+    assert.deepEqual(p.columns.map((c) => c.axis), [-3, 0, 3], 'the axes evenly spread over the spacing');
+    for (const c of p.columns) {
+      // The pivot (bottom corner on theta's side) stays put, and every corner keeps its distance from it.
+      const pivot = s >= 0 ? c.right : c.left;
+      assert.deepEqual(pivot, [c.axis + (s >= 0 ? 0.8 : -0.8), 0]);
+      const from = (pt) => Math.hypot(pt[0] - pivot[0], pt[1] - pivot[1]);
+      assert.ok(Math.abs(from(s >= 0 ? c.left : c.right) - 1.6) < 1e-12);
+      assert.ok(Math.abs(from(s >= 0 ? c.topLeft : c.topRight) - 2 * R) < 1e-12, 'the diagonal');
+      // The top corner opposite the pivot carries the beam: it moves by the beam's shift.
+      const carrying = s >= 0 ? c.topLeft : c.topRight;
+      const rest = [c.axis + (s >= 0 ? -0.8 : 0.8), 9.6];
+      assert.ok(Math.abs(carrying[0] - rest[0] - p.shift[0]) < 1e-12 && Math.abs(carrying[1] - rest[1] - p.shift[1]) < 1e-12,
+        `theta ${theta}: the corner under the beam moves by ${p.shift}`);
+      // The column turns clockwise for theta > 0 (its top moves towards +x), as the body does.
+      const tilt = Math.atan2(c.topRight[0] - c.right[0], c.topRight[1] - c.right[1]);
+      assert.ok(Math.abs(tilt - theta) < 1e-12, `tilt ${tilt}`);
+    }
+    assert.ok(Math.abs(p.beam[1][0] - p.beam[0][0] - (6 + 1.6)) < 1e-12 && p.beam[0][1] === p.beam[1][1], 'the beam spans the outer faces, level');
+    assert.ok(Math.abs(p.beam[0][0] - (-3.8 + p.shift[0])) < 1e-12 && Math.abs(p.beam[0][1] - (9.6 + p.shift[1])) < 1e-12);
+    assert.equal(p.top, 9.6);
+  }
+  // Small theta: the beam moves sideways by 2h theta, and rises (the diagonal's top passes its highest point first).
+  const small = columnsPoints(columns, 1e-6);
+  assert.ok(Math.abs(small.shift[0] / 1e-6 - 9.6) < 1e-5 && small.shift[1] > 0);
+  assert.deepEqual(columnsPoints({ ...columns, count: 1, spacing: 0 }, 0.1).columns.map((c) => c.axis), [0], 'one column on the axis');
+});
+
+test('the columns\' rocking angle: columns.theta when sent, else theta/alpha times the columns\' slenderness', () => {
+  const structure = { columns: { count: 2, half_width: 0.8, half_height: 4.8, spacing: 6 } };
+  const alpha = Math.atan(0.8 / 4.8);
+  assert.deepEqual(columnsThetaOf({ structure, history: { 'columns.theta_over_alpha': [0, 0.5, null] } }), [0, 0.5 * alpha, null]);
+  assert.deepEqual(columnsThetaOf({ structure, history: { 'columns.theta': [0.01], 'columns.theta_over_alpha': [7] } }), [0.01]);
+  assert.equal(columnsThetaOf({ structure: { columns: null }, history: { theta: [0.1] } }), null);
+});
+
+test('a run on rocking columns is told in words: the columns tilting, the beam moving, its peaks', () => {
+  const text = describeRun({
+    structure: { columns: { count: 2, half_width: 0.8, half_height: 4.8, spacing: 6 } },
+    summary: { outcome: 'completed', counts: { uplifts: 1, impacts: 7 }, peaks: { 'columns.theta_over_alpha': 0.5348, 'beam.x': 0.853 } },
+  });
+  assert.match(text, /the columns' peak rocking angle θ_c\/α_c 0\.535/);
+  assert.match(text, /It stands on 2 rocking columns, 9\.6 m tall: they tilt together about their bottom corners, and the cap beam on their tops moves sideways \(at most 0\.853 m\) without tilting/);
 });
