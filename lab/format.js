@@ -68,17 +68,34 @@ export function buildRequest(controls, scene) {
   set.push(...splitOverrides(controls.extra));
   const request = { scene: controls.scene, scale: controls.scale, set };
   if (controls.record && !pulse) request.record = controls.record;
-  if (controls.compare) request.compare = controls.compare;
+  if (controls.compare && controls.compare !== otherOverrides) request.compare = controls.compare;
   return request;
 }
 
-// The twins a scene can be compared with (rocking.study's variants).
+// The twin choice that is not one of the server's variants: the same run
+// with overrides of the user's own after the controls' (`twinExtra`), made by
+// the page as a second request.
+export const otherOverrides = 'overrides';
+
+// The twins a scene can be compared with: rocking.study's variants the server
+// runs beside it, and the same run with other overrides.
 export function twinChoices(scene) {
   const out = [{ value: '', label: 'none' }];
   if (!scene.rigid) out.push({ value: 'fixed-base', label: 'fixed base' });
   for (const d of scene.devices || []) out.push({ value: `without:${d.name}`, label: `without ${d.name}` });
   if ((scene.devices || []).length > 1) out.push({ value: 'no-devices', label: 'no devices' });
+  out.push({ value: otherOverrides, label: 'the same with other overrides' });
   return out;
+}
+
+// The twin with other overrides: {request (the controls' run with the twin's
+// overrides after its own, and no server twin), variant (its name: the
+// overrides)}; null when the twin chosen is none or a server variant.
+export function twinRequest(controls, scene) {
+  if (controls.compare !== otherOverrides) return null;
+  const own = splitOverrides(controls.twinExtra);
+  const request = buildRequest(controls, scene);
+  return { request: { ...request, set: [...request.set, ...own] }, variant: own.length ? `with ${own.join(' ')}` : 'the same' };
 }
 
 // Largest |value| of a column (nulls skipped), 0 for none.

@@ -6,7 +6,7 @@
 import {
   formatG, buildRequest, twinChoices, tendonOf, damperDevices, peakOf, exaggeration, bodyPoints, pulses, ownPulse, groundStill,
   forStudents, axisRange, describeRun, peakTitle, groundDrawn, scaleBar, drawnRows, energyBars, chartsFrom, columnOf,
-  chainPoints, columnsPoints, columnsThetaOf,
+  chainPoints, columnsPoints, columnsThetaOf, twinRequest, otherOverrides,
 } from './format.js';
 import { lessons } from './lessons.js';
 
@@ -34,6 +34,7 @@ function controls() {
     prestress: Number($('prestress').value),
     restitution: $('own-restitution').checked ? null : Number($('restitution').value),
     compare: $('compare').value,
+    twinExtra: $('twin-extra').value,
     extra: $('extra').value,
   };
 }
@@ -80,6 +81,7 @@ function fitControls() {
   const keep = $('compare').value;
   $('compare').replaceChildren(...twinChoices(scene).map((c) => new Option(c.label, c.value)));
   if ([...$('compare').options].some((o) => o.value === keep)) $('compare').value = keep;
+  $('twin-extra-box').hidden = $('compare').value !== otherOverrides;
   // The pulse sliders act on a pulse: one chosen from the list, or the scene's own.
   const still = groundStill($('extra').value);
   const pulse = $('record').value.startsWith('pulse:') || ownPulse(controls(), scene);
@@ -106,22 +108,31 @@ async function rerun(started = performance.now()) {
   fitControls();
   const scene = sceneOf($('scene').value);
   const request = buildRequest(controls(), scene);
+  const twin = twinRequest(controls(), scene);
   setStatus('running…', 'running');
   try {
     const t0 = performance.now();
+    // A twin with other overrides is a run of its own, asked for beside this one.
+    const asked = twin ? fetch('/api/simulate', { method: 'POST', body: JSON.stringify(twin.request) }) : null;
     const response = await fetch('/api/simulate', { method: 'POST', body: JSON.stringify(request) });
     const t1 = performance.now();
     const text = await response.text();
     const t2 = performance.now();
     const body = JSON.parse(text);
     state.timing = { headers: t1 - t0, body: t2 - t1, parse: performance.now() - t2 };
+    const twinResponse = asked && await asked;
+    const twinBody = twinResponse && await twinResponse.json();
     if (!response.ok) {
       showFailure(body.error);
+    } else if (twinResponse && !twinResponse.ok) {
+      showFailure(`the twin (${twin.variant}): ${twinBody.error}`);
     } else {
       showError('');
       $('view').classList.remove('stale');
+      if (twinBody) body.twin = { variant: twin.variant, ...twinBody, twin: null };
       state.data = body;
       state.request = request;
+      state.twinRequest = twin && twin.request;
       drawAll();
       state.runs += 1;
       state.redrawMs = performance.now() - started;
@@ -733,7 +744,9 @@ async function uploadRecord() {
 const idaScales = [0.5, 1, 1.5, 2, 2.5, 3, 3.5, 4, 4.5, 5];
 
 async function runIda() {
-  const r = buildRequest(controls(), sceneOf($('scene').value));
+  const scene = sceneOf($('scene').value);
+  const r = buildRequest(controls(), scene);
+  const twin = twinRequest(controls(), scene);
   if (!r.record) {
     showError('IDA: choose a record to scale (a pulse is scaled by its amplitude)');
     return;
@@ -743,12 +756,17 @@ async function runIda() {
   setStatus('IDA running…', 'running');
   state.idaBusy = true;
   try {
-    const response = await fetch('/api/ida', { method: 'POST', body: JSON.stringify(request) });
-    const body = await response.json();
-    if (!response.ok) {
-      showError(`The IDA could not be made: ${forStudents(body.error)}.`);
+    // A twin with other overrides: its own ladder, its rows named by its overrides.
+    const asks = [request, ...(twin ? [{ ...request, set: twin.request.set }] : [])];
+    const answers = await Promise.all(asks.map((a) => fetch('/api/ida', { method: 'POST', body: JSON.stringify(a) })));
+    const bodies = await Promise.all(answers.map((a) => a.json()));
+    const failed = answers.findIndex((a) => !a.ok);
+    const body = bodies[0];
+    if (failed >= 0) {
+      showError(`The IDA could not be made: ${forStudents(bodies[failed].error)}.`);
       setStatus('IDA failed', 'error');
     } else {
+      if (twin) body.rows.push(...bodies[1].rows.map((row) => ({ ...row, variant: twin.variant })));
       showError('');
       state.ida = body;
       const keep = $('ida-quantity').value || 'theta_over_alpha';
@@ -838,7 +856,7 @@ function applyLesson(n) {
     text.hidden = true;
     return;
   }
-  const c = { record: '', scale: 1, compare: '', extra: '', ...lesson.controls };
+  const c = { record: '', scale: 1, compare: '', twinExtra: '', extra: '', ...lesson.controls };
   $('scene').value = c.scene;
   state.shownScene = null;  // the pulse sliders start at the scene's own pulse
   state.dampersWanted = true;
@@ -849,7 +867,10 @@ function applyLesson(n) {
   $('prestress').value = 1;
   $('own-restitution').checked = true;
   fitControls();
+  if (c.amplitude !== undefined) $('amplitude').value = c.amplitude;
+  if (c.period !== undefined) $('period').value = c.period;
   $('compare').value = c.compare;
+  $('twin-extra').value = c.twinExtra.split(' ').join('\n');
   $('loop-view').value = c.loops || 'force';
   $('extra').value = c.extra.split(' ').join('\n');
   if (c.restitution !== undefined) {
@@ -956,6 +977,7 @@ async function start() {
   $('step-back').addEventListener('click', () => stepFrame(-1));
   $('upload').addEventListener('change', () => uploadRecord());
   $('extra').addEventListener('change', () => rerun());
+  $('twin-extra').addEventListener('change', () => rerun());
   $('controls').addEventListener('submit', (e) => e.preventDefault());
   $('lesson').addEventListener('change', () => {
     const k = $('lesson').value;

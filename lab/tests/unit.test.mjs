@@ -2,13 +2,13 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
-import { existsSync, readdirSync } from 'node:fs';
+import { existsSync, readFileSync, readdirSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import {
   formatG, buildRequest, twinChoices, exaggeration, bodyPoints, splitOverrides, forStudents, axisRange, describeRun, groundStill,
   drawnRows,
-  chartsFrom, energyBars, chainPoints, segmentTop, columnsPoints, columnsThetaOf,
+  chartsFrom, energyBars, chainPoints, segmentTop, columnsPoints, columnsThetaOf, twinRequest,
 } from '../format.js';
 import { lessons } from '../lessons.js';
 
@@ -99,10 +99,22 @@ test('a run is told in words: outcome, counts and peaks, the twin beside', () =>
   assert.match(text, /Its twin \(fixed-base\): elastic/);
 });
 
-test('twins are the variants the scene has', () => {
-  assert.deepEqual(twinChoices(chimney).map((c) => c.value), ['', 'fixed-base', 'without:damper']);
-  assert.deepEqual(twinChoices(wall).map((c) => c.value), ['', 'fixed-base', 'without:tendon', 'without:dampers', 'no-devices']);
-  assert.deepEqual(twinChoices({ rigid: true, damper: false, devices: [] }).map((c) => c.value), ['']);
+test('twins are the variants the scene has, and the same run with other overrides', () => {
+  assert.deepEqual(twinChoices(chimney).map((c) => c.value), ['', 'fixed-base', 'without:damper', 'overrides']);
+  assert.deepEqual(twinChoices(wall).map((c) => c.value), ['', 'fixed-base', 'without:tendon', 'without:dampers', 'no-devices', 'overrides']);
+  assert.deepEqual(twinChoices({ rigid: true, damper: false, devices: [] }).map((c) => c.value), ['', 'overrides']);
+});
+
+test('a twin with other overrides is the same request with its overrides after the run\'s, and no server twin', () => {
+  const controls = { ...defaults, thickness: 1.5, record: 'elcentro_1940_ns.at2', extra: 'structure.EI_scale=0.5', compare: 'overrides',
+    twinExtra: 'structure.masses=[1.0]\n structure.base_mass=1.0 ' };
+  const main = buildRequest(controls, chimney);
+  assert.equal(main.compare, undefined, 'the server runs no twin of its own');
+  const twin = twinRequest(controls, chimney);
+  assert.deepEqual(twin.request, { ...main, set: [...main.set, 'structure.masses=[1.0]', 'structure.base_mass=1.0'] });
+  assert.equal(twin.variant, 'with structure.masses=[1.0] structure.base_mass=1.0');
+  assert.equal(twinRequest({ ...controls, compare: 'fixed-base' }, chimney), null, 'a server variant is the server\'s twin');
+  assert.equal(buildRequest({ ...controls, compare: 'fixed-base' }, chimney).compare, 'fixed-base');
 });
 
 test('exaggeration draws the peaks at a visible size, never below true size', () => {
@@ -133,8 +145,12 @@ test('the body rotates about the pivot on its side, which stays put', () => {
   assert.deepEqual(bent.axis[1], [0.3, 10]);
 });
 
-test('every lesson names a scene and a record the lab has', () => {
-  assert.equal(lessons.length, 7);
+test('every lesson of docs/teaching.md is a lesson of the lab, and names a scene and a record the lab has', () => {
+  const taught = readFileSync(join(repo, 'docs', 'teaching.md'), 'utf8').match(/^## \d+\. .+$/gm);
+  assert.deepEqual(lessons.map((l) => Number(l.title.split('.')[0])), taught.map((h) => Number(h.slice(3).split('.')[0])),
+    'the lab\'s lessons are docs/teaching.md\'s, in its order');
+  const range = readFileSync(join(repo, 'docs', 'teaching.md'), 'utf8').match(/N = 0 to (\d+)/);
+  assert.equal(Number(range[1]), lessons.length - 1, 'docs/teaching.md gives the lab\'s range of lessons');
   const scenes = readdirSync(join(repo, 'data', 'scenes')).map((f) => f.replace(/\.toml$/, ''));
   const records = process.env.ROCKING_RECORDS || join(repo, '..', 'shared', 'data', 'records');
   // Without the records folder the lessons' records go unchecked, said aloud;
