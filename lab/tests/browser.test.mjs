@@ -4,7 +4,9 @@
 // damper-thickness slider as a user would (arrow keys) and checks that the
 // rocking-angle trace and the summary change and equal the same run made by
 // `rocking simulate --json` (the summary to the digits shown, the trace to
-// the six digits sent), switches compare mode on, checks that every chart
+// the six digits sent), switches compare mode on (a server variant, then a
+// twin of overrides of the user's own, run and laddered by the IDA as the
+// command line runs them), checks that every chart
 // has data in its plot area and that the structure drawn at its peak tilts by
 // the history's theta (times the drawing's exaggeration), opens every lesson,
 // and saves a screenshot; checks that the charts are built from the schema
@@ -203,6 +205,37 @@ try {
   mkdirSync(dirname(screenshot), { recursive: true });
   await page.screenshot({ path: screenshot, fullPage: true });
   console.log(`wrote ${screenshot}`);
+
+  // A twin of the user's own overrides, which the page asks for as a second run: it is the command line's
+  // run with those overrides after the page's; its IDA ladder runs beside this run's; its failure is said.
+  n = await runsOf(page);
+  await page.$eval('#twin-extra', (e) => { e.value = 'damper.thickness=3'; });
+  await page.select('#compare', 'overrides');
+  await settled(page, n);
+  const own = await page.evaluate(() => ({ variant: window.lab.data.twin && window.lab.data.twin.variant,
+    peaks: window.lab.data.twin && window.lab.data.twin.summary.peaks, request: window.lab.request }));
+  assert.equal(own.variant, 'with damper.thickness=3');
+  assert.equal(own.request.compare, undefined, 'no server twin asked for');
+  const thicker = commandLine(['damper.thickness=1.5', 'damper.thickness=3']).summary.peaks;
+  for (const [name, value] of Object.entries(thicker))
+    assert.equal(formatG(own.peaks[name], 4), formatG(value, 4), `the twin's peak ${name}: the command line's ${value}`);
+  await page.click('#ida');
+  await page.waitForFunction(() => window.lab.ida && window.lab.ida.rows.some((r) => r.variant.startsWith('with ')) && !window.lab.idaBusy,
+    { timeout: 60000 });
+  const ladders = await page.evaluate(() => window.lab.ida.rows.map((r) => [r.variant, r.level, r.peaks.theta_over_alpha]));
+  assert.deepEqual([...new Set(ladders.map((r) => r[0]))], ['scene', 'with damper.thickness=3'], 'this run\'s ladder and the twin\'s');
+  assert.equal(ladders.length, 20, 'ten levels each');
+  const at3 = ladders.filter((r) => r[1] === 3);
+  assert.equal(formatG(at3[1][2], 4), formatG(thicker.theta_over_alpha, 4), 'the twin\'s ladder at scale 3 is the twin\'s run');
+  const failed = await page.evaluate(() => window.lab.failures);
+  await page.$eval('#twin-extra', (e) => { e.value = 'structure.EI_scale=-1'; e.dispatchEvent(new Event('change', { bubbles: true })); });
+  await page.waitForFunction((k) => window.lab.failures > k && !window.lab.busy, { timeout: 30000 }, failed);
+  const twinError = await page.$eval('#error', (e) => e.textContent);
+  assert.match(twinError, /the twin \(with structure\.EI_scale=-1\).*EI_scale/, twinError);
+  n = await runsOf(page);
+  await page.$eval('#twin-extra', (e) => { e.value = ''; });
+  await page.select('#compare', 'fixed-base');
+  await settled(page, n);
 
   // A record file of the user's own, uploaded from the page, runs as the folder's.
   n = await runsOf(page);
