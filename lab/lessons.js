@@ -128,13 +128,15 @@ export const lessons = [
     predict: {
       question: 'Under the same pulse, which stays standing: the piers carrying their 500 t deck, or the same piers with almost no deck?',
       choices: ['the piers with the heavy deck', 'the piers with almost no deck', 'both', 'neither'],
+      // Without the twin (compared with none) the piers with almost no deck are not run, and the answer is the deck's alone.
       answer: (d) => {
-        const [deck, bare] = [d, d.twin].map((r) => r.summary.outcome !== 'overturned');
+        const [deck, bare] = [d, d.twin].map((r) => Boolean(r) && r.summary.outcome !== 'overturned');
         return deck && bare ? 2 : deck ? 0 : bare ? 1 : 3;
       },
-      because: (d) => [[d, 'with the deck'], [d.twin, 'with almost no deck']].map(([r, who]) => (r.summary.outcome === 'overturned'
-        ? `${who} the piers overturned at t = ${fmt(r.summary.t_end)} s`
-        : `${who} they stood: peak θ_c/α_c ${fmt(peak(r, 'columns.theta_over_alpha'))}, ${r.summary.counts.impacts} impacts`)).join('; ') + '.',
+      because: (d) => [[d, 'with the deck'], [d.twin, 'with almost no deck']].map(([r, who]) => (!r
+        ? `${who} the piers were not run (compare with \u201cthe same with other overrides\u201d)`
+        : r.summary.outcome === 'overturned' ? `${who} the piers overturned at t = ${fmt(r.summary.t_end)} s`
+          : `${who} they stood: peak θ_c/α_c ${fmt(peak(r, 'columns.theta_over_alpha'))}, ${r.summary.counts.impacts} impacts`)).join('; ') + '.',
     },
     controls: {
       scene: 'rocking_frame', record: '', amplitude: 0.5, period: 1, scale: 1, extra: 'excitation.duration=15',

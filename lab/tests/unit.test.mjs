@@ -305,3 +305,15 @@ test('a run on rocking columns is told in words: the columns tilting, the beam m
   assert.match(text, /the columns' peak rocking angle θ_c\/α_c 0\.535/);
   assert.match(text, /It stands on 2 rocking columns, 9\.6 m tall: they tilt together about their bottom corners, and the cap beam on their tops moves sideways \(at most 0\.853 m\) without tilting/);
 });
+
+test('lesson 7 answers its prediction from the run, and says so when its twin (the bare piers) was not run', () => {
+  const lesson = lessons.find((l) => l.title.startsWith('7.'));
+  const run = (outcome, tEnd) => ({ summary: { outcome, t_end: tEnd, counts: { uplifts: 1, impacts: 3 }, peaks: { 'columns.theta_over_alpha': 0.5 } } });
+  const choice = (d) => lesson.predict.choices[lesson.predict.answer(d)];
+  assert.equal(choice({ ...run('completed', 15), twin: run('overturned', 2) }), 'the piers with the heavy deck');
+  assert.equal(choice({ ...run('overturned', 3), twin: run('completed', 15) }), 'the piers with almost no deck');
+  assert.equal(choice({ ...run('completed', 15), twin: run('completed', 15) }), 'both');
+  assert.equal(choice({ ...run('overturned', 3), twin: run('overturned', 2) }), 'neither');
+  assert.match(lesson.predict.because({ ...run('completed', 15), twin: run('overturned', 2) }), /overturned at t = 2 s/);
+  assert.match(lesson.predict.because({ ...run('completed', 15), twin: null }), /were not run/);
+});
