@@ -68,17 +68,34 @@ export function buildRequest(controls, scene) {
   set.push(...splitOverrides(controls.extra));
   const request = { scene: controls.scene, scale: controls.scale, set };
   if (controls.record && !pulse) request.record = controls.record;
-  if (controls.compare) request.compare = controls.compare;
+  if (controls.compare && controls.compare !== otherOverrides) request.compare = controls.compare;
   return request;
 }
 
-// The twins a scene can be compared with (rocking.study's variants).
+// The twin choice that is not one of the server's variants: the same run
+// with overrides of the user's own after the controls' (`twinExtra`), made by
+// the page as a second request.
+export const otherOverrides = 'overrides';
+
+// The twins a scene can be compared with: rocking.study's variants the server
+// runs beside it, and the same run with other overrides.
 export function twinChoices(scene) {
   const out = [{ value: '', label: 'none' }];
   if (!scene.rigid) out.push({ value: 'fixed-base', label: 'fixed base' });
   for (const d of scene.devices || []) out.push({ value: `without:${d.name}`, label: `without ${d.name}` });
   if ((scene.devices || []).length > 1) out.push({ value: 'no-devices', label: 'no devices' });
+  out.push({ value: otherOverrides, label: 'the same with other overrides' });
   return out;
+}
+
+// The twin with other overrides: {request (the controls' run with the twin's
+// overrides after its own, and no server twin), variant (its name: the
+// overrides)}; null when the twin chosen is none or a server variant.
+export function twinRequest(controls, scene) {
+  if (controls.compare !== otherOverrides) return null;
+  const own = splitOverrides(controls.twinExtra);
+  const request = buildRequest(controls, scene);
+  return { request: { ...request, set: [...request.set, ...own] }, variant: own.length ? `with ${own.join(' ')}` : 'the same' };
 }
 
 // Largest |value| of a column (nulls skipped), 0 for none.
@@ -132,6 +149,50 @@ export function bodyPoints(structure, theta, u, top = 0) {
   return { axis, left: place(-B, 0), right: place(B, 0), topLeft: place(-B, top), topRight: place(B, top), devices };
 }
 
+// A structure on rocking columns (MODEL.md 16; the server's structure.columns:
+// count, half_width b, half_height h, spacing between the outer axes) drawn at
+// the columns' rocking angle theta: each column a block 2h tall (bodyPoints)
+// on its axis, the axes evenly spread over the spacing about x = 0, turned by
+// theta about its bottom corner on the side of theta's sign; the cap beam on
+// the top corners opposite the pivots, moved without turning by
+//   shift = (2R s (sin alpha - sin(alpha - s theta)), 2R (cos(alpha - s theta) - cos alpha)),
+// R = sqrt(b^2 + h^2), alpha = atan(b / h), s = sign(theta). Returns each
+// column's corners (left, right at the ground; topLeft, topRight), the beam's
+// two ends over the outer columns' outer faces, the shift, and the height of
+// the column tops at rest (2h), where the structure's base stands.
+export function columnsPoints(columns, theta) {
+  const { count, half_width: b, half_height: h, spacing } = columns;
+  const R = Math.hypot(b, h);
+  const alpha = Math.atan2(b, h);
+  const s = theta > 0 ? 1 : theta < 0 ? -1 : 0;
+  const shift = [2 * R * s * (Math.sin(alpha) - Math.sin(alpha - s * theta)), 2 * R * (Math.cos(alpha - s * theta) - Math.cos(alpha))];
+  const axes = Array.from({ length: count }, (_, k) => (count === 1 ? 0 : -spacing / 2 + (spacing * k) / (count - 1)));
+  const block = bodyPoints({ half_width: b, heights: [h] }, theta, null, 2 * h);
+  const at = (x) => (pt) => [pt[0] + x, pt[1]];
+  const list = axes.map((x) => {
+    const move = at(x);
+    return { axis: x, left: move(block.left), right: move(block.right), topLeft: move(block.topLeft), topRight: move(block.topRight) };
+  });
+  const top = 2 * h;
+  const beam = [[axes[0] - b + shift[0], top + shift[1]], [axes[count - 1] + b + shift[0], top + shift[1]]];
+  return { columns: list, beam, shift, top };
+}
+
+// The columns' rocking angle through a run (MODEL.md 16), row by row: its
+// history's columns.theta, or, where it sends only the angle over the
+// columns' slenderness, columns.theta_over_alpha times alpha = atan(b / h);
+// null for a structure not on columns.
+export function columnsThetaOf(run) {
+  const h = run && run.history;
+  const c = run && run.structure && run.structure.columns;
+  if (!h || !c) return null;
+  if (h['columns.theta']) return h['columns.theta'];
+  const ratio = h['columns.theta_over_alpha'];
+  if (!ratio) return null;
+  const alpha = Math.atan2(c.half_width, c.half_height);
+  return ratio.map((v) => (v === null ? null : v * alpha));
+}
+
 // Whether the run is shaken by the scene's own pulse (no record chosen, and no
 // override that stills the ground): the pulse sliders then act on it.
 export function ownPulse(controls, scene) {
@@ -165,15 +226,22 @@ export function axisRange(min, max, unit = 0.1) {
 }
 
 // The run in a sentence or two, for those who cannot see the plots: the
-// outcome, the counts of uplifts and impacts, and the peaks (the twin's beside).
+// outcome, the counts of uplifts and impacts, and the peaks (the twin's
+// beside); a structure on rocking columns, how they move.
 export function describeRun(data) {
   const one = (run, who) => {
     const s = run.summary;
     const peak = (name, label, unit) => (s.peaks[name] === undefined ? null : `${label} ${formatG(s.peaks[name], 3)}${unit}`);
-    const peaks = [peak('theta_over_alpha', 'peak rocking angle θ/α_cg', ''), peak('base_moment', 'peak base moment', ' M_ref'),
+    const peaks = [peak('theta_over_alpha', 'peak rocking angle θ/α_cg', ''),
+      peak('columns.theta_over_alpha', 'the columns\' peak rocking angle θ_c/α_c', ''), peak('base_moment', 'peak base moment', ' M_ref'),
       peak('delta_t', 'peak top drift', ''), peak('a_g', 'peak ground acceleration', ' m/s²')].filter(Boolean);
+    const c = run.structure && run.structure.columns;
+    const beam = s.peaks['beam.x'] === undefined ? '' : ` (at most ${formatG(s.peaks['beam.x'], 3)} m)`;
+    const columns = c ? ` It stands on ${c.count} rocking column${c.count === 1 ? '' : 's'}, ${formatG(2 * c.half_height, 3)} m tall: ` +
+      `they tilt together about their bottom corners, and the cap beam on their tops moves sideways${beam} without tilting, ` +
+      'the structure upright on it.' : '';
     return `${who}: ${s.outcome}, ${s.counts.uplifts} uplifts and ${s.counts.impacts} impacts` +
-      (peaks.length ? `; ${peaks.join(', ')}` : '') + '.';
+      (peaks.length ? `; ${peaks.join(', ')}` : '') + `.${columns}`;
   };
   let text = one(data, 'This run');
   if (data.twin) text += ` ${one(data.twin, `Its twin (${data.twin.variant})`)}`;
@@ -197,6 +265,10 @@ export const peakWords = {
   damper_d: 'the dampers\' stretch',
   damper_F: 'the dampers\' force',
   M_dev: 'the devices\' moment about the corner the body rocks on',
+  'columns.theta': 'θ_c: the columns\' rocking angle, how far the columns carrying the structure tilt on their bottom corners',
+  'columns.theta_over_alpha': 'θ_c/α_c: the columns\' rocking angle as a share of their slenderness (1: they tip over from rest)',
+  'columns.theta_dot': 'the columns\' rocking speed',
+  'beam.x': 'how far the cap beam on the columns\' tops moves sideways (it does not tilt)',
   a_g: 'the ground\'s horizontal acceleration',
   a_v: 'the ground\'s vertical acceleration',
   outcome: 'what the run ended in: survived or overturned',

@@ -6,7 +6,7 @@
 import {
   formatG, buildRequest, twinChoices, tendonOf, damperDevices, peakOf, exaggeration, bodyPoints, pulses, ownPulse, groundStill,
   forStudents, axisRange, describeRun, peakTitle, groundDrawn, scaleBar, drawnRows, energyBars, chartsFrom, columnOf,
-  chainPoints,
+  chainPoints, columnsPoints, columnsThetaOf, twinRequest, otherOverrides,
 } from './format.js';
 import { lessons } from './lessons.js';
 
@@ -34,6 +34,7 @@ function controls() {
     prestress: Number($('prestress').value),
     restitution: $('own-restitution').checked ? null : Number($('restitution').value),
     compare: $('compare').value,
+    twinExtra: $('twin-extra').value,
     extra: $('extra').value,
   };
 }
@@ -80,6 +81,7 @@ function fitControls() {
   const keep = $('compare').value;
   $('compare').replaceChildren(...twinChoices(scene).map((c) => new Option(c.label, c.value)));
   if ([...$('compare').options].some((o) => o.value === keep)) $('compare').value = keep;
+  $('twin-extra-box').hidden = $('compare').value !== otherOverrides;
   // The pulse sliders act on a pulse: one chosen from the list, or the scene's own.
   const still = groundStill($('extra').value);
   const pulse = $('record').value.startsWith('pulse:') || ownPulse(controls(), scene);
@@ -106,22 +108,32 @@ async function rerun(started = performance.now()) {
   fitControls();
   const scene = sceneOf($('scene').value);
   const request = buildRequest(controls(), scene);
+  const twin = twinRequest(controls(), scene);
   setStatus('running…', 'running');
   try {
     const t0 = performance.now();
+    // A twin with other overrides is a run of its own, asked for beside this one.
+    const asked = twin ? fetch('/api/simulate', { method: 'POST', body: JSON.stringify(twin.request) }) : null;
+    if (asked) asked.catch(() => {});  // read below; when this run's request fails first, its failure is the one said
     const response = await fetch('/api/simulate', { method: 'POST', body: JSON.stringify(request) });
     const t1 = performance.now();
     const text = await response.text();
     const t2 = performance.now();
     const body = JSON.parse(text);
     state.timing = { headers: t1 - t0, body: t2 - t1, parse: performance.now() - t2 };
+    const twinResponse = asked && await asked;
+    const twinBody = twinResponse && await twinResponse.json();
     if (!response.ok) {
       showFailure(body.error);
+    } else if (twinResponse && !twinResponse.ok) {
+      showFailure(`the twin (${twin.variant}): ${twinBody.error}`);
     } else {
       showError('');
       $('view').classList.remove('stale');
+      if (twinBody) body.twin = { variant: twin.variant, ...twinBody, twin: null };
       state.data = body;
       state.request = request;
+      state.twinRequest = twin && twin.request;
       drawAll();
       state.runs += 1;
       state.redrawMs = performance.now() - started;
@@ -357,46 +369,74 @@ function drawChain(ctx, run, i, factors, X, Y, color) {
   return p.segments[0].left;
 }
 
+// A structure on rocking columns: each column outlined from its bottom
+// corners round its top (columnsPoints: turned about its pivot corner).
+function strokeColumns(ctx, c, X, Y) {
+  ctx.lineWidth = 2;
+  for (const col of c.columns) {
+    ctx.beginPath();
+    tracePath(ctx, [col.left, col.topLeft, col.topRight, col.right, col.left], X, Y);
+    ctx.stroke();
+  }
+}
+
 function drawStructure(ctx, run, t, factors, origin, scale, color, label) {
   const i = indexAt(t, run.history.t);
-  if ((run.structure.segments || []).length > 0) {
-    const X = (pt) => origin[0] + pt[0] * scale;
-    const Y = (pt) => origin[1] - pt[1] * scale;
-    const at = drawChain(ctx, run, i, factors, X, Y, color);
-    ctx.font = '13px DejaVu Sans, sans-serif';
-    ctx.fillText(label, X(at) - 10, origin[1] + 20);
-    return;
-  }
-  const theta = (run.history.theta ? run.history.theta[i] ?? 0 : 0) * factors.theta;
-  const u = nodeDisplacements(run, i).map((v) => v * factors.u);
-  const p = bodyPoints(run.structure, theta, u, blockHeight(run.structure));
   const X = (pt) => origin[0] + pt[0] * scale;
   const Y = (pt) => origin[1] - pt[1] * scale;
   ctx.strokeStyle = color;
   ctx.fillStyle = color;
+  ctx.font = '13px DejaVu Sans, sans-serif';
+  if ((run.structure.segments || []).length > 0) {
+    const at = drawChain(ctx, run, i, factors, X, Y, color);
+    ctx.fillText(label, X(at) - 10, origin[1] + 20);
+    return;
+  }
+  // On rocking columns, the columns turn and the structure stands upright on
+  // the cap beam, which is its base, moved with the beam; otherwise its base
+  // is the foundation beam, turning by theta on the ground.
+  const c = run.structure.columns ? columnsPoints(run.structure.columns, (columnsThetaOf(run)[i] ?? 0) * factors.theta) : null;
+  const theta = c ? 0 : (run.history.theta ? run.history.theta[i] ?? 0 : 0) * factors.theta;
+  const u = nodeDisplacements(run, i).map((v) => v * factors.u);
+  const p = bodyPoints(run.structure, theta, u, blockHeight(run.structure));
+  const lift = c ? [c.shift[0], c.top + c.shift[1]] : [0, 0];
+  const BX = (pt) => X([pt[0] + lift[0], pt[1] + lift[1]]);
+  const BY = (pt) => Y([pt[0] + lift[0], pt[1] + lift[1]]);
+  if (c) strokeColumns(ctx, c, X, Y);
   ctx.lineWidth = 3;
   ctx.beginPath();
-  ctx.moveTo(X(p.left), Y(p.left));
-  ctx.lineTo(X(p.right), Y(p.right));
+  if (c) tracePath(ctx, c.beam, X, Y);
+  else tracePath(ctx, [p.left, p.right], BX, BY);
   ctx.stroke();
   ctx.lineWidth = run.structure.rigid ? 1.5 : 4;
   ctx.beginPath();
-  tracePath(ctx, p.axis, X, Y);
+  tracePath(ctx, p.axis, BX, BY);
   ctx.stroke();
   if (run.structure.rigid) {  // the block's outline, as tall as twice its centre of mass
     ctx.lineWidth = 2;
     ctx.beginPath();
-    tracePath(ctx, [p.left, p.topLeft, p.topRight, p.right], X, Y);
+    tracePath(ctx, [p.left, p.topLeft, p.topRight, p.right], BX, BY);
     ctx.stroke();
   }
-  strokeDevices(ctx, p.devices, X, Y);
+  strokeDevices(ctx, p.devices, BX, BY);
   for (const pt of p.axis.slice(1)) {
     ctx.beginPath();
-    ctx.arc(X(pt), Y(pt), 4, 0, 2 * Math.PI);
+    ctx.arc(BX(pt), BY(pt), 4, 0, 2 * Math.PI);
     ctx.fill();
   }
-  ctx.font = '13px DejaVu Sans, sans-serif';
-  ctx.fillText(label, X(p.axis[0]) - 40, origin[1] + 20);
+  ctx.fillText(label, X(c ? [0, 0] : p.axis[0]) - 40, origin[1] + 20);
+}
+
+// The size [m] a run's structure is drawn in: its height (its top node, a
+// rigid block's a tenth more; on columns, their height and above it the
+// structure, a rigid block as tall as drawn) and the width it is given (its
+// base's four half-widths, or the cap beam's length, and room to rock).
+function drawnSize(structure) {
+  const top = structure.heights[structure.heights.length - 1] * (structure.rigid ? 1.1 : 1);
+  const c = structure.columns;
+  if (!c) return { height: top, width: 4 * structure.half_width + 0.6 * top };
+  const height = 2 * c.half_height + Math.max(top, structure.rigid ? blockHeight(structure) : 0);
+  return { height, width: c.spacing + 2 * c.half_width + 0.6 * height };
 }
 
 function drawFrame() {
@@ -407,9 +447,8 @@ function drawFrame() {
   ctx.clearRect(0, 0, canvas.width, canvas.height);
   const t = Number($('time').value);
   const runs = [[run, colors.main, 'this run'], [run.twin, colors.twin, 'twin']].filter(([r]) => r);
-  const H = run.structure.heights[run.structure.heights.length - 1] * (run.structure.rigid ? 1.1 : 1);
-  const widthNeeded = runs.length * (4 * run.structure.half_width + 0.6 * H);
-  const scale = Math.min((canvas.height - 50) / (H * 1.15), canvas.width / widthNeeded);
+  const size = drawnSize(run.structure);
+  const scale = Math.min((canvas.height - 50) / (size.height * 1.15), canvas.width / (runs.length * size.width));
   // The ground, moving as it does (by the factor shown), hatched so that its motion shows.
   const ground = state.ground ? state.ground[indexAt(t, run.history.t)] * state.factors.ground * scale : 0;
   state.groundShift = ground;
@@ -425,10 +464,8 @@ function drawFrame() {
     ctx.lineTo(x - 8, y0 + 8);
   }
   ctx.stroke();
-  runs.forEach(([r, color, label], k) => {
-    const x0 = (canvas.width * (k + 0.5)) / runs.length + ground;
-    drawStructure(ctx, r, t, state.factors, [x0, y0], scale, color, label);
-  });
+  state.origins = runs.map((x, k) => [(canvas.width * (k + 0.5)) / runs.length + ground, y0]);
+  runs.forEach(([r, color, label], k) => drawStructure(ctx, r, t, state.factors, state.origins[k], scale, color, label));
   // The scale bar: lengths in the drawing at their true size.
   const bar = scaleBar(scale, Math.min(120, canvas.width / 5));
   ctx.fillStyle = '#333';
@@ -657,8 +694,8 @@ function drawAll() {
   const run = state.data;
   const all = [run, run.twin].filter(Boolean);
   const H = run.structure.heights[run.structure.heights.length - 1];
-  // The rocking angle drawn: the base's, and a structure with joints' each joint's.
-  const peakTheta = Math.max(...all.map((r) => Math.max(peakOf(r.history.theta),
+  // The rocking angle drawn: the base's, a structure with joints' each joint's, and the columns'.
+  const peakTheta = Math.max(...all.map((r) => Math.max(peakOf(r.history.theta), peakOf(columnsThetaOf(r)),
     ...Object.keys(r.history).filter((n) => /^joint\d+\.theta$/.test(n)).map((n) => peakOf(r.history[n])))));
   const peakU = Math.max(...all.map((r) => peakOf(r.history[`node${r.structure.heights.length}.u`])));
   state.factors = exaggeration(peakTheta, peakU, H);
@@ -708,7 +745,9 @@ async function uploadRecord() {
 const idaScales = [0.5, 1, 1.5, 2, 2.5, 3, 3.5, 4, 4.5, 5];
 
 async function runIda() {
-  const r = buildRequest(controls(), sceneOf($('scene').value));
+  const scene = sceneOf($('scene').value);
+  const r = buildRequest(controls(), scene);
+  const twin = twinRequest(controls(), scene);
   if (!r.record) {
     showError('IDA: choose a record to scale (a pulse is scaled by its amplitude)');
     return;
@@ -718,12 +757,17 @@ async function runIda() {
   setStatus('IDA running…', 'running');
   state.idaBusy = true;
   try {
-    const response = await fetch('/api/ida', { method: 'POST', body: JSON.stringify(request) });
-    const body = await response.json();
-    if (!response.ok) {
-      showError(`The IDA could not be made: ${forStudents(body.error)}.`);
+    // A twin with other overrides: its own ladder, its rows named by its overrides.
+    const asks = [request, ...(twin ? [{ ...request, set: twin.request.set }] : [])];
+    const answers = await Promise.all(asks.map((a) => fetch('/api/ida', { method: 'POST', body: JSON.stringify(a) })));
+    const bodies = await Promise.all(answers.map((a) => a.json()));
+    const failed = answers.findIndex((a) => !a.ok);
+    const body = bodies[0];
+    if (failed >= 0) {
+      showError(`The IDA could not be made: ${forStudents(bodies[failed].error)}.`);
       setStatus('IDA failed', 'error');
     } else {
+      if (twin) body.rows.push(...bodies[1].rows.map((row) => ({ ...row, variant: twin.variant })));
       showError('');
       state.ida = body;
       const keep = $('ida-quantity').value || 'theta_over_alpha';
@@ -813,7 +857,7 @@ function applyLesson(n) {
     text.hidden = true;
     return;
   }
-  const c = { record: '', scale: 1, compare: '', extra: '', ...lesson.controls };
+  const c = { record: '', scale: 1, compare: '', twinExtra: '', extra: '', ...lesson.controls };
   $('scene').value = c.scene;
   state.shownScene = null;  // the pulse sliders start at the scene's own pulse
   state.dampersWanted = true;
@@ -824,7 +868,10 @@ function applyLesson(n) {
   $('prestress').value = 1;
   $('own-restitution').checked = true;
   fitControls();
+  if (c.amplitude !== undefined) $('amplitude').value = c.amplitude;
+  if (c.period !== undefined) $('period').value = c.period;
   $('compare').value = c.compare;
+  $('twin-extra').value = c.twinExtra.split(' ').join('\n');
   $('loop-view').value = c.loops || 'force';
   $('extra').value = c.extra.split(' ').join('\n');
   if (c.restitution !== undefined) {
@@ -931,6 +978,7 @@ async function start() {
   $('step-back').addEventListener('click', () => stepFrame(-1));
   $('upload').addEventListener('change', () => uploadRecord());
   $('extra').addEventListener('change', () => rerun());
+  $('twin-extra').addEventListener('change', () => rerun());
   $('controls').addEventListener('submit', (e) => e.preventDefault());
   $('lesson').addEventListener('change', () => {
     const k = $('lesson').value;

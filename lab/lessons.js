@@ -1,6 +1,7 @@
-// The seven lessons of docs/teaching.md as guided pages of the lab: each sets
-// the controls (scene, record, scale, twin, overrides) and says what to look
-// for. Opened as index.html?lesson=N. Controls not named keep their defaults.
+// The lessons of docs/teaching.md as guided pages of the lab: each sets the
+// controls (scene, record, the pulse's amplitude and period, scale, twin and
+// the twin's overrides, overrides) and says what to look for. Opened as
+// index.html?lesson=N. Controls not named keep their defaults.
 // Each asks a prediction first (`predict`): a question, its choices, and the
 // choice the lesson's run bears out (answer(data) -> index) with the numbers
 // that show it (because(data)).
@@ -121,5 +122,34 @@ export const lessons = [
       'the prestress slider, switch the dampers off, and watch the devices\u2019 moment against the rotation: ' +
       'tendon and dampers together draw the flag shape of controlled rocking (the tendon alone a bilinear ' +
       'elastic line; switch the loops to each device\u2019s force to see them apart).',
+  },
+  {
+    title: '7. A heavier deck makes the rocking frame more stable',
+    predict: {
+      question: 'Under the same pulse, which stays standing: the piers carrying their 500 t deck, or the same piers with almost no deck?',
+      choices: ['the piers with the heavy deck', 'the piers with almost no deck', 'both', 'neither'],
+      // Without the twin (compared with none) the piers with almost no deck are not run, and the answer is the deck's alone.
+      answer: (d) => {
+        const [deck, bare] = [d, d.twin].map((r) => Boolean(r) && r.summary.outcome !== 'overturned');
+        return deck && bare ? 2 : deck ? 0 : bare ? 1 : 3;
+      },
+      because: (d) => [[d, 'with the deck'], [d.twin, 'with almost no deck']].map(([r, who]) => (!r
+        ? `${who} the piers were not run (compare with \u201cthe same with other overrides\u201d)`
+        : r.summary.outcome === 'overturned' ? `${who} the piers overturned at t = ${fmt(r.summary.t_end)} s`
+          : `${who} they stood: peak θ_c/α_c ${fmt(peak(r, 'columns.theta_over_alpha'))}, ${r.summary.counts.impacts} impacts`)).join('; ') + '.',
+    },
+    controls: {
+      scene: 'rocking_frame', record: '', amplitude: 0.5, period: 1, scale: 1, extra: 'excitation.duration=15',
+      compare: 'overrides', twinExtra: 'structure.masses=[1.0] structure.base_mass=1.0',
+    },
+    text:
+      'A bridge bent: a 500 t deck on a 120 t cap beam, carried by two free-standing piers 1.6 m wide and 9.6 m ' +
+      'tall. The piers rock together about their bottom corners; the beam slides across their tops without ' +
+      'tilting, and the deck rides on it upright. Beside it (dashed) the same piers with almost no deck (1 kg: ' +
+      'the twin\u2019s overrides), under the same one-sine pulse of 0.5 g and 1 s. Intuition says a heavy mass on ' +
+      'top topples the piers sooner. Watch the columns\u2019 rocking angle \u03b8_c/\u03b1_c (1: the piers tip over): ' +
+      'with the deck it reaches about 0.53 and the frame settles; the bare piers overturn at about 2.6 s. The ' +
+      'heavy deck makes the frame rock like a larger pier, and larger blocks survive (lesson 5). Move the ' +
+      'amplitude, or change the deck\u2019s mass in the twin\u2019s overrides.',
   },
 ];

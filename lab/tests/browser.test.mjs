@@ -4,18 +4,25 @@
 // damper-thickness slider as a user would (arrow keys) and checks that the
 // rocking-angle trace and the summary change and equal the same run made by
 // `rocking simulate --json` (the summary to the digits shown, the trace to
-// the six digits sent), switches compare mode on, checks that every chart
+// the six digits sent), switches compare mode on (a server variant, then a
+// twin of overrides of the user's own, run and laddered by the IDA as the
+// command line runs them), checks that every chart
 // has data in its plot area and that the structure drawn at its peak tilts by
 // the history's theta (times the drawing's exaggeration), opens every lesson,
 // and saves a screenshot; checks that the charts are built from the schema
 // entries the server sends (altered on their way, the page shows the altered
 // words, symbol, unit and factor); draws the stacked blocks, each block
 // turning about its joint's corner by the history's rotations, with a chart
-// of the joints' rotations. Reports the page's re-run-and-redraw time.
+// of the joints' rotations; draws the chimney on rocking columns, each column
+// turned about its pivot corner by the columns' rocking angle and the cap
+// beam moved on their tops as MODEL.md 16 says, the chimney standing on it.
+// Reports the page's re-run-and-redraw time.
 //
 //   ROCKING_BIN=build/bin/rocking node lab/tests/browser.test.mjs
 // Environment: ROCKING_RECORDS (the records), ROCKING_LAB_SCREENSHOT (where
-// the screenshot goes; default build/lab/lab.png), ROCKING_LAB_MOVES (slider
+// the screenshot goes, and beside it, named -joints and -columns, those of
+// the stacked blocks and of the chimney on columns; default
+// build/lab/lab.png), ROCKING_LAB_MOVES (slider
 // moves timed, default 8; `make bench` asks for more), CI=true (a missing
 // browser or record is a failure, not a skip).
 import assert from 'node:assert/strict';
@@ -199,6 +206,37 @@ try {
   await page.screenshot({ path: screenshot, fullPage: true });
   console.log(`wrote ${screenshot}`);
 
+  // A twin of the user's own overrides, which the page asks for as a second run: it is the command line's
+  // run with those overrides after the page's; its IDA ladder runs beside this run's; its failure is said.
+  n = await runsOf(page);
+  await page.$eval('#twin-extra', (e) => { e.value = 'damper.thickness=3'; });
+  await page.select('#compare', 'overrides');
+  await settled(page, n);
+  const own = await page.evaluate(() => ({ variant: window.lab.data.twin && window.lab.data.twin.variant,
+    peaks: window.lab.data.twin && window.lab.data.twin.summary.peaks, request: window.lab.request }));
+  assert.equal(own.variant, 'with damper.thickness=3');
+  assert.equal(own.request.compare, undefined, 'no server twin asked for');
+  const thicker = commandLine(['damper.thickness=1.5', 'damper.thickness=3']).summary.peaks;
+  for (const [name, value] of Object.entries(thicker))
+    assert.equal(formatG(own.peaks[name], 4), formatG(value, 4), `the twin's peak ${name}: the command line's ${value}`);
+  await page.click('#ida');
+  await page.waitForFunction(() => window.lab.ida && window.lab.ida.rows.some((r) => r.variant.startsWith('with ')) && !window.lab.idaBusy,
+    { timeout: 60000 });
+  const ladders = await page.evaluate(() => window.lab.ida.rows.map((r) => [r.variant, r.level, r.peaks.theta_over_alpha]));
+  assert.deepEqual([...new Set(ladders.map((r) => r[0]))], ['scene', 'with damper.thickness=3'], 'this run\'s ladder and the twin\'s');
+  assert.equal(ladders.length, 20, 'ten levels each');
+  const at3 = ladders.filter((r) => r[1] === 3);
+  assert.equal(formatG(at3[1][2], 4), formatG(thicker.theta_over_alpha, 4), 'the twin\'s ladder at scale 3 is the twin\'s run');
+  const failed = await page.evaluate(() => window.lab.failures);
+  await page.$eval('#twin-extra', (e) => { e.value = 'structure.EI_scale=-1'; e.dispatchEvent(new Event('change', { bubbles: true })); });
+  await page.waitForFunction((k) => window.lab.failures > k && !window.lab.busy, { timeout: 30000 }, failed);
+  const twinError = await page.$eval('#error', (e) => e.textContent);
+  assert.match(twinError, /the twin \(with structure\.EI_scale=-1\).*EI_scale/, twinError);
+  n = await runsOf(page);
+  await page.$eval('#twin-extra', (e) => { e.value = ''; });
+  await page.select('#compare', 'fixed-base');
+  await settled(page, n);
+
   // A record file of the user's own, uploaded from the page, runs as the folder's.
   n = await runsOf(page);
   const input = await page.$('#upload');
@@ -292,6 +330,77 @@ try {
     `the artefact drawn turns ${tilt(jointed.beams[1]) - tilt(jointed.beams[0])} on the plinth, joint1.theta ${jointed.joint} x ${jointed.factor}`);
   assert.ok(jointed.charts.includes('joint1.theta'), `a chart of the joints' rotations: ${jointed.charts}`);
   await page.screenshot({ path: screenshot.replace(/\.png$/, '-joints.png'), fullPage: true });
+
+  // Columns: the chimney (flexible, its rocking exaggerated) and the bridge bent (a rigid deck) on rocking
+  // columns, each at the frame of the columns' peak rocking angle. Each column's corners are drawn where its
+  // rest corners go, turned by theta (times the drawing's exaggeration) about its bottom corner on theta's
+  // side; the cap beam, moved by MODEL.md 16's (dx, dy) without turning; the structure's axis standing on
+  // the beam's middle. Theta is the history's columns.theta, or its columns.theta_over_alpha times the
+  // columns' alpha = atan(b/h) where only that is sent. The screenshot is the bent's.
+  for (const scene of ['chimney_on_columns', 'rocking_frame']) {
+    n = await runsOf(page);
+    await page.select('#scene', scene);
+    await settled(page, n);
+    await recordStrokes(page);
+    const onColumns = await page.evaluate(() => {
+      const { history: h, structure } = window.lab.data;
+      const c = structure.columns;
+      const theta = h['columns.theta'] || h['columns.theta_over_alpha'].map((v) => v * Math.atan(c.half_width / c.half_height));
+      let k = 0;
+      theta.forEach((v, i) => { if (Math.abs(v) > Math.abs(theta[k])) k = i; });
+      window.drawnSegments = [];
+      const time = document.querySelector('#time');
+      time.value = h.t[k];
+      time.dispatchEvent(new Event('input', { bubbles: true }));
+      return { columns: c, theta: theta[k], t: h.t[k], factor: window.lab.factors.theta, scale: window.lab.scaleBar.scale,
+        origin: window.lab.origins[0], segments: window.drawnSegments.filter((x) => x.color === '#1f5fa8'),
+        peaks: window.lab.data.summary.peaks, text: document.querySelector('#run-text').textContent, rigid: structure.rigid };
+    });
+    const { columns: c, theta, factor, scale, origin, segments } = onColumns;
+    assert.ok(c && c.count >= 2, `${scene} stands on columns: ${JSON.stringify(c)}`);
+    assert.ok(theta !== 0, `${scene}: the columns rock`);
+    const phi = theta * factor;
+    const s = Math.sign(phi);
+    const R = Math.hypot(c.half_width, c.half_height);
+    const alpha = Math.atan(c.half_width / c.half_height);
+    const b = c.half_width;
+    const top = 2 * c.half_height;
+    // A point [m] of the ground's frame where the page draws it [px]: y up in metres, down on the screen.
+    const px = ([x, y]) => [origin[0] + x * scale, origin[1] - y * scale];
+    const near = (drawn, expected, what) => drawn.forEach((v, j) => assert.ok(Math.abs(v - expected[j]) <= 1e-9 * Math.max(1, Math.abs(expected[j])),
+      `${scene}: ${what} at t = ${onColumns.t} s: drawn at ${drawn}, expected ${expected}`));
+    // Turned clockwise by phi (theta > 0 tips the top towards +x) about the pivot.
+    const turned = ([x, y], [px0, py0]) => [px0 + (x - px0) * Math.cos(phi) + (y - py0) * Math.sin(phi),
+      py0 - (x - px0) * Math.sin(phi) + (y - py0) * Math.cos(phi)];
+    const outlines = segments.filter((x) => x.width === 2);
+    assert.ok(outlines.length >= 4 * c.count, `${outlines.length} outline strokes for ${c.count} columns`);
+    for (let k = 0; k < c.count; k += 1) {
+      const axis = -c.spacing / 2 + (c.spacing * k) / (c.count - 1);
+      const pivot = [axis + s * b, 0];
+      const rest = [[axis - b, 0], [axis - b, top], [axis + b, top], [axis + b, 0], [axis - b, 0]];
+      for (let j = 0; j < 4; j += 1) {
+        const stroke = outlines[4 * k + j];
+        near(stroke.from, px(turned(rest[j], pivot)), `column ${k}, corner ${j}`);
+        near(stroke.to, px(turned(rest[j + 1], pivot)), `column ${k}, corner ${j + 1}`);
+      }
+    }
+    const dx = 2 * R * s * (Math.sin(alpha) - Math.sin(alpha - s * phi));
+    const dy = 2 * R * (Math.cos(alpha - s * phi) - Math.cos(alpha));
+    const beams = segments.filter((x) => x.width === 3);
+    assert.equal(beams.length, 1, `${scene}: one cap beam`);
+    const ends = [-c.spacing / 2 - b, c.spacing / 2 + b];
+    near(beams[0].from, px([ends[0] + dx, top + dy]), 'the beam\'s left end');
+    near(beams[0].to, px([ends[1] + dx, top + dy]), 'the beam\'s right end');
+    const axis = segments.filter((x) => x.width === (onColumns.rigid ? 1.5 : 4));  // a block's axis is thin
+    assert.ok(axis.length > 0, `${scene}: the structure drawn`);
+    near(axis[0].from, px([dx, top + dy]), `${scene}: the structure's base, on the beam's middle`);
+    // The server's beam.x is this dx (relative to the ground) at true scale: its peak is dx at the peak theta.
+    const p = onColumns.peaks;
+    const peakDx = 2 * R * (Math.sin(alpha) - Math.sin(alpha - Math.abs(p['columns.theta'])));
+    assert.ok(Math.abs(p['beam.x'] - peakDx) <= 1e-6 * peakDx, `peak beam.x ${p['beam.x']} m, 2R (sin alpha - sin(alpha - theta)) ${peakDx} m`);
+    assert.match(onColumns.text, /rocking columns.*tilt together/, 'the words say the columns rock');
+  }
+  await page.screenshot({ path: screenshot.replace(/\.png$/, '-columns.png'), fullPage: true });
 
   consoleErrors.splice(0, consoleErrors.length, ...consoleErrors.filter((e) => !e.includes('status of 400')));
   assert.deepEqual(consoleErrors, [], 'no console errors');

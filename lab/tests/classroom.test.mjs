@@ -11,7 +11,9 @@
 // ground stays still; the rigid block shows no dampers ticked; the scene's
 // own pulse is moved by the pulse sliders; a tower is shaken; a weak K-NET
 // record lists its PGA; the loop's labels are not clipped; every lesson's
-// prediction is answered by its run; the glossary and tooltips explain the
+// prediction is answered by its run; lesson 7 (a frame on rocking columns
+// beside the same piers with almost no deck, a twin with other overrides)
+// runs as its text says and bears out the numbers it states, and fits a phone; the glossary and tooltips explain the
 // symbols; the ground is drawn moving with a scale bar; the energy view's
 // bars are the history's energy columns at the frame drawn and, at the end,
 // the summary's totals, closing as the run's balance does; reset, slow
@@ -27,6 +29,7 @@ import assert from 'node:assert/strict';
 import { mkdirSync, readFileSync } from 'node:fs';
 import { createRequire } from 'node:module';
 import { join } from 'node:path';
+import { lessons } from '../lessons.js';
 import {
   repo, requireBrowserAndRecords, startServer, launchBrowser, settled, runsOf, move,
 } from './harness.mjs';
@@ -259,7 +262,7 @@ try {
   });
 
   await check('every lesson asks a prediction and the run answers it; the glossary and tooltips say what the symbols mean', async () => {
-    for (let k = 0; k < 7; k += 1) {
+    for (let k = 0; k < lessons.length; k += 1) {
       await page.goto(`${url}?lesson=${k}`, { waitUntil: 'load' });
       await settled(page, 0);
       const buttons = await page.$$('#predict button');
@@ -269,10 +272,76 @@ try {
       assert.match(verdict, /^You said: .+\. The run says: .+: .*\d/, `lesson ${k}: ${verdict}`);
     }
     const glossary = await page.$eval('#glossary', (e) => e.textContent);
-    for (const symbol of ['θ/α_cg', 'M_ref', 'M_dev', 'a_g', 'restitution', 'drift', 'twin', 'IDA'])
+    for (const symbol of ['θ/α_cg', 'θ_c/α_c', 'M_ref', 'M_dev', 'a_g', 'restitution', 'drift', 'twin', 'IDA'])
       assert.ok(glossary.includes(symbol), `the glossary explains ${symbol}`);
     const tips = await page.$$eval('#summary tbody tr td:first-child', (tds) => tds.map((td) => [td.textContent, td.title]));
     for (const [name, tip] of tips) assert.ok(tip.length > 5, `the summary's ${name} has a tooltip`);
+  });
+
+  await check('lesson 7: the frame with its deck stands, the same piers with almost no deck overturn, as its text says', async () => {
+    const k = lessons.findIndex((l) => l.title.startsWith('7.'));
+    const lesson = lessons[k];
+    await page.goto(`${url}?lesson=${k}`, { waitUntil: 'load' });
+    await settled(page, 0);
+    // What the text states: the pulse, the deck's peak theta_c/alpha_c, when the bare piers overturn.
+    const stated = (re) => {
+      const m = lesson.text.match(re);
+      assert.ok(m, `the lesson's text states ${re}`);
+      return m.slice(1).map(Number);
+    };
+    const [amplitude, period] = stated(/pulse of ([\d.]+) g and ([\d.]+) s/);
+    const [peakRatio] = stated(/with the deck it reaches about ([\d.]+)/);
+    const [overturnAt] = stated(/overturn at about ([\d.]+) s/);
+    // The twin is the same run with the lesson's overrides for the twin after this run's, named by them.
+    const shown = await page.evaluate(() => ({
+      request: window.lab.request, twinRequest: window.lab.twinRequest, compare: document.querySelector('#compare').value,
+      boxHidden: document.querySelector('#twin-extra-box').hidden, variant: window.lab.data.twin && window.lab.data.twin.variant,
+      main: window.lab.data.summary, twin: window.lab.data.twin && window.lab.data.twin.summary,
+      ag: Math.max(...window.lab.data.history.a_g.map(Math.abs)), tEnd: window.lab.data.history.t.at(-1),
+      columns: window.lab.data.structure.columns, text: document.querySelector('#run-text').textContent,
+    }));
+    const own = lesson.controls.twinExtra.split(' ');
+    assert.equal(shown.compare, 'overrides');
+    assert.equal(shown.boxHidden, false, 'the twin\'s overrides are shown');
+    assert.deepEqual(shown.twinRequest.set, [...shown.request.set, ...own], 'the twin: this run with the twin\'s overrides after');
+    assert.equal(shown.request.compare, undefined, 'no server twin besides');
+    assert.ok(shown.variant.includes(own.join(' ')), `the twin is named by its overrides: ${shown.variant}`);
+    const name = await page.$('#twin-extra');
+    const snap = await page.accessibility.snapshot({ root: name, interestingOnly: false });
+    assert.match(snap.name, /twin's overrides/, 'the twin\'s overrides have an accessible name');
+    // The run is the one stated: the pulse's peak (sampled every 0.02 s: within 1 %) and period, 15 s long.
+    assert.ok(Math.abs(shown.ag / 9.81 - amplitude) <= 0.01 * amplitude, `peak ground acceleration ${shown.ag} m/s2 for ${amplitude} g`);
+    const sliders = await page.evaluate(() => ['amplitude', 'period'].map((id) => Number(document.querySelector(`#${id}`).value)));
+    assert.deepEqual(sliders, [amplitude, period], 'the pulse sliders at the pulse the text states');
+    assert.ok(Math.abs(shown.tEnd - 15) < 1e-9, `the frame's run lasts 15 s (${shown.tEnd} s)`);
+    assert.ok(shown.columns && shown.columns.count >= 2, 'a frame on columns');
+    // The physics the text states, to the digits it gives: peak theta_c/alpha_c within 0.01, the overturn within 0.1 s.
+    assert.notEqual(shown.main.outcome, 'overturned', 'the frame with its deck stands');
+    assert.ok(shown.main.counts.uplifts > 0 && shown.main.counts.impacts > 0, 'it lifts and rocks');
+    const ratio = shown.main.peaks['columns.theta_over_alpha'];
+    assert.ok(Math.abs(ratio - peakRatio) <= 0.01, `peak theta_c/alpha_c ${ratio}, the text says about ${peakRatio}`);
+    assert.equal(shown.twin.outcome, 'overturned', 'the piers with almost no deck overturn');
+    assert.ok(Math.abs(shown.twin.t_end - overturnAt) <= 0.1, `overturned at ${shown.twin.t_end} s, the text says about ${overturnAt} s`);
+    assert.match(shown.text, /rocking columns.*tilt together/, 'the words say the columns rock');
+    // Predicted as the run bears out: the frame with the deck stands, the bare piers do not.
+    await page.click('#predict button[data-choice="0"]');
+    const verdict = await page.$eval('#verdict', (e) => e.textContent);
+    assert.ok(verdict.startsWith(`You said: ${lesson.predict.choices[0]}. The run says: ${lesson.predict.choices[0]} (as you predicted)`), verdict);
+    assert.ok(verdict.includes(`overturned at t = ${Number(shown.twin.t_end.toPrecision(3))} s`), verdict);
+  });
+
+  await check('lesson 7 on a phone: fits, touch-sized, the twin\'s overrides in reach, axe', async () => {
+    const phone = await browser.newPage();
+    await phone.setViewport(sizes[0]);
+    await phone.goto(`${url}?lesson=${lessons.findIndex((l) => l.title.startsWith('7.'))}`, { waitUntil: 'load' });
+    await settled(phone, 0);
+    const l = await layout(phone);
+    assert.ok(l.scrollWidth <= l.width, `the page is ${l.scrollWidth} px wide in a ${l.width} px window`);
+    assert.deepEqual(l.small, [], 'controls at least 44 px tall');
+    const box = await phone.$eval('#twin-extra', (e) => e.getBoundingClientRect().toJSON());
+    assert.ok(box.width > 200 && box.right <= l.width, `the twin's overrides: ${JSON.stringify(box)}`);
+    assert.deepEqual(await axe(phone), [], 'no serious or critical accessibility violation');
+    await phone.close();
   });
 
   await check('the ground is drawn moving, with a scale bar', async () => {

@@ -2,7 +2,8 @@
 // the redraw bench): where the program, the records and Chromium are; the
 // records-missing rule (under CI=true a missing browser or record fails the
 // test, otherwise it is skipped loudly with CTest's skip code 77);
-// `rocking serve` started on a free port it prints; Debian's headless
+// `rocking serve` started on a free port it prints, serving the lab/ folder
+// of the checkout the tests belong to; Debian's headless
 // Chromium launched through puppeteer-core; and the waits for the page's runs.
 //
 // Environment: ROCKING_BIN (the program; default build/bin/rocking),
@@ -34,9 +35,11 @@ export function requireBrowserAndRecords(test, needed) {
     if (!existsSync(join(records, r))) skipOrFail(test, `${join(records, r)} is missing (set ROCKING_RECORDS)`);
 }
 
-// `rocking serve` on a free port: {server, url}.
+// `rocking serve` on a free port, serving this checkout's lab/ (not the one
+// compiled into the program, which may be another checkout's): {server, url}.
 export function startServer() {
-  const server = spawn(bin, ['serve', '--port', '0', '--records', records], { stdio: ['ignore', 'pipe', 'pipe'] });
+  const server = spawn(bin, ['serve', '--port', '0', '--records', records, '--lab', join(repo, 'lab')],
+    { stdio: ['ignore', 'pipe', 'pipe'] });
   let err = '';
   server.stderr.on('data', (d) => { err += d; });
   return new Promise((ok, fail) => {

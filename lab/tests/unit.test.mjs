@@ -2,13 +2,13 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
-import { existsSync, readdirSync } from 'node:fs';
+import { existsSync, readFileSync, readdirSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import {
   formatG, buildRequest, twinChoices, exaggeration, bodyPoints, splitOverrides, forStudents, axisRange, describeRun, groundStill,
   drawnRows,
-  chartsFrom, energyBars, chainPoints, segmentTop,
+  chartsFrom, energyBars, chainPoints, segmentTop, columnsPoints, columnsThetaOf, twinRequest,
 } from '../format.js';
 import { lessons } from '../lessons.js';
 
@@ -99,10 +99,22 @@ test('a run is told in words: outcome, counts and peaks, the twin beside', () =>
   assert.match(text, /Its twin \(fixed-base\): elastic/);
 });
 
-test('twins are the variants the scene has', () => {
-  assert.deepEqual(twinChoices(chimney).map((c) => c.value), ['', 'fixed-base', 'without:damper']);
-  assert.deepEqual(twinChoices(wall).map((c) => c.value), ['', 'fixed-base', 'without:tendon', 'without:dampers', 'no-devices']);
-  assert.deepEqual(twinChoices({ rigid: true, damper: false, devices: [] }).map((c) => c.value), ['']);
+test('twins are the variants the scene has, and the same run with other overrides', () => {
+  assert.deepEqual(twinChoices(chimney).map((c) => c.value), ['', 'fixed-base', 'without:damper', 'overrides']);
+  assert.deepEqual(twinChoices(wall).map((c) => c.value), ['', 'fixed-base', 'without:tendon', 'without:dampers', 'no-devices', 'overrides']);
+  assert.deepEqual(twinChoices({ rigid: true, damper: false, devices: [] }).map((c) => c.value), ['', 'overrides']);
+});
+
+test('a twin with other overrides is the same request with its overrides after the run\'s, and no server twin', () => {
+  const controls = { ...defaults, thickness: 1.5, record: 'elcentro_1940_ns.at2', extra: 'structure.EI_scale=0.5', compare: 'overrides',
+    twinExtra: 'structure.masses=[1.0]\n structure.base_mass=1.0 ' };
+  const main = buildRequest(controls, chimney);
+  assert.equal(main.compare, undefined, 'the server runs no twin of its own');
+  const twin = twinRequest(controls, chimney);
+  assert.deepEqual(twin.request, { ...main, set: [...main.set, 'structure.masses=[1.0]', 'structure.base_mass=1.0'] });
+  assert.equal(twin.variant, 'with structure.masses=[1.0] structure.base_mass=1.0');
+  assert.equal(twinRequest({ ...controls, compare: 'fixed-base' }, chimney), null, 'a server variant is the server\'s twin');
+  assert.equal(buildRequest({ ...controls, compare: 'fixed-base' }, chimney).compare, 'fixed-base');
 });
 
 test('exaggeration draws the peaks at a visible size, never below true size', () => {
@@ -133,8 +145,12 @@ test('the body rotates about the pivot on its side, which stays put', () => {
   assert.deepEqual(bent.axis[1], [0.3, 10]);
 });
 
-test('every lesson names a scene and a record the lab has', () => {
-  assert.equal(lessons.length, 7);
+test('every lesson of docs/teaching.md is a lesson of the lab, and names a scene and a record the lab has', () => {
+  const taught = readFileSync(join(repo, 'docs', 'teaching.md'), 'utf8').match(/^## \d+\. .+$/gm);
+  assert.deepEqual(lessons.map((l) => Number(l.title.split('.')[0])), taught.map((h) => Number(h.slice(3).split('.')[0])),
+    'the lab\'s lessons are docs/teaching.md\'s, in its order');
+  const range = readFileSync(join(repo, 'docs', 'teaching.md'), 'utf8').match(/N = 0 to (\d+)/);
+  assert.equal(Number(range[1]), lessons.length - 1, 'docs/teaching.md gives the lab\'s range of lessons');
   const scenes = readdirSync(join(repo, 'data', 'scenes')).map((f) => f.replace(/\.toml$/, ''));
   const records = process.env.ROCKING_RECORDS || join(repo, '..', 'shared', 'data', 'records');
   // Without the records folder the lessons' records go unchecked, said aloud;
@@ -238,4 +254,66 @@ test('a structure with joints is drawn segment by segment, each turning about it
   assert.deepEqual(rest.segments[1].topRight, [0.15, 1.9]);
   assert.deepEqual(rest.devices[0].to, [0, 1.9]);
   assert.equal(segmentTop(6, [7, 8]), 8, 'a segment whose last node is its top face');
+});
+
+test('a structure on rocking columns: each column turns about its pivot corner, the beam moves with the tops opposite them', () => {
+  const columns = { count: 3, half_width: 0.8, half_height: 4.8, spacing: 6 };
+  const R = Math.hypot(0.8, 4.8);
+  for (const theta of [0.09, -0.13, 0]) {
+    const p = columnsPoints(columns, theta);
+    const s = Math.sign(theta);
+    assert.deepEqual(p.columns.map((c) => c.axis), [-3, 0, 3], 'the axes evenly spread over the spacing');
+    for (const c of p.columns) {
+      // The pivot (bottom corner on theta's side) stays put, and every corner keeps its distance from it.
+      const pivot = s >= 0 ? c.right : c.left;
+      assert.deepEqual(pivot, [c.axis + (s >= 0 ? 0.8 : -0.8), 0]);
+      const from = (pt) => Math.hypot(pt[0] - pivot[0], pt[1] - pivot[1]);
+      assert.ok(Math.abs(from(s >= 0 ? c.left : c.right) - 1.6) < 1e-12);
+      assert.ok(Math.abs(from(s >= 0 ? c.topLeft : c.topRight) - 2 * R) < 1e-12, 'the diagonal');
+      // The top corner opposite the pivot carries the beam: it moves by the beam's shift.
+      const carrying = s >= 0 ? c.topLeft : c.topRight;
+      const rest = [c.axis + (s >= 0 ? -0.8 : 0.8), 9.6];
+      assert.ok(Math.abs(carrying[0] - rest[0] - p.shift[0]) < 1e-12 && Math.abs(carrying[1] - rest[1] - p.shift[1]) < 1e-12,
+        `theta ${theta}: the corner under the beam moves by ${p.shift}`);
+      // The column turns clockwise for theta > 0 (its top moves towards +x), as the body does.
+      const tilt = Math.atan2(c.topRight[0] - c.right[0], c.topRight[1] - c.right[1]);
+      assert.ok(Math.abs(tilt - theta) < 1e-12, `tilt ${tilt}`);
+    }
+    assert.ok(Math.abs(p.beam[1][0] - p.beam[0][0] - (6 + 1.6)) < 1e-12 && p.beam[0][1] === p.beam[1][1], 'the beam spans the outer faces, level');
+    assert.ok(Math.abs(p.beam[0][0] - (-3.8 + p.shift[0])) < 1e-12 && Math.abs(p.beam[0][1] - (9.6 + p.shift[1])) < 1e-12);
+    assert.equal(p.top, 9.6);
+  }
+  // Small theta: the beam moves sideways by 2h theta, and rises (the diagonal's top passes its highest point first).
+  const small = columnsPoints(columns, 1e-6);
+  assert.ok(Math.abs(small.shift[0] / 1e-6 - 9.6) < 1e-5 && small.shift[1] > 0);
+  assert.deepEqual(columnsPoints({ ...columns, count: 1, spacing: 0 }, 0.1).columns.map((c) => c.axis), [0], 'one column on the axis');
+});
+
+test('the columns\' rocking angle: columns.theta when sent, else theta/alpha times the columns\' slenderness', () => {
+  const structure = { columns: { count: 2, half_width: 0.8, half_height: 4.8, spacing: 6 } };
+  const alpha = Math.atan(0.8 / 4.8);
+  assert.deepEqual(columnsThetaOf({ structure, history: { 'columns.theta_over_alpha': [0, 0.5, null] } }), [0, 0.5 * alpha, null]);
+  assert.deepEqual(columnsThetaOf({ structure, history: { 'columns.theta': [0.01], 'columns.theta_over_alpha': [7] } }), [0.01]);
+  assert.equal(columnsThetaOf({ structure: { columns: null }, history: { theta: [0.1] } }), null);
+});
+
+test('a run on rocking columns is told in words: the columns tilting, the beam moving, its peaks', () => {
+  const text = describeRun({
+    structure: { columns: { count: 2, half_width: 0.8, half_height: 4.8, spacing: 6 } },
+    summary: { outcome: 'completed', counts: { uplifts: 1, impacts: 7 }, peaks: { 'columns.theta_over_alpha': 0.5348, 'beam.x': 0.853 } },
+  });
+  assert.match(text, /the columns' peak rocking angle θ_c\/α_c 0\.535/);
+  assert.match(text, /It stands on 2 rocking columns, 9\.6 m tall: they tilt together about their bottom corners, and the cap beam on their tops moves sideways \(at most 0\.853 m\) without tilting/);
+});
+
+test('lesson 7 answers its prediction from the run, and says so when its twin (the bare piers) was not run', () => {
+  const lesson = lessons.find((l) => l.title.startsWith('7.'));
+  const run = (outcome, tEnd) => ({ summary: { outcome, t_end: tEnd, counts: { uplifts: 1, impacts: 3 }, peaks: { 'columns.theta_over_alpha': 0.5 } } });
+  const choice = (d) => lesson.predict.choices[lesson.predict.answer(d)];
+  assert.equal(choice({ ...run('completed', 15), twin: run('overturned', 2) }), 'the piers with the heavy deck');
+  assert.equal(choice({ ...run('overturned', 3), twin: run('completed', 15) }), 'the piers with almost no deck');
+  assert.equal(choice({ ...run('completed', 15), twin: run('completed', 15) }), 'both');
+  assert.equal(choice({ ...run('overturned', 3), twin: run('overturned', 2) }), 'neither');
+  assert.match(lesson.predict.because({ ...run('completed', 15), twin: run('overturned', 2) }), /overturned at t = 2 s/);
+  assert.match(lesson.predict.because({ ...run('completed', 15), twin: null }), /were not run/);
 });
