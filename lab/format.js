@@ -81,7 +81,7 @@ export const otherOverrides = 'overrides';
 // runs beside it, and the same run with other overrides.
 export function twinChoices(scene) {
   const out = [{ value: '', label: 'none' }];
-  if (!scene.rigid) out.push({ value: 'fixed-base', label: 'fixed base' });
+  if (scene.fixed_base) out.push({ value: 'fixed-base', label: 'fixed base' });
   for (const d of scene.devices || []) out.push({ value: `without:${d.name}`, label: `without ${d.name}` });
   if ((scene.devices || []).length > 1) out.push({ value: 'no-devices', label: 'no devices' });
   out.push({ value: otherOverrides, label: 'the same with other overrides' });
@@ -240,7 +240,8 @@ export function describeRun(data) {
     const columns = c ? ` It stands on ${c.count} rocking column${c.count === 1 ? '' : 's'}, ${formatG(2 * c.half_height, 3)} m tall: ` +
       `they tilt together about their bottom corners, and the cap beam on their tops moves sideways${beam} without tilting, ` +
       'the structure upright on it.' : '';
-    return `${who}: ${s.outcome}, ${s.counts.uplifts} uplifts and ${s.counts.impacts} impacts` +
+    const counted = (k, word) => `${k} ${word}${k === 1 ? '' : 's'}`;
+    return `${who}: ${s.outcome}, ${counted(s.counts.uplifts, 'uplift')} and ${counted(s.counts.impacts, 'impact')}` +
       (peaks.length ? `; ${peaks.join(', ')}` : '') + `.${columns}`;
   };
   let text = one(data, 'This run');

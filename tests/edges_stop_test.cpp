@@ -38,10 +38,11 @@ auto once_there_for(fs::path file, std::chrono::milliseconds delay) {
   };
 }
 
-// A hunt of the chimney without its damper under `record`, into `out`.
+// A hunt of the chimney without its damper under `record`, into `out`: its fill step makes it last some
+// seconds on a fast machine, so that the signals the tests send fall in the middle of its runs.
 std::vector<std::string> hunt_args(const std::string& record, const fs::path& out) {
   return {"-q", "ida", "--record", record, "--hunt", "--scales", "0.5", "--hunt-step", "0.5", "--hunt-max", "10",
-          "--fill-step", "0.05", "--variants", "damper", "--no-plot", "--out", out.string()};
+          "--fill-step", "0.01", "--variants", "damper", "--no-plot", "--out", out.string()};
 }
 
 struct Stopped {
@@ -125,7 +126,7 @@ TEST_CASE("SIGINT and SIGTERM stop a hunt within 2 s, in the middle of its runs,
     CHECK(contains(s.err, "--resume"));
     check_whole_csv(out / "hunt.csv");
     CHECK(lines(file_text(out / "hunt.csv")) == 1);  // the hunt was cut short: no row of it
-    const Result resumed = run("-q ida --record " + record + " --hunt --scales 0.5 --hunt-step 0.5 --hunt-max 10 --fill-step 0.05 "
+    const Result resumed = run("-q ida --record " + record + " --hunt --scales 0.5 --hunt-step 0.5 --hunt-max 10 --fill-step 0.01 "
                                "--variants damper --no-plot --out " + out.string() + " --resume");
     CHECK_MESSAGE(resumed.code == 0, resumed.err);
     CHECK(lines(file_text(out / "hunt.csv")) == 2);
@@ -150,11 +151,9 @@ TEST_CASE("a background job started with SIGINT ignored keeps it ignored, and st
   const fs::path dir = scratch_dir("edges_stop_background");
   const std::string record = rocking_record(dir / "r.txt", 30);
   const fs::path out = dir / "hunt";
-  // SIGINT, then half a second later SIGTERM: only the second stops it. The fill is ten times finer than
-  // hunt_args', so that the study cannot end on its own between the two signals on a fast machine.
-  std::vector<std::string> args = hunt_args(record, out);
-  *std::ranges::find(args, "0.05") = "0.005";
-  const Stopped s = run_and_signal(args, once_there_for(out / "hunt.csv.partial", 300ms), {SIGINT, SIGTERM}, true);
+  // SIGINT, then half a second later SIGTERM: only the second stops it.
+  const Stopped s =
+      run_and_signal(hunt_args(record, out), once_there_for(out / "hunt.csv.partial", 300ms), {SIGINT, SIGTERM}, true);
   REQUIRE_FALSE(s.ended_before);
   CHECK(s.code == 143);
   CHECK(contains(s.err, "SIGTERM"));

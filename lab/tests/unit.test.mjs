@@ -29,11 +29,11 @@ test('formatG prints as C printf %.4g does', () => {
 
 // Scenes as /api/scenes lists them (tests/lab_test.cpp holds the server to this form).
 const chimney = {
-  id: 'christchurch_chimney', damper: true, rigid: false,
+  id: 'christchurch_chimney', damper: true, rigid: false, fixed_base: true,
   devices: [{ name: 'damper', law: 'bouc-wen', dissipates: true, prestress: null, remove: 'device-=damper' }],
 };
 const wall = {
-  id: 'controlled_rocking_wall', damper: false, rigid: false,
+  id: 'controlled_rocking_wall', damper: false, rigid: false, fixed_base: true,
   devices: [
     { name: 'tendon', law: 'elastic', dissipates: false, prestress: { value: 2.6e6, set: 'device[0].P0' }, remove: 'device-=tendon' },
     { name: 'dampers', law: 'bouc-wen', dissipates: true, prestress: null, remove: 'device-=dampers' },
@@ -97,12 +97,16 @@ test('a run is told in words: outcome, counts and peaks, the twin beside', () =>
   const text = describeRun({ ...run('rocked', 0.4213), twin: { variant: 'fixed-base', ...run('elastic', 0) } });
   assert.match(text, /^This run: rocked, 3 uplifts and 5 impacts; peak rocking angle θ\/α_cg 0\.421, peak base moment 1\.7 M_ref\./);
   assert.match(text, /Its twin \(fixed-base\): elastic/);
+  const once = describeRun({ summary: { outcome: 'completed', counts: { uplifts: 1, impacts: 1 }, peaks: {} } });
+  assert.match(once, /^This run: completed, 1 uplift and 1 impact\./);
 });
 
 test('twins are the variants the scene has, and the same run with other overrides', () => {
   assert.deepEqual(twinChoices(chimney).map((c) => c.value), ['', 'fixed-base', 'without:damper', 'overrides']);
   assert.deepEqual(twinChoices(wall).map((c) => c.value), ['', 'fixed-base', 'without:tendon', 'without:dampers', 'no-devices', 'overrides']);
-  assert.deepEqual(twinChoices({ rigid: true, damper: false, devices: [] }).map((c) => c.value), ['', 'overrides']);
+  assert.deepEqual(twinChoices({ rigid: true, damper: false, fixed_base: false, devices: [] }).map((c) => c.value), ['', 'overrides']);
+  // A flexible structure on rocking columns (or with joints) has no fixed-base twin: the server says so.
+  assert.deepEqual(twinChoices({ rigid: false, damper: false, fixed_base: false, devices: [] }).map((c) => c.value), ['', 'overrides']);
 });
 
 test('a twin with other overrides is the same request with its overrides after the run\'s, and no server twin', () => {

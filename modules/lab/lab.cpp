@@ -386,9 +386,14 @@ json Lab::scenes() const {
         devices.push_back({{"name", g.name}, {"law", g.law}, {"dissipates", g.dissipates}, {"prestress", prestress},
                            {"remove", g.removal}, {"members", members}});
       }
+      // A fixed-base twin where the study has one (not for a rigid block, a
+      // structure with joints or one on columns: rocking.study's default_variants).
+      const std::vector<Variant> variants = default_variants(s);
+      const bool fixed_base = std::ranges::any_of(variants, [](const Variant& v) { return v.name == "fixed-base"; });
       item.update({{"name", s.name},
                    {"description", s.description},
                    {"rigid", s.structure.rigid},
+                   {"fixed_base", fixed_base},
                    {"nodes", s.structure.heights.size()},
                    {"damper", s.damper.enabled},
                    {"devices", devices},

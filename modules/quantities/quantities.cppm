@@ -169,7 +169,7 @@ inline constexpr std::array<QuantityInfo, quantity_count> quantity_table = {{
     // beam's horizontal displacement relative to the ground, and the smallest
     // of the columns' normal forces on the deck (compression > 0).
     {Quantity::columns_theta, "columns.theta", "rad", "columns' rocking angle", "{/Symbol q}_c", 1, "rad",
-     Needs::columns, history | peak | study, {}, Quantity::t, {}},
+     Needs::columns, history | peak | study, {}, Quantity::t, {LabRole::drawn, 0}},
     {Quantity::columns_theta_over_alpha, "columns.theta_over_alpha", "-", "columns' rocking angle over their slenderness",
      "{/Symbol q}_c/{/Symbol a}_c", 1, "-", Needs::columns, history | peak | study, {FigureRole::response, 4},
      Quantity::t, {LabRole::chart, 2}},
