@@ -348,7 +348,7 @@ export function drawnRows(t, columns, buckets) {
 // the energy balance E(t) - E(0) = W_ground - W_viscous - W_devices -
 // W_impacts (MODEL.md 7 and 11), columns the server sends by their schema
 // names, each W from the start: what was put in (the energy at the start, the
-// ground's work), where it went (the devices, the impacts, viscous damping)
+// ground's work), where it went (each device, the impacts, viscous damping)
 // and what is there now; each labelled by the schema's words. At the run's
 // last row (its end) they are summary.energy_J's totals. null when the run
 // does not track energy. {name, label, kind, J}; residual: the balance's
@@ -359,16 +359,21 @@ export function energyBars(run, i) {
   if (!h || names.some((n) => !h[n] || h[n].length === 0)) return null;
   const words = (n) => ((run.columns || []).find((c) => c.name === n) || { words: n }).words;
   const at = (n, k) => h[n][Math.max(0, Math.min(k, h[n].length - 1))] ?? 0;
+  // The devices' work: one bar per device when the history has each one's
+  // (NAME.work), else their total.
+  const works = ((run.structure && run.structure.devices) || []).map((d) => `${d.name}.work`);
+  const each = works.length > 0 && works.every((n) => h[n] && h[n].length > 0);
+  const devices = (each ? works : ['W_devices']).map((n) => ({ name: n, label: words(n), kind: 'out', J: at(n, i) }));
   const bars = [
     { name: 'E', label: `${words('E')} at the start`, kind: 'in', J: at('E', 0) },
     { name: 'W_ground', label: words('W_ground'), kind: 'in', J: at('W_ground', i) },
-    { name: 'W_devices', label: words('W_devices'), kind: 'out', J: at('W_devices', i) },
+    ...devices,
     { name: 'W_impacts', label: words('W_impacts'), kind: 'out', J: at('W_impacts', i) },
     { name: 'W_viscous', label: words('W_viscous'), kind: 'out', J: at('W_viscous', i) },
     { name: 'E', label: `${words('E')} now`, kind: 'left', J: at('E', i) },
   ];
-  const J = (k) => bars[k].J;
-  return { bars, residual: (J(5) - J(0)) - (J(1) - J(4) - J(2) - J(3)) };
+  const out = bars.filter((b) => b.kind === 'out').reduce((sum, b) => sum + b.J, 0);
+  return { bars, residual: (at('E', i) - at('E', 0)) - (at('W_ground', i) - out) };
 }
 
 // The charts against time, from the columns' schema entries the server sent

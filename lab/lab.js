@@ -635,6 +635,7 @@ function drawEnergy(i) {
   const most = Math.max(1e-300, ...e.bars.map((b) => peakOf(h[b.name])));
   e.bars.forEach((b, k) => {
     const [name, bar, value] = host.children[k].children;
+    host.children[k].dataset.name = b.name;
     name.textContent = b.label;
     bar.dataset.kind = b.kind;
     bar.style.width = `${(100 * Math.abs(b.J)) / most}%`;

@@ -235,6 +235,42 @@ TEST_CASE("the lab's energy history closes the run's balance at every row and en
   }
 }
 
+TEST_CASE("the lab's history gives each device's work: they add to W_devices at every row and end at each device's total") {
+  const rocking::Lab lab = make_lab("");
+  // The chimney's dampers (one per pivot: the run splits the total at its events), the wall's tendon and dampers
+  // (several per pivot: an accumulator each), the segmental pier's tendon (joints) and a tie through the rocking
+  // frame's piers (the columns' driver).
+  const json tie = json::array({"device+={kind=\"bouc-wen\",name=\"tie\",at=\"edges\",kinematics=\"chord\",k=2e8,eps=0.05,d_y=0.002}"});
+  for (const auto& [scene, set] : std::vector<std::pair<const char*, json>>{{"christchurch_chimney", json::array()},
+                                                                             {"controlled_rocking_wall", json::array()},
+                                                                             {"segmental_pier", json::array()},
+                                                                             {"rocking_frame", tie}}) {
+    CAPTURE(scene);
+    const json a = answer_json(lab, "/api/simulate", {{"scene", scene}, {"set", set}});
+    const json& h = a["history"];
+    const json& devices = a["summary"]["devices"];
+    REQUIRE(!devices.empty());
+    const json& e = a["summary"]["energy_J"];
+    const double scale = e["initial"].get<double>() + e["ground_input"].get<double>();
+    const std::size_t n = h["t"].size();
+    double worst = 0, total = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      double sum = 0;
+      for (const json& d : devices) sum += h[d["name"].get<std::string>() + ".work"][i].get<double>();
+      worst = std::max(worst, std::abs(sum - h["W_devices"][i].get<double>()));
+    }
+    CHECK(worst <= 1e-5 * scale);  // six digits sent of each
+    for (const json& d : devices) {
+      const std::string name = d["name"];
+      CAPTURE(name);
+      CHECK(h[name + ".work"][n - 1].get<double>() == close_to(d["work_J"].get<double>(), 1e-5, 1e-9 * scale));
+      total += d["work_J"].get<double>();
+    }
+    CHECK(total == close_to(e["damper"].get<double>(), 1e-9, 1e-12 * scale));
+    CHECK(e["damper"].get<double>() > 0);
+  }
+}
+
 TEST_CASE("the lab sends a structure's joints: its segments and each joint's rotation") {
   const rocking::Lab lab = make_lab("");
   const json a = answer_json(lab, "/api/simulate", {{"scene", "stacked_blocks"}});

@@ -376,11 +376,13 @@ try {
         i,
         hidden: document.querySelector('#energy-box').hidden,
         rows: [...document.querySelectorAll('#energy .bar-row')].map((r) => ({
-          label: r.children[0].textContent, width: r.children[1].getBoundingClientRect().width, text: r.children[2].textContent,
+          name: r.dataset.name, label: r.children[0].textContent, width: r.children[1].getBoundingClientRect().width,
+          text: r.children[2].textContent,
         })),
-        row: Object.fromEntries(['E', 'W_ground', 'W_devices', 'W_impacts', 'W_viscous'].map((n) => [n, h[n][i]])),
+        row: Object.fromEntries(Object.keys(h).filter((n) => /^(E|W_\w+|.+\.work)$/.test(n)).map((n) => [n, h[n][i]])),
         first: h.E[0],
         e: window.lab.data.summary.energy_J,
+        devices: window.lab.data.summary.devices,
       };
     }, k);
     const near = (a, b) => Math.abs(a - b) <= 5e-3 * Math.abs(b) + 1e-9;  // three digits shown
@@ -389,16 +391,26 @@ try {
     // work, the devices', the impacts', the viscous damping's, the energy now), not the run's totals.
     const mid = await at(Math.floor((await page.evaluate(() => window.lab.data.history.t.length)) / 3));
     assert.equal(mid.hidden, false);
-    const expected = [mid.first, mid.row.W_ground, mid.row.W_devices, mid.row.W_impacts, mid.row.W_viscous, mid.row.E];
+    // A bar per device (the chimney's two dampers), each its own work, adding to the devices' total.
+    const deviceBars = (shown) => shown.rows.filter((r) => r.name.endsWith('.work'));
+    assert.deepEqual(deviceBars(mid).map((r) => r.name), mid.devices.map((d) => `${d.name}.work`));
+    const expected = mid.rows.map((r, k) => (k === 0 ? mid.first : mid.row[r.name]));
     values(mid).forEach((v, k) => assert.ok(near(v, expected[k]), `row ${mid.i}, bar ${mid.rows[k].label}: ${v} against ${expected[k]}`));
+    const midDevices = deviceBars(mid).reduce((sum, r) => sum + mid.row[r.name], 0);
+    assert.ok(Math.abs(midDevices - mid.row.W_devices) <= 1e-5 * mid.e.ground_input, `devices ${midDevices} J, W_devices ${mid.row.W_devices} J`);
     assert.ok(mid.row.W_ground < mid.e.ground_input, 'the ground has more work to do after that frame');
-    // At the end: the summary's totals.
+    // At the end: the summary's totals, and each device's work its own.
     const shown = await at(-1);
-    const [initial, ground, devices, impacts, viscous, final] = values(shown);
+    const J = values(shown);
+    const byName = (name, k = 0) => J[shown.rows.findIndex((r, i) => r.name === name && i >= k)];
+    const initial = J[0], final = J[J.length - 1], ground = byName('W_ground'), impacts = byName('W_impacts'), viscous = byName('W_viscous');
+    const devices = deviceBars(shown).reduce((sum, r) => sum + byName(r.name), 0);
     const e = shown.e;
     assert.ok(near(initial, e.initial) && near(ground, e.ground_input) && near(devices, e.damper) &&
       near(impacts, e.impacts) && near(viscous, e.viscous) && near(final, e.final), JSON.stringify(shown.rows));
-    assert.ok(shown.rows[1].label.includes('ground') && shown.rows[3].label.includes('impacts'), 'labelled by the schema\'s words');
+    for (const d of shown.devices) assert.ok(near(byName(`${d.name}.work`), d.work_J), `${d.name}: ${byName(`${d.name}.work`)} J against ${d.work_J} J`);
+    assert.ok(shown.rows[1].label.includes('ground') && shown.rows.find((r) => r.name === 'W_impacts').label.includes('impacts'),
+      'labelled by the schema\'s words');
     assert.ok(e.ground_input > 0 && e.damper > 0 && e.impacts > 0, 'the ground works, the dampers and the impacts dissipate');
     // The balance: the bars' terms at the end, what went out and what is left less what went in, add to the
     // run's residual (to the six digits each term is sent with; to the three shown), small beside the input.
@@ -408,9 +420,10 @@ try {
     const shownResidual = devices + impacts + viscous + final - initial - ground;
     assert.ok(Math.abs(shownResidual - e.balance_residual) <= 5e-3 * scale, `shown ${shownResidual} J against ${e.balance_residual} J`);
     assert.ok(Math.abs(e.balance_residual) <= 1e-2 * scale, `residual ${e.balance_residual} J`);
-    // Bars as long as their shares: the ground's input against the dampers' work.
-    const ratio = shown.rows[2].width / shown.rows[1].width;
-    assert.ok(Math.abs(ratio - e.damper / e.ground_input) <= 0.02, `bar ratio ${ratio}, energy ratio ${e.damper / e.ground_input}`);
+    // Bars as long as their shares: the ground's input against a damper's work.
+    const first = deviceBars(shown)[0];
+    const ratio = first.width / shown.rows[1].width;
+    assert.ok(Math.abs(ratio - byName(first.name) / ground) <= 0.02, `bar ratio ${ratio}, energy ratio ${byName(first.name) / ground}`);
   });
 
   await check('reset, slow motion 0.1x-1x and frame steps', async () => {

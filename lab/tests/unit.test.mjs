@@ -235,6 +235,16 @@ test('the energy bars at a row are the history\'s energy columns there, closing 
   assert.equal(e.residual, 2 - 1.5);
   assert.equal(energyBars(run, 99).bars[5].J, 7, 'past the end: the last row');
   assert.equal(energyBars({ history: { E: [1] } }, 0), null, 'no energy columns: no bars');
+  // With each device's work in the history, a bar per device in place of their total, and the same residual.
+  const two = {
+    ...run,
+    structure: { devices: [{ name: 'left' }, { name: 'right' }] },
+    history: { ...run.history, 'left.work': [0, 1.5, 4], 'right.work': [0, 0.5, 2] },
+  };
+  const e2 = energyBars(two, 1);
+  assert.deepEqual(e2.bars.map((b) => b.name), ['E', 'W_ground', 'left.work', 'right.work', 'W_impacts', 'W_viscous', 'E']);
+  assert.deepEqual(e2.bars.map((b) => b.J), [10, 5, 1.5, 0.5, 1, 0.5, 12]);
+  assert.equal(e2.residual, e.residual);
 });
 
 test('a structure with joints is drawn segment by segment, each turning about its joint\'s corner', () => {

@@ -305,6 +305,7 @@ inline double held_moment(const ContactModel& m, const Discrete& d, Pivot p) {
 struct DeviceSample {
   double e = 0, F = 0;  // [m], [N]
   double moment = 0;    // s F de/d|th|: the moment it exerts against the tilt, signed as theta [N m]
+  double work = 0;    // int F de since the start [J] (the run's drivers set it; NaN: energy not tracked)
 };
 void device_samples(const ContactModel& m, const Discrete& d, Eigen::Ref<const Eigen::VectorXd> y,
                     std::vector<DeviceSample>& out);

@@ -112,7 +112,8 @@ std::vector<std::string> overrides_of(const json& r, std::size_t limit) {
 // The history the page draws: the columns of the quantities the schema
 // gives a use in the lab (rocking.quantities' LabUse) that the model reports:
 // of its default history (a joint's, a device's among them), then those it
-// gives on request (the ground's displacement, the energy balance's terms),
+// gives on request (the ground's displacement, the energy balance's terms,
+// each device's work),
 // then the nodes' elastic displacements (to draw the structure bent; at
 // most 16 of them).
 std::vector<std::string> lab_columns(const ContactModel& model) {
@@ -124,6 +125,10 @@ std::vector<std::string> lab_columns(const ContactModel& model) {
   for (const QuantityInfo& q : quantity_table)
     if (q.is(Role::on_request) && !q.is(Role::history) && q.lab.role != LabRole::none && has.has(q.needs))
       out.emplace_back(q.name);
+  // Each device's work, for the energy view's bar per device.
+  for (const Device& d : model.devices)
+    for (const DeviceQuantityInfo& q : device_quantity_table)
+      if (q.is(Role::on_request) && q.lab.role != LabRole::none && has.energy) out.push_back(device_quantity_name(d.name, q.id));
   // The bending as the page draws it: every node up to 16, else 16 evenly
   // spaced up to the top (the page interpolates between them; a 64-node
   // tower's history is then a third of its size).

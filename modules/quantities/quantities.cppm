@@ -216,8 +216,11 @@ inline constexpr auto history_quantities = detail::list_with<history>();
 std::optional<Quantity> find_quantity(std::string_view name);
 std::string quantity_names(Role role);
 
-// What each device reports, under its scene name: "plates.elongation".
-enum class DeviceQuantity : unsigned char { elongation, force, count_ };
+// What each device reports, under its scene name: "plates.elongation". Its
+// work is int F de since the start, stored plus dissipated (MODEL.md 11's
+// energy), the device's share of W_devices: on request, where the run tracks
+// the energy balance.
+enum class DeviceQuantity : unsigned char { elongation, force, work, count_ };
 inline constexpr std::size_t device_quantity_count = static_cast<std::size_t>(DeviceQuantity::count_);
 struct DeviceQuantityInfo {
   DeviceQuantity id;
@@ -227,13 +230,32 @@ struct DeviceQuantityInfo {
   FigureUse figure;            // its panel in the response figure (every device's curves in one)
   DeviceQuantity figure_x;     // a loop's x quantity (of the same device)
   LabUse lab;                  // its use in the browser lab (each device's loop)
+  unsigned char roles;         // Role bits
+  constexpr bool is(Role r) const { return (roles & r) != 0; }
 };
 inline constexpr std::array<DeviceQuantityInfo, device_quantity_count> device_quantity_table = {{
     {DeviceQuantity::elongation, "elongation", "m", "elongation", "e", 1000, "mm", {}, DeviceQuantity::elongation,
-     {LabRole::drawn, 0}},
+     {LabRole::drawn, 0}, history | peak | study},
     {DeviceQuantity::force, "force", "N", "force", "F", 1e-3, "kN", {FigureRole::loop, 7}, DeviceQuantity::elongation,
-     {LabRole::drawn, 0}},
+     {LabRole::drawn, 0}, history | peak | study},
+    {DeviceQuantity::work, "work", "J", "work done on it since the start", "W", 1, "J", {}, DeviceQuantity::elongation,
+     {LabRole::drawn, 0}, on_request},
 }};
+// How many of a device's quantities a study reports (Role::study), and where
+// one of them stands among those (its column within the device's group).
+inline constexpr std::size_t device_study_count = [] {
+  std::size_t n = 0;
+  for (const DeviceQuantityInfo& d : device_quantity_table) n += d.is(study) ? 1 : 0;
+  return n;
+}();
+constexpr std::size_t device_study_position(DeviceQuantity q) {
+  std::size_t k = 0;
+  for (const DeviceQuantityInfo& d : device_quantity_table) {
+    if (d.id == q) return k;
+    k += d.is(study) ? 1 : 0;
+  }
+  return k;
+}
 constexpr const DeviceQuantityInfo& info(DeviceQuantity q) { return device_quantity_table[static_cast<std::size_t>(q)]; }
 std::string device_quantity_name(std::string_view device, DeviceQuantity q);  // "plates.elongation"
 

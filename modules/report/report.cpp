@@ -155,7 +155,8 @@ HistoryColumns history_columns(const ContactModel& m) {
   for (std::size_t k = 0; k < m.devices.size(); ++k) {
     c.device_names.push_back(m.devices[k].name);
     for (const DeviceQuantityInfo& dq : device_quantity_table)
-      c.columns.push_back({.quantity = std::nullopt, .member = std::nullopt, .device = k, .of = dq.id});
+      if (dq.is(Role::history))
+        c.columns.push_back({.quantity = std::nullopt, .member = std::nullopt, .device = k, .of = dq.id});
   }
   // Each joint above the base: its angle, rate and phase (joint 0's are theta, theta_dot, phase).
   const int joints = m.jointed ? m.jointed->chain.joints : 1;
@@ -215,6 +216,8 @@ HistoryColumns history_columns(const ContactModel& m, const std::vector<std::str
       if (at == c.device_names.end())
         throw InputError(fmt::format("{} {}: no device '{}' in this scene (devices: {})", option, text, q->device,
                                      c.device_names.empty() ? "none" : fmt::format("{}", fmt::join(c.device_names, ", "))));
+      if (q->of == DeviceQuantity::work && !has.energy)
+        throw InputError(fmt::format("{} {}: this run does not track its energy balance", option, text));
       col.device = static_cast<std::size_t>(at - c.device_names.begin());
       col.of = q->of;
     } else {
@@ -272,6 +275,16 @@ namespace {
 // A joint column's value: NaN when the run handed over no sample for that
 // joint (it ended before its first row). theta_over_alpha is theta over the
 // joint's overturning angle (the slenderness of everything above it).
+double device_value(const DeviceSample& s, DeviceQuantity q) {
+  switch (q) {
+    case DeviceQuantity::elongation: return s.e;
+    case DeviceQuantity::force: return s.F;
+    case DeviceQuantity::work: return s.work;
+    case DeviceQuantity::count_: break;
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
 double joint_value(const ContactModel& m, std::span<const JointSample> joints, const JointQuantityName& q) {
   const auto j = static_cast<std::size_t>(q.joint);
   if (j >= joints.size()) return std::numeric_limits<double>::quiet_NaN();
@@ -298,7 +311,7 @@ void HistoryColumns::values(const ContactModel& m, const Response& r, const std:
     else if (c.member && c.member->of == MemberQuantityName::Of::node)
       out.push_back(node_value(m, c.member->node_quantity(), c.member->index, r, u, u_dot));
     else if (c.member) out.push_back(element_value(m, c.member->element_quantity(), c.member->index, u));
-    else out.push_back(c.of == DeviceQuantity::elongation ? samples[c.device].e : samples[c.device].F);
+    else out.push_back(device_value(samples[c.device], c.of));
   }
 }
 
@@ -325,7 +338,9 @@ std::vector<QuantityRow> quantity_rows(const ContactModel& m) {
   for (const Device& d : m.devices)
     for (const DeviceQuantityInfo& q : device_quantity_table)
       rows.push_back({device_quantity_name(d.name, q.id), std::string(q.unit),
-                      fmt::format("{} of {} ({})", q.words, d.name, law_name(d.law)), true, true, true, true});
+                      fmt::format("{} of {} ({})", q.words, d.name, law_name(d.law)), q.is(Role::history),
+                      q.is(Role::peak), q.is(Role::study), !q.is(Role::on_request) || has.energy,
+                      q.is(Role::on_request)});
   if (m.jointed)
     for (const JointQuantityInfo& q : joint_quantity_table)
       rows.push_back({fmt::format("jointK.{}", q.name), std::string(q.unit),

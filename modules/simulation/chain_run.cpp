@@ -396,7 +396,8 @@ class ChainDriver {
     observer_->nodal(y.head(0), y.head(0));
     if (!device_samples_.empty()) {
       for (std::size_t k = 0; k < device_samples_.size(); ++k)
-        device_samples_[k] = {.e = elongation_[k], .F = tendon_force(k, elongation_[k])};
+        device_samples_[k] = {.e = elongation_[k], .F = tendon_force(k, elongation_[k]),
+                              .work = tendon_stored(k, elongation_[k]) - tendon_stored(k, 0.0)};
       observer_->devices(device_samples_);
     }
     observer_->joints(samples_);

@@ -438,8 +438,10 @@ class ColumnsDriver {
   // the sum of those moments, M_dev [N m].
   double sample_devices(Eigen::Ref<const Eigen::VectorXd> y) {
     samples_.assign(m_.devices.size(), DeviceSample{});
-    for (std::size_t k = 0; k < samples_.size(); ++k)
+    for (std::size_t k = 0; k < samples_.size(); ++k) {
       if (devices_.is_broken(static_cast<int>(k))) samples_[k] = {std::nan(""), std::nan(""), 0.0};
+      samples_[k].work = y[work_ + 3 + static_cast<Eigen::Index>(k)];
+    }
     if (!phase_.is_rocking()) return 0.0;
     const Tilt tilt(y[0]);
     double moment = 0;
@@ -447,7 +449,10 @@ class ColumnsDriver {
       if (devices_.is_broken(a.device)) continue;
       const DamperState st = a.state(a, devices_, base_half_width(), s(), tilt, y[1], y.data());
       const double de_dtheta = stretch(a.geometry, base_half_width(), s(), tilt).de_dtheta;
-      samples_[static_cast<std::size_t>(a.device)] = {st.elongation, st.force, count() * s() * st.force * de_dtheta};
+      DeviceSample& out = samples_[static_cast<std::size_t>(a.device)];
+      out.e = st.elongation;
+      out.F = st.force;
+      out.moment = count() * s() * st.force * de_dtheta;
       moment += count() * s() * st.force * de_dtheta;
     }
     return moment;

@@ -361,12 +361,29 @@ class Driver {
     pass_nodal(y);
     if (!m_.devices.empty()) {
       device_samples(m_, d_, y, samples_);
+      device_works(y);
       double moment = 0;
       for (const DeviceSample& s : samples_) moment += s.moment;
       r[Quantity::device_moment] = moment;
       observer_->devices(samples_);
     }
     return r;
+  }
+
+  // The work done on each device up to the state y (into samples_): its own
+  // accumulator when some pivot stretches several; else what attribute_work
+  // gave it up to the last event, and to the device the pivot stretches now
+  // the total's growth since. NaN when the energy is not tracked.
+  void device_works(Eigen::Ref<const Eigen::VectorXd> y) {
+    const Layout& l = m_.layout;
+    for (std::size_t k = 0; k < samples_.size(); ++k)
+      samples_[k].work = !l.energy.present() ? std::nan("")
+                         : l.energy.count > 3 ? y[l.energy.start + 3 + static_cast<Eigen::Index>(k)]
+                                              : result_.devices[k].work;
+    if (!l.energy.present() || l.energy.count > 3) return;
+    if (const std::optional<Pivot> p = d_.phase.pivot())
+      for (const ContactModel::Acting& a : m_.acting[index(*p)])
+        samples_[static_cast<std::size_t>(a.device)].work += y[l.energy.start + 2] - work_at_event_;
   }
 
   void emit(double t, Eigen::Ref<const Eigen::VectorXd> y, bool also_history) {

@@ -273,7 +273,7 @@ struct StudyColumns {
   std::vector<std::string> devices;
   std::vector<QuantityName> all() const;
   std::vector<std::string> names() const;
-  std::size_t size() const { return quantities.size() + joints.size() + devices.size() * device_quantity_count; }
+  std::size_t size() const { return quantities.size() + joints.size() + devices.size() * device_study_count; }
   // A run's peaks in the columns' order: NaN where its model does not report one.
   std::vector<double> values(const RunResult& run) const;
   // The run a row of values stands for (peaks and devices; NaN where absent),

@@ -32,6 +32,7 @@ std::optional<QuantityName> study_quantity(std::string_view text) {
   std::optional<QuantityName> q = parse_quantity_name(text);
   if (q && q->scalar && !info(*q->scalar).is(Role::study)) return std::nullopt;
   if (q && q->joint && !info(q->joint->which).is(Role::study)) return std::nullopt;
+  if (q && !q->scalar && !q->joint && !info(q->of).is(Role::study)) return std::nullopt;
   return q;
 }
 
@@ -100,7 +101,8 @@ std::vector<QuantityName> StudyColumns::all() const {
   for (Quantity q : quantities) out.emplace_back(q);
   for (const JointQuantityName& j : joints) out.emplace_back(j);
   for (const std::string& d : devices)
-    for (const DeviceQuantityInfo& i : device_quantity_table) out.emplace_back(d, i.id);
+    for (const DeviceQuantityInfo& i : device_quantity_table)
+      if (i.is(Role::study)) out.emplace_back(d, i.id);
   return out;
 }
 
@@ -117,9 +119,13 @@ std::vector<double> StudyColumns::values(const RunResult& run) const {
   for (const JointQuantityName& j : joints) out.push_back(joint_peak(run, j));
   for (const std::string& d : devices) {
     const auto it = std::ranges::find(run.devices, d, &DeviceResult::name);
-    static_assert(device_quantity_count == 2, "a device's study values: elongation and force");
-    out.push_back(it == run.devices.end() ? std::nan("") : it->peak_elongation);
-    out.push_back(it == run.devices.end() ? std::nan("") : it->peak_force);
+    for (const DeviceQuantityInfo& i : device_quantity_table) {
+      if (!i.is(Role::study)) continue;
+      if (it == run.devices.end()) out.push_back(std::nan(""));
+      else if (i.id == DeviceQuantity::elongation) out.push_back(it->peak_elongation);
+      else if (i.id == DeviceQuantity::force) out.push_back(it->peak_force);
+      else out.push_back(std::nan(""));  // a study quantity with no peak here: none is one today
+    }
   }
   return out;
 }
@@ -215,8 +221,8 @@ double StudySummary::value(const Cell& c, const QuantityName& q) const {
   const auto at = std::ranges::find(columns_.devices, q.device);
   if (at == columns_.devices.end()) return std::nan("");
   return c.peaks[columns_.quantities.size() + columns_.joints.size() +
-                 device_quantity_count * static_cast<std::size_t>(at - columns_.devices.begin()) +
-                 static_cast<std::size_t>(q.of)];
+                 device_study_count * static_cast<std::size_t>(at - columns_.devices.begin()) +
+                 device_study_position(q.of)];
 }
 
 // A quantity the run does not report (NaN) never reaches a limit.
