@@ -327,7 +327,7 @@ int animate(const AnimateArgs& a) {
   auto drawing = [&](const char* file, const ContactModel& model, const char* color) {
     std::string out = fmt::format("  plot d.\"{}\" index i using {} with linespoints lw 3 pt 7 ps 0.8 lc rgb \"{}\", ",
                                   file, part(axis_part), color);
-    // A single body's damper (part 2 while no edge is lifted); a chain's tendons; no device stands on columns.
+    // A single body's damper (part 2 while no edge is lifted) and a chain's tendons; a structure on columns draws none.
     if (model.jointed ? !model.jointed->chain.data.tendons.empty() : !model.on_columns)
       out += fmt::format("d.\"{}\" index i using {} with lines lw 4 lc rgb \"#d35400\", ", file, part(device_part));
     if (model.on_columns || model.jointed)
