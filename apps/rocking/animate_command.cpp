@@ -2,16 +2,23 @@
 // structure drawn to scale, rocking about its pivots with its lifted edge and
 // stretched damper, beside its twin (fixed base, or without a device) under the same
 // record, with a moving cursor on the ground-motion and base-moment traces.
+// A structure on rocking columns is drawn on its columns and cap beam, one
+// with joints segment by segment with its tendons (rocking.drawing's
+// columns_outline and chain_outline).
 #include "commands.hpp"
 #include "run_output.hpp"
 #include "stop_signals.hpp"
 #include <spdlog/spdlog.h>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <memory>
 #include <numbers>
+#include <span>
+#include <utility>
+#include <vector>
 
 namespace rocking::app {
 
@@ -34,12 +41,15 @@ struct AnimateArgs {
   std::string window;   // --window: the span animated (empty: the whole run)
 };
 
-// Keeps the frames: the response and the elastic displacements at each.
+// Keeps the frames: the response, the elastic displacements and, for a
+// structure with joints, every joint's rocking angle at each.
 struct FrameRecorder : Observer {
   double interval;
   std::vector<Response> rows;
   std::vector<Eigen::VectorXd> u;
+  std::vector<std::vector<double>> joint_thetas;  // per row: joint 0 (the base), 1, ... (empty without joints)
   Eigen::VectorXd next_u;  // the displacements of the row about to be recorded
+  std::vector<double> next_joints;  // its joints' angles
   explicit FrameRecorder(double dt) : interval(dt) {}
   void record(const Response& r) override {
     // Keep the grid rows only (event rows fall between them).
@@ -47,10 +57,47 @@ struct FrameRecorder : Observer {
     if (std::abs(k - std::round(k)) < 1e-6 && (rows.empty() || r.t > rows.back().t)) {
       rows.push_back(r);
       u.push_back(next_u);
+      joint_thetas.push_back(next_joints);
     }
   }
   void nodal(Eigen::Ref<const Eigen::VectorXd> v, Eigen::Ref<const Eigen::VectorXd>) override { next_u = v; }
+  void joints(std::span<const JointSample> samples) override {
+    next_joints.clear();
+    for (const JointSample& j : samples) next_joints.push_back(j.theta);
+  }
 };
+
+// The rocking angles a frame of the run draws, before the exaggeration: the
+// body's theta; the columns' theta on rocking columns; every joint's theta
+// (the base's first) for a structure with joints.
+std::vector<double> rocking_angles(const ContactModel& model, const FrameRecorder& rec, std::size_t i) {
+  if (model.jointed) return rec.joint_thetas[i];
+  return {rec.rows[i][model.on_columns ? Quantity::columns_theta : Quantity::theta]};
+}
+
+double peak_angle(const ContactModel& model, const FrameRecorder& rec) {
+  double peak = 0;
+  for (std::size_t i = 0; i < rec.rows.size(); ++i)
+    for (double th : rocking_angles(model, rec, i)) peak = std::max(peak, std::abs(th));
+  return peak;
+}
+
+// How tall and how wide (half) the structure stands at rest, columns and
+// segments included [m].
+std::pair<double, double> picture_extent(const ContactModel& model, const Structure& s) {
+  if (model.on_columns) {
+    const Columns& c = model.on_columns->columns;
+    const double reach = (c.axes.size() > 0 ? c.axes.cwiseAbs().maxCoeff() : 0.0) + c.group.half_width;
+    return {2 * c.group.half_height + s.heights.maxCoeff(), reach};
+  }
+  if (model.jointed) {
+    const ChainData& d = model.jointed->chain.data;
+    double B = 0;
+    for (const ChainSegment& g : d.segments) B = std::max(B, g.half_width);
+    return {segment_top(d, static_cast<int>(d.segments.size()) - 1), B};
+  }
+  return {s.heights.maxCoeff(), s.half_width};
+}
 
 double nice(double x) {  // 1, 2 or 5 x 10^k, not above x
   const double p = std::pow(10.0, std::floor(std::log10(x)));
@@ -59,24 +106,53 @@ double nice(double x) {  // 1, 2 or 5 x 10^k, not above x
   return p;
 }
 
-// Every m-th recorded row is a frame.
-void write_frames(const fs::path& file, const Structure& s, const FrameRecorder& rec, double k, double kr, int m,
-                  std::size_t frames, bool has_damper) {
-  const char* damper = has_damper ? " 1\n" : " 2\n";  // 2: not drawn
+// What a row of the frames' data is (its `part` column), for the script:
+// the structure's axis and nodes, a device drawn, a device not drawn (no edge
+// lifted), an outline (a column, a segment), the cap beam.
+enum Part { axis_part = 0, device_part = 1, hidden_part = 2, outline_part = 3, beam_part = 4 };
+
+void write_point(std::ostream& out, const Point& p, Part part) {
+  out << fmt::format("{:.9g} {:.9g} {}\n", p.first, p.second, static_cast<int>(part));
+}
+void write_piece(std::ostream& out, const std::vector<Point>& points, Part part) {
+  for (const Point& p : points) write_point(out, p, part);
+  out << '\n';
+}
+
+// Every m-th recorded row is a frame: one block each (gnuplot's index), its
+// time in a comment above its header; pieces within it apart by a blank line.
+void write_frames(const fs::path& file, const ContactModel& model, const Structure& s, const FrameRecorder& rec,
+                  double k, double kr, int m, std::size_t frames) {
   std::ofstream out(file);
-  out << "# one block per frame (index i), each under its header: the axis, the base, the damper; part 1 for the "
-         "damper, 2 for none drawn\n";
+  out << "# one block per frame (index i), each under its header; part 0: the structure's axis and nodes, 1: a "
+         "device, 2: a device not drawn, 3: an outline (a column, a segment), 4: the cap beam\n";
   for (std::size_t f = 0; f < frames; ++f) {
-    out << "x y part\n";
     const std::size_t i = f * static_cast<std::size_t>(m);
     const Response& r = rec.rows[i];
+    out << fmt::format("# frame {}, t = {:.9g} s\nx y part\n", f, r.t);
     const Eigen::VectorXd u = i < rec.u.size() ? rec.u[i] : Eigen::VectorXd();
-    const Outline o = outline(s, r.phase, kr * r[Quantity::theta], u, k);
-    for (const Point& p : o.axis) out << p.first << ' ' << p.second << " 0\n";
-    out << '\n' << o.left_corner.first << ' ' << o.left_corner.second << " 0\n"
-        << o.right_corner.first << ' ' << o.right_corner.second << " 0\n\n"
-        << o.damper_anchor.first << ' ' << o.damper_anchor.second << damper
-        << o.damper_end.first << ' ' << o.damper_end.second << damper << "\n\n";
+    std::vector<double> angles = rocking_angles(model, rec, i);
+    for (double& th : angles) th *= kr;
+    if (model.on_columns) {
+      const ColumnsOutline o = columns_outline(model.on_columns->columns, angles[0], u, k);
+      for (const auto& c : o.columns) write_piece(out, {c[0], c[1], c[2], c[3], c[0]}, outline_part);
+      write_piece(out, {o.beam_left, o.beam_right}, beam_part);
+      write_piece(out, o.axis, axis_part);
+    } else if (model.jointed) {
+      const ChainOutline o = chain_outline(model.jointed->chain.data, angles);
+      for (const SegmentOutline& g : o.segments) {
+        write_piece(out, {g.base_left, g.base_right, g.top_right, g.top_left, g.base_left}, outline_part);
+        write_piece(out, g.axis, axis_part);
+      }
+      for (const auto& [from, to] : o.tendons) write_piece(out, {from, to}, device_part);
+    } else {
+      const Outline o = outline(s, r.phase, angles[0], u, k);
+      const Part damper = model.has_damper ? device_part : hidden_part;
+      write_piece(out, o.axis, axis_part);
+      write_piece(out, {o.left_corner, o.right_corner}, axis_part);
+      write_piece(out, {o.damper_anchor, o.damper_end}, damper);
+    }
+    out << '\n';
   }
 }
 
@@ -99,8 +175,12 @@ int animate(const AnimateArgs& a) {
   if (a.fps < 1 || a.fps > 100) throw InputError(fmt::format("--fps {}: must be 1 to 100", a.fps));
   const Scene scene = load_scene(a.scene);
   const GroundMotion motion = load_motion(scene, a.motion);
-  // A rigid block has no fixed-base twin worth drawing: by default it is drawn alone.
-  const std::string compare = !a.compare.empty() ? a.compare : scene.structure.rigid ? "none" : "fixed-base";
+  // A rigid block has no fixed-base twin worth drawing, nor has a structure
+  // with joints (its chain rocks at its base) or one on rocking columns
+  // (contact.rocking = false holds the columns, the beam still free on them:
+  // rocking.study's default_variants): by default each is drawn alone.
+  const bool no_fixed_twin = scene.structure.rigid || scene.jointed() || scene.columns.has_value();
+  const std::string compare = !a.compare.empty() ? a.compare : no_fixed_twin ? "none" : "fixed-base";
   if (compare != "fixed-base" && compare != "no-damper" && compare != "none" && !compare.starts_with("without:"))
     throw InputError(fmt::format("--compare {}: choose fixed-base, without:NAME (a device the scene names), no-damper "
                                  "or none", compare));
@@ -156,15 +236,16 @@ int animate(const AnimateArgs& a) {
   const std::size_t last_frame =
       std::min(frames, static_cast<std::size_t>(std::floor(shown_to / frame_dt + 1e-9)) + 1) - 1;
   if (frames < 2 || last_frame < first_frame + 1) throw InputError("animation: the span shown is too short for two frames");
-  const double H = scene.structure.heights.maxCoeff(), B = scene.structure.half_width;
+  const double H = scene.structure.heights.maxCoeff();
   double top = 1e-12;
   for (const Response& r : main_rec.rows) top = std::max(top, std::abs(r[Quantity::u_top]));
   for (const Response& r : twin_rec.rows) top = std::max(top, std::abs(r[Quantity::u_top]));
   const double k = a.exaggeration > 0 ? a.exaggeration : scene.structure.rigid ? 1.0 : std::max(1.0, nice(0.08 * H / top));
   // The rocking of a tall structure is invisible at true scale: by default its
   // peak angle is drawn at about 0.1 rad (a block's, which is seen, at x1).
-  double peak_theta = 1e-12;
-  for (const Response& r : main_rec.rows) peak_theta = std::max(peak_theta, std::abs(r[Quantity::theta]));
+  // The angle is the body's, the columns' on rocking columns, each joint's
+  // for a structure with joints.
+  const double peak_theta = std::max(1e-12, peak_angle(main_model, main_rec));
   const double kr = a.rotation > 0                                   ? a.rotation
                     : scene.structure.rigid || peak_theta < 1e-9      ? 1.0
                                                                      : std::max(1.0, nice(0.1 / peak_theta));
@@ -173,8 +254,7 @@ int animate(const AnimateArgs& a) {
   if (a.exaggeration > 0 && !(a.exaggeration * top <= H))
     throw InputError(fmt::format("--exaggerate {:g}: draws the peak top displacement {:.3g} m as {:.3g} m; at most "
                                  "{:.3g} (the height, {:g} m)", a.exaggeration, top, a.exaggeration * top, H / top, H));
-  double both_theta = peak_theta;  // the twin is drawn with the same factor
-  for (const Response& r : twin_rec.rows) both_theta = std::max(both_theta, std::abs(r[Quantity::theta]));
+  const double both_theta = std::max(peak_theta, peak_angle(twin_model, twin_rec));  // the twin is drawn with the same factor
   if (a.rotation > 0 && !(a.rotation * both_theta <= std::numbers::pi / 2))
     throw InputError(fmt::format("--exaggerate-rotation {:g}: draws the peak rocking angle {:.3g} rad as {:.3g} rad; "
                                  "at most {:.3g} (the structure on its side at pi/2)", a.rotation, both_theta,
@@ -182,63 +262,120 @@ int animate(const AnimateArgs& a) {
   const fs::path dir = gif.has_parent_path() ? gif.parent_path() : fs::path(".");
   const std::string stem = gif.stem().string();
   make_output_dir(dir / (stem + ".data"));
-  write_frames(dir / (stem + ".data") / "main.dat", scene.structure, main_rec, k, kr, m, frames, main_model.has_damper);
-  write_frames(dir / (stem + ".data") / "twin.dat", twin.structure, twin_rec, k, kr, m, frames, twin_model.has_damper);
+  write_frames(dir / (stem + ".data") / "main.dat", main_model, scene.structure, main_rec, k, kr, m, frames);
+  write_frames(dir / (stem + ".data") / "twin.dat", twin_model, twin.structure, twin_rec, k, kr, m, frames);
+  // The main run's rocking angles drawn (before the factor kr) and each over
+  // its slenderness, named by the schema: theta, or columns.theta, or theta and
+  // jointK.theta; the right trace of a structure drawn alone.
+  std::vector<std::string> angle_names, ratio_names;
+  if (main_model.on_columns) {
+    angle_names = {std::string(info(Quantity::columns_theta).name)};
+    ratio_names = {std::string(info(Quantity::columns_theta_over_alpha).name)};
+  } else if (main_model.jointed) {
+    angle_names = {std::string(info(Quantity::theta).name)};
+    ratio_names = {std::string(info(Quantity::theta_over_alpha).name)};
+    for (int j = 1; j < main_model.jointed->chain.joints; ++j) {
+      angle_names.push_back(JointQuantityName{j, JointQuantity::theta}.name());
+      ratio_names.push_back(JointQuantityName{j, JointQuantity::theta_over_alpha}.name());
+    }
+  } else {
+    angle_names = {std::string(info(Quantity::theta).name)};
+    ratio_names = {std::string(info(Quantity::theta_over_alpha).name)};
+  }
   {
     std::ofstream tr(dir / (stem + ".data") / "traces.dat");
     // Named by the schema (rocking.quantities): the twin's moment as twin_base_moment; a_g in g.
-    tr << "# t [s], a_g [g], M/M_ref main, M/M_ref twin, theta/alpha_cg main\n"
-       << fmt::format("{} {} {} twin_{} {}\n", info(Quantity::t).name, info(Quantity::a_g).name,
+    tr << "# t [s], a_g [g], M/M_ref main, M/M_ref twin, then the main run's rocking angles [rad] and each over "
+          "its slenderness\n"
+       << fmt::format("{} {} {} twin_{} {} {}\n", info(Quantity::t).name, info(Quantity::a_g).name,
                       info(Quantity::base_moment).name, info(Quantity::base_moment).name,
-                      info(Quantity::theta_over_alpha).name);
-    for (std::size_t i = 0; i < rows; ++i)
-      tr << fmt::format("{:.6g} {:.6g} {:.6g} {:.6g} {:.6g}\n", main_rec.rows[i].t,
-                        motion.acceleration(main_rec.rows[i].t) / gravity, main_rec.rows[i][Quantity::base_moment],
-                        twin_rec.rows[i][Quantity::base_moment], main_rec.rows[i][Quantity::theta_over_alpha]);
+                      fmt::join(angle_names, " "), fmt::join(ratio_names, " "));
+    for (std::size_t i = 0; i < rows; ++i) {
+      const Response& r = main_rec.rows[i];
+      const std::vector<double> angles = rocking_angles(main_model, main_rec, i);
+      tr << fmt::format("{:.6g} {:.6g} {:.6g} {:.6g}", r.t, motion.acceleration(r.t) / gravity,
+                        r[Quantity::base_moment], twin_rec.rows[i][Quantity::base_moment]);
+      for (double th : angles) tr << fmt::format(" {:.9g}", th);
+      if (main_model.jointed)  // over the slenderness of everything above each joint (jointK.theta_over_alpha's)
+        for (std::size_t j = 0; j < angles.size(); ++j)
+          tr << fmt::format(" {:.6g}", angles[j] / main_model.jointed->overturn_angle[j]);
+      else  // the schema's ratio (a single body's over alpha_cg, the columns' over their alpha)
+        tr << fmt::format(" {:.6g}", r[main_model.on_columns ? Quantity::columns_theta_over_alpha
+                                                             : Quantity::theta_over_alpha]);
+      tr << '\n';
+    }
   }
-  const std::string twin_label = compare == "no-damper" ? "no damper" : variant_label(compare);
+  // On rocking columns, contact.rocking = false holds the columns down; the beam still rests on them.
+  const std::string twin_label = compare == "no-damper"                      ? "no damper"
+                                 : compare == "fixed-base" && scene.columns ? "columns held down"
+                                                                            : variant_label(compare);
   // Alone: the structure spans the width, and the right trace is its rocking
   // angle (a block has no section forces); else the two side by side and the
   // base moments of both.
   // Every column by its header name (write_frames' x y part, the schema's
   // names in traces.dat).
-  const std::string structure = fmt::format("({}):({} == 0 ? {} : NaN)", plot::column("x"), plot::column("part"),
-                                            plot::column("y")),
-                    damper = fmt::format("({}):({} == 1 ? {} : NaN)", plot::column("x"), plot::column("part"),
-                                         plot::column("y"));
+  auto part = [](Part p) {
+    return fmt::format("({}):({} == {} ? {} : NaN)", plot::column("x"), plot::column("part"), static_cast<int>(p),
+                       plot::column("y"));
+  };
   auto trace = [](Quantity q, const std::string& prefix = "") {
     return fmt::format("({}):({})", plot::column(info(Quantity::t).name),
                        plot::column(prefix + std::string(info(q).name)));
   };
+  // One run's drawing: the columns or segments outlined and the cap beam where
+  // the model has them, the axis with its nodes, the devices, the ground.
+  auto drawing = [&](const char* file, const ContactModel& model, const char* color) {
+    std::string out = fmt::format("  plot d.\"{}\" index i using {} with linespoints lw 3 pt 7 ps 0.8 lc rgb \"{}\", ",
+                                  file, part(axis_part), color);
+    // A single body's damper (part 2 while no edge is lifted) and a chain's tendons; a structure on columns draws none.
+    if (model.jointed ? !model.jointed->chain.data.tendons.empty() : !model.on_columns)
+      out += fmt::format("d.\"{}\" index i using {} with lines lw 4 lc rgb \"#d35400\", ", file, part(device_part));
+    if (model.on_columns || model.jointed)
+      out += fmt::format("d.\"{}\" index i using {} with lines lw 2 lc rgb \"{}\", ", file, part(outline_part), color);
+    if (model.on_columns)
+      out += fmt::format("d.\"{}\" index i using {} with lines lw 6 lc rgb \"#555555\", ", file, part(beam_part));
+    return out + "0 with lines lc rgb \"#555555\" lw 2\n";
+  };
   const std::string panels =
-      alone ? fmt::format(
-                  "  set origin 0.25,0.38\n  set size 0.5,0.57\n  set title {} noenhanced\n"
-                  "  plot d.\"main.dat\" index i using {structure} with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#1f4e9c\", "
-                  "d.\"main.dat\" index i using {damper} with lines lw 4 lc rgb \"#d35400\", "
-                  "0 with lines lc rgb \"#555555\" lw 2\n",
-                  plot::quote(scene.name), fmt::arg("structure", structure), fmt::arg("damper", damper))
-            : fmt::format(
-                  "  set origin 0,0.38\n  set size 0.5,0.57\n  set title {} noenhanced\n"
-                  "  plot d.\"main.dat\" index i using {structure} with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#1f4e9c\", "
-                  "d.\"main.dat\" index i using {damper} with lines lw 4 lc rgb \"#d35400\", "
-                  "0 with lines lc rgb \"#555555\" lw 2\n"
-                  "  set origin 0.5,0.38\n  set size 0.5,0.57\n  set title {} noenhanced\n"
-                  "  plot d.\"twin.dat\" index i using {structure} with linespoints lw 3 pt 7 ps 0.8 lc rgb \"#27864a\", "
-                  "d.\"twin.dat\" index i using {damper} with lines lw 4 lc rgb \"#d35400\", "
-                  "0 with lines lc rgb \"#555555\" lw 2\n",
-                  plot::quote(scene.name), plot::quote(twin_label), fmt::arg("structure", structure),
-                  fmt::arg("damper", damper));
+      alone ? fmt::format("  set origin 0.25,0.38\n  set size 0.5,0.57\n  set title {} noenhanced\n{}",
+                          plot::quote(scene.name), drawing("main.dat", main_model, "#1f4e9c"))
+            : fmt::format("  set origin 0,0.38\n  set size 0.5,0.57\n  set title {} noenhanced\n{}"
+                          "  set origin 0.5,0.38\n  set size 0.5,0.57\n  set title {} noenhanced\n{}",
+                          plot::quote(scene.name), drawing("main.dat", main_model, "#1f4e9c"), plot::quote(twin_label),
+                          drawing("twin.dat", twin_model, "#27864a"));
+  // Alone, the rocking angles over their slenderness: the body's, the
+  // columns', or every joint's (one curve each, the key above the panel).
+  auto angle_trace = [&] {
+    if (main_model.on_columns)
+      return fmt::format("  set ylabel \"columns {{/Symbol q}}_c/{{/Symbol a}}_c\"\n"
+                         "  plot d.\"traces.dat\" using {} with lines lc rgb \"#1f4e9c\" notitle\n",
+                         trace(Quantity::columns_theta_over_alpha));
+    if (main_model.jointed) {
+      std::vector<std::string> curves;
+      for (std::size_t j = 0; j < ratio_names.size(); ++j)
+        curves.push_back(fmt::format("{}using ({}):({}) with lines lw 2 title \"{}\"", j == 0 ? "d.\"traces.dat\" " : "'' ",
+                                     plot::column(info(Quantity::t).name), plot::column(ratio_names[j]),
+                                     j == 0 ? std::string("base") : fmt::format("joint {}", j)));
+      return fmt::format("  set ylabel \"joints {{/Symbol q}}_j/{{/Symbol a}}_j\"\n"
+                         "  set key outside top center horizontal nobox samplen 2.5 width 1\n"
+                         "  plot {}\n", fmt::join(curves, ", "));
+    }
+    return fmt::format("  set ylabel \"rocking angle {{/Symbol q}}/{{/Symbol a}}_{{cg}}\"\n"
+                       "  plot d.\"traces.dat\" using {} with lines lc rgb \"#1f4e9c\" notitle\n",
+                       trace(Quantity::theta_over_alpha));
+  };
   const std::string right_trace =
-      alone ? fmt::format("  set ylabel \"rocking angle {{/Symbol q}}/{{/Symbol a}}_{{cg}}\"\n"
-                          "  plot d.\"traces.dat\" using {} with lines lc rgb \"#1f4e9c\" notitle\n",
-                          trace(Quantity::theta_over_alpha))
+      alone ? angle_trace()
             // the key above the panel, off the traces; the twin dashed (greyscale print)
             : fmt::format("  set ylabel \"base moment M/M_{{ref}}\"\n"
                           "  set key outside top center horizontal nobox samplen 2.5 width 1\n"
                           "  plot d.\"traces.dat\" using {} with lines lc rgb \"#1f4e9c\" title \"rocking\", "
                           "'' using {} with lines dashtype 2 lc rgb \"#27864a\" title {}\n",
                           trace(Quantity::base_moment), trace(Quantity::base_moment, "twin_"), plot::quote(twin_label));
-  const double span = std::max(3 * B, 0.5 * H);
+  // The picture: the structure standing (columns and segments included) and
+  // room beside it to rock; columns span their spacing, so less is added.
+  const auto [tall, reach] = picture_extent(main_model, scene.structure);
+  const double span = std::max((main_model.on_columns ? 1.5 : 3.0) * reach, 0.5 * tall);
   std::string script = fmt::format(
       "# rocking: animation ({} frames, {:.3g} s of simulation per frame). Re-render: gnuplot {}.gp\n"
       "{}"
@@ -269,7 +406,7 @@ int animate(const AnimateArgs& a) {
       plot::quote(fmt::format("{} - {}{}, {}   t = ", scene.name, describe_motion(motion.name()),
                               motion.vertical() ? " with vertical " + motion.vertical()->info().component : std::string(),
                               motion_scale(scene, a.motion).describe())),
-      plot::quote(fmt::format("\n(drawn with rotation x{:g}, elastic deformation x{:g})", kr, k)), -span, span, H, H,
+      plot::quote(fmt::format("\n(drawn with rotation x{:g}, elastic deformation x{:g})", kr, k)), -span, span, tall, tall,
       panels, shown_from, shown_to, trace(Quantity::a_g), right_trace);
   plot::Figure fig;
   fig.dir = dir;
@@ -304,6 +441,8 @@ Command add_animate_command(CLI::App& app) {
       "by a stated factor) rocking about its pivots, the lifted edge and the stretched\n"
       "damper visible, beside its twin (--compare fixed-base or without:NAME) under the\n"
       "same motion, with a moving cursor on the ground-motion and base-moment traces.\n"
+      "A structure on [columns] is drawn on its rocking columns and cap beam; one with\n"
+      "[[joint]]s segment by segment, each turning about its joint's corner.\n"
       "The frames' data and the gnuplot script are kept beside the GIF.");
   auto a = std::make_shared<AnimateArgs>();
   add_scene_options(*cmd, a->scene);
@@ -312,7 +451,7 @@ Command add_animate_command(CLI::App& app) {
   cmd->add_option("--compare", a->compare,
                   "The twin: fixed-base (default), without:NAME (less the device the scene\n"
                   "names NAME, its [damper] included), no-damper, or none (the default for a\n"
-                  "rigid block, drawn alone)")
+                  "rigid block, a structure with joints or one on rocking columns, drawn alone)")
       ->type_name("VARIANT");
   cmd->add_option("--out", a->out, "The animation: .gif (default out/animation.gif), or .mp4 / .webm when ffmpeg is installed")
       ->type_name("FILE");
