@@ -151,11 +151,9 @@ TEST_CASE("a background job started with SIGINT ignored keeps it ignored, and st
   const fs::path dir = scratch_dir("edges_stop_background");
   const std::string record = rocking_record(dir / "r.txt", 30);
   const fs::path out = dir / "hunt";
-  // SIGINT, then half a second later SIGTERM: only the second stops it. The fill is ten times finer than
-  // hunt_args', so that the study cannot end on its own between the two signals on a fast machine.
-  std::vector<std::string> args = hunt_args(record, out);
-  *std::ranges::find(args, "0.05") = "0.005";
-  const Stopped s = run_and_signal(args, once_there_for(out / "hunt.csv.partial", 300ms), {SIGINT, SIGTERM}, true);
+  // SIGINT, then half a second later SIGTERM: only the second stops it.
+  const Stopped s =
+      run_and_signal(hunt_args(record, out), once_there_for(out / "hunt.csv.partial", 300ms), {SIGINT, SIGTERM}, true);
   REQUIRE_FALSE(s.ended_before);
   CHECK(s.code == 143);
   CHECK(contains(s.err, "SIGTERM"));
