@@ -556,3 +556,20 @@ TEST_CASE("plot response names the rocking measure a run has: the columns' theta
   REQUIRE_MESSAGE(fixed.code == 0, fixed.err);
   CHECK_MESSAGE(cli::contains(fixed.out, "theta/alpha -,"), fixed.out);
 }
+
+TEST_CASE("the chimney on columns under its pulse: rosw and the SUNDIALS backends agree with rk45 on the first uplift and impact") {
+  const Scene scene = load_scene(std::string(ROCKING_SCENES) + "/chimney_on_columns.toml");
+  const Ran reference = run(scene, 1e-10);
+  REQUIRE(reference.result.counts.impacts >= 1);
+  for (const char* integrator : {"rosw", "cvode", "arkode"}) {
+    CAPTURE(integrator);
+    const Ran other = run(scene, 1e-10, nullptr, std::nullopt, integrator);
+    CHECK(other.result.integrator == integrator);
+    REQUIRE(other.result.counts.impacts >= 1);
+    CHECK(other.result.first_uplift == close_to(reference.result.first_uplift, 1e-6));
+    CHECK(other.result.first_impact == close_to(reference.result.first_impact, 1e-6));
+    CHECK(other.result.peak(Quantity::columns_theta) == close_to(reference.result.peak(Quantity::columns_theta), 1e-5));
+    MESSAGE(std::string(integrator) << ": first impact " << other.result.first_impact << " s (rk45 " << reference.result.first_impact
+                       << " s), " << other.result.counts.impacts << " impacts (rk45 " << reference.result.counts.impacts << ")");
+  }
+}
