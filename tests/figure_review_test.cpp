@@ -8,6 +8,8 @@
 #include "temp_path.hpp"
 #include "run_program.hpp"
 #include "records.hpp"
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -233,4 +235,39 @@ TEST_CASE("every figure kind passes the review: response, devices, joints, modes
     }
   }
   review_all(dir);
+}
+
+TEST_CASE("a response that stays at round-off is drawn flat on at least +-0.001 of its unit, not magnified into noise") {
+  // The stacked blocks' base never lifts (its theta/alpha_cg stays within round-off of 0) while joint 1 rocks:
+  // each time panel asks gnuplot for an axis of at least +-0.001 and gives the next panel its autoscale back.
+  const fs::path dir = temp_path("figure_span");
+  make("plot response " ROCKING_SOURCE_DIR "/data/scenes/stacked_blocks.toml --formats svg --out " + dir.string() +
+       " --name stack");
+  const std::vector<std::string> s = statements(file_text_of(dir / "stack.gp"));
+  int spanned = 0;
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    if (!s[k].starts_with("plot ") || s[k].find("theta_over_alpha [-]") == std::string::npos) continue;
+    REQUIRE(k >= 1);
+    CHECK(s[k - 1] == "set yrange [*<-0.001:0.001<*]");
+    REQUIRE(k + 1 < s.size());
+    CHECK(s[k + 1] == "set yrange [*:*]");
+    ++spanned;
+  }
+  CHECK(spanned == 1);
+  // The curve it spans is round-off: every |theta/alpha_cg| below 1e-6.
+  std::ifstream data(dir / "stack.data" / "scene.csv");
+  std::string header, row;
+  std::getline(data, header);
+  std::size_t column = 0;
+  for (std::size_t at = 0, k = 0; at != std::string::npos; at = header.find(',', at + 1), ++k)
+    if (header.compare(at == 0 ? 0 : at + 1, 20, "theta_over_alpha [-]") == 0) column = k;
+  double largest = 0;
+  while (std::getline(data, row)) {
+    std::stringstream cells(row);
+    std::string cell;
+    for (std::size_t k = 0; std::getline(cells, cell, ','); ++k)
+      if (k == column) largest = std::max(largest, std::abs(std::stod(cell)));
+  }
+  CHECK(column > 0);
+  CHECK(largest < 1e-6);
 }

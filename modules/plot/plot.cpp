@@ -530,22 +530,43 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
   });
   const int panels = static_cast<int>(plan.size());
   const double panel_px = 0.8 * fig.height / std::max(panels, 1);
-  // A y label longer than its panel is tall (about half an em a visible
-  // character: enhanced text's markup left out) goes on two lines: its
-  // words, then its symbol and unit.
+  // A y label longer than its panel is tall goes on as many lines as it
+  // needs, broken between its words (the symbol and the unit whole): about
+  // 0.6 em a visible character, enhanced text's markup left out.
   auto ylabel = [&](std::string_view words, std::string_view symbol, std::string_view unit) {
-    const std::string label = fmt::format("{} {} [{}]", axis_words(words), symbol, unit);
-    std::size_t visible = 0;
-    for (std::size_t k = 0; k < label.size(); ++k) {
-      if (label.compare(k, 9, "{/Symbol ") == 0) k += 8;
-      else if (label[k] != '{' && label[k] != '}' && label[k] != '_' && label[k] != '^') ++visible;
+    const auto visible = [](std::string_view text) {
+      std::size_t n = 0;
+      for (std::size_t k = 0; k < text.size(); ++k) {
+        if (text.compare(k, 9, "{/Symbol ") == 0) k += 8;
+        else if (text[k] != '{' && text[k] != '}' && text[k] != '_' && text[k] != '^') ++n;
+      }
+      return n;
+    };
+    std::vector<std::string> tokens;
+    const std::string text(axis_words(words));
+    for (std::size_t at = 0; at < text.size();) {
+      const std::size_t end = std::min(text.find(' ', at), text.size());
+      if (end > at) tokens.push_back(text.substr(at, end - at));
+      at = end + 1;
     }
-    if (static_cast<double>(visible) * 0.5 * font_points(fig, 1000, 1300) <= panel_px)
-      return fmt::format("  set ylabel {}\n", quote(label));
-    return fmt::format("  set ylabel {} . \"\\n\" . {}\n", quote(std::string(axis_words(words))),
-                       quote(fmt::format("{} [{}]", symbol, unit)));
+    tokens.emplace_back(symbol);
+    tokens.push_back(fmt::format("[{}]", unit));
+    const auto fits = static_cast<std::size_t>(std::max(8.0, panel_px / (0.6 * font_points(fig, 1000, 1300))));
+    std::vector<std::string> lines{tokens.front()};
+    for (std::size_t k = 1; k < tokens.size(); ++k) {
+      if (visible(lines.back()) + 1 + visible(tokens[k]) <= fits) lines.back() += " " + tokens[k];
+      else lines.push_back(tokens[k]);
+    }
+    std::vector<std::string> quoted;
+    for (const std::string& l : lines) quoted.push_back(quote(l));
+    return fmt::format("  set ylabel {}\n", fmt::join(quoted, " . \"\\n\" . "));
   };
   auto scalar_ylabel = [&](Quantity q) { return ylabel(info(q).words, info(q).symbol, info(q).figure_unit); };
+  // A response panel's y axis spans at least +-0.001 of its display unit
+  // (gnuplot's autoscale bounds): a response that stays at round-off (a joint
+  // that never opens, a base that does not lift) is drawn flat on that axis,
+  // not magnified into noise, nor on gnuplot's -1..1 for an all-zero curve.
+  const std::string smallest_span = "  set yrange [*<-0.001:0.001<*]\n";
   // Each device's and each joint's dash pattern, named in an axis label so that no key covers the curves.
   static constexpr std::array<const char*, 5> dashes{"solid", "dashed", "dotted", "dash-dot", "dash-dot-dot"};
   std::vector<std::string> labels;
@@ -572,7 +593,9 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
     } else if (pl.role == FigureRole::response) {
       const QuantityInfo& q = info(*pl.scalar);
       body += scalar_ylabel(q.id);
+      body += smallest_span;
       body += curves([&](std::size_t i) { return in_time(i, q.name, q.figure_factor); });
+      body += "  set yrange [*:*]\n";
     } else if (pl.joint) {
       // Each joint above the base against time, in its run's colour, with one
       // dash pattern per joint (the same in every run), named in the x label.
@@ -583,6 +606,7 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
       body += fmt::format("  set xlabel {} noenhanced\n",
                           quote(fmt::format("{}   ({})", axis_label(Quantity::t), fmt::join(legend, ", "))));
       body += ylabel(q.words, q.symbol, q.figure_unit);
+      body += smallest_span;
       std::vector<std::string> items;
       for (std::size_t i = runs.size(); i-- > 0;)
         for (int j = 1; j <= contents[i].joints; ++j) {
@@ -592,6 +616,7 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
                                       spec, i + 1, static_cast<std::size_t>(j - 1) % dashes.size() + 1));
         }
       body += plot_command(items);
+      body += "  set yrange [*:*]\n";
       // The time axis's own label again for the panels below.
       body += fmt::format("  set xlabel {}\n", quote(axis_label(Quantity::t)));
     } else if (pl.device) {
