@@ -76,20 +76,10 @@ restitution = "momentum"
 
 std::string still(double duration) { return fmt::format("\n[excitation]\nkind = \"none\"\nduration = {}\n", duration); }
 
-struct Watch : Observer {
-  std::vector<Event> events;
-  std::vector<std::size_t> row_after;  // per event: the index of the row recorded at it
-  std::vector<Response> rows;
-  void record(const Response& r) override { rows.push_back(r); }
-  void event(const Event& e) override {
-    events.push_back(e);
-    row_after.push_back(rows.size());
-  }
-};
-using Ran = WatchedRun<Watch>;
+using Ran = WatchedRun<EventsAndRows>;
 template <class... Args>
 Ran run(const Scene& scene, Args&&... args) {
-  return watched_run<Watch>(scene, 1e-10, std::forward<Args>(args)...);
+  return watched_run<EventsAndRows>(scene, 1e-10, std::forward<Args>(args)...);
 }
 
 // MODEL.md 16's frame: R, alpha, everything the beam carries and J.

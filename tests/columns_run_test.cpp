@@ -100,22 +100,10 @@ base_mass = 8000.0
 
 std::string still(double duration) { return fmt::format("\n[excitation]\nkind = \"none\"\nduration = {}\n", duration); }
 
-// Every phase change and every history row.
-struct Watch : Observer {
-  std::vector<Event> events;
-  std::vector<std::size_t> row_after;  // per event: the index of the row recorded at it
-  std::vector<Response> rows;
-  void record(const Response& r) override { rows.push_back(r); }
-  void event(const Event& e) override {
-    events.push_back(e);
-    row_after.push_back(rows.size());
-  }
-};
-
-using Ran = WatchedRun<Watch>;
+using Ran = WatchedRun<EventsAndRows>;
 template <class... Args>
 Ran run(const Scene& scene, double rtol, Args&&... args) {
-  return watched_run<Watch>(scene, rtol, std::forward<Args>(args)...);
+  return watched_run<EventsAndRows>(scene, rtol, std::forward<Args>(args)...);
 }
 
 }  // namespace

@@ -7,7 +7,21 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 import rocking.run;
+
+// An observer of every phase change and every history row, with for each
+// event the index of the row recorded at it.
+struct EventsAndRows : rocking::Observer {
+  std::vector<rocking::Event> events;
+  std::vector<std::size_t> row_after;
+  std::vector<rocking::Response> rows;
+  void record(const rocking::Response& r) override { rows.push_back(r); }
+  void event(const rocking::Event& e) override {
+    events.push_back(e);
+    row_after.push_back(rows.size());
+  }
+};
 
 template <class W>
 struct WatchedRun {

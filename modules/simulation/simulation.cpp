@@ -15,7 +15,7 @@ module;
 #include <fmt/format.h>
 module rocking.simulation;
 import :peaks;
-import :modes;
+import :exact_steps;
 import rocking.errors;
 
 namespace rocking {
@@ -434,15 +434,7 @@ class Driver {
     }
     result_.peaks = peaks_.peaks();
     result_.top_total_mm = result_.peak(Quantity::delta_t) * scales_.H_N * 1000.0;
-    result_.stats = integrator_->stats();
-    if (exact_) {
-      const ode::Stats e = exact_->stats();
-      result_.stats.rhs += e.rhs;
-      result_.stats.steps += e.steps;
-      result_.stats.rejected += e.rejected;
-      result_.stats.events += e.events;
-      result_.stats.guards += e.guards;
-    }
+    result_.stats = run_stats(*integrator_, exact_.get());
     result_.energy.final = mechanical();
     if (m_.layout.energy.present()) {
       result_.energy.ground = y_[m_.layout.energy.start];

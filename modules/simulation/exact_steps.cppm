@@ -1,13 +1,15 @@
-// rocking.simulation:modes, a partition the drivers share (simulation.cpp's
-// and columns_run.cpp's exact steps in full contact): the shortest period of
-// the fixed-base modes that oscillate (MODEL.md 8's modes with the Rayleigh
-// damping of MODEL.md 1), which sets how densely guards and peaks are sampled.
+// rocking.simulation:exact_steps, a partition of what the drivers that step
+// full contact exactly share (simulation.cpp's, columns_run.cpp's): the
+// shortest period of the fixed-base modes that oscillate (MODEL.md 8's modes
+// with the Rayleigh damping of MODEL.md 1), which sets how densely guards and
+// peaks are sampled, and a run's cost as the backend's and the exact steps'.
 module;
 #include <rocking/eigen.hpp>
 #include <algorithm>
 #include <numbers>
-module rocking.simulation:modes;
+module rocking.simulation:exact_steps;
 import rocking.contact;
+import rocking.integrator;
 
 namespace rocking {
 
@@ -23,6 +25,19 @@ inline double shortest_period(const ContactModel& m) {
   for (double w : omega)
     if (0.5 * (ray.a0 / w + ray.a1 * w) < 1.0) fastest = std::max(fastest, w);
   return 2 * std::numbers::pi / (fastest > 0 ? fastest : omega.maxCoeff());
+}
+
+// The backend's counts with the exact steps' added (none: the backend's).
+inline ode::Stats run_stats(const ode::Integrator& backend, const ode::Integrator* exact) {
+  ode::Stats s = backend.stats();
+  if (exact == nullptr) return s;
+  const ode::Stats e = exact->stats();
+  s.rhs += e.rhs;
+  s.steps += e.steps;
+  s.rejected += e.rejected;
+  s.events += e.events;
+  s.guards += e.guards;
+  return s;
 }
 
 }  // namespace rocking
