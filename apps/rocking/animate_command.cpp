@@ -206,7 +206,10 @@ int animate(const AnimateArgs& a) {
     return run;
   };
   catch_stop_signals();
-  const RunOptions ro = prepared(scene, 0.01).options;  // the duration, checked
+  // The run prepared once: its duration, checked, sets the frames, which set
+  // how often it records (below).
+  PreparedRun main_run = prepared(scene, 0.01);
+  const RunOptions& ro = main_run.options;
   const double duration = ro.duration > 0 ? ro.duration : motion.duration();
   // The span animated: --window (the run computes from t = 0 all the same).
   const auto window = time_window(a.window, {&motion});
@@ -223,7 +226,8 @@ int animate(const AnimateArgs& a) {
   if ((shown_to - shown_from) / frame_dt + 1 > a.max_frames) frame_dt = (shown_to - shown_from) / (a.max_frames - 1);
   // The traces are sampled more finely than the frames: every frame is every m-th row.
   const int m = std::max(1, static_cast<int>(std::ceil(frame_dt / 0.01 - 1e-9)));
-  const PreparedRun main_run = prepared(scene, frame_dt / m), twin_run = prepared(twin, frame_dt / m);
+  main_run.options.output_interval = frame_dt / m;
+  const PreparedRun twin_run = prepared(twin, frame_dt / m);
   const ContactModel &main_model = main_run.model, &twin_model = twin_run.model;
   FrameRecorder main_rec(main_run.options.output_interval), twin_rec(twin_run.options.output_interval);
   const RunResult r1 = simulate(main_model, main_run.motion, main_run.options, &main_rec);

@@ -163,7 +163,6 @@ PreparedRun prepare_run(const RunSpec& spec, GroundMotion motion) {
                                  "interval",
                                  spec.prefix, every, duration / every, duration, max_history_rows));
   ro.output_interval = every;
-  ro.track_energy = spec.track_energy;
   ContactModel model = make_contact_model(scene, spec.track_energy);
   model.vertical_shaking = motion.vertical() != nullptr;
   HistoryColumns columns =

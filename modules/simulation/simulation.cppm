@@ -125,7 +125,6 @@ struct RunOptions {
   // A history row at the run's end too, when the last is earlier: its
   // energy columns are then the summary's totals (the browser lab's bars).
   bool final_row = false;
-  bool track_energy = true;
   // Full contact is linear (Eq. 1) and a record is linear between samples, so
   // a flexible structure in full contact under a record is stepped exactly
   // (ode::make_exact_linear) and the backend integrates the rocking phases

@@ -66,7 +66,6 @@ Study::Study(const std::string& scene_path, const std::vector<std::string>& comm
              const std::vector<StudyRecord>& records, RecordOptions record_options, std::vector<Variant> variants,
              RunOptions run_options, IntensityMeasure im)
     : variants_(std::move(variants)), im_(im), options_(run_options) {
-  options_.track_energy = false;
   for (const StudyRecord& rec : records) {
     const std::string& r = rec.name;
     records_.push_back(r);
