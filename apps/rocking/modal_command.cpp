@@ -105,6 +105,30 @@ int on_columns(const Scene& scene) {
   return 0;
 }
 
+// A structure with joints: at each joint, everything above it as one rigid
+// body about the joint's corner, as rocking.report's modal_summary gives it.
+int with_joints(const Scene& scene) {
+  const nlohmann::json m = modal_summary(scene);
+  fmt::print("{} ({}): {} joints, the base's among them (MODEL.md 15)\n\n", scene.name, scene.source,
+             m["joints"].size());
+  fmt::print("At each joint, everything above it as one rigid body rocking about the joint's corner\n");
+  fmt::print("  {:>5} {:>8} {:>7} {:>11} {:>8} {:>8} {:>8} {:>8} {:>9}\n", "joint", "h [m]", "B [m]", "mass [kg]",
+             "H [m]", "alpha", "p [1/s]", "r", "uplift");
+  for (const nlohmann::json& j : m["joints"])
+    fmt::print("  {:>5} {:>8.3f} {:>7.3f} {:>11.5g} {:>8.3f} {:>8.4f} {:>8.4f} {:>8.4f} {:>7.3f} g\n",
+               j["joint"].get<int>(), j["height_m"].get<double>(), j["half_width_m"].get<double>(),
+               j["mass_above_kg"].get<double>(), j["cg_above_joint_m"].get<double>(), j["alpha"].get<double>(),
+               j["p"].get<double>(), j["r_momentum"].get<double>(), j["uplift_g"].get<double>());
+  fmt::print("  H: the centre of mass above the joint; p = sqrt(m g R / J_p); r = 1 - 2 m B^2 / J_p (the momentum\n"
+             "  law); uplift: the a_g / g at which a rigid stack's joint lifts, (B + D_0 / (m g)) / H, D_0 the\n"
+             "  tendons' prestress moment.\n");
+  fmt::print("Under a slow push joint {} lifts first.\n", m["lifts_first"].get<int>());
+  if (m.contains("fixed_base_hz"))
+    fmt::print("\nThe structure with every joint closed, on a fixed base\n  f = {} Hz\n",
+               hz_list(m["fixed_base_hz"].get<std::vector<double>>()));
+  return 0;
+}
+
 }  // namespace
 
 Command add_modal_command(CLI::App& app) {
@@ -116,7 +140,9 @@ Command add_modal_command(CLI::App& app) {
       "geometric restitution r of Eq. 10, and the reference forces M_ref, V_ref. For a rigid\n"
       "block (structure.rigid = true): its geometry, p and r. For a structure on rocking\n"
       "columns ([columns]): the columns' alpha, p, the frame's gamma, p-hat and r, and the\n"
-      "structure's modes on the beam while the columns stand.");
+      "structure's modes on the beam while the columns stand. For a structure with joints\n"
+      "([[joint]]): at each joint, everything above it as one rigid body (its slenderness,\n"
+      "p, r, and the push that lifts it), and which joint lifts first.");
   auto opts = std::make_shared<SceneOptions>();
   auto json = std::make_shared<bool>(false);
   add_scene_options(*cmd, *opts);
@@ -129,6 +155,7 @@ Command add_modal_command(CLI::App& app) {
       return 0;
     }
     if (scene.columns) return on_columns(scene);
+    if (scene.jointed()) return with_joints(scene);
     if (scene.structure.rigid) return rigid_block(scene);
     spdlog::debug("modal analysis of '{}' from {}", scene.name, scene.source);
     const ModalSummary m = modal_analysis(scene.structure, scene_devices(scene));

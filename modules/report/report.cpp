@@ -410,8 +410,68 @@ json columns_modal(const Scene& scene) {
   return out;
 }
 
+// A structure with joints (MODEL.md 15): at each joint, everything above it
+// taken as one rigid body rocking about the joint's corner, with the joints
+// above closed: its mass, the height of its centre of mass above the joint,
+// its slenderness alpha_j, its moment of inertia about the corner (its
+// lumped masses and slabs on the centre line), its frequency parameter p_j =
+// sqrt(m g R / J_p) and its momentum-law restitution 1 - 2 m B_j^2 / J_p
+// (Eq. 10); and the static uplift threshold of a rigid stack, the a_g / g
+// at which the joint's reaction reaches its corner: (B_j + D_0,j / (m g)) /
+// H_j, where D_0,j = sum P0 (B_j - |x|) over the tendons across the joint at
+// rest (vertical there). Under a slow push the smallest lifts first. The
+// structure's fixed-base modes (every joint closed) when it is flexible.
+json joints_modal(const Scene& scene) {
+  const JointedModel jm = jointed_model(scene);
+  const ChainData& d = jm.chain.data;
+  json joints = json::array();
+  int first = 0;
+  double lowest = std::numeric_limits<double>::infinity();
+  for (std::size_t j = 0; j < d.segments.size(); ++j) {
+    const ChainSegment& at = d.segments[j];
+    const double h = at.base_height, B = at.half_width;
+    double m = 0, mz = 0, J = 0;
+    for (std::size_t k = j; k < d.segments.size(); ++k) {
+      const ChainSegment& sg = d.segments[k];
+      const auto add = [&](double mass, double z) {
+        m += mass;
+        mz += mass * (z - h);
+        J += mass * (B * B + (z - h) * (z - h));
+      };
+      add(sg.base_mass, sg.base_height);
+      for (Eigen::Index i = 0; i < sg.masses.size(); ++i) add(sg.masses[i], sg.heights[i]);
+    }
+    const double H = mz / m, R = std::hypot(B, H);
+    double held = 0;
+    for (const ChainTendon& t : d.tendons)
+      if (t.from.segment < static_cast<int>(j) && t.to.segment >= static_cast<int>(j))
+        held += std::max(0.0, t.prestress) * (B - std::abs(t.to.x));
+    const double uplift_g = (B + held / (m * d.g)) / H;
+    if (uplift_g < lowest) {
+      lowest = uplift_g;
+      first = static_cast<int>(j);
+    }
+    joints.push_back({{"joint", j},
+                      {"height_m", h},
+                      {"half_width_m", B},
+                      {"mass_above_kg", m},
+                      {"cg_above_joint_m", H},
+                      {"alpha", std::atan2(B, H)},
+                      {"J_p_kg_m2", J},
+                      {"R_m", R},
+                      {"p", std::sqrt(m * d.g * R / J)},
+                      {"r_momentum", 1.0 - 2.0 * m * B * B / J},
+                      {"tendon_held_moment_N_m", held},
+                      {"uplift_g", uplift_g}});
+  }
+  json out = {{"joints", joints}, {"lifts_first", first}};
+  if (!scene.structure.rigid) out["fixed_base_hz"] = modal_analysis(scene.structure, {}).fixed_base_hz;
+  return out;
+}
+
 json modal_summary(const Scene& scene) {
   if (scene.columns) return columns_modal(scene);
+  if (scene.jointed()) return joints_modal(scene);
   if (scene.structure.rigid) return block_modal(block_summary(scene));
   return flexible_modal(modal_analysis(scene.structure, scene_devices(scene)));
 }
