@@ -152,4 +152,41 @@ export const lessons = [
       'heavy deck makes the frame rock like a larger pier, and larger blocks survive (lesson 5). Move the ' +
       'amplitude, or change the deck\u2019s mass in the twin\u2019s overrides.',
   },
+  {
+    title: '8. A segmental pier rocks at the joint that needs the smallest push',
+    predict: {
+      question: 'The pier as built rocks at its footing. Stand it on a footing twice as wide (dashed): where will it rock then?',
+      choices: ['still at its footing', 'at the joint above the first segment', 'higher up', 'nowhere'],
+      // The joint of the twin that opened first: the footing (0), the first joint (1), one above (2), or none (3).
+      answer: (d) => {
+        const opened = firstOpened(d.twin);
+        return opened === null ? 3 : Math.min(opened, 2);
+      },
+      because: (d) => [[d, 'as built'], [d.twin, 'on the wider footing']].map(([r, who]) => {
+        if (!r) return `${who} the pier was not run (compare with \u201cthe same with other overrides\u201d)`;
+        const opened = firstOpened(r);
+        return opened === null ? `${who} no joint opened`
+          : `${who} joint ${opened} opened first, at t = ${fmt(r.summary.joints[opened].first_uplift_s)} s`;
+      }).join('; ') + '.',
+    },
+    controls: { scene: 'segmental_pier', record: '', scale: 1, compare: 'overrides', twinExtra: 'structure.half_width=1.5' },
+    text:
+      'A post-tensioned segmental bridge pier: four precast segments 1.5 m square on a footing, a central ' +
+      'tendon through all of them and 100 t of deck on top. Each joint can open. Under its one-sine pulse of ' +
+      '0.6 g it rocks at its footing alone: watch the joints\u2019 chart, where the joints above stay at 0. ' +
+      '`rocking modal` says why: the push that opens each joint, a_g/g = (B + D_0/(m g))/H, is smallest at the ' +
+      'footing (0.229 g; the joints above need 0.308, 0.466 and 0.941 g). The twin (dashed) stands on a footing ' +
+      'twice as wide, which then needs 0.458 g: the pier rocks at the joint above its first segment instead. ' +
+      'Change the footing\u2019s half-width in the twin\u2019s overrides and find where the rocking moves back.',
+  },
 ];
+
+// The joint of a run that opened first (summary.joints' first_uplift_s), or null.
+function firstOpened(run) {
+  if (!run || !run.summary.joints) return null;
+  let first = null;
+  run.summary.joints.forEach((j, k) => {
+    if (j.first_uplift_s !== null && (first === null || j.first_uplift_s < run.summary.joints[first].first_uplift_s)) first = k;
+  });
+  return first;
+}

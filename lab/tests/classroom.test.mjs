@@ -330,6 +330,32 @@ try {
     assert.ok(verdict.includes(`overturned at t = ${Number(shown.twin.t_end.toPrecision(3))} s`), verdict);
   });
 
+  await check('lesson 8: the segmental pier rocks at its footing, and on a footing twice as wide at the joint above, as its text says', async () => {
+    const k = lessons.findIndex((l) => l.title.startsWith('8.'));
+    const lesson = lessons[k];
+    await page.goto(`${url}?lesson=${k}`, { waitUntil: 'load' });
+    await settled(page, 0);
+    const shown = await page.evaluate(() => ({
+      compare: document.querySelector('#compare').value, twinExtra: document.querySelector('#twin-extra').value,
+      main: window.lab.data.summary, twin: window.lab.data.twin && window.lab.data.twin.summary,
+      segments: window.lab.data.structure.segments.length,
+    }));
+    assert.equal(shown.compare, 'overrides');
+    assert.equal(shown.twinExtra, lesson.controls.twinExtra);
+    assert.equal(shown.segments, 4, 'four segments, each on its joint');
+    // Where each pier rocks, as the text says: the footing (joint 0) as built, the joint above on the wider footing.
+    const opened = (summary) => summary.joints.map((j) => j.uplifts > 0);
+    assert.deepEqual(opened(shown.main), [true, false, false, false], 'as built only the footing opens');
+    assert.deepEqual(opened(shown.twin), [false, true, false, false], 'on the wider footing only the joint above opens');
+    assert.match(lesson.text, /smallest at the footing \(0\.229 g/);
+    assert.match(lesson.text, /rocks at the joint above its first segment/);
+    // Predicted as the run bears out.
+    await page.click('#predict button[data-choice="1"]');
+    const verdict = await page.$eval('#verdict', (e) => e.textContent);
+    assert.ok(verdict.startsWith(`You said: ${lesson.predict.choices[1]}. The run says: ${lesson.predict.choices[1]} (as you predicted)`), verdict);
+    assert.ok(verdict.includes('joint 1 opened first'), verdict);
+  });
+
   await check('lesson 7 on a phone: fits, touch-sized, the twin\'s overrides in reach, axe', async () => {
     const phone = await browser.newPage();
     await phone.setViewport(sizes[0]);
