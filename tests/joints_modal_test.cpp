@@ -69,7 +69,7 @@ TEST_CASE("rocking modal on the stacked blocks: the top block's p and r are Hous
   CHECK(nlohmann::json::parse(j.out)["lifts_first"] == 1);
 }
 
-TEST_CASE("the segmental pier lesson: as built it needs the least push at its footing and rocks there; on a footing twice as wide, at the joint above") {
+TEST_CASE("the segmental pier lesson: as built it needs the least push at its footing and rocks there, and on a footing twice as wide at the joint above") {
   // docs/teaching.md lesson 8's numbers: the pushes (to the 3 digits it gives) and where each pier rocks.
   const std::string pier = std::string(ROCKING_SCENES) + "/segmental_pier.toml";
   struct Case {
