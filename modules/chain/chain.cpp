@@ -32,8 +32,10 @@ struct Frame {
 struct Point {
   double x, y, vx, vy, bx, by;
 };
-Point point_of(const Frame& f, const Eigen::MatrixXd& fj, double x, double z, double x_dot, int ucol, int ncol,
-               Eigen::MatrixXd& jac, int out) {
+using Rows = ChainWorkspace::Rows;
+
+Point point_of(const Frame& f, const Rows& fj, double x, double z, double x_dot, int ucol, int ncol, Rows& jac,
+               int out) {
   const double rx = x * f.c + z * f.s, ry = -x * f.s + z * f.c;
   const double px = ry, py = -rx;  // perp(R r)
   for (int k = 0; k < ncol; ++k) {
@@ -55,18 +57,40 @@ Point point_of(const Frame& f, const Eigen::MatrixXd& fj, double x, double z, do
           f.by - w * w * ry - 2.0 * w * rdx};
 }
 
-// A frame at a point (Jacobian rows `from` of jac copied to its rows), with
-// angle psi + dpsi turning with coordinate col (-1: none).
-Frame frame_at(const Point& p, const Frame& f, const Eigen::MatrixXd& jac, int from, Eigen::MatrixXd& fj, int row,
-               int ncol, double dpsi, double dpsi_dot, int col) {
+// The frame at local (x, z) of frame f (local rate (x', 0), x being
+// coordinate ucol, -1: none), turned by dpsi (rate dpsi_dot, coordinate col,
+// -1: none): point_of's point as a frame, its Jacobian into rows row..row+2
+// of fj in one pass.
+Frame frame_from(const Frame& f, Rows& fj, double x, double z, double x_dot, int ucol, int ncol, int row, double dpsi,
+                 double dpsi_dot, int col) {
+  const double rx = x * f.c + z * f.s, ry = -x * f.s + z * f.c;
+  const double px = ry, py = -rx;  // perp(R r)
+  const double* fx = &fj(f.row, 0);
+  const double* fy = &fj(f.row + 1, 0);
+  const double* fp = &fj(f.row + 2, 0);
+  double* gx = &fj(row, 0);
+  double* gy = &fj(row + 1, 0);
+  double* gp = &fj(row + 2, 0);
+  for (int k = 0; k < ncol; ++k) {
+    gx[k] = fx[k] + px * fp[k];
+    gy[k] = fy[k] + py * fp[k];
+    gp[k] = fp[k];
+  }
+  if (ucol >= 0 && ucol < ncol) {
+    gx[ucol] += f.c;
+    gy[ucol] -= f.s;
+  }
+  if (col >= 0 && col < ncol) gp[col] += 1.0;
+  const double w = f.omega;
+  const double rdx = x_dot * f.c, rdy = -x_dot * f.s;  // R r'
   Frame g;
   g.row = row;
-  g.ox = p.x;
-  g.oy = p.y;
-  g.vx = p.vx;
-  g.vy = p.vy;
-  g.bx = p.bx;
-  g.by = p.by;
+  g.ox = f.ox + rx;
+  g.oy = f.oy + ry;
+  g.vx = f.vx + w * px + rdx;
+  g.vy = f.vy + w * py + rdy;
+  g.bx = f.bx - w * w * rx + 2.0 * w * rdy;
+  g.by = f.by - w * w * ry - 2.0 * w * rdx;
   g.psi = f.psi + dpsi;
   if (dpsi == 0.0) {  // cos(psi + 0) = cos(psi) exactly
     g.c = f.c;
@@ -76,12 +100,6 @@ Frame frame_at(const Point& p, const Frame& f, const Eigen::MatrixXd& jac, int f
     g.s = std::sin(g.psi);
   }
   g.omega = f.omega + dpsi_dot;
-  for (int k = 0; k < ncol; ++k) {
-    fj(row, k) = jac(from, k);
-    fj(row + 1, k) = jac(from + 1, k);
-    fj(row + 2, k) = fj(f.row + 2, k);
-  }
-  if (col >= 0 && col < ncol) fj(row + 2, col) += 1.0;
   return g;
 }
 
@@ -94,7 +112,7 @@ int pivot_sign(const Phase& p) { return p.sign(); }
 bool lumped(const Chain& c, const ChainWorkspace& w, int j) { return !w.per_point && c.data.segments[j].rigid; }
 
 // Row of w.frames where segment j's slab frame Jacobian starts.
-int slab_row(int j) { return 9 + 3 * j; }
+int slab_row(int j) { return 6 + 3 * j; }
 
 // Kinematics of every segment's slab frame (w.slabs, its Jacobian in
 // w.frames from slab_row(j)), of every mass point of a segment not lumped
@@ -107,8 +125,8 @@ int slab_row(int j) { return 9 + 3 * j; }
 void kinematics(const Chain& c, ChainPhases phases, Eigen::Ref<const Eigen::VectorXd> q,
                 Eigen::Ref<const Eigen::VectorXd> q_dot, int ncol, ChainWorkspace& w, const ChainAnchor* extra = nullptr) {
   const ChainData& d = c.data;
-  Eigen::MatrixXd& fj = w.frames;  // rows 0-2 face, 3-5 corner, 6-8 segment
-  Eigen::MatrixXd& jac = w.jac;
+  Rows& fj = w.frames;  // rows 0-2 face, 3-5 pivot, then the slab frames
+  Rows& jac = w.jac;
   const int anchor_row = 2 * c.points;
   const int tendons = static_cast<int>(d.tendons.size());
   auto place_anchor = [&](const ChainAnchor& a, int slot, const Frame* seg, int j) {
@@ -151,27 +169,25 @@ void kinematics(const Chain& c, ChainPhases phases, Eigen::Ref<const Eigen::Vect
       const int eb = c.elastic_offset[j - 1];
       const int ucol = eb >= 0 ? eb + n - 1 : -1;
       const int pcol = c.rotation_index[j - 1];
-      const Point top = point_of(seg, fj, ucol >= 0 ? q[ucol] : 0.0, c.local_heights[j - 1][n - 1],
-                                 ucol >= 0 ? q_dot[ucol] : 0.0, ucol, ncol, jac, anchor_row + 2 * (2 * tendons + 1));
-      face = frame_at(top, seg, jac, anchor_row + 2 * (2 * tendons + 1), fj, 0, ncol, pcol >= 0 ? q[pcol] : 0.0,
-                      pcol >= 0 ? q_dot[pcol] : 0.0, pcol);
+      face = frame_from(seg, fj, ucol >= 0 ? q[ucol] : 0.0, c.local_heights[j - 1][n - 1], ucol >= 0 ? q_dot[ucol] : 0.0,
+                        ucol, ncol, 0, pcol >= 0 ? q[pcol] : 0.0, pcol >= 0 ? q_dot[pcol] : 0.0, pcol);
     }
-    // the reference point: the active corner (s B, 0), or the centre
+    // the reference point: the active corner (s B, 0), or the centre; the
+    // pivot frame there turns by theta_j
     const double cx = closed(phases[j]) ? 0.0 : pivot_sign(phases[j]) * sg.half_width;
-    const int scratch = anchor_row + 2 * (2 * tendons + 1);
-    const Point corner = point_of(face, fj, cx, 0.0, 0.0, -1, ncol, jac, scratch);
+    const double th = closed(phases[j]) ? 0.0 : q[j], th_dot = closed(phases[j]) ? 0.0 : q_dot[j];
+    const Frame pivot = frame_from(face, fj, cx, 0.0, 0.0, -1, ncol, 3, th, th_dot, j);
     if (ncol > c.size) {  // relative translation of the slab on the face
       const int dx = c.size + 2 * j;
-      jac(scratch, dx) += face.c;
-      jac(scratch + 1, dx) -= face.s;
-      jac(scratch, dx + 1) += face.s;
-      jac(scratch + 1, dx + 1) += face.c;
+      fj(3, dx) += face.c;
+      fj(4, dx) -= face.s;
+      fj(3, dx + 1) += face.s;
+      fj(4, dx + 1) += face.c;
     }
-    const double th = closed(phases[j]) ? 0.0 : q[j], th_dot = closed(phases[j]) ? 0.0 : q_dot[j];
-    const Frame pivot = frame_at(corner, face, jac, scratch, fj, 3, ncol, th, th_dot, j);
-    const Point origin = point_of(pivot, fj, -cx, 0.0, 0.0, -1, ncol, jac, scratch);
-    seg = frame_at(origin, pivot, jac, scratch, fj, slab_row(j), ncol, 0.0, 0.0, -1);
-    w.slabs.row(j) << seg.ox, seg.oy, seg.c, seg.s, seg.vx, seg.vy, seg.omega, seg.bx, seg.by;
+    seg = frame_from(pivot, fj, -cx, 0.0, 0.0, -1, ncol, slab_row(j), 0.0, 0.0, -1);
+    double* slab = &w.slabs(j, 0);  // row-major, as w.slabs is declared
+    slab[0] = seg.ox, slab[1] = seg.oy, slab[2] = seg.c, slab[3] = seg.s, slab[4] = seg.vx, slab[5] = seg.vy;
+    slab[6] = seg.omega, slab[7] = seg.bx, slab[8] = seg.by;
     const Eigen::VectorXd& z = c.local_heights[j];
     if (lumped(c, w, j)) {
       pt += 1 + static_cast<int>(z.size());
@@ -217,52 +233,73 @@ TendonState tendon_state(const Chain& c, int t, int ncol, ChainWorkspace& w, Eig
   return {e, e_dot, F};
 }
 
-// A rigid segment's share of M and Q (lower triangle of M) from its slab
-// frame: its points r_i = (0, z_i) move with J_i = J_O + perp(R r_i) J_psi,
-// so sum m_i J_i'J_i = [J_O; J_psi]' A [J_O; J_psi] with
+// The entries of M that the solve, the reactions and the corner
+// accelerations read: with per_point, the whole of M; else the columns of the
+// free coordinates (every row: M_ff and M_cf) and, for each closed joint j of
+// the augmented system, its block on (theta_j, d_y) (M_jj, M_dy,j, M_dy,dy).
+// add(l, k) adds the contribution to M(l, k) of one rank-few term.
+template <class Add>
+void for_each_wanted(const Chain& c, ChainPhases phases, int ncol, const ChainWorkspace& w, Add add) {
+  if (w.per_point) {
+    for (int k = 0; k < ncol; ++k)
+      for (int l = k; l < ncol; ++l) add(l, k);
+    return;
+  }
+  for (int k : w.free)
+    for (int l = 0; l < ncol; ++l) add(l, k);
+  if (ncol <= c.size) return;
+  for (int j = 0; j < c.joints; ++j) {
+    if (!closed(phases[j])) continue;
+    const int dy = c.size + 2 * j + 1;
+    add(j, j);
+    add(dy, j);
+    add(dy, dy);
+  }
+}
+
+// A rigid segment's share of M and Q from its slab frame: its points
+// r_i = (0, z_i) move with J_i = J_O + perp(R r_i) J_psi, so
+// sum m_i J_i'J_i = [J_O; J_psi]' A [J_O; J_psi] with
 // A = [m 0 P_x; 0 m P_y; P_x P_y I], P = sum m_i perp(R r_i) = S (cos, -sin),
 // S = sum m z, I = sum m z^2; their force m_i (bias_i + a) with
 // bias_i = O_bias - psi'^2 R r_i sums to m (O_bias + a) - psi'^2 R S in
 // translation and P.(O_bias + a) in rotation (perp(R r).R r = 0).
-void lumped_segment(const Chain& c, int j, double ah, double gv, int ncol, ChainWorkspace& w) {
+void lumped_segment(const Chain& c, ChainPhases phases, int j, double ah, double gv, int ncol, ChainWorkspace& w) {
   const double m = c.segment_mass[j], S = c.segment_moment[j], I = c.segment_inertia[j];
   const double cs = w.slabs(j, 2), sn = w.slabs(j, 3), om = w.slabs(j, 6);
   const double Px = S * cs, Py = -S * sn, RSx = S * sn, RSy = S * cs;
   const double ax = w.slabs(j, 7) + ah, ay = w.slabs(j, 8) + gv;
   const double Fx = m * ax - om * om * RSx, Fy = m * ay - om * om * RSy, T = Px * ax + Py * ay;
   const int r = slab_row(j);
-  const Eigen::MatrixXd& fj = w.frames;
-  Eigen::MatrixXd& G = w.lumped;  // A [J_O; J_psi], one column per coordinate
-  Eigen::MatrixXd& M = w.mass;
+  const double* jx = &w.frames(r, 0);
+  const double* jy = &w.frames(r + 1, 0);
+  const double* jp = &w.frames(r + 2, 0);
+  double* gx = &w.lumped(0, 0);  // A [J_O; J_psi], one column per coordinate
+  double* gy = &w.lumped(1, 0);
+  double* gp = &w.lumped(2, 0);
   Eigen::VectorXd& Q = w.force;
   for (int k = 0; k < ncol; ++k) {
-    const double jx = fj(r, k), jy = fj(r + 1, k), jp = fj(r + 2, k);
-    Q[k] -= jx * Fx + jy * Fy + jp * T;
-    G(0, k) = m * jx + Px * jp;
-    G(1, k) = m * jy + Py * jp;
-    G(2, k) = Px * jx + Py * jy + I * jp;
+    Q[k] -= jx[k] * Fx + jy[k] * Fy + jp[k] * T;
+    gx[k] = m * jx[k] + Px * jp[k];
+    gy[k] = m * jy[k] + Py * jp[k];
+    gp[k] = Px * jx[k] + Py * jy[k] + I * jp[k];
   }
-  for (int k = 0; k < ncol; ++k) {
-    const double gx = G(0, k), gy = G(1, k), gp = G(2, k);
-    if (gx == 0.0 && gy == 0.0 && gp == 0.0) continue;
-    for (int l = k; l < ncol; ++l) M(l, k) += fj(r, l) * gx + fj(r + 1, l) * gy + fj(r + 2, l) * gp;
-  }
+  Eigen::MatrixXd& M = w.mass;
+  for_each_wanted(c, phases, ncol, w, [&](int l, int k) { M(l, k) += jx[l] * gx[k] + jy[l] * gy[k] + jp[l] * gp[k]; });
 }
 
-// M and Q on the first ncol coordinates (after kinematics).
-void assemble_equations(const Chain& c, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
-              Eigen::Ref<const Eigen::VectorXd> q_dot, int ncol, ChainWorkspace& w) {
+// M (the entries for_each_wanted names) and Q on the first ncol coordinates (after kinematics).
+void assemble_equations(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
+                        Eigen::Ref<const Eigen::VectorXd> q_dot, int ncol, ChainWorkspace& w) {
   Eigen::MatrixXd& M = w.mass;
   Eigen::VectorXd& Q = w.force;
-  for (int k = 0; k < ncol; ++k) {
-    Q[k] = 0.0;
-    for (int l = 0; l < ncol; ++l) M(l, k) = 0.0;
-  }
+  for (int k = 0; k < ncol; ++k) Q[k] = 0.0;
+  for_each_wanted(c, phases, ncol, w, [&](int l, int k) { M(l, k) = 0.0; });
   const double gv = c.data.g + a.v;
   for (int j = 0, first = 0; j < c.joints; ++j) {
     const int count = 1 + static_cast<int>(c.local_heights[j].size());
     if (lumped(c, w, j)) {
-      lumped_segment(c, j, a.h, gv, ncol, w);
+      lumped_segment(c, phases, j, a.h, gv, ncol, w);
       first += count;
       continue;
     }
@@ -270,17 +307,16 @@ void assemble_equations(const Chain& c, GroundAcceleration a, Eigen::Ref<const E
       const double m = point_mass(c, i);
       if (m == 0.0) continue;
       const double fx = m * (w.points(i, 4) + a.h), fy = m * (w.points(i, 5) + gv);
-      for (int k = 0; k < ncol; ++k) {
-        const double jxk = w.jac(2 * i, k), jyk = w.jac(2 * i + 1, k);
-        if (jxk == 0.0 && jyk == 0.0) continue;
-        Q[k] -= jxk * fx + jyk * fy;
-        for (int l = k; l < ncol; ++l) M(l, k) += m * (jxk * w.jac(2 * i, l) + jyk * w.jac(2 * i + 1, l));
-      }
+      const double* jx = &w.jac(2 * i, 0);
+      const double* jy = &w.jac(2 * i + 1, 0);
+      for (int k = 0; k < ncol; ++k) Q[k] -= jx[k] * fx + jy[k] * fy;
+      for_each_wanted(c, phases, ncol, w, [&](int l, int k) { M(l, k) += m * (jx[k] * jx[l] + jy[k] * jy[l]); });
     }
     first += count;
   }
-  for (int k = 0; k < ncol; ++k)
-    for (int l = k + 1; l < ncol; ++l) M(k, l) = M(l, k);
+  if (w.per_point)
+    for (int k = 0; k < ncol; ++k)
+      for (int l = k + 1; l < ncol; ++l) M(k, l) = M(l, k);
   for (int j = 0; j < c.joints; ++j) {  // - K x - C x'
     const int o = c.elastic_offset[j];
     if (o < 0) continue;
@@ -386,16 +422,16 @@ void accelerate(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen:
     throw std::invalid_argument("chain: one phase per joint and one q, q', q'' per coordinate");
   const int ncol = augmented ? c.augmented : c.size;
   partition(c, phases, augmented, w);
-  // Every joint closed on rigid segments: no free coordinate, q'' = 0, and
-  // the power needs no Jacobian.
-  const bool still = w.free.empty() && !augmented;
-  kinematics(c, phases, q, q_dot, still ? 0 : ncol, w);
-  if (power) *power = power_of(c, a, q_dot, w);
-  if (still) {
+  if (w.free.empty() && !augmented) {
+    // No free coordinate: every joint closed on rigid segments (an elastic
+    // coordinate is always free), so nothing moves: q'' = 0, no power.
     q_ddot.setZero();
+    if (power) *power = ChainPower{};
     return;
   }
-  assemble_equations(c, a, q, q_dot, ncol, w);
+  kinematics(c, phases, q, q_dot, ncol, w);
+  if (power) *power = power_of(c, a, q_dot, w);
+  assemble_equations(c, phases, a, q, q_dot, ncol, w);
   for (std::size_t i = 0; i < w.free.size(); ++i) w.rhs[i] = w.force[w.free[i]];
   solve_free(w);
   q_ddot.setZero();
@@ -559,12 +595,12 @@ Chain make_chain(const ChainData& d) {
 ChainWorkspace make_workspace(const Chain& c) {
   ChainWorkspace w;
   const int anchors = 2 * static_cast<int>(c.data.tendons.size()) + 1;
-  w.jac = Eigen::MatrixXd::Zero(2 * (c.points + anchors + 1), c.augmented);
+  w.jac = Rows::Zero(2 * (c.points + anchors), c.augmented);
   w.points = Eigen::MatrixXd::Zero(c.points, 6);
   w.anchors = Eigen::MatrixXd::Zero(anchors, 4);
-  w.frames = Eigen::MatrixXd::Zero(9 + 3 * c.joints, c.augmented);
-  w.slabs = Eigen::MatrixXd::Zero(c.joints, 9);
-  w.lumped = Eigen::MatrixXd::Zero(3, c.augmented);
+  w.frames = Rows::Zero(6 + 3 * c.joints, c.augmented);
+  w.slabs = Rows::Zero(c.joints, 9);
+  w.lumped = Rows::Zero(3, c.augmented);
   w.column = Eigen::VectorXd::Zero(c.augmented);
   w.coupling = Eigen::VectorXd::Zero(c.augmented);
   w.mass = Eigen::MatrixXd::Zero(c.augmented, c.augmented);
@@ -613,8 +649,8 @@ void chain_reactions(const Chain& c, ChainPhases phases, GroundAcceleration a, E
     const int dy = c.size + 2 * j + 1;
     Eigen::VectorXd &b0 = w.column, &b1 = w.coupling;  // M_fj, M_f,dy
     for (int i = 0; i < nf; ++i) {
-      b0[i] = w.mass(w.free[i], j);
-      b1[i] = w.mass(w.free[i], dy);
+      b0[i] = w.mass(j, w.free[i]);
+      b1[i] = w.mass(dy, w.free[i]);
     }
     double b0x = 0, b1x = 0;  // M_jf x_f, M_dy,f x_f
     for (int i = 0; i < nf; ++i) {
@@ -678,7 +714,7 @@ ImpactCandidate impact_into(const Chain& c, ChainPhases before, int joint, Chain
   // p_k = sum m v- . dp/dq_k with the kinematics after (augmented)
   partition(c, after, true, w);
   kinematics(c, after, q, q_dot, c.augmented, w);
-  assemble_equations(c, GroundAcceleration{}, q, q_dot, c.augmented, w);
+  assemble_equations(c, after, GroundAcceleration{}, q, q_dot, c.augmented, w);
   Eigen::VectorXd p = Eigen::VectorXd::Zero(c.augmented);
   for (int i = 0; i < c.points; ++i) {
     const double m = point_mass(c, i);

@@ -119,16 +119,17 @@ using ChainPhases = std::span<const Phase>;
 // segment always takes; the same equations to round-off).
 struct ChainWorkspace {
   bool per_point = false;
-  Eigen::MatrixXd jac;       // 2 rows per point (+ anchors) x augmented
+  using Rows = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;  // a Jacobian row contiguous
+  Rows jac;                  // 2 rows per point (+ anchors) x augmented
   Eigen::MatrixXd points;    // per point: x, y, vx, vy, bias x, bias y (per_point or flexible)
   Eigen::MatrixXd anchors;   // per anchor: x, y, vx, vy
-  Eigen::MatrixXd frames;    // per frame its Jacobian: 9 rows of scratch, then 3 per segment's slab frame
-  Eigen::MatrixXd slabs;     // per segment's slab frame: O x, y, cos, sin of psi, O', psi', O's bias
+  Rows frames;               // per frame its Jacobian (O x, O y, psi): the face, the pivot, then each slab frame
+  Rows slabs;                // per segment's slab frame: O x, y, cos, sin of psi, O', psi', O's bias
   Eigen::MatrixXd mass;      // augmented mass matrix
   Eigen::VectorXd force;     // augmented generalised force
   Eigen::MatrixXd reduced;   // free block, factorised in place
   Eigen::VectorXd rhs, solution, column, coupling;
-  Eigen::MatrixXd lumped;    // scratch: a segment's Jacobian rows times its lumped mass
+  Rows lumped;               // scratch: a segment's Jacobian rows times its lumped mass
   std::vector<int> free, fixed;
 };
 ChainWorkspace make_workspace(const Chain& c);
