@@ -420,8 +420,11 @@ void accelerate(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen:
                 ChainWorkspace& w, ChainPower* power = nullptr) {
   if (static_cast<int>(phases.size()) != c.joints || q.size() != c.size || q_dot.size() != c.size || q_ddot.size() != c.size)
     throw std::invalid_argument("chain: one phase per joint and one q, q', q'' per coordinate");
-  const int ncol = augmented ? c.augmented : c.size;
   partition(c, phases, augmented, w);
+  // Without the augmentation only the free coordinates' columns are read (M_ff,
+  // Q_f): the Jacobians stop at the last free one (free is increasing, and
+  // every elastic coordinate is free, so no -K x - C x' term falls beyond).
+  const int ncol = augmented ? c.augmented : (w.free.empty() ? 0 : w.free.back() + 1);
   if (w.free.empty() && !augmented) {
     // No free coordinate: every joint closed on rigid segments (an elastic
     // coordinate is always free), so nothing moves: q'' = 0, no power.
