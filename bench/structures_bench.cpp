@@ -3,9 +3,9 @@
 // each pair's two runs alternate, best of N each, so that their ratio is
 // measured in one run on the same machine state. The targets (issue 55): the
 // rigid frame costs about the rigid block; the chimney on columns at most
-// twice the chimney. Its fixed-base twin, stepped exactly with no right-hand
-// side, and the stacked blocks against the rigid block are reported for
-// information.
+// twice the chimney; the two stacked blocks at most three times the rigid
+// block. The chimney on columns' fixed-base twin, stepped exactly with no
+// right-hand side, is reported for information.
 // Usage: structures_bench [RECORDS_DIR] [--repeats N]
 //   RECORDS_DIR: default ../shared/data/records or $ROCKING_RECORDS.
 #include <fmt/format.h>
@@ -74,7 +74,7 @@ int main(int argc, char** argv) {
          {"its fixed-base twin (no dampers)", "christchurch_chimney.toml", {"contact.rocking=false", "damper.enabled=false"}},
          elcentro, repeats, 0);
     pair({"stacked blocks (stacked_blocks.toml)", "stacked_blocks.toml", {}},
-         {"rigid block (rigid_block.toml)", "rigid_block.toml", {}}, elcentro, repeats, 0);
+         {"rigid block (rigid_block.toml)", "rigid_block.toml", {}}, elcentro, repeats, 3.0);
   } catch (const std::exception& e) {
     fmt::print(stderr, "structures_bench: {}\n", e.what());
     return 1;

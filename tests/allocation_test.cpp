@@ -43,7 +43,7 @@ TEST_CASE("rk45 makes no heap allocation while stepping, with guards, events and
   CHECK(rk->stats().steps > 200);
 }
 
-TEST_CASE("the chain's right-hand side and joint reactions make no heap allocation") {
+TEST_CASE("the chain's right-hand side, power, joint reactions and corner accelerations make no heap allocation") {
   using namespace rocking;
   ChainData d;
   for (int j = 0; j < 3; ++j) {
@@ -66,13 +66,18 @@ TEST_CASE("the chain's right-hand side and joint reactions make no heap allocati
   const Eigen::VectorXd q = (Eigen::VectorXd(3) << 0.01, 0.0, -0.02).finished(), v = (Eigen::VectorXd(3) << 0.1, 0.0, -0.2).finished();
   Eigen::VectorXd acc(3);
   JointReaction r[3];
+  CornerAcceleration corners[3];
+  ChainPower power;
   const long before = allocations.load();
   for (int k = 0; k < 100; ++k) {
-    chain_acceleration(chain, phases, {0.5, 0.1}, q, v, acc, w);
-    chain_reactions(chain, phases, {0.5, 0.1}, q, v, r, acc, w);
+    chain_acceleration(chain, phases, {0.5, 0.1}, q, v, acc, w, &power);
+    chain_reactions(chain, phases, {0.5, 0.1}, q, v, r, acc, w, corners);
+    power = chain_power(chain, phases, {0.5, 0.1}, q, v, w);
   }
   CHECK(allocations.load() - before == 0);
   CHECK(r[1].N > 0);
+  CHECK(corners[1].left != 0.0);
+  CHECK(power.ground != 0.0);
 }
 
 TEST_CASE("the rocking frame's right-hand sides, guard, impact, energy and top forces make no heap allocation") {

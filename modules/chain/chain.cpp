@@ -32,8 +32,10 @@ struct Frame {
 struct Point {
   double x, y, vx, vy, bx, by;
 };
-Point point_of(const Frame& f, const Eigen::MatrixXd& fj, double x, double z, double x_dot, int ucol, int ncol,
-               Eigen::MatrixXd& jac, int out) {
+using Rows = ChainWorkspace::Rows;
+
+Point point_of(const Frame& f, const Rows& fj, double x, double z, double x_dot, int ucol, int ncol, Rows& jac,
+               int out) {
   const double rx = x * f.c + z * f.s, ry = -x * f.s + z * f.c;
   const double px = ry, py = -rx;  // perp(R r)
   for (int k = 0; k < ncol; ++k) {
@@ -55,28 +57,49 @@ Point point_of(const Frame& f, const Eigen::MatrixXd& fj, double x, double z, do
           f.by - w * w * ry - 2.0 * w * rdx};
 }
 
-// A frame at a point (Jacobian rows `from` of jac copied to its rows), with
-// angle psi + dpsi turning with coordinate col (-1: none).
-Frame frame_at(const Point& p, const Frame& f, const Eigen::MatrixXd& jac, int from, Eigen::MatrixXd& fj, int row,
-               int ncol, double dpsi, double dpsi_dot, int col) {
+// The frame at local (x, z) of frame f (local rate (x', 0), x being
+// coordinate ucol, -1: none), turned by dpsi (rate dpsi_dot, coordinate col,
+// -1: none): point_of's point as a frame, its Jacobian into rows row..row+2
+// of fj in one pass.
+Frame frame_from(const Frame& f, Rows& fj, double x, double z, double x_dot, int ucol, int ncol, int row, double dpsi,
+                 double dpsi_dot, int col) {
+  const double rx = x * f.c + z * f.s, ry = -x * f.s + z * f.c;
+  const double px = ry, py = -rx;  // perp(R r)
+  const double* fx = &fj(f.row, 0);
+  const double* fy = &fj(f.row + 1, 0);
+  const double* fp = &fj(f.row + 2, 0);
+  double* gx = &fj(row, 0);
+  double* gy = &fj(row + 1, 0);
+  double* gp = &fj(row + 2, 0);
+  for (int k = 0; k < ncol; ++k) {
+    gx[k] = fx[k] + px * fp[k];
+    gy[k] = fy[k] + py * fp[k];
+    gp[k] = fp[k];
+  }
+  if (ucol >= 0 && ucol < ncol) {
+    gx[ucol] += f.c;
+    gy[ucol] -= f.s;
+  }
+  if (col >= 0 && col < ncol) gp[col] += 1.0;
+  const double w = f.omega;
+  const double rdx = x_dot * f.c, rdy = -x_dot * f.s;  // R r'
   Frame g;
   g.row = row;
-  g.ox = p.x;
-  g.oy = p.y;
-  g.vx = p.vx;
-  g.vy = p.vy;
-  g.bx = p.bx;
-  g.by = p.by;
+  g.ox = f.ox + rx;
+  g.oy = f.oy + ry;
+  g.vx = f.vx + w * px + rdx;
+  g.vy = f.vy + w * py + rdy;
+  g.bx = f.bx - w * w * rx + 2.0 * w * rdy;
+  g.by = f.by - w * w * ry - 2.0 * w * rdx;
   g.psi = f.psi + dpsi;
-  g.c = std::cos(g.psi);
-  g.s = std::sin(g.psi);
-  g.omega = f.omega + dpsi_dot;
-  for (int k = 0; k < ncol; ++k) {
-    fj(row, k) = jac(from, k);
-    fj(row + 1, k) = jac(from + 1, k);
-    fj(row + 2, k) = fj(f.row + 2, k);
+  if (dpsi == 0.0) {  // cos(psi + 0) = cos(psi) exactly
+    g.c = f.c;
+    g.s = f.s;
+  } else {
+    g.c = std::cos(g.psi);
+    g.s = std::sin(g.psi);
   }
-  if (col >= 0 && col < ncol) fj(row + 2, col) += 1.0;
+  g.omega = f.omega + dpsi_dot;
   return g;
 }
 
@@ -84,8 +107,17 @@ bool closed(const Phase& p) { return !p.is_rocking(); }
 
 int pivot_sign(const Phase& p) { return p.sign(); }
 
-// Kinematics of every mass point (rows 2i, 2i+1 of w.jac; position, velocity
-// and bias in w.points) and of the tendons' anchors (after the points), for
+// Whether segment j enters the equations lumped (its slab frame and
+// Chain::segment_*) rather than point by point.
+bool lumped(const Chain& c, const ChainWorkspace& w, int j) { return !w.per_point && c.data.segments[j].rigid; }
+
+// Row of w.frames where segment j's slab frame Jacobian starts.
+int slab_row(int j) { return 6 + 3 * j; }
+
+// Kinematics of every segment's slab frame (w.slabs, its Jacobian in
+// w.frames from slab_row(j)), of every mass point of a segment not lumped
+// (rows 2i, 2i+1 of w.jac; position, velocity and bias in w.points) and of
+// the tendons' anchors (after the points), for
 // the first ncol coordinates (size, or augmented with each joint's relative
 // translation (d_x, d_y) in its face's frame, about the joint's reference
 // point: the active corner, or the centre of a closed joint, where theta_j
@@ -93,8 +125,8 @@ int pivot_sign(const Phase& p) { return p.sign(); }
 void kinematics(const Chain& c, ChainPhases phases, Eigen::Ref<const Eigen::VectorXd> q,
                 Eigen::Ref<const Eigen::VectorXd> q_dot, int ncol, ChainWorkspace& w, const ChainAnchor* extra = nullptr) {
   const ChainData& d = c.data;
-  Eigen::MatrixXd& fj = w.frames;  // rows 0-2 face, 3-5 corner, 6-8 segment
-  Eigen::MatrixXd& jac = w.jac;
+  Rows& fj = w.frames;  // rows 0-2 face, 3-5 pivot, then the slab frames
+  Rows& jac = w.jac;
   const int anchor_row = 2 * c.points;
   const int tendons = static_cast<int>(d.tendons.size());
   auto place_anchor = [&](const ChainAnchor& a, int slot, const Frame* seg, int j) {
@@ -137,32 +169,34 @@ void kinematics(const Chain& c, ChainPhases phases, Eigen::Ref<const Eigen::Vect
       const int eb = c.elastic_offset[j - 1];
       const int ucol = eb >= 0 ? eb + n - 1 : -1;
       const int pcol = c.rotation_index[j - 1];
-      const Point top = point_of(seg, fj, ucol >= 0 ? q[ucol] : 0.0, c.local_heights[j - 1][n - 1],
-                                 ucol >= 0 ? q_dot[ucol] : 0.0, ucol, ncol, jac, anchor_row + 2 * (2 * tendons + 1));
-      face = frame_at(top, seg, jac, anchor_row + 2 * (2 * tendons + 1), fj, 0, ncol, pcol >= 0 ? q[pcol] : 0.0,
-                      pcol >= 0 ? q_dot[pcol] : 0.0, pcol);
+      face = frame_from(seg, fj, ucol >= 0 ? q[ucol] : 0.0, c.local_heights[j - 1][n - 1], ucol >= 0 ? q_dot[ucol] : 0.0,
+                        ucol, ncol, 0, pcol >= 0 ? q[pcol] : 0.0, pcol >= 0 ? q_dot[pcol] : 0.0, pcol);
     }
-    // the reference point: the active corner (s B, 0), or the centre
+    // the reference point: the active corner (s B, 0), or the centre; the
+    // pivot frame there turns by theta_j
     const double cx = closed(phases[j]) ? 0.0 : pivot_sign(phases[j]) * sg.half_width;
-    const int scratch = anchor_row + 2 * (2 * tendons + 1);
-    const Point corner = point_of(face, fj, cx, 0.0, 0.0, -1, ncol, jac, scratch);
+    const double th = closed(phases[j]) ? 0.0 : q[j], th_dot = closed(phases[j]) ? 0.0 : q_dot[j];
+    const Frame pivot = frame_from(face, fj, cx, 0.0, 0.0, -1, ncol, 3, th, th_dot, j);
     if (ncol > c.size) {  // relative translation of the slab on the face
       const int dx = c.size + 2 * j;
-      jac(scratch, dx) += face.c;
-      jac(scratch + 1, dx) -= face.s;
-      jac(scratch, dx + 1) += face.s;
-      jac(scratch + 1, dx + 1) += face.c;
+      fj(3, dx) += face.c;
+      fj(4, dx) -= face.s;
+      fj(3, dx + 1) += face.s;
+      fj(4, dx + 1) += face.c;
     }
-    const double th = closed(phases[j]) ? 0.0 : q[j], th_dot = closed(phases[j]) ? 0.0 : q_dot[j];
-    const Frame pivot = frame_at(corner, face, jac, scratch, fj, 3, ncol, th, th_dot, j);
-    const Point origin = point_of(pivot, fj, -cx, 0.0, 0.0, -1, ncol, jac, scratch);
-    seg = frame_at(origin, pivot, jac, scratch, fj, 6, ncol, 0.0, 0.0, -1);
-    // its mass points: the slab, then the nodes
-    const Point slab = point_of(seg, fj, 0.0, 0.0, 0.0, -1, ncol, jac, 2 * pt);
-    w.points.row(pt) << slab.x, slab.y, slab.vx, slab.vy, slab.bx, slab.by;
-    ++pt;
+    seg = frame_from(pivot, fj, -cx, 0.0, 0.0, -1, ncol, slab_row(j), 0.0, 0.0, -1);
+    double* slab = &w.slabs(j, 0);  // row-major, as w.slabs is declared
+    slab[0] = seg.ox, slab[1] = seg.oy, slab[2] = seg.c, slab[3] = seg.s, slab[4] = seg.vx, slab[5] = seg.vy;
+    slab[6] = seg.omega, slab[7] = seg.bx, slab[8] = seg.by;
     const Eigen::VectorXd& z = c.local_heights[j];
-    for (int i = 0; i < z.size(); ++i, ++pt) {
+    if (lumped(c, w, j)) {
+      pt += 1 + static_cast<int>(z.size());
+    } else {  // its mass points: the slab, then the nodes
+      const Point slab = point_of(seg, fj, 0.0, 0.0, 0.0, -1, ncol, jac, 2 * pt);
+      w.points.row(pt) << slab.x, slab.y, slab.vx, slab.vy, slab.bx, slab.by;
+      ++pt;
+    }
+    for (int i = 0; i < z.size() && !lumped(c, w, j); ++i, ++pt) {
       const int ucol = eo >= 0 ? eo + i : -1;
       const Point p = point_of(seg, fj, ucol >= 0 ? q[ucol] : 0.0, z[i], ucol >= 0 ? q_dot[ucol] : 0.0, ucol, ncol, jac,
                                2 * pt);
@@ -199,29 +233,90 @@ TendonState tendon_state(const Chain& c, int t, int ncol, ChainWorkspace& w, Eig
   return {e, e_dot, F};
 }
 
-// M and Q on the first ncol coordinates (after kinematics).
-void assemble_equations(const Chain& c, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
-              Eigen::Ref<const Eigen::VectorXd> q_dot, int ncol, ChainWorkspace& w) {
-  Eigen::MatrixXd& M = w.mass;
+// The entries of M that the solve, the reactions and the corner
+// accelerations read: with per_point, the whole of M; else the columns of the
+// free coordinates (every row: M_ff and M_cf) and, for each closed joint j of
+// the augmented system, its block on (theta_j, d_y) (M_jj, M_dy,j, M_dy,dy).
+// add(l, k) adds the contribution to M(l, k) of one rank-few term.
+template <class Add>
+void for_each_wanted(const Chain& c, ChainPhases phases, int ncol, const ChainWorkspace& w, Add add) {
+  if (w.per_point) {
+    for (int k = 0; k < ncol; ++k)
+      for (int l = k; l < ncol; ++l) add(l, k);
+    return;
+  }
+  for (int k : w.free)
+    for (int l = 0; l < ncol; ++l) add(l, k);
+  if (ncol <= c.size) return;
+  for (int j = 0; j < c.joints; ++j) {
+    if (!closed(phases[j])) continue;
+    const int dy = c.size + 2 * j + 1;
+    add(j, j);
+    add(dy, j);
+    add(dy, dy);
+  }
+}
+
+// A rigid segment's share of M and Q from its slab frame: its points
+// r_i = (0, z_i) move with J_i = J_O + perp(R r_i) J_psi, so
+// sum m_i J_i'J_i = [J_O; J_psi]' A [J_O; J_psi] with
+// A = [m 0 P_x; 0 m P_y; P_x P_y I], P = sum m_i perp(R r_i) = S (cos, -sin),
+// S = sum m z, I = sum m z^2; their force m_i (bias_i + a) with
+// bias_i = O_bias - psi'^2 R r_i sums to m (O_bias + a) - psi'^2 R S in
+// translation and P.(O_bias + a) in rotation (perp(R r).R r = 0).
+void lumped_segment(const Chain& c, ChainPhases phases, int j, double ah, double gv, int ncol, ChainWorkspace& w) {
+  const double m = c.segment_mass[j], S = c.segment_moment[j], I = c.segment_inertia[j];
+  const double cs = w.slabs(j, 2), sn = w.slabs(j, 3), om = w.slabs(j, 6);
+  const double Px = S * cs, Py = -S * sn, RSx = S * sn, RSy = S * cs;
+  const double ax = w.slabs(j, 7) + ah, ay = w.slabs(j, 8) + gv;
+  const double Fx = m * ax - om * om * RSx, Fy = m * ay - om * om * RSy, T = Px * ax + Py * ay;
+  const int r = slab_row(j);
+  const double* jx = &w.frames(r, 0);
+  const double* jy = &w.frames(r + 1, 0);
+  const double* jp = &w.frames(r + 2, 0);
+  double* gx = &w.lumped(0, 0);  // A [J_O; J_psi], one column per coordinate
+  double* gy = &w.lumped(1, 0);
+  double* gp = &w.lumped(2, 0);
   Eigen::VectorXd& Q = w.force;
   for (int k = 0; k < ncol; ++k) {
-    Q[k] = 0.0;
-    for (int l = 0; l < ncol; ++l) M(l, k) = 0.0;
+    Q[k] -= jx[k] * Fx + jy[k] * Fy + jp[k] * T;
+    gx[k] = m * jx[k] + Px * jp[k];
+    gy[k] = m * jy[k] + Py * jp[k];
+    gp[k] = Px * jx[k] + Py * jy[k] + I * jp[k];
   }
+  Eigen::MatrixXd& M = w.mass;
+  for_each_wanted(c, phases, ncol, w, [&](int l, int k) { M(l, k) += jx[l] * gx[k] + jy[l] * gy[k] + jp[l] * gp[k]; });
+}
+
+// M (the entries for_each_wanted names) and Q on the first ncol coordinates (after kinematics).
+void assemble_equations(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
+                        Eigen::Ref<const Eigen::VectorXd> q_dot, int ncol, ChainWorkspace& w) {
+  Eigen::MatrixXd& M = w.mass;
+  Eigen::VectorXd& Q = w.force;
+  for (int k = 0; k < ncol; ++k) Q[k] = 0.0;
+  for_each_wanted(c, phases, ncol, w, [&](int l, int k) { M(l, k) = 0.0; });
   const double gv = c.data.g + a.v;
-  for (int i = 0; i < c.points; ++i) {
-    const double m = point_mass(c, i);
-    if (m == 0.0) continue;
-    const double fx = m * (w.points(i, 4) + a.h), fy = m * (w.points(i, 5) + gv);
-    for (int k = 0; k < ncol; ++k) {
-      const double jxk = w.jac(2 * i, k), jyk = w.jac(2 * i + 1, k);
-      if (jxk == 0.0 && jyk == 0.0) continue;
-      Q[k] -= jxk * fx + jyk * fy;
-      for (int l = k; l < ncol; ++l) M(l, k) += m * (jxk * w.jac(2 * i, l) + jyk * w.jac(2 * i + 1, l));
+  for (int j = 0, first = 0; j < c.joints; ++j) {
+    const int count = 1 + static_cast<int>(c.local_heights[j].size());
+    if (lumped(c, w, j)) {
+      lumped_segment(c, phases, j, a.h, gv, ncol, w);
+      first += count;
+      continue;
     }
+    for (int i = first; i < first + count; ++i) {
+      const double m = point_mass(c, i);
+      if (m == 0.0) continue;
+      const double fx = m * (w.points(i, 4) + a.h), fy = m * (w.points(i, 5) + gv);
+      const double* jx = &w.jac(2 * i, 0);
+      const double* jy = &w.jac(2 * i + 1, 0);
+      for (int k = 0; k < ncol; ++k) Q[k] -= jx[k] * fx + jy[k] * fy;
+      for_each_wanted(c, phases, ncol, w, [&](int l, int k) { M(l, k) += m * (jx[k] * jx[l] + jy[k] * jy[l]); });
+    }
+    first += count;
   }
-  for (int k = 0; k < ncol; ++k)
-    for (int l = k + 1; l < ncol; ++l) M(k, l) = M(l, k);
+  if (w.per_point)
+    for (int k = 0; k < ncol; ++k)
+      for (int l = k + 1; l < ncol; ++l) M(k, l) = M(l, k);
   for (int j = 0; j < c.joints; ++j) {  // - K x - C x'
     const int o = c.elastic_offset[j];
     if (o < 0) continue;
@@ -246,6 +341,22 @@ void partition(const Chain& c, ChainPhases phases, bool augmented, ChainWorkspac
     for (int k = c.size; k < c.augmented; ++k) w.fixed.push_back(k);
 }
 
+// x = M_ff^-1 x in place, with M_ff's Cholesky factor in w.reduced (solve_free).
+void solve_factored(const ChainWorkspace& w, Eigen::VectorXd& x) {
+  const int n = static_cast<int>(w.free.size());
+  const Eigen::MatrixXd& L = w.reduced;
+  for (int i = 0; i < n; ++i) {
+    double v = x[i];
+    for (int p = 0; p < i; ++p) v -= L(i, p) * x[p];
+    x[i] = v / L(i, i);
+  }
+  for (int i = n - 1; i >= 0; --i) {
+    double v = x[i];
+    for (int p = i + 1; p < n; ++p) v -= L(p, i) * x[p];
+    x[i] = v / L(i, i);
+  }
+}
+
 // Solve M_ff x = rhs (rhs in w.rhs, result in w.solution) by Cholesky in w.reduced.
 void solve_free(ChainWorkspace& w) {
   const int n = static_cast<int>(w.free.size());
@@ -264,28 +375,66 @@ void solve_free(ChainWorkspace& w) {
       L(i, k) = v / d;
     }
   }
-  Eigen::VectorXd& x = w.solution;
-  for (int i = 0; i < n; ++i) {
-    double v = w.rhs[i];
-    for (int p = 0; p < i; ++p) v -= L(i, p) * x[p];
-    x[i] = v / L(i, i);
+  for (int i = 0; i < n; ++i) w.solution[i] = w.rhs[i];
+  solve_factored(w, w.solution);
+}
+
+// sum m v over the mass points (after kinematics): a lumped segment's is
+// m O' + psi' P (P as in lumped_segment).
+Eigen::Vector2d momentum(const Chain& c, const ChainWorkspace& w) {
+  Eigen::Vector2d p = Eigen::Vector2d::Zero();
+  for (int j = 0, first = 0; j < c.joints; ++j) {
+    const int count = 1 + static_cast<int>(c.local_heights[j].size());
+    if (lumped(c, w, j)) {
+      const double S = c.segment_moment[j], m = c.segment_mass[j], om = w.slabs(j, 6);
+      p.x() += m * w.slabs(j, 4) + om * S * w.slabs(j, 2);
+      p.y() += m * w.slabs(j, 5) - om * S * w.slabs(j, 3);
+    } else {
+      for (int i = first; i < first + count; ++i) {
+        p.x() += point_mass(c, i) * w.points(i, 2);
+        p.y() += point_mass(c, i) * w.points(i, 3);
+      }
+    }
+    first += count;
   }
-  for (int i = n - 1; i >= 0; --i) {
-    double v = x[i];
-    for (int p = i + 1; p < n; ++p) v -= L(p, i) * x[p];
-    x[i] = v / L(i, i);
+  return p;
+}
+
+// The ground's power and the viscous damping's (after kinematics).
+ChainPower power_of(const Chain& c, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q_dot, const ChainWorkspace& w) {
+  ChainPower p;
+  const Eigen::Vector2d mv = momentum(c, w);
+  p.ground = -(a.h * mv.x() + a.v * mv.y());
+  for (int j = 0; j < c.joints; ++j) {  // x'C x', with no temporary
+    const int o = c.elastic_offset[j];
+    if (o < 0) continue;
+    const Eigen::MatrixXd& C = c.C[j];
+    for (Eigen::Index l = 0; l < C.cols(); ++l)
+      for (Eigen::Index k = 0; k < C.rows(); ++k) p.damping += q_dot[o + k] * C(k, l) * q_dot[o + l];
   }
+  return p;
 }
 
 void accelerate(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
                 Eigen::Ref<const Eigen::VectorXd> q_dot, Eigen::Ref<Eigen::VectorXd> q_ddot, bool augmented,
-                ChainWorkspace& w) {
+                ChainWorkspace& w, ChainPower* power = nullptr) {
   if (static_cast<int>(phases.size()) != c.joints || q.size() != c.size || q_dot.size() != c.size || q_ddot.size() != c.size)
     throw std::invalid_argument("chain: one phase per joint and one q, q', q'' per coordinate");
-  const int ncol = augmented ? c.augmented : c.size;
   partition(c, phases, augmented, w);
+  // Without the augmentation only the free coordinates' columns are read (M_ff,
+  // Q_f): the Jacobians stop at the last free one (free is increasing, and
+  // every elastic coordinate is free, so no -K x - C x' term falls beyond).
+  const int ncol = augmented ? c.augmented : (w.free.empty() ? 0 : w.free.back() + 1);
+  if (w.free.empty() && !augmented) {
+    // No free coordinate: every joint closed on rigid segments (an elastic
+    // coordinate is always free), so nothing moves: q'' = 0, no power.
+    q_ddot.setZero();
+    if (power) *power = ChainPower{};
+    return;
+  }
   kinematics(c, phases, q, q_dot, ncol, w);
-  assemble_equations(c, a, q, q_dot, ncol, w);
+  if (power) *power = power_of(c, a, q_dot, w);
+  assemble_equations(c, phases, a, q, q_dot, ncol, w);
   for (std::size_t i = 0; i < w.free.size(); ++i) w.rhs[i] = w.force[w.free[i]];
   solve_free(w);
   q_ddot.setZero();
@@ -404,8 +553,19 @@ Chain make_chain(const ChainData& d) {
   }
   c.masses.resize(c.points);
   for (int j = 0, i = 0; j < c.joints; ++j) {
-    c.masses[i++] = d.segments[j].base_mass;
-    for (Eigen::Index k = 0; k < d.segments[j].masses.size(); ++k) c.masses[i++] = d.segments[j].masses[k];
+    const ChainSegment& s = d.segments[j];
+    double m = s.base_mass, S = 0, I = 0;
+    c.masses[i++] = s.base_mass;
+    for (Eigen::Index k = 0; k < s.masses.size(); ++k) {
+      c.masses[i++] = s.masses[k];
+      const double z = c.local_heights[j][k];
+      m += s.masses[k];
+      S += s.masses[k] * z;
+      I += s.masses[k] * z * z;
+    }
+    c.segment_mass.push_back(m);
+    c.segment_moment.push_back(S);
+    c.segment_inertia.push_back(I);
   }
   c.size = next;
   c.augmented = next + 2 * c.joints;
@@ -438,10 +598,14 @@ Chain make_chain(const ChainData& d) {
 ChainWorkspace make_workspace(const Chain& c) {
   ChainWorkspace w;
   const int anchors = 2 * static_cast<int>(c.data.tendons.size()) + 1;
-  w.jac = Eigen::MatrixXd::Zero(2 * (c.points + anchors + 1), c.augmented);
+  w.jac = Rows::Zero(2 * (c.points + anchors), c.augmented);
   w.points = Eigen::MatrixXd::Zero(c.points, 6);
   w.anchors = Eigen::MatrixXd::Zero(anchors, 4);
-  w.frames = Eigen::MatrixXd::Zero(9, c.augmented);
+  w.frames = Rows::Zero(6 + 3 * c.joints, c.augmented);
+  w.slabs = Rows::Zero(c.joints, 9);
+  w.lumped = Rows::Zero(3, c.augmented);
+  w.column = Eigen::VectorXd::Zero(c.augmented);
+  w.coupling = Eigen::VectorXd::Zero(c.augmented);
   w.mass = Eigen::MatrixXd::Zero(c.augmented, c.augmented);
   w.force = Eigen::VectorXd::Zero(c.augmented);
   w.reduced = Eigen::MatrixXd::Zero(c.augmented, c.augmented);
@@ -453,13 +617,14 @@ ChainWorkspace make_workspace(const Chain& c) {
 }
 
 void chain_acceleration(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
-                        Eigen::Ref<const Eigen::VectorXd> q_dot, Eigen::Ref<Eigen::VectorXd> q_ddot, ChainWorkspace& w) {
-  accelerate(c, phases, a, q, q_dot, q_ddot, false, w);
+                        Eigen::Ref<const Eigen::VectorXd> q_dot, Eigen::Ref<Eigen::VectorXd> q_ddot, ChainWorkspace& w,
+                        ChainPower* power) {
+  accelerate(c, phases, a, q, q_dot, q_ddot, false, w, power);
 }
 
 void chain_reactions(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
                      Eigen::Ref<const Eigen::VectorXd> q_dot, std::span<JointReaction> out,
-                     Eigen::Ref<Eigen::VectorXd> q_ddot, ChainWorkspace& w) {
+                     Eigen::Ref<Eigen::VectorXd> q_ddot, ChainWorkspace& w, std::span<CornerAcceleration> corners) {
   accelerate(c, phases, a, q, q_dot, q_ddot, true, w);
   // lambda_c = M_cf q_f'' - Q_c: the generalised force of constraint c
   auto lambda = [&](int col) {
@@ -471,6 +636,50 @@ void chain_reactions(const Chain& c, ChainPhases phases, GroundAcceleration a, E
     out[j].V = lambda(c.size + 2 * j);
     out[j].N = lambda(c.size + 2 * j + 1);
     out[j].M = closed(phases[j]) ? -lambda(j) : 0.0;  // the face's moment on the part above is -M
+  }
+  if (corners.empty()) return;
+  // Closed joint j rocking about s at theta_j = theta_j' = 0: its rotation
+  // about the corner (s B, 0) moves everything as the rotation about its
+  // centre (coordinate j) with the centre lifted s B per radian (coordinate
+  // d_y), t = e_j + s B e_dy, while the free coordinates f and the bias are
+  // the closed system's. With b = M_ft, the Schur complement gives
+  //   theta_j'' = (t'Q - b'M_ff^-1 Q_f) / (t'M t - b'M_ff^-1 b),
+  // M_ff^-1 Q_f being the free q'' just solved.
+  const int nf = static_cast<int>(w.free.size());
+  for (int j = 0; j < c.joints; ++j) {
+    corners[j] = {};
+    if (!closed(phases[j])) continue;
+    const int dy = c.size + 2 * j + 1;
+    Eigen::VectorXd &b0 = w.column, &b1 = w.coupling;  // M_fj, M_f,dy
+    for (int i = 0; i < nf; ++i) {
+      b0[i] = w.mass(j, w.free[i]);
+      b1[i] = w.mass(dy, w.free[i]);
+    }
+    double b0x = 0, b1x = 0;  // M_jf x_f, M_dy,f x_f
+    for (int i = 0; i < nf; ++i) {
+      b0x += b0[i] * w.solution[i];
+      b1x += b1[i] * w.solution[i];
+    }
+    // b'M_ff^-1 b for b = b0 + s B b1, from b0'M_ff^-1 b0, b0'M_ff^-1 b1, b1'M_ff^-1 b1
+    double b0y0 = 0, b0y1 = 0, b1y1 = 0;
+    Eigen::VectorXd& z = w.rhs;
+    for (int i = 0; i < nf; ++i) z[i] = b0[i];
+    solve_factored(w, z);
+    for (int i = 0; i < nf; ++i) {
+      b0y0 += b0[i] * z[i];
+      b0y1 += b1[i] * z[i];
+    }
+    for (int i = 0; i < nf; ++i) z[i] = b1[i];
+    solve_factored(w, z);
+    for (int i = 0; i < nf; ++i) b1y1 += b1[i] * z[i];
+    const double B = c.data.segments[j].half_width;
+    for (Pivot p : pivots) {
+      const double sB = sign(p) * B;
+      const double num = w.force[j] + sB * w.force[dy] - (b0x + sB * b1x);
+      const double den = w.mass(j, j) + 2.0 * sB * w.mass(dy, j) + sB * sB * w.mass(dy, dy) -
+                         (b0y0 + 2.0 * sB * b0y1 + sB * sB * b1y1);
+      (p == Pivot::left ? corners[j].left : corners[j].right) = sign(p) * num / den;
+    }
   }
 }
 
@@ -499,6 +708,7 @@ ImpactCandidate impact_into(const Chain& c, ChainPhases before, int joint, Chain
       q_dot.size() != c.size || joint < 0 || joint >= c.joints || !before[joint].is_rocking())
     throw std::invalid_argument("chain impact: one phase per joint, and the impacting joint rocking");
   ChainWorkspace w = make_workspace(c);
+  w.per_point = true;  // the momenta below are summed point by point
   // velocities before, with the kinematics before
   kinematics(c, before, q, q_dot, c.size, w);
   const Eigen::MatrixXd v_before = w.points.middleCols(2, 2);
@@ -507,7 +717,7 @@ ImpactCandidate impact_into(const Chain& c, ChainPhases before, int joint, Chain
   // p_k = sum m v- . dp/dq_k with the kinematics after (augmented)
   partition(c, after, true, w);
   kinematics(c, after, q, q_dot, c.augmented, w);
-  assemble_equations(c, GroundAcceleration{}, q, q_dot, c.augmented, w);
+  assemble_equations(c, after, GroundAcceleration{}, q, q_dot, c.augmented, w);
   Eigen::VectorXd p = Eigen::VectorXd::Zero(c.augmented);
   for (int i = 0; i < c.points; ++i) {
     const double m = point_mass(c, i);
@@ -594,12 +804,25 @@ ImpactOutcome chain_impact(const Chain& c, ChainPhases before, int joint, Eigen:
 
 ChainEnergy chain_energy(const Chain& c, ChainPhases phases, Eigen::Ref<const Eigen::VectorXd> q,
                          Eigen::Ref<const Eigen::VectorXd> q_dot, ChainWorkspace& w) {
-  kinematics(c, phases, q, q_dot, c.size, w);
+  kinematics(c, phases, q, q_dot, 0, w);
   ChainEnergy e;
-  for (int i = 0; i < c.points; ++i) {
-    const double m = point_mass(c, i);
-    e.kinetic += 0.5 * m * (w.points(i, 2) * w.points(i, 2) + w.points(i, 3) * w.points(i, 3));
-    e.gravity += m * c.data.g * (w.points(i, 1) - c.rest_height[i]);
+  for (int j = 0, first = 0; j < c.joints; ++j) {
+    const int count = 1 + static_cast<int>(c.local_heights[j].size());
+    if (lumped(c, w, j)) {
+      // v_i = O' + psi' perp(R r_i), |perp(R r_i)|^2 = z_i^2; y_i - y_rest,i =
+      // O_y - h + z_i (cos psi - 1), cos psi - 1 = -sin^2 psi / (1 + cos psi)
+      const double m = c.segment_mass[j], S = c.segment_moment[j], om = w.slabs(j, 6);
+      const double cs = w.slabs(j, 2), sn = w.slabs(j, 3), vx = w.slabs(j, 4), vy = w.slabs(j, 5);
+      e.kinetic += 0.5 * m * (vx * vx + vy * vy) + om * S * (vx * cs - vy * sn) + 0.5 * om * om * c.segment_inertia[j];
+      e.gravity += c.data.g * (m * (w.slabs(j, 1) - c.data.segments[j].base_height) - S * sn * sn / (1.0 + cs));
+    } else {
+      for (int i = first; i < first + count; ++i) {
+        const double m = point_mass(c, i);
+        e.kinetic += 0.5 * m * (w.points(i, 2) * w.points(i, 2) + w.points(i, 3) * w.points(i, 3));
+        e.gravity += m * c.data.g * (w.points(i, 1) - c.rest_height[i]);
+      }
+    }
+    first += count;
   }
   for (int j = 0; j < c.joints; ++j) {
     const int o = c.elastic_offset[j];
@@ -620,29 +843,19 @@ ChainEnergy chain_energy(const Chain& c, ChainPhases phases, Eigen::Ref<const Ei
 
 ChainPower chain_power(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
                        Eigen::Ref<const Eigen::VectorXd> q_dot, ChainWorkspace& w) {
-  kinematics(c, phases, q, q_dot, c.size, w);
-  ChainPower p;
-  for (int i = 0; i < c.points; ++i) p.ground -= point_mass(c, i) * (a.h * w.points(i, 2) + a.v * w.points(i, 3));
-  for (int j = 0; j < c.joints; ++j) {
-    const int o = c.elastic_offset[j];
-    if (o < 0) continue;
-    const int n = static_cast<int>(c.C[j].rows());
-    p.damping += q_dot.segment(o, n).dot(c.C[j] * q_dot.segment(o, n));
-  }
-  return p;
+  kinematics(c, phases, q, q_dot, 0, w);
+  return power_of(c, a, q_dot, w);
 }
 
 double tendon_elongation(const Chain& c, ChainPhases phases, int k, Eigen::Ref<const Eigen::VectorXd> q,
                          ChainWorkspace& w) {
-  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(c.size);
-  kinematics(c, phases, q, zero, c.size, w);
-  return tendon_state(c, k, c.size, w, nullptr).e;
+  kinematics(c, phases, q, q, 0, w);  // positions only: the velocities (here q) do not enter e
+  return tendon_state(c, k, 0, w, nullptr).e;
 }
 
 Eigen::Vector2d anchor_position(const Chain& c, ChainPhases phases, const ChainAnchor& p,
                                 Eigen::Ref<const Eigen::VectorXd> q, ChainWorkspace& w) {
-  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(c.size);
-  kinematics(c, phases, q, zero, c.size, w, &p);
+  kinematics(c, phases, q, q, 0, w, &p);  // positions only: the velocities (here q) are not read back
   const int slot = 2 * static_cast<int>(c.data.tendons.size());
   return {w.anchors(slot, 0), w.anchors(slot, 1)};
 }

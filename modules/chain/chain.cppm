@@ -14,7 +14,8 @@
 // active corners and translations; J_i = dp_i/dq analytically; Lagrange gives
 //   M = sum m_i J_i'J_i,  Q = -sum m_i J_i'(J_i' q' + (a_g, g + a_v)) - K x - C x' - sum_k F_k de_k/dq
 // (ground acceleration as the frame's, MODEL.md 14; C = a0 M + a1 K per
-// segment). Closed joints' reactions N, V, M are the Lagrange multipliers of
+// segment; a rigid segment's points summed once into its lumped mass and
+// moments, docs/chain.md). Closed joints' reactions N, V, M are the Lagrange multipliers of
 // their constraints (relative translation and rotation of the slab on the face);
 // uplift about s when s M_j >= N_j B_j (devices spanning the joint are forces in
 // the multipliers, so their restraint is inside N_j and M_j). Impacts conserve
@@ -101,6 +102,9 @@ struct Chain {
   std::vector<double> rest_length;             // per tendon
   std::vector<double> rest_height;             // per mass point (the potential's zero)
   Eigen::VectorXd masses;                      // per mass point: each slab, then its nodes
+  // Per segment, its points lumped in the slab frame (every point of a rigid
+  // segment is at x = 0): mass sum m, first moment sum m z, second moment sum m z^2.
+  std::vector<double> segment_mass, segment_moment, segment_inertia;
 };
 Chain make_chain(const ChainData& d);
 
@@ -108,22 +112,35 @@ Chain make_chain(const ChainData& d);
 using ChainPhases = std::span<const Phase>;
 
 // Everything the equations work in, sized once: the hot path allocates nothing.
+// A rigid segment enters M and Q through its slab frame's Jacobian and the
+// segment's lumped mass and moments (Chain::segment_*), so that the work goes
+// with the segments, not the mass points; with per_point set, every mass
+// point's own Jacobian is summed instead (the general path, which a flexible
+// segment always takes; the same equations to round-off).
 struct ChainWorkspace {
-  Eigen::MatrixXd jac;       // 2 rows per point (+ anchors) x augmented
-  Eigen::MatrixXd points;    // per point: x, y, vx, vy, bias x, bias y
+  bool per_point = false;
+  using Rows = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;  // a Jacobian row contiguous
+  Rows jac;                  // 2 rows per point (+ anchors) x augmented
+  Eigen::MatrixXd points;    // per point: x, y, vx, vy, bias x, bias y (per_point or flexible)
   Eigen::MatrixXd anchors;   // per anchor: x, y, vx, vy
-  Eigen::MatrixXd frames;    // scratch: per frame its Jacobian
+  Rows frames;               // per frame its Jacobian (O x, O y, psi): the face, the pivot, then each slab frame
+  Rows slabs;                // per segment's slab frame: O x, y, cos, sin of psi, O', psi', O's bias
   Eigen::MatrixXd mass;      // augmented mass matrix
   Eigen::VectorXd force;     // augmented generalised force
   Eigen::MatrixXd reduced;   // free block, factorised in place
-  Eigen::VectorXd rhs, solution;
+  Eigen::VectorXd rhs, solution, column, coupling;
+  Rows lumped;               // scratch: a segment's Jacobian rows times its lumped mass
   std::vector<int> free, fixed;
 };
 ChainWorkspace make_workspace(const Chain& c);
 
-// q'' (size entries; closed joints' theta'' = 0). Allocates nothing.
+struct ChainPower;
+
+// q'' (size entries; closed joints' theta'' = 0). Allocates nothing. With
+// `power`, also chain_power of the same state, from the same kinematics.
 void chain_acceleration(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
-                        Eigen::Ref<const Eigen::VectorXd> q_dot, Eigen::Ref<Eigen::VectorXd> q_ddot, ChainWorkspace& w);
+                        Eigen::Ref<const Eigen::VectorXd> q_dot, Eigen::Ref<Eigen::VectorXd> q_ddot, ChainWorkspace& w,
+                        ChainPower* power = nullptr);
 
 // The reaction of joint j on the segment above, in the face's frame: N normal
 // (compression > 0), V shear, M the joint's moment, signed as theta (M > 0 tips
@@ -132,10 +149,19 @@ void chain_acceleration(const Chain& c, ChainPhases phases, GroundAcceleration a
 struct JointReaction {
   double N = 0, V = 0, M = 0;
 };
-// The reactions of every joint, with q'' as chain_acceleration gives it.
+// corner_acceleration of a closed joint about each of its corners.
+struct CornerAcceleration {
+  double left = 0, right = 0;
+  double operator[](Pivot s) const { return s == Pivot::left ? left : right; }
+};
+// The reactions of every joint, with q'' as chain_acceleration gives it; with
+// `corners` (one per joint), also every closed joint's corner_acceleration
+// about both corners (0 for a rocking joint), from the same factorisation:
+// the trial's rotation about the corner is the closed joint's rotation about
+// its centre plus the lift B of its centre per radian (docs/chain.md).
 void chain_reactions(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
                      Eigen::Ref<const Eigen::VectorXd> q_dot, std::span<JointReaction> out,
-                     Eigen::Ref<Eigen::VectorXd> q_ddot, ChainWorkspace& w);
+                     Eigen::Ref<Eigen::VectorXd> q_ddot, ChainWorkspace& w, std::span<CornerAcceleration> corners = {});
 
 // Uplift guard of closed joint j about pivot s: s M_j - N_j B_j (> 0: the
 // resultant is past the corner).

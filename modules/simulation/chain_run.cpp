@@ -107,11 +107,11 @@ class ChainDriver {
   void derivatives(double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> dydt) {
     const GroundAcceleration a = ground_at(t);
     const auto q = y.head(n_), qd = y.segment(n_, n_);
-    chain_acceleration(c_, phases_, a, q, qd, dydt.segment(n_, n_), w_);
+    ChainPower p;
+    chain_acceleration(c_, phases_, a, q, qd, dydt.segment(n_, n_), w_, &p);
     dydt.head(n_) = qd;
     for (int j = 0; j < c_.joints; ++j)
       if (!phases_[j].is_rocking()) dydt[j] = 0;  // a closed joint's theta stays 0
-    const ChainPower p = chain_power(c_, phases_, a, q, qd, w_);
     dydt[2 * n_] = p.ground;
     dydt[2 * n_ + 1] = p.damping;
   }
@@ -148,9 +148,9 @@ class ChainDriver {
     if (phases_[j].is_rocking()) return;
     const GroundAcceleration a = ground_at(t);
     const auto q = y_.head(n_), qd = y_.segment(n_, n_);
-    chain_reactions(c_, phases_, a, q, qd, reactions_, qdd_, w_);
+    chain_reactions(c_, phases_, a, q, qd, reactions_, qdd_, w_, corners_);
     for (Pivot s : pivots)
-      if (uplift_guard(c_, j, s, reactions_[j]) > 0 && corner_acceleration(c_, phases_, j, s, a, q, qd, w_) > 0) {
+      if (uplift_guard(c_, j, s, reactions_[j]) > 0 && corners_[j][s] > 0) {
         lift(j, s, t);
         return;
       }
@@ -170,7 +170,35 @@ class ChainDriver {
     if (observer_ != nullptr) observer_->event(e);
   }
 
+  // The reactions of the guards' last few states (the steps' guard samples
+  // are the states sample_step then tracks), keyed by t and the whole state,
+  // and forgotten when the phases change (restart).
+  struct Remembered {
+    double t = 0;
+    Eigen::VectorXd y;
+    std::vector<JointReaction> reactions;
+  };
+  void remember(double t, Eigen::Ref<const Eigen::VectorXd> y) {
+    Remembered& r = remembered_[next_remembered_];
+    next_remembered_ = (next_remembered_ + 1) % remembered_.size();
+    r.t = t;
+    r.y = y;
+    r.reactions.assign(reactions_.begin(), reactions_.end());
+    held_ = std::min(held_ + 1, remembered_.size());
+  }
+  bool recall(double t, Eigen::Ref<const Eigen::VectorXd> y) {
+    for (std::size_t k = 0; k < held_; ++k) {
+      const Remembered& r = remembered_[k];
+      if (r.t == t && r.y == y) {
+        std::copy(r.reactions.begin(), r.reactions.end(), reactions_.begin());
+        return true;
+      }
+    }
+    return false;
+  }
+
   void restart(double t) {
+    held_ = next_remembered_ = 0;
     guards_.clear();
     std::vector<ode::Direction> directions;
     for (int j = 0; j < c_.joints; ++j) {
@@ -203,7 +231,8 @@ class ChainDriver {
   void guard_values(double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> g) {
     const GroundAcceleration a = ground_at(t);
     const auto q = y.head(n_), qd = y.segment(n_, n_);
-    chain_reactions(c_, phases_, a, q, qd, reactions_, qdd_, w_);
+    chain_reactions(c_, phases_, a, q, qd, reactions_, qdd_, w_, corners_);
+    remember(t, y);
     for (std::size_t k = 0; k < guards_.size(); ++k) {
       const ChainGuardDef& d = guards_[k];
       const int j = d.joint;
@@ -211,7 +240,7 @@ class ChainDriver {
       const JointReaction& r = reactions_[j];
       switch (d.what) {
         case ChainGuard::uplift:
-          g[k] = std::min(uplift_guard(c_, j, d.pivot, r), corner_acceleration(c_, phases_, j, d.pivot, a, q, qd, w_));
+          g[k] = std::min(uplift_guard(c_, j, d.pivot, r), corners_[j][d.pivot]);
           break;
         case ChainGuard::impact: g[k] = s * q[j]; break;
         case ChainGuard::overturn: g[k] = s * q[j] - jm_.overturn_angle[j]; break;
@@ -325,7 +354,7 @@ class ChainDriver {
     r[Quantity::delta_t] = top.x() * scales_.inverse_H_N;
     for (std::size_t k = 0; k < elongation_.size(); ++k)
       elongation_[k] = tendon_elongation(c_, phases_, static_cast<int>(k), q, w_);
-    if (reactions) chain_reactions(c_, phases_, ground_at(t), q, qd, reactions_, qdd_, w_);
+    if (reactions && !recall(t, y)) chain_reactions(c_, phases_, ground_at(t), q, qd, reactions_, qdd_, w_);
     for (int j = 0; j < c_.joints; ++j) {
       JointSample& s = samples_[j];
       s.phase = phases_[j];
@@ -441,6 +470,9 @@ class ChainDriver {
   int n_;
   std::vector<Phase> phases_;
   std::vector<JointReaction> reactions_;
+  std::vector<CornerAcceleration> corners_ = std::vector<CornerAcceleration>(static_cast<std::size_t>(c_.joints));
+  std::vector<Remembered> remembered_ = std::vector<Remembered>(16);
+  std::size_t next_remembered_ = 0, held_ = 0;
   std::vector<JointSample> samples_;
   Eigen::VectorXd y_, dense_, qdd_;
   std::vector<double> elongation_;  // per tendon, at the last response
