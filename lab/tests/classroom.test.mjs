@@ -1,6 +1,6 @@
 // The lab as a class meets it, in Debian's headless Chromium against
 // `rocking serve`: at phone (390x844), tablet (820x1180) and desktop
-// (1280x900) sizes the page fits the width, no chart overlaps another, the
+// (1280x900) sizes the page fits the width (every lesson's page too), no chart overlaps another, the
 // time slider is a slider, controls are touch-sized on the phone, charts are
 // tall enough with axes that show their range, and an axe-core audit finds no
 // serious or critical violation; a screenshot of each size is written. Then
@@ -141,6 +141,18 @@ try {
       const file = join(shots, `lab-${size.name}.png`);
       await page.screenshot({ path: file, fullPage: size.name !== 'desktop' ? false : true });
       console.log(`wrote ${file}`);
+      // Every lesson at this size: it runs, fits the width, and its charts stay apart.
+      for (let k = 0; k < lessons.length; k += 1) {
+        await page.goto(`${url}?lesson=${k}`, { waitUntil: 'load' });
+        await settled(page, 0);
+        const at = await layout(page);
+        const error = await page.$eval('#error', (e) => (e.hidden ? '' : e.textContent));
+        assert.equal(error, '', `lesson ${k} at ${size.name} size: no error`);
+        assert.ok(at.scrollWidth <= at.width, `lesson ${k}: the page is ${at.scrollWidth} px wide in a ${at.width} px window`);
+        for (let i = 0; i < at.charts.length; i += 1)
+          for (let j = i + 1; j < at.charts.length; j += 1)
+            assert.ok(!overlap(at.charts[i], at.charts[j]), `lesson ${k}: charts ${i} and ${j} overlap`);
+      }
       await page.close();
     });
   }
