@@ -35,6 +35,7 @@
 #include "temp_path.hpp"
 #include "watched_run.hpp"
 import rocking.run;
+import rocking.report;
 import rocking.errors;
 
 using namespace rocking;
@@ -108,6 +109,8 @@ TEST_CASE("a tendon through each column raises the frame's uplift threshold by n
     CHECK(ran.watch.events.front().kind == EventKind::uplift);
     CHECK(ran.watch.events.front().pivot == Pivot::left);  // a_g > 0 pushes the frame to the left
     CHECK(ran.result.first_uplift == close_to(a_star / c, 1e-6));
+    // rocking modal gives the same push, the devices' moment at rest included.
+    CHECK(modal_summary(scene)["columns"]["uplift_g"].get<double>() * gravity == close_to(a_star, 1e-12));
     MESSAGE("P0 " << prestress << " N: uplift at " << ran.result.first_uplift << " s, closed form " << a_star / c << " s");
   }
 }

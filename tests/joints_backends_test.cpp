@@ -8,10 +8,15 @@
 // 14's gravity), the threshold computed here from the scene's numbers.
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include "close.hpp"
+#include "csv_table.hpp"
+#include "run_program.hpp"
+#include "temp_path.hpp"
 #include "watched_run.hpp"
 import rocking.run;
 
@@ -55,4 +60,22 @@ TEST_CASE("the stacked blocks under a ramp with a constant vertical acceleration
     CHECK(ran.watch.events.front().joint == 1);
     CHECK(ran.watch.events.front().t == close_to(t_star, 1e-6));
   }
+}
+
+TEST_CASE("a tendon's work counts from the start of the run: the segmental pier released from a tilt") {
+  // Released from a tilt the tendon is already stretched; its work (int F de since the start) is 0 at t = 0 and
+  // equals the devices' total W_devices at every row.
+  const std::filesystem::path out = temp_path("pier_tilt");
+  const cli::Result r = cli::run(std::string("-q simulate ") + ROCKING_SCENES +
+                                 "/segmental_pier.toml --set initial.theta=0.01 --set excitation.kind=none "
+                                 "--set excitation.duration=2 --history t,W_devices,tendon.work --out " + out.string());
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const CsvTable h = csv_table(file_text(out / "history.csv"));
+  REQUIRE(h.rows.size() > 10);
+  double largest = 0;
+  for (std::size_t i = 0; i < h.rows.size(); ++i) largest = std::max(largest, std::abs(std::stod(h.at(i, "W_devices [J]"))));
+  REQUIRE(largest > 0);
+  CHECK(std::stod(h.at(0, "tendon.work [J]")) == within(0.0, 1e-9 * largest));
+  for (std::size_t i = 0; i < h.rows.size(); ++i)
+    CHECK(std::stod(h.at(i, "tendon.work [J]")) == close_to(std::stod(h.at(i, "W_devices [J]")), 1e-6, 1e-9 * largest));
 }

@@ -89,9 +89,13 @@ int on_columns(const Scene& scene) {
   fmt::print("  b         {:<12.4f} m       half-width\n", v("half_width_m"));
   fmt::print("  h         {:<12.4f} m       half-height ({:.4g} m tall)\n", v("half_height_m"), 2 * v("half_height_m"));
   fmt::print("  mass      {:<12.5g} kg      one column\n", v("mass_kg"));
-  fmt::print("  alpha     {:<12.4f} rad     slenderness, atan(b / h); a rigid deck lifts them at a_g = g tan(alpha) = "
-             "{:.3f} g\n",
-             v("alpha"), v("uplift_g"));
+  fmt::print("  alpha     {:<12.4f} rad     slenderness, atan(b / h)\n", v("alpha"));
+  if (v("held_moment_N_m") > 0)
+    fmt::print("  held      {:<12.4g} N m     the devices' force at rest x lever arm, all columns', about the weaker "
+               "side\n",
+               v("held_moment_N_m"));
+  fmt::print("  uplift    {:<12.4f} g       a rigid deck lifts them at a_g / g = b / h + D_0 / (g h (n m_c + 2 m_d))\n",
+             v("uplift_g"));
   fmt::print("  R         {:<12.4f} m       corner to centre\n", v("R_m"));
   fmt::print("  p         {:<12.4f} rad/s   one column alone, sqrt(3 g / 4R)\n", v("p"));
   fmt::print("  gamma     {:<12.4f} -       the deck's mass (beam and structure) over the columns'\n", v("gamma"));

@@ -272,9 +272,7 @@ bool HistoryColumns::has_members() const {
 }
 
 namespace {
-// A joint column's value: NaN when the run handed over no sample for that
-// joint (it ended before its first row). theta_over_alpha is theta over the
-// joint's overturning angle (the slenderness of everything above it).
+// A device column's value.
 double device_value(const DeviceSample& s, DeviceQuantity q) {
   switch (q) {
     case DeviceQuantity::elongation: return s.e;
@@ -285,6 +283,9 @@ double device_value(const DeviceSample& s, DeviceQuantity q) {
   return std::numeric_limits<double>::quiet_NaN();
 }
 
+// A joint column's value: NaN when the run handed over no sample for that
+// joint (it ended before its first row). theta_over_alpha is theta over the
+// joint's overturning angle (the slenderness of everything above it).
 double joint_value(const ContactModel& m, std::span<const JointSample> joints, const JointQuantityName& q) {
   const auto j = static_cast<std::size_t>(q.joint);
   if (j >= joints.size()) return std::numeric_limits<double>::quiet_NaN();
@@ -393,6 +394,20 @@ BlockSummary block_summary(const Scene& scene) {
 // beam, while they stand, is on a fixed base (MODEL.md 8).
 json columns_modal(const Scene& scene) {
   const Columns c = make_columns(*scene.columns, scene.structure);
+  // The devices at the columns' bases hold n sum F(e = 0) l at rest about
+  // each side (MODEL.md 11); the frame lifts about the side where that is
+  // least, at a_g / g = b / h + D_0 / (g h (n m_c + 2 m_d)) for a rigid deck
+  // (MODEL.md 16's uplift condition).
+  const ContactModel model = make_contact_model(scene, false);
+  double held = model.devices.empty() ? 0.0 : std::numeric_limits<double>::infinity();
+  for (Pivot p : pivots) {
+    double about = 0;
+    for (const ContactModel::Acting& a : model.acting[index(p)]) about += law_force_at_rest(a.law, 0.0) * a.lever;
+    if (!model.devices.empty()) held = std::min(held, about);
+  }
+  held *= c.group.count;
+  const double b = c.group.half_width, h = c.group.half_height;
+  const double uplift_g = b / h + held / (c.g * h * (c.columns_mass + 2.0 * c.deck_mass));
   json out = {{"columns",
                {{"count", c.group.count},
                 {"half_width_m", c.group.half_width},
@@ -405,7 +420,8 @@ json columns_modal(const Scene& scene) {
                 {"p", std::sqrt(3 * c.g / (4 * c.R))},
                 {"p_hat", std::sqrt(frame_p2(c))},
                 {"r_rigid_deck", frame_restitution(c)},
-                {"uplift_g", std::tan(c.alpha)}}}};
+                {"held_moment_N_m", held},
+                {"uplift_g", uplift_g}}}};
   if (!scene.structure.rigid) out["fixed_base_hz"] = modal_analysis(scene.structure, {}).fixed_base_hz;
   return out;
 }
@@ -418,8 +434,8 @@ json columns_modal(const Scene& scene) {
 // sqrt(m g R / J_p) and its momentum-law restitution 1 - 2 m B_j^2 / J_p
 // (Eq. 10); and the static uplift threshold of a rigid stack, the a_g / g
 // at which the joint's reaction reaches its corner: (B_j + D_0,j / (m g)) /
-// H_j, where D_0,j = sum P0 (B_j - |x|) over the tendons across the joint at
-// rest (vertical there). Under a slow push the smallest lifts first. The
+// H_j, where D_0,j is the least over the two pivots of sum P0 (B_j - s x)
+// over the tendons across the joint at rest (vertical there, MODEL.md 11). Under a slow push the smallest lifts first. The
 // structure's fixed-base modes (every joint closed) when it is flexible.
 json joints_modal(const Scene& scene) {
   const JointedModel jm = jointed_model(scene);
@@ -442,10 +458,15 @@ json joints_modal(const Scene& scene) {
       for (Eigen::Index i = 0; i < sg.masses.size(); ++i) add(sg.masses[i], sg.heights[i]);
     }
     const double H = mz / m, R = std::hypot(B, H);
-    double held = 0;
+    // The tendons across the joint hold sum P0 (B - s x) about pivot s: the
+    // push lifts it about the pivot where that is least, B sum P0 - |sum P0 x|.
+    double prestress = 0, first_moment = 0;
     for (const ChainTendon& t : d.tendons)
-      if (t.from.segment < static_cast<int>(j) && t.to.segment >= static_cast<int>(j))
-        held += std::max(0.0, t.prestress) * (B - std::abs(t.to.x));
+      if (t.from.segment < static_cast<int>(j) && t.to.segment >= static_cast<int>(j)) {
+        prestress += std::max(0.0, t.prestress);
+        first_moment += std::max(0.0, t.prestress) * t.to.x;
+      }
+    const double held = B * prestress - std::abs(first_moment);
     const double uplift_g = (B + held / (m * d.g)) / H;
     if (uplift_g < lowest) {
       lowest = uplift_g;

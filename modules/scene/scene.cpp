@@ -395,9 +395,6 @@ Structure read_structure(const toml::table& root, const std::string& file, const
   return s;
 }
 
-// [columns] (MODEL.md 16): n identical rigid columns under the structure's
-// foundation beam. spacing (between the outer columns' axes) is needed from
-// two columns on, and must leave room for the columns' width.
 // The rocking base the devices of a scene stand on (MODEL.md 11): the
 // structure's own, or on [columns] one column as a rigid block (half-width b,
 // its mass at mid-height), every device standing at the base of each column
@@ -413,6 +410,9 @@ Structure device_base(const Scene& scene) {
   return column;
 }
 
+// [columns] (MODEL.md 16): n identical rigid columns under the structure's
+// foundation beam. spacing (between the outer columns' axes) is needed from
+// two columns on, and must leave room for the columns' width.
 std::optional<ColumnGroup> read_columns(const toml::table& root, const std::string& file, const Origins& origins) {
   if (!root.contains("columns")) return std::nullopt;
   const TableReader t(root, "columns", file, origins);

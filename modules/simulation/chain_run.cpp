@@ -83,6 +83,10 @@ class ChainDriver {
                                  .work = 0.0});
     initial_state();
     tendons_initial_ = energy().tendons;
+    // Each tendon's stored energy at the start: its work counts from there.
+    for (std::size_t k = 0; k < c_.data.tendons.size(); ++k)
+      tendon_start_.push_back(
+          tendon_stored(k, tendon_elongation(c_, phases_, static_cast<int>(k), y_.head(n_), w_)));
     result_.energy.initial = mechanical();
     run_stated(
         result_,
@@ -426,7 +430,7 @@ class ChainDriver {
     if (!device_samples_.empty()) {
       for (std::size_t k = 0; k < device_samples_.size(); ++k)
         device_samples_[k] = {.e = elongation_[k], .F = tendon_force(k, elongation_[k]),
-                              .work = tendon_stored(k, elongation_[k]) - tendon_stored(k, 0.0)};
+                              .work = tendon_stored(k, elongation_[k]) - tendon_start_[k]};
       observer_->devices(device_samples_);
     }
     observer_->joints(samples_);
@@ -453,7 +457,7 @@ class ChainDriver {
     result_.energy.damper = energy().tendons - tendons_initial_;
     for (std::size_t k = 0; k < result_.devices.size(); ++k)
       result_.devices[k].work = tendon_stored(k, tendon_elongation(c_, phases_, static_cast<int>(k), y_.head(n_), w_)) -
-                                tendon_stored(k, 0.0);
+                                tendon_start_[k];
     if (opt_.final_row && observer_ != nullptr && opt_.output_interval > 0 && last_row_ < result_.t_end)
       history_row(result_.t_end, y_);
   }
@@ -482,6 +486,7 @@ class ChainDriver {
   GroundTravel travel_{ground_};
   std::unique_ptr<ode::Integrator> integrator_;
   double t_end_ = 0, tendons_initial_ = 0;
+  std::vector<double> tendon_start_;  // each tendon's stored energy at the start [J]
   double last_row_ = -std::numeric_limits<double>::infinity();  // the last history row's time
   long events_ = 0;
   HistoryGrid history_{opt_.output_interval};

@@ -151,7 +151,9 @@ RunResult StudyColumns::run(const std::vector<double>& values, Outcome outcome) 
   }
   const std::size_t first_device = quantities.size() + joints.size();
   for (std::size_t k = 0; k < devices.size(); ++k) {
-    const double e = values.at(first_device + 2 * k), f = values.at(first_device + 2 * k + 1);
+    const std::size_t at = first_device + device_study_count * k;
+    const double e = values.at(at + device_study_position(DeviceQuantity::elongation)),
+                 f = values.at(at + device_study_position(DeviceQuantity::force));
     if (std::isnan(e)) continue;  // the run's model has no such device
     DeviceResult d;
     d.name = devices[k];
@@ -219,7 +221,7 @@ double StudySummary::value(const Cell& c, const QuantityName& q) const {
                                        : c.peaks[columns_.quantities.size() + static_cast<std::size_t>(at - columns_.joints.begin())];
   }
   const auto at = std::ranges::find(columns_.devices, q.device);
-  if (at == columns_.devices.end()) return std::nan("");
+  if (at == columns_.devices.end() || !info(q.of).is(Role::study)) return std::nan("");
   return c.peaks[columns_.quantities.size() + columns_.joints.size() +
                  device_study_count * static_cast<std::size_t>(at - columns_.devices.begin()) +
                  device_study_position(q.of)];
