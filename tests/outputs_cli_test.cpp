@@ -118,6 +118,11 @@ TEST_CASE("--list-quantities names what a scene reports, with units, and what it
   CHECK(contains(r.out, "damper_d                     m       history,peak,study   damper elongation (signed by the "
                         "pivot) (not in this scene)"));
   CHECK(contains(r.out, "delta_t                      -       history,peak,study   total top drift\n"));
+  // The energy balance's terms and each device's work are given on request: a run tracks them.
+  CHECK(contains(r.out, "tendon.work                  J       on request           work done on it since the start of "
+                        "tendon (elastic)\n"));
+  CHECK(contains(r.out, "W_ground                     J       on request           work done by the ground since the "
+                        "start\n"));
 }
 
 TEST_CASE("IDA columns and --limit take each device by its name") {

@@ -801,7 +801,7 @@ PYBIND11_MODULE(rocking, m) {
   m.def("quantities",
         [](const py::object& s) {
           py::list out;
-          for (const rocking::QuantityRow& q : rocking::quantity_rows(rocking::make_contact_model(*scene_of(s).scene, false)))
+          for (const rocking::QuantityRow& q : rocking::quantity_rows(rocking::make_contact_model(*scene_of(s).scene, true)))
             out.append(py::dict("name"_a = q.name, "unit"_a = q.unit, "words"_a = q.words, "history"_a = q.history,
                                 "peak"_a = q.peak, "study"_a = q.study, "reported"_a = q.reported,
                                 "on_request"_a = q.on_request));

@@ -87,7 +87,7 @@ constexpr std::size_t summary_room = 1 << 16;
 int run(const SimulateOptions& o) {
   const Scene scene = load_scene(o.scene);
   if (o.list_quantities) {
-    fmt::print("{}", quantity_table_text(make_contact_model(scene, false)));
+    fmt::print("{}", quantity_table_text(make_contact_model(scene, true)));  // as a run tracks it: its energy too
     return 0;
   }
   const PreparedRun prepared = prepare_run({.scene = scene, .motion = o.motion, .solver = o.solver,
