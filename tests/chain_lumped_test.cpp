@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "chain_segment.hpp"
 #include "close.hpp"
 import rocking.chain;
 import rocking.geometry;
@@ -31,15 +32,7 @@ constexpr double tol = 1e-12;
 
 ChainSegment segment(double h, double B, double m0, std::vector<double> heights, std::vector<double> masses,
                      bool rigid = true, std::vector<double> EI = {}) {
-  ChainSegment s;
-  s.base_height = h;
-  s.half_width = B;
-  s.base_mass = m0;
-  s.heights = Eigen::Map<Vec>(heights.data(), static_cast<Eigen::Index>(heights.size()));
-  s.masses = Eigen::Map<Vec>(masses.data(), static_cast<Eigen::Index>(masses.size()));
-  s.rigid = rigid;
-  if (!rigid) s.EI = Eigen::Map<Vec>(EI.data(), static_cast<Eigen::Index>(EI.size()));
-  return s;
+  return chain_segment<ChainSegment>(h, B, m0, std::move(heights), std::move(masses), rigid, std::move(EI));
 }
 
 // The chains compared: the stacked blocks, the segmental pier with its tendon,

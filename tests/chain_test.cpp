@@ -16,6 +16,7 @@
 #include <random>
 #include <vector>
 
+#include "chain_segment.hpp"
 #include "chain_ode.hpp"
 #include "close.hpp"
 #include "chain_sums.hpp"
@@ -32,14 +33,7 @@ using Vec = Eigen::VectorXd;
 namespace {
 
 ChainSegment rigid_segment(double h, double B, double m0, std::vector<double> heights, std::vector<double> masses) {
-  ChainSegment s;
-  s.base_height = h;
-  s.half_width = B;
-  s.base_mass = m0;
-  s.heights = Eigen::Map<Vec>(heights.data(), static_cast<Eigen::Index>(heights.size()));
-  s.masses = Eigen::Map<Vec>(masses.data(), static_cast<Eigen::Index>(masses.size()));
-  s.rigid = true;
-  return s;
+  return chain_segment<ChainSegment>(h, B, m0, std::move(heights), std::move(masses));
 }
 
 }  // namespace
