@@ -157,21 +157,28 @@ export function bodyPoints(structure, theta, u, top = 0) {
 // the top corners opposite the pivots, moved without turning by
 //   shift = (2R s (sin alpha - sin(alpha - s theta)), 2R (cos(alpha - s theta) - cos alpha)),
 // R = sqrt(b^2 + h^2), alpha = atan(b / h), s = sign(theta). Returns each
-// column's corners (left, right at the ground; topLeft, topRight), the beam's
+// column's corners (left, right at the ground; topLeft, topRight) and the
+// devices at its base (each standing at every column alike, MODEL.md 16: x
+// from the column's axis, from its ground anchor to its end on the column,
+// as bodyPoints places a rocking body's), the beam's
 // two ends over the outer columns' outer faces, the shift, and the height of
 // the column tops at rest (2h), where the structure's base stands.
-export function columnsPoints(columns, theta) {
+export function columnsPoints(columns, theta, devices = []) {
   const { count, half_width: b, half_height: h, spacing } = columns;
   const R = Math.hypot(b, h);
   const alpha = Math.atan2(b, h);
   const s = theta > 0 ? 1 : theta < 0 ? -1 : 0;
   const shift = [2 * R * s * (Math.sin(alpha) - Math.sin(alpha - s * theta)), 2 * R * (Math.cos(alpha - s * theta) - Math.cos(alpha))];
   const axes = Array.from({ length: count }, (_, k) => (count === 1 ? 0 : -spacing / 2 + (spacing * k) / (count - 1)));
-  const block = bodyPoints({ half_width: b, heights: [h] }, theta, null, 2 * h);
+  // One column as a rigid block with the devices at its base (x from its axis), then each column moved to its axis.
+  const block = bodyPoints({ half_width: b, heights: [h], devices }, theta, null, 2 * h);
   const at = (x) => (pt) => [pt[0] + x, pt[1]];
   const list = axes.map((x) => {
     const move = at(x);
-    return { axis: x, left: move(block.left), right: move(block.right), topLeft: move(block.topLeft), topRight: move(block.topRight) };
+    return {
+      axis: x, left: move(block.left), right: move(block.right), topLeft: move(block.topLeft), topRight: move(block.topRight),
+      devices: block.devices.map((d) => ({ name: d.name, from: move(d.from), to: move(d.to) })),
+    };
   });
   const top = 2 * h;
   const beam = [[axes[0] - b + shift[0], top + shift[1]], [axes[count - 1] + b + shift[0], top + shift[1]]];

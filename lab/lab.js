@@ -395,7 +395,9 @@ function drawStructure(ctx, run, t, factors, origin, scale, color, label) {
   // On rocking columns, the columns turn and the structure stands upright on
   // the cap beam, which is its base, moved with the beam; otherwise its base
   // is the foundation beam, turning by theta on the ground.
-  const c = run.structure.columns ? columnsPoints(run.structure.columns, (columnsThetaOf(run)[i] ?? 0) * factors.theta) : null;
+  const c = run.structure.columns
+    ? columnsPoints(run.structure.columns, (columnsThetaOf(run)[i] ?? 0) * factors.theta, run.structure.devices)
+    : null;
   const theta = c ? 0 : (run.history.theta ? run.history.theta[i] ?? 0 : 0) * factors.theta;
   const u = nodeDisplacements(run, i).map((v) => v * factors.u);
   const p = bodyPoints(run.structure, theta, u, blockHeight(run.structure));
@@ -418,7 +420,9 @@ function drawStructure(ctx, run, t, factors, origin, scale, color, label) {
     tracePath(ctx, [p.left, p.topLeft, p.topRight, p.right], BX, BY);
     ctx.stroke();
   }
-  strokeDevices(ctx, p.devices, BX, BY);
+  // The devices stand at the columns' bases on columns, else at the structure's.
+  if (c) for (const col of c.columns) strokeDevices(ctx, col.devices, X, Y);
+  else strokeDevices(ctx, p.devices, BX, BY);
   for (const pt of p.axis.slice(1)) {
     ctx.beginPath();
     ctx.arc(BX(pt), BY(pt), 4, 0, 2 * Math.PI);

@@ -301,6 +301,19 @@ test('a structure on rocking columns: each column turns about its pivot corner, 
   const small = columnsPoints(columns, 1e-6);
   assert.ok(Math.abs(small.shift[0] / 1e-6 - 9.6) < 1e-5 && small.shift[1] > 0);
   assert.deepEqual(columnsPoints({ ...columns, count: 1, spacing: 0 }, 0.1).columns.map((c) => c.axis), [0], 'one column on the axis');
+  // Devices at every column's base: a chord device at x = -b ends at the column's lifted left corner, from
+  // where that corner stood; a tendon up the axis (free length 2h) ends at the middle of the column's top.
+  const b = columns.half_width, h = columns.half_height;
+  const withDevices = columnsPoints(columns, 0.05, [{ name: 'plate', x: -b, vertical: false, free_length: 0 },
+    { name: 'tie', x: 0, vertical: true, free_length: 2 * h }]);
+  for (const col of withDevices.columns) {
+    const [plate, tie] = col.devices;
+    assert.deepEqual(plate.from, [col.axis - b, 0]);
+    assert.ok(Math.hypot(plate.to[0] - col.left[0], plate.to[1] - col.left[1]) < 1e-12, 'the plate ends at the lifted corner');
+    assert.deepEqual(tie.from, [col.axis, 0]);
+    const mid = [(col.topLeft[0] + col.topRight[0]) / 2, (col.topLeft[1] + col.topRight[1]) / 2];
+    assert.ok(Math.hypot(tie.to[0] - mid[0], tie.to[1] - mid[1]) < 1e-12, 'the tie ends at the middle of the column top');
+  }
 });
 
 test('the columns\' rocking angle: columns.theta when sent, else theta/alpha times the columns\' slenderness', () => {
