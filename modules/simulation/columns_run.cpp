@@ -53,7 +53,7 @@ module;
 #include <fmt/format.h>
 module rocking.simulation;
 import :peaks;
-import :exact_steps;
+import :record_steps;
 import rocking.errors;
 
 namespace rocking {
@@ -98,21 +98,7 @@ class ColumnsDriver {
     // with the ground's and the viscous work as its quadratures.
     if (o.exact_full_contact && n_ > 0 && m.body.coordinates == ElasticCoordinates::nodal && ground.piecewise_linear() &&
         (!vertical_ || vertical_->piecewise_linear())) {
-      LinearPhase phase = full_contact_matrices(m);
-      ode::LinearSystem system{size_, u_, std::move(phase.A), std::move(phase.b),
-                               [this](double t) { return ground_.acceleration(t); }, {}};
-      system.quadratures.push_back({work_, Eigen::MatrixXd(), std::move(phase.ground)});
-      system.quadratures.push_back({work_ + 1, std::move(phase.viscous), Eigen::VectorXd()});
-      ode::Options exact;
-      exact.sample_spacing = shortest_period(m) / 8;
-      exact.max_steps = o.tolerances.max_steps;
-      exact_ = ode::make_exact_linear(std::move(system), exact);
-      const bool own_samples = vertical_ && !(vertical_->sample_interval() > 0 &&
-                                              vertical_->sample_interval() == ground.sample_interval() &&
-                                              vertical_->duration() <= ground.duration());
-      exact_->set_breakpoints([this, own_samples](double t) {
-        return own_samples ? std::min(ground_.next_breakpoint(t), vertical_->next_breakpoint(t)) : ground_.next_breakpoint(t);
-      });
+      exact_ = exact_full_contact(m, size_, u_, work_, ground_, o.tolerances.max_steps);
     }
     active_ = integrator_.get();
   }
@@ -453,7 +439,7 @@ class ColumnsDriver {
       out.e = st.elongation;
       out.F = st.force;
       out.moment = count() * s() * st.force * de_dtheta;
-      moment += count() * s() * st.force * de_dtheta;
+      moment += out.moment;
     }
     return moment;
   }

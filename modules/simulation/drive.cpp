@@ -11,6 +11,7 @@ module;
 #include <utility>
 #include <fmt/format.h>
 module rocking.simulation;
+import :record_steps;
 import rocking.errors;
 
 namespace rocking {
@@ -32,15 +33,7 @@ std::unique_ptr<ode::Integrator> motion_integrator(const RunOptions& o, const Gr
                                                    ode::Rhs rhs, const ode::Options& tolerances) {
   const ode::Backend backend = o.backend == ode::Backend::automatic ? ode::Backend::rk45 : o.backend;
   std::unique_ptr<ode::Integrator> integrator = ode::make_integrator(backend, size, std::move(rhs), tolerances);
-  // A vertical record sampled as the horizontal one and no longer than it
-  // adds no breakpoints of its own.
-  const GroundMotion* vertical = ground.vertical();
-  const bool own_samples = vertical && !(vertical->sample_interval() > 0 &&
-                                         vertical->sample_interval() == ground.sample_interval() &&
-                                         vertical->duration() <= ground.duration());
-  integrator->set_breakpoints([&ground, vertical, own_samples](double t) {
-    return own_samples ? std::min(ground.next_breakpoint(t), vertical->next_breakpoint(t)) : ground.next_breakpoint(t);
-  });
+  integrator->set_breakpoints(record_samples(ground));
   return integrator;
 }
 

@@ -15,7 +15,7 @@ module;
 #include <fmt/format.h>
 module rocking.simulation;
 import :peaks;
-import :exact_steps;
+import :record_steps;
 import rocking.errors;
 
 namespace rocking {
@@ -65,39 +65,16 @@ class Driver {
     }
     integrator_ = ode::make_integrator(backend_, m_.layout.size, rhs, tolerances, std::move(stiff));
     t_end_ = o.duration > 0 ? o.duration : ground.duration();
-    // The records' samples, computed when asked: a run holds no list of them.
-    // A vertical record sampled as the horizontal one (the components of one
-    // file) and no longer than it adds no breakpoints of its own.
-    const bool own_samples = vertical_ && !(vertical_->sample_interval() > 0 &&
-                                            vertical_->sample_interval() == ground_.sample_interval() &&
-                                            vertical_->duration() <= ground_.duration());
-    const ode::NextBreakpoint next_sample = [this, own_samples](double t) {
-      return own_samples ? std::min(ground_.next_breakpoint(t), vertical_->next_breakpoint(t)) : ground_.next_breakpoint(t);
-    };
     // An automatic choice of rosw integrates full contact too: its steps are
     // not bound by the highest modes, and it then costs less than the exact
     // steps, which sample every oscillating period (`rocking tradeoff --scenes`).
     const bool auto_rosw = o.backend == ode::Backend::automatic && backend_ == ode::Backend::rosw;
     if (o.exact_full_contact && !auto_rosw && m_.layout.u.present() && ground.piecewise_linear() &&
-        (!vertical_ || vertical_->piecewise_linear())) {
-      ode::Options exact;
-      // Steps from sample to sample of the record (up to 16 spacings), with
-      // guards and peaks sampled 8 times in the shortest oscillating period.
-      exact.sample_spacing = tolerances.sample_spacing;
-      exact.max_steps = tolerances.max_steps;
-      LinearPhase phase = full_contact_matrices(m_);
-      ode::LinearSystem system{m_.layout.size, phase.first, std::move(phase.A), std::move(phase.b),
-                               [this](double t) { return ground_.acceleration(t); }, {}};
-      // The ground's and the viscous work, integrated with the exact steps
-      // (the work on the devices does not grow in full contact).
-      if (m_.layout.energy.present()) {
-        system.quadratures.push_back({m_.layout.energy.start, Eigen::MatrixXd(), std::move(phase.ground)});
-        system.quadratures.push_back({m_.layout.energy.start + 1, std::move(phase.viscous), Eigen::VectorXd()});
-      }
-      exact_ = ode::make_exact_linear(std::move(system), exact);
-      exact_->set_breakpoints(next_sample);
-    }
-    integrator_->set_breakpoints(next_sample);
+        (!vertical_ || vertical_->piecewise_linear()))
+      exact_ = exact_full_contact(m_, m_.layout.size, m_.layout.u.start,
+                                  m_.layout.energy.present() ? std::optional(m_.layout.energy.start) : std::nullopt,
+                                  ground_, tolerances.max_steps);
+    integrator_->set_breakpoints(record_samples(ground_));
     active_ = integrator_.get();
   }
 
