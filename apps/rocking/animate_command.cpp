@@ -349,9 +349,11 @@ int animate(const AnimateArgs& a) {
                           drawing("twin.dat", twin_model, "#27864a"));
   // Alone, the rocking angles over their slenderness: the body's, the
   // columns', or every joint's (one curve each, the key above the panel).
+  // Greek letters as UTF-8: the GIF terminal has no Symbol font, and drops a
+  // label that asks for one.
   auto angle_trace = [&] {
     if (main_model.on_columns)
-      return fmt::format("  set ylabel \"columns {{/Symbol q}}_c/{{/Symbol a}}_c\"\n"
+      return fmt::format("  set ylabel \"columns θ_c/α_c\"\n"
                          "  plot d.\"traces.dat\" using {} with lines lc rgb \"#1f4e9c\" notitle\n",
                          trace(Quantity::columns_theta_over_alpha));
     if (main_model.jointed) {
@@ -360,11 +362,11 @@ int animate(const AnimateArgs& a) {
         curves.push_back(fmt::format("{}using ({}):({}) with lines lw 2 title \"{}\"", j == 0 ? "d.\"traces.dat\" " : "'' ",
                                      plot::column(info(Quantity::t).name), plot::column(ratio_names[j]),
                                      j == 0 ? std::string("base") : fmt::format("joint {}", j)));
-      return fmt::format("  set ylabel \"joints {{/Symbol q}}_j/{{/Symbol a}}_j\"\n"
+      return fmt::format("  set ylabel \"joints θ_j/α_j\"\n"
                          "  set key outside top center horizontal nobox samplen 2.5 width 1\n"
                          "  plot {}\n", fmt::join(curves, ", "));
     }
-    return fmt::format("  set ylabel \"rocking angle {{/Symbol q}}/{{/Symbol a}}_{{cg}}\"\n"
+    return fmt::format("  set ylabel \"rocking angle θ/α_{{cg}}\"\n"
                        "  plot d.\"traces.dat\" using {} with lines lc rgb \"#1f4e9c\" notitle\n",
                        trace(Quantity::theta_over_alpha));
   };
