@@ -328,6 +328,7 @@ void assemble_equations(const Chain& c, ChainPhases phases, GroundAcceleration a
     }
   }
   for (int t = 0; t < static_cast<int>(c.data.tendons.size()); ++t) tendon_state(c, t, ncol, w, &Q);
+  for (int k = 0; k < std::min(ncol, c.size); ++k) Q[k] += w.applied[k];
 }
 
 // The free coordinates (open joints' theta, every elastic one) and, when
@@ -608,6 +609,7 @@ ChainWorkspace make_workspace(const Chain& c) {
   w.coupling = Eigen::VectorXd::Zero(c.augmented);
   w.mass = Eigen::MatrixXd::Zero(c.augmented, c.augmented);
   w.force = Eigen::VectorXd::Zero(c.augmented);
+  w.applied = Eigen::VectorXd::Zero(c.size);
   w.reduced = Eigen::MatrixXd::Zero(c.augmented, c.augmented);
   w.rhs = Eigen::VectorXd::Zero(c.augmented);
   w.solution = Eigen::VectorXd::Zero(c.augmented);
@@ -679,6 +681,7 @@ void chain_reactions(const Chain& c, ChainPhases phases, GroundAcceleration a, E
       const double den = w.mass(j, j) + 2.0 * sB * w.mass(dy, j) + sB * sB * w.mass(dy, dy) -
                          (b0y0 + 2.0 * sB * b0y1 + sB * sB * b1y1);
       (p == Pivot::left ? corners[j].left : corners[j].right) = sign(p) * num / den;
+      (p == Pivot::left ? corners[j].left_gain : corners[j].right_gain) = -1.0 / den;
     }
   }
 }

@@ -131,6 +131,11 @@ struct ChainWorkspace {
   Eigen::VectorXd rhs, solution, column, coupling;
   Rows lumped;               // scratch: a segment's Jacobian rows times its lumped mass
   std::vector<int> free, fixed;
+  // Generalised forces the caller applies to the coordinates (size entries),
+  // added to Q by every evaluation until changed: the moments -s D of devices
+  // across a joint on its theta (virtual work, MODEL.md 11), which the chain
+  // does not model itself (its tendons it does). Zero from make_workspace.
+  Eigen::VectorXd applied;
 };
 ChainWorkspace make_workspace(const Chain& c);
 
@@ -153,6 +158,12 @@ struct JointReaction {
 struct CornerAcceleration {
   double left = 0, right = 0;
   double operator[](Pivot s) const { return s == Pivot::left ? left : right; }
+  // What a restraining moment m about each corner (the generalised force
+  // -s m on theta_j) changes s theta_j'' by, per N m: -1 / the inertia of the
+  // system about that corner. A restraint held at rest (MODEL.md 11's D_0)
+  // lowers the corner's acceleration by D_0 / that inertia.
+  double left_gain = 0, right_gain = 0;
+  double gain(Pivot s) const { return s == Pivot::left ? left_gain : right_gain; }
 };
 // The reactions of every joint, with q'' as chain_acceleration gives it; with
 // `corners` (one per joint), also every closed joint's corner_acceleration

@@ -92,8 +92,14 @@ struct JointedModel {
   std::vector<double> initial_theta;   // per joint [rad]: a release from a tilt
   std::vector<double> friction_limit;  // per joint: |V| / N beyond it ends the run (infinity: not checked)
   std::vector<double> overturn_angle;  // per joint [rad]: the slenderness of everything above it
-  std::vector<std::string> tendons;    // the devices' names, one tendon each (ChainData::tendons' order)
+  std::vector<std::string> tendons;    // the tendons' names (ChainData::tendons' order)
+  // The model's devices [0, base_devices) stand across the base joint, as on
+  // a one-joint structure (MODEL.md 11: chord or vertical, any law; their
+  // acting lists and state slots are a rigid block's, from 2 after theta_0 and
+  // theta_0'); the devices from base_devices on are the chain's tendons, in order.
+  std::size_t base_devices = 0;
   double theta_dot_min = 0.0015;       // Eq. 8's threshold, per joint [rad/s]
+  bool base_rocks = true;              // contact.rocking: false holds the base joint closed (a fixed base)
 };
 
 // A structure standing on rocking columns (MODEL.md 16): the frame

@@ -438,8 +438,8 @@ json columns_modal(const Scene& scene) {
 // over the tendons across the joint at rest (vertical there, MODEL.md 11). Under a slow push the smallest lifts first. The
 // structure's fixed-base modes (every joint closed) when it is flexible.
 json joints_modal(const Scene& scene) {
-  const JointedModel jm = jointed_model(scene);
-  const ChainData& d = jm.chain.data;
+  const ContactModel model = make_contact_model(scene, false);
+  const ChainData& d = model.jointed->chain.data;
   json joints = json::array();
   int first = 0;
   double lowest = std::numeric_limits<double>::infinity();
@@ -458,17 +458,21 @@ json joints_modal(const Scene& scene) {
       for (Eigen::Index i = 0; i < sg.masses.size(); ++i) add(sg.masses[i], sg.heights[i]);
     }
     const double H = mz / m, R = std::hypot(B, H);
-    // The tendons across the joint hold sum P0 (B - s x) about pivot s: the
-    // push lifts it about the pivot where that is least, B sum P0 - |sum P0 x|.
-    double prestress = 0, first_moment = 0;
-    for (const ChainTendon& t : d.tendons)
-      if (t.from.segment < static_cast<int>(j) && t.to.segment >= static_cast<int>(j)) {
-        prestress += std::max(0.0, t.prestress);
-        first_moment += std::max(0.0, t.prestress) * t.to.x;
-      }
-    const double held = B * prestress - std::abs(first_moment);
+    // The tendons across the joint hold sum P0 (B - s x) about pivot s, and at
+    // the base its devices sum F(e = 0) l: the push lifts the joint about the
+    // pivot where that is least.
+    double held = std::numeric_limits<double>::infinity();
+    for (Pivot p : pivots) {
+      double about = 0;
+      for (const ChainTendon& t : d.tendons)
+        if (t.from.segment < static_cast<int>(j) && t.to.segment >= static_cast<int>(j))
+          about += std::max(0.0, t.prestress) * (B - sign(p) * t.to.x);
+      if (j == 0)
+        for (const ContactModel::Acting& a : model.acting[index(p)]) about += law_force_at_rest(a.law, 0.0) * a.lever;
+      held = std::min(held, about);
+    }
     const double uplift_g = (B + held / (m * d.g)) / H;
-    if (uplift_g < lowest) {
+    if (uplift_g < lowest && (j > 0 || model.jointed->base_rocks)) {  // a fixed base never lifts
       lowest = uplift_g;
       first = static_cast<int>(j);
     }
@@ -482,7 +486,7 @@ json joints_modal(const Scene& scene) {
                       {"R_m", R},
                       {"p", std::sqrt(m * d.g * R / J)},
                       {"r_momentum", 1.0 - 2.0 * m * B * B / J},
-                      {"tendon_held_moment_N_m", held},
+                      {"held_moment_N_m", held},
                       {"uplift_g", uplift_g}});
   }
   json out = {{"joints", joints}, {"lifts_first", first}};

@@ -607,9 +607,6 @@ std::vector<JointTable> read_joints(const toml::table& root, const std::string& 
     throw InputError(fmt::format("{}: joint: {} joints for a structure of {} node{}: at most {} (one per node from 1 to "
                                  "N-1; the top node carries none)", origin(0), list->size(), nodes, nodes == 1 ? "" : "s",
                                  nodes - 1));
-  if (!contact.rocking)
-    throw InputError(fmt::format("{}: joint: a structure with joints rocks at its base too (contact.rocking = true)",
-                                 origin(0)));
   const std::set<std::string, std::less<>> known = {"node", "half_width", "base_mass", "restitution",
                                                     "initial_theta", "friction", "rigid"};
   const std::string length_range = fmt::format("in [{:g}, {:g}] m", min_length, max_length);
@@ -834,7 +831,7 @@ Scene read_scene(toml::table root, const std::string& file, const std::vector<st
     throw InputError(fmt::format("{}: contact.friction: the friction demand is checked for a structure with joints "
                                  "([[joint]] tables or contact.restitution = \"momentum\")", file));
   if (scene.jointed()) (void)jointed_model(scene);  // what the chain cannot model is refused here, before any run
-  if (scene.structure.rigid && !scene.contact.rocking)
+  if (scene.structure.rigid && !scene.contact.rocking && scene.joints.empty())
     throw InputError(fmt::format("{}: structure.rigid = true with contact.rocking = false: a rigid "
                                  "block on a fixed base has no motion to compute", file));
   return scene;
@@ -879,6 +876,19 @@ std::string scene_toml(const std::string& path, const std::vector<std::string>& 
   return out.str();
 }
 
+namespace {
+
+// On a structure with joints, scene device k is one of the chain's tendons
+// (MODEL.md 15: from the ground to a segment) when it is elastic, vertical and
+// unbreakable; any other device stands across the base joint.
+bool is_tendon(const Scene& scene, std::size_t k) {
+  const Device& d = scene.devices[k];
+  return std::string_view(law_name(d.law)) == "elastic" && d.geometry.kinematics == Kinematics::vertical &&
+         !(d.capacity > 0);
+}
+
+}  // namespace
+
 std::vector<Device> scene_devices(const Scene& scene) {
   std::vector<Device> all;
   if (scene.damper.enabled) all = edge_dampers(scene.damper, device_base(scene).half_width);
@@ -906,12 +916,9 @@ std::vector<DeviceGroup> device_groups(const Scene& scene) {
 JointedModel jointed_model(const Scene& scene) {
   const std::string& file = scene.source;
   const Structure& st = scene.structure;
-  if (!scene.contact.rocking)
+  if (!scene.contact.rocking && scene.joints.empty())
     throw InputError(fmt::format("{}: contact.restitution = \"momentum\": a fixed base (contact.rocking = false) has "
                                  "no impacts", file));
-  if (scene.damper.enabled)
-    throw InputError(fmt::format("{}: damper: the paper's edge dampers are not modelled on a structure with joints "
-                                 "(--set damper.enabled=false, or a [[device]] tendon)", file));
   if (!scene.momentum_base && scene.contact.restitution_rule == RestitutionRule::eq9)
     throw InputError(fmt::format("{}: contact.restitution = eq9: not modelled on a structure with joints (\"momentum\", "
                                  "eq10 or a number)", file));
@@ -923,11 +930,18 @@ JointedModel jointed_model(const Scene& scene) {
   ChainData data = split_structure(st, specs);
   const int top = static_cast<int>(data.segments.size()) - 1;
   JointedModel out;
+  out.base_rocks = scene.contact.rocking;
+  out.base_devices = scene.damper.enabled ? 2 : 0;  // the [damper]'s pair stands at the base's edges
   for (std::size_t k = 0; k < scene.devices.size(); ++k) {
     const Device& d = scene.devices[k];
-    if (std::string_view(law_name(d.law)) != "elastic" || d.geometry.kinematics != Kinematics::vertical || d.capacity > 0)
-      throw InputError(fmt::format("{}: device '{}': on a structure with joints a device is a tendon (kind = "
-                                   "\"elastic\", kinematics = \"vertical\", no capacity)", file, d.name));
+    if (!is_tendon(scene, k)) {
+      if (scene.device_segments[k] >= 0)
+        throw InputError(fmt::format("{}: device '{}': segment: a device anchored on a segment is a tendon from the "
+                                     "ground (kind = \"elastic\", kinematics = \"vertical\", no capacity); other "
+                                     "devices stand across the base joint (no segment)", file, d.name));
+      ++out.base_devices;
+      continue;
+    }
     const int seg = scene.device_segments[k] < 0 ? top : scene.device_segments[k];
     const ChainSegment& sg = data.segments[static_cast<std::size_t>(seg)];
     // From the ground at x to the top of its segment, at the same x; e from the rest distance.
@@ -979,6 +993,22 @@ JointedModel jointed_model(const Scene& scene) {
 
 namespace {
 
+// The devices (their acting lists, fracture guards and state slots) as a
+// rigid block on `block`'s base holds them (rocking.contact), into m: the
+// columns' run and the chain's base joint keep the states in a rigid block's
+// slots, from 2 after theta and theta'.
+void devices_as_on_block(ContactModel& m, const Structure& block, const Contact& contact, std::vector<Device> devices) {
+  Contact rocking = contact;
+  rocking.rocking = true;
+  ContactModel on = make_contact_model(block, rocking, std::move(devices), false);
+  m.devices = std::move(on.devices);
+  m.acting = std::move(on.acting);
+  m.breakable = std::move(on.breakable);
+  m.damper = on.damper;
+  m.idle_slots = on.idle_slots;
+  m.has_damper = on.has_damper;
+}
+
 // A scene on [columns] (MODEL.md 16): the structure on the cap beam as on a
 // fixed base (its outputs), carrying the columns' frame and impact rule. Its
 // devices (devices, acting, breakable, damper, idle_slots) are those of one
@@ -1008,18 +1038,41 @@ ContactModel columns_contact_model(const Scene& scene, bool track_energy, std::v
   Contact fixed = scene.contact;
   fixed.rocking = false;
   ContactModel m = make_contact_model(scene.structure, fixed, {}, track_energy);
-  if (!devices.empty()) {
-    Contact column_contact = scene.contact;
-    column_contact.rocking = true;
-    ContactModel column = make_contact_model(device_base(scene), column_contact, std::move(devices), false);
-    m.devices = std::move(column.devices);
-    m.acting = std::move(column.acting);
-    m.breakable = std::move(column.breakable);
-    m.damper = column.damper;
-    m.idle_slots = column.idle_slots;
-    m.has_damper = column.has_damper;
-  }
+  if (!devices.empty()) devices_as_on_block(m, device_base(scene), scene.contact, std::move(devices));
   m.on_columns = std::move(on);
+  return m;
+}
+
+// A structure with joints (MODEL.md 15): the structure as one piece on its
+// base (its outputs), carrying the chain. Its devices are those across the
+// base joint, held as a rigid block on the same base holds them
+// (devices_as_on_block: the chain's run keeps their states from 2), `extra`
+// with them, then the chain's tendons (JointedModel::base_devices tells them
+// apart).
+ContactModel jointed_contact_model(const Scene& scene, bool track_energy, std::vector<Device> extra) {
+  JointedModel jointed = jointed_model(scene);
+  jointed.base_devices += extra.size();
+  std::vector<Device> base, tendons;
+  if (scene.damper.enabled) base = edge_dampers(scene.damper, scene.structure.half_width);
+  for (std::size_t k = 0; k < scene.devices.size(); ++k)
+    (is_tendon(scene, k) ? tendons : base).push_back(scene.devices[k]);
+  for (Device& d : extra) base.push_back(std::move(d));  // added devices stand at the base
+  Contact contact = scene.contact;
+  contact.rocking = true;  // the structure's own model: a fixed base's is the chain's with its base joint held
+  ContactModel m = make_contact_model(scene.structure, contact, {}, track_energy);
+  if (!base.empty()) {
+    const Structure& st = scene.structure;
+    Structure block;  // the whole structure as a rigid block on the same base
+    block.rigid = true;
+    block.half_width = st.half_width;
+    const double mass = st.masses.sum() + st.base_mass;
+    block.heights = Eigen::VectorXd::Constant(1, std::max(st.masses.dot(st.heights) / mass, 1e-3));
+    block.masses = Eigen::VectorXd::Constant(1, mass);
+    block.base_mass = 0;
+    devices_as_on_block(m, block, scene.contact, std::move(base));
+  }
+  for (Device& d : tendons) m.devices.push_back(std::move(d));
+  m.jointed = std::make_shared<const JointedModel>(std::move(jointed));
   return m;
 }
 
@@ -1027,14 +1080,10 @@ ContactModel columns_contact_model(const Scene& scene, bool track_energy, std::v
 
 ContactModel make_contact_model(const Scene& scene, bool track_energy, std::vector<Device> extra) {
   if (scene.columns) return columns_contact_model(scene, track_energy, std::move(extra));
+  if (scene.jointed()) return jointed_contact_model(scene, track_energy, std::move(extra));
   std::vector<Device> devices = scene_devices(scene);
   for (Device& d : extra) devices.push_back(std::move(d));
-  if (scene.jointed() && !extra.empty())
-    throw InputError(fmt::format("{}: device '{}': a device added to a structure with joints is not modelled (give it "
-                                 "as a [[device]] tendon of the scene)", scene.source, extra.front().name));
-  ContactModel m = make_contact_model(scene.structure, scene.contact, std::move(devices), track_energy);
-  if (scene.jointed()) m.jointed = std::make_shared<const JointedModel>(jointed_model(scene));
-  return m;
+  return make_contact_model(scene.structure, scene.contact, std::move(devices), track_energy);
 }
 
 double excitation_scale(const Scene& scene) { return scene.excitation.none ? 1.0 : scene.excitation.record_options.scale; }

@@ -17,11 +17,22 @@
 // a given r (theta_j'+ = r theta_j'-, the rest continuous); an impact slower
 // than contact.theta_dot_min closes the joint by the momentum law into full
 // contact (Eq. 8's threshold, which acts only when the motion dies out).
-// The state is [q, q', W_ground, W_viscous]: the works are integrals that
-// do not steer the steps. The mechanical energy is kinetic + gravity +
-// elastic; the tendons' stored energy is the work done on the devices.
-// Each device is a tendon (its elongation and force reported by its name);
-// the devices' moment M_dev is not computed.
+// Devices: the chain's tendons (rocking.chain: forces in its equations and
+// reactions) and the devices across the base joint, as on a one-joint
+// structure (MODEL.md 11, rocking.contact's acting devices of a rigid block
+// on the same base): while the base rocks about s they exert the generalised
+// force -s D on theta_0 (D = sum F de/d|theta_0|), their states z integrated,
+// their fractures located events; in full contact they rest, keeping their
+// states for the next uplift about the same side, and hold D_0(s) against
+// uplift about s (the moment condition less D_0, the corner's acceleration
+// less D_0 over the inertia about the corner).
+// The state is [q, q', z, W_ground, W_viscous, W_devices, the work on each
+// base device]: the works are integrals that do not steer the steps. The
+// mechanical energy is kinetic + gravity + elastic; the tendons' stored
+// energy and the base devices' work are the work done on the devices.
+// The devices' moment M_dev is not computed.
+// contact.rocking = false holds the base joint closed (a fixed base): the
+// joints above still rock.
 module;
 #include <rocking/eigen.hpp>
 #include <algorithm>
@@ -45,13 +56,24 @@ double JointSample::friction() const { return N > 0 ? std::abs(V) / N : std::num
 
 namespace {
 
-enum class ChainGuard { uplift, impact, overturn, tension, friction };
+enum class ChainGuard { uplift, impact, overturn, tension, friction, fracture };
 
 struct ChainGuardDef {
   ChainGuard what = ChainGuard::uplift;
   int joint = 0;
   Pivot pivot = Pivot::right;
+  int acting = 0;  // a fracture guard's base device, by its place in the pivot's acting list
 };
+
+// The states z of the base devices: the slots after theta and theta' that
+// the model's acting devices use (a rigid block's, rocking.scene).
+Eigen::Index base_device_states(const ContactModel& m) {
+  Eigen::Index end = 2;
+  for (const auto& acting : m.acting)
+    for (const ContactModel::Acting& a : acting)
+      if (a.slot) end = std::max(end, *a.slot + 1);
+  return end - 2;
+}
 
 class ChainDriver {
  public:
@@ -59,12 +81,15 @@ class ChainDriver {
       : m_(m), jm_(*m.jointed), c_(jm_.chain), ground_(ground), vertical_(ground.vertical()), opt_(o),
         observer_(observer), scales_(output_scales(m)), w_(make_workspace(c_)), n_(c_.size),
         phases_(static_cast<std::size_t>(c_.joints)), reactions_(static_cast<std::size_t>(c_.joints)),
-        samples_(static_cast<std::size_t>(c_.joints)), y_(Eigen::VectorXd::Zero(2 * n_ + 2)), dense_(2 * n_ + 2),
-        qdd_(n_), elongation_(c_.data.tendons.size(), 0.0), device_samples_(c_.data.tendons.size()) {
+        samples_(static_cast<std::size_t>(c_.joints)), nb_(jm_.base_devices), z_(2 * n_),
+        work_(z_ + base_device_states(m)), size_(work_ + 3 + static_cast<Eigen::Index>(nb_)),
+        y_(Eigen::VectorXd::Zero(size_)), dense_(size_), qdd_(n_), elongation_(c_.data.tendons.size(), 0.0),
+        device_samples_(m.devices.size()), block_(Eigen::VectorXd::Zero(2 + work_ - z_)),
+        block_rates_(Eigen::VectorXd::Zero(block_.size())), power_(nb_, 0.0) {
     auto rhs = [this](double t, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& dydt) {
       derivatives(t, y, dydt);
     };
-    integrator_ = motion_integrator(o, ground, 2 * n_ + 2, rhs, motion_tolerances(o, ground, 2 * n_));
+    integrator_ = motion_integrator(o, ground, size_, rhs, motion_tolerances(o, ground, work_));
     t_end_ = run_end(o, ground);
     // The top node's local height on its segment: delta_t is its horizontal displacement over H_N.
     const ChainSegment& top = c_.data.segments.back();
@@ -77,7 +102,7 @@ class ChainDriver {
     result_.presence = presence(m_);
     result_.energy_tracked = true;
     result_.joints.resize(static_cast<std::size_t>(c_.joints));
-    // The devices are the chain's tendons, in the model's order.
+    // The base devices, then the chain's tendons, in the model's order.
     for (const Device& dev : m_.devices)
       result_.devices.push_back({.name = dev.name, .law = law_name(dev.law), .force_at_rest = law_force_at_rest(dev.law, 0.0),
                                  .work = 0.0});
@@ -111,13 +136,66 @@ class ChainDriver {
   void derivatives(double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> dydt) {
     const GroundAcceleration a = ground_at(t);
     const auto q = y.head(n_), qd = y.segment(n_, n_);
+    apply_base_devices(y, true);
     ChainPower p;
     chain_acceleration(c_, phases_, a, q, qd, dydt.segment(n_, n_), w_, &p);
     dydt.head(n_) = qd;
     for (int j = 0; j < c_.joints; ++j)
       if (!phases_[j].is_rocking()) dydt[j] = 0;  // a closed joint's theta stays 0
-    dydt[2 * n_] = p.ground;
-    dydt[2 * n_ + 1] = p.damping;
+    // The base devices' states rest unless the pivot's acting devices write theirs.
+    dydt.segment(z_, work_ - z_) = block_rates_.segment(2, work_ - z_);
+    dydt[work_] = p.ground;
+    dydt[work_ + 1] = p.damping;
+    double total = 0;
+    for (std::size_t k = 0; k < nb_; ++k) {
+      dydt[work_ + 3 + static_cast<Eigen::Index>(k)] = power_[k];
+      total += power_[k];
+    }
+    dydt[work_ + 2] = total;
+  }
+
+  // The base devices' generalised force on theta_0 into the workspace (-s D
+  // while the base rocks about s, else 0), from the state y; with `rates`,
+  // their states' rates into block_rates_ and each one's power into power_.
+  void apply_base_devices(Eigen::Ref<const Eigen::VectorXd> y, bool rates) {
+    w_.applied[0] = 0.0;
+    if (rates) {
+      block_rates_.setZero();
+      std::fill(power_.begin(), power_.end(), 0.0);
+    }
+    if (nb_ == 0 || !phases_[0].is_rocking()) return;
+    block_[0] = y[0];
+    block_[1] = y[n_];
+    block_.tail(work_ - z_) = y.segment(z_, work_ - z_);
+    const int s = phases_[0].sign();
+    const Tilt tilt(y[0]);
+    double moment = 0;
+    for (const ContactModel::Acting& a : acting()) {
+      const ContactModel::DeviceTerms dt =
+          a.terms(a, devices_, base_half_width(), s, tilt, y[n_], block_.data(), block_rates_.data());
+      moment += dt.moment;
+      if (rates) power_[static_cast<std::size_t>(a.device)] = dt.power;
+    }
+    w_.applied[0] = -s * moment;
+  }
+
+  double base_half_width() const { return c_.data.segments[0].half_width; }
+  const std::vector<ContactModel::Acting>& acting() const { return m_.acting[index(*phases_[0].pivot())]; }
+  // The moment the intact base devices hold against uplift about p at rest.
+  double held(Pivot p) const { return nb_ == 0 ? 0.0 : held_moment(m_, devices_, p); }
+
+  // The base joint's devices follow its phase: the acting devices of a new
+  // rocking phase resume the states they kept (keep_device_states).
+  void base_phase_set() {
+    devices_.phase = phases_[0];
+    if (nb_ == 0 || !phases_[0].is_rocking()) return;
+    for (const ContactModel::Acting& a : acting())
+      if (a.slot) y_[z_ + *a.slot - 2] = devices_.z(a.device);
+  }
+  void keep_device_states() {
+    if (nb_ == 0 || !phases_[0].is_rocking()) return;
+    for (const ContactModel::Acting& a : acting())
+      if (a.slot) devices_.set_z(a.device, y_[z_ + *a.slot - 2]);
   }
 
   std::string phases_text() const {
@@ -138,6 +216,7 @@ class ChainDriver {
       y_[j] = theta;
       y_[n_ + j] = rate;
     }
+    base_phase_set();
   }
 
   ChainEnergy energy() { return chain_energy(c_, phases_, y_.head(n_), y_.segment(n_, n_), w_); }
@@ -149,21 +228,33 @@ class ChainDriver {
   // Closed joint j lifts now (at the start or after an impact) when both
   // uplift conditions already hold about one of its corners.
   void lift_if_lifting(int j, double t) {
-    if (phases_[j].is_rocking()) return;
+    if (phases_[j].is_rocking() || (j == 0 && !jm_.base_rocks)) return;
     const GroundAcceleration a = ground_at(t);
     const auto q = y_.head(n_), qd = y_.segment(n_, n_);
+    apply_base_devices(y_, false);
     chain_reactions(c_, phases_, a, q, qd, reactions_, qdd_, w_, corners_);
     for (Pivot s : pivots)
-      if (uplift_guard(c_, j, s, reactions_[j]) > 0 && corners_[j][s] > 0) {
+      if (lift_moment(j, s) > 0 && lift_acceleration(j, s) > 0) {
         lift(j, s, t);
         return;
       }
+  }
+
+  // Closed joint j's uplift conditions about s from the last reactions: the
+  // resultant past the corner, and the corner's relative acceleration away
+  // from the face, each less the base devices' held moment at the base.
+  double lift_moment(int j, Pivot s) const {
+    return uplift_guard(c_, j, s, reactions_[j]) - (j == 0 ? held(s) : 0.0);
+  }
+  double lift_acceleration(int j, Pivot s) const {
+    return corners_[j][s] + (j == 0 ? held(s) * corners_[j].gain(s) : 0.0);
   }
 
   void lift(int j, Pivot s, double t) {
     phases_[j] = Phase::rocking(s);
     y_[j] = 0;
     y_[n_ + j] = 0;
+    if (j == 0) base_phase_set();
     JointResult& r = result_.joints[j];
     if (r.uplifts++ == 0) r.first_uplift = t;
     if (result_.counts.uplifts++ == 0) result_.first_uplift = t;
@@ -211,7 +302,7 @@ class ChainDriver {
         directions.push_back(ode::Direction::falling);
         guards_.push_back({ChainGuard::overturn, j, *phases_[j].pivot()});
         directions.push_back(ode::Direction::rising);
-      } else {
+      } else if (j > 0 || jm_.base_rocks) {
         for (Pivot s : pivots) {
           guards_.push_back({ChainGuard::uplift, j, s});
           directions.push_back(ode::Direction::rising);
@@ -224,6 +315,12 @@ class ChainDriver {
         directions.push_back(ode::Direction::falling);
       }
     }
+    if (phases_[0].is_rocking())  // the base devices that can break: at their capacity
+      for (std::size_t k = 0; k < m_.breakable[index(*phases_[0].pivot())].size(); ++k) {
+        guards_.push_back({ChainGuard::fracture, 0, *phases_[0].pivot(),
+                           m_.breakable[index(*phases_[0].pivot())][k]});
+        directions.push_back(ode::Direction::rising);
+      }
     ode::Guards guards{[this](double tg, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& g) {
                          guard_values(tg, y, g);
                        },
@@ -235,6 +332,7 @@ class ChainDriver {
   void guard_values(double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> g) {
     const GroundAcceleration a = ground_at(t);
     const auto q = y.head(n_), qd = y.segment(n_, n_);
+    apply_base_devices(y, false);
     chain_reactions(c_, phases_, a, q, qd, reactions_, qdd_, w_, corners_);
     remember(t, y);
     for (std::size_t k = 0; k < guards_.size(); ++k) {
@@ -243,13 +341,18 @@ class ChainDriver {
       const double s = sign(d.pivot);
       const JointReaction& r = reactions_[j];
       switch (d.what) {
-        case ChainGuard::uplift:
-          g[k] = std::min(uplift_guard(c_, j, d.pivot, r), corners_[j][d.pivot]);
-          break;
+        case ChainGuard::uplift: g[k] = std::min(lift_moment(j, d.pivot), lift_acceleration(j, d.pivot)); break;
         case ChainGuard::impact: g[k] = s * q[j]; break;
         case ChainGuard::overturn: g[k] = s * q[j] - jm_.overturn_angle[j]; break;
         case ChainGuard::tension: g[k] = r.N; break;
         case ChainGuard::friction: g[k] = jm_.friction_limit[j] * r.N - std::abs(r.V); break;
+        case ChainGuard::fracture: {
+          const ContactModel::Acting& dev = acting()[static_cast<std::size_t>(d.acting)];
+          g[k] = devices_.is_broken(dev.device)
+                     ? -1.0
+                     : stretch(dev.geometry, base_half_width(), phases_[0].sign(), Tilt(q[0])).e - dev.capacity;
+          break;
+        }
       }
     }
   }
@@ -289,9 +392,15 @@ class ChainDriver {
         throw RunError(fmt::format("joint {} in tension at t = {:.9g} s: its normal force N reached 0 (the part above "
                                    "would leave it; not modelled)", j, t));
       case ChainGuard::friction:
-        chain_reactions(c_, phases_, ground_at(t), y_.head(n_), y_.segment(n_, n_), reactions_, qdd_, w_);
         throw RunError(fmt::format("joint {} would slide at t = {:.9g} s: its friction demand |V|/N reached the stated "
                                    "limit {:g} (sliding is not modelled)", j, t, jm_.friction_limit[j]));
+      case ChainGuard::fracture: {
+        const int device = acting()[static_cast<std::size_t>(d.acting)].device;
+        announce({EventKind::fracture, t, d.pivot, device, 0});
+        fracture(devices_, device);
+        result_.devices[static_cast<std::size_t>(device)].fracture_time = t;
+        break;
+      }
     }
     peaks_.break_continuity();
     restart(t);
@@ -304,6 +413,7 @@ class ChainDriver {
     announce({EventKind::impact, t, s, std::nullopt, j});
     y_[j] = 0;
     const double before = mechanical();
+    keep_device_states();
     const auto q = y_.head(n_);
     const Eigen::VectorXd qd = y_.segment(n_, n_);
     const double r = jm_.restitution[j];
@@ -335,6 +445,7 @@ class ChainDriver {
         y_[k] = 0;
         y_[n_ + k] = 0;
       }
+    base_phase_set();
     result_.energy.impacts += before - mechanical();
     JointResult& rj = result_.joints[j];
     if (rj.impacts++ == 0) rj.first_impact = t;
@@ -358,7 +469,10 @@ class ChainDriver {
     r[Quantity::delta_t] = top.x() * scales_.inverse_H_N;
     for (std::size_t k = 0; k < elongation_.size(); ++k)
       elongation_[k] = tendon_elongation(c_, phases_, static_cast<int>(k), q, w_);
-    if (reactions && !recall(t, y)) chain_reactions(c_, phases_, ground_at(t), q, qd, reactions_, qdd_, w_);
+    if (reactions && !recall(t, y)) {
+      apply_base_devices(y, false);
+      chain_reactions(c_, phases_, ground_at(t), q, qd, reactions_, qdd_, w_);
+    }
     for (int j = 0; j < c_.joints; ++j) {
       JointSample& s = samples_[j];
       s.phase = phases_[j];
@@ -373,7 +487,7 @@ class ChainDriver {
     return r;
   }
 
-  void track(const Response& r) {
+  void track(const Response& r, Eigen::Ref<const Eigen::VectorXd> y) {
     peaks_.add(r.t, r.q);
     for (int j = 0; j < c_.joints; ++j) {
       JointResult& out = result_.joints[j];
@@ -381,11 +495,40 @@ class ChainDriver {
       out.peak_theta_over_alpha = out.peak_theta / jm_.overturn_angle[j];
       if (samples_[j].N > 0) out.peak_friction = std::max(out.peak_friction, samples_[j].friction());
     }
+    sample_devices(y);
     for (std::size_t k = 0; k < result_.devices.size(); ++k) {
+      if (devices_.is_broken(static_cast<int>(k))) continue;  // its peaks are those it had when it broke
       DeviceResult& out = result_.devices[k];
-      out.peak_elongation = std::max(out.peak_elongation, elongation_[k]);
-      out.peak_force = std::max(out.peak_force, tendon_force(k, elongation_[k]));
+      out.peak_elongation = std::max(out.peak_elongation, device_samples_[k].e);
+      out.peak_force = std::max(out.peak_force, std::abs(device_samples_[k].F));
     }
+  }
+
+  // Every device's elongation, force and work so far into device_samples_
+  // (after response(), which measured the tendons): the base devices' while
+  // the base rocks (0 in full contact, NaN once broken), then the tendons'.
+  void sample_devices(Eigen::Ref<const Eigen::VectorXd> y) {
+    for (std::size_t k = 0; k < nb_; ++k)
+      device_samples_[k] = devices_.is_broken(static_cast<int>(k))
+                               ? DeviceSample{std::nan(""), std::nan(""), 0.0}
+                               : DeviceSample{};
+    for (std::size_t k = 0; k < nb_; ++k) device_samples_[k].work = y[work_ + 3 + static_cast<Eigen::Index>(k)];
+    if (nb_ > 0 && phases_[0].is_rocking()) {
+      block_[0] = y[0];
+      block_[1] = y[n_];
+      block_.tail(work_ - z_) = y.segment(z_, work_ - z_);
+      const Tilt tilt(y[0]);
+      for (const ContactModel::Acting& a : acting()) {
+        if (devices_.is_broken(a.device)) continue;
+        const DamperState st = a.state(a, devices_, base_half_width(), phases_[0].sign(), tilt, y[n_], block_.data());
+        DeviceSample& out = device_samples_[static_cast<std::size_t>(a.device)];
+        out.e = st.elongation;
+        out.F = st.force;
+      }
+    }
+    for (std::size_t k = 0; k < elongation_.size(); ++k)
+      device_samples_[nb_ + k] = {.e = elongation_[k], .F = tendon_force(k, elongation_[k]),
+                                  .work = tendon_stored(k, elongation_[k]) - tendon_start_[k]};
   }
 
   // F = max(0, P0 + k e) (MODEL.md 11's elastic law) and the energy it stores from rest.
@@ -405,7 +548,7 @@ class ChainDriver {
     const double t0 = integrator_->previous_time(), t1 = integrator_->time();
     for (int k = 1; k <= count; ++k) {
       const Eigen::VectorXd& y = integrator_->sample(k, count);
-      track(response(ode::Integrator::sample_time(t0, t1, k, count), y, true));
+      track(response(ode::Integrator::sample_time(t0, t1, k, count), y, true), y);
     }
     if (observer_ == nullptr) return;
     history_.rows(*integrator_, dense_, [this](double t, const Eigen::VectorXd& y) { history_row(t, y); });
@@ -422,15 +565,13 @@ class ChainDriver {
     r[Quantity::x_g] = travel_.at(t).d;
     const ChainEnergy e = chain_energy(c_, phases_, y.head(n_), y.segment(n_, n_), w_);
     r[Quantity::energy] = e.kinetic + e.gravity + e.elastic;
-    r[Quantity::work_ground] = y[2 * n_];
-    r[Quantity::work_viscous] = y[2 * n_ + 1];
-    r[Quantity::work_devices] = e.tendons - tendons_initial_;
+    r[Quantity::work_ground] = y[work_];
+    r[Quantity::work_viscous] = y[work_ + 1];
+    r[Quantity::work_devices] = e.tendons - tendons_initial_ + y[work_ + 2];
     r[Quantity::work_impacts] = result_.energy.impacts;
     observer_->nodal(y.head(0), y.head(0));
     if (!device_samples_.empty()) {
-      for (std::size_t k = 0; k < device_samples_.size(); ++k)
-        device_samples_[k] = {.e = elongation_[k], .F = tendon_force(k, elongation_[k]),
-                              .work = tendon_stored(k, elongation_[k]) - tendon_start_[k]};
+      sample_devices(y);
       observer_->devices(device_samples_);
     }
     observer_->joints(samples_);
@@ -438,7 +579,7 @@ class ChainDriver {
   }
 
   void emit(double t, Eigen::Ref<const Eigen::VectorXd> y, bool also_history) {
-    track(response(t, y, true));
+    track(response(t, y, true), y);
     if (also_history && observer_ != nullptr) history_row(t, y);
   }
 
@@ -452,12 +593,13 @@ class ChainDriver {
     result_.top_total_mm = result_.peak(Quantity::delta_t) * scales_.H_N * 1000.0;
     result_.stats = integrator_->stats();
     result_.energy.final = mechanical();
-    result_.energy.ground = y_[2 * n_];
-    result_.energy.viscous = y_[2 * n_ + 1];
-    result_.energy.damper = energy().tendons - tendons_initial_;
-    for (std::size_t k = 0; k < result_.devices.size(); ++k)
-      result_.devices[k].work = tendon_stored(k, tendon_elongation(c_, phases_, static_cast<int>(k), y_.head(n_), w_)) -
-                                tendon_start_[k];
+    result_.energy.ground = y_[work_];
+    result_.energy.viscous = y_[work_ + 1];
+    result_.energy.damper = energy().tendons - tendons_initial_ + y_[work_ + 2];
+    for (std::size_t k = 0; k < nb_; ++k) result_.devices[k].work = y_[work_ + 3 + static_cast<Eigen::Index>(k)];
+    for (std::size_t k = 0; k < c_.data.tendons.size(); ++k)
+      result_.devices[nb_ + k].work =
+          tendon_stored(k, tendon_elongation(c_, phases_, static_cast<int>(k), y_.head(n_), w_)) - tendon_start_[k];
     if (opt_.final_row && observer_ != nullptr && opt_.output_interval > 0 && last_row_ < result_.t_end)
       history_row(result_.t_end, y_);
   }
@@ -478,9 +620,14 @@ class ChainDriver {
   std::vector<Remembered> remembered_ = std::vector<Remembered>(16);
   std::size_t next_remembered_ = 0, held_ = 0;
   std::vector<JointSample> samples_;
+  std::size_t nb_;                 // base devices (the model's first)
+  Eigen::Index z_, work_, size_;   // the state's z block, its works, its size
   Eigen::VectorXd y_, dense_, qdd_;
   std::vector<double> elongation_;  // per tendon, at the last response
-  std::vector<DeviceSample> device_samples_;  // per tendon, for the history's device columns
+  std::vector<DeviceSample> device_samples_;  // per device, for the history's device columns
+  Eigen::VectorXd block_, block_rates_;  // [theta_0, theta_0', z]: the base devices' view of the state, and its rates
+  std::vector<double> power_;            // on each base device [W]
+  Discrete devices_;                     // the base devices': the base's phase, the states kept, the fractures
   ChainAnchor top_;
   std::vector<ChainGuardDef> guards_;
   GroundTravel travel_{ground_};

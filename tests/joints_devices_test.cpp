@@ -1,0 +1,246 @@
+// Devices across the base joint of a structure with joints, and a fixed base
+// under joints that rock (MODEL.md 15 with 11). A device that is not one of
+// the chain's tendons (a damper, a chord device, the scene's [damper] pair)
+// stands across the base joint as on a one-joint structure: while the base
+// rocks about s it exerts -s D on theta_0, and at rest it holds D_0(s)
+// against uplift. Checked:
+// - against the one-body run (today's equations, rocking.contact): a rigid
+//   block of lumped masses on its centre line, where the momentum law is
+//   Eq. 10, with a Bouc-Wen pair and a prestressed spring under a pulse gives
+//   the same events and peaks by the chain to 1e-6, and the same device works
+//   to 1e-7 of their total;
+// - against a closed form: a prestressed device at the base raises the
+//   base's threshold under a ramp to (B_0 + D_0 / (m g)) / H (MODEL.md 15's
+//   uplift condition with 11's restraint), the first uplift at that time to
+//   1e-6, and `rocking modal` gives the same push;
+// - a fixed base (contact.rocking = false): the base never lifts, and the
+//   joint above lifts at its own threshold, to 1e-6;
+// - the energy balance of a segmental pier with yielding dampers at its
+//   footing and its tendon, and each device's work adding to the total;
+// - through the program: the chimney's [damper] on a cracked chimney, and a
+//   one-line refusal of a non-tendon device anchored on a segment.
+// Runs use rk45 at rtol 1e-10 (atol 1e-12), far below the tolerances stated.
+#include <rocking/eigen.hpp>
+#include <doctest/doctest.h>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "chain_sums.hpp"
+#include "close.hpp"
+#include "csv_table.hpp"
+#include "run_program.hpp"
+#include "temp_path.hpp"
+#include "two_blocks.hpp"
+#include "watched_run.hpp"
+import rocking.run;
+import rocking.report;
+import rocking.errors;
+
+using namespace rocking;
+
+namespace {
+
+Scene scene_from(const std::string& name, const std::string& toml, const std::vector<std::string>& overrides = {}) {
+  const std::filesystem::path path = temp_path(name + ".toml");
+  std::ofstream(path) << toml;
+  return load_scene(path.string(), overrides);
+}
+
+using Ran = WatchedRun<EventsAndRows>;
+template <class... Args>
+Ran run(const Scene& scene, Args&&... args) {
+  return watched_run<EventsAndRows>(scene, 1e-10, std::forward<Args>(args)...);
+}
+
+// A rigid block 0.5 m wide and 2 m tall (lumped on its centre line) with a
+// yielding pair at its edges and a prestressed spring at its axis, under a
+// one-sine pulse; `restitution` picks the run: "eq10" the one-body
+// equations, "momentum" the chain's (the same law for this block).
+std::string damped_block(const std::string& restitution) {
+  return fmt::format(R"(
+[structure]
+rigid = true
+half_width = 0.25
+heights = [0.25, 0.75, 1.25, 1.75]
+masses = [200.0, 200.0, 200.0, 200.0]
+base_mass = 20.0
+
+[contact]
+restitution = "{}"
+
+[[device]]
+name = "yielding"
+kind = "bouc-wen"
+at = "edges"
+k = 4e5
+d_y = 0.002
+
+[[device]]
+name = "spring"
+kind = "elastic"
+at = 0.0
+P0 = 500.0
+k = 2e5
+
+[excitation]
+pulse = "one-sine"
+amplitude_g = 0.45
+period = 0.6
+duration = 3.0
+)",
+                     restitution);
+}
+
+}  // namespace
+
+TEST_CASE("devices across the base joint: a rigid block with a yielding pair and a spring runs by the chain as by the one-body equations") {
+  const Ran one = run(scene_from("block_eq10", damped_block("eq10")));
+  const Scene jointed = scene_from("block_momentum", damped_block("momentum"));
+  REQUIRE(jointed.jointed());
+  const Ran chain = run(jointed);
+  REQUIRE(one.result.outcome == Outcome::completed);
+  REQUIRE(chain.result.outcome == Outcome::completed);
+  REQUIRE(one.result.counts.impacts >= 3);
+  CHECK(chain.result.counts.uplifts == one.result.counts.uplifts);
+  CHECK(chain.result.counts.impacts == one.result.counts.impacts);
+  CHECK(chain.result.first_uplift == close_to(one.result.first_uplift, 1e-6));
+  CHECK(chain.result.first_impact == close_to(one.result.first_impact, 1e-6));
+  CHECK(chain.result.peak(Quantity::theta) == close_to(one.result.peak(Quantity::theta), 1e-6));
+  REQUIRE(chain.result.devices.size() == one.result.devices.size());
+  REQUIRE(one.result.devices.size() == 3);
+  for (std::size_t k = 0; k < one.result.devices.size(); ++k) {
+    const DeviceResult &a = one.result.devices[k], &b = chain.result.devices[k];
+    CAPTURE(a.name);
+    CHECK(b.name == a.name);
+    CHECK(a.peak_force > 0);
+    CHECK(b.peak_force == close_to(a.peak_force, 1e-6));
+    CHECK(b.peak_elongation == close_to(a.peak_elongation, 1e-6));
+    // The works are integrals whose steps the motion chooses (they steer no
+    // step): held to 1e-7 of the devices' total work, the balance's scale.
+    CHECK(b.work == within(a.work, 1e-7 * one.result.energy.damper));
+  }
+  CHECK(chain.result.energy.damper == close_to(one.result.energy.damper, 1e-6));
+  // The chain's balance closes with the devices' work in it.
+  const EnergyBalance& eb = chain.result.energy;
+  CHECK(eb.residual() == within(0.0, 1e-7 * eb.ground));
+  MESSAGE("one-body: " << one.result.counts.impacts << " impacts, W_devices " << one.result.energy.damper
+                       << " J; chain: " << chain.result.counts.impacts << " impacts, W_devices " << eb.damper
+                       << " J, residual " << eb.residual() << " J of " << eb.ground << " J input");
+}
+
+TEST_CASE("a prestressed device at the base holds a stack down: its base lifts under a ramp at (B_0 + D_0 / (m g)) / H") {
+  const double c = 2.5, g = gravity, P0 = 150.0;  // [m/s^3], [N]
+  const auto ramp = std::make_shared<const GroundMotion>(GroundMotion::from_samples("ramp", {0.0, 10.0}, {0.0, 10 * c}));
+  // The squat-top stack of joints_test, whose base lifts first; a spring on the base's axis (lever B_0 about either corner).
+  const std::string spring =
+      fmt::format("[[device]]\nname = \"spring\"\nkind = \"elastic\"\nat = 0.0\nP0 = {}\nk = 1e6\n", P0);
+  const Scene scene = scene_from("held_stack", two_blocks(0.25, 500, 0.25, 0.3, spring));
+  const ChainData d = jointed_model(scene).chain.data;
+  const SegmentSums all = sums_above(d, 0), top = sums_above(d, 1);
+  const double B0 = d.segments[0].half_width;
+  const double base = (B0 + P0 * B0 / (all.mass * g)) / (all.first / all.mass);
+  const double upper = d.segments[1].half_width / (top.first / top.mass);
+  REQUIRE(base < upper);
+  const Ran ran = run(scene, ramp, 1.05 * base * g / c);
+  REQUIRE(!ran.watch.events.empty());
+  CHECK(ran.watch.events.front().kind == EventKind::uplift);
+  CHECK(ran.watch.events.front().joint == 0);
+  CHECK(ran.result.first_uplift == close_to(base * g / c, 1e-6));
+  // Without the spring it lifts at B_0 / H: the device's restraint is what moved it.
+  const double bare = B0 / (all.first / all.mass);
+  CHECK(ran.result.first_uplift > 1.001 * bare * g / c);
+  // rocking modal gives the same push, the device's moment at rest included.
+  const nlohmann::json modal = modal_summary(scene);
+  CHECK(modal["joints"][0]["uplift_g"].get<double>() == close_to(base, 1e-12));
+  CHECK(modal["joints"][0]["held_moment_N_m"].get<double>() == close_to(P0 * B0, 1e-12));
+  CHECK(modal["lifts_first"].get<int>() == 0);
+  MESSAGE("the base lifts at " << ran.result.first_uplift << " s; closed form " << base * g / c << " s (" << bare * g / c
+                               << " s without the spring)");
+}
+
+TEST_CASE("a fixed base under joints that rock: the base never lifts, the joint above lifts at its own threshold") {
+  const double c = 2.5, g = gravity;
+  const auto ramp = std::make_shared<const GroundMotion>(GroundMotion::from_samples("ramp", {0.0, 10.0}, {0.0, 10 * c}));
+  // The squat-top stack: on a rocking base its base lifts first; held down, its top lifts at B_1 / (H_cg,1 - h_1).
+  const std::string text = two_blocks(0.25, 500, 0.25, 0.3);
+  const Scene rocking_base = scene_from("stack_rocking", text);
+  const Scene fixed = scene_from("stack_fixed", text, {"contact.rocking=false"});
+  const ChainData d = jointed_model(fixed).chain.data;
+  const SegmentSums all = sums_above(d, 0), top = sums_above(d, 1);
+  const double base = d.segments[0].half_width / (all.first / all.mass);
+  const double upper = d.segments[1].half_width / (top.first / top.mass);
+  REQUIRE(base < upper);
+  const Ran free = run(rocking_base, ramp, 1.05 * base * g / c);
+  REQUIRE(!free.watch.events.empty());
+  CHECK(free.watch.events.front().joint == 0);
+  const Ran held = run(fixed, ramp, 1.05 * upper * g / c);
+  REQUIRE(!held.watch.events.empty());
+  CHECK(held.watch.events.front().kind == EventKind::uplift);
+  CHECK(held.watch.events.front().joint == 1);
+  CHECK(held.result.joints[1].first_uplift == close_to(upper * g / c, 1e-6));
+  CHECK(held.result.joints[0].uplifts == 0);
+  for (const Response& r : held.watch.rows) CHECK(r[Quantity::theta] == 0.0);
+  // rocking modal names the joint above as the one that lifts first.
+  CHECK(modal_summary(fixed)["lifts_first"].get<int>() == 1);
+  // A fixed base does not start tilted.
+  CHECK_THROWS_AS(scene_from("stack_fixed_tilt", text, {"contact.rocking=false", "initial.theta=0.01"}), InputError);
+  MESSAGE("held base: the top lifts at " << held.result.joints[1].first_uplift << " s, closed form " << upper * g / c
+                                         << " s (the free base lifts at " << free.result.first_uplift << " s)");
+}
+
+TEST_CASE("a segmental pier with yielding dampers at its footing and its tendon: the energy balance closes and each device's work adds to the total") {
+  const std::filesystem::path scene_file = std::filesystem::path(ROCKING_SCENES) / "segmental_pier.toml";
+  const Scene scene =
+      load_scene(scene_file.string(), {"device+={name=\"yielding\", kind=\"bouc-wen\", at=\"edges\", k=5e7, d_y=0.003}"});
+  const Ran ran = watched_run<EventsAndRows>(scene, 1e-10);
+  REQUIRE(ran.result.outcome == Outcome::completed);
+  REQUIRE(ran.result.joints[0].uplifts >= 1);
+  REQUIRE(ran.result.devices.size() == 3);
+  double works = 0;
+  for (const DeviceResult& d : ran.result.devices) {
+    CAPTURE(d.name);
+    CHECK(d.peak_force > 0);
+    works += d.work;
+  }
+  const EnergyBalance& eb = ran.result.energy;
+  CHECK(works == close_to(eb.damper, 1e-9));
+  CHECK(eb.residual() == within(0.0, 1e-7 * eb.ground));
+  // The dampers dissipate: their work is positive and the pier rocks less than without them.
+  CHECK(ran.result.devices[0].work > 0);
+  const Ran bare = watched_run<EventsAndRows>(load_scene(scene_file.string()), 1e-10);
+  CHECK(ran.result.peak(Quantity::theta) < bare.result.peak(Quantity::theta));
+  MESSAGE("peak theta " << ran.result.peak(Quantity::theta) << " rad with the dampers, " << bare.result.peak(Quantity::theta)
+                        << " rad without; W_devices " << eb.damper << " J, residual " << eb.residual() << " J of "
+                        << eb.ground << " J input");
+}
+
+TEST_CASE("the program: the chimney's [damper] on a cracked chimney, and a non-tendon device on a segment refused in one line") {
+  const std::filesystem::path scene_file = std::filesystem::path(ROCKING_SCENES) / "christchurch_chimney.toml";
+  const std::filesystem::path out = scratch_dir("cracked_damper");
+  const cli::Result r = cli::run(fmt::format("simulate {} --set joint+={{node=3,half_width=1.5,rigid=true}} --duration 0.4 "
+                                             "--history t,theta,damper_left.force,joint1.theta --out {}",
+                                             scene_file.string(), out.string()),
+                                 120);
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const CsvTable h = csv_table(file_text(out / "history.csv"));
+  CHECK(h.has("damper_left.force [N]"));
+  CHECK(h.has("joint1.theta [rad]"));
+  const nlohmann::json summary = nlohmann::json::parse(file_text(out / "summary.json"));
+  CHECK(summary["devices"].size() == 2);
+
+  const cli::Result bad = cli::run(
+      fmt::format("simulate {} --set joint+={{node=3,half_width=1.5,rigid=true}} --set "
+                  "device+={{kind=\"bouc-wen\",at=0,segment=1}} --out {}",
+                  scene_file.string(), scratch_dir("cracked_bad").string()),
+      60);
+  CHECK(bad.code == 2);
+  CHECK(cli::lines(bad.err) == 1);
+  CHECK_MESSAGE(bad.err.find("segment") != std::string::npos, bad.err);
+}
