@@ -35,6 +35,8 @@ void print_text(const nlohmann::json& s) {
   fmt::print("  {:<17} {} at t = {:.3f} s; {}, {}\n", "outcome", s["outcome"].get<std::string>(),
              s["t_end"].get<double>(), count(s["counts"]["uplifts"].get<long>(), "uplift"),
              count(s["counts"]["impacts"].get<long>(), "impact"));
+  if (const auto sep = s.find("separation"); sep != s.end())
+    fmt::print("  {:<17} {}\n", "separation", sep->get<std::string>());
   for (Quantity q : peak_quantities) {
     const QuantityInfo& i = info(q);
     const auto v = p.find(std::string(i.name));

@@ -523,8 +523,10 @@ int run_hunt(const StudyArgs& a, const Study& st) {
         else if (h.fixed_base) what = "a fixed base cannot overturn (not run)";
         else if (!h.collapsed)
           what = fmt::format("no overturning up to {} {:.4g}{} ({} runs)", im.name(), h.survived_level, unit, h.runs);
-        else
-          what = fmt::format("overturns at {} {:.4g}{} (survives {:.4g}; {} runs){}", im.name(), h.collapse_level, unit,
+        else  // with joints, a joint separating ends a run as overturning does
+          what = fmt::format("{} at {} {:.4g}{} (survives {:.4g}; {} runs){}",
+                             st.joints(pairs[k].second) > 0 ? "overturns or separates" : "overturns", im.name(),
+                             h.collapse_level, unit,
                              h.survived_level, h.runs,
                              h.resurrections.empty() ? "" : "; survives again above it at " + ranges_text(h.resurrections));
         fmt::print("{} / {}: {}\n", record, variant, what);

@@ -747,6 +747,7 @@ ImpactCandidate impact_into(const Chain& c, ChainPhases before, int joint, Chain
     r.N = impulse(c.size + 2 * j + 1);
     r.M = closed(after[j]) ? -impulse(j) : 0.0;
     const double B = c.data.segments[j].half_width;
+    if (j == 0 && c.data.base_held) continue;  // a fixed base takes any impulse
     if (r.N < -tol) out.consistent = false;  // a tensile impulse
     if (closed(after[j]) && std::abs(r.M) > B * r.N + B * tol) out.consistent = false;  // past a corner
     const bool opened = !closed(after[j]) && (j == joint || closed(before[j]));
@@ -781,7 +782,7 @@ ImpactOutcome chain_impact(const Chain& c, ChainPhases before, int joint, Eigen:
       const ImpactCandidate& cand = out.candidates.back();
       bool changed = false;
       for (int k = 0; k < c.joints; ++k) {
-        if (k == joint || !closed(after[k])) continue;
+        if (k == joint || !closed(after[k]) || (k == 0 && c.data.base_held)) continue;
         const JointReaction& r = cand.impulse[k];
         const double B = c.data.segments[k].half_width;
         if (std::abs(r.M) > B * r.N * (1 + 1e-12) || r.N < 0) {

@@ -71,6 +71,9 @@ struct ChainData {
   std::vector<ChainTendon> tendons;
   Rayleigh rayleigh;  // a0, a1 of every segment's C = a0 M + a1 K
   double g = gravity;
+  // Joint 0 held closed (a fixed base): it never opens, and takes any
+  // impulse an impact sends it (no admissibility check there).
+  bool base_held = false;
 };
 
 // The same structure split at nodes: joint k (k = 1..) stands on node

@@ -88,6 +88,7 @@ json run_summary(const RunLabel& label, const RunResult& r) {
       {"wall_s", r.wall_s},
   };
   if (r.outcome == Outcome::failed) out["failure"] = r.failure;
+  if (r.outcome == Outcome::separated) out["separation"] = r.separation;
   json devices = json::array();
   for (const DeviceResult& d : r.devices)
     devices.push_back({{"name", d.name},

@@ -916,9 +916,6 @@ std::vector<DeviceGroup> device_groups(const Scene& scene) {
 JointedModel jointed_model(const Scene& scene) {
   const std::string& file = scene.source;
   const Structure& st = scene.structure;
-  if (!scene.contact.rocking && scene.joints.empty())
-    throw InputError(fmt::format("{}: contact.restitution = \"momentum\": a fixed base (contact.rocking = false) has "
-                                 "no impacts", file));
   if (!scene.momentum_base && scene.contact.restitution_rule == RestitutionRule::eq9)
     throw InputError(fmt::format("{}: contact.restitution = eq9: not modelled on a structure with joints (\"momentum\", "
                                  "eq10 or a number)", file));
@@ -928,6 +925,7 @@ JointedModel jointed_model(const Scene& scene) {
   std::vector<ChainJointSpec> specs;
   for (const JointTable& j : scene.joints) specs.push_back({j.node, j.half_width, j.base_mass, j.rigid});
   ChainData data = split_structure(st, specs);
+  data.base_held = !scene.contact.rocking;
   const int top = static_cast<int>(data.segments.size()) - 1;
   JointedModel out;
   out.base_rocks = scene.contact.rocking;

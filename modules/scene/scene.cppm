@@ -104,8 +104,9 @@ struct Scene {
   bool momentum_base = false;      // [contact] restitution = "momentum"
   double base_friction = std::numeric_limits<double>::infinity();  // [contact] friction
   // The structure rocks by the chain's equations (MODEL.md 15): joints, or
-  // the momentum law at its base (not on columns, which take it as their own).
-  bool jointed() const { return !columns && (!joints.empty() || momentum_base); }
+  // the momentum law at its rocking base (not on columns, which take it as
+  // their own; on a fixed base without joints it has no impacts to rule).
+  bool jointed() const { return !columns && (!joints.empty() || (momentum_base && contact.rocking)); }
   Excitation excitation;
   Initial initial;
   Output output;

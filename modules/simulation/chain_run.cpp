@@ -8,9 +8,10 @@
 //   min(s M_j - N_j B_j, s theta_j''), rising (Eq. 2/3 for the base);
 // - rocking about s: impact, s theta_j falling through 0; overturning, s
 //   theta_j rising through the slenderness of everything above the joint;
-// - any phase: tension, N_j falling through 0, and, with a stated friction
-//   limit mu_j, mu_j N_j - |V_j| falling through 0: each a stated outcome
-//   that ends the run as failed, never continued.
+// - any phase: tension, N_j falling through 0, the outcome `separated` (the
+//   part above would leave the joint: the model's end, stated); with a stated
+//   friction limit mu_j, mu_j N_j - |V_j| falling through 0, which ends the
+//   run as failed. Neither is ever continued.
 // Resets: uplift (theta_j = theta_j' = 0, already so); impact by the momentum
 // law of MODEL.md 15 (chain_impact: impact-induced uplift of other joints is
 // an event; an outcome that is not unique, or none, ends the run, stated) or
@@ -308,6 +309,7 @@ class ChainDriver {
           directions.push_back(ode::Direction::rising);
         }
       }
+      if (j == 0 && !jm_.base_rocks) continue;  // a fixed base holds the structure down: no tension, no sliding
       guards_.push_back({ChainGuard::tension, j});
       directions.push_back(ode::Direction::falling);
       if (std::isfinite(jm_.friction_limit[j])) {
@@ -376,7 +378,7 @@ class ChainDriver {
     }
   }
 
-  // Returns false when the run ends (overturning).
+  // Returns false when the run ends (overturning, separation).
   bool handle_event(const ChainGuardDef& d, double t) {
     y_ = integrator_->state();
     const int j = d.joint;
@@ -389,8 +391,11 @@ class ChainDriver {
         result_.outcome = Outcome::overturned;
         return false;
       case ChainGuard::tension:
-        throw RunError(fmt::format("joint {} in tension at t = {:.9g} s: its normal force N reached 0 (the part above "
-                                   "would leave it; not modelled)", j, t));
+        result_.outcome = Outcome::separated;
+        result_.separation = fmt::format("joint {} at t = {:.9g} s: its normal force N reached 0, so the part above "
+                                         "would leave it, which the model does not follow (phases {})",
+                                         j, t, phases_text());
+        return false;
       case ChainGuard::friction:
         throw RunError(fmt::format("joint {} would slide at t = {:.9g} s: its friction demand |V|/N reached the stated "
                                    "limit {:g} (sliding is not modelled)", j, t, jm_.friction_limit[j]));

@@ -38,6 +38,7 @@ std::string_view outcome_name(Outcome o) {
     case Outcome::completed: return "completed";
     case Outcome::overturned: return "overturned";
     case Outcome::failed: return "failed";
+    case Outcome::separated: return "separated";
   }
   return "?";
 }

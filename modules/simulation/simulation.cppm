@@ -150,8 +150,14 @@ struct RunOptions {
 // ("--rtol 2: must be in (0, 1)" for the command line's "--").
 void check_run_options(const RunOptions& o, std::string_view prefix);
 
-enum class Outcome { completed, overturned, failed };
+// separated: a joint's normal force reached 0 (MODEL.md 15: the part above
+// would leave it), where the model ends; stated, never continued.
+enum class Outcome { completed, overturned, failed, separated };
 std::string_view outcome_name(Outcome o);
+// Whether a run that ended so has reached every limit a study sets: it
+// overturned, or a joint separated (beyond it the model says nothing, so a
+// study counts it with overturning as the state past every limit).
+inline bool past_every_limit(Outcome o) { return o == Outcome::overturned || o == Outcome::separated; }
 
 struct Counts {
   long uplifts = 0, impacts = 0;
@@ -196,6 +202,7 @@ struct EnergyBalance {
 struct RunResult {
   Outcome outcome = Outcome::completed;
   std::string failure;             // what stopped a failed run, with time and phase
+  std::string separation;          // a separated run: which joint, when, and the phases
   double t_end = 0;                // where the run ended [s]
   Phase final_phase;               // at t_end
   double final_theta = 0;          // theta at t_end [rad]: the residual tilt when the motion has died out

@@ -39,10 +39,11 @@ std::vector<Variant> default_variants(const Scene& scene) {
   std::vector<Variant> out{named_variant("scene")};
   for (const DeviceGroup& g : device_groups(scene))
     if (g.dissipates) out.push_back(named_variant("without:" + g.name));
-  // A structure with joints has no fixed-base variant: its chain rocks at its base (MODEL.md 15). Nor has one
-  // on rocking columns: contact.rocking = false there holds the columns still, with the beam still free on
-  // them (MODEL.md 16), which is not the structure on a fixed base.
-  if (scene.contact.rocking && !scene.structure.rigid && !scene.jointed() && !scene.columns)
+  // On a fixed base a rigid structure has no motion unless it has joints above its base, which still rock
+  // there (MODEL.md 15). A structure on rocking columns has no fixed-base variant: contact.rocking = false
+  // there holds the columns still, with the beam still free on them (MODEL.md 16), which is not the
+  // structure on a fixed base.
+  if (scene.contact.rocking && !scene.columns && (!scene.structure.rigid || !scene.joints.empty()))
     out.push_back(named_variant("fixed-base"));
   return out;
 }
@@ -276,7 +277,7 @@ HuntResult hunt_collapse(const Study& study, std::size_t record, std::size_t var
       h.error = r.error;
       return false;
     }
-    h.points.push_back({level, r.run.outcome == Outcome::overturned, why});
+    h.points.push_back({level, past_every_limit(r.run.outcome), why});
     return true;
   };
   auto down_at = [&](double level) { return h.points.back().level == level && h.points.back().overturned; };
@@ -428,7 +429,7 @@ BlockSpectrum overturning_spectrum(const Scene& rigid_block, double size, PulseS
         o.duration = g.duration() + 20.0 / out.p;  // time enough to fall after the pulse
         const RunResult r = simulate(model, g, o);
         pt.uplift = r.counts.uplifts > 0;
-        pt.overturned = r.outcome == Outcome::overturned;
+        pt.overturned = past_every_limit(r.outcome);
         return pt;
       },
       [&](std::size_t k, const SpectrumPoint& pt) { out.points[first + k] = pt; },

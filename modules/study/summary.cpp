@@ -206,7 +206,7 @@ void StudySummary::add(const Job& job, const JobResult& result) {
   if (at == levels_.end() || *at != job.level) return;  // not a level of this summary
   Cell& c = cells_[(job.record * variants_ + job.variant) * levels_.size() + static_cast<std::size_t>(at - levels_.begin())];
   c.ran = true;
-  c.overturned = result.run.outcome == Outcome::overturned;
+  c.overturned = past_every_limit(result.run.outcome);
   c.peaks = columns_.values(result.run);
 }
 

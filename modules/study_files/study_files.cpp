@@ -188,7 +188,8 @@ ResumedRows read_resumed_rows(std::istream& in, const std::string& name, const s
     r.rows.push_back(line + "\n");
     std::string data = f[4];  // the level, then the columns
     for (std::size_t c = job_field_count; c < job_field_count + nc; ++c) data += "," + f[c];
-    const bool failed = !f[fields - 1].empty(), overturned = f[job_field_count + nc + 1] == "overturned";
+    const bool failed = !f[fields - 1].empty(), overturned = f[job_field_count + nc + 1] == "overturned" ||
+                                                  f[job_field_count + nc + 1] == "separated";
     r.lines.push_back(failed ? std::string() : data + (overturned ? ",1" : ",0"));
   }
   return r;
@@ -207,7 +208,7 @@ std::string figure_line(const StudyColumns& columns, const Job& job, const JobRe
   if (!r.error.empty()) return {};
   std::string out = fmt::format("{:.9g}", job.level);
   for (double v : columns.values(r.run)) out += "," + peak_field(v);
-  return out + (r.run.outcome == Outcome::overturned ? ",1" : ",0");
+  return out + (past_every_limit(r.run.outcome) ? ",1" : ",0");
 }
 
 JobResult line_result(const StudyColumns& columns, const std::string& line) {
