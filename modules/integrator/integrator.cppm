@@ -174,7 +174,8 @@ using LinearSolve = std::function<void(double g, Eigen::Ref<const Eigen::VectorX
 // The Rosenbrock-W method ROS34PW2 (rosenbrock.cpp): order 3 with any T,
 // L-stable, so that a stiff system whose stiff part T captures is stepped at
 // the accuracy's pace; events, breakpoints and dense output (order 2) as
-// rk45. An empty solve means T = 0 (an explicit method of order 3).
+// rk45. An empty solve means T = 0 (an explicit method of order 3, its dense
+// output the cubic Hermite interpolant, of order 3).
 std::unique_ptr<Integrator> make_rosenbrock_w(Eigen::Index n, Rhs rhs, LinearSolve solve, Options options);
 
 // y' = f(t, y) where, on the block z = y[first, first + m), f = A z + b a(t),

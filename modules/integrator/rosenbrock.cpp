@@ -12,12 +12,21 @@
 // alpha = (alpha_ij) the method's tables:
 //   (I - gamma h T) u_i = gamma h (f(t + alpha_i h, y + sum_j a_ij u_j) + sum_j c_ij u_j / h),
 //   y1 = y + sum m_i u_i,  a = alpha Gamma^-1,  c = -Gamma^-1 (off the diagonal),  m = b' Gamma^-1.
-// Dense output: y(t + s h) = y + s D1 + s^2 D2, the quadratic
-// y + sum_j b_j(s) k_j whose weights b_j(s) = s v_j + s^2 (b_j - v_j) meet the
-// W-method's conditions of order 2 at every s (sum v = 1, sum v alpha_j = 0,
-// sum v gamma_j = 0 with gamma_j = sum_k gamma_jk; v the least-norm solution).
-// Built from the stages, it stays bounded on stiff components, where a
-// Hermite interpolant through h f(y1) would not.
+// Dense output: y(t + s h) = y + s D1 + s^2 D2 + s^3 D3. With a stiff part,
+// the quadratic (D3 = 0) y + sum_j b_j(s) k_j whose weights
+// b_j(s) = s v_j + s^2 (b_j - v_j) meet the W-method's conditions of order 2
+// at every s (sum v = 1, sum v alpha_j = 0, sum v gamma_j = 0 with
+// gamma_j = sum_k gamma_jk; v the least-norm solution): built from the
+// stages, it stays bounded on stiff components, where a Hermite interpolant
+// through h f(y1) would not. Without one (T = 0, an explicit method of
+// order 3) the step's cubic Hermite interpolant through y, y1 and h f(t, y),
+// h f(t + h, y1) (the next step's first stage, computed anyway), of order 3:
+// exact on a cubic, as a rocking angle is just after an uplift from rest
+// (theta ~ t^3 while its acceleration grows from 0 with the ground's). The
+// quadratic is not: on theta = t^3 / 6 it dips through 0 inside every step
+// longer than about twice the time since the uplift (as the steps are when
+// they grow from a small first one by the controller's factor 5), which the
+// guards took for an impact.
 module;
 #include <rocking/eigen.hpp>
 #include <algorithm>
@@ -96,7 +105,7 @@ class RosenbrockW final : public detail::Adaptive<RosenbrockW> {
  public:
   RosenbrockW(Eigen::Index n, Rhs rhs, LinearSolve solve, Options o)
       : Adaptive(n, std::move(rhs), o), solve_(std::move(solve)) {
-    for (auto* v : {&y_prev_, &y_new_, &y_stage_, &f_, &f_stage_, &r_, &err_, &d1_, &d2_}) v->setZero(n);
+    for (auto* v : {&y_prev_, &y_new_, &y_stage_, &f_, &f_stage_, &r_, &err_, &d1_, &d2_, &d3_}) v->setZero(n);
     for (auto& u : u_) u.setZero(n);
   }
 
@@ -105,6 +114,7 @@ class RosenbrockW final : public detail::Adaptive<RosenbrockW> {
     y_prev_ = y;
     d1_.setZero();
     d2_.setZero();
+    d3_.setZero();
     h_dense_ = 0;
     rhs(t_, y_, f_);
     if (!f_.allFinite()) throw IntegrationError(IntegrationError::Kind::non_finite_state, t_, "at the initial state");
@@ -114,7 +124,8 @@ class RosenbrockW final : public detail::Adaptive<RosenbrockW> {
   void dense(double t, Eigen::Ref<Eigen::VectorXd> y) override {
     if (h_dense_ == 0) { y = y_prev_; return; }
     const double s = (t - t_prev_) / h_dense_;
-    y = y_prev_ + s * (d1_ + s * d2_);
+    if (solve_) y = y_prev_ + s * (d1_ + s * d2_);
+    else y = y_prev_ + s * (d1_ + s * (d2_ + s * d3_));
   }
   std::string name() const override { return "rosw"; }
 
@@ -171,10 +182,14 @@ class RosenbrockW final : public detail::Adaptive<RosenbrockW> {
   }
 
   void accept(double h, double t_new) {
-    const Tableau& tb = tableau();
-    d1_.setZero();
-    for (int j = 0; j < stages; ++j) d1_ += tb.dense1[j] * u_[j];
-    d2_ = y_new_ - y_ - d1_;
+    if (solve_) {
+      const Tableau& tb = tableau();
+      d1_.setZero();
+      for (int j = 0; j < stages; ++j) d1_ += tb.dense1[j] * u_[j];
+      d2_ = y_new_ - y_ - d1_;
+    } else {
+      d1_ = h * f_;  // h f(t, y), before f_ moves on to the step's end
+    }
     y_prev_.swap(y_);
     y_.swap(y_new_);
     t_prev_ = t_;
@@ -182,11 +197,16 @@ class RosenbrockW final : public detail::Adaptive<RosenbrockW> {
     t_ = t_new;
     ++stats_.steps;
     rhs(t_, y_, f_);  // the next step's first stage
+    if (!solve_) {  // the cubic Hermite interpolant: D2 = 3 dy - 2 h f0 - h f1, D3 = h f0 + h f1 - 2 dy
+      d3_ = h * f_;   // h f1 for now
+      d2_ = 3 * (y_ - y_prev_) - 2 * d1_ - d3_;
+      d3_ += d1_ - 2 * (y_ - y_prev_);
+    }
   }
 
   LinearSolve solve_;
   std::array<Eigen::VectorXd, stages> u_;
-  Eigen::VectorXd y_prev_, y_new_, y_stage_, f_, f_stage_, r_, err_, d1_, d2_;
+  Eigen::VectorXd y_prev_, y_new_, y_stage_, f_, f_stage_, r_, err_, d1_, d2_, d3_;
 };
 
 }  // namespace
