@@ -3,9 +3,13 @@
 // each pair's two runs alternate, best of N each, so that their ratio is
 // measured in one run on the same machine state. The targets (issue 55): the
 // rigid frame costs about the rigid block; the chimney on columns at most
-// twice the chimney; the two stacked blocks at most three times the rigid
-// block. The chimney on columns' fixed-base twin, stepped exactly with no
-// right-hand side, is reported for information.
+// twice the chimney; (issue 54) the two stacked blocks at most three times
+// the rigid block, the cracked chimney at most three times the chimney. The
+// cracked chimney's top leaves its joint at 0.21 x El Centro (its run ends
+// there, `separated`): the pair runs both at 0.2 x, where both run the whole
+// record, so that the ratio is what the chain's equations cost against the
+// one-body ones over the same motion. The chimney on columns' fixed-base
+// twin, stepped exactly with no right-hand side, is reported for information.
 // Usage: structures_bench [RECORDS_DIR] [--repeats N]
 //   RECORDS_DIR: default ../shared/data/records or $ROCKING_RECORDS.
 #include <fmt/format.h>
@@ -23,6 +27,7 @@ namespace {
 struct Case {
   std::string label, scene;
   std::vector<std::string> overrides;
+  double scale = 1;  // on the record
 };
 
 struct Timed {
@@ -33,6 +38,7 @@ struct Timed {
 PreparedRun prepared(const Case& c, const std::string& record) {
   RunSpec spec{.scene = load_scene(std::string(ROCKING_SOURCE_DIR) + "/data/scenes/" + c.scene, c.overrides)};
   spec.motion.record = record;
+  spec.motion.scale = c.scale;
   return prepare_run(spec);
 }
 
@@ -75,6 +81,8 @@ int main(int argc, char** argv) {
          elcentro, repeats, 0);
     pair({"stacked blocks (stacked_blocks.toml)", "stacked_blocks.toml", {}},
          {"rigid block (rigid_block.toml)", "rigid_block.toml", {}}, elcentro, repeats, 3.0);
+    pair({"cracked chimney, 0.2 x (chimney_cracked.toml)", "chimney_cracked.toml", {}, 0.2},
+         {"chimney, 0.2 x (christchurch_chimney.toml)", "christchurch_chimney.toml", {}, 0.2}, elcentro, repeats, 3.0);
   } catch (const std::exception& e) {
     fmt::print(stderr, "structures_bench: {}\n", e.what());
     return 1;

@@ -774,7 +774,7 @@ PYBIND11_MODULE(rocking, m) {
                     "Phase changes in time order: dicts of kind (uplift, impact, overturn,\n"
                     "fracture), t [s], pivot, device for a fracture, and joint (0 the base, K\n"
                     "the joint K above it) on a structure with [[joint]]s.")
-      .def_readonly("outcome", &PyResult::outcome, "completed, overturned or failed")
+      .def_readonly("outcome", &PyResult::outcome, "completed, overturned, separated (a joint in tension: the part above would leave it) or failed")
       .def("to_pandas", [](const PyResult& r) { return to_pandas(r.history); },
            "The history as a pandas DataFrame (needs pandas; the project does not).")
       .def("__repr__", [](const PyResult& r) {
