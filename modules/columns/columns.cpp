@@ -121,6 +121,16 @@ Stretch beam_device_stretch(const Columns& c, double ground_x, double ground_y, 
   return {length - L, s * (x * m.jx + y * m.jy) / length};
 }
 
+DeckLoad beam_device_load(const Columns& c, double ground_x, double ground_y, double beam_x, double beam_y, int s,
+                          const Tilt& tilt, double force) {
+  const BeamMotion m = s != 0 ? beam_motion(c, s, tilt) : BeamMotion{};
+  const double x = beam_x - ground_x + m.dx, y = beam_y - ground_y + m.dy, length = std::hypot(x, y);
+  if (length == 0) return {};
+  // -F n on the deck at (beam_x, beam_y - 2h) from O
+  const double fx = -force * x / length, fy = -force * y / length;
+  return {fx, fy, beam_x * fy - (beam_y - 2.0 * c.group.half_height) * fx};
+}
+
 void full_contact_acceleration(const Columns& c, double a_g, Eigen::Ref<const Eigen::VectorXd> u,
                                Eigen::Ref<const Eigen::VectorXd> u_dot, Eigen::Ref<Eigen::VectorXd> rates) {
   const Eigen::Index n = nodes(c);
@@ -233,7 +243,8 @@ double viscous_power(const Columns& c, Eigen::Ref<const Eigen::VectorXd> u_dot) 
 }
 
 TopContact top_contact_forces(const Columns& c, int s, GroundAcceleration a, const Coordinates& q, double theta_ddot,
-                              Eigen::Ref<const Eigen::VectorXd> u_ddot, std::span<double> normal) {
+                              Eigen::Ref<const Eigen::VectorXd> u_ddot, std::span<double> normal,
+                              const DeckLoad& load) {
   // The deck's accelerations in the ground's frame: the beam's (0 in full
   // contact), plus u'' for the nodes; the contact forces balance m (acc + (a_g, g + a_v)).
   double ax = 0, ay = 0;
@@ -245,8 +256,10 @@ TopContact top_contact_forces(const Columns& c, int s, GroundAcceleration a, con
   }
   const double fy = ay + c.g + a.v, fx = ax + a.h;
   TopContact out;
-  out.normal = c.deck_mass * fy;
-  out.shear = c.deck_mass * fx;
+  // The contacts carry what the deck's motion needs less what the load supplies.
+  out.normal = c.deck_mass * fy - load.fy;
+  out.shear = c.deck_mass * fx - load.fx;
+  out.moment = -load.moment;
   const Eigen::Index n = c.structure.heights.size();
   const bool flexible = nodes(c) > 0;
   for (Eigen::Index i = 0; i < n; ++i) {

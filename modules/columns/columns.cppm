@@ -98,6 +98,17 @@ BeamMotion beam_motion(const Columns& c, int s, const Tilt& tilt);
 Stretch beam_device_stretch(const Columns& c, double ground_x, double ground_y, double beam_x, double beam_y,
                             double free_length, int s, const Tilt& tilt);
 
+// A load on the deck from outside it, applied at its underside: the force
+// [N] and its moment about the underside's centre O [N m], counterclockwise.
+struct DeckLoad {
+  double fx = 0, fy = 0, moment = 0;
+};
+// The load on the deck of such a device pulling with `force` (tension > 0,
+// toward the ground anchor) while rocking about s (0: full contact, at rest).
+// beam_y is measured from the columns' bottoms: 2h on the underside.
+DeckLoad beam_device_load(const Columns& c, double ground_x, double ground_y, double beam_x, double beam_y, int s,
+                          const Tilt& tilt, double force);
+
 // (u', u'') under full contact into rates (2N entries): MODEL.md 3, the beam fixed.
 void full_contact_acceleration(const Columns& c, double a_g, Eigen::Ref<const Eigen::VectorXd> u,
                                Eigen::Ref<const Eigen::VectorXd> u_dot, Eigen::Ref<Eigen::VectorXd> rates);
@@ -144,7 +155,8 @@ double viscous_power(const Columns& c, Eigen::Ref<const Eigen::VectorXd> u_dot);
 // The column-top contact forces on the deck (beam and structure, one free body
 // whose underside centre is O): the normal force of each column (compression
 // > 0) into `normal` (count entries) and the totals. `s` is 0 in full contact;
-// theta_ddot and u_ddot are the accelerations the equations give now. With
+// theta_ddot and u_ddot are the accelerations the equations give now, `load`
+// what else acts on the deck (the devices between the ground and the beam). With
 // n = 2 the split is determined; with n > 2 it is the minimum-norm one (linear
 // across the contact points); with one column the single contact carries the
 // total.
@@ -155,6 +167,7 @@ struct TopContact {
   double smallest = 0;  // min N [N]: < 0 is tension the model cannot carry
 };
 TopContact top_contact_forces(const Columns& c, int s, GroundAcceleration a, const Coordinates& q, double theta_ddot,
-                              Eigen::Ref<const Eigen::VectorXd> u_ddot, std::span<double> normal);
+                              Eigen::Ref<const Eigen::VectorXd> u_ddot, std::span<double> normal,
+                              const DeckLoad& load = {});
 
 }  // namespace rocking

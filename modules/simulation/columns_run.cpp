@@ -25,6 +25,11 @@
 // and the n alike exert n times its moment D and power; their states z rest
 // in full contact and resume on the next uplift about the same side, and a
 // device reaching its capacity fractures (an event, in every column at once).
+// A device between the ground and the cap beam (ColumnsModel::beam_devices)
+// is one: it acts while the columns rock about either side, its stretch the
+// distance between its anchors (beam_device_stretch) and its moment
+// F de/d|theta|; it holds F(e = 0) de/d|theta| against uplift; its force
+// loads the deck, in both phases, for the column-top forces.
 // The state is [theta, theta', z (the devices' states, as a rigid block's
 // slots), u, u', W_ground, W_viscous, W_devices, the work on each device] (u
 // nodal, none for a rigid deck); the works do not steer the steps. Full
@@ -66,15 +71,19 @@ struct ColumnsGuardDef {
   ColumnsGuard what = ColumnsGuard::uplift;
   Pivot pivot = Pivot::right;
   int acting = 0;  // a fracture guard's device, by its place in the pivot's acting list
+  int beam = -1;   // or, >= 0, by its place in the beam devices
 };
 
 // The states z of the devices: the slots after theta and theta' that the
-// model's acting devices use (rocking.scene counts them as a rigid block's).
+// model's acting devices use (rocking.scene counts them as a rigid block's),
+// then the beam devices'.
 Eigen::Index device_states(const ContactModel& m) {
   Eigen::Index end = 2;
   for (const auto& acting : m.acting)
     for (const ContactModel::Acting& a : acting)
       if (a.slot) end = std::max(end, *a.slot + 1);
+  for (const ColumnsModel::BeamDevice& d : m.on_columns->beam_devices)
+    if (d.slot) end = std::max(end, *d.slot + 1);
   return end - 2;
 }
 
@@ -141,21 +150,63 @@ class ColumnsDriver {
   double base_half_width() const { return c_.group.half_width; }
   const std::vector<ContactModel::Acting>& acting() const { return m_.acting[index(*phase_.pivot())]; }
 
-  // While rocking: the n alike devices' moment D = n sum F de/d|theta| [N m],
-  // with their states' rates into dydt (when given) and the power on each
-  // device's n copies into power_ (the acting ones; the others 0).
+  // While rocking: the n alike devices' moment n sum F de/d|theta| with the
+  // beam devices' sum F de/d|theta|, D [N m], with their states' rates into
+  // dydt (when given) and the power on each device (a column device's n
+  // copies) into power_ (the acting ones; the others 0).
   double device_terms(Eigen::Ref<const Eigen::VectorXd> y, double* dydt) {
     if (m_.devices.empty() || !phase_.is_rocking()) return 0.0;
     std::fill(power_.begin(), power_.end(), 0.0);
     const Tilt tilt(y[0]);
+    double* rates = dydt != nullptr ? dydt : scratch_.data();
     double moment = 0;
     for (const ContactModel::Acting& a : acting()) {
-      const ContactModel::DeviceTerms t = a.terms(a, devices_, base_half_width(), s(), tilt, y[1], y.data(),
-                                                  dydt != nullptr ? dydt : scratch_.data());
+      const ContactModel::DeviceTerms t = a.terms(a, devices_, base_half_width(), s(), tilt, y[1], y.data(), rates);
       moment += t.moment;
       power_[static_cast<std::size_t>(a.device)] = count() * t.power;
     }
-    return count() * moment;
+    moment *= count();
+    for (const ColumnsModel::BeamDevice& d : cm_.beam_devices) {
+      if (devices_.is_broken(d.device)) {
+        if (d.slot) rates[*d.slot] = 0.0;
+        continue;
+      }
+      const Stretch st = beam_stretch(d, tilt);
+      const double e_dot = st.de_dtheta * s() * y[1];
+      const LawResponse f = law_force_and_rate(law(d), st.e, e_dot, d.slot ? y[*d.slot] : 0.0);
+      if (d.slot) rates[*d.slot] = f.rate;
+      moment += f.F * st.de_dtheta;
+      power_[static_cast<std::size_t>(d.device)] = f.F * e_dot;
+    }
+    return moment;
+  }
+
+  // A beam device's law, and its stretch while rocking about s().
+  const DeviceLaw& law(const ColumnsModel::BeamDevice& d) const { return m_.devices[static_cast<std::size_t>(d.device)].law; }
+  Stretch beam_stretch(const ColumnsModel::BeamDevice& d, const Tilt& tilt) const {
+    return beam_device_stretch(c_, d.ground_x, d.ground_y, d.beam_x, 2.0 * c_.group.half_height, 0.0, s(), tilt);
+  }
+
+  // The beam devices' force on the deck (at rest in full contact): each
+  // intact one's law at its stretch, rate and state.
+  DeckLoad beam_load(Eigen::Ref<const Eigen::VectorXd> y) const {
+    DeckLoad total;
+    const Tilt tilt(y[0]);
+    for (const ColumnsModel::BeamDevice& d : cm_.beam_devices) {
+      if (devices_.is_broken(d.device)) continue;
+      const double z = d.slot ? (phase_.is_rocking() ? y[*d.slot] : devices_.z(d.device)) : 0.0;
+      double F = law_force(law(d), 0.0, 0.0, z);
+      if (phase_.is_rocking()) {
+        const Stretch st = beam_stretch(d, tilt);
+        F = law_force(law(d), st.e, st.de_dtheta * s() * y[1], z);
+      }
+      const DeckLoad l =
+          beam_device_load(c_, d.ground_x, d.ground_y, d.beam_x, 2.0 * c_.group.half_height, s(), tilt, F);
+      total.fx += l.fx;
+      total.fy += l.fy;
+      total.moment += l.moment;
+    }
+    return total;
   }
 
   // theta'' (0 in full contact) with (u', u'') into rates_, as the phase's equations give them.
@@ -194,13 +245,21 @@ class ColumnsDriver {
     dydt[work_ + 1] = viscous_power(c_, y.segment(u_ + n_, n_));
   }
 
-  // The moment the intact devices hold against uplift about p at rest: n sum F(e = 0) l.
-  double held(Pivot p) const { return m_.devices.empty() ? 0.0 : count() * held_moment(m_, devices_, p); }
+  // The moment the intact devices hold against uplift about p at rest: n sum
+  // F(e = 0) l, and F(e = 0) de/d|theta| of each beam device.
+  double held(Pivot p) const {
+    if (m_.devices.empty()) return 0.0;
+    double moment = count() * held_moment(m_, devices_, p);
+    for (const ColumnsModel::BeamDevice& d : cm_.beam_devices)
+      if (!devices_.is_broken(d.device)) moment += law_force_at_rest(law(d), devices_.z(d.device)) * d.lever[index(p)];
+    return moment;
+  }
 
   // The column-top contact forces now (normal_ filled).
   TopContact top_forces(GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> y) {
     const double theta_ddot = accelerations(a, y);
-    return top_contact_forces(c_, s(), a, coordinates(y), theta_ddot, rates_.tail(n_), normal_);
+    return top_contact_forces(c_, s(), a, coordinates(y), theta_ddot, rates_.tail(n_), normal_,
+                              cm_.beam_devices.empty() ? DeckLoad{} : beam_load(y));
   }
 
   void initial_state() {
@@ -237,15 +296,20 @@ class ColumnsDriver {
   void set_phase(Phase phase) {
     phase_ = phase;
     devices_.phase = phase;
-    if (phase.is_rocking())
+    if (phase.is_rocking()) {
       for (const ContactModel::Acting& a : acting())
         if (a.slot) y_[*a.slot] = devices_.z(a.device);
+      for (const ColumnsModel::BeamDevice& d : cm_.beam_devices)
+        if (d.slot) y_[*d.slot] = devices_.z(d.device);
+    }
   }
 
   // The acting devices keep their states for their next rocking phase.
   void keep_device_states() {
     for (const ContactModel::Acting& a : acting())
       if (a.slot) devices_.set_z(a.device, y_[*a.slot]);
+    for (const ColumnsModel::BeamDevice& d : cm_.beam_devices)
+      if (d.slot) devices_.set_z(d.device, y_[*d.slot]);
   }
 
   void lift(Pivot p, double t) {
@@ -272,6 +336,11 @@ class ColumnsDriver {
         guards_.push_back({ColumnsGuard::fracture, *phase_.pivot(), i});
         directions.push_back(ode::Direction::rising);
       }
+      for (std::size_t i = 0; i < cm_.beam_devices.size(); ++i)
+        if (m_.devices[static_cast<std::size_t>(cm_.beam_devices[i].device)].capacity > 0) {
+          guards_.push_back({ColumnsGuard::fracture, *phase_.pivot(), 0, static_cast<int>(i)});
+          directions.push_back(ode::Direction::rising);
+        }
     } else if (cm_.rocking) {
       for (Pivot p : pivots) {
         guards_.push_back({ColumnsGuard::uplift, p});
@@ -304,6 +373,13 @@ class ColumnsDriver {
         case ColumnsGuard::overturn: g[k] = sd * y[0] - cm_.overturn_angle; break;
         case ColumnsGuard::tension: g[k] = top_forces(a, y).smallest; break;
         case ColumnsGuard::fracture: {
+          if (d.beam >= 0) {
+            const ColumnsModel::BeamDevice& dev = cm_.beam_devices[static_cast<std::size_t>(d.beam)];
+            g[k] = devices_.is_broken(dev.device)
+                       ? -1.0
+                       : beam_stretch(dev, Tilt(y[0])).e - m_.devices[static_cast<std::size_t>(dev.device)].capacity;
+            break;
+          }
           const ContactModel::Acting& dev = acting()[static_cast<std::size_t>(d.acting)];
           g[k] = devices_.is_broken(dev.device)
                      ? -1.0
@@ -347,7 +423,8 @@ class ColumnsDriver {
         return false;
       case ColumnsGuard::tension: tension(t);
       case ColumnsGuard::fracture: {
-        const int device = acting()[static_cast<std::size_t>(d.acting)].device;
+        const int device = d.beam >= 0 ? cm_.beam_devices[static_cast<std::size_t>(d.beam)].device
+                                       : acting()[static_cast<std::size_t>(d.acting)].device;
         announce({EventKind::fracture, t, d.pivot, device});
         fracture(devices_, device);
         result_.devices[static_cast<std::size_t>(device)].fracture_time = t;
@@ -419,7 +496,7 @@ class ColumnsDriver {
     history_.rows(*active_, dense_, [this](double t, const Eigen::VectorXd& y) { history_row(t, y); });
   }
 
-  // Each device's elongation and force (one column's; NaN once broken) into
+  // Each device's elongation and force (a column device's in one column; NaN once broken) into
   // samples_, with the moment its n copies exert against the tilt; returns
   // the sum of those moments, M_dev [N m].
   double sample_devices(Eigen::Ref<const Eigen::VectorXd> y) {
@@ -439,6 +516,16 @@ class ColumnsDriver {
       out.e = st.elongation;
       out.F = st.force;
       out.moment = count() * s() * st.force * de_dtheta;
+      moment += out.moment;
+    }
+    for (const ColumnsModel::BeamDevice& d : cm_.beam_devices) {
+      if (devices_.is_broken(d.device)) continue;
+      const Stretch st = beam_stretch(d, tilt);
+      const double F = law_force(law(d), st.e, st.de_dtheta * s() * y[1], d.slot ? y[*d.slot] : 0.0);
+      DeviceSample& out = samples_[static_cast<std::size_t>(d.device)];
+      out.e = st.e;
+      out.F = F;
+      out.moment = s() * F * st.de_dtheta;
       moment += out.moment;
     }
     return moment;
