@@ -212,8 +212,9 @@ TEST_CASE("a beam device through the program: history columns by name, and each 
   };
   const std::string block = (std::filesystem::path(ROCKING_SCENES) / "rigid_block.toml").string();
   const std::string tendon_keys = "kind=\"elastic\",name=\"tie\",P0=0.0,k=1e7";
-  // No [columns]: no beam.
-  refused(block, tendon_keys + ",kinematics=\"beam\",at=0.0,beam_at=0.0", "device[0].kinematics");
+  // No [columns]: no beam, and no beam anchor.
+  refused(block, tendon_keys + ",kinematics=\"beam\",at=0.0", "device[0].kinematics");
+  refused(block, tendon_keys + ",kinematics=\"vertical\",free_length=2.0,at=0.0,beam_at=0.0", "device[0].beam_at");
   // The beam anchor: required, on the beam (|x| <= 3 + 0.8 m).
   refused(frame_scene, tendon_keys + ",kinematics=\"beam\",at=0.0", "device[0].beam_at");
   refused(frame_scene, tendon_keys + ",kinematics=\"beam\",at=0.0,beam_at=3.9", "device[0].beam_at");

@@ -60,12 +60,12 @@ struct Columns {
   double g = gravity;
   // Derived: R [m], alpha [rad] with its sine and cosine; n m_c, m_s = 1'M1,
   // m_d = m0 + m_s [kg]; J = (4/3) n m_c R^2 + 4 R^2 m_d [kg m^2]; the
-  // gravity lever R (n m_c + 2 m_d) [kg m]; 1/m per node; 1'K and 1'C (the
-  // base shear 1'(K u + C u') as two dot products); each column's axis along
-  // the beam [m].
+  // gravity lever R (n m_c + 2 m_d) [kg m]; H'M1 [kg m]; 1/m per node; 1'K
+  // and 1'C (the base shear 1'(K u + C u') as two dot products) and H'K, H'C
+  // (its moment about the beam); each column's axis along the beam [m].
   double R = 0, alpha = 0, sin_alpha = 0, cos_alpha = 1;
-  double columns_mass = 0, structure_mass = 0, deck_mass = 0, inertia = 0, lever = 0;
-  Eigen::VectorXd inverse_masses, shear_K, shear_C, axes;
+  double columns_mass = 0, structure_mass = 0, deck_mass = 0, inertia = 0, lever = 0, height_mass = 0;
+  Eigen::VectorXd inverse_masses, shear_K, shear_C, moment_K, moment_C, axes;
   bool flexible = false;          // elastic coordinates u (one per node)
 };
 // Throws std::invalid_argument naming the first field that breaks an
@@ -169,5 +169,12 @@ struct TopContact {
 TopContact top_contact_forces(const Columns& c, int s, GroundAcceleration a, const Coordinates& q, double theta_ddot,
                               Eigen::Ref<const Eigen::VectorXd> u_ddot, std::span<double> normal,
                               const DeckLoad& load = {});
+// The same forces at the accelerations the equations give in this state
+// (rocking about s with the devices' moment D, or s = 0 in full contact),
+// from the sums over the nodes they need (1'M u'', H'M u'', 1'M u: dot
+// products with 1'K, 1'C, H'K, H'C), without the nodes' accelerations: what
+// a guard sampled several times a step costs.
+TopContact top_contact_forces_now(const Columns& c, int s, GroundAcceleration a, const Coordinates& q,
+                                  double device_moment, std::span<double> normal, const DeckLoad& load = {});
 
 }  // namespace rocking

@@ -519,8 +519,9 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
     if (law == laws.end())
       t.fail(&t.required("kind"), "kind",
              fmt::format("unknown law '{}' (laws: {})", kind, fmt::join(laws | std::views::transform(&LawInfo::name), ", ")));
-    std::set<std::string, std::less<>> known = {"name",     "kind",    "at",     "kinematics",   "free_length",
-                                                "capacity", "segment", "beam_at", "ground_height"};
+    std::set<std::string, std::less<>> known = {"name", "kind", "at", "kinematics", "free_length", "capacity",
+                                                "segment"};
+    if (on_columns) known.insert({"beam_at", "ground_height"});
     for (const LawParameter& p : law->parameters) known.insert(p.key);
     for (auto&& [key, value] : *table)
       if (!known.contains(key.str()))

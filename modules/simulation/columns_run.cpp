@@ -49,6 +49,7 @@ module;
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -93,7 +94,7 @@ class ColumnsDriver {
       : m_(m), cm_(*m.on_columns), c_(cm_.columns), ground_(ground), vertical_(ground.vertical()), opt_(o),
         observer_(observer), scales_(output_scales(m)), n_(elastic_size(c_)), u_(2 + device_states(m)),
         work_(u_ + 2 * n_), size_(work_ + 3 + static_cast<Eigen::Index>(m.devices.size())),
-        y_(Eigen::VectorXd::Zero(size_)), dense_(size_), rates_(Eigen::VectorXd::Zero(2 * n_)),
+        y_(Eigen::VectorXd::Zero(size_)), dense_(size_),
         fixed_(Eigen::VectorXd::Zero(m.layout.size)), normal_(static_cast<std::size_t>(c_.group.count)),
         history_(o.output_interval) {
     auto rhs = [this](double t, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& dydt) {
@@ -143,8 +144,9 @@ class ColumnsDriver {
  private:
   int s() const { return phase_.sign(); }
   GroundAcceleration ground_at(double t) const { return rocking::ground_at(ground_, vertical_, t); }
+  // The state's coordinates; in full contact theta = 0 (upright_, no trig call).
   Coordinates coordinates(Eigen::Ref<const Eigen::VectorXd> y) const {
-    return {y.segment(u_, n_), y.segment(u_ + n_, n_), Tilt(y[0]), y[1]};
+    return {y.segment(u_, n_), y.segment(u_ + n_, n_), phase_.is_rocking() ? Tilt(y[0]) : upright_, y[1]};
   }
   double count() const { return c_.group.count; }
   double base_half_width() const { return c_.group.half_width; }
@@ -154,10 +156,9 @@ class ColumnsDriver {
   // beam devices' sum F de/d|theta|, D [N m], with their states' rates into
   // dydt (when given) and the power on each device (a column device's n
   // copies) into power_ (the acting ones; the others 0).
-  double device_terms(Eigen::Ref<const Eigen::VectorXd> y, double* dydt) {
+  double device_terms(Eigen::Ref<const Eigen::VectorXd> y, const Tilt& tilt, double* dydt) {
     if (m_.devices.empty() || !phase_.is_rocking()) return 0.0;
     std::fill(power_.begin(), power_.end(), 0.0);
-    const Tilt tilt(y[0]);
     double* rates = dydt != nullptr ? dydt : scratch_.data();
     double moment = 0;
     for (const ContactModel::Acting& a : acting()) {
@@ -209,28 +210,20 @@ class ColumnsDriver {
     return total;
   }
 
-  // theta'' (0 in full contact) with (u', u'') into rates_, as the phase's equations give them.
-  double accelerations(GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> y) {
-    if (!phase_.is_rocking()) {
-      full_contact_acceleration(c_, a.h, y.segment(u_, n_), y.segment(u_ + n_, n_), rates_);
-      return 0.0;
-    }
-    return rocking_acceleration(c_, s(), a, device_terms(y, nullptr), coordinates(y), rates_);
-  }
-
   void derivatives(double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> dydt) {
     const GroundAcceleration a = ground_at(t);
     // The devices' states rest unless the pivot's acting devices write theirs.
     dydt.segment(2, u_ - 2).setZero();
     dydt.tail(size_ - work_ - 2).setZero();
+    const Coordinates q = coordinates(y);  // one tilt for the whole right-hand side
     if (!phase_.is_rocking()) {
-      full_contact_acceleration(c_, a.h, y.segment(u_, n_), y.segment(u_ + n_, n_), rates_);
+      full_contact_acceleration(c_, a.h, q.u, q.u_dot, dydt.segment(u_, 2 * n_));
       dydt[0] = 0.0;  // a closed frame's theta stays 0
       dydt[1] = 0.0;
     } else {
-      const double moment = device_terms(y, dydt.data());
+      const double moment = device_terms(y, q.tilt, dydt.data());
       dydt[0] = y[1];
-      dydt[1] = rocking_acceleration(c_, s(), a, moment, coordinates(y), rates_);
+      dydt[1] = rocking_acceleration(c_, s(), a, moment, q, dydt.segment(u_, 2 * n_));
       if (!m_.devices.empty()) {
         double total = 0;
         for (std::size_t k = 0; k < power_.size(); ++k) {
@@ -240,9 +233,8 @@ class ColumnsDriver {
         dydt[work_ + 2] = total;
       }
     }
-    dydt.segment(u_, 2 * n_) = rates_;
-    dydt[work_] = ground_input_power(c_, s(), a, coordinates(y));
-    dydt[work_ + 1] = viscous_power(c_, y.segment(u_ + n_, n_));
+    dydt[work_] = ground_input_power(c_, s(), a, q);
+    dydt[work_ + 1] = viscous_power(c_, q.u_dot);
   }
 
   // The moment the intact devices hold against uplift about p at rest: n sum
@@ -256,10 +248,50 @@ class ColumnsDriver {
   }
 
   // The column-top contact forces now (normal_ filled).
+  // (At the accelerations the phase's equations give now, with the devices'
+  // moment while rocking.)
   TopContact top_forces(GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> y) {
-    const double theta_ddot = accelerations(a, y);
-    return top_contact_forces(c_, s(), a, coordinates(y), theta_ddot, rates_.tail(n_), normal_,
-                              cm_.beam_devices.empty() ? DeckLoad{} : beam_load(y));
+    return top_forces(a, y, coordinates(y));
+  }
+  TopContact top_forces(GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> y, const Coordinates& q) {
+    const double moment = phase_.is_rocking() ? device_terms(y, q.tilt, nullptr) : 0.0;
+    return top_contact_forces_now(c_, s(), a, q, moment, normal_, cm_.beam_devices.empty() ? DeckLoad{} : beam_load(y));
+  }
+
+  // The deck at an instant: the smallest column-top force and the beam's
+  // translation dx, remembered at the guards' samples: the step's samples
+  // for the outputs are the same times and states (the integrator's
+  // buffers), which need not be worked out twice.
+  struct Deck {
+    double smallest = 0, dx = 0;
+  };
+  struct Remembered {
+    double t = 0;
+    Eigen::VectorXd y;
+    Deck deck;
+  };
+  Deck deck_now(GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> y) {
+    const Coordinates q = coordinates(y);
+    return {top_forces(a, y, q).smallest, phase_.is_rocking() ? beam_motion(c_, s(), q.tilt).dx : 0.0};
+  }
+  double remembered_top_force(double t, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> y) {
+    Remembered& r = remembered_[next_remembered_];
+    next_remembered_ = (next_remembered_ + 1) % remembered_.size();
+    r.t = t;
+    r.y = y;
+    r.deck = deck_now(a, y);
+    held_remembered_ = std::min(held_remembered_ + 1, remembered_.size());
+    return r.deck.smallest;
+  }
+  // (The latest first: a step's samples follow its guards' last samples.)
+  Deck deck_at(double t, Eigen::Ref<const Eigen::VectorXd> y) {
+    const std::size_t size = remembered_.size();
+    for (std::size_t k = 1; k <= held_remembered_; ++k) {
+      const Remembered& r = remembered_[(next_remembered_ + size - k) % size];
+      if (r.t == t && std::memcmp(r.y.data(), y.data(), sizeof(double) * static_cast<std::size_t>(size_)) == 0)
+        return r.deck;
+    }
+    return deck_now(ground_at(t), y);
   }
 
   void initial_state() {
@@ -325,6 +357,7 @@ class ColumnsDriver {
   }
 
   void restart(double t) {
+    held_remembered_ = next_remembered_ = 0;
     guards_.clear();
     std::vector<ode::Direction> directions;
     if (phase_.is_rocking()) {
@@ -371,7 +404,7 @@ class ColumnsDriver {
           break;
         case ColumnsGuard::impact: g[k] = sd * y[0]; break;
         case ColumnsGuard::overturn: g[k] = sd * y[0] - cm_.overturn_angle; break;
-        case ColumnsGuard::tension: g[k] = top_forces(a, y).smallest; break;
+        case ColumnsGuard::tension: g[k] = remembered_top_force(t, a, y); break;
         case ColumnsGuard::fracture: {
           if (d.beam >= 0) {
             const ColumnsModel::BeamDevice& dev = cm_.beam_devices[static_cast<std::size_t>(d.beam)];
@@ -454,8 +487,8 @@ class ColumnsDriver {
   }
 
   // The structure's response on the cap beam (its fixed-base outputs) with the
-  // drift from the ground and the columns' quantities; the top forces when asked.
-  Response response(double t, Eigen::Ref<const Eigen::VectorXd> y, bool forces) {
+  // drift from the ground and the columns' quantities, the top forces among them.
+  Response response(double t, Eigen::Ref<const Eigen::VectorXd> y) {
     const Layout& l = m_.layout;
     if (l.u.present()) {
       from_nodal(m_.body, y.segment(u_, n_), fixed_.segment(l.u.start, l.n));
@@ -464,21 +497,19 @@ class ColumnsDriver {
     Response r = evaluate(m_, scales_, contact_, t, fixed_);
     r.phase = phase_;
     r[Quantity::phase] = phase_.sign();
-    const double dx = phase_.is_rocking() ? beam_motion(c_, s(), Tilt(y[0])).dx : 0.0;
+    const Deck deck = deck_at(t, y);
+    const double dx = deck.dx;
     const double u_top = n_ > 0 ? y[u_ + n_ - 1] : 0.0;
     r[Quantity::delta_t] = (dx + u_top) * scales_.inverse_H_N;
     r[Quantity::columns_theta] = y[0];
     r[Quantity::columns_theta_over_alpha] = y[0] / c_.alpha;
     r[Quantity::columns_theta_dot] = y[1];
     r[Quantity::beam_x] = dx;
-    if (forces) {
-      const double smallest = top_forces(ground_at(t), y).smallest;
-      r[Quantity::columns_top_force] = smallest;
-      ColumnsResult& cr = *result_.columns;
-      if (smallest < cr.smallest_top_force) {
-        cr.smallest_top_force = smallest;
-        cr.smallest_top_force_time = t;
-      }
+    r[Quantity::columns_top_force] = deck.smallest;
+    ColumnsResult& cr = *result_.columns;
+    if (deck.smallest < cr.smallest_top_force) {
+      cr.smallest_top_force = deck.smallest;
+      cr.smallest_top_force_time = t;
     }
     return r;
   }
@@ -488,7 +519,7 @@ class ColumnsDriver {
     const double t0 = active_->previous_time(), t1 = active_->time();
     for (int k = 1; k <= count; ++k) {
       const Eigen::VectorXd& y = active_->sample(k, count);
-      const Response r = response(ode::Integrator::sample_time(t0, t1, k, count), y, true);
+      const Response r = response(ode::Integrator::sample_time(t0, t1, k, count), y);
       peaks_.add(r.t, r.q);
       device_peaks(y);
     }
@@ -548,7 +579,7 @@ class ColumnsDriver {
   // accumulators, the impacts' losses up to now.
   void history_row(double t, Eigen::Ref<const Eigen::VectorXd> y) {
     last_row_ = t;
-    Response r = response(t, y, true);
+    Response r = response(t, y);
     r[Quantity::a_g] = ground_.acceleration(t);
     r[Quantity::a_v] = vertical_ ? vertical_->acceleration(t) : 0.0;
     r[Quantity::x_g] = travel_.at(t).d;
@@ -566,7 +597,7 @@ class ColumnsDriver {
   }
 
   void emit(double t, Eigen::Ref<const Eigen::VectorXd> y) {
-    const Response r = response(t, y, true);
+    const Response r = response(t, y);
     peaks_.add(r.t, r.q);
     device_peaks(y);
     if (observer_ != nullptr) history_row(t, y);
@@ -602,12 +633,13 @@ class ColumnsDriver {
   // Elastic coordinates; where u and the works start in the state; its size.
   Eigen::Index n_, u_, work_, size_;
   Phase phase_;
+  const Tilt upright_{0.0};
   Discrete contact_;  // the structure's own phase on the beam: full contact
   Discrete devices_;  // the devices': the columns' phase, the states kept, the fractures
   std::vector<double> power_ = std::vector<double>(m_.devices.size(), 0.0);  // on each device's n copies [W]
   Eigen::VectorXd scratch_ = Eigen::VectorXd::Zero(size_);  // the state rates device_terms writes when not asked
   std::vector<DeviceSample> samples_;
-  Eigen::VectorXd y_, dense_, rates_, fixed_;
+  Eigen::VectorXd y_, dense_, fixed_;
   double last_row_ = -std::numeric_limits<double>::infinity();  // the last history row's time
   std::vector<double> normal_;
   std::vector<ColumnsGuardDef> guards_;
@@ -619,6 +651,9 @@ class ColumnsDriver {
   HistoryGrid history_;
   PeakTracker peaks_;
   RunResult result_;
+  // As many as a step has guard samples (the exact stepping's most).
+  std::vector<Remembered> remembered_ = std::vector<Remembered>(16, Remembered{0.0, y_, {}});
+  std::size_t next_remembered_ = 0, held_remembered_ = 0;
 };
 
 }  // namespace
