@@ -89,6 +89,16 @@ double rocking_rates(const Columns& c, double a, double rhs_theta, double ax, co
 void split_over_columns(const Columns& c, int s, TopContact& out, std::span<double> normal) {
   const int count = c.group.count;
   const double offset = -s * c.group.half_width;
+  if (count == 2) {  // determined: N_1 (x_2 - x_1) = x_2 sum N - sum x N, one division
+    const double x1 = c.axes[0] + offset, x2 = c.axes[1] + offset;
+    const double N1 = (x2 * out.normal - out.moment) / (x2 - x1), N2 = out.normal - N1;
+    if (normal.size() >= 2) {
+      normal[0] = N1;
+      normal[1] = N2;
+    }
+    out.smallest = std::min(N1, N2);
+    return;
+  }
   double mean = 0, sxx = 0;
   for (int k = 0; k < count; ++k) mean += c.axes[k] + offset;
   mean /= count;
