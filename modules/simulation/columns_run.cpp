@@ -143,7 +143,15 @@ class ColumnsDriver {
 
  private:
   int s() const { return phase_.sign(); }
-  GroundAcceleration ground_at(double t) const { return rocking::ground_at(ground_, vertical_, t); }
+  // The ground's accelerations at t, the last instant's remembered: a step's
+  // last two stages and its end's guards share theirs.
+  GroundAcceleration ground_at(double t) const {
+    if (t != ground_t_) {
+      ground_a_ = rocking::ground_at(ground_, vertical_, t);
+      ground_t_ = t;
+    }
+    return ground_a_;
+  }
   // The state's coordinates; in full contact theta = 0 (upright_, no trig call).
   Coordinates coordinates(Eigen::Ref<const Eigen::VectorXd> y) const {
     return {y.segment(u_, n_), y.segment(u_ + n_, n_), phase_.is_rocking() ? Tilt(y[0]) : upright_, y[1]};
@@ -632,6 +640,8 @@ class ColumnsDriver {
   OutputScales scales_;
   // Elastic coordinates; where u and the works start in the state; its size.
   Eigen::Index n_, u_, work_, size_;
+  mutable double ground_t_ = std::numeric_limits<double>::quiet_NaN();
+  mutable GroundAcceleration ground_a_;
   Phase phase_;
   const Tilt upright_{0.0};
   Discrete contact_;  // the structure's own phase on the beam: full contact
