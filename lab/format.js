@@ -170,8 +170,9 @@ export function columnsPoints(columns, theta, devices = []) {
   const s = theta > 0 ? 1 : theta < 0 ? -1 : 0;
   const shift = [2 * R * s * (Math.sin(alpha) - Math.sin(alpha - s * theta)), 2 * R * (Math.cos(alpha - s * theta) - Math.cos(alpha))];
   const axes = Array.from({ length: count }, (_, k) => (count === 1 ? 0 : -spacing / 2 + (spacing * k) / (count - 1)));
-  // One column as a rigid block with the devices at its base (x from its axis), then each column moved to its axis.
-  const block = bodyPoints({ half_width: b, heights: [h], devices }, theta, null, 2 * h);
+  // One column as a rigid block with the devices at its base (x from its axis), then each column moved to its axis;
+  // a device between the ground and the cap beam (beam) from its ground anchor to its point on the moved beam.
+  const block = bodyPoints({ half_width: b, heights: [h], devices: devices.filter((d) => !d.beam) }, theta, null, 2 * h);
   const at = (x) => (pt) => [pt[0] + x, pt[1]];
   const list = axes.map((x) => {
     const move = at(x);
@@ -182,7 +183,9 @@ export function columnsPoints(columns, theta, devices = []) {
   });
   const top = 2 * h;
   const beam = [[axes[0] - b + shift[0], top + shift[1]], [axes[count - 1] + b + shift[0], top + shift[1]]];
-  return { columns: list, beam, shift, top };
+  const beamDevices = devices.filter((d) => d.beam)
+    .map((d) => ({ name: d.name, from: [d.x, d.ground_y || 0], to: [d.beam_x + shift[0], top + shift[1]] }));
+  return { columns: list, beam, shift, top, beamDevices };
 }
 
 // The columns' rocking angle through a run (MODEL.md 16), row by row: its

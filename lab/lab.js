@@ -420,9 +420,13 @@ function drawStructure(ctx, run, t, factors, origin, scale, color, label) {
     tracePath(ctx, [p.left, p.topLeft, p.topRight, p.right], BX, BY);
     ctx.stroke();
   }
-  // The devices stand at the columns' bases on columns, else at the structure's.
-  if (c) for (const col of c.columns) strokeDevices(ctx, col.devices, X, Y);
-  else strokeDevices(ctx, p.devices, BX, BY);
+  // The devices stand at the columns' bases on columns (or join the ground to the beam), else at the structure's.
+  if (c) {
+    for (const col of c.columns) strokeDevices(ctx, col.devices, X, Y);
+    strokeDevices(ctx, c.beamDevices, X, Y);
+  } else {
+    strokeDevices(ctx, p.devices, BX, BY);
+  }
   for (const pt of p.axis.slice(1)) {
     ctx.beginPath();
     ctx.arc(BX(pt), BY(pt), 4, 0, 2 * Math.PI);

@@ -589,6 +589,47 @@ TEST_CASE("column-top contact forces: the deck's weight shared at rest, and a ta
   MESSAGE("tall deck: tensile top at " << tensile.t << " s, impact at " << hit.t << " s; low deck's smallest N " << smallest_low << " N");
 }
 
+TEST_CASE("the column-top forces from the state's sums (top_contact_forces_now) are those at the equations' accelerations, to round-off") {
+  // Random states of a flexible deck on two piers and a rigid deck on three
+  // columns, in full contact and rocking about either side, under ground
+  // motion, a device moment and a load on the deck: the guard's O(N) path
+  // against top_contact_forces at rocking_acceleration's (or full contact's) u''.
+  std::mt19937 rng(55);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (const bool flexible : {true, false}) {
+    const Columns c = flexible ? make_columns(two_piers(), flexible_deck(0.05)) : make_columns(three_columns(), rigid_deck());
+    const Eigen::Index n = elastic_size(c);
+    const double scale = c.deck_mass * gravity;
+    for (int trial = 0; trial < 20; ++trial)
+      for (const int s : {-1, 0, +1}) {
+        CAPTURE(flexible);
+        CAPTURE(trial);
+        CAPTURE(s);
+        Vec u(n), u_dot(n), rates(2 * n);
+        for (Eigen::Index i = 0; i < n; ++i) {
+          u[i] = 0.01 * unit(rng);
+          u_dot[i] = 0.1 * unit(rng);
+        }
+        const double theta = s == 0 ? 0.0 : s * 0.5 * c.alpha * (1 + unit(rng)) / 2, theta_dot = s == 0 ? 0.0 : 0.3 * unit(rng);
+        const Coordinates q{u, u_dot, Tilt(theta), theta_dot};
+        const GroundAcceleration a{3.0 * unit(rng), 2.0 * unit(rng)};
+        const double D = s == 0 ? 0.0 : 1e4 * unit(rng);
+        const DeckLoad load{2e4 * unit(rng), 2e4 * unit(rng), 5e4 * unit(rng)};
+        double theta_ddot = 0;
+        if (s == 0) full_contact_acceleration(c, a.h, u, u_dot, rates);
+        else theta_ddot = rocking_acceleration(c, s, a, D, q, rates);
+        std::vector<double> N1(static_cast<std::size_t>(c.group.count)), N2(N1.size());
+        const TopContact one = top_contact_forces(c, s, a, q, theta_ddot, rates.tail(n), N1, load);
+        const TopContact two = top_contact_forces_now(c, s, a, q, D, N2, load);
+        CHECK(two.normal == within(one.normal, 1e-12 * scale));
+        CHECK(two.shear == within(one.shear, 1e-12 * scale));
+        CHECK(two.moment == within(one.moment, 1e-12 * scale * 10.0));  // [N m]: lever arms of metres
+        CHECK(two.smallest == within(one.smallest, 1e-12 * scale));
+        for (std::size_t k = 0; k < N1.size(); ++k) CHECK(N2[k] == within(N1[k], 1e-12 * scale));
+      }
+  }
+}
+
 TEST_CASE("bad columns are refused with the field named") {
   auto refused = [](ColumnGroup g, Structure s, const std::string& field) {
     try {

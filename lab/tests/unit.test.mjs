@@ -314,6 +314,16 @@ test('a structure on rocking columns: each column turns about its pivot corner, 
     const mid = [(col.topLeft[0] + col.topRight[0]) / 2, (col.topLeft[1] + col.topRight[1]) / 2];
     assert.ok(Math.hypot(tie.to[0] - mid[0], tie.to[1] - mid[1]) < 1e-12, 'the tie ends at the middle of the column top');
   }
+  // A device from the ground to the cap beam is drawn once, from its ground anchor to its point on the beam's
+  // underside, which moves with the beam; not at the columns' bases.
+  const anchored = columnsPoints(columns, 0.05, [{ name: 'plate', x: -b, vertical: false, free_length: 0 },
+    { name: 'hold', x: -1, vertical: false, free_length: 0, beam: true, beam_x: 2, ground_y: 0.5 }]);
+  for (const col of anchored.columns) assert.deepEqual(col.devices.map((d) => d.name), ['plate']);
+  assert.equal(anchored.beamDevices.length, 1);
+  assert.deepEqual(anchored.beamDevices[0].from, [-1, 0.5]);
+  assert.ok(Math.hypot(anchored.beamDevices[0].to[0] - (2 + anchored.shift[0]), anchored.beamDevices[0].to[1] - (2 * h + anchored.shift[1])) < 1e-12,
+    'the beam anchor moves with the beam');
+  assert.ok(Math.abs(anchored.beamDevices[0].to[1] - anchored.beam[0][1]) < 1e-12, 'on the beam\'s underside');
 });
 
 test('the columns\' rocking angle: columns.theta when sent, else theta/alpha times the columns\' slenderness', () => {

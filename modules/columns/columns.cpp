@@ -1,5 +1,6 @@
 module;
 #include <rocking/eigen.hpp>
+#include <rocking/static_size.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -23,21 +24,92 @@ Angle phi_of(const Columns& c, int s, const Tilt& tilt) {
 
 Eigen::Index nodes(const Columns& c) { return c.flexible ? c.structure.heights.size() : 0; }
 
-// f = -M1 a - (K u + C u') into f (N entries), allocation-free, a column of
-// K and C at a time: for the few nodes of a structure on columns this costs
-// a fraction of a general matrix-vector product's dispatch.
-void elastic_force(const Columns& c, double a, Eigen::Ref<const Eigen::VectorXd> u, Eigen::Ref<const Eigen::VectorXd> u_dot,
-                   Eigen::Ref<Eigen::VectorXd> f) {
-  f = -a * c.structure.masses;
-  const Eigen::MatrixXd &K = c.matrices.K, &C = c.matrices.C;
-  for (Eigen::Index j = 0; j < f.size(); ++j) f -= K.col(j) * u[j] + C.col(j) * u_dot[j];
+// f = -M1 a - (K u + C u') into f (n entries; n static when S > 0, see
+// static_size.hpp), a column of K and C at a time: this runs in every
+// right-hand side, at sizes where loop control costs more than arithmetic.
+// The work is done in a local array at a static size, which the compiler
+// knows aliases nothing.
+template <int S>
+void elastic_force(const Columns& c, double a, const double* u, const double* u_dot, double* f, long n_runtime) {
+  const long n = static_or<S>(n_runtime);
+  const double *K = c.matrices.K.data(), *C = c.matrices.C.data(), *m = c.structure.masses.data();  // column-major
+  double local[S > 0 ? S : 1];
+  double* r = S > 0 ? local : f;
+  for (long i = 0; i < n; ++i) r[i] = -a * m[i];
+  for (long j = 0; j < n; ++j) {
+    const double uj = u[j], vj = u_dot[j];
+    for (long i = 0; i < n; ++i) r[i] -= K[j * n + i] * uj + C[j * n + i] * vj;
+  }
+  if (S > 0)
+    for (long i = 0; i < n; ++i) f[i] = r[i];
 }
 
-// x'A x without a temporary.
+// x'A x without a temporary (n static when S > 0).
+template <int S>
+double quadratic(const Eigen::MatrixXd& A, const double* x, long n_runtime) {
+  const long n = static_or<S>(n_runtime);
+  const double* a = A.data();
+  double sum = 0;
+  for (long j = 0; j < n; ++j) {
+    double column = 0;
+    for (long i = 0; i < n; ++i) column += a[j * n + i] * x[i];
+    sum += x[j] * column;
+  }
+  return sum;
+}
 double quadratic(const Eigen::MatrixXd& A, Eigen::Ref<const Eigen::VectorXd> x) {
   double sum = 0;
-  for (Eigen::Index j = 0; j < x.size(); ++j) sum += x[j] * A.col(j).dot(x);
+  with_static_size(x.size(), [&](auto size) { sum = quadratic<decltype(size)::value>(A, x.data(), x.size()); });
   return sum;
+}
+
+// The flexible deck's rates while rocking (rocking_acceleration, below) for
+// static size S: f with a = a_g + bias, then theta'' from 1'f = -m_s a -
+// 1'(K u + C u') (two dot products, so that theta'' need not wait for f).
+template <int S>
+double rocking_rates(const Columns& c, double a, double rhs_theta, double ax, const double* u, const double* u_dot,
+                     double* vel, double* acc, long n_runtime) {
+  const long n = static_or<S>(n_runtime);
+  const double *inv_m = c.inverse_masses.data(), *sK = c.shear_K.data(), *sC = c.shear_C.data();
+  double f[S > 0 ? S : 1];
+  double* r = S > 0 ? f : acc;
+  elastic_force<S>(c, a, u, u_dot, r, n);
+  double shear = 0;
+  for (long i = 0; i < n; ++i) shear += sK[i] * u[i] + sC[i] * u_dot[i];
+  const double theta_ddot = (rhs_theta - ax * (-a * c.structure_mass - shear)) / (c.inertia - ax * ax * c.structure_mass);
+  for (long i = 0; i < n; ++i) acc[i] = r[i] * inv_m[i] - ax * theta_ddot;
+  for (long i = 0; i < n; ++i) vel[i] = u_dot[i];
+  return theta_ddot;
+}
+
+// Contacts at x_k = X_k - s b (the top corners opposite the pivots; the
+// axes in full contact), fixed on the beam: sum N = normal, sum x N = moment,
+// the minimum-norm split N_k = normal / n + slope (x_k - mean), into normal
+// and out.smallest.
+void split_over_columns(const Columns& c, int s, TopContact& out, std::span<double> normal) {
+  const int count = c.group.count;
+  const double offset = -s * c.group.half_width;
+  if (count == 2) {  // determined: N_1 (x_2 - x_1) = x_2 sum N - sum x N, one division
+    const double x1 = c.axes[0] + offset, x2 = c.axes[1] + offset;
+    const double N1 = (x2 * out.normal - out.moment) / (x2 - x1), N2 = out.normal - N1;
+    if (normal.size() >= 2) {
+      normal[0] = N1;
+      normal[1] = N2;
+    }
+    out.smallest = std::min(N1, N2);
+    return;
+  }
+  double mean = 0, sxx = 0;
+  for (int k = 0; k < count; ++k) mean += c.axes[k] + offset;
+  mean /= count;
+  for (int k = 0; k < count; ++k) sxx += (c.axes[k] + offset - mean) * (c.axes[k] + offset - mean);
+  const double slope = sxx > 0 ? (out.moment - mean * out.normal) / sxx : 0.0;
+  out.smallest = out.normal;
+  for (int k = 0; k < count; ++k) {
+    const double N = out.normal / count + slope * (c.axes[k] + offset - mean);
+    if (k < static_cast<int>(normal.size())) normal[k] = N;
+    out.smallest = k == 0 ? N : std::min(out.smallest, N);
+  }
 }
 
 }  // namespace
@@ -70,6 +142,8 @@ Columns make_columns(const ColumnGroup& group, const Structure& structure, doubl
     c.inverse_masses = structure.masses.cwiseInverse();
     c.shear_K = c.matrices.K.colwise().sum().transpose();
     c.shear_C = c.matrices.C.colwise().sum().transpose();
+    c.moment_K = c.matrices.K.transpose() * structure.heights;
+    c.moment_C = c.matrices.C.transpose() * structure.heights;
   }
   const double b = group.half_width, h = group.half_height;
   c.R = std::hypot(b, h);
@@ -81,6 +155,7 @@ Columns make_columns(const ColumnGroup& group, const Structure& structure, doubl
   c.deck_mass = structure.base_mass + c.structure_mass;
   c.inertia = 4.0 / 3.0 * c.columns_mass * c.R * c.R + 4.0 * c.R * c.R * c.deck_mass;
   c.lever = c.R * (c.columns_mass + 2.0 * c.deck_mass);
+  c.height_mass = bare ? 0.0 : structure.masses.dot(structure.heights);
   c.axes.resize(group.count);
   for (int k = 0; k < group.count; ++k)
     c.axes[k] = group.count == 1 ? 0.0 : -0.5 * group.spacing + group.spacing * k / (group.count - 1);
@@ -121,14 +196,24 @@ Stretch beam_device_stretch(const Columns& c, double ground_x, double ground_y, 
   return {length - L, s * (x * m.jx + y * m.jy) / length};
 }
 
+DeckLoad beam_device_load(const Columns& c, double ground_x, double ground_y, double beam_x, double beam_y, int s,
+                          const Tilt& tilt, double force) {
+  const BeamMotion m = s != 0 ? beam_motion(c, s, tilt) : BeamMotion{};
+  const double x = beam_x - ground_x + m.dx, y = beam_y - ground_y + m.dy, length = std::hypot(x, y);
+  if (length == 0) return {};
+  // -F n on the deck at (beam_x, beam_y - 2h) from O
+  const double fx = -force * x / length, fy = -force * y / length;
+  return {fx, fy, beam_x * fy - (beam_y - 2.0 * c.group.half_height) * fx};
+}
+
 void full_contact_acceleration(const Columns& c, double a_g, Eigen::Ref<const Eigen::VectorXd> u,
                                Eigen::Ref<const Eigen::VectorXd> u_dot, Eigen::Ref<Eigen::VectorXd> rates) {
   const Eigen::Index n = nodes(c);
   if (n == 0) return;
   rates.head(n) = u_dot;
-  auto acc = rates.tail(n);
-  elastic_force(c, a_g, u, u_dot, acc);
-  acc.array() *= c.inverse_masses.array();  // M u'' = -M1 a_g - K u - C u'
+  double* acc = rates.data() + n;
+  with_static_size(n, [&](auto size) { elastic_force<decltype(size)::value>(c, a_g, u.data(), u_dot.data(), acc, n); });
+  for (Eigen::Index i = 0; i < n; ++i) acc[i] *= c.inverse_masses[i];  // M u'' = -M1 a_g - K u - C u'
 }
 
 double rocking_acceleration(const Columns& c, int s, GroundAcceleration a, double device_moment, const Coordinates& q,
@@ -145,11 +230,11 @@ double rocking_acceleration(const Columns& c, int s, GroundAcceleration a, doubl
   // theta'' = (rhs_theta - ax 1'f) / (J - ax^2 m_s),  u'' = M^-1 f - ax 1 theta''.
   const double ax = 2.0 * c.R * p.cos;
   const double bias = 2.0 * s * c.R * p.sin * q.theta_dot * q.theta_dot;
-  rates.head(n) = q.u_dot;
-  auto acc = rates.tail(n);
-  elastic_force(c, a.h + bias, q.u, q.u_dot, acc);
-  const double theta_ddot = (rhs_theta - ax * acc.sum()) / (c.inertia - ax * ax * c.structure_mass);
-  acc.array() = acc.array() * c.inverse_masses.array() - ax * theta_ddot;
+  double theta_ddot = 0;
+  with_static_size(n, [&](auto size) {
+    theta_ddot = rocking_rates<decltype(size)::value>(c, a.h + bias, rhs_theta, ax, q.u.data(), q.u_dot.data(),
+                                                      rates.data(), rates.data() + n, n);
+  });
   return theta_ddot;
 }
 
@@ -233,7 +318,8 @@ double viscous_power(const Columns& c, Eigen::Ref<const Eigen::VectorXd> u_dot) 
 }
 
 TopContact top_contact_forces(const Columns& c, int s, GroundAcceleration a, const Coordinates& q, double theta_ddot,
-                              Eigen::Ref<const Eigen::VectorXd> u_ddot, std::span<double> normal) {
+                              Eigen::Ref<const Eigen::VectorXd> u_ddot, std::span<double> normal,
+                              const DeckLoad& load) {
   // The deck's accelerations in the ground's frame: the beam's (0 in full
   // contact), plus u'' for the nodes; the contact forces balance m (acc + (a_g, g + a_v)).
   double ax = 0, ay = 0;
@@ -245,8 +331,10 @@ TopContact top_contact_forces(const Columns& c, int s, GroundAcceleration a, con
   }
   const double fy = ay + c.g + a.v, fx = ax + a.h;
   TopContact out;
-  out.normal = c.deck_mass * fy;
-  out.shear = c.deck_mass * fx;
+  // The contacts carry what the deck's motion needs less what the load supplies.
+  out.normal = c.deck_mass * fy - load.fy;
+  out.shear = c.deck_mass * fx - load.fx;
+  out.moment = -load.moment;
   const Eigen::Index n = c.structure.heights.size();
   const bool flexible = nodes(c) > 0;
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -256,22 +344,52 @@ TopContact top_contact_forces(const Columns& c, int s, GroundAcceleration a, con
     // about O (the beam's underside centre), counterclockwise: x F_y - y F_x
     out.moment += m * (ui * fy - c.structure.heights[i] * (fx + ui_dd));
   }
-  // Contacts at x_k = X_k - s b (the top corners opposite the pivots; the
-  // axes in full contact), fixed on the beam: sum N = normal, sum x N = moment,
-  // the minimum-norm split N_k = normal / n + slope (x_k - mean).
-  const int count = c.group.count;
-  const double offset = -s * c.group.half_width;
-  double mean = 0, sxx = 0;
-  for (int k = 0; k < count; ++k) mean += c.axes[k] + offset;
-  mean /= count;
-  for (int k = 0; k < count; ++k) sxx += (c.axes[k] + offset - mean) * (c.axes[k] + offset - mean);
-  const double slope = sxx > 0 ? (out.moment - mean * out.normal) / sxx : 0.0;
-  out.smallest = out.normal;
-  for (int k = 0; k < count; ++k) {
-    const double N = out.normal / count + slope * (c.axes[k] + offset - mean);
-    if (k < static_cast<int>(normal.size())) normal[k] = N;
-    out.smallest = k == 0 ? N : std::min(out.smallest, N);
+  split_over_columns(c, s, out, normal);
+  return out;
+}
+
+TopContact top_contact_forces_now(const Columns& c, int s, GroundAcceleration a, const Coordinates& q,
+                                  double device_moment, std::span<double> normal, const DeckLoad& load) {
+  // The nodes enter through 1'M u'', H'M u'' and 1'M u. With f = -M1 acc -
+  // (K u + C u') (acc = a_g, or a_g + the beam's bias while rocking),
+  // M u'' = f - jac M1 theta'' gives 1'M u'' = 1'f - jac m_s theta'' and
+  // H'M u'' = H'f - jac H'M1 theta'' (rocking_acceleration's equations).
+  const Eigen::Index n = nodes(c);
+  double Mu = 0, shear = 0, moment = 0;  // 1'M u, 1'(K u + C u'), H'(K u + C u')
+  if (n > 0) {
+    Mu = c.structure.masses.dot(q.u);
+    shear = c.shear_K.dot(q.u) + c.shear_C.dot(q.u_dot);
+    moment = c.moment_K.dot(q.u) + c.moment_C.dot(q.u_dot);
   }
+  double ax = 0, ay = 0, Mu_dd = 0, HMu_dd = 0;
+  if (s != 0) {
+    const Angle p = phi_of(c, s, q.tilt);
+    const double w2 = q.theta_dot * q.theta_dot;
+    const double rhs_theta = -c.lever * (s * (c.g + a.v) * p.sin + a.h * p.cos) - s * device_moment;
+    double theta_ddot = 0;
+    if (n == 0) {
+      theta_ddot = rhs_theta / c.inertia;
+    } else {
+      const double jac = 2.0 * c.R * p.cos, acc = a.h + 2.0 * s * c.R * p.sin * w2;
+      const double f = -acc * c.structure_mass - shear, Hf = -acc * c.height_mass - moment;
+      theta_ddot = (rhs_theta - jac * f) / (c.inertia - jac * jac * c.structure_mass);
+      Mu_dd = f - jac * c.structure_mass * theta_ddot;
+      HMu_dd = Hf - jac * c.height_mass * theta_ddot;
+    }
+    const BeamMotion m = beam_motion(c, s, q.tilt);
+    ax = m.jx * theta_ddot + m.kx * w2;
+    ay = m.jy * theta_ddot + m.ky * w2;
+  } else if (n > 0) {
+    Mu_dd = -a.h * c.structure_mass - shear;
+    HMu_dd = -a.h * c.height_mass - moment;
+  }
+  const double fy = ay + c.g + a.v, fx = ax + a.h;
+  TopContact out;
+  out.normal = c.deck_mass * fy - load.fy;
+  out.shear = c.deck_mass * fx + Mu_dd - load.fx;
+  // about O, counterclockwise: sum m (u fy - H (fx + u''))
+  out.moment = -load.moment + fy * Mu - fx * c.height_mass - HMu_dd;
+  split_over_columns(c, s, out, normal);
   return out;
 }
 

@@ -60,12 +60,12 @@ struct Columns {
   double g = gravity;
   // Derived: R [m], alpha [rad] with its sine and cosine; n m_c, m_s = 1'M1,
   // m_d = m0 + m_s [kg]; J = (4/3) n m_c R^2 + 4 R^2 m_d [kg m^2]; the
-  // gravity lever R (n m_c + 2 m_d) [kg m]; 1/m per node; 1'K and 1'C (the
-  // base shear 1'(K u + C u') as two dot products); each column's axis along
-  // the beam [m].
+  // gravity lever R (n m_c + 2 m_d) [kg m]; H'M1 [kg m]; 1/m per node; 1'K
+  // and 1'C (the base shear 1'(K u + C u') as two dot products) and H'K, H'C
+  // (its moment about the beam); each column's axis along the beam [m].
   double R = 0, alpha = 0, sin_alpha = 0, cos_alpha = 1;
-  double columns_mass = 0, structure_mass = 0, deck_mass = 0, inertia = 0, lever = 0;
-  Eigen::VectorXd inverse_masses, shear_K, shear_C, axes;
+  double columns_mass = 0, structure_mass = 0, deck_mass = 0, inertia = 0, lever = 0, height_mass = 0;
+  Eigen::VectorXd inverse_masses, shear_K, shear_C, moment_K, moment_C, axes;
   bool flexible = false;          // elastic coordinates u (one per node)
 };
 // Throws std::invalid_argument naming the first field that breaks an
@@ -97,6 +97,17 @@ BeamMotion beam_motion(const Columns& c, int s, const Tilt& tilt);
 // bottoms) with free length L (<= 0: the rest distance): its elongation and de/d|theta| = s de/dtheta while rocking about s.
 Stretch beam_device_stretch(const Columns& c, double ground_x, double ground_y, double beam_x, double beam_y,
                             double free_length, int s, const Tilt& tilt);
+
+// A load on the deck from outside it, applied at its underside: the force
+// [N] and its moment about the underside's centre O [N m], counterclockwise.
+struct DeckLoad {
+  double fx = 0, fy = 0, moment = 0;
+};
+// The load on the deck of such a device pulling with `force` (tension > 0,
+// toward the ground anchor) while rocking about s (0: full contact, at rest).
+// beam_y is measured from the columns' bottoms: 2h on the underside.
+DeckLoad beam_device_load(const Columns& c, double ground_x, double ground_y, double beam_x, double beam_y, int s,
+                          const Tilt& tilt, double force);
 
 // (u', u'') under full contact into rates (2N entries): MODEL.md 3, the beam fixed.
 void full_contact_acceleration(const Columns& c, double a_g, Eigen::Ref<const Eigen::VectorXd> u,
@@ -144,7 +155,8 @@ double viscous_power(const Columns& c, Eigen::Ref<const Eigen::VectorXd> u_dot);
 // The column-top contact forces on the deck (beam and structure, one free body
 // whose underside centre is O): the normal force of each column (compression
 // > 0) into `normal` (count entries) and the totals. `s` is 0 in full contact;
-// theta_ddot and u_ddot are the accelerations the equations give now. With
+// theta_ddot and u_ddot are the accelerations the equations give now, `load`
+// what else acts on the deck (the devices between the ground and the beam). With
 // n = 2 the split is determined; with n > 2 it is the minimum-norm one (linear
 // across the contact points); with one column the single contact carries the
 // total.
@@ -155,6 +167,14 @@ struct TopContact {
   double smallest = 0;  // min N [N]: < 0 is tension the model cannot carry
 };
 TopContact top_contact_forces(const Columns& c, int s, GroundAcceleration a, const Coordinates& q, double theta_ddot,
-                              Eigen::Ref<const Eigen::VectorXd> u_ddot, std::span<double> normal);
+                              Eigen::Ref<const Eigen::VectorXd> u_ddot, std::span<double> normal,
+                              const DeckLoad& load = {});
+// The same forces at the accelerations the equations give in this state
+// (rocking about s with the devices' moment D, or s = 0 in full contact),
+// from the sums over the nodes they need (1'M u'', H'M u'', 1'M u: dot
+// products with 1'K, 1'C, H'K, H'C), without the nodes' accelerations: what
+// a guard sampled several times a step costs.
+TopContact top_contact_forces_now(const Columns& c, int s, GroundAcceleration a, const Coordinates& q,
+                                  double device_moment, std::span<double> normal, const DeckLoad& load = {});
 
 }  // namespace rocking

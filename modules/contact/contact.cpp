@@ -199,6 +199,9 @@ ContactModel make_contact_model(const Structure& st, const Contact& contact, std
   m.zero_motion.setZero(node_count(st));
   if (m.kind != ModelKind::fixed_base) {
     for (Device& dev : devices) {
+      if (dev.geometry.kinematics == Kinematics::beam)
+        throw InputError(fmt::format("device {}: kinematics = beam joins the ground to the cap beam of a structure on "
+                                     "[columns]; this structure rocks on its own base", dev.name));
       if (!(std::abs(dev.geometry.x) <= st.half_width))
         throw InputError(fmt::format("device {}: anchor x = {} m lies outside the base (|x| <= B = {} m)", dev.name,
                                      dev.geometry.x, st.half_width));

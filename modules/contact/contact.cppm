@@ -109,6 +109,19 @@ struct JointedModel {
 // base (a rigid one as a block: its outputs only).
 struct ColumnsModel {
   Columns columns;
+  // The devices between the ground and the cap beam (Kinematics::beam), one
+  // each (not one per column): ContactModel::devices[device], anchored at
+  // (ground_x, ground_y) and at (beam_x, 2h) at rest (beam_device_stretch),
+  // with its state's slot after the column devices' (none: stateless) and
+  // de/d|theta| at rest about each pivot (index(Pivot)), the lever of its
+  // held moment F(e = 0) de/d|theta|.
+  struct BeamDevice {
+    int device = 0;
+    std::optional<Eigen::Index> slot;
+    double ground_x = 0, ground_y = 0, beam_x = 0;
+    std::array<double, 2> lever{0.0, 0.0};
+  };
+  std::vector<BeamDevice> beam_devices;
   double restitution = -1;        // r, or < 0 for the momentum law (MODEL.md 15, 16's r for a rigid deck)
   double theta_dot_min = 0.0015;  // Eq. 8's threshold [rad/s]
   double overturn_angle = 0;      // the columns' alpha [rad]: past it gravity tips the frame over

@@ -41,12 +41,17 @@ export namespace rocking {
 // `export import :NAME;` above and its type here.
 using DeviceLaw = std::variant<BoucWenLaw, ElasticLaw, ViscousLaw, FrictionLaw, GapLaw, KelvinLaw>;
 
-enum class Kinematics { chord, vertical };
+// beam: a device between the ground and the cap beam of a structure on
+// rocking columns (MODEL.md 16; rocking.columns' beam_device_stretch), which
+// the columns' run takes; a rocking base of its own has none.
+enum class Kinematics { chord, vertical, beam };
 
 struct DeviceGeometry {
-  double x = 0;                          // anchor on the base [m], -B..B
+  double x = 0;                          // anchor on the base [m], -B..B (beam: the ground anchor's x from the frame's centre line)
   Kinematics kinematics = Kinematics::chord;
   double free_length = 0;                // L of a vertical device [m]
+  double beam_x = 0;                     // beam: the anchor on the beam's underside [m] from the centre line
+  double ground_y = 0;                   // beam: the ground anchor's height above the columns' bottoms [m]
 };
 
 struct Device {

@@ -221,7 +221,10 @@ json structure_json(const Scene& scene, const ContactModel& model) {
                        {"law", law_name(d.law)},
                        {"x", d.geometry.x},
                        {"vertical", d.geometry.kinematics == Kinematics::vertical},
-                       {"free_length", d.geometry.free_length}});
+                       {"free_length", d.geometry.free_length},
+                       {"beam", d.geometry.kinematics == Kinematics::beam},  // on columns: from the ground to the cap beam
+                       {"beam_x", d.geometry.beam_x},
+                       {"ground_y", d.geometry.ground_y}});
   json units = json::object();
   for (const QuantityRow& q : quantity_rows(model)) units[q.name] = q.unit;
   const Structure& s = model.body.structure;

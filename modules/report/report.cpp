@@ -396,7 +396,8 @@ BlockSummary block_summary(const Scene& scene) {
 json columns_modal(const Scene& scene) {
   const Columns c = make_columns(*scene.columns, scene.structure);
   // The devices at the columns' bases hold n sum F(e = 0) l at rest about
-  // each side (MODEL.md 11); the frame lifts about the side where that is
+  // each side (MODEL.md 11), those between the ground and the beam
+  // F(e = 0) de/d|theta| each; the frame lifts about the side where that is
   // least, at a_g / g = b / h + D_0 / (g h (n m_c + 2 m_d)) for a rigid deck
   // (MODEL.md 16's uplift condition).
   const ContactModel model = make_contact_model(scene, false);
@@ -404,9 +405,11 @@ json columns_modal(const Scene& scene) {
   for (Pivot p : pivots) {
     double about = 0;
     for (const ContactModel::Acting& a : model.acting[index(p)]) about += law_force_at_rest(a.law, 0.0) * a.lever;
+    about *= c.group.count;
+    for (const ColumnsModel::BeamDevice& d : model.on_columns->beam_devices)
+      about += law_force_at_rest(model.devices[static_cast<std::size_t>(d.device)].law, 0.0) * d.lever[index(p)];
     if (!model.devices.empty()) held = std::min(held, about);
   }
-  held *= c.group.count;
   const double b = c.group.half_width, h = c.group.half_height;
   const double uplift_g = b / h + held / (c.g * h * (c.columns_mass + 2.0 * c.deck_mass));
   json out = {{"columns",

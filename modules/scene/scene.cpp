@@ -489,9 +489,17 @@ Damper read_damper(const toml::table& root, const std::string& file, const Origi
 // [m] from the centre line, or "edges" for one device at each edge, named
 // NAME_left and NAME_right), kinematics (chord, or vertical with free_length
 // [m]), capacity [m] (optional), name (optional), and the law's own keys.
+// On [columns] (`columns` given) a device stands at each column's base (at
+// from the column's axis), or with kinematics = "beam" joins the ground to the
+// cap beam, once (MODEL.md 16): at is then its ground anchor's x and
+// ground_height its height above the columns' bottoms (default 0), beam_at
+// its anchor's x on the beam's underside (within the outer columns' outer
+// faces), all from the frame's centre line; its elongation counts from the
+// anchors' rest distance.
 std::vector<Device> read_devices(const toml::table& root, const std::string& file, const Origins& origins,
-                                 const Structure& st, bool on_columns, const Damper& damper, std::size_t joints,
-                                 std::vector<int>& segments) {
+                                 const Structure& st, const ColumnGroup* columns, const Damper& damper,
+                                 std::size_t joints, std::vector<int>& segments) {
+  const bool on_columns = columns != nullptr;
   std::vector<Device> out;
   const toml::array* list = root.get_as<toml::array>("device");
   if (list == nullptr) return out;
@@ -513,6 +521,7 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
              fmt::format("unknown law '{}' (laws: {})", kind, fmt::join(laws | std::views::transform(&LawInfo::name), ", ")));
     std::set<std::string, std::less<>> known = {"name", "kind", "at", "kinematics", "free_length", "capacity",
                                                 "segment"};
+    if (on_columns) known.insert({"beam_at", "ground_height"});
     for (const LawParameter& p : law->parameters) known.insert(p.key);
     for (auto&& [key, value] : *table)
       if (!known.contains(key.str()))
@@ -531,9 +540,28 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
                                       fmt::format("in [{:g}, {:g}] m", min_length, max_length));
     } else if (kinematics == "chord") {
       if (t.has("free_length")) t.fail(&t.required("free_length"), "free_length", "only a vertical device has a free length");
+    } else if (kinematics == "beam") {
+      if (!on_columns)
+        t.fail(&t.required("kinematics"), "kinematics",
+               "beam joins the ground to the cap beam of a structure on [columns]; this scene has none");
+      geometry.kinematics = Kinematics::beam;
+      if (t.has("free_length"))
+        t.fail(&t.required("free_length"), "free_length",
+               "a beam device's elongation counts from its anchors' rest distance (a prestress is its law's)");
+      const double reach = columns->count >= 2 ? 0.5 * columns->spacing + columns->half_width : columns->half_width;
+      geometry.beam_x = t.number("beam_at", [reach](double x) { return std::abs(x) <= reach; },
+                                 fmt::format("on the beam's underside over the columns, from the frame's centre "
+                                             "line: |x| <= {:g} [m]", reach));
+      geometry.ground_y = t.number_or("ground_height", 0.0, [](double y) { return std::abs(y) <= max_length; },
+                                      fmt::format("the ground anchor's height above the columns' bottoms, in [{:g}, {:g}] m",
+                                                  -max_length, max_length));
     } else {
-      t.fail(&t.required("kinematics"), "kinematics", fmt::format("must be chord or vertical (got '{}')", kinematics));
+      t.fail(&t.required("kinematics"), "kinematics",
+             fmt::format("must be chord or vertical{} (got '{}')", on_columns ? ", or beam" : "", kinematics));
     }
+    if (geometry.kinematics != Kinematics::beam)
+      for (const char* key : {"beam_at", "ground_height"})
+        if (t.has(key)) t.fail(&t.required(key), key, "only a beam device (kinematics = \"beam\", on [columns]) has it");
     const double capacity = t.number_or("capacity", 0.0, positive, "positive [m] (leave it out: never breaks)");
     // The segment its upper anchor is on, with [[joint]] tables (0 .. J).
     int segment = -1;
@@ -558,7 +586,15 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
     }
     std::vector<Device> made;
     const toml::node& at = t.required("at");
-    if (at.is_string()) {
+    if (geometry.kinematics == Kinematics::beam) {
+      geometry.x = t.number("at", [](double x) { return std::abs(x) <= max_length; },
+                            fmt::format("the ground anchor's x [m] from the frame's centre line, in [{:g}, {:g}]",
+                                        -max_length, max_length));
+      if (!(std::hypot(geometry.beam_x - geometry.x, 2 * columns->half_height - geometry.ground_y) >= min_length))
+        t.fail(t.has("ground_height") ? &t.required("ground_height") : &at, t.has("ground_height") ? "ground_height" : "at",
+               fmt::format("the ground anchor meets the beam's at rest (they must be at least {:g} m apart)", min_length));
+      made.push_back({name, geometry, device_law, capacity});
+    } else if (at.is_string()) {
       if (t.string("at") != "edges") t.fail(&at, "at", "must be x [m] from the centre line, or \"edges\"");
       made.push_back({name + "_left", geometry, device_law, capacity});
       made.back().geometry.x = -B;
@@ -822,7 +858,8 @@ Scene read_scene(toml::table root, const std::string& file, const std::vector<st
   const Structure base = device_base(scene);
   scene.damper = read_damper(root, file, origins, base);
   scene.joints = read_joints(root, file, origins, scene.structure, scene.contact);
-  scene.devices = read_devices(root, file, origins, base, scene.columns.has_value(), scene.damper, scene.joints.size(),
+  scene.devices = read_devices(root, file, origins, base, scene.columns ? &*scene.columns : nullptr, scene.damper,
+                               scene.joints.size(),
                                scene.device_segments);
   scene.excitation = read_excitation(root, file, origins);
   scene.initial = read_initial(root, file, origins, scene.structure, scene.contact);
@@ -1036,7 +1073,40 @@ ContactModel columns_contact_model(const Scene& scene, bool track_energy, std::v
   Contact fixed = scene.contact;
   fixed.rocking = false;
   ContactModel m = make_contact_model(scene.structure, fixed, {}, track_energy);
-  if (!devices.empty()) devices_as_on_block(m, device_base(scene), scene.contact, std::move(devices));
+  if (!devices.empty()) {
+    // The column devices as one column's (their acting entries renumbered to
+    // the scene's order); the beam devices after them, each with its state slot.
+    std::vector<Device> at_columns;
+    std::vector<int> column_index;
+    for (std::size_t k = 0; k < devices.size(); ++k)
+      if (devices[k].geometry.kinematics != Kinematics::beam) {
+        at_columns.push_back(devices[k]);
+        column_index.push_back(static_cast<int>(k));
+      }
+    devices_as_on_block(m, device_base(scene), scene.contact, std::move(at_columns));
+    Eigen::Index next_slot = 2;
+    for (auto& acting : m.acting)
+      for (ContactModel::Acting& a : acting) {
+        a.device = column_index[static_cast<std::size_t>(a.device)];
+        if (a.slot) next_slot = std::max(next_slot, *a.slot + 1);
+      }
+    const Columns& c = on->columns;
+    for (std::size_t k = 0; k < devices.size(); ++k) {
+      const DeviceGeometry& g = devices[k].geometry;
+      if (g.kinematics != Kinematics::beam) continue;
+      ColumnsModel::BeamDevice d{.device = static_cast<int>(k),
+                                 .slot = law_states(devices[k].law) > 0 ? std::optional<Eigen::Index>(next_slot++)
+                                                                        : std::nullopt,
+                                 .ground_x = g.x,
+                                 .ground_y = g.ground_y,
+                                 .beam_x = g.beam_x};
+      for (Pivot p : pivots)
+        d.lever[index(p)] =
+            beam_device_stretch(c, g.x, g.ground_y, g.beam_x, 2 * c.group.half_height, 0.0, sign(p), Tilt(0.0)).de_dtheta;
+      on->beam_devices.push_back(d);
+    }
+    m.devices = std::move(devices);
+  }
   m.on_columns = std::move(on);
   return m;
 }

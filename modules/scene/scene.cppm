@@ -145,8 +145,8 @@ JointedModel jointed_model(const Scene& scene);
 // The model the scene describes (rocking.contact), with energy accumulators
 // when asked; `extra` devices act after the scene's own. A scene with joints
 // carries its chain (ContactModel::jointed), a scene on [columns] its
-// columns (ContactModel::on_columns; InputError for a device, which the
-// columns' run does not model yet, or eq9).
+// columns (ContactModel::on_columns, with its devices between the ground and
+// the beam; InputError for eq9).
 ContactModel make_contact_model(const Scene& scene, bool track_energy, std::vector<Device> extra = {});
 
 // The scene's excitation as a ground motion (reads the record if it names

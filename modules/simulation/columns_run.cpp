@@ -25,6 +25,11 @@
 // and the n alike exert n times its moment D and power; their states z rest
 // in full contact and resume on the next uplift about the same side, and a
 // device reaching its capacity fractures (an event, in every column at once).
+// A device between the ground and the cap beam (ColumnsModel::beam_devices)
+// is one: it acts while the columns rock about either side, its stretch the
+// distance between its anchors (beam_device_stretch) and its moment
+// F de/d|theta|; it holds F(e = 0) de/d|theta| against uplift; its force
+// loads the deck, in both phases, for the column-top forces.
 // The state is [theta, theta', z (the devices' states, as a rigid block's
 // slots), u, u', W_ground, W_viscous, W_devices, the work on each device] (u
 // nodal, none for a rigid deck); the works do not steer the steps. Full
@@ -44,6 +49,7 @@ module;
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -66,15 +72,19 @@ struct ColumnsGuardDef {
   ColumnsGuard what = ColumnsGuard::uplift;
   Pivot pivot = Pivot::right;
   int acting = 0;  // a fracture guard's device, by its place in the pivot's acting list
+  int beam = -1;   // or, >= 0, by its place in the beam devices
 };
 
 // The states z of the devices: the slots after theta and theta' that the
-// model's acting devices use (rocking.scene counts them as a rigid block's).
+// model's acting devices use (rocking.scene counts them as a rigid block's),
+// then the beam devices'.
 Eigen::Index device_states(const ContactModel& m) {
   Eigen::Index end = 2;
   for (const auto& acting : m.acting)
     for (const ContactModel::Acting& a : acting)
       if (a.slot) end = std::max(end, *a.slot + 1);
+  for (const ColumnsModel::BeamDevice& d : m.on_columns->beam_devices)
+    if (d.slot) end = std::max(end, *d.slot + 1);
   return end - 2;
 }
 
@@ -84,7 +94,7 @@ class ColumnsDriver {
       : m_(m), cm_(*m.on_columns), c_(cm_.columns), ground_(ground), vertical_(ground.vertical()), opt_(o),
         observer_(observer), scales_(output_scales(m)), n_(elastic_size(c_)), u_(2 + device_states(m)),
         work_(u_ + 2 * n_), size_(work_ + 3 + static_cast<Eigen::Index>(m.devices.size())),
-        y_(Eigen::VectorXd::Zero(size_)), dense_(size_), rates_(Eigen::VectorXd::Zero(2 * n_)),
+        y_(Eigen::VectorXd::Zero(size_)), dense_(size_),
         fixed_(Eigen::VectorXd::Zero(m.layout.size)), normal_(static_cast<std::size_t>(c_.group.count)),
         history_(o.output_interval) {
     auto rhs = [this](double t, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& dydt) {
@@ -133,38 +143,79 @@ class ColumnsDriver {
 
  private:
   int s() const { return phase_.sign(); }
-  GroundAcceleration ground_at(double t) const { return rocking::ground_at(ground_, vertical_, t); }
+  // The ground's accelerations at t, the last instant's remembered: a step's
+  // last two stages and its end's guards share theirs.
+  GroundAcceleration ground_at(double t) const {
+    if (t != ground_t_) {
+      ground_a_ = rocking::ground_at(ground_, vertical_, t);
+      ground_t_ = t;
+    }
+    return ground_a_;
+  }
+  // The state's coordinates; in full contact theta = 0 (upright_, no trig call).
   Coordinates coordinates(Eigen::Ref<const Eigen::VectorXd> y) const {
-    return {y.segment(u_, n_), y.segment(u_ + n_, n_), Tilt(y[0]), y[1]};
+    return {y.segment(u_, n_), y.segment(u_ + n_, n_), phase_.is_rocking() ? Tilt(y[0]) : upright_, y[1]};
   }
   double count() const { return c_.group.count; }
   double base_half_width() const { return c_.group.half_width; }
   const std::vector<ContactModel::Acting>& acting() const { return m_.acting[index(*phase_.pivot())]; }
 
-  // While rocking: the n alike devices' moment D = n sum F de/d|theta| [N m],
-  // with their states' rates into dydt (when given) and the power on each
-  // device's n copies into power_ (the acting ones; the others 0).
-  double device_terms(Eigen::Ref<const Eigen::VectorXd> y, double* dydt) {
+  // While rocking: the n alike devices' moment n sum F de/d|theta| with the
+  // beam devices' sum F de/d|theta|, D [N m], with their states' rates into
+  // dydt (when given) and the power on each device (a column device's n
+  // copies) into power_ (the acting ones; the others 0).
+  double device_terms(Eigen::Ref<const Eigen::VectorXd> y, const Tilt& tilt, double* dydt) {
     if (m_.devices.empty() || !phase_.is_rocking()) return 0.0;
     std::fill(power_.begin(), power_.end(), 0.0);
-    const Tilt tilt(y[0]);
+    double* rates = dydt != nullptr ? dydt : scratch_.data();
     double moment = 0;
     for (const ContactModel::Acting& a : acting()) {
-      const ContactModel::DeviceTerms t = a.terms(a, devices_, base_half_width(), s(), tilt, y[1], y.data(),
-                                                  dydt != nullptr ? dydt : scratch_.data());
+      const ContactModel::DeviceTerms t = a.terms(a, devices_, base_half_width(), s(), tilt, y[1], y.data(), rates);
       moment += t.moment;
       power_[static_cast<std::size_t>(a.device)] = count() * t.power;
     }
-    return count() * moment;
+    moment *= count();
+    for (const ColumnsModel::BeamDevice& d : cm_.beam_devices) {
+      if (devices_.is_broken(d.device)) {
+        if (d.slot) rates[*d.slot] = 0.0;
+        continue;
+      }
+      const Stretch st = beam_stretch(d, tilt);
+      const double e_dot = st.de_dtheta * s() * y[1];
+      const LawResponse f = law_force_and_rate(law(d), st.e, e_dot, d.slot ? y[*d.slot] : 0.0);
+      if (d.slot) rates[*d.slot] = f.rate;
+      moment += f.F * st.de_dtheta;
+      power_[static_cast<std::size_t>(d.device)] = f.F * e_dot;
+    }
+    return moment;
   }
 
-  // theta'' (0 in full contact) with (u', u'') into rates_, as the phase's equations give them.
-  double accelerations(GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> y) {
-    if (!phase_.is_rocking()) {
-      full_contact_acceleration(c_, a.h, y.segment(u_, n_), y.segment(u_ + n_, n_), rates_);
-      return 0.0;
+  // A beam device's law, and its stretch while rocking about s().
+  const DeviceLaw& law(const ColumnsModel::BeamDevice& d) const { return m_.devices[static_cast<std::size_t>(d.device)].law; }
+  Stretch beam_stretch(const ColumnsModel::BeamDevice& d, const Tilt& tilt) const {
+    return beam_device_stretch(c_, d.ground_x, d.ground_y, d.beam_x, 2.0 * c_.group.half_height, 0.0, s(), tilt);
+  }
+
+  // The beam devices' force on the deck (at rest in full contact): each
+  // intact one's law at its stretch, rate and state.
+  DeckLoad beam_load(Eigen::Ref<const Eigen::VectorXd> y) const {
+    DeckLoad total;
+    const Tilt tilt(y[0]);
+    for (const ColumnsModel::BeamDevice& d : cm_.beam_devices) {
+      if (devices_.is_broken(d.device)) continue;
+      const double z = d.slot ? (phase_.is_rocking() ? y[*d.slot] : devices_.z(d.device)) : 0.0;
+      double F = law_force(law(d), 0.0, 0.0, z);
+      if (phase_.is_rocking()) {
+        const Stretch st = beam_stretch(d, tilt);
+        F = law_force(law(d), st.e, st.de_dtheta * s() * y[1], z);
+      }
+      const DeckLoad l =
+          beam_device_load(c_, d.ground_x, d.ground_y, d.beam_x, 2.0 * c_.group.half_height, s(), tilt, F);
+      total.fx += l.fx;
+      total.fy += l.fy;
+      total.moment += l.moment;
     }
-    return rocking_acceleration(c_, s(), a, device_terms(y, nullptr), coordinates(y), rates_);
+    return total;
   }
 
   void derivatives(double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> dydt) {
@@ -172,14 +223,15 @@ class ColumnsDriver {
     // The devices' states rest unless the pivot's acting devices write theirs.
     dydt.segment(2, u_ - 2).setZero();
     dydt.tail(size_ - work_ - 2).setZero();
+    const Coordinates q = coordinates(y);  // one tilt for the whole right-hand side
     if (!phase_.is_rocking()) {
-      full_contact_acceleration(c_, a.h, y.segment(u_, n_), y.segment(u_ + n_, n_), rates_);
+      full_contact_acceleration(c_, a.h, q.u, q.u_dot, dydt.segment(u_, 2 * n_));
       dydt[0] = 0.0;  // a closed frame's theta stays 0
       dydt[1] = 0.0;
     } else {
-      const double moment = device_terms(y, dydt.data());
+      const double moment = device_terms(y, q.tilt, dydt.data());
       dydt[0] = y[1];
-      dydt[1] = rocking_acceleration(c_, s(), a, moment, coordinates(y), rates_);
+      dydt[1] = rocking_acceleration(c_, s(), a, moment, q, dydt.segment(u_, 2 * n_));
       if (!m_.devices.empty()) {
         double total = 0;
         for (std::size_t k = 0; k < power_.size(); ++k) {
@@ -189,18 +241,65 @@ class ColumnsDriver {
         dydt[work_ + 2] = total;
       }
     }
-    dydt.segment(u_, 2 * n_) = rates_;
-    dydt[work_] = ground_input_power(c_, s(), a, coordinates(y));
-    dydt[work_ + 1] = viscous_power(c_, y.segment(u_ + n_, n_));
+    dydt[work_] = ground_input_power(c_, s(), a, q);
+    dydt[work_ + 1] = viscous_power(c_, q.u_dot);
   }
 
-  // The moment the intact devices hold against uplift about p at rest: n sum F(e = 0) l.
-  double held(Pivot p) const { return m_.devices.empty() ? 0.0 : count() * held_moment(m_, devices_, p); }
+  // The moment the intact devices hold against uplift about p at rest: n sum
+  // F(e = 0) l, and F(e = 0) de/d|theta| of each beam device.
+  double held(Pivot p) const {
+    if (m_.devices.empty()) return 0.0;
+    double moment = count() * held_moment(m_, devices_, p);
+    for (const ColumnsModel::BeamDevice& d : cm_.beam_devices)
+      if (!devices_.is_broken(d.device)) moment += law_force_at_rest(law(d), devices_.z(d.device)) * d.lever[index(p)];
+    return moment;
+  }
 
   // The column-top contact forces now (normal_ filled).
+  // (At the accelerations the phase's equations give now, with the devices'
+  // moment while rocking.)
   TopContact top_forces(GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> y) {
-    const double theta_ddot = accelerations(a, y);
-    return top_contact_forces(c_, s(), a, coordinates(y), theta_ddot, rates_.tail(n_), normal_);
+    return top_forces(a, y, coordinates(y));
+  }
+  TopContact top_forces(GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> y, const Coordinates& q) {
+    const double moment = phase_.is_rocking() ? device_terms(y, q.tilt, nullptr) : 0.0;
+    return top_contact_forces_now(c_, s(), a, q, moment, normal_, cm_.beam_devices.empty() ? DeckLoad{} : beam_load(y));
+  }
+
+  // The deck at an instant: the smallest column-top force and the beam's
+  // translation dx, remembered at the guards' samples: the step's samples
+  // for the outputs are the same times and states (the integrator's
+  // buffers), which need not be worked out twice.
+  struct Deck {
+    double smallest = 0, dx = 0;
+  };
+  struct Remembered {
+    double t = 0;
+    Eigen::VectorXd y;
+    Deck deck;
+  };
+  Deck deck_now(GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> y) {
+    const Coordinates q = coordinates(y);
+    return {top_forces(a, y, q).smallest, phase_.is_rocking() ? beam_motion(c_, s(), q.tilt).dx : 0.0};
+  }
+  double remembered_top_force(double t, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> y) {
+    Remembered& r = remembered_[next_remembered_];
+    next_remembered_ = (next_remembered_ + 1) % remembered_.size();
+    r.t = t;
+    r.y = y;
+    r.deck = deck_now(a, y);
+    held_remembered_ = std::min(held_remembered_ + 1, remembered_.size());
+    return r.deck.smallest;
+  }
+  // (The latest first: a step's samples follow its guards' last samples.)
+  Deck deck_at(double t, Eigen::Ref<const Eigen::VectorXd> y) {
+    const std::size_t size = remembered_.size();
+    for (std::size_t k = 1; k <= held_remembered_; ++k) {
+      const Remembered& r = remembered_[(next_remembered_ + size - k) % size];
+      if (r.t == t && std::memcmp(r.y.data(), y.data(), sizeof(double) * static_cast<std::size_t>(size_)) == 0)
+        return r.deck;
+    }
+    return deck_now(ground_at(t), y);
   }
 
   void initial_state() {
@@ -237,15 +336,20 @@ class ColumnsDriver {
   void set_phase(Phase phase) {
     phase_ = phase;
     devices_.phase = phase;
-    if (phase.is_rocking())
+    if (phase.is_rocking()) {
       for (const ContactModel::Acting& a : acting())
         if (a.slot) y_[*a.slot] = devices_.z(a.device);
+      for (const ColumnsModel::BeamDevice& d : cm_.beam_devices)
+        if (d.slot) y_[*d.slot] = devices_.z(d.device);
+    }
   }
 
   // The acting devices keep their states for their next rocking phase.
   void keep_device_states() {
     for (const ContactModel::Acting& a : acting())
       if (a.slot) devices_.set_z(a.device, y_[*a.slot]);
+    for (const ColumnsModel::BeamDevice& d : cm_.beam_devices)
+      if (d.slot) devices_.set_z(d.device, y_[*d.slot]);
   }
 
   void lift(Pivot p, double t) {
@@ -261,6 +365,7 @@ class ColumnsDriver {
   }
 
   void restart(double t) {
+    held_remembered_ = next_remembered_ = 0;
     guards_.clear();
     std::vector<ode::Direction> directions;
     if (phase_.is_rocking()) {
@@ -272,6 +377,11 @@ class ColumnsDriver {
         guards_.push_back({ColumnsGuard::fracture, *phase_.pivot(), i});
         directions.push_back(ode::Direction::rising);
       }
+      for (std::size_t i = 0; i < cm_.beam_devices.size(); ++i)
+        if (m_.devices[static_cast<std::size_t>(cm_.beam_devices[i].device)].capacity > 0) {
+          guards_.push_back({ColumnsGuard::fracture, *phase_.pivot(), 0, static_cast<int>(i)});
+          directions.push_back(ode::Direction::rising);
+        }
     } else if (cm_.rocking) {
       for (Pivot p : pivots) {
         guards_.push_back({ColumnsGuard::uplift, p});
@@ -302,8 +412,15 @@ class ColumnsDriver {
           break;
         case ColumnsGuard::impact: g[k] = sd * y[0]; break;
         case ColumnsGuard::overturn: g[k] = sd * y[0] - cm_.overturn_angle; break;
-        case ColumnsGuard::tension: g[k] = top_forces(a, y).smallest; break;
+        case ColumnsGuard::tension: g[k] = remembered_top_force(t, a, y); break;
         case ColumnsGuard::fracture: {
+          if (d.beam >= 0) {
+            const ColumnsModel::BeamDevice& dev = cm_.beam_devices[static_cast<std::size_t>(d.beam)];
+            g[k] = devices_.is_broken(dev.device)
+                       ? -1.0
+                       : beam_stretch(dev, Tilt(y[0])).e - m_.devices[static_cast<std::size_t>(dev.device)].capacity;
+            break;
+          }
           const ContactModel::Acting& dev = acting()[static_cast<std::size_t>(d.acting)];
           g[k] = devices_.is_broken(dev.device)
                      ? -1.0
@@ -347,7 +464,8 @@ class ColumnsDriver {
         return false;
       case ColumnsGuard::tension: tension(t);
       case ColumnsGuard::fracture: {
-        const int device = acting()[static_cast<std::size_t>(d.acting)].device;
+        const int device = d.beam >= 0 ? cm_.beam_devices[static_cast<std::size_t>(d.beam)].device
+                                       : acting()[static_cast<std::size_t>(d.acting)].device;
         announce({EventKind::fracture, t, d.pivot, device});
         fracture(devices_, device);
         result_.devices[static_cast<std::size_t>(device)].fracture_time = t;
@@ -377,8 +495,8 @@ class ColumnsDriver {
   }
 
   // The structure's response on the cap beam (its fixed-base outputs) with the
-  // drift from the ground and the columns' quantities; the top forces when asked.
-  Response response(double t, Eigen::Ref<const Eigen::VectorXd> y, bool forces) {
+  // drift from the ground and the columns' quantities, the top forces among them.
+  Response response(double t, Eigen::Ref<const Eigen::VectorXd> y) {
     const Layout& l = m_.layout;
     if (l.u.present()) {
       from_nodal(m_.body, y.segment(u_, n_), fixed_.segment(l.u.start, l.n));
@@ -387,21 +505,19 @@ class ColumnsDriver {
     Response r = evaluate(m_, scales_, contact_, t, fixed_);
     r.phase = phase_;
     r[Quantity::phase] = phase_.sign();
-    const double dx = phase_.is_rocking() ? beam_motion(c_, s(), Tilt(y[0])).dx : 0.0;
+    const Deck deck = deck_at(t, y);
+    const double dx = deck.dx;
     const double u_top = n_ > 0 ? y[u_ + n_ - 1] : 0.0;
     r[Quantity::delta_t] = (dx + u_top) * scales_.inverse_H_N;
     r[Quantity::columns_theta] = y[0];
     r[Quantity::columns_theta_over_alpha] = y[0] / c_.alpha;
     r[Quantity::columns_theta_dot] = y[1];
     r[Quantity::beam_x] = dx;
-    if (forces) {
-      const double smallest = top_forces(ground_at(t), y).smallest;
-      r[Quantity::columns_top_force] = smallest;
-      ColumnsResult& cr = *result_.columns;
-      if (smallest < cr.smallest_top_force) {
-        cr.smallest_top_force = smallest;
-        cr.smallest_top_force_time = t;
-      }
+    r[Quantity::columns_top_force] = deck.smallest;
+    ColumnsResult& cr = *result_.columns;
+    if (deck.smallest < cr.smallest_top_force) {
+      cr.smallest_top_force = deck.smallest;
+      cr.smallest_top_force_time = t;
     }
     return r;
   }
@@ -411,7 +527,7 @@ class ColumnsDriver {
     const double t0 = active_->previous_time(), t1 = active_->time();
     for (int k = 1; k <= count; ++k) {
       const Eigen::VectorXd& y = active_->sample(k, count);
-      const Response r = response(ode::Integrator::sample_time(t0, t1, k, count), y, true);
+      const Response r = response(ode::Integrator::sample_time(t0, t1, k, count), y);
       peaks_.add(r.t, r.q);
       device_peaks(y);
     }
@@ -419,7 +535,7 @@ class ColumnsDriver {
     history_.rows(*active_, dense_, [this](double t, const Eigen::VectorXd& y) { history_row(t, y); });
   }
 
-  // Each device's elongation and force (one column's; NaN once broken) into
+  // Each device's elongation and force (a column device's in one column; NaN once broken) into
   // samples_, with the moment its n copies exert against the tilt; returns
   // the sum of those moments, M_dev [N m].
   double sample_devices(Eigen::Ref<const Eigen::VectorXd> y) {
@@ -439,6 +555,16 @@ class ColumnsDriver {
       out.e = st.elongation;
       out.F = st.force;
       out.moment = count() * s() * st.force * de_dtheta;
+      moment += out.moment;
+    }
+    for (const ColumnsModel::BeamDevice& d : cm_.beam_devices) {
+      if (devices_.is_broken(d.device)) continue;
+      const Stretch st = beam_stretch(d, tilt);
+      const double F = law_force(law(d), st.e, st.de_dtheta * s() * y[1], d.slot ? y[*d.slot] : 0.0);
+      DeviceSample& out = samples_[static_cast<std::size_t>(d.device)];
+      out.e = st.e;
+      out.F = F;
+      out.moment = s() * F * st.de_dtheta;
       moment += out.moment;
     }
     return moment;
@@ -461,7 +587,7 @@ class ColumnsDriver {
   // accumulators, the impacts' losses up to now.
   void history_row(double t, Eigen::Ref<const Eigen::VectorXd> y) {
     last_row_ = t;
-    Response r = response(t, y, true);
+    Response r = response(t, y);
     r[Quantity::a_g] = ground_.acceleration(t);
     r[Quantity::a_v] = vertical_ ? vertical_->acceleration(t) : 0.0;
     r[Quantity::x_g] = travel_.at(t).d;
@@ -479,7 +605,7 @@ class ColumnsDriver {
   }
 
   void emit(double t, Eigen::Ref<const Eigen::VectorXd> y) {
-    const Response r = response(t, y, true);
+    const Response r = response(t, y);
     peaks_.add(r.t, r.q);
     device_peaks(y);
     if (observer_ != nullptr) history_row(t, y);
@@ -514,13 +640,16 @@ class ColumnsDriver {
   OutputScales scales_;
   // Elastic coordinates; where u and the works start in the state; its size.
   Eigen::Index n_, u_, work_, size_;
+  mutable double ground_t_ = std::numeric_limits<double>::quiet_NaN();
+  mutable GroundAcceleration ground_a_;
   Phase phase_;
+  const Tilt upright_{0.0};
   Discrete contact_;  // the structure's own phase on the beam: full contact
   Discrete devices_;  // the devices': the columns' phase, the states kept, the fractures
   std::vector<double> power_ = std::vector<double>(m_.devices.size(), 0.0);  // on each device's n copies [W]
   Eigen::VectorXd scratch_ = Eigen::VectorXd::Zero(size_);  // the state rates device_terms writes when not asked
   std::vector<DeviceSample> samples_;
-  Eigen::VectorXd y_, dense_, rates_, fixed_;
+  Eigen::VectorXd y_, dense_, fixed_;
   double last_row_ = -std::numeric_limits<double>::infinity();  // the last history row's time
   std::vector<double> normal_;
   std::vector<ColumnsGuardDef> guards_;
@@ -532,6 +661,9 @@ class ColumnsDriver {
   HistoryGrid history_;
   PeakTracker peaks_;
   RunResult result_;
+  // As many as a step has guard samples (the exact stepping's most).
+  std::vector<Remembered> remembered_ = std::vector<Remembered>(16, Remembered{0.0, y_, {}});
+  std::size_t next_remembered_ = 0, held_remembered_ = 0;
 };
 
 }  // namespace

@@ -1,0 +1,231 @@
+// A device between the ground and the cap beam of a structure on rocking
+// columns (MODEL.md 16 with 11; [[device]] kinematics = "beam"): one device,
+// its elongation the change of the distance between a ground anchor and an
+// anchor on the beam's underside, its moment F de/d|theta|. Checked against
+// closed forms computed here from the scene's numbers, with the beam's motion
+// taken from a column's rigid rotation about its pivot corner (the top corner
+// opposite it carries the beam), not from rocking.columns:
+// - the uplift threshold under a ramp a_g = c t with a prestressed tendon,
+//   vertical (it raises the threshold on both sides) and inclined (it lowers
+//   it on one), by virtual work at theta = 0, to 1e-6 of the first uplift's
+//   time; the column-top forces at rest carrying the tendon's pull (statics);
+// - free rocking from a tilt with an elastic inclined device: the first impact
+//   at the quadrature of the energy equation (gravity's potential and the
+//   device's P0 e + k e^2 / 2) to 1e-6, the energy balance closing to 1e-9
+//   of the initial energy, the device's peak elongation and force;
+// - bad input, each refused key in one line (exit 2).
+// Runs use rk45 at rtol 1e-10 (atol 1e-12), far below the tolerances stated.
+#include <rocking/eigen.hpp>
+#include <doctest/doctest.h>
+#include <gsl/gsl_integration.h>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "close.hpp"
+#include "run_program.hpp"
+#include "temp_path.hpp"
+#include "watched_run.hpp"
+import rocking.run;
+import rocking.report;
+import rocking.errors;
+
+using namespace rocking;
+
+namespace {
+
+Scene scene_from(const std::string& name, const std::string& toml) {
+  const std::filesystem::path path = temp_path(name + ".toml");
+  std::ofstream(path) << toml;
+  return load_scene(path.string());
+}
+
+// A rigid deck (a cap beam and one mass 2 m above it) on three columns 0.5 m
+// wide, 4 m tall, 6 m apart, with the devices given.
+constexpr double b = 0.25, h = 2.0, mc = 2000.0, beam = 6000.0, deck = 7000.0, spacing = 6.0;
+constexpr int n = 3;
+std::string frame(const std::string& devices, const std::string& more) {
+  return fmt::format(R"(
+[structure]
+rigid = true
+half_width = 0.25
+heights = [2.0]
+masses = [{}]
+base_mass = {}
+
+[columns]
+count = {}
+half_width = {}
+half_height = {}
+mass = {}
+spacing = {}
+
+[contact]
+restitution = "momentum"
+{}
+{})",
+                     deck, beam, n, b, h, mc, spacing, devices, more);
+}
+
+std::string still(double duration) { return fmt::format("\n[excitation]\nkind = \"none\"\nduration = {}\n", duration); }
+
+// An elastic device from the ground at (gx, gy) to the beam's underside at bx.
+std::string tie(double gx, double gy, double bx, double P0, double k) {
+  return fmt::format("[[device]]\nname = \"tie\"\nkind = \"elastic\"\nkinematics = \"beam\"\nat = {}\nground_height = {}\n"
+                     "beam_at = {}\nP0 = {}\nk = {}\n",
+                     gx, gy, bx, P0, k);
+}
+
+using Ran = WatchedRun<EventsAndRows>;
+template <class... Args>
+Ran run(const Scene& scene, Args&&... args) {
+  return watched_run<EventsAndRows>(scene, 1e-10, std::forward<Args>(args)...);
+}
+
+struct Frame {
+  double R = std::hypot(b, h), alpha = std::atan2(b, h), m_d = beam + deck;
+  double J = 4.0 / 3.0 * n * mc * R * R + 4 * R * R * m_d;
+  double lever = R * (n * mc + 2 * m_d);  // gravity's: J theta'' = -lever g sin(alpha - theta) about the right corner
+};
+
+// The beam's displacement when the columns turn by th (> 0) about their right
+// corners: the top-left corner, at (-2b, 2h) from the pivot, turned clockwise.
+struct Vec {
+  double x, y;
+};
+Vec beam_shift(double th) {
+  const double c = std::cos(th), s = std::sin(th);
+  return {-2 * b * c + 2 * h * s + 2 * b, 2 * b * s + 2 * h * c - 2 * h};
+}
+
+}  // namespace
+
+TEST_CASE("a prestressed tendon from the ground to the cap beam moves the frame's uplift threshold by its virtual work: the first uplift under a ramp at the closed form's time") {
+  const Frame f;
+  const double c = 1.0, g = gravity, P0 = 20e3;  // [m/s^3], [N]
+  const double W = n * mc + 2 * f.m_d;          // the columns' centres rise by b per |theta|, the deck by 2b
+  const auto ramp = std::make_shared<const GroundMotion>(GroundMotion::from_samples("ramp", {0.0, 10.0}, {0.0, 10 * c}));
+  // From the ground at x = -1 m: straight up to the beam (lever 2b about either
+  // side), and up to x = 2 m on the beam (3-4-5: it slackens as the frame tips left).
+  for (const double bx : {-1.0, 2.0}) {
+    CAPTURE(bx);
+    const double gx = -1.0, rx = bx - gx, ry = 2 * h, r = std::hypot(rx, ry);
+    // At theta = 0 the beam moves by (s 2h, 2b) per |theta| about s: de/d|theta| = n . (s 2h, 2b).
+    auto lever = [&](int s) { return (rx * s * 2 * h + ry * 2 * b) / r; };
+    // a_g > 0 tips the frame to the left (s = -1): the ground's inertia does
+    // a_g h W per |theta|, gravity -g b W, the tendon -P0 de/d|theta|.
+    const double a_star = (g * b * W + P0 * lever(-1)) / (h * W);
+    REQUIRE(a_star > 0);
+    const Scene scene = scene_from("beam_tie", frame(tie(gx, 0.0, bx, P0, 1e7), ""));
+    const Ran ran = run(scene, ramp, 1.05 * a_star / c);
+    REQUIRE(!ran.watch.events.empty());
+    CHECK(ran.watch.events.front().kind == EventKind::uplift);
+    CHECK(ran.watch.events.front().pivot == Pivot::left);
+    CHECK(ran.result.first_uplift == close_to(a_star / c, 1e-6));
+    // rocking modal: the weaker side's held moment, min over s of P0 de/d|theta|.
+    const double held = std::min(P0 * lever(-1), P0 * lever(+1));
+    CHECK(modal_summary(scene)["columns"]["uplift_g"].get<double>() == close_to(b / h + held / (g * h * W), 1e-12));
+    // At rest (a_g(0) = 0) the columns carry the deck's weight and the tendon's
+    // pull -P0 (rx, ry) / r at (bx, 0) from the beam's centre; split linearly
+    // over the axes -3, 0, 3 m (minimum norm): N = sum N / 3 + M x / 18.
+    REQUIRE(!ran.watch.rows.empty());
+    const double sum = f.m_d * g + P0 * ry / r, moment = bx * P0 * ry / r;
+    const double smallest = sum / 3 - 3 * std::abs(moment) / 18;
+    CHECK(ran.watch.rows.front()[Quantity::columns_top_force] == close_to(smallest, 1e-12));
+    MESSAGE("tendon to x = " << bx << " m: uplift at " << ran.result.first_uplift << " s, closed form " << a_star / c
+                             << " s (bare frame " << g * b / h / c << " s)");
+  }
+}
+
+TEST_CASE("an elastic device from the ground to the cap beam: free rocking from a tilt lands at the quadrature of the energy equation, and the energy balance closes") {
+  const Frame f;
+  const double k = 2e5, P0 = 5e3, g = gravity, gx = -1.0, bx = 2.0;
+  const double rx = bx - gx, ry = 2 * h, r0 = std::hypot(rx, ry);
+  // Tilted to the right the beam moves right and up: the device stretches.
+  auto e_of = [&](double th) {
+    const Vec d = beam_shift(th);
+    return std::hypot(rx + d.x, ry + d.y) - r0;
+  };
+  const double th0 = 0.5 * f.alpha;
+  auto U = [&](double th) {
+    const double e = e_of(th);
+    return f.lever * g * (std::cos(f.alpha - th) - std::cos(f.alpha)) + P0 * e + 0.5 * k * e * e;
+  };
+  // t = int_0^th0 dth / sqrt(2 (U(th0) - U(th)) / J), with th = th0 - w^2 to remove the endpoint's singularity.
+  struct P {
+    decltype(U)* U;
+    double th0, J;
+  } par{&U, th0, f.J};
+  gsl_function F{[](double w, void* v) {
+                   const P& p = *static_cast<P*>(v);
+                   return 2 * w / std::sqrt(2 * ((*p.U)(p.th0) - (*p.U)(p.th0 - w * w)) / p.J);
+                 },
+                 &par};
+  gsl_integration_workspace* ws = gsl_integration_workspace_alloc(1000);
+  double t_quad = 0, err = 0;
+  gsl_integration_qag(&F, 0.0, std::sqrt(th0), 0.0, 1e-12, 1000, GSL_INTEG_GAUSS61, ws, &t_quad, &err);
+  gsl_integration_workspace_free(ws);
+
+  const std::string tilt = fmt::format("\n[initial]\ntheta = {:.17g}\n", th0);
+  const Ran with = run(scene_from("beam_spring", frame(tie(gx, 0.0, bx, P0, k), tilt + still(1.2 * t_quad))));
+  REQUIRE_MESSAGE(with.result.outcome == Outcome::completed, with.result.failure);
+  REQUIRE(with.result.counts.impacts >= 1);
+  CHECK(with.result.first_impact == close_to(t_quad, 1e-6));
+  const Ran without = run(scene_from("beam_bare", frame("", tilt + still(4 * t_quad))));
+  REQUIRE(without.result.counts.impacts >= 1);
+  CHECK(with.result.first_impact < without.result.first_impact);
+  // Released at rest, the device's peak is at the release.
+  REQUIRE(with.result.devices.size() == 1);
+  CHECK(with.result.devices[0].peak_elongation == close_to(e_of(th0), 1e-9));
+  CHECK(with.result.devices[0].peak_force == close_to(P0 + k * e_of(th0), 1e-9));
+  // No damping and no ground: the device's work is what the frame's energy lost (impacts aside).
+  const EnergyBalance& eb = with.result.energy;
+  CHECK(eb.residual() == within(0.0, 1e-9 * eb.initial));
+  CHECK(with.result.devices[0].work == close_to(eb.damper, 1e-12));
+  MESSAGE("first impact " << with.result.first_impact << " s (quadrature " << t_quad << " s; " << without.result.first_impact
+                          << " s without the device); residual " << eb.residual() << " J of " << eb.initial << " J");
+}
+
+TEST_CASE("a beam device through the program: history columns by name, and each refused key in one line (exit 2)") {
+  const std::string frame_scene = (std::filesystem::path(ROCKING_SCENES) / "rocking_frame.toml").string();
+  const std::filesystem::path out = temp_path("frame_beam_tie");
+  const std::string tendon = "device+={kind=\"elastic\",name=\"tie\",kinematics=\"beam\",at=0.0,beam_at=0.0,P0=2e6,k=5e8}";
+  const cli::Result r = cli::run(fmt::format("-q simulate {} --set '{}' --out {}", frame_scene, tendon, out.string()));
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const std::string history = file_text(out / "history.csv");
+  const std::string header = history.substr(0, history.find('\n'));
+  for (const std::string name : {"tie.elongation", "tie.force", "M_dev"})
+    CHECK_MESSAGE(cli::contains(header, name + " ["), header);
+  const auto summary = nlohmann::json::parse(file_text(out / "summary.json"));
+  REQUIRE(summary["devices"].size() == 1);
+  CHECK(summary["devices"][0]["peak_force_N"].get<double>() >= 2e6);
+  CHECK(summary["devices"][0]["work_J"].is_number());
+
+  auto refused = [&](const std::string& scene, const std::string& device, const std::string& says) {
+    cli::refused(fmt::format("simulate {} --set 'device+={{{}}}' --out {}", scene, device, temp_path("refused").string()),
+                 says);
+  };
+  const std::string block = (std::filesystem::path(ROCKING_SCENES) / "rigid_block.toml").string();
+  const std::string tendon_keys = "kind=\"elastic\",name=\"tie\",P0=0.0,k=1e7";
+  // No [columns]: no beam, and no beam anchor.
+  refused(block, tendon_keys + ",kinematics=\"beam\",at=0.0", "device[0].kinematics");
+  refused(block, tendon_keys + ",kinematics=\"vertical\",free_length=2.0,at=0.0,beam_at=0.0", "device[0].beam_at");
+  // The beam anchor: required, on the beam (|x| <= 3 + 0.8 m).
+  refused(frame_scene, tendon_keys + ",kinematics=\"beam\",at=0.0", "device[0].beam_at");
+  refused(frame_scene, tendon_keys + ",kinematics=\"beam\",at=0.0,beam_at=3.9", "device[0].beam_at");
+  // The elongation counts from the rest distance.
+  refused(frame_scene, tendon_keys + ",kinematics=\"beam\",at=0.0,beam_at=0.0,free_length=9.6", "device[0].free_length");
+  // A number for the ground anchor.
+  refused(frame_scene, tendon_keys + ",kinematics=\"beam\",at=\"edges\",beam_at=0.0", "device[0].at");
+  // Anchors that meet at rest.
+  refused(frame_scene, tendon_keys + ",kinematics=\"beam\",at=1.0,beam_at=1.0,ground_height=9.6", "device[0].ground_height");
+  // A column device has no beam anchor.
+  refused(frame_scene, tendon_keys + ",kinematics=\"chord\",at=0.0,beam_at=0.0", "device[0].beam_at");
+  refused(frame_scene, tendon_keys + ",kinematics=\"vertical\",free_length=9.6,at=0.0,ground_height=1.0",
+          "device[0].ground_height");
+}
