@@ -5,9 +5,10 @@
 // through the program as a user runs it:
 // - the run ends `separated`, stated (exit 0, summary.json's separation
 //   naming joint 1), never continued and never a failure;
-// - under the scene's pulse the crack opens after the base lifts, and the top
-//   leaves its joint just after the base's first impact; on a fixed base the
-//   crack opens as early and the top rocks further before it leaves;
+// - under the scene's pulse the crack opens after the base lifts, and the run
+//   ends at the base's first impact, whose momentum law leaves the base's
+//   contact in tension (stated as joint 0 separating); on a fixed base the
+//   crack opens as early and the top rocks further before it leaves its joint;
 // - a study's hunt finds the level at which the top leaves its joint under El
 //   Centro the same on the rocking and the fixed base, and at that level the
 //   base never lifts: the crack opens below the base's own threshold, so the
@@ -41,23 +42,24 @@ nlohmann::json simulate(const std::string& name, const std::string& more) {
 
 }  // namespace
 
-TEST_CASE("the cracked chimney under its pulse: the crack opens after the base lifts, and the top leaves its joint, stated") {
+TEST_CASE("the cracked chimney under its pulse: the crack opens after the base lifts, and the run ends separated at the base's first impact, stated") {
   const nlohmann::json s = simulate("cracked", "");
   CHECK(s["outcome"] == "separated");
   REQUIRE(s.contains("separation"));
-  CHECK_MESSAGE(s["separation"].get<std::string>().starts_with("joint 1 at t = "), s["separation"]);
+  CHECK_MESSAGE(s["separation"].get<std::string>().starts_with("joint 0 at t = "), s["separation"]);
   const auto& base = s["joints"][0];
   const auto& crack = s["joints"][1];
   CHECK(base["first_uplift_s"].get<double>() < crack["first_uplift_s"].get<double>());
-  CHECK(s["t_end"].get<double>() > base["first_impact_s"].get<double>());
+  CHECK(s["t_end"].get<double>() == base["first_impact_s"].get<double>());
   CHECK(base["first_uplift_s"].get<double>() == within(0.1295, 5e-5));
   CHECK(crack["first_uplift_s"].get<double>() == within(0.1482, 5e-5));
   CHECK(base["first_impact_s"].get<double>() == within(0.4560, 5e-5));
-  CHECK(s["t_end"].get<double>() == within(0.457, 5e-4));
-  CHECK(crack["peak_theta"].get<double>() == within(0.0097, 5e-5));
+  CHECK(s["t_end"].get<double>() == within(0.456, 5e-4));
+  CHECK(crack["peak_theta"].get<double>() == within(0.0096, 5e-5));
 
   const nlohmann::json fixed = simulate("cracked_fixed", "--set contact.rocking=false");
   CHECK(fixed["outcome"] == "separated");
+  CHECK_MESSAGE(fixed["separation"].get<std::string>().starts_with("joint 1 at t = "), fixed["separation"]);
   CHECK(fixed["joints"][0]["uplifts"].get<long>() == 0);
   CHECK(fixed["joints"][1]["first_uplift_s"].get<double>() == within(0.1453, 5e-5));
   CHECK(fixed["joints"][1]["peak_theta"].get<double>() == within(0.0172, 5e-5));
@@ -83,7 +85,8 @@ TEST_CASE("the cracked chimney's hunt under El Centro: the top leaves its joint 
   for (std::size_t i = 0; i < 2; ++i) {
     CAPTURE(hunt.at(i, "variant"));
     CHECK(hunt.at(i, "error").empty());
-    CHECK(std::stod(hunt.at(i, "collapse_level")) == within(0.0667, 5e-5));
+    // The README's 0.067 g, to the hunt's precision (0.0005 g).
+    CHECK(std::stod(hunt.at(i, "collapse_level")) == within(0.067, 5e-4));
     scale = std::stod(hunt.at(i, "collapse_scale"));
   }
   // At that level the top leaves its joint with the base never lifted.

@@ -125,7 +125,7 @@ int with_joints(const Scene& scene) {
                j["p"].get<double>(), j["r_momentum"].get<double>(), j["uplift_g"].get<double>());
   fmt::print("  H: the centre of mass above the joint; p = sqrt(m g R / J_p); r = 1 - 2 m B^2 / J_p (the momentum\n"
              "  law); uplift: the a_g / g at which a rigid stack's joint lifts, (B + D_0 / (m g)) / H, D_0 the\n"
-             "  tendons' prestress moment.\n");
+             "  moment the tendons across it (and at the base its devices) hold at rest.\n");
   fmt::print("Under a slow push joint {} lifts first.\n", m["lifts_first"].get<int>());
   if (m.contains("fixed_base_hz"))
     fmt::print("\nThe structure with every joint closed, on a fixed base\n  f = {} Hz\n",

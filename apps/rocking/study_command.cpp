@@ -678,12 +678,13 @@ void write_azimuth_summary(const fs::path& study_csv, const fs::path& out) {
     if (!groups.contains(key)) order.push_back(key);
     groups[key].push_back(std::move(f));
   }
+  // overturned: the runs past every limit (overturned, or a joint separated).
   std::string text = "record,variant,level,azimuths,overturned";
   for (std::size_t c = first; c < outcome; ++c) text += fmt::format(",{0}_max,{0}_median", header[c]);
   text += "\n";
   for (const auto& key : order) {
     const auto& rows = groups[key];
-    const long overturned = std::ranges::count_if(rows, [&](const auto& f) { return f[outcome] == "overturned"; });
+    const long overturned = std::ranges::count_if(rows, [&](const auto& f) { return f[outcome] == "overturned" || f[outcome] == "separated"; });
     text += fmt::format("{},{},{},{},{}", csv_field(std::get<0>(key)), csv_field(std::get<1>(key)), std::get<2>(key),
                         rows.size(), overturned);
     for (std::size_t c = first; c < outcome; ++c) {

@@ -99,7 +99,8 @@ struct JointedModel {
   // theta_0'); the devices from base_devices on are the chain's tendons, in order.
   std::size_t base_devices = 0;
   double theta_dot_min = 0.0015;       // Eq. 8's threshold, per joint [rad/s]
-  bool base_rocks = true;              // contact.rocking: false holds the base joint closed (a fixed base)
+  // contact.rocking = false holds the base joint closed: chain.data.base_held.
+  bool base_rocks() const { return !chain.data.base_held; }
 };
 
 // A structure standing on rocking columns (MODEL.md 16): the frame

@@ -476,7 +476,7 @@ json joints_modal(const Scene& scene) {
       held = std::min(held, about);
     }
     const double uplift_g = (B + held / (m * d.g)) / H;
-    if (uplift_g < lowest && (j > 0 || model.jointed->base_rocks)) {  // a fixed base never lifts
+    if (uplift_g < lowest && (j > 0 || model.jointed->base_rocks())) {  // a fixed base never lifts
       lowest = uplift_g;
       first = static_cast<int>(j);
     }

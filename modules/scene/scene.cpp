@@ -864,7 +864,7 @@ Scene read_scene(toml::table root, const std::string& file, const std::vector<st
   scene.excitation = read_excitation(root, file, origins);
   scene.initial = read_initial(root, file, origins, scene.structure, scene.contact);
   scene.output = read_output(root, file, origins, scene.structure);
-  if (std::isfinite(scene.base_friction) && !scene.jointed())
+  if (std::isfinite(scene.base_friction) && !scene.jointed() && scene.contact.rocking)
     throw InputError(fmt::format("{}: contact.friction: the friction demand is checked for a structure with joints "
                                  "([[joint]] tables or contact.restitution = \"momentum\")", file));
   if (scene.jointed()) (void)jointed_model(scene);  // what the chain cannot model is refused here, before any run
@@ -916,12 +916,11 @@ std::string scene_toml(const std::string& path, const std::vector<std::string>& 
 namespace {
 
 // On a structure with joints, scene device k is one of the chain's tendons
-// (MODEL.md 15: from the ground to a segment) when it is elastic, vertical and
-// unbreakable; any other device stands across the base joint.
+// (MODEL.md 15: from the ground to a segment) when it is elastic and
+// vertical; any other device stands across the base joint.
 bool is_tendon(const Scene& scene, std::size_t k) {
   const Device& d = scene.devices[k];
-  return std::string_view(law_name(d.law)) == "elastic" && d.geometry.kinematics == Kinematics::vertical &&
-         !(d.capacity > 0);
+  return std::string_view(law_name(d.law)) == "elastic" && d.geometry.kinematics == Kinematics::vertical;
 }
 
 }  // namespace
@@ -965,18 +964,20 @@ JointedModel jointed_model(const Scene& scene) {
   data.base_held = !scene.contact.rocking;
   const int top = static_cast<int>(data.segments.size()) - 1;
   JointedModel out;
-  out.base_rocks = scene.contact.rocking;
   out.base_devices = scene.damper.enabled ? 2 : 0;  // the [damper]'s pair stands at the base's edges
   for (std::size_t k = 0; k < scene.devices.size(); ++k) {
     const Device& d = scene.devices[k];
     if (!is_tendon(scene, k)) {
       if (scene.device_segments[k] >= 0)
         throw InputError(fmt::format("{}: device '{}': segment: a device anchored on a segment is a tendon from the "
-                                     "ground (kind = \"elastic\", kinematics = \"vertical\", no capacity); other "
-                                     "devices stand across the base joint (no segment)", file, d.name));
+                                     "ground (kind = \"elastic\", kinematics = \"vertical\"); other devices stand "
+                                     "across the base joint (no segment)", file, d.name));
       ++out.base_devices;
       continue;
     }
+    if (d.capacity > 0)
+      throw InputError(fmt::format("{}: device '{}': capacity: a tendon through the joints does not break in this "
+                                   "model (leave capacity out)", file, d.name));
     const int seg = scene.device_segments[k] < 0 ? top : scene.device_segments[k];
     const ChainSegment& sg = data.segments[static_cast<std::size_t>(seg)];
     // From the ground at x to the top of its segment, at the same x; e from the rest distance.

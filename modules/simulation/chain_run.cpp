@@ -119,6 +119,7 @@ class ChainDriver {
         [this] {
           for (int j = 0; j < c_.joints; ++j) lift_if_lifting(j, 0.0);
           restart(0.0);
+          if (separated_at(0.0)) return;
           for (int j = 0; j < c_.joints; ++j)
             if (phases_[j].is_rocking() && sign(*phases_[j].pivot()) * y_[j] >= jm_.overturn_angle[j]) {
               announce({EventKind::overturn, 0.0, *phases_[j].pivot(), std::nullopt, j});
@@ -185,6 +186,34 @@ class ChainDriver {
   // The moment the intact base devices hold against uplift about p at rest.
   double held(Pivot p) const { return nb_ == 0 ? 0.0 : held_moment(m_, devices_, p); }
 
+  // Joint j's contact reaction: the multipliers' N and V, with, at the base,
+  // the pull of the base devices, which the chain applies on theta_0 alone
+  // (the moment condition holds it as D_0): the contact carries it as well.
+  // A device from the ground at (x, 0) to the base's anchor pulls along its
+  // chord, at |theta_0| / 2 from the vertical toward the pivot's side
+  // (MODEL.md 11), or vertically (kinematics vertical); at rest each intact
+  // device pulls down with its force at rest.
+  JointReaction contact_reaction(int j, Eigen::Ref<const Eigen::VectorXd> y) {
+    JointReaction r = reactions_[j];
+    if (j != 0 || nb_ == 0) return r;
+    if (!phases_[0].is_rocking()) {
+      for (std::size_t k = 0; k < nb_; ++k)
+        if (!devices_.is_broken(static_cast<int>(k)))
+          r.N += law_force_at_rest(m_.devices[k].law, devices_.z(static_cast<int>(k)));
+      return r;
+    }
+    sample_devices(y);
+    const double half = 0.5 * std::abs(y[0]), s = phases_[0].sign();
+    for (const ContactModel::Acting& a : acting()) {
+      if (devices_.is_broken(a.device)) continue;
+      const double F = device_samples_[static_cast<std::size_t>(a.device)].F;
+      const bool chord = a.geometry.kinematics == Kinematics::chord;
+      r.N += chord ? F * std::cos(half) : F;
+      r.V += chord ? s * F * std::sin(half) : 0.0;
+    }
+    return r;
+  }
+
   // The base joint's devices follow its phase: the acting devices of a new
   // rocking phase resume the states they kept (keep_device_states).
   void base_phase_set() {
@@ -229,7 +258,7 @@ class ChainDriver {
   // Closed joint j lifts now (at the start or after an impact) when both
   // uplift conditions already hold about one of its corners.
   void lift_if_lifting(int j, double t) {
-    if (phases_[j].is_rocking() || (j == 0 && !jm_.base_rocks)) return;
+    if (phases_[j].is_rocking() || (j == 0 && !jm_.base_rocks())) return;
     const GroundAcceleration a = ground_at(t);
     const auto q = y_.head(n_), qd = y_.segment(n_, n_);
     apply_base_devices(y_, false);
@@ -303,13 +332,13 @@ class ChainDriver {
         directions.push_back(ode::Direction::falling);
         guards_.push_back({ChainGuard::overturn, j, *phases_[j].pivot()});
         directions.push_back(ode::Direction::rising);
-      } else if (j > 0 || jm_.base_rocks) {
+      } else if (j > 0 || jm_.base_rocks()) {
         for (Pivot s : pivots) {
           guards_.push_back({ChainGuard::uplift, j, s});
           directions.push_back(ode::Direction::rising);
         }
       }
-      if (j == 0 && !jm_.base_rocks) continue;  // a fixed base holds the structure down: no tension, no sliding
+      if (j == 0 && !jm_.base_rocks()) continue;  // a fixed base holds the structure down: no tension, no sliding
       guards_.push_back({ChainGuard::tension, j});
       directions.push_back(ode::Direction::falling);
       if (std::isfinite(jm_.friction_limit[j])) {
@@ -341,13 +370,16 @@ class ChainDriver {
       const ChainGuardDef& d = guards_[k];
       const int j = d.joint;
       const double s = sign(d.pivot);
-      const JointReaction& r = reactions_[j];
       switch (d.what) {
         case ChainGuard::uplift: g[k] = std::min(lift_moment(j, d.pivot), lift_acceleration(j, d.pivot)); break;
         case ChainGuard::impact: g[k] = s * q[j]; break;
         case ChainGuard::overturn: g[k] = s * q[j] - jm_.overturn_angle[j]; break;
-        case ChainGuard::tension: g[k] = r.N; break;
-        case ChainGuard::friction: g[k] = jm_.friction_limit[j] * r.N - std::abs(r.V); break;
+        case ChainGuard::tension: g[k] = contact_reaction(j, y).N; break;
+        case ChainGuard::friction: {
+          const JointReaction c = contact_reaction(j, y);
+          g[k] = jm_.friction_limit[j] * c.N - std::abs(c.V);
+          break;
+        }
         case ChainGuard::fracture: {
           const ContactModel::Acting& dev = acting()[static_cast<std::size_t>(d.acting)];
           g[k] = devices_.is_broken(dev.device)
@@ -390,12 +422,7 @@ class ChainDriver {
         announce({EventKind::overturn, t, d.pivot, std::nullopt, j});
         result_.outcome = Outcome::overturned;
         return false;
-      case ChainGuard::tension:
-        result_.outcome = Outcome::separated;
-        result_.separation = fmt::format("joint {} at t = {:.9g} s: its normal force N reached 0, so the part above "
-                                         "would leave it, which the model does not follow (phases {})",
-                                         j, t, phases_text());
-        return false;
+      case ChainGuard::tension: separate(j, t); return false;
       case ChainGuard::friction:
         throw RunError(fmt::format("joint {} would slide at t = {:.9g} s: its friction demand |V|/N reached the stated "
                                    "limit {:g} (sliding is not modelled)", j, t, jm_.friction_limit[j]));
@@ -409,7 +436,28 @@ class ChainDriver {
     }
     peaks_.break_continuity();
     restart(t);
-    return true;
+    return !separated_at(t);
+  }
+
+  // Joint j's normal force reached 0: the part above would leave it (MODEL.md 15).
+  void separate(int j, double t) {
+    result_.outcome = Outcome::separated;
+    result_.separation = fmt::format("joint {} at t = {:.9g} s: its normal force N reached 0, so the part above "
+                                     "would leave it, which the model does not follow (phases {})",
+                                     j, t, phases_text());
+  }
+
+  // A joint already in tension as a phase begins (after an impact, or at the
+  // start) ends the run as one whose N falls through 0 does.
+  bool separated_at(double t) {
+    apply_base_devices(y_, false);
+    chain_reactions(c_, phases_, ground_at(t), y_.head(n_), y_.segment(n_, n_), reactions_, qdd_, w_);
+    for (int j = 0; j < c_.joints; ++j)
+      if ((j > 0 || jm_.base_rocks()) && contact_reaction(j, y_).N < 0) {
+        separate(j, t);
+        return true;
+      }
+    return false;
   }
 
   // Impact at joint j (theta_j back to 0): the momentum law or a given r.
@@ -484,8 +532,9 @@ class ChainDriver {
       s.theta = q[j];
       s.theta_dot = qd[j];
       if (reactions) {
-        s.N = reactions_[j].N;
-        s.V = reactions_[j].V;
+        const JointReaction c = contact_reaction(j, y);
+        s.N = c.N;
+        s.V = c.V;
         s.M = reactions_[j].M;
       }
     }
