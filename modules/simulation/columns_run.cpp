@@ -13,7 +13,7 @@
 //   the frame changes sign) or contact.overturn_angle;
 // - any phase: tension, the smallest column-top contact force falling
 //   through 0: the beam would leave a column, which the model assumes it does
-//   not; the run ends there as failed, stated (MODEL.md 16).
+//   not; the run ends there as `separated`, stated (MODEL.md 16).
 // Resets: uplift (theta = theta' = 0, already so); impact by MODEL.md 15's
 // momentum law (16's r for a rigid deck; a flexible deck's nodes keep their
 // horizontal momentum) or a given r, into full contact when the ratio is not
@@ -127,13 +127,18 @@ class ColumnsDriver {
     run_stated(
         result_,
         [this] {
-          lift_if_lifting(0.0);
-          restart(0.0);
-          if (phase_.is_rocking() && sign(*phase_.pivot()) * y_[0] >= cm_.overturn_angle) {
-            announce({EventKind::overturn, 0.0, *phase_.pivot(), std::nullopt});
-            result_.outcome = Outcome::overturned;
-          } else {
-            loop();
+          try {
+            lift_if_lifting(0.0);
+            restart(0.0);
+            if (phase_.is_rocking() && sign(*phase_.pivot()) * y_[0] >= cm_.overturn_angle) {
+              announce({EventKind::overturn, 0.0, *phase_.pivot(), std::nullopt});
+              result_.outcome = Outcome::overturned;
+            } else {
+              loop();
+            }
+          } catch (const Separation& s) {
+            result_.outcome = Outcome::separated;
+            result_.separation = s.what;
           }
         },
         [this] { return fmt::format("phase {}", phase_name(phase_)); });
@@ -431,9 +436,16 @@ class ColumnsDriver {
     }
   }
 
+  // A column-top contact force turned tensile: the cap beam would lift off a
+  // column, which the model assumes it does not (MODEL.md 16). The run ends
+  // there, `separated`, as a joint in tension ends a chain's.
+  struct Separation {
+    std::string what;
+  };
   [[noreturn]] void tension(double t) {
-    throw RunError(fmt::format("a column-top contact force turned tensile at t = {:.9g} s: the cap beam would lift off "
-                               "a column, which the model assumes it does not (MODEL.md 16)", t));
+    throw Separation{fmt::format("the cap beam at t = {:.9g} s: a column-top contact force turned tensile, so the "
+                                 "beam would lift off a column, which the model assumes it does not (MODEL.md 16)",
+                                 t)};
   }
 
   void loop() {
