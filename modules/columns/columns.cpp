@@ -36,10 +36,7 @@ void elastic_force(const Columns& c, double a, const double* u, const double* u_
   double local[S > 0 ? S : 1];
   double* r = S > 0 ? local : f;
   for (long i = 0; i < n; ++i) r[i] = -a * m[i];
-  for (long j = 0; j < n; ++j) {
-    const double uj = u[j], vj = u_dot[j];
-    for (long i = 0; i < n; ++i) r[i] -= K[j * n + i] * uj + C[j * n + i] * vj;
-  }
+  subtract_stiffness_damping<S>(K, C, u, u_dot, r, n);
   if (S > 0)
     for (long i = 0; i < n; ++i) f[i] = r[i];
 }

@@ -35,10 +35,7 @@ void restoring_force(const StructuralMatrices& sm, const double* u, const double
   double local[S > 0 ? S : 1];  // see rocking_acceleration_n
   double* r = S > 0 ? local : f;
   for (long i = 0; i < n; ++i) r[i] = 0.0;
-  for (long j = 0; j < n; ++j) {
-    const double uj = u[j], vj = u_dot[j];
-    for (long i = 0; i < n; ++i) r[i] -= K[j * n + i] * uj + C[j * n + i] * vj;
-  }
+  subtract_stiffness_damping<S>(K, C, u, u_dot, r, n);
   if (S > 0)
     for (long i = 0; i < n; ++i) f[i] = r[i];
 }

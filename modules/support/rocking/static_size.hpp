@@ -33,4 +33,18 @@ void with_static_size(long n, F&& f) {
   detail::dispatch_static_size(n, f, std::make_integer_sequence<int, max_static_size>{});
 }
 
+// r -= K u + C v for column-major n x n K and C (n static when S > 0), a
+// column at a time: the elastic and viscous forces of every right-hand side
+// of a flexible structure. r is best a local array of static size, which the
+// compiler knows aliases nothing.
+template <int S>
+inline void subtract_stiffness_damping(const double* K, const double* C, const double* u, const double* v, double* r,
+                                       long n_runtime) {
+  const long n = static_or<S>(n_runtime);
+  for (long j = 0; j < n; ++j) {
+    const double uj = u[j], vj = v[j];
+    for (long i = 0; i < n; ++i) r[i] -= K[j * n + i] * uj + C[j * n + i] * vj;
+  }
+}
+
 }  // namespace rocking
