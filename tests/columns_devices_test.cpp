@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "close.hpp"
+#include "columns_frame.hpp"
 #include "csv_table.hpp"
 #include "rocking_record.hpp"
 #include "run_program.hpp"
@@ -48,32 +49,7 @@ Scene scene_from(const std::string& name, const std::string& toml) {
   return load_scene(path.string());
 }
 
-// A rigid deck (a cap beam and one mass) on three columns 0.5 m wide, 4 m
-// tall, 6 m apart, with the devices given.
-constexpr double b = 0.25, h = 2.0, mc = 2000.0, beam = 6000.0, deck = 7000.0;
-constexpr int n = 3;
-std::string frame(const std::string& devices, const std::string& more) {
-  return fmt::format(R"(
-[structure]
-rigid = true
-half_width = 0.25
-heights = [2.0]
-masses = [{}]
-base_mass = {}
-
-[columns]
-count = {}
-half_width = {}
-half_height = {}
-mass = {}
-spacing = 6.0
-
-[contact]
-restitution = "momentum"
-{}
-{})",
-                     deck, beam, n, b, h, mc, devices, more);
-}
+using namespace columns_frame;
 
 std::string still(double duration) { return fmt::format("\n[excitation]\nkind = \"none\"\nduration = {}\n", duration); }
 
