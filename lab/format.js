@@ -463,7 +463,7 @@ export function chainPoints(structure, thetas) {
   });
   const devices = (structure.devices || []).map((d) => ({
     name: d.name,
-    from: [d.x, 0],
+    from: d.from_segment !== undefined && out[d.from_segment] ? out[d.from_segment].place(d.x, d.bottom) : [d.x, 0],
     to: d.segment !== undefined && out[d.segment] ? out[d.segment].place(d.x, d.top) : [d.x, 0],
   }));
   return { segments: out, devices };

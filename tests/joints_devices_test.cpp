@@ -17,6 +17,9 @@
 //   base's threshold under a ramp to (B_0 + D_0 / (m g)) / H (MODEL.md 15's
 //   uplift condition with 11's restraint), the first uplift at that time to
 //   1e-6, and `rocking modal` gives the same push;
+// - a tendon between two segments (from_segment) holds only the joints
+//   between its anchors: the top of a stack tied to the block below lifts at
+//   the closed form's time, to 1e-6;
 // - a fixed base (contact.rocking = false): the base never lifts, and the
 //   joint above lifts at its own threshold, to 1e-6;
 // - the energy balance of a segmental pier with yielding dampers at its
@@ -234,6 +237,41 @@ TEST_CASE("a flexible structure held down by a prestressed spring: the chain's f
   CHECK(one.result.first_uplift > bare.result.first_uplift);  // the spring holds it down
   MESSAGE("first uplift: one-body " << one.result.first_uplift << " s, chain " << chain.result.first_uplift
                                     << " s, without the spring " << bare.result.first_uplift << " s");
+}
+
+TEST_CASE("a tendon between two segments holds only the joints between its anchors: the top lifts at (B_1 + D_0 / (m_1 g)) / H_1") {
+  const double c = 2.5, g = gravity, P0 = 40.0;  // [m/s^3], [N]
+  const auto ramp = std::make_shared<const GroundMotion>(GroundMotion::from_samples("ramp", {0.0, 10.0}, {0.0, 10 * c}));
+  // The slender-top stack of joints_test, whose top lifts first, with a tie on its axis from the lower block's
+  // base (segment 0) to the top of the upper one (segment 1): it crosses joint 1 only.
+  const std::string tie = fmt::format("[[device]]\nname = \"tie\"\nkind = \"elastic\"\nat = 0.0\nkinematics = "
+                                      "\"vertical\"\nfree_length = 1.0\nfrom_segment = 0\nsegment = 1\nP0 = {}\nk = 1e6\n",
+                                      P0);
+  const Scene scene = scene_from("tied_stack", two_blocks(1.0, 500, 0.1, 1.0, tie));
+  const ChainData d = jointed_model(scene).chain.data;
+  REQUIRE(d.tendons.size() == 1);
+  CHECK(d.tendons[0].from.segment == 0);
+  const SegmentSums all = sums_above(d, 0), top = sums_above(d, 1);
+  const double B1 = d.segments[1].half_width;
+  const double upper = (B1 + P0 * B1 / (top.mass * g)) / (top.first / top.mass);
+  const double base = d.segments[0].half_width / (all.first / all.mass);  // the tie does not cross joint 0
+  REQUIRE(upper < base);
+  CHECK(upper > 1.001 * B1 / (top.first / top.mass));  // the tie moved it
+  const Ran ran = run(scene, ramp, 1.05 * upper * g / c);
+  REQUIRE(!ran.watch.events.empty());
+  CHECK(ran.watch.events.front().kind == EventKind::uplift);
+  CHECK(ran.watch.events.front().joint == 1);
+  CHECK(ran.result.joints[1].first_uplift == close_to(upper * g / c, 1e-6));
+  const nlohmann::json modal = modal_summary(scene);
+  CHECK(modal["joints"][1]["held_moment_N_m"].get<double>() == close_to(P0 * B1, 1e-12));
+  CHECK(modal["joints"][0]["held_moment_N_m"].get<double>() == 0.0);
+  CHECK(modal["joints"][1]["uplift_g"].get<double>() == close_to(upper, 1e-12));
+  // Its lower anchor must lie below its upper one: one line naming the key.
+  std::string bad = tie;
+  bad.replace(bad.find("from_segment = 0"), 16, "from_segment = 1");
+  CHECK_THROWS_WITH_AS(scene_from("tied_bad", two_blocks(1.0, 500, 0.1, 1.0, bad)),
+                       doctest::Contains("from_segment"), InputError);
+  MESSAGE("the tied top lifts at " << ran.result.joints[1].first_uplift << " s; closed form " << upper * g / c << " s");
 }
 
 TEST_CASE("a fixed base under joints that rock: the base never lifts, the joint above lifts at its own threshold") {

@@ -267,6 +267,12 @@ test('a structure with joints is drawn segment by segment, each turning about it
   const rest = chainPoints(structure, [0, 0]);
   assert.deepEqual(rest.segments[1].topRight, [0.15, 1.9]);
   assert.deepEqual(rest.devices[0].to, [0, 1.9]);
+  assert.deepEqual(rest.devices[0].from, [0, 0], 'a tendon from the ground');
+  // A tie from the plinth's base (from_segment 0) turns with the plinth at its lower end.
+  const tied = { ...structure, devices: [{ name: 'tie', x: 0.1, segment: 1, top: 1.9, from_segment: 0, bottom: 0 }] };
+  const q = chainPoints(tied, th);
+  assert.deepEqual(q.devices[0].from, q.segments[0].place(0.1, 0));
+  assert.ok(Math.abs(q.devices[0].from[1] - (0.4 - 0.1) * Math.sin(0.02)) < 1e-12, 'lifted as the plinth turns about its right corner');
   assert.equal(segmentTop(6, [7, 8]), 8, 'a segment whose last node is its top face');
 });
 

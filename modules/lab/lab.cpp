@@ -231,7 +231,8 @@ json structure_json(const Scene& scene, const ContactModel& model) {
   // A structure with joints (MODEL.md 15): each segment's base (the joint it
   // stands on: its height and half-width) and nodes, from the ground up; a
   // device is a tendon whose upper end is on a segment, at a height above
-  // the ground at rest.
+  // the ground at rest, and whose lower end is on the ground or on a segment
+  // (its from_segment, at its base's height at rest).
   json segments = json::array();
   if (model.jointed) {
     const ChainData& chain = model.jointed->chain.data;
@@ -247,6 +248,11 @@ json structure_json(const Scene& scene, const ContactModel& model) {
       if (to.segment < 0) continue;
       d["segment"] = to.segment;
       d["top"] = chain.segments[static_cast<std::size_t>(to.segment)].base_height + to.z;
+      const ChainAnchor& from = chain.tendons[static_cast<std::size_t>(at - names.begin())].from;
+      if (from.segment >= 0) {
+        d["from_segment"] = from.segment;
+        d["bottom"] = chain.segments[static_cast<std::size_t>(from.segment)].base_height + from.z;
+      }
     }
   }
   // A structure on rocking columns (MODEL.md 16): the columns, alike, and

@@ -488,7 +488,9 @@ Damper read_damper(const toml::table& root, const std::string& file, const Origi
 // [[device]] tables (MODEL.md 11): kind (a law of rocking.devices), at (x
 // [m] from the centre line, or "edges" for one device at each edge, named
 // NAME_left and NAME_right), kinematics (chord, or vertical with free_length
-// [m]), capacity [m] (optional), name (optional), and the law's own keys.
+// [m]), capacity [m] (optional), name (optional), and the law's own keys;
+// with [[joint]] tables, a tendon's segment and from_segment (its anchors'
+// segments; the ground and the top by default).
 // On [columns] (`columns` given) a device stands at each column's base (at
 // from the column's axis), or with kinematics = "beam" joins the ground to the
 // cap beam, once (MODEL.md 16): at is then its ground anchor's x and
@@ -498,7 +500,7 @@ Damper read_damper(const toml::table& root, const std::string& file, const Origi
 // anchors' rest distance.
 std::vector<Device> read_devices(const toml::table& root, const std::string& file, const Origins& origins,
                                  const Structure& st, const ColumnGroup* columns, const Damper& damper,
-                                 std::size_t joints, std::vector<int>& segments) {
+                                 std::size_t joints, std::vector<int>& segments, std::vector<int>& from_segments) {
   const bool on_columns = columns != nullptr;
   std::vector<Device> out;
   const toml::array* list = root.get_as<toml::array>("device");
@@ -520,7 +522,7 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
       t.fail(&t.required("kind"), "kind",
              fmt::format("unknown law '{}' (laws: {})", kind, fmt::join(laws | std::views::transform(&LawInfo::name), ", ")));
     std::set<std::string, std::less<>> known = {"name", "kind", "at", "kinematics", "free_length", "capacity",
-                                                "segment"};
+                                                "segment", "from_segment"};
     if (on_columns) known.insert({"beam_at", "ground_height"});
     for (const LawParameter& p : law->parameters) known.insert(p.key);
     for (auto&& [key, value] : *table)
@@ -572,6 +574,17 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
         return v >= 0 && v <= static_cast<double>(joints) && v == std::floor(v);
       }, fmt::format("a segment of the structure, an integer 0 to {} (one per [[joint]] above the base)", joints)));
     }
+    // The segment its lower anchor is on (-1: the ground), below the upper one's.
+    int from_segment = -1;
+    if (t.has("from_segment")) {
+      if (joints == 0)
+        t.fail(&t.required("from_segment"), "from_segment",
+               "only a structure with [[joint]] tables has segments above its base");
+      const double upper = segment < 0 ? static_cast<double>(joints) : segment;
+      from_segment = static_cast<int>(t.number("from_segment", [upper](double v) {
+        return v >= 0 && v < upper && v == std::floor(v);
+      }, fmt::format("a segment below the upper anchor's, an integer 0 to {}", static_cast<int>(upper) - 1)));
+    }
     std::map<std::string, double, std::less<>> given;
     for (const LawParameter& p : law->parameters)
       if (t.has(p.key)) given[p.key] = t.number(p.key, [&p](double v) { return within(p, v); }, bounds_text(p));
@@ -612,6 +625,7 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
              "'damper' names the scene's [damper] (its two edge dampers): choose another name");
     for (Device& d : made) {
       segments.push_back(segment);
+      from_segments.push_back(from_segment);
       d.group = name;
       if (!names.insert(d.name).second)
         t.fail(t.has("name") ? &t.required("name") : nullptr, "name", fmt::format("'{}' names two devices", d.name));
@@ -860,7 +874,7 @@ Scene read_scene(toml::table root, const std::string& file, const std::vector<st
   scene.joints = read_joints(root, file, origins, scene.structure, scene.contact);
   scene.devices = read_devices(root, file, origins, base, scene.columns ? &*scene.columns : nullptr, scene.damper,
                                scene.joints.size(),
-                               scene.device_segments);
+                               scene.device_segments, scene.device_from_segments);
   scene.excitation = read_excitation(root, file, origins);
   scene.initial = read_initial(root, file, origins, scene.structure, scene.contact);
   scene.output = read_output(root, file, origins, scene.structure);
@@ -968,7 +982,7 @@ JointedModel jointed_model(const Scene& scene) {
   for (std::size_t k = 0; k < scene.devices.size(); ++k) {
     const Device& d = scene.devices[k];
     if (!is_tendon(scene, k)) {
-      if (scene.device_segments[k] >= 0)
+      if (scene.device_segments[k] >= 0 || scene.device_from_segments[k] >= 0)
         throw InputError(fmt::format("{}: device '{}': segment: a device anchored on a segment is a tendon from the "
                                      "ground (kind = \"elastic\", kinematics = \"vertical\"); other devices stand "
                                      "across the base joint (no segment)", file, d.name));
@@ -980,9 +994,11 @@ JointedModel jointed_model(const Scene& scene) {
                                    "model (leave capacity out)", file, d.name));
     const int seg = scene.device_segments[k] < 0 ? top : scene.device_segments[k];
     const ChainSegment& sg = data.segments[static_cast<std::size_t>(seg)];
-    // From the ground at x to the top of its segment, at the same x; e from the rest distance.
+    // From the ground (or the base of its from_segment) at x to the top of its
+    // segment, at the same x; e from the rest distance. It crosses the joints
+    // between the two.
     const double z_top = sg.heights[sg.heights.size() - 1] - sg.base_height;
-    data.tendons.push_back({.from = {.segment = -1, .x = d.geometry.x, .z = 0.0},
+    data.tendons.push_back({.from = {.segment = scene.device_from_segments[k], .x = d.geometry.x, .z = 0.0},
                             .to = {.segment = seg, .x = d.geometry.x, .z = z_top},
                             .prestress = law_force_at_rest(d.law, 0.0),
                             .stiffness = law_stiffness(d.law),

@@ -98,8 +98,10 @@ struct Scene {
   // rigid deck) or a number; contact.rocking = false holds them down.
   std::optional<ColumnGroup> columns;
   // Per device of `devices`: the segment its upper anchor is on with joints
-  // ([[device]] segment, 0 .. J; -1: the top segment).
+  // ([[device]] segment, 0 .. J; -1: the top segment), and the segment its
+  // lower anchor is on ([[device]] from_segment, 0 .. J-1; -1: the ground).
   std::vector<int> device_segments;
+  std::vector<int> device_from_segments;
   std::vector<JointTable> joints;  // the [[joint]] tables, from the ground up
   bool momentum_base = false;      // [contact] restitution = "momentum"
   double base_friction = std::numeric_limits<double>::infinity();  // [contact] friction
