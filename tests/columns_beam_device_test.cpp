@@ -63,12 +63,6 @@ Ran run(const Scene& scene, Args&&... args) {
   return watched_run<EventsAndRows>(scene, 1e-10, std::forward<Args>(args)...);
 }
 
-struct Frame {
-  double R = std::hypot(b, h), alpha = std::atan2(b, h), m_d = beam + deck;
-  double J = 4.0 / 3.0 * n * mc * R * R + 4 * R * R * m_d;
-  double lever = R * (n * mc + 2 * m_d);  // gravity's: J theta'' = -lever g sin(alpha - theta) about the right corner
-};
-
 // The beam's displacement when the columns turn by th (> 0) about their right
 // corners: the top-left corner, at (-2b, 2h) from the pivot, turned clockwise.
 struct Vec {
@@ -132,20 +126,7 @@ TEST_CASE("an elastic device from the ground to the cap beam: free rocking from 
     const double e = e_of(th);
     return f.lever * g * (std::cos(f.alpha - th) - std::cos(f.alpha)) + P0 * e + 0.5 * k * e * e;
   };
-  // t = int_0^th0 dth / sqrt(2 (U(th0) - U(th)) / J), with th = th0 - w^2 to remove the endpoint's singularity.
-  struct P {
-    decltype(U)* U;
-    double th0, J;
-  } par{&U, th0, f.J};
-  gsl_function F{[](double w, void* v) {
-                   const P& p = *static_cast<P*>(v);
-                   return 2 * w / std::sqrt(2 * ((*p.U)(p.th0) - (*p.U)(p.th0 - w * w)) / p.J);
-                 },
-                 &par};
-  gsl_integration_workspace* ws = gsl_integration_workspace_alloc(1000);
-  double t_quad = 0, err = 0;
-  gsl_integration_qag(&F, 0.0, std::sqrt(th0), 0.0, 1e-12, 1000, GSL_INTEG_GAUSS61, ws, &t_quad, &err);
-  gsl_integration_workspace_free(ws);
+  const double t_quad = fall_time(U, th0, f.J);
 
   const std::string tilt = fmt::format("\n[initial]\ntheta = {:.17g}\n", th0);
   const Ran with = run(scene_from("beam_spring", frame(tie(gx, 0.0, bx, P0, k), tilt + still(1.2 * t_quad))));
