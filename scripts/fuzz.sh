@@ -31,10 +31,16 @@ for target in ${FUZZ_TARGETS:-record scene set_override number_list cyclic_test 
     if [ -d "$s" ]; then dirs+=("$s"); fi
   done
   echo "fuzz: $target for ${seconds} s"
+  log="$here/build-sanitize/fuzz-$target.log"
   if ! (cd "$here/build-sanitize" && "$bin/${target}_fuzz" -max_total_time="$seconds" -timeout=10 \
-        -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 "${dirs[@]}" 2>&1 | tail -n 25); then
-    echo "fuzz: $target failed (the input is build-sanitize/crash-* or leak-* or timeout-*)" >&2
+        -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 "${dirs[@]}" >"$log" 2>&1); then
+    # The report's first lines name the failing frame; its last ones the input.
+    grep -m1 -A16 -E "ERROR|runtime error" "$log" || true
+    echo "..."
+    tail -n 14 "$log"
+    echo "fuzz: $target failed (the input is build-sanitize/crash-* or leak-* or timeout-*; the whole log $log)" >&2
     exit 1
   fi
+  tail -n 8 "$log"
 done
 echo "fuzz: every target ran ${seconds} s with no crash, leak or timeout"

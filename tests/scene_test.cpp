@@ -105,6 +105,12 @@ TEST_CASE("malformed and unknown --set are one-line errors naming the --set") {
         "--set structure.EI_scale=-1: structure.EI_scale: must be in [1e-6, 1e6] (got -1)");
   CHECK(error_of(path, {"structure.EI_scale=soft"}) ==
         "--set structure.EI_scale=soft: structure.EI_scale: must be a number");
+  // An integer that no double holds exactly is read as its nearest double
+  // (toml++ declines to convert it), then checked like any other number.
+  CHECK(error_of(path, {"damper.thickness=-2888888880898888881"}) ==
+        "--set damper.thickness=-2888888880898888881: damper.thickness: must be in (0, 100] (got -2.8888888808988887e+18)");
+  CHECK(error_of(path, {"structure.EI_scale=9007199254740993"}) ==
+        "--set structure.EI_scale=9007199254740993: structure.EI_scale: must be in [1e-6, 1e6] (got 9007199254740992)");
 }
 
 TEST_CASE("invalid TOML reports the parser's line") {

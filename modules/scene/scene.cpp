@@ -141,7 +141,9 @@ class TableReader {
   double checked_number(const toml::node& node, std::string_view key,
                         const std::function<bool(double)>& ok, std::string_view rule) const {
     if (!node.is_number()) fail(&node, key, "must be a number");
-    const double v = *node.value<double>();
+    // toml++ gives an integer as a double only when the double holds it
+    // exactly (an empty optional otherwise): take the nearest double.
+    const double v = node.is_integer() ? static_cast<double>(*node.value<std::int64_t>()) : *node.value<double>();
     if (!std::isfinite(v)) fail(&node, key, "must be a finite number");
     if (!ok(v)) fail(&node, key, fmt::format("must be {} (got {})", rule, v));
     return v;
