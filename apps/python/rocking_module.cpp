@@ -496,8 +496,8 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
           const std::string& resurrection, bool hunt, std::optional<double> hunt_step, double hunt_growth,
           std::optional<double> hunt_max, std::optional<double> precision, std::optional<double> fill_step) {
   const PyScene s = scene_of(scene_arg);
-  const std::vector<std::string> limit_names = limit_texts.value_or(std::vector<std::string>{});
-  for (const std::string& l : limit_names) (void)rocking::parse_limit(l);  // refused before the records are read
+  std::vector<rocking::Limit> limits;  // refused before the records are read
+  for (const std::string& l : limit_texts.value_or(std::vector<std::string>{})) limits.push_back(rocking::parse_limit(l));
   // Records: Record objects (kept as they are in memory) and paths of files,
   // folders or list files (read as the program reads them).
   std::vector<rocking::StudyRecord> records;
@@ -562,7 +562,7 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
   const rocking::StudyCallbacks callbacks{.progress = {}, .stop = [stop] { return stop->load(); }};
   if (hunt) {
     // `rocking ida --hunt`: the hunt from the lowest level for each (record, variant).
-    if (!limit_names.empty()) throw rocking::InputError("ida: limits: a hunt looks for overturning only; run a ladder for limits");
+    if (!limits.empty()) throw rocking::InputError("ida: limits: a hunt looks for overturning only; run a ladder for limits");
     out.limits.push_back(rocking::overturning_limit().name);
     const rocking::HuntOptions o = rocking::hunt_options(levels.front(), hunt_step, hunt_growth, hunt_max, precision, fill_step);
     study.check_level(o.max, "hunt_max");
@@ -576,7 +576,7 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
       out.hunt_rows.append(hunt_row(out.hunts[k], study.records()[k / nv], study.variants()[k % nv].name, im, o));
     return out;
   }
-  const rocking::Ladder ladder = rocking::plan_ladder(study, levels, limit_names);
+  const rocking::Ladder ladder = rocking::plan_ladder(study, levels, limits);
   for (const rocking::Limit& l : ladder.limits) out.limits.push_back(l.name);
   const std::vector<rocking::Job>& jobs = ladder.jobs;
   auto summary = std::make_shared<rocking::StudySummary>(study, levels, ladder.limits, convention);

@@ -42,6 +42,7 @@ struct StudyArgs {
   std::string levels, scales;
   std::vector<std::string> variants;
   std::vector<std::string> limits;
+  std::vector<Limit> limit_states;  // --limit as parsed, before any record is read (check_study_args)
   std::string resurrection = "first";
   long bootstrap = 1000;
   unsigned long seed = 20020101;
@@ -253,7 +254,7 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
   const std::vector<double> levels = study_levels(a, st.intensity_measure());
   const FragilityOptions fragility_opts = fragility_options(a);  // refused before any run
   const Resurrection resurrection = parse_resurrection(a.resurrection);
-  const Ladder ladder = plan_ladder(st, levels, a.limits);
+  const Ladder ladder = plan_ladder(st, levels, a.limit_states);
   st.check_level(*std::max_element(levels.begin(), levels.end()), a.scales.empty() ? "--levels" : "--scales");
   const std::vector<Job>& jobs = ladder.jobs;
   if (static_cast<double>(jobs.size()) > a.max_runs)
@@ -565,9 +566,13 @@ int run_hunt(const StudyArgs& a, const Study& st) {
 // The records of a study: each --record argument (a file, a folder, a list
 // file) and the --suite's list.
 // --log's value, refused before any run.
-void check_log_axes(const StudyArgs& a) {
+// What can be refused before the scene and the records are read: --log, and
+// --limit, parsed here once.
+void check_study_args(StudyArgs& a) {
   if (a.log_axes != "auto" && a.log_axes != "on" && a.log_axes != "off")
     throw InputError(fmt::format("--log {}: give auto, on or off", a.log_axes));
+  a.limit_states.clear();
+  for (const std::string& text : a.limits) a.limit_states.push_back(parse_limit(text));
 }
 
 std::vector<std::string> study_records(const StudyArgs& a) {
@@ -874,7 +879,7 @@ Command add_ida_command(CLI::App& app) {
       "  rocking ida --record A.at2 B.at2 --variants damper,no-damper --hunt\n"
       "  mpirun -np 4 build/bin/rocking ida --suite horizontal --im pga --levels 0.1:3:0.1 --threads 1");
   return [a]() {
-    check_log_axes(*a);
+    check_study_args(*a);
     MpiSession mpi;
     std::vector<Variant> variants;
     if (a->variants.empty()) variants = default_variants(load_scene(a->scene));
@@ -902,7 +907,7 @@ Command add_sweep_command(CLI::App& app) {
       "                --set damper.thickness=1,1.5,2,3\n"
       "  rocking sweep --record FILE --set structure.EI_scale=0.25,0.5,1,2 --set damper.enabled=false");
   return [a]() {
-    check_log_axes(*a);
+    check_study_args(*a);
     MpiSession mpi;
     std::vector<std::string> common;
     std::vector<Variant> variants;

@@ -22,12 +22,12 @@ bool stopped(const StudyCallbacks& c) { return c.stop && c.stop(); }
 
 }  // namespace
 
-Ladder plan_ladder(const Study& study, std::vector<double> levels, const std::vector<std::string>& limit_texts) {
+Ladder plan_ladder(const Study& study, std::vector<double> levels, std::span<const Limit> limits) {
   Ladder out;
   out.limits.push_back(overturning_limit());
-  for (const std::string& text : limit_texts) {
-    out.limits.push_back(parse_limit(text));
-    check_limit(study, out.limits.back());
+  for (const Limit& l : limits) {
+    check_limit(study, l);
+    out.limits.push_back(l);
   }
   out.jobs = study.ladder(levels);
   out.levels = std::move(levels);

@@ -29,9 +29,9 @@ struct StudyCallbacks {
 };
 
 // A ladder as run: its levels (in the order given), its limit states
-// (overturning, then each of `limit_texts` by parse_limit, checked against
-// the study's devices), its jobs (Study::ladder) and the columns of its rows.
-// InputError for a bad limit. A level that scales a record beyond what a
+// (overturning, then each of `limits`, checked against the study's devices
+// and joints), its jobs (Study::ladder) and the columns of its rows.
+// InputError for a limit the study cannot reach. A level that scales a record beyond what a
 // record can be is the caller's to refuse (Study::check_level) or to run as
 // an error row.
 struct Ladder {
@@ -40,7 +40,7 @@ struct Ladder {
   std::vector<Job> jobs;
   StudyColumns columns;
 };
-Ladder plan_ladder(const Study& study, std::vector<double> levels, const std::vector<std::string>& limit_texts);
+Ladder plan_ladder(const Study& study, std::vector<double> levels, std::span<const Limit> limits);
 
 // Runs the jobs ladder.jobs[which[k]] (which ascending) on `threads` threads
 // and hands each result to emit(job index, result) in order; with a summary,

@@ -111,3 +111,14 @@ def test_every_public_function_class_and_property_says_what_it_does():
         elif callable(obj) and not described(obj):
             missing.append(name)
     assert missing == []
+
+
+def test_a_bad_limit_is_refused_before_the_records_as_by_the_program(cli, tmp_path):
+    """--limit is parsed once, before any record is read: a study with a bad
+    limit and a missing record names the limit, in Python as in the program."""
+    missing = str(tmp_path / "none.at2")
+    expected = cli.error("ida", "--record", missing, "--scales", "1", "--limit", "no_such_quantity=1")
+    assert expected.startswith("--limit 'no_such_quantity=1': expected QUANTITY=VALUE")
+    with pytest.raises(ValueError) as caught:
+        rocking.ida(None, missing, levels=[1], limits=["no_such_quantity=1"])
+    assert str(caught.value) == expected
