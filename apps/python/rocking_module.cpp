@@ -30,7 +30,17 @@
 #include <thread>
 #include <vector>
 #include <signal.h>
-import rocking;
+import rocking.errors;
+import rocking.scene;
+import rocking.ground_motion;
+import rocking.geometry;
+import rocking.intensity;
+import rocking.report;
+import rocking.simulation;
+import rocking.study_files;
+import rocking.run;
+import rocking.lab;
+import rocking.study_run;
 
 namespace py = pybind11;
 using namespace pybind11::literals;

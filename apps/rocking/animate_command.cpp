@@ -19,6 +19,10 @@
 #include <span>
 #include <utility>
 #include <vector>
+import rocking.drawing;
+import rocking.errors;
+import rocking.study;
+import rocking.plot;
 
 namespace rocking::app {
 

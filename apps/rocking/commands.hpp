@@ -9,7 +9,9 @@
 #include <optional>
 #include <string>
 #include <vector>
-import rocking;
+import rocking.scene;
+import rocking.ground_motion;
+import rocking.run;
 
 namespace rocking::app {
 

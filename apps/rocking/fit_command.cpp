@@ -10,7 +10,10 @@
 #include <iostream>
 #include <optional>
 #include "commands.hpp"
-import rocking;
+import rocking.errors;
+import rocking.fitting;
+import rocking.quantities;
+import rocking.plot;
 
 namespace rocking::app {
 

@@ -13,6 +13,7 @@
 #include <vector>
 #include "commands.hpp"
 #include "stop_signals.hpp"
+import rocking.errors;
 
 namespace {
 

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <iostream>
 #include "commands.hpp"
-import rocking;
+import rocking.errors;
 
 namespace rocking::app {
 

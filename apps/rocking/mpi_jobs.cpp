@@ -4,7 +4,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
-import rocking;
+import rocking.errors;
 
 namespace rocking::app {
 

@@ -11,6 +11,10 @@
 #include <fstream>
 #include <memory>
 #include <tuple>
+import rocking.study;
+import rocking.errors;
+import rocking.geometry;
+import rocking.plot;
 
 namespace rocking::app {
 

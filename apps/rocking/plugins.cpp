@@ -2,7 +2,7 @@
 #include <dlfcn.h>
 #include <fmt/format.h>
 #include <filesystem>
-import rocking;
+import rocking.errors;
 
 namespace rocking::app {
 

@@ -13,6 +13,9 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+import rocking.study_files;
+import rocking.errors;
+import rocking.plot;
 
 namespace rocking::app {
 

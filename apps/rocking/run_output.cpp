@@ -12,6 +12,9 @@
 #include <thread>
 #include <fcntl.h>
 #include <unistd.h>
+import rocking.report;
+import rocking.errors;
+import rocking.study_files;
 
 namespace rocking::app {
 

@@ -9,7 +9,8 @@
 #include <filesystem>
 #include <string>
 #include <vector>
-import rocking;
+import rocking.simulation;
+import rocking.report;
 
 namespace rocking::app {
 

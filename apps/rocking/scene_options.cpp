@@ -9,6 +9,8 @@
 #include <cstdlib>
 #include <limits>
 #include <filesystem>
+import rocking.study;
+import rocking.errors;
 
 namespace rocking::app {
 

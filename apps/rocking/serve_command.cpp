@@ -29,6 +29,7 @@
 #include <netinet/in.h>
 #include <unistd.h>
 import rocking.lab;
+import rocking.errors;
 
 namespace rocking::app {
 

@@ -8,6 +8,7 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+import rocking.errors;
 
 namespace rocking::app {
 

@@ -12,6 +12,10 @@
 #include <memory>
 #include <sstream>
 #include <tuple>
+import rocking.errors;
+import rocking.study;
+import rocking.study_files;
+import rocking.plot;
 
 namespace rocking::app {
 

@@ -2,6 +2,7 @@
 #include "stop_signals.hpp"
 #include <csignal>
 #include <unistd.h>
+import rocking.plot;
 
 namespace rocking::app {
 

@@ -22,6 +22,10 @@
 #include <map>
 #include <optional>
 #include <tuple>
+import rocking.study;
+import rocking.errors;
+import rocking.study_run;
+import rocking.plot;
 
 namespace rocking::app {
 

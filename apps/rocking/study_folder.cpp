@@ -9,6 +9,8 @@
 #include <fcntl.h>
 #include <sys/file.h>
 #include <unistd.h>
+import rocking.errors;
+import rocking.study_files;
 
 namespace rocking::app {
 

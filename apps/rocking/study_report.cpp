@@ -8,6 +8,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+import rocking.study_files;
+import rocking.study;
+import rocking.plot;
 
 namespace rocking::app {
 

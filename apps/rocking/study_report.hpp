@@ -7,6 +7,8 @@
 #include <optional>
 #include <string>
 #include <vector>
+import rocking.study;
+import rocking.study_files;
 
 namespace rocking::app {
 

@@ -17,6 +17,8 @@
 #include <fstream>
 #include <memory>
 #include <string_view>
+import rocking.errors;
+import rocking.plot;
 
 namespace rocking::app {
 

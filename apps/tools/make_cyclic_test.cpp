@@ -13,7 +13,9 @@
 #include <string>
 #include <string_view>
 #include <vector>
-import rocking;
+import rocking.errors;
+import rocking.devices;
+import rocking.fitting;
 
 int main(int argc, char** argv) {
   CLI::App app{"Writes a synthetic cyclic test (time [s], displacement [mm], force [kN]) made by a device law"};
