@@ -17,6 +17,7 @@
 #include <memory>
 #include <numbers>
 #include <span>
+#include <tuple>
 #include <utility>
 #include <vector>
 import rocking.drawing;
@@ -160,43 +161,83 @@ void write_frames(const fs::path& file, const ContactModel& model, const Structu
   }
 }
 
-int animate(const AnimateArgs& a) {
-  const fs::path gif(a.out);
-  const std::string ext = gif.extension().string();
+// What the output asks for: a GIF, or a video through ffmpeg (its path).
+struct Output {
+  bool video = false;
+  std::string ffmpeg;
+  int width = 0, height = 0;
+};
+
+// The options that need no run, refused in one line each.
+Output check_options(const AnimateArgs& a) {
+  const std::string ext = fs::path(a.out).extension().string();
   if (ext != ".gif" && ext != ".mp4" && ext != ".webm")
     throw InputError(fmt::format("--out {}: write .gif, or .mp4 / .webm (with ffmpeg)", a.out));
-  const bool video = ext != ".gif";
-  const std::string ffmpeg = video ? plot::find_program("ffmpeg") : "";
-  if (video && ffmpeg.empty())
+  Output o;
+  o.video = ext != ".gif";
+  o.ffmpeg = o.video ? plot::find_program("ffmpeg") : "";
+  if (o.video && o.ffmpeg.empty())
     throw InputError(fmt::format("--out {}: MP4 and WebM need ffmpeg, which is not installed (apt install ffmpeg); "
                                  "write a .gif instead", a.out));
   if (!(a.speed > 0)) throw InputError(fmt::format("--speed {}: must be positive", a.speed));
   if (a.max_frames < 2 || a.max_frames > 2000) throw InputError(fmt::format("--frames {}: must be 2 to 2000", a.max_frames));
-  const auto [width, height] = plot::parse_size(a.size, 300, 200, 4000);
+  std::tie(o.width, o.height) = plot::parse_size(a.size, 300, 200, 4000);
   for (const auto& [value, flag] : {std::pair{a.exaggeration, "--exaggerate"}, std::pair{a.rotation, "--exaggerate-rotation"}})
     if (!std::isfinite(value) || value < 0)
       throw InputError(fmt::format("{} {}: must be a positive number (0: automatic)", flag, value));
   if (a.fps < 1 || a.fps > 100) throw InputError(fmt::format("--fps {}: must be 1 to 100", a.fps));
-  const Scene scene = load_scene(a.scene);
-  const GroundMotion motion = load_motion(scene, a.motion);
-  // A rigid block has no fixed-base twin worth drawing, nor has a structure
-  // with joints (its chain rocks at its base) or one on rocking columns
-  // (contact.rocking = false holds the columns, the beam still free on them:
-  // rocking.study's default_variants): by default each is drawn alone.
+  return o;
+}
+
+// The twin drawn beside the scene: --compare, or by default the fixed base
+// (none for a rigid block, a structure with joints, whose chain rocks at its
+// base, or one on rocking columns, whose contact.rocking = false holds the
+// columns with the beam still free on them: rocking.study's default_variants).
+std::string twin_of(const AnimateArgs& a, const Scene& scene) {
   const bool no_fixed_twin = scene.structure.rigid || scene.jointed() || scene.columns.has_value();
   const std::string compare = !a.compare.empty() ? a.compare : no_fixed_twin ? "none" : "fixed-base";
   if (compare != "fixed-base" && compare != "no-damper" && compare != "none" && !compare.starts_with("without:"))
     throw InputError(fmt::format("--compare {}: choose fixed-base, without:NAME (a device the scene names), no-damper "
                                  "or none", compare));
-  const bool alone = compare == "none";
-  std::vector<std::string> twin_overrides = a.scene.overrides;
-  if (!alone) {
-    const Variant twin_variant = named_variant(compare);
-    twin_overrides.insert(twin_overrides.end(), twin_variant.overrides.begin(), twin_variant.overrides.end());
-  }
-  const Scene twin = load_scene(SceneOptions{a.scene.path, twin_overrides});
-  // Both runs as `rocking simulate` makes them (rocking.run), under the motion
-  // read once; the frames read no energy.
+  return compare;
+}
+
+// The frames in time: the span shown, one frame every frame_dt, every m-th
+// recorded row (the traces are sampled more finely than the frames).
+struct Timing {
+  double shown_from = 0, shown_to = 0, frame_dt = 0;
+  int m = 1;
+};
+
+Timing frame_timing(const AnimateArgs& a, double duration, const GroundMotion& motion) {
+  Timing t;
+  // The span animated: --window (the run computes from t = 0 all the same).
+  const auto window = time_window(a.window, {&motion});
+  t.shown_from = window ? std::min((*window)[0], duration) : 0.0;
+  t.shown_to = window ? std::min((*window)[1], duration) : duration;
+  if (!(t.shown_to > t.shown_from))
+    throw InputError(fmt::format("--window {}: the run ends at {:g} s", a.window, duration));
+  const double shown = t.shown_to - t.shown_from;
+  // At least two frames over the span shown: one per frame interval speed / fps.
+  if (!(a.speed <= shown * a.fps))
+    throw InputError(fmt::format("--speed {:g}: at most {:.4g} (two frames over the {:g} s shown at {} fps)", a.speed,
+                                 shown * a.fps, shown, a.fps));
+  // Frame times: real time / speed at fps, at most max_frames over the span shown.
+  t.frame_dt = a.speed / a.fps;
+  if (shown / t.frame_dt + 1 > a.max_frames) t.frame_dt = shown / (a.max_frames - 1);
+  t.m = std::max(1, static_cast<int>(std::ceil(t.frame_dt / 0.01 - 1e-9)));
+  return t;
+}
+
+// The two runs as `rocking simulate` makes them (rocking.run), under the
+// motion read once, each recording its frames; the frames read no energy.
+struct Runs {
+  PreparedRun main, twin;
+  FrameRecorder main_rec{0.01}, twin_rec{0.01};
+  Timing timing;
+};
+
+std::unique_ptr<Runs> run_both(const AnimateArgs& a, const Scene& scene, const Scene& twin, const GroundMotion& motion) {
   auto prepared = [&](const Scene& s, double every) {
     PreparedRun run = prepare_run({.scene = s,
                                    .motion = a.motion,
@@ -211,182 +252,196 @@ int animate(const AnimateArgs& a) {
   };
   catch_stop_signals();
   // The run prepared once: its duration, checked, sets the frames, which set
-  // how often it records (below).
-  PreparedRun main_run = prepared(scene, 0.01);
-  const RunOptions& ro = main_run.options;
-  const double duration = ro.duration > 0 ? ro.duration : motion.duration();
-  // The span animated: --window (the run computes from t = 0 all the same).
-  const auto window = time_window(a.window, {&motion});
-  const double shown_from = window ? std::min((*window)[0], duration) : 0.0,
-               shown_to = window ? std::min((*window)[1], duration) : duration;
-  if (!(shown_to > shown_from))
-    throw InputError(fmt::format("--window {}: the run ends at {:g} s", a.window, duration));
-  // At least two frames over the span shown: one per frame interval speed / fps.
-  if (!(a.speed <= (shown_to - shown_from) * a.fps))
-    throw InputError(fmt::format("--speed {:g}: at most {:.4g} (two frames over the {:g} s shown at {} fps)", a.speed,
-                                 (shown_to - shown_from) * a.fps, shown_to - shown_from, a.fps));
-  // Frame times: real time / speed at fps, at most max_frames over the span shown.
-  double frame_dt = a.speed / a.fps;
-  if ((shown_to - shown_from) / frame_dt + 1 > a.max_frames) frame_dt = (shown_to - shown_from) / (a.max_frames - 1);
-  // The traces are sampled more finely than the frames: every frame is every m-th row.
-  const int m = std::max(1, static_cast<int>(std::ceil(frame_dt / 0.01 - 1e-9)));
-  main_run.options.output_interval = frame_dt / m;
-  const PreparedRun twin_run = prepared(twin, frame_dt / m);
-  const ContactModel &main_model = main_run.model, &twin_model = twin_run.model;
-  FrameRecorder main_rec(main_run.options.output_interval), twin_rec(twin_run.options.output_interval);
-  const RunResult r1 = simulate(main_model, main_run.motion, main_run.options, &main_rec);
-  const RunResult r2 = simulate(twin_model, twin_run.motion, twin_run.options, &twin_rec);
-  for (const RunResult* r : {&r1, &r2})
-    if (r->outcome == Outcome::failed) throw RunError(r->failure);
-  const std::size_t rows = std::min(main_rec.rows.size(), twin_rec.rows.size());
-  const std::size_t frames = (rows + static_cast<std::size_t>(m) - 1) / static_cast<std::size_t>(m);
-  const std::size_t first_frame = static_cast<std::size_t>(std::ceil(shown_from / frame_dt - 1e-9));
-  const std::size_t last_frame =
-      std::min(frames, static_cast<std::size_t>(std::floor(shown_to / frame_dt + 1e-9)) + 1) - 1;
-  if (frames < 2 || last_frame < first_frame + 1) throw InputError("animation: the span shown is too short for two frames");
+  // how often it records.
+  auto r = std::make_unique<Runs>(Runs{.main = prepared(scene, 0.01), .twin = {}});
+  const RunOptions& ro = r->main.options;
+  r->timing = frame_timing(a, ro.duration > 0 ? ro.duration : motion.duration(), motion);
+  const double every = r->timing.frame_dt / r->timing.m;
+  r->main.options.output_interval = every;
+  r->twin = prepared(twin, every);
+  r->main_rec = FrameRecorder(r->main.options.output_interval);
+  r->twin_rec = FrameRecorder(r->twin.options.output_interval);
+  const RunResult r1 = simulate(r->main.model, r->main.motion, r->main.options, &r->main_rec);
+  const RunResult r2 = simulate(r->twin.model, r->twin.motion, r->twin.options, &r->twin_rec);
+  for (const RunResult* result : {&r1, &r2})
+    if (result->outcome == Outcome::failed) throw RunError(result->failure);
+  return r;
+}
+
+// How much the drawing exaggerates: the elastic deformation x k, the rocking
+// angles x kr; a factor the user gives must keep the peak within the picture.
+struct Exaggeration {
+  double k = 1, kr = 1;
+};
+
+Exaggeration exaggeration(const AnimateArgs& a, const Scene& scene, const Runs& r) {
   const double H = scene.structure.heights.maxCoeff();
   double top = 1e-12;
-  for (const Response& r : main_rec.rows) top = std::max(top, std::abs(r[Quantity::u_top]));
-  for (const Response& r : twin_rec.rows) top = std::max(top, std::abs(r[Quantity::u_top]));
-  const double k = a.exaggeration > 0 ? a.exaggeration : scene.structure.rigid ? 1.0 : std::max(1.0, nice(0.08 * H / top));
+  for (const Response& row : r.main_rec.rows) top = std::max(top, std::abs(row[Quantity::u_top]));
+  for (const Response& row : r.twin_rec.rows) top = std::max(top, std::abs(row[Quantity::u_top]));
+  Exaggeration e;
+  e.k = a.exaggeration > 0 ? a.exaggeration : scene.structure.rigid ? 1.0 : std::max(1.0, nice(0.08 * H / top));
   // The rocking of a tall structure is invisible at true scale: by default its
   // peak angle is drawn at about 0.1 rad (a block's, which is seen, at x1).
   // The angle is the body's, the columns' on rocking columns, each joint's
   // for a structure with joints.
-  const double peak_theta = std::max(1e-12, peak_angle(main_model, main_rec));
-  const double kr = a.rotation > 0                                   ? a.rotation
-                    : scene.structure.rigid || peak_theta < 1e-9      ? 1.0
-                                                                     : std::max(1.0, nice(0.1 / peak_theta));
+  const double peak_theta = std::max(1e-12, peak_angle(r.main.model, r.main_rec));
+  e.kr = a.rotation > 0                                   ? a.rotation
+         : scene.structure.rigid || peak_theta < 1e-9      ? 1.0
+                                                          : std::max(1.0, nice(0.1 / peak_theta));
   // A factor the user gives draws the peak within the picture: the top's
   // displacement at most the height, the rocking angle at most pi/2 (on its side).
   if (a.exaggeration > 0 && !(a.exaggeration * top <= H))
     throw InputError(fmt::format("--exaggerate {:g}: draws the peak top displacement {:.3g} m as {:.3g} m; at most "
                                  "{:.3g} (the height, {:g} m)", a.exaggeration, top, a.exaggeration * top, H / top, H));
-  const double both_theta = std::max(peak_theta, peak_angle(twin_model, twin_rec));  // the twin is drawn with the same factor
+  const double both_theta = std::max(peak_theta, peak_angle(r.twin.model, r.twin_rec));  // the twin is drawn with the same factor
   if (a.rotation > 0 && !(a.rotation * both_theta <= std::numbers::pi / 2))
     throw InputError(fmt::format("--exaggerate-rotation {:g}: draws the peak rocking angle {:.3g} rad as {:.3g} rad; "
                                  "at most {:.3g} (the structure on its side at pi/2)", a.rotation, both_theta,
                                  a.rotation * both_theta, std::numbers::pi / 2 / both_theta));
-  const fs::path dir = gif.has_parent_path() ? gif.parent_path() : fs::path(".");
-  const std::string stem = gif.stem().string();
-  make_output_dir(dir / (stem + ".data"));
-  write_frames(dir / (stem + ".data") / "main.dat", main_model, scene.structure, main_rec, k, kr, m, frames);
-  write_frames(dir / (stem + ".data") / "twin.dat", twin_model, twin.structure, twin_rec, k, kr, m, frames);
-  // The main run's rocking angles drawn (before the factor kr) and each over
-  // its slenderness, named by the schema: theta, or columns.theta, or theta and
-  // jointK.theta; the right trace of a structure drawn alone.
-  std::vector<std::string> angle_names, ratio_names;
-  if (main_model.on_columns) {
-    angle_names = {std::string(info(Quantity::columns_theta).name)};
-    ratio_names = {std::string(info(Quantity::columns_theta_over_alpha).name)};
-  } else if (main_model.jointed) {
-    angle_names = {std::string(info(Quantity::theta).name)};
-    ratio_names = {std::string(info(Quantity::theta_over_alpha).name)};
-    for (int j = 1; j < main_model.jointed->chain.joints; ++j) {
-      angle_names.push_back(JointQuantityName{j, JointQuantity::theta}.name());
-      ratio_names.push_back(JointQuantityName{j, JointQuantity::theta_over_alpha}.name());
-    }
-  } else {
-    angle_names = {std::string(info(Quantity::theta).name)};
-    ratio_names = {std::string(info(Quantity::theta_over_alpha).name)};
+  return e;
+}
+
+// The main run's rocking angles drawn (before the factor kr) and each over
+// its slenderness, named by the schema: theta, or columns.theta, or theta and
+// jointK.theta; the right trace of a structure drawn alone.
+struct AngleNames {
+  std::vector<std::string> angles, ratios;
+};
+
+AngleNames angle_names(const ContactModel& model) {
+  AngleNames n;
+  if (model.on_columns) {
+    n.angles = {std::string(info(Quantity::columns_theta).name)};
+    n.ratios = {std::string(info(Quantity::columns_theta_over_alpha).name)};
+    return n;
   }
-  {
-    std::ofstream tr(dir / (stem + ".data") / "traces.dat");
-    // Named by the schema (rocking.quantities): the twin's moment as twin_base_moment; a_g in g.
-    tr << "# t [s], a_g [g], M/M_ref main, M/M_ref twin, then the main run's rocking angles [rad] and each over "
-          "its slenderness\n"
-       << fmt::format("{} {} {} twin_{} {} {}\n", info(Quantity::t).name, info(Quantity::a_g).name,
-                      info(Quantity::base_moment).name, info(Quantity::base_moment).name,
-                      fmt::join(angle_names, " "), fmt::join(ratio_names, " "));
-    for (std::size_t i = 0; i < rows; ++i) {
-      const Response& r = main_rec.rows[i];
-      const std::vector<double> angles = rocking_angles(main_model, main_rec, i);
-      tr << fmt::format("{:.6g} {:.6g} {:.6g} {:.6g}", r.t, motion.acceleration(r.t) / gravity,
-                        r[Quantity::base_moment], twin_rec.rows[i][Quantity::base_moment]);
-      for (double th : angles) tr << fmt::format(" {:.9g}", th);
-      if (main_model.jointed)  // over the slenderness of everything above each joint (jointK.theta_over_alpha's)
-        for (std::size_t j = 0; j < angles.size(); ++j)
-          tr << fmt::format(" {:.6g}", angles[j] / main_model.jointed->overturn_angle[j]);
-      else  // the schema's ratio (a single body's over alpha_cg, the columns' over their alpha)
-        tr << fmt::format(" {:.6g}", r[main_model.on_columns ? Quantity::columns_theta_over_alpha
-                                                             : Quantity::theta_over_alpha]);
-      tr << '\n';
+  n.angles = {std::string(info(Quantity::theta).name)};
+  n.ratios = {std::string(info(Quantity::theta_over_alpha).name)};
+  if (model.jointed)
+    for (int j = 1; j < model.jointed->chain.joints; ++j) {
+      n.angles.push_back(JointQuantityName{j, JointQuantity::theta}.name());
+      n.ratios.push_back(JointQuantityName{j, JointQuantity::theta_over_alpha}.name());
     }
+  return n;
+}
+
+// traces.dat: the ground motion, both base moments and the main run's
+// rocking angles, named by the schema (rocking.quantities): the twin's moment
+// as twin_base_moment; a_g in g.
+void write_traces(const fs::path& file, const Runs& r, const GroundMotion& motion, const AngleNames& names) {
+  const ContactModel& model = r.main.model;
+  const std::size_t rows = std::min(r.main_rec.rows.size(), r.twin_rec.rows.size());
+  std::ofstream tr(file);
+  tr << "# t [s], a_g [g], M/M_ref main, M/M_ref twin, then the main run's rocking angles [rad] and each over "
+        "its slenderness\n"
+     << fmt::format("{} {} {} twin_{} {} {}\n", info(Quantity::t).name, info(Quantity::a_g).name,
+                    info(Quantity::base_moment).name, info(Quantity::base_moment).name, fmt::join(names.angles, " "),
+                    fmt::join(names.ratios, " "));
+  for (std::size_t i = 0; i < rows; ++i) {
+    const Response& row = r.main_rec.rows[i];
+    const std::vector<double> angles = rocking_angles(model, r.main_rec, i);
+    tr << fmt::format("{:.6g} {:.6g} {:.6g} {:.6g}", row.t, motion.acceleration(row.t) / gravity,
+                      row[Quantity::base_moment], r.twin_rec.rows[i][Quantity::base_moment]);
+    for (double th : angles) tr << fmt::format(" {:.9g}", th);
+    if (model.jointed)  // over the slenderness of everything above each joint (jointK.theta_over_alpha's)
+      for (std::size_t j = 0; j < angles.size(); ++j) tr << fmt::format(" {:.6g}", angles[j] / model.jointed->overturn_angle[j]);
+    else  // the schema's ratio (a single body's over alpha_cg, the columns' over their alpha)
+      tr << fmt::format(" {:.6g}", row[model.on_columns ? Quantity::columns_theta_over_alpha : Quantity::theta_over_alpha]);
+    tr << '\n';
   }
-  // On rocking columns, contact.rocking = false holds the columns down; the beam still rests on them.
-  const std::string twin_label = compare == "no-damper"                      ? "no damper"
-                                 : compare == "fixed-base" && scene.columns ? "columns held down"
-                                                                            : variant_label(compare);
+}
+
+// The gnuplot `using` of a frame's part and of a trace, every column by its
+// header name (write_frames' x y part, the schema's names in traces.dat).
+std::string part_using(Part p) {
+  return fmt::format("({}):({} == {} ? {} : NaN)", plot::column("x"), plot::column("part"), static_cast<int>(p),
+                     plot::column("y"));
+}
+std::string trace_using(Quantity q, const std::string& prefix = "") {
+  return fmt::format("({}):({})", plot::column(info(Quantity::t).name), plot::column(prefix + std::string(info(q).name)));
+}
+
+// One run's drawing: the columns or segments outlined and the cap beam where
+// the model has them, the axis with its nodes, the devices, the ground.
+std::string drawing(const char* file, const ContactModel& model, const char* color) {
+  std::string out = fmt::format("  plot d.\"{}\" index i using {} with linespoints lw 3 pt 7 ps 0.8 lc rgb \"{}\", ",
+                                file, part_using(axis_part), color);
+  // A single body's damper (part 2 while no edge is lifted) and a chain's tendons; a structure on columns draws none.
+  if (model.jointed ? !model.jointed->chain.data.tendons.empty() : !model.on_columns)
+    out += fmt::format("d.\"{}\" index i using {} with lines lw 4 lc rgb \"#d35400\", ", file, part_using(device_part));
+  if (model.on_columns || model.jointed)
+    out += fmt::format("d.\"{}\" index i using {} with lines lw 2 lc rgb \"{}\", ", file, part_using(outline_part), color);
+  if (model.on_columns)
+    out += fmt::format("d.\"{}\" index i using {} with lines lw 6 lc rgb \"#555555\", ", file, part_using(beam_part));
+  return out + "0 with lines lc rgb \"#555555\" lw 2\n";
+}
+
+// Alone, the rocking angles over their slenderness: the body's, the
+// columns', or every joint's (one curve each, the key above the panel).
+// Greek letters as UTF-8: the GIF terminal has no Symbol font, and drops a
+// label that asks for one.
+std::string angle_trace(const ContactModel& model, const AngleNames& names) {
+  if (model.on_columns)
+    return fmt::format("  set ylabel \"columns θ_c/α_c\"\n"
+                       "  plot d.\"traces.dat\" using {} with lines lc rgb \"#1f4e9c\" notitle\n",
+                       trace_using(Quantity::columns_theta_over_alpha));
+  if (model.jointed) {
+    std::vector<std::string> curves;
+    for (std::size_t j = 0; j < names.ratios.size(); ++j)
+      curves.push_back(fmt::format("{}using ({}):({}) with lines lw 2 title \"{}\"", j == 0 ? "d.\"traces.dat\" " : "'' ",
+                                   plot::column(info(Quantity::t).name), plot::column(names.ratios[j]),
+                                   j == 0 ? std::string("base") : fmt::format("joint {}", j)));
+    return fmt::format("  set ylabel \"joints θ_j/α_j\"\n"
+                       "  set key outside top center horizontal nobox samplen 2.5 width 1\n"
+                       "  plot {}\n", fmt::join(curves, ", "));
+  }
+  return fmt::format("  set ylabel \"rocking angle θ/α_{{cg}}\"\n"
+                     "  plot d.\"traces.dat\" using {} with lines lc rgb \"#1f4e9c\" notitle\n",
+                     trace_using(Quantity::theta_over_alpha));
+}
+
+// What the script draws beyond the runs' data: which frames, how they are
+// exaggerated, the twin's name and the title's words.
+struct ScriptParts {
+  std::string stem, title, twin_label;
+  std::size_t first_frame = 0, last_frame = 0;
+  Timing timing;
+  Exaggeration exaggeration;
+  bool alone = false;
+};
+
+// The gnuplot script: one multiplot per frame (the structure, or the two side
+// by side; the ground motion under it; beside that the base moments, or alone
+// the rocking angles), written to a GIF or to PNG frames for ffmpeg.
+std::string animation_script(const AnimateArgs& a, const Output& o, const Scene& scene, const Runs& r,
+                             const AngleNames& names, const ScriptParts& s) {
+  const ContactModel &main_model = r.main.model, &twin_model = r.twin.model;
   // Alone: the structure spans the width, and the right trace is its rocking
   // angle (a block has no section forces); else the two side by side and the
   // base moments of both.
-  // Every column by its header name (write_frames' x y part, the schema's
-  // names in traces.dat).
-  auto part = [](Part p) {
-    return fmt::format("({}):({} == {} ? {} : NaN)", plot::column("x"), plot::column("part"), static_cast<int>(p),
-                       plot::column("y"));
-  };
-  auto trace = [](Quantity q, const std::string& prefix = "") {
-    return fmt::format("({}):({})", plot::column(info(Quantity::t).name),
-                       plot::column(prefix + std::string(info(q).name)));
-  };
-  // One run's drawing: the columns or segments outlined and the cap beam where
-  // the model has them, the axis with its nodes, the devices, the ground.
-  auto drawing = [&](const char* file, const ContactModel& model, const char* color) {
-    std::string out = fmt::format("  plot d.\"{}\" index i using {} with linespoints lw 3 pt 7 ps 0.8 lc rgb \"{}\", ",
-                                  file, part(axis_part), color);
-    // A single body's damper (part 2 while no edge is lifted) and a chain's tendons; a structure on columns draws none.
-    if (model.jointed ? !model.jointed->chain.data.tendons.empty() : !model.on_columns)
-      out += fmt::format("d.\"{}\" index i using {} with lines lw 4 lc rgb \"#d35400\", ", file, part(device_part));
-    if (model.on_columns || model.jointed)
-      out += fmt::format("d.\"{}\" index i using {} with lines lw 2 lc rgb \"{}\", ", file, part(outline_part), color);
-    if (model.on_columns)
-      out += fmt::format("d.\"{}\" index i using {} with lines lw 6 lc rgb \"#555555\", ", file, part(beam_part));
-    return out + "0 with lines lc rgb \"#555555\" lw 2\n";
-  };
   const std::string panels =
-      alone ? fmt::format("  set origin 0.25,0.38\n  set size 0.5,0.57\n  set title {} noenhanced\n{}",
-                          plot::quote(scene.name), drawing("main.dat", main_model, "#1f4e9c"))
-            : fmt::format("  set origin 0,0.38\n  set size 0.5,0.57\n  set title {} noenhanced\n{}"
-                          "  set origin 0.5,0.38\n  set size 0.5,0.57\n  set title {} noenhanced\n{}",
-                          plot::quote(scene.name), drawing("main.dat", main_model, "#1f4e9c"), plot::quote(twin_label),
-                          drawing("twin.dat", twin_model, "#27864a"));
-  // Alone, the rocking angles over their slenderness: the body's, the
-  // columns', or every joint's (one curve each, the key above the panel).
-  // Greek letters as UTF-8: the GIF terminal has no Symbol font, and drops a
-  // label that asks for one.
-  auto angle_trace = [&] {
-    if (main_model.on_columns)
-      return fmt::format("  set ylabel \"columns θ_c/α_c\"\n"
-                         "  plot d.\"traces.dat\" using {} with lines lc rgb \"#1f4e9c\" notitle\n",
-                         trace(Quantity::columns_theta_over_alpha));
-    if (main_model.jointed) {
-      std::vector<std::string> curves;
-      for (std::size_t j = 0; j < ratio_names.size(); ++j)
-        curves.push_back(fmt::format("{}using ({}):({}) with lines lw 2 title \"{}\"", j == 0 ? "d.\"traces.dat\" " : "'' ",
-                                     plot::column(info(Quantity::t).name), plot::column(ratio_names[j]),
-                                     j == 0 ? std::string("base") : fmt::format("joint {}", j)));
-      return fmt::format("  set ylabel \"joints θ_j/α_j\"\n"
-                         "  set key outside top center horizontal nobox samplen 2.5 width 1\n"
-                         "  plot {}\n", fmt::join(curves, ", "));
-    }
-    return fmt::format("  set ylabel \"rocking angle θ/α_{{cg}}\"\n"
-                       "  plot d.\"traces.dat\" using {} with lines lc rgb \"#1f4e9c\" notitle\n",
-                       trace(Quantity::theta_over_alpha));
-  };
+      s.alone ? fmt::format("  set origin 0.25,0.38\n  set size 0.5,0.57\n  set title {} noenhanced\n{}",
+                            plot::quote(scene.name), drawing("main.dat", main_model, "#1f4e9c"))
+              : fmt::format("  set origin 0,0.38\n  set size 0.5,0.57\n  set title {} noenhanced\n{}"
+                            "  set origin 0.5,0.38\n  set size 0.5,0.57\n  set title {} noenhanced\n{}",
+                            plot::quote(scene.name), drawing("main.dat", main_model, "#1f4e9c"),
+                            plot::quote(s.twin_label), drawing("twin.dat", twin_model, "#27864a"));
   const std::string right_trace =
-      alone ? angle_trace()
-            // the key above the panel, off the traces; the twin dashed (greyscale print)
-            : fmt::format("  set ylabel \"base moment M/M_{{ref}}\"\n"
-                          "  set key outside top center horizontal nobox samplen 2.5 width 1\n"
-                          "  plot d.\"traces.dat\" using {} with lines lc rgb \"#1f4e9c\" title \"rocking\", "
-                          "'' using {} with lines dashtype 2 lc rgb \"#27864a\" title {}\n",
-                          trace(Quantity::base_moment), trace(Quantity::base_moment, "twin_"), plot::quote(twin_label));
+      s.alone ? angle_trace(main_model, names)
+              // the key above the panel, off the traces; the twin dashed (greyscale print)
+              : fmt::format("  set ylabel \"base moment M/M_{{ref}}\"\n"
+                            "  set key outside top center horizontal nobox samplen 2.5 width 1\n"
+                            "  plot d.\"traces.dat\" using {} with lines lc rgb \"#1f4e9c\" title \"rocking\", "
+                            "'' using {} with lines dashtype 2 lc rgb \"#27864a\" title {}\n",
+                            trace_using(Quantity::base_moment), trace_using(Quantity::base_moment, "twin_"),
+                            plot::quote(s.twin_label));
   // The picture: the structure standing (columns and segments included) and
   // room beside it to rock; columns span their spacing, so less is added.
   const auto [tall, reach] = picture_extent(main_model, scene.structure);
   const double span = std::max((main_model.on_columns ? 1.5 : 3.0) * reach, 0.5 * tall);
-  std::string script = fmt::format(
+  const double frame_dt = s.timing.frame_dt;
+  return fmt::format(
       "# rocking: animation ({} frames, {:.3g} s of simulation per frame). Re-render: gnuplot {}.gp\n"
       "{}"
       "set datafile columnheaders\n"
@@ -407,38 +462,84 @@ int animate(const AnimateArgs& a) {
       "  unset key\n  unset arrow 1\n  unset xlabel\n"
       "  unset multiplot\n"
       "}}\n",
-      last_frame - first_frame + 1, frame_dt, plot::comment(stem),
-      video ? fmt::format("set terminal pngcairo size {},{} font \"DejaVu Sans,11\"\n", width, height)
-            : fmt::format("set terminal gif animate delay {} size {},{} optimize font \"DejaVu Sans,11\"\n"
-                          "set output {}\n", std::max(2, 100 / a.fps), width, height, plot::quote(stem + ".gif")),
-      plot::quote(stem + ".data/"), first_frame, last_frame, frame_dt,
-      video ? fmt::format("  set output {} . sprintf(\"%05d.png\", i)\n", plot::quote(stem + ".frames/")) : std::string(),
-      plot::quote(fmt::format("{} - {}{}, {}   t = ", scene.name, describe_motion(motion.name()),
-                              motion.vertical() ? " with vertical " + motion.vertical()->info().component : std::string(),
-                              motion_scale(scene, a.motion).describe())),
-      plot::quote(fmt::format("\n(drawn with rotation x{:g}, elastic deformation x{:g})", kr, k)), -span, span, tall, tall,
-      panels, shown_from, shown_to, trace(Quantity::a_g), right_trace);
+      s.last_frame - s.first_frame + 1, frame_dt, plot::comment(s.stem),
+      o.video ? fmt::format("set terminal pngcairo size {},{} font \"DejaVu Sans,11\"\n", o.width, o.height)
+              : fmt::format("set terminal gif animate delay {} size {},{} optimize font \"DejaVu Sans,11\"\n"
+                            "set output {}\n", std::max(2, 100 / a.fps), o.width, o.height, plot::quote(s.stem + ".gif")),
+      plot::quote(s.stem + ".data/"), s.first_frame, s.last_frame, frame_dt,
+      o.video ? fmt::format("  set output {} . sprintf(\"%05d.png\", i)\n", plot::quote(s.stem + ".frames/")) : std::string(),
+      plot::quote(s.title),
+      plot::quote(fmt::format("\n(drawn with rotation x{:g}, elastic deformation x{:g})", s.exaggeration.kr,
+                              s.exaggeration.k)),
+      -span, span, tall, tall, panels, s.timing.shown_from, s.timing.shown_to, trace_using(Quantity::a_g), right_trace);
+}
+
+// The PNG frames in DIR/STEM.frames made into the video by ffmpeg, then removed.
+void encode_video(const AnimateArgs& a, const Output& o, const fs::path& dir, const std::string& stem) {
+  const fs::path out(a.out);
+  const fs::path log = dir / (stem + ".ffmpeg.log");
+  std::vector<std::string> args{o.ffmpeg, "-y", "-loglevel", "error", "-framerate", std::to_string(a.fps), "-i",
+                                fs::absolute(dir / (stem + ".frames") / "%05d.png").string()};
+  for (const char* c : out.extension() == ".mp4" ? std::vector<const char*>{"-c:v", "libx264", "-pix_fmt", "yuv420p"}
+                                                 : std::vector<const char*>{"-c:v", "libvpx-vp9", "-b:v", "0", "-crf", "40"})
+    args.emplace_back(c);
+  args.push_back(fs::absolute(out).string());
+  if (plot::run_program(fs::current_path(), args, fs::absolute(log)) != 0 || !fs::is_regular_file(out))
+    throw RunError(fmt::format("ffmpeg failed on the frames of {} (see {})", out.string(), log.string()));
+  fs::remove_all(dir / (stem + ".frames"));
+  fs::remove(log);
+}
+
+int animate(const AnimateArgs& a) {
+  const Output o = check_options(a);
+  const Scene scene = load_scene(a.scene);
+  const GroundMotion motion = load_motion(scene, a.motion);
+  const std::string compare = twin_of(a, scene);
+  const bool alone = compare == "none";
+  std::vector<std::string> twin_overrides = a.scene.overrides;
+  if (!alone) {
+    const Variant twin_variant = named_variant(compare);
+    twin_overrides.insert(twin_overrides.end(), twin_variant.overrides.begin(), twin_variant.overrides.end());
+  }
+  const Scene twin = load_scene(SceneOptions{a.scene.path, twin_overrides});
+  const std::unique_ptr<Runs> runs = run_both(a, scene, twin, motion);
+  const Runs& r = *runs;
+  const Timing& timing = r.timing;
+  const auto m = static_cast<std::size_t>(timing.m);
+  const std::size_t rows = std::min(r.main_rec.rows.size(), r.twin_rec.rows.size());
+  const std::size_t frames = (rows + m - 1) / m;
+  ScriptParts parts{.stem = fs::path(a.out).stem().string(), .timing = timing, .alone = alone};
+  parts.first_frame = static_cast<std::size_t>(std::ceil(timing.shown_from / timing.frame_dt - 1e-9));
+  parts.last_frame =
+      std::min(frames, static_cast<std::size_t>(std::floor(timing.shown_to / timing.frame_dt + 1e-9)) + 1) - 1;
+  if (frames < 2 || parts.last_frame < parts.first_frame + 1)
+    throw InputError("animation: the span shown is too short for two frames");
+  parts.exaggeration = exaggeration(a, scene, r);
+  const fs::path gif(a.out);
+  const fs::path dir = gif.has_parent_path() ? gif.parent_path() : fs::path(".");
+  const fs::path data = dir / (parts.stem + ".data");
+  make_output_dir(data);
+  const auto [k, kr] = parts.exaggeration;
+  write_frames(data / "main.dat", r.main.model, scene.structure, r.main_rec, k, kr, timing.m, frames);
+  write_frames(data / "twin.dat", r.twin.model, twin.structure, r.twin_rec, k, kr, timing.m, frames);
+  const AngleNames names = angle_names(r.main.model);
+  write_traces(data / "traces.dat", r, motion, names);
+  // On rocking columns, contact.rocking = false holds the columns down; the beam still rests on them.
+  parts.twin_label = compare == "no-damper"                      ? "no damper"
+                     : compare == "fixed-base" && scene.columns ? "columns held down"
+                                                                : variant_label(compare);
+  parts.title = fmt::format("{} - {}{}, {}   t = ", scene.name, describe_motion(motion.name()),
+                            motion.vertical() ? " with vertical " + motion.vertical()->info().component : std::string(),
+                            motion_scale(scene, a.motion).describe());
   plot::Figure fig;
   fig.dir = dir;
-  fig.name = stem;
-  fig.formats = video ? std::vector<std::string>{} : std::vector<std::string>{"gif"};  // video: PNG frames first
-  if (video) make_output_dir(dir / (stem + ".frames"));
-  plot::render_script(fig, script);
-  if (video) {
-    const fs::path log = dir / (stem + ".ffmpeg.log");
-    std::vector<std::string> args{ffmpeg, "-y", "-loglevel", "error", "-framerate", std::to_string(a.fps), "-i",
-                                  fs::absolute(dir / (stem + ".frames") / "%05d.png").string()};
-    for (const char* c : ext == ".mp4" ? std::vector<const char*>{"-c:v", "libx264", "-pix_fmt", "yuv420p"}
-                                       : std::vector<const char*>{"-c:v", "libvpx-vp9", "-b:v", "0", "-crf", "40"})
-      args.emplace_back(c);
-    args.push_back(fs::absolute(gif).string());
-    if (plot::run_program(fs::current_path(), args, fs::absolute(log)) != 0 || !fs::is_regular_file(gif))
-      throw RunError(fmt::format("ffmpeg failed on the frames of {} (see {})", gif.string(), log.string()));
-    fs::remove_all(dir / (stem + ".frames"));
-    fs::remove(log);
-  }
+  fig.name = parts.stem;
+  fig.formats = o.video ? std::vector<std::string>{} : std::vector<std::string>{"gif"};  // video: PNG frames first
+  if (o.video) make_output_dir(dir / (parts.stem + ".frames"));
+  plot::render_script(fig, animation_script(a, o, scene, r, names, parts));
+  if (o.video) encode_video(a, o, dir, parts.stem);
   fmt::print("wrote {} ({} frames at {} fps, {:.2f} s of simulation per frame, rotation x{:g}, deformation x{:g})\n",
-             gif.string(), last_frame - first_frame + 1, a.fps, frame_dt, kr, k);
+             gif.string(), parts.last_frame - parts.first_frame + 1, a.fps, timing.frame_dt, kr, k);
   return 0;
 }
 
