@@ -632,19 +632,8 @@ std::size_t variant_index(const PyIda& r, const std::string& variant) {
   return static_cast<std::size_t>(it - r.variants.begin());
 }
 
-}  // namespace
-
-PYBIND11_MODULE(rocking, m) {
-  m.doc() =
-      "rocking: earthquake response of flexible structures that rock on their base,\n"
-      "with hysteretic dampers and tendons at the rocking interface (the library of\n"
-      "the `rocking` command line; MODEL.md holds the equations).\n\n"
-      "  scene = rocking.Scene.default()                  # the Christchurch chimney\n"
-      "  rec = rocking.Record.load('elcentro_1940_ns.at2')\n"
-      "  res = rocking.simulate(scene, rec)\n"
-      "  res.peaks['theta_over_alpha'], res.history['theta'], res.events\n";
-  m.attr("__version__") = ROCKING_VERSION;
-  SigintStops::main_thread = py::module_::import("threading").attr("main_thread")().attr("ident").cast<unsigned long>();
+// rocking.RunError, and InputError as ValueError.
+void bind_errors(py::module_& m) {
   run_error_type = PyErr_NewException("rocking.RunError", PyExc_RuntimeError, nullptr);
   PyObject_SetAttrString(run_error_type, "__doc__",
                          py::str("A run that could not finish (step size underflow, step or event limit). Its "
@@ -660,7 +649,10 @@ PYBIND11_MODULE(rocking, m) {
       PyErr_SetString(run_error_type, e.what());
     }
   });
+}
 
+// rocking.Scene: a scene file, or the built-in chimney, with overrides.
+void bind_scene(py::module_& m) {
   py::class_<PyScene>(m, "Scene",
                       "A scene: a structure, its contact with the ground, its devices, its default\n"
                       "excitation and initial state (data/scenes/*.toml), with overrides.")
@@ -725,7 +717,10 @@ PYBIND11_MODULE(rocking, m) {
         return fmt::format("<rocking.Scene '{}' from {}{}>", s.scene->name, s.scene->source,
                            s.overrides.empty() ? "" : fmt::format(" with {} override(s)", s.overrides.size()));
       });
+}
 
+// rocking.Record: a ground motion read from a file or given as samples.
+void bind_record(py::module_& m) {
   py::class_<PyRecord>(m, "Record", "A ground-motion record: a(t) piecewise linear between evenly spaced samples.")
       .def(py::init(&record_from_array), "acc"_a, "dt"_a, "units"_a = "g", "name"_a = "array",
            "A record from memory: acc[i] at t = i dt, in units g, m/s2, cm/s2 (gal) or mm/s2.")
@@ -770,7 +765,10 @@ PYBIND11_MODULE(rocking, m) {
         return fmt::format("<rocking.Record '{}': {} samples, dt {:g} s, PGA {:.3g} g>", r.motion->name(),
                            r.motion->sample_count(), r.motion->sample_interval(), r.motion->peak() / rocking::gravity);
       });
+}
 
+// rocking.Result and rocking.simulate: one run.
+void bind_simulate(py::module_& m) {
   py::class_<PyResult>(m, "Result", "One run: its summary, history and events.")
       .def_readonly("summary", &PyResult::summary, "The dict of `rocking simulate`'s summary.json.")
       .def_property_readonly("peaks", [](const PyResult& r) { return r.summary["peaks"]; },
@@ -807,7 +805,10 @@ PYBIND11_MODULE(rocking, m) {
         "every: the history interval [s] (None: the scene's [output] interval, else 0.01).\n"
         "Returns a Result; raises ValueError for bad input, rocking.RunError (with\n"
         ".result) when the run cannot finish, KeyboardInterrupt on Ctrl-C.");
+}
 
+// rocking.quantities, rotd and modal: the schema, spectra and the modes.
+void bind_tables(py::module_& m) {
   m.def("quantities",
         [](const py::object& s) {
           py::list out;
@@ -845,7 +846,10 @@ PYBIND11_MODULE(rocking, m) {
         "The dict of `rocking modal --json`: fixed-base and rocking frequencies [Hz], p,\n"
         "the devices' rocking stiffness, r of Eq. 10, M_ref, V_ref; for a rigid block its\n"
         "geometry, p = sqrt(m g R / J_p) and uplift_g.");
+}
 
+// rocking.Ida and rocking.ida: a study.
+void bind_ida(py::module_& m) {
   py::class_<PyIda>(m, "Ida", "An incremental dynamic analysis: one row per (record, level, variant).")
       .def_readonly("rows", &PyIda::rows,
                     "Dicts of record, variant, im, level, scale, record_im, outcome, the peaks and\n"
@@ -961,4 +965,25 @@ PYBIND11_MODULE(rocking, m) {
         "(hunt_step, hunt_growth, hunt_max, precision, fill_step as --hunt-step ...;\n"
         "None: the program's defaults): .hunts has each record's and variant's first\n"
         "overturning, .fragility() their overturning fragility, .rows is empty.");
+}
+
+}  // namespace
+
+PYBIND11_MODULE(rocking, m) {
+  m.doc() =
+      "rocking: earthquake response of flexible structures that rock on their base,\n"
+      "with hysteretic dampers and tendons at the rocking interface (the library of\n"
+      "the `rocking` command line; MODEL.md holds the equations).\n\n"
+      "  scene = rocking.Scene.default()                  # the Christchurch chimney\n"
+      "  rec = rocking.Record.load('elcentro_1940_ns.at2')\n"
+      "  res = rocking.simulate(scene, rec)\n"
+      "  res.peaks['theta_over_alpha'], res.history['theta'], res.events\n";
+  m.attr("__version__") = ROCKING_VERSION;
+  SigintStops::main_thread = py::module_::import("threading").attr("main_thread")().attr("ident").cast<unsigned long>();
+  bind_errors(m);
+  bind_scene(m);
+  bind_record(m);
+  bind_simulate(m);
+  bind_tables(m);
+  bind_ida(m);
 }
