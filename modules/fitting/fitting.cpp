@@ -259,16 +259,9 @@ double Fit::value(const std::string& key) const {
   throw InputError(fmt::format("the {} law has no parameter '{}'", law, key));
 }
 
-Fit fit_law(const CyclicTest& test, const FitRequest& request) {
-  const LawInfo& info = law_info(request.law);
-  const std::string& src = test.source;
-  const std::size_t n = test.e.size();
-  if (test.F.size() != n || (!test.t.empty() && test.t.size() != n))
-    throw InputError(fmt::format("{}: the columns differ in length", src));
-  Search s;
-  s.info = &info;
-  s.test = &test;
-  s.values.assign(info.parameters.size(), 0.0);
+// The parameters --fix holds, checked against the law's (their values set in
+// s.values); which are held.
+std::vector<bool> hold_parameters(const LawInfo& info, const FitRequest& request, Search& s) {
   std::vector<bool> held(info.parameters.size(), false);
   for (const auto& [key, value] : request.fixed) {
     auto it = std::find_if(info.parameters.begin(), info.parameters.end(),
@@ -284,8 +277,14 @@ Fit fit_law(const CyclicTest& test, const FitRequest& request) {
     s.values[i] = value;
     held[i] = true;
   }
-  // A parameter fitted as one minus another (Bouc-Wen's alpha + beta = 1)
-  // follows it unless the user holds it; then it is the other that follows.
+  return held;
+}
+
+// A parameter fitted as one minus another (Bouc-Wen's alpha + beta = 1)
+// follows it unless the user holds it; then it is the other that follows.
+// Sets s.complements and s.free; returns, per parameter, the one it follows
+// (-1: none).
+std::vector<int> link_parameters(const LawInfo& info, const std::vector<bool>& held, Search& s) {
   auto index_of = [&](const std::string& key) {
     for (std::size_t j = 0; j < info.parameters.size(); ++j)
       if (info.parameters[j].key == key) return j;
@@ -309,14 +308,22 @@ Fit fit_law(const CyclicTest& test, const FitRequest& request) {
                                 }) != s.complements.end());
     }
   if (s.free.empty()) throw InputError(fmt::format("--fix holds every parameter of the {} law: nothing to fit", info.name));
-  const std::size_t needed = std::max<std::size_t>(10, 3 * s.free.size());
+  return derived;
+}
+
+// A test the law can be fitted to, or an InputError saying why not: enough
+// finite samples, an elongation that moves, time increasing, a time column
+// for a rate-dependent law, a force, and loops for a yielding law.
+DataScales check_test(const CyclicTest& test, const LawInfo& info, std::size_t free_parameters) {
+  const std::string& src = test.source;
+  const std::size_t n = test.e.size();
+  const std::size_t needed = std::max<std::size_t>(10, 3 * free_parameters);
   if (n < needed)
-    throw InputError(fmt::format("{}: {} samples: too few to fit {} parameters (at least {})", src, n, s.free.size(), needed));
+    throw InputError(fmt::format("{}: {} samples: too few to fit {} parameters (at least {})", src, n, free_parameters, needed));
   for (std::size_t i = 0; i < n; ++i)
     if (!std::isfinite(test.e[i]) || !std::isfinite(test.F[i]) || (!test.t.empty() && !std::isfinite(test.t[i])))
       throw InputError(fmt::format("{}: sample {} is not a finite number", src, i + 1));
-  const double e_range = range_of(test.e);
-  if (!(e_range > 1e-12 * std::max(1.0, peak_of(test.e))))
+  if (!(range_of(test.e) > 1e-12 * std::max(1.0, peak_of(test.e))))
     throw InputError(fmt::format("{}: the elongation never moves: nothing to fit", src));
   if (!test.t.empty())
     for (std::size_t i = 1; i < n; ++i)
@@ -328,25 +335,25 @@ Fit fit_law(const CyclicTest& test, const FitRequest& request) {
                                  info.name));
   const DataScales scales = data_scales(test);
   if (!(scales.force > 0)) throw InputError(fmt::format("{}: the force is zero throughout: nothing to fit", src));
-  const bool yielding = has_role(info, ParameterRole::yield_elongation);
-  if (yielding && scales.loop_area < 0.01)
+  if (has_role(info, ParameterRole::yield_elongation) && scales.loop_area < 0.01)
     throw InputError(fmt::format("{}: the test never yields (its loops enclose {:.2g} % of peak force x elongation "
                                  "range): fit --law elastic, or use a test that goes past yield",
                                  src, 100 * scales.loop_area));
-  double exponent = 1;
-  for (std::size_t i = 0; i < info.parameters.size(); ++i)
-    if (info.parameters[i].role == ParameterRole::rate_exponent)
-      exponent = held[i] ? s.values[i] : info.parameters[i].default_value;
-  std::vector<double> start(s.free.size());
-  for (std::size_t k = 0; k < s.free.size(); ++k) {
-    const LawParameter& p = info.parameters[s.free[k]];
-    start[k] = starting_value(p, scales, exponent);
-    s.scale.push_back(start[k] - p.minimum);
-  }
-  s.force_scale = scales.force;
-  s.rates = rates(test);
+  return scales;
+}
 
-  const std::size_t p = s.free.size();
+// What the least squares found: every parameter's value and standard error.
+struct Solution {
+  std::vector<double> values, errors;
+  int iterations = 0;
+  double rcond = 0;
+};
+
+// GSL's trust-region Levenberg-Marquardt from `start` (the free parameters'
+// starting values) on the residuals of s; RunError if it does not converge.
+Solution least_squares(Search& s, const std::vector<double>& start) {
+  const LawInfo& info = *s.info;
+  const std::size_t n = s.test->e.size(), p = s.free.size();
   gsl_multifit_nlinear_fdf fdf{};
   fdf.f = residuals;
   fdf.df = nullptr;
@@ -365,30 +372,63 @@ Fit fit_law(const CyclicTest& test, const FitRequest& request) {
   int status = gsl_multifit_nlinear_init(q, &fdf, w);
   int why = 0;
   if (status == GSL_SUCCESS) status = gsl_multifit_nlinear_driver(500, 1e-12, 1e-12, 1e-14, nullptr, nullptr, &why, w);
-  Fit fit;
-  fit.law = info.name;
-  fit.samples = n;
-  fit.iterations = static_cast<int>(gsl_multifit_nlinear_niter(w));
+  Solution out;
+  out.iterations = static_cast<int>(gsl_multifit_nlinear_niter(w));
   const gsl_vector* best = gsl_multifit_nlinear_position(w);
-  const std::vector<double> values = s.parameters(best);
+  out.values = s.parameters(best);
   double ssr = 0;
   gsl_blas_ddot(gsl_multifit_nlinear_residual(w), gsl_multifit_nlinear_residual(w), &ssr);
   gsl_multifit_nlinear_covar(gsl_multifit_nlinear_jac(w), 0.0, covar);
-  gsl_multifit_nlinear_rcond(&fit.rcond, w);
+  gsl_multifit_nlinear_rcond(&out.rcond, w);
   const double s2 = ssr / static_cast<double>(n > p ? n - p : 1);
-  std::vector<double> errors(info.parameters.size(), 0.0);
+  out.errors.assign(info.parameters.size(), 0.0);
   for (std::size_t k = 0; k < p; ++k)
-    errors[s.free[k]] = std::abs(s.derivative(k, gsl_vector_get(best, k))) * std::sqrt(s2 * gsl_matrix_get(covar, k, k));
-  for (const auto& [i, j] : s.complements) errors[i] = errors[j];
+    out.errors[s.free[k]] = std::abs(s.derivative(k, gsl_vector_get(best, k))) * std::sqrt(s2 * gsl_matrix_get(covar, k, k));
+  for (const auto& [i, j] : s.complements) out.errors[i] = out.errors[j];
   gsl_matrix_free(covar);
   gsl_vector_free(q);
   gsl_multifit_nlinear_free(w);
   gsl_set_error_handler(previous);
-  const bool finite = std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
+  const bool finite = std::all_of(out.values.begin(), out.values.end(), [](double v) { return std::isfinite(v); });
   if ((status != GSL_SUCCESS && status != GSL_EMAXITER) || !finite)
-    throw RunError(fmt::format("{}: the least-squares fit of the {} law did not converge ({})", src, info.name,
+    throw RunError(fmt::format("{}: the least-squares fit of the {} law did not converge ({})", s.test->source, info.name,
                                gsl_strerror(status)));
-  fit.fitted = law_from(info, values);
+  return out;
+}
+
+Fit fit_law(const CyclicTest& test, const FitRequest& request) {
+  const LawInfo& info = law_info(request.law);
+  const std::string& src = test.source;
+  const std::size_t n = test.e.size();
+  if (test.F.size() != n || (!test.t.empty() && test.t.size() != n))
+    throw InputError(fmt::format("{}: the columns differ in length", src));
+  Search s;
+  s.info = &info;
+  s.test = &test;
+  s.values.assign(info.parameters.size(), 0.0);
+  const std::vector<bool> held = hold_parameters(info, request, s);
+  const std::vector<int> derived = link_parameters(info, held, s);
+  const DataScales scales = check_test(test, info, s.free.size());
+  double exponent = 1;
+  for (std::size_t i = 0; i < info.parameters.size(); ++i)
+    if (info.parameters[i].role == ParameterRole::rate_exponent)
+      exponent = held[i] ? s.values[i] : info.parameters[i].default_value;
+  std::vector<double> start(s.free.size());
+  for (std::size_t k = 0; k < s.free.size(); ++k) {
+    const LawParameter& p = info.parameters[s.free[k]];
+    start[k] = starting_value(p, scales, exponent);
+    s.scale.push_back(start[k] - p.minimum);
+  }
+  s.force_scale = scales.force;
+  s.rates = rates(test);
+  const Solution found = least_squares(s, start);
+
+  Fit fit;
+  fit.law = info.name;
+  fit.samples = n;
+  fit.iterations = found.iterations;
+  fit.rcond = found.rcond;
+  fit.fitted = law_from(info, found.values);
   fit.force = law_force_history(fit.fitted, test);
   for (std::size_t i = 0; i < n; ++i) {
     const double r = fit.force[i] - test.F[i];
@@ -399,10 +439,11 @@ Fit fit_law(const CyclicTest& test, const FitRequest& request) {
   fit.peak_force = scales.force;
   for (std::size_t i = 0; i < info.parameters.size(); ++i) {
     const LawParameter& lp = info.parameters[i];
-    fit.parameters.push_back({lp.key, lp.unit, lp.doc, lp.role, values[i], errors[i], held[i],
+    fit.parameters.push_back({lp.key, lp.unit, lp.doc, lp.role, found.values[i], found.errors[i], held[i],
                               derived[i] >= 0 ? info.parameters[static_cast<std::size_t>(derived[i])].key : ""});
   }
-  if (yielding)
+  const double e_range = range_of(test.e);
+  if (has_role(info, ParameterRole::yield_elongation))
     for (const FittedParameter& fp : fit.parameters)
       if (fp.role == ParameterRole::yield_elongation && !fp.fixed && fp.value > e_range)
         throw InputError(fmt::format("{}: the test never yields (the fitted {} = {:.4g} m exceeds the elongation range "
