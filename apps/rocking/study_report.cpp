@@ -77,19 +77,28 @@ std::string im_axis_label(const IntensityMeasure& im) {
   return im.name();
 }
 
-std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, const StudySummary& summary,
-                                         const SuiteFragility& fragility_of, const std::string& kind, const std::string& scene_name,
-                                         const std::vector<std::string>& formats) {
-  using Style = plot::Line::Style;
+namespace {
+
+// What every figure of a ladder's report shares: the study, its summary and
+// fragility, where the data goes, and the figures' size on the page.
+struct LadderReport {
+  const fs::path& dir;
+  const Study& st;
+  const StudySummary& summary;
+  const SuiteFragility& fragility_of;
+  const std::string& kind;
+  const std::string& scene_name;
+  const std::vector<std::string>& formats;
   const IntensityMeasure& im = st.intensity_measure();
   const std::string data = kind + "_suite.data";
-  make_output_dir(dir / data);
   const std::size_t nv = st.variants().size();
+  const std::size_t nr = st.records().size();
   const int cols = static_cast<int>(std::min<std::size_t>(nv, 3));
   const int rows = static_cast<int>((nv + 2) / 3);
-  const std::size_t nr = st.records().size();
-  std::vector<fs::path> written;
-  auto figure = [&](const std::string& name, const std::string& title) {
+  // The top of the fragility axes: the highest level and a tenth.
+  const double top = summary.levels().empty() ? 1 : summary.levels().back() * 1.1;
+
+  plot::Figure figure(const std::string& name, const std::string& title) const {
     plot::Figure fig;
     fig.dir = dir;
     fig.name = name;
@@ -98,7 +107,52 @@ std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, c
     fig.width = 560 * cols + 120;
     fig.height = 470 * rows + 200;
     return fig;
-  };
+  }
+  // The fitted CDF (the capacity fit with its total dispersion) at 200
+  // levels up to the top of the axis.
+  std::string fit_curve(const LognormalFit& f, double beta_modelling) const {
+    std::string text = "im,p\n";
+    if (f.fitted)
+      for (int k = 1; k <= 200; ++k) {
+        const double x = top * k / 200.0;
+        text += fmt::format("{:.6g},{:.6g}\n", x, lognormal_cdf(x, f.median, total_beta(f.beta, beta_modelling)));
+      }
+    return text;
+  }
+  // Its bootstrap band at the same levels.
+  std::string band(const FitBootstrap& b, double beta_modelling) const {
+    std::string text = "im,low,high\n";
+    if (b.computed())
+      for (int k = 1; k <= 200; ++k) {
+        const double x = top * k / 200.0;
+        const auto [low, high] = cdf_band(b, x, beta_modelling);
+        text += fmt::format("{:.6g},{:.6g},{:.6g}\n", x, low, high);
+      }
+    return text;
+  }
+  // "90 % interval" (the bootstrap's level), or nothing without fragility.
+  std::string interval_words() const {
+    return fragility_of.empty() || fragility_of[0].empty() || !fragility_of[0][0]
+               ? std::string()
+               : fmt::format("{:g} % interval", fragility_of[0][0]->capacity_bootstrap.level * 100);
+  }
+  // Whether any fragility has a bootstrap band.
+  bool banded() const {
+    for (const auto& v : fragility_of)
+      for (const auto& f : v)
+        if (f && f->capacity_bootstrap.computed()) return true;
+    return false;
+  }
+
+  void ida_curves(std::vector<fs::path>& written) const;
+  void fragility(std::vector<fs::path>& written) const;
+  void damage_states(std::vector<fs::path>& written) const;
+};
+
+// IDA curves: one figure per scalar study quantity (the devices' are in
+// summary.csv), a panel per variant, thin per record, bold fractiles.
+void LadderReport::ida_curves(std::vector<fs::path>& written) const {
+  using Style = plot::Line::Style;
   // One figure per scalar study quantity (the devices' are in summary.csv).
   for (Quantity quantity : study_quantities) {
     const QuantityName axis_q(quantity);
@@ -167,33 +221,12 @@ std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, c
                     scene_name, nr, im_words(im)));
     for (const fs::path& f : plot::render_lines(fig, rows, cols, "peak " + axis_label(axis_q), im_axis_label(im), panels)) written.push_back(f);
   }
-  // The fitted CDF (the capacity fit with its total dispersion) and its band
-  // at 200 levels up to the top of the axis.
-  const double top = summary.levels().empty() ? 1 : summary.levels().back() * 1.1;
-  auto fit_curve = [&](const LognormalFit& f, double beta_modelling) {
-    std::string text = "im,p\n";
-    if (f.fitted)
-      for (int k = 1; k <= 200; ++k) {
-        const double x = top * k / 200.0;
-        text += fmt::format("{:.6g},{:.6g}\n", x, lognormal_cdf(x, f.median, total_beta(f.beta, beta_modelling)));
-      }
-    return text;
-  };
-  auto band = [&](const FitBootstrap& b, double beta_modelling) {
-    std::string text = "im,low,high\n";
-    if (b.computed())
-      for (int k = 1; k <= 200; ++k) {
-        const double x = top * k / 200.0;
-        const auto [low, high] = cdf_band(b, x, beta_modelling);
-        text += fmt::format("{:.6g},{:.6g},{:.6g}\n", x, low, high);
-      }
-    return text;
-  };
-  const std::string interval_words =
-      fragility_of.empty() || fragility_of[0].empty() || !fragility_of[0][0]
-          ? std::string()
-          : fmt::format("{:g} % interval", fragility_of[0][0]->capacity_bootstrap.level * 100);
-  // Fragility: one panel per limit state, one colour per variant.
+}
+
+// Fragility: one panel per limit state, one colour per variant.
+void LadderReport::fragility(std::vector<fs::path>& written) const {
+  using Style = plot::Line::Style;
+  const std::string interval_words = this->interval_words();
   std::vector<plot::LinePanel> panels;
   bool banded = false;
   std::vector<bool> keyed(nv, false);
@@ -257,8 +290,14 @@ std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, c
     for (const fs::path& f : plot::render_lines(fig, fr, fc, im_axis_label(im), "P(limit reached | IM) [-]", panels))
       written.push_back(f);
   }
-  // Damage states: every limit's fit and band in one panel per variant, the
-  // limits told apart by dash and colour.
+}
+
+// Damage states: every limit's fit and band in one panel per variant, the
+// limits told apart by dash and colour.
+void LadderReport::damage_states(std::vector<fs::path>& written) const {
+  using Style = plot::Line::Style;
+  const std::string interval_words = this->interval_words();
+  bool banded = this->banded();
   if (summary.limits().size() >= 2 && nr >= 2) {
     std::vector<plot::LinePanel> states;
     for (std::size_t v = 0; v < nv; ++v) {
@@ -291,6 +330,19 @@ std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, c
     for (const fs::path& f : plot::render_lines(fig, fr, fc, im_axis_label(im), "P(limit reached | IM) [-]", states))
       written.push_back(f);
   }
+}
+
+}  // namespace
+
+std::vector<fs::path> draw_ladder_report(const fs::path& dir, const Study& st, const StudySummary& summary,
+                                         const SuiteFragility& fragility_of, const std::string& kind, const std::string& scene_name,
+                                         const std::vector<std::string>& formats) {
+  make_output_dir(dir / (kind + "_suite.data"));
+  const LadderReport report{dir, st, summary, fragility_of, kind, scene_name, formats};
+  std::vector<fs::path> written;
+  report.ida_curves(written);
+  report.fragility(written);
+  report.damage_states(written);
   return written;
 }
 
