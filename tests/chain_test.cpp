@@ -26,6 +26,7 @@ import rocking.chain;
 import rocking.dynamics;
 import rocking.scene;
 import rocking.ground_motion;
+import rocking.records;
 
 using namespace rocking;
 using Vec = Eigen::VectorXd;

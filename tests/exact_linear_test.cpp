@@ -18,6 +18,7 @@
 #include "records.hpp"
 import rocking.simulation;
 import rocking.scene;
+import rocking.records;
 
 using namespace rocking;
 using namespace rocking::ode;

@@ -52,6 +52,7 @@ import rocking.run;
 import rocking.report;
 import rocking.errors;
 import rocking.ground_motion;
+import rocking.records;
 
 using namespace rocking;
 

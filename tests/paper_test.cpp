@@ -12,6 +12,7 @@
 #include "records.hpp"
 import rocking.simulation;
 import rocking.scene;
+import rocking.records;
 
 using namespace rocking;
 

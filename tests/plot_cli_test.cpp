@@ -22,6 +22,7 @@
 #include "records.hpp"
 #include "csv_table.hpp"
 import rocking.ground_motion;
+import rocking.records;
 
 namespace fs = std::filesystem;
 

@@ -21,6 +21,7 @@
 import rocking.ground_motion;
 import rocking.intensity;
 import rocking.errors;
+import rocking.records;
 
 using namespace rocking;
 

@@ -19,6 +19,7 @@
 import rocking.ground_motion;
 import rocking.intensity;
 import rocking.geometry;
+import rocking.records;
 
 namespace fs = std::filesystem;
 using namespace cli;

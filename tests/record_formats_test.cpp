@@ -16,6 +16,7 @@
 #include "records.hpp"
 import rocking.ground_motion;
 import rocking.errors;
+import rocking.records;
 
 using namespace rocking;
 

@@ -23,6 +23,7 @@
 import rocking.simulation;
 import rocking.scene;
 import rocking.errors;
+import rocking.records;
 
 using namespace rocking;
 using namespace rocking::ode;

@@ -20,6 +20,7 @@
 #include "tight_run.hpp"
 import rocking.simulation;
 import rocking.scene;
+import rocking.records;
 
 using namespace rocking;
 

@@ -25,6 +25,7 @@
 #include "records.hpp"
 import rocking.intensity;
 import rocking.ground_motion;
+import rocking.records;
 
 namespace fs = std::filesystem;
 using namespace rocking;

@@ -22,6 +22,7 @@ import rocking.simulation;
 import rocking.scene;
 import rocking.run;
 import rocking.errors;
+import rocking.records;
 
 using namespace rocking;
 

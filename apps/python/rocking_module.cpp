@@ -41,6 +41,7 @@ import rocking.study_files;
 import rocking.run;
 import rocking.lab;
 import rocking.study_run;
+import rocking.records;
 
 namespace py = pybind11;
 using namespace pybind11::literals;

@@ -16,6 +16,7 @@
 import rocking.study_files;
 import rocking.errors;
 import rocking.plot;
+import rocking.records;
 
 namespace rocking::app {
 

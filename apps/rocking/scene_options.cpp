@@ -11,6 +11,7 @@
 #include <filesystem>
 import rocking.study;
 import rocking.errors;
+import rocking.records;
 
 namespace rocking::app {
 

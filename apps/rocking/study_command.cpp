@@ -26,6 +26,7 @@ import rocking.study;
 import rocking.errors;
 import rocking.study_run;
 import rocking.plot;
+import rocking.records;
 
 namespace rocking::app {
 

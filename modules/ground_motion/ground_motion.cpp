@@ -1,5 +1,6 @@
 module;
 #include <algorithm>
+#include <cctype>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -313,6 +314,39 @@ GroundTravel::State GroundTravel::at(double t) {
   if (next_ == n) return {v_, d_ + v_ * tau};  // at rest after the record's end: a_g = 0
   const double a0 = k * sm.values[next_ - 1], s = (k * sm.values[next_] - a0) / (g.time_of(next_) - g.time_of(next_ - 1));
   return {v_ + a0 * tau + s * tau * tau / 2, d_ + v_ * tau + a0 * tau * tau / 2 + s * tau * tau * tau / 6};
+}
+
+}  // namespace rocking
+
+namespace rocking {
+
+// A component's orientation from its name (case and blanks aside).
+Orientation component_orientation(std::string_view name) {
+  std::string n;
+  for (char c : name)
+    if (!std::isspace(static_cast<unsigned char>(c))) n += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (std::string_view v : {"up", "upward", "down", "dwn", "dn", "ud", "u-d", "u/d", "v", "ver", "vert", "vertical", "z"})
+    if (n == v) return Orientation::vertical;
+  for (std::string_view h : {"n", "s", "e", "w", "ns", "n-s", "sn", "ew", "e-w", "we", "l", "t", "long", "tran",
+                             "trans", "longitudinal", "transverse", "h1", "h2", "north", "south", "east", "west"})
+    if (n == h) return Orientation::horizontal;
+  auto digits = [](std::string_view s) {
+    return !s.empty() && std::ranges::all_of(s, [](char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; });
+  };
+  if (n.size() <= 3 && digits(n)) return Orientation::horizontal;  // an azimuth: 000, 090, 360
+  // A bearing: N28W, S01E, N89.5W
+  if (n.size() >= 3 && (n.front() == 'n' || n.front() == 's') && (n.back() == 'e' || n.back() == 'w')) {
+    const std::string_view angle = std::string_view(n).substr(1, n.size() - 2);
+    if (std::ranges::all_of(angle, [](char c) { return std::isdigit(static_cast<unsigned char>(c)) || c == '.'; }) &&
+        digits(angle.substr(0, 1)))
+      return Orientation::horizontal;
+  }
+  // A SEED channel code (band, instrument, orientation): HNZ, BNZ, HN1, HNE
+  if (n.size() == 3 && std::isalpha(static_cast<unsigned char>(n[0])) && std::string_view("nhlg").find(n[1]) != std::string_view::npos) {
+    if (n[2] == 'z') return Orientation::vertical;
+    if (std::string_view("ne12").find(n[2]) != std::string_view::npos) return Orientation::horizontal;
+  }
+  return Orientation::unknown;
 }
 
 }  // namespace rocking

@@ -24,6 +24,7 @@ module;
 #include <vector>
 module rocking.lab;
 import rocking.errors;
+import rocking.records;
 
 namespace rocking {
 

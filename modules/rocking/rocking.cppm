@@ -11,6 +11,7 @@ export import rocking.modal;
 export import rocking.dynamics;
 export import rocking.scene;
 export import rocking.ground_motion;
+export import rocking.records;
 export import rocking.intensity;
 export import rocking.fragility;
 export import rocking.fitting;

@@ -8,6 +8,7 @@ module;
 #include <fmt/format.h>
 module rocking.run;
 import rocking.errors;
+import rocking.records;
 
 namespace rocking {
 

@@ -21,6 +21,7 @@ module;
 #include <fmt/ranges.h>
 module rocking.scene;
 import rocking.errors;
+import rocking.records;
 
 namespace rocking {
 

@@ -16,6 +16,7 @@ module;
 #include <fmt/format.h>
 module rocking.study;
 import rocking.errors;
+import rocking.records;
 
 namespace rocking {
 

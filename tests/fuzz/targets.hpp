@@ -28,6 +28,7 @@ import rocking.sundials;
 import rocking.plot;
 import rocking.errors;
 import rocking.lab;
+import rocking.records;
 
 namespace fuzz {
 

@@ -12,7 +12,7 @@ module;
 #include <string_view>
 #include <vector>
 #include <fmt/format.h>
-module rocking.ground_motion;
+module rocking.records;
 import rocking.errors;
 
 namespace rocking::records {
@@ -241,35 +241,3 @@ GroundMotion TimedSamples::record(const std::string& path, int last_line, Record
 }
 
 }  // namespace rocking::records
-
-namespace rocking {
-
-Orientation component_orientation(std::string_view name) {
-  std::string n;
-  for (char c : name)
-    if (!std::isspace(static_cast<unsigned char>(c))) n += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  for (std::string_view v : {"up", "upward", "down", "dwn", "dn", "ud", "u-d", "u/d", "v", "ver", "vert", "vertical", "z"})
-    if (n == v) return Orientation::vertical;
-  for (std::string_view h : {"n", "s", "e", "w", "ns", "n-s", "sn", "ew", "e-w", "we", "l", "t", "long", "tran",
-                             "trans", "longitudinal", "transverse", "h1", "h2", "north", "south", "east", "west"})
-    if (n == h) return Orientation::horizontal;
-  auto digits = [](std::string_view s) {
-    return !s.empty() && std::ranges::all_of(s, [](char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; });
-  };
-  if (n.size() <= 3 && digits(n)) return Orientation::horizontal;  // an azimuth: 000, 090, 360
-  // A bearing: N28W, S01E, N89.5W
-  if (n.size() >= 3 && (n.front() == 'n' || n.front() == 's') && (n.back() == 'e' || n.back() == 'w')) {
-    const std::string_view angle = std::string_view(n).substr(1, n.size() - 2);
-    if (std::ranges::all_of(angle, [](char c) { return std::isdigit(static_cast<unsigned char>(c)) || c == '.'; }) &&
-        digits(angle.substr(0, 1)))
-      return Orientation::horizontal;
-  }
-  // A SEED channel code (band, instrument, orientation): HNZ, BNZ, HN1, HNE
-  if (n.size() == 3 && std::isalpha(static_cast<unsigned char>(n[0])) && std::string_view("nhlg").find(n[1]) != std::string_view::npos) {
-    if (n[2] == 'z') return Orientation::vertical;
-    if (std::string_view("ne12").find(n[2]) != std::string_view::npos) return Orientation::horizontal;
-  }
-  return Orientation::unknown;
-}
-
-}  // namespace rocking

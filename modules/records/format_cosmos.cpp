@@ -19,7 +19,7 @@ module;
 #include <tuple>
 #include <vector>
 #include <fmt/format.h>
-module rocking.ground_motion;
+module rocking.records;
 import rocking.errors;
 
 namespace rocking::records {

@@ -18,7 +18,7 @@ module;
 #include <string_view>
 #include <vector>
 #include <fmt/format.h>
-module rocking.ground_motion;
+module rocking.records;
 import rocking.errors;
 
 namespace rocking::records {

@@ -10,7 +10,7 @@ module;
 #include <string>
 #include <vector>
 #include <fmt/format.h>
-module rocking.ground_motion;
+module rocking.records;
 import rocking.errors;
 
 namespace rocking {
