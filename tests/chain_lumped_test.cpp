@@ -1,7 +1,8 @@
 // rocking.chain's lumped path against its general one, state by state: a
-// rigid segment enters M and Q through its slab frame and its lumped mass and
-// moments (ChainWorkspace::per_point false), where the general path sums every
-// mass point's Jacobian (per_point true). Both are the same equations, so on
+// segment enters M and Q through its slab frame and its lumped mass and
+// moments, a flexible one with its nodes' sums over u and u' and its own u
+// columns' terms (ChainWorkspace::per_point false), where the general path
+// sums every mass point's Jacobian (per_point true). Both are the same equations, so on
 // random states, ground accelerations and every combination of joint phases
 // their right-hand sides, reactions, powers and energies agree to round-off:
 // 1e-12 relative (of each vector's largest entry for a component that may
@@ -36,8 +37,9 @@ ChainSegment segment(double h, double B, double m0, std::vector<double> heights,
 }
 
 // The chains compared: the stacked blocks, the segmental pier with its tendon,
-// and a flexible shaft (taken point by point in both paths) under two rigid
-// segments, with a tendon anchored on a moving node.
+// a flexible shaft under two rigid segments, with a tendon anchored on a
+// moving node, and a flexible shaft on a rigid pedestal under a rigid top (its
+// slab frame turning and translating with the pedestal).
 std::vector<std::pair<std::string, ChainData>> chains() {
   std::vector<std::pair<std::string, ChainData>> out;
   ChainData blocks;
@@ -69,6 +71,13 @@ std::vector<std::pair<std::string, ChainData>> chains() {
   tie.stiffness = 5e6;
   shaft.tendons.push_back(tie);
   out.emplace_back("flexible shaft under two rigid segments", shaft);
+
+  ChainData pedestal;
+  pedestal.rayleigh = {0.2, 0.003};
+  pedestal.segments.push_back(segment(0.0, 1.2, 5000.0, {0.5, 1.0}, {3000.0, 800.0}));
+  pedestal.segments.push_back(segment(1.0, 0.8, 1200.0, {3.0, 5.0, 7.0}, {1800.0, 1400.0, 900.0}, false, {5e9, 4e9, 3e9}));
+  pedestal.segments.push_back(segment(7.0, 0.4, 0.0, {7.5, 8.0}, {150.0, 120.0}));
+  out.emplace_back("flexible shaft on a rigid pedestal under a rigid top", pedestal);
   return out;
 }
 
@@ -95,7 +104,7 @@ void check_vector(const Vec& actual, const Vec& expected) {
 
 }  // namespace
 
-TEST_CASE("the lumped rigid segments give the general path's right-hand sides, reactions, corner accelerations, powers and energies to 1e-12") {
+TEST_CASE("the lumped segments, rigid and flexible, give the general path's right-hand sides, reactions, corner accelerations, powers and energies to 1e-12") {
   std::mt19937 rng(55);
   std::uniform_real_distribution<double> U(-1.0, 1.0);
   for (const auto& [name, data] : chains()) {

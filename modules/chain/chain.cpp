@@ -107,9 +107,15 @@ bool closed(const Phase& p) { return !p.is_rocking(); }
 
 int pivot_sign(const Phase& p) { return p.sign(); }
 
-// Whether segment j enters the equations lumped (its slab frame and
-// Chain::segment_*) rather than point by point.
-bool lumped(const Chain& c, const ChainWorkspace& w, int j) { return !w.per_point && c.data.segments[j].rigid; }
+// Whether segment j enters the equations lumped (its slab frame, its
+// Chain::segment_* and, when flexible, its nodes' sums in w.slabs) rather
+// than point by point.
+bool lumped(const ChainWorkspace& w) { return !w.per_point; }
+
+// Columns of w.slabs: the slab frame's O x, y, cos, sin of psi, O', psi',
+// O's bias (0-8), then a flexible segment's sums over its nodes (zero when
+// rigid): U = sum m u, U' = sum m u', sum m u^2, sum m u u', sum m z u'.
+constexpr int slab_U = 9, slab_U_dot = 10, slab_uu = 11, slab_uu_dot = 12, slab_zu_dot = 13, slab_columns = 14;
 
 // Row of w.frames where segment j's slab frame Jacobian starts.
 int slab_row(int j) { return 6 + 3 * j; }
@@ -189,14 +195,26 @@ void kinematics(const Chain& c, ChainPhases phases, Eigen::Ref<const Eigen::Vect
     slab[0] = seg.ox, slab[1] = seg.oy, slab[2] = seg.c, slab[3] = seg.s, slab[4] = seg.vx, slab[5] = seg.vy;
     slab[6] = seg.omega, slab[7] = seg.bx, slab[8] = seg.by;
     const Eigen::VectorXd& z = c.local_heights[j];
-    if (lumped(c, w, j)) {
+    if (lumped(w)) {
+      if (eo >= 0) {  // a flexible segment's sums over its nodes
+        double U = 0, Ud = 0, uu = 0, uud = 0, zud = 0;
+        for (int i = 0; i < z.size(); ++i) {
+          const double m = c.masses[pt + 1 + i], u = q[eo + i], ud = q_dot[eo + i];
+          U += m * u;
+          Ud += m * ud;
+          uu += m * u * u;
+          uud += m * u * ud;
+          zud += m * z[i] * ud;
+        }
+        slab[slab_U] = U, slab[slab_U_dot] = Ud, slab[slab_uu] = uu, slab[slab_uu_dot] = uud, slab[slab_zu_dot] = zud;
+      }
       pt += 1 + static_cast<int>(z.size());
     } else {  // its mass points: the slab, then the nodes
       const Point slab = point_of(seg, fj, 0.0, 0.0, 0.0, -1, ncol, jac, 2 * pt);
       w.points.row(pt) << slab.x, slab.y, slab.vx, slab.vy, slab.bx, slab.by;
       ++pt;
     }
-    for (int i = 0; i < z.size() && !lumped(c, w, j); ++i, ++pt) {
+    for (int i = 0; i < z.size() && !lumped(w); ++i, ++pt) {
       const int ucol = eo >= 0 ? eo + i : -1;
       const Point p = point_of(seg, fj, ucol >= 0 ? q[ucol] : 0.0, z[i], ucol >= 0 ? q_dot[ucol] : 0.0, ucol, ncol, jac,
                                2 * pt);
@@ -257,19 +275,30 @@ void for_each_wanted(const Chain& c, ChainPhases phases, int ncol, const ChainWo
   }
 }
 
-// A rigid segment's share of M and Q from its slab frame: its points
-// r_i = (0, z_i) move with J_i = J_O + perp(R r_i) J_psi, so
-// sum m_i J_i'J_i = [J_O; J_psi]' A [J_O; J_psi] with
-// A = [m 0 P_x; 0 m P_y; P_x P_y I], P = sum m_i perp(R r_i) = S (cos, -sin),
-// S = sum m z, I = sum m z^2; their force m_i (bias_i + a) with
-// bias_i = O_bias - psi'^2 R r_i sums to m (O_bias + a) - psi'^2 R S in
-// translation and P.(O_bias + a) in rotation (perp(R r).R r = 0).
-void lumped_segment(const Chain& c, ChainPhases phases, int j, double ah, double gv, int ncol, ChainWorkspace& w) {
-  const double m = c.segment_mass[j], S = c.segment_moment[j], I = c.segment_inertia[j];
-  const double cs = w.slabs(j, 2), sn = w.slabs(j, 3), om = w.slabs(j, 6);
-  const double Px = S * cs, Py = -S * sn, RSx = S * sn, RSy = S * cs;
-  const double ax = w.slabs(j, 7) + ah, ay = w.slabs(j, 8) + gv;
-  const double Fx = m * ax - om * om * RSx, Fy = m * ay - om * om * RSy, T = Px * ax + Py * ay;
+// A segment's share of M and Q from its slab frame (docs/chain.md). Its
+// points sit at r_i = (u_i, z_i) in the frame (u = 0 when rigid) and move with
+// J_i = J_O + perp(R r_i) J_psi + R e_x e_(u_i)', so
+//   sum m_i J_i'J_i = [J_O; J_psi]' A [J_O; J_psi] + the u columns' terms,
+// A = [m 0 P_x; 0 m P_y; P_x P_y I], P = sum m_i perp(R r_i) = R (S, -U),
+// S = sum m z, U = sum m u, I = sum m (z^2 + u^2); u_i's column adds
+// m_i (cos J_O,x - sin J_O,y + z_i J_psi) to every row and m_i to its own
+// (R e_x . R e_x = 1, perp(R r_i) . R e_x = z_i). Their forces
+// f_i = m_i (bias_i + a), bias_i = O_bias - psi'^2 R r_i + 2 psi' perp(R r_i'),
+// sum to F = m (O_bias + a) - psi'^2 R (U, S) + 2 psi' perp(R (U', 0)) in
+// translation and P.(O_bias + a) + 2 psi' sum m u u' in rotation, and on u_i
+// to m_i ((cos, -sin).(O_bias + a) - psi'^2 u_i).
+void lumped_segment(const Chain& c, ChainPhases phases, int j, int first, double ah, double gv, int ncol,
+                    Eigen::Ref<const Eigen::VectorXd> q, ChainWorkspace& w) {
+  const double* slab = &w.slabs(j, 0);
+  const double m = c.segment_mass[j], S = c.segment_moment[j];
+  const double U = slab[slab_U], Ud = slab[slab_U_dot];
+  const double I = c.segment_inertia[j] + slab[slab_uu];
+  const double cs = slab[2], sn = slab[3], om = slab[6];
+  const double Px = S * cs - U * sn, Py = -S * sn - U * cs;
+  const double RUx = U * cs + S * sn, RUy = -U * sn + S * cs;  // R (U, S)
+  const double ax = slab[7] + ah, ay = slab[8] + gv;
+  const double Fx = m * ax - om * om * RUx - 2.0 * om * Ud * sn, Fy = m * ay - om * om * RUy - 2.0 * om * Ud * cs;
+  const double T = Px * ax + Py * ay + 2.0 * om * slab[slab_uu_dot];
   const int r = slab_row(j);
   const double* jx = &w.frames(r, 0);
   const double* jy = &w.frames(r + 1, 0);
@@ -285,7 +314,25 @@ void lumped_segment(const Chain& c, ChainPhases phases, int j, double ah, double
     gp[k] = Px * jx[k] + Py * jy[k] + I * jp[k];
   }
   Eigen::MatrixXd& M = w.mass;
-  for_each_wanted(c, phases, ncol, w, [&](int l, int k) { M(l, k) += jx[l] * gx[k] + jy[l] * gy[k] + jp[l] * gp[k]; });
+  const int eo = c.elastic_offset[j];
+  if (eo < 0) {
+    for_each_wanted(c, phases, ncol, w, [&](int l, int k) { M(l, k) += jx[l] * gx[k] + jy[l] * gy[k] + jp[l] * gp[k]; });
+    return;
+  }
+  const int nodes = static_cast<int>(c.local_heights[j].size());
+  const double* mass = c.masses.data() + first + 1;
+  const double* z = c.local_heights[j].data();
+  for (int i = 0; i < nodes && eo + i < ncol; ++i)
+    Q[eo + i] -= mass[i] * (cs * ax - sn * ay - om * om * q[eo + i]);
+  // The frame's Jacobian is 0 on the segment's own u columns.
+  for_each_wanted(c, phases, ncol, w, [&](int l, int k) {
+    double v = jx[l] * gx[k] + jy[l] * gy[k] + jp[l] * gp[k];
+    const int il = l - eo, ik = k - eo;
+    if (il >= 0 && il < nodes) v += mass[il] * (cs * jx[k] - sn * jy[k] + z[il] * jp[k]);
+    if (ik >= 0 && ik < nodes) v += mass[ik] * (cs * jx[l] - sn * jy[l] + z[ik] * jp[l]);
+    if (il >= 0 && il < nodes && il == ik) v += mass[il];
+    M(l, k) += v;
+  });
 }
 
 // M (the entries for_each_wanted names) and Q on the first ncol coordinates (after kinematics).
@@ -298,8 +345,8 @@ void assemble_equations(const Chain& c, ChainPhases phases, GroundAcceleration a
   const double gv = c.data.g + a.v;
   for (int j = 0, first = 0; j < c.joints; ++j) {
     const int count = 1 + static_cast<int>(c.local_heights[j].size());
-    if (lumped(c, w, j)) {
-      lumped_segment(c, phases, j, a.h, gv, ncol, w);
+    if (lumped(w)) {
+      lumped_segment(c, phases, j, first, a.h, gv, ncol, q, w);
       first += count;
       continue;
     }
@@ -381,15 +428,16 @@ void solve_free(ChainWorkspace& w) {
 }
 
 // sum m v over the mass points (after kinematics): a lumped segment's is
-// m O' + psi' P (P as in lumped_segment).
+// m O' + psi' P + R (U', 0) (P as in lumped_segment).
 Eigen::Vector2d momentum(const Chain& c, const ChainWorkspace& w) {
   Eigen::Vector2d p = Eigen::Vector2d::Zero();
   for (int j = 0, first = 0; j < c.joints; ++j) {
     const int count = 1 + static_cast<int>(c.local_heights[j].size());
-    if (lumped(c, w, j)) {
+    if (lumped(w)) {
       const double S = c.segment_moment[j], m = c.segment_mass[j], om = w.slabs(j, 6);
-      p.x() += m * w.slabs(j, 4) + om * S * w.slabs(j, 2);
-      p.y() += m * w.slabs(j, 5) - om * S * w.slabs(j, 3);
+      const double U = w.slabs(j, slab_U), Ud = w.slabs(j, slab_U_dot), cs = w.slabs(j, 2), sn = w.slabs(j, 3);
+      p.x() += m * w.slabs(j, 4) + om * (S * cs - U * sn) + Ud * cs;
+      p.y() += m * w.slabs(j, 5) - om * (S * sn + U * cs) - Ud * sn;
     } else {
       for (int i = first; i < first + count; ++i) {
         p.x() += point_mass(c, i) * w.points(i, 2);
@@ -603,7 +651,7 @@ ChainWorkspace make_workspace(const Chain& c) {
   w.points = Eigen::MatrixXd::Zero(c.points, 6);
   w.anchors = Eigen::MatrixXd::Zero(anchors, 4);
   w.frames = Rows::Zero(6 + 3 * c.joints, c.augmented);
-  w.slabs = Rows::Zero(c.joints, 9);
+  w.slabs = Rows::Zero(c.joints, slab_columns);
   w.lumped = Rows::Zero(3, c.augmented);
   w.column = Eigen::VectorXd::Zero(c.augmented);
   w.coupling = Eigen::VectorXd::Zero(c.augmented);
@@ -616,6 +664,57 @@ ChainWorkspace make_workspace(const Chain& c) {
   w.free.reserve(c.augmented);
   w.fixed.reserve(c.augmented);
   return w;
+}
+
+ChainAtRest chain_at_rest(const Chain& c) {
+  const int J = c.joints, n = c.size, ne = n - J;
+  ChainAtRest out{Eigen::MatrixXd::Zero(ne, ne), Eigen::MatrixXd::Zero(ne, ne), Eigen::MatrixXd::Zero(ne, ne),
+                  Eigen::VectorXd::Zero(ne)};
+  if (ne == 0) return out;
+  ChainWorkspace w = make_workspace(c);
+  w.per_point = true;  // every mass point's own Jacobian and bias
+  const std::vector<Phase> closed(J);
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
+  kinematics(c, closed, zero, zero, n, w);
+  for (int i = 0; i < c.points; ++i) {
+    const double m = point_mass(c, i);
+    for (int k = 0; k < ne; ++k) {
+      out.f[k] -= m * w.jac(2 * i, J + k);
+      for (int l = 0; l < ne; ++l)
+        out.M(k, l) += m * (w.jac(2 * i, J + k) * w.jac(2 * i, J + l) + w.jac(2 * i + 1, J + k) * w.jac(2 * i + 1, J + l));
+    }
+  }
+  // Gravity's Hessian g sum m_i d2y_i/dq2 =: G: at rest with rates v the
+  // points' vertical bias accelerations are v'(d2y_i/dq2)v, so g sum m_i
+  // bias_y,i(v) = v'G v, and G(k, l) follows by polarisation from
+  // v = e_k, e_l and e_k + e_l (exact: a quadratic form).
+  auto weighted_bias = [&](int k, int l) {
+    Eigen::VectorXd v = zero;
+    v[J + k] += 1.0;
+    v[J + l] += 1.0;
+    kinematics(c, closed, zero, v, 0, w);
+    double sum = 0;
+    for (int i = 0; i < c.points; ++i) sum += point_mass(c, i) * w.points(i, 5);
+    return c.data.g * sum;
+  };
+  Eigen::VectorXd diagonal(ne);
+  for (int k = 0; k < ne; ++k) diagonal[k] = 0.25 * weighted_bias(k, k);  // v = 2 e_k
+  for (int k = 0; k < ne; ++k) {
+    out.K(k, k) += diagonal[k];
+    for (int l = k + 1; l < ne; ++l) {
+      const double G = 0.5 * (weighted_bias(k, l) - diagonal[k] - diagonal[l]);
+      out.K(k, l) += G;
+      out.K(l, k) += G;
+    }
+  }
+  for (int j = 0; j < J; ++j) {
+    const int o = c.elastic_offset[j];
+    if (o < 0) continue;
+    const Eigen::Index m = c.K[j].rows();
+    out.K.block(o - J, o - J, m, m) += c.K[j];
+    out.C.block(o - J, o - J, m, m) += c.C[j];
+  }
+  return out;
 }
 
 void chain_acceleration(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
@@ -812,13 +911,21 @@ ChainEnergy chain_energy(const Chain& c, ChainPhases phases, Eigen::Ref<const Ei
   ChainEnergy e;
   for (int j = 0, first = 0; j < c.joints; ++j) {
     const int count = 1 + static_cast<int>(c.local_heights[j].size());
-    if (lumped(c, w, j)) {
-      // v_i = O' + psi' perp(R r_i), |perp(R r_i)|^2 = z_i^2; y_i - y_rest,i =
-      // O_y - h + z_i (cos psi - 1), cos psi - 1 = -sin^2 psi / (1 + cos psi)
+    if (lumped(w)) {
+      // v_i = O' + psi' perp(R r_i) + R r_i', |perp(R r_i)|^2 = |r_i|^2,
+      // perp(R r_i).R r_i' = z_i u_i'; y_i - y_rest,i = O_y - h + z_i (cos psi
+      // - 1) - u_i sin psi, cos psi - 1 = -sin^2 psi / (1 + cos psi)
       const double m = c.segment_mass[j], S = c.segment_moment[j], om = w.slabs(j, 6);
       const double cs = w.slabs(j, 2), sn = w.slabs(j, 3), vx = w.slabs(j, 4), vy = w.slabs(j, 5);
-      e.kinetic += 0.5 * m * (vx * vx + vy * vy) + om * S * (vx * cs - vy * sn) + 0.5 * om * om * c.segment_inertia[j];
-      e.gravity += c.data.g * (m * (w.slabs(j, 1) - c.data.segments[j].base_height) - S * sn * sn / (1.0 + cs));
+      const double U = w.slabs(j, slab_U), Ud = w.slabs(j, slab_U_dot);
+      double udot2 = 0;  // sum m u'^2
+      if (const int eo = c.elastic_offset[j]; eo >= 0)
+        for (Eigen::Index i = 0; i < c.local_heights[j].size(); ++i)
+          udot2 += c.masses[first + 1 + i] * q_dot[eo + i] * q_dot[eo + i];
+      e.kinetic += 0.5 * m * (vx * vx + vy * vy) + om * (vx * (S * cs - U * sn) - vy * (S * sn + U * cs)) +
+                   Ud * (vx * cs - vy * sn) + 0.5 * om * om * (c.segment_inertia[j] + w.slabs(j, slab_uu)) +
+                   om * w.slabs(j, slab_zu_dot) + 0.5 * udot2;
+      e.gravity += c.data.g * (m * (w.slabs(j, 1) - c.data.segments[j].base_height) - S * sn * sn / (1.0 + cs) - U * sn);
     } else {
       for (int i = first; i < first + count; ++i) {
         const double m = point_mass(c, i);

@@ -14,8 +14,8 @@
 // active corners and translations; J_i = dp_i/dq analytically; Lagrange gives
 //   M = sum m_i J_i'J_i,  Q = -sum m_i J_i'(J_i' q' + (a_g, g + a_v)) - K x - C x' - sum_k F_k de_k/dq
 // (ground acceleration as the frame's, MODEL.md 14; C = a0 M + a1 K per
-// segment; a rigid segment's points summed once into its lumped mass and
-// moments, docs/chain.md). Closed joints' reactions N, V, M are the Lagrange multipliers of
+// segment; each segment's points summed once into its frame's lumped mass and
+// moments, with a flexible segment's sums over its nodes' u, docs/chain.md). Closed joints' reactions N, V, M are the Lagrange multipliers of
 // their constraints (relative translation and rotation of the slab on the face);
 // uplift about s when s M_j >= N_j B_j (devices spanning the joint are forces in
 // the multipliers, so their restraint is inside N_j and M_j). Impacts conserve
@@ -115,19 +115,21 @@ Chain make_chain(const ChainData& d);
 using ChainPhases = std::span<const Phase>;
 
 // Everything the equations work in, sized once: the hot path allocates nothing.
-// A rigid segment enters M and Q through its slab frame's Jacobian and the
-// segment's lumped mass and moments (Chain::segment_*), so that the work goes
-// with the segments, not the mass points; with per_point set, every mass
-// point's own Jacobian is summed instead (the general path, which a flexible
-// segment always takes; the same equations to round-off).
+// A segment enters M and Q through its slab frame's Jacobian and the
+// segment's lumped mass and moments (Chain::segment_*), a flexible one with
+// its nodes' sums over u and u' and its own u columns' terms (each node moves
+// only itself along them), so that the work goes with the segments and the
+// coordinates, not with the mass points times the coordinates; with per_point
+// set, every mass point's own Jacobian is summed instead (the general path;
+// the same equations to round-off).
 struct ChainWorkspace {
   bool per_point = false;
   using Rows = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;  // a Jacobian row contiguous
   Rows jac;                  // 2 rows per point (+ anchors) x augmented
-  Eigen::MatrixXd points;    // per point: x, y, vx, vy, bias x, bias y (per_point or flexible)
+  Eigen::MatrixXd points;    // per point: x, y, vx, vy, bias x, bias y (per_point)
   Eigen::MatrixXd anchors;   // per anchor: x, y, vx, vy
   Rows frames;               // per frame its Jacobian (O x, O y, psi): the face, the pivot, then each slab frame
-  Rows slabs;                // per segment's slab frame: O x, y, cos, sin of psi, O', psi', O's bias
+  Rows slabs;                // per segment's slab frame: O x, y, cos, sin of psi, O', psi', O's bias; its nodes' sums
   Eigen::MatrixXd mass;      // augmented mass matrix
   Eigen::VectorXd force;     // augmented generalised force
   Eigen::MatrixXd reduced;   // free block, factorised in place
@@ -225,6 +227,21 @@ ChainEnergy chain_energy(const Chain& c, ChainPhases phases, Eigen::Ref<const Ei
                          Eigen::Ref<const Eigen::VectorXd> q_dot, ChainWorkspace& w);
 ChainPower chain_power(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
                        Eigen::Ref<const Eigen::VectorXd> q_dot, ChainWorkspace& w);
+
+// Every joint closed, linearised about rest (q = q' = 0, a_g = 0): the
+// elastic coordinates x = q[joints, size) obey
+//   M x'' + C x' + K x = f a_g
+// to first order in x, x' and a_g (docs/chain.md "Every joint closed"):
+// M = sum m_i J_i'J_i at rest; K each flexible segment's stiffness plus
+// gravity's, g sum m_i d2y_i/dx2 (the face turning with phi tips the segments
+// above it over: P-delta, which lowers K); C each segment's Rayleigh C; f =
+// -sum m_i dx_i/dx (the ground's acceleration as the frame's). What it drops
+// is of second order: M's and gravity's change with phi, the velocity terms.
+struct ChainAtRest {
+  Eigen::MatrixXd M, K, C;
+  Eigen::VectorXd f;
+};
+ChainAtRest chain_at_rest(const Chain& c);
 
 // Tendon k's elongation e [m] and force [N].
 double tendon_elongation(const Chain& c, ChainPhases phases, int k, Eigen::Ref<const Eigen::VectorXd> q,

@@ -34,14 +34,24 @@
 // The devices' moment M_dev is not computed.
 // contact.rocking = false holds the base joint closed (a fixed base): the
 // joints above still rock.
+// With every joint closed under a piecewise-linear record (no vertical
+// shaking, no tendons), the chain is stepped as its linearisation about rest
+// (rocking.chain's chain_at_rest: MODEL.md 3's form with the P-delta of the
+// segments above a turning face), exactly from sample to sample as the
+// one-joint structure's full contact is (RunOptions::exact_full_contact;
+// --integrate-contact integrates the nonlinear equations instead). Its guards
+// are the nonlinear reactions' wherever a term lies within its margin of its
+// threshold, the first-order reactions' elsewhere (docs/chain.md).
 module;
 #include <rocking/eigen.hpp>
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <complex>
 #include <limits>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <span>
 #include <string>
@@ -49,6 +59,7 @@ module;
 #include <fmt/format.h>
 module rocking.simulation;
 import :peaks;
+import :record_steps;
 import rocking.errors;
 
 namespace rocking {
@@ -92,6 +103,17 @@ class ChainDriver {
     };
     integrator_ = motion_integrator(o, ground, size_, rhs, motion_tolerances(o, ground, work_));
     t_end_ = run_end(o, ground);
+    // Every joint closed under a piecewise-linear record (no vertical
+    // shaking, no tendons: their forces are not linear): the chain
+    // linearised about rest, stepped exactly from sample to sample.
+    if (o.exact_full_contact && n_ > c_.joints && c_.data.tendons.empty() && vertical_ == nullptr &&
+        ground.piecewise_linear())
+      exact_ = closed_steps(o);
+    if (exact_) {
+      linearise_reactions();
+      set_margins();
+    }
+    active_ = integrator_.get();
     // The top node's local height on its segment: delta_t is its horizontal displacement over H_N.
     const ChainSegment& top = c_.data.segments.back();
     top_ = {.segment = c_.joints - 1, .x = 0.0, .z = top.heights[top.heights.size() - 1] - top.base_height,
@@ -100,6 +122,7 @@ class ChainDriver {
 
   RunResult run() {
     result_.integrator = integrator_->name();
+    result_.exact_full_contact = exact_ != nullptr;
     result_.presence = presence(m_);
     result_.energy_tracked = true;
     result_.joints.resize(static_cast<std::size_t>(c_.joints));
@@ -134,6 +157,60 @@ class ChainDriver {
 
  private:
   GroundAcceleration ground_at(double t) const { return rocking::ground_at(ground_, vertical_, t); }
+
+  // A closed joint's theta and theta' are 0: the exact steps' eigen form
+  // leaves round-off (of 1e-16 of the elastic state) in the rates it carries.
+  void closed_at_rest(Eigen::Ref<Eigen::VectorXd> y) const {
+    for (int j = 0; j < c_.joints; ++j)
+      if (!phases_[j].is_rocking()) y[j] = y[n_ + j] = 0.0;
+  }
+
+  // The phase with every joint closed as MODEL.md 3's linear system: the
+  // chain linearised about rest (chain_at_rest: M x'' + C x' + K x = f a_g on
+  // the elastic coordinates x, K with gravity's P-delta of the segments above
+  // a turning face), stepped exactly under the record's piecewise-linear
+  // acceleration (ode::make_exact_linear) on the block y[J, 2n) of the state:
+  // x, the joints' rates theta' (0 while closed: rows -theta', which keep them
+  // at 0) and x'. The ground's and the viscous work are its quadratures,
+  // a_g f'x' and x'C x'. Guards and peaks are sampled 8 times in the shortest
+  // period of its modes that oscillate; the guards are the nonlinear chain's
+  // (chain_reactions) at the states the steps reach. Null when M is singular
+  // (a face turning with no mass above it).
+  std::unique_ptr<ode::Integrator> closed_steps(const RunOptions& o) {
+    const ChainAtRest lin = chain_at_rest(c_);
+    const int J = c_.joints, ne = n_ - J;
+    const Eigen::LLT<Eigen::MatrixXd> llt(lin.M);
+    if (llt.info() != Eigen::Success) return nullptr;
+    const Eigen::Index m = 2 * n_ - J, v = ne + J;  // the block's size, and where x' starts in it
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(m, m);
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(m);
+    A.block(0, v, ne, ne).setIdentity();
+    A.block(v, 0, ne, ne) = -llt.solve(lin.K);
+    A.block(v, v, ne, ne) = -llt.solve(lin.C);
+    b.segment(v, ne) = llt.solve(lin.f);
+    for (int j = 0; j < J; ++j) A(ne + j, ne + j) = -1.0;
+    Eigen::MatrixXd elastic(2 * ne, 2 * ne);  // A on (x, x') alone
+    elastic << A.block(0, 0, ne, ne), A.block(0, v, ne, ne), A.block(v, 0, ne, ne), A.block(v, v, ne, ne);
+    const Eigen::VectorXcd modes = Eigen::EigenSolver<Eigen::MatrixXd>(elastic, false).eigenvalues();
+    double fastest = 0, largest = 0;
+    for (const std::complex<double>& l : modes) {
+      fastest = std::max(fastest, std::abs(l.imag()));
+      largest = std::max(largest, std::abs(l));
+    }
+    Eigen::VectorXd c = Eigen::VectorXd::Zero(m);
+    c.segment(v, ne) = lin.f;
+    Eigen::MatrixXd Q = Eigen::MatrixXd::Zero(m, m);
+    Q.block(v, v, ne, ne) = lin.C;
+    ode::LinearSystem system{size_, J, std::move(A), std::move(b), [this](double t) { return ground_.acceleration(t); }, {}};
+    system.quadratures.push_back({work_, Eigen::MatrixXd(), std::move(c)});
+    system.quadratures.push_back({work_ + 1, std::move(Q), Eigen::VectorXd()});
+    ode::Options exact;
+    exact.sample_spacing = 2 * std::numbers::pi / (fastest > 0 ? fastest : largest) / 8;
+    exact.max_steps = o.tolerances.max_steps;
+    std::unique_ptr<ode::Integrator> steps = ode::make_exact_linear(std::move(system), exact);
+    steps->set_breakpoints(record_samples(ground_));
+    return steps;
+  }
 
   void derivatives(double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> dydt) {
     const GroundAcceleration a = ground_at(t);
@@ -356,15 +433,99 @@ class ChainDriver {
                          guard_values(tg, y, g);
                        },
                        std::move(directions)};
-    integrator_->reset(t, y_, std::move(guards));
+    active_ = exact_ && std::none_of(phases_.begin(), phases_.end(), [](const Phase& p) { return p.is_rocking(); })
+                  ? exact_.get()
+                  : integrator_.get();
+    active_->reset(t, y_, std::move(guards));
     emit(t, y_, true);
+  }
+
+  // The closed phase's reactions and corner accelerations to first order in
+  // the state and a_g (N, V, M, the corners' accelerations and gains of each
+  // joint: 7 rows per joint), from the nonlinear ones by central differences
+  // about rest (exact for the linear part up to round-off: the even terms cancel).
+  void linearise_reactions() {
+    const int J = c_.joints, rows = 7 * J;
+    const std::vector<Phase> closed(static_cast<std::size_t>(J));
+    Eigen::VectorXd y = Eigen::VectorXd::Zero(2 * n_), plus(rows), minus(rows);
+    auto eval = [&](double ag, Eigen::VectorXd& out) {
+      chain_reactions(c_, closed, GroundAcceleration{ag}, y.head(n_), y.tail(n_), reactions_, qdd_, w_, corners_);
+      for (int j = 0; j < J; ++j)
+        out.segment(7 * j, 7) << reactions_[j].N, reactions_[j].V, reactions_[j].M, corners_[j].left, corners_[j].right,
+            corners_[j].left_gain, corners_[j].right_gain;
+    };
+    linear_.r0.resize(rows);
+    eval(0.0, linear_.r0);
+    linear_.R = Eigen::MatrixXd::Zero(rows, 2 * n_);
+    for (int k = 0; k < 2 * n_; ++k) {
+      if (k % n_ < J) continue;  // the joints' theta and theta', 0 while closed
+      constexpr double h = 1e-6;    // [m, rad, m/s, rad/s]
+      y[k] = h;
+      eval(0.0, plus);
+      y[k] = -h;
+      eval(0.0, minus);
+      y[k] = 0.0;
+      linear_.R.col(k) = (plus - minus) / (2 * h);
+    }
+    constexpr double h = 1e-3;  // [m/s^2]
+    eval(h, plus);
+    eval(-h, minus);
+    linear_.ra = (plus - minus) / (2 * h);
+    linear_.values.resize(rows);
+  }
+
+  // The closed phase's reactions to first order into reactions_ and corners_.
+  void linear_reactions(double ag, Eigen::Ref<const Eigen::VectorXd> y) {
+    Eigen::VectorXd& v = linear_.values;
+    v.noalias() = linear_.R * y.head(2 * n_);
+    v += linear_.r0 + linear_.ra * ag;
+    for (int j = 0; j < c_.joints; ++j) {
+      const double* r = v.data() + 7 * j;
+      reactions_[j] = {r[0], r[1], r[2]};
+      corners_[j] = {r[3], r[4], r[5], r[6]};
+    }
+  }
+
+  // Whether guard k's sign could differ between the first-order reactions
+  // (in reactions_ and corners_) and the nonlinear ones: one of the terms it
+  // compares with 0 lies within its margin of 0.
+  bool near_threshold(std::size_t k, Eigen::Ref<const Eigen::VectorXd> y) {
+    const ChainGuardDef& d = guards_[k];
+    const int j = d.joint;
+    const Margins& m = linear_.margins[static_cast<std::size_t>(j)];
+    switch (d.what) {
+      case ChainGuard::uplift: {
+        const double a = lift_moment(j, d.pivot), b = lift_acceleration(j, d.pivot);
+        const double ma = m.moment, mb = m.corner[index(d.pivot)];
+        return a > -ma && b > -mb && (a < ma || b < mb);
+      }
+      case ChainGuard::tension: return std::abs(contact_reaction(j, y).N) < m.normal;
+      case ChainGuard::friction: {
+        const JointReaction c = contact_reaction(j, y);
+        return std::abs(jm_.friction_limit[j] * c.N - std::abs(c.V)) < jm_.friction_limit[j] * m.normal;
+      }
+      default: return true;
+    }
   }
 
   void guard_values(double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> g) {
     const GroundAcceleration a = ground_at(t);
     const auto q = y.head(n_), qd = y.segment(n_, n_);
-    apply_base_devices(y, false);
-    chain_reactions(c_, phases_, a, q, qd, reactions_, qdd_, w_, corners_);
+    bool near = true;
+    if (active_ == exact_.get() && linear_.trusted) {
+      // Every joint closed, stepped as the linearisation: the guards from the
+      // first-order reactions while each is far from its threshold, else
+      // (and then for all) from the nonlinear chain's.
+      linear_reactions(a.h, y);
+      near = false;
+      for (std::size_t k = 0; k < guards_.size() && !near; ++k) near = near_threshold(k, y);
+      if (near) linear_.held = linear_.values;
+    }
+    if (near) {
+      apply_base_devices(y, false);
+      chain_reactions(c_, phases_, a, q, qd, reactions_, qdd_, w_, corners_);
+      if (active_ == exact_.get() && linear_.trusted) check_linear();
+    }
     remember(t, y);
     for (std::size_t k = 0; k < guards_.size(); ++k) {
       const ChainGuardDef& d = guards_[k];
@@ -391,10 +552,45 @@ class ChainDriver {
     }
   }
 
+  // The margins of the closed phase's guards: 5 % of each term's value at
+  // rest (N, N B, the corners' accelerations). The first-order reactions'
+  // error is of second order, a fraction of the order of the rotations of
+  // those values (docs/chain.md), so that beyond its margin a term's sign is
+  // the nonlinear one's; check_linear holds that error below half the margin
+  // wherever the nonlinear reactions are evaluated.
+  void set_margins() {
+    constexpr double share = 0.05;
+    linear_.margins.assign(static_cast<std::size_t>(c_.joints), {});
+    for (int j = 0; j < c_.joints; ++j) {
+      const double* r = linear_.r0.data() + 7 * j;
+      Margins& m = linear_.margins[static_cast<std::size_t>(j)];
+      m.normal = share * std::abs(r[0]);
+      m.moment = share * std::abs(r[0]) * c_.data.segments[j].half_width;
+      m.corner = {share * std::abs(r[3]), share * std::abs(r[4])};  // left, right (rocking.geometry's index)
+    }
+  }
+
+  // After a nonlinear evaluation near a threshold: the first-order reactions
+  // (linear_.held) must be within half their margins of the nonlinear ones,
+  // else the closed phase's guards are the nonlinear ones for the rest of the run.
+  void check_linear() {
+    for (int j = 0; j < c_.joints && linear_.trusted; ++j) {
+      const double* r = linear_.held.data() + 7 * j;
+      const Margins& m = linear_.margins[static_cast<std::size_t>(j)];
+      const double B = c_.data.segments[j].half_width;
+      const bool close = std::abs(reactions_[j].N - r[0]) < 0.5 * m.normal &&
+                         std::abs(reactions_[j].V - r[1]) < 0.5 * m.normal &&
+                         std::abs(reactions_[j].M - r[2]) < 0.5 * m.normal * B &&
+                         std::abs(corners_[j].left - r[3]) < 0.5 * m.corner[0] &&
+                         std::abs(corners_[j].right - r[4]) < 0.5 * m.corner[1];
+      linear_.trusted = close;
+    }
+  }
+
   void loop() {
-    while (integrator_->time() < t_end_) {
-      check_stop(opt_, integrator_->time());
-      const ode::StepReport rep = integrator_->step(t_end_);
+    while (active_->time() < t_end_) {
+      check_stop(opt_, active_->time());
+      const ode::StepReport rep = active_->step(t_end_);
       sample_step();
       if (rep.reason == ode::Stop::event) {
         if (!handle_event(guards_[static_cast<std::size_t>(rep.guard)], rep.t)) return;
@@ -403,8 +599,8 @@ class ChainDriver {
       // Round-off right after an uplift can put a theta on the wrong side
       // without a crossing: treat it as the impact it is.
       for (int j = 0; j < c_.joints; ++j)
-        if (phases_[j].is_rocking() && sign(*phases_[j].pivot()) * integrator_->state()[j] < 0) {
-          if (!handle_event({ChainGuard::impact, j, *phases_[j].pivot()}, integrator_->time())) return;
+        if (phases_[j].is_rocking() && sign(*phases_[j].pivot()) * active_->state()[j] < 0) {
+          if (!handle_event({ChainGuard::impact, j, *phases_[j].pivot()}, active_->time())) return;
           break;
         }
     }
@@ -412,7 +608,8 @@ class ChainDriver {
 
   // Returns false when the run ends (overturning, separation).
   bool handle_event(const ChainGuardDef& d, double t) {
-    y_ = integrator_->state();
+    y_ = active_->state();
+    closed_at_rest(y_);
     const int j = d.joint;
     count_phase_change(events_, opt_, t);
     switch (d.what) {
@@ -515,9 +712,10 @@ class ChainDriver {
     r.phase = phases_[0];
     r[Quantity::t] = t;
     r[Quantity::phase] = phases_[0].sign();
-    r[Quantity::theta] = q[0];
-    r[Quantity::theta_over_alpha] = q[0] * scales_.inverse_alpha_cg;
-    r[Quantity::theta_dot] = qd[0];
+    const bool base = phases_[0].is_rocking();  // a closed joint's theta and theta' are 0
+    r[Quantity::theta] = base ? q[0] : 0.0;
+    r[Quantity::theta_over_alpha] = r[Quantity::theta] * scales_.inverse_alpha_cg;
+    r[Quantity::theta_dot] = base ? qd[0] : 0.0;
     const Eigen::Vector2d top = anchor_position(c_, phases_, top_, q, w_);
     r[Quantity::delta_t] = top.x() * scales_.inverse_H_N;
     for (std::size_t k = 0; k < elongation_.size(); ++k)
@@ -529,8 +727,8 @@ class ChainDriver {
     for (int j = 0; j < c_.joints; ++j) {
       JointSample& s = samples_[j];
       s.phase = phases_[j];
-      s.theta = q[j];
-      s.theta_dot = qd[j];
+      s.theta = phases_[j].is_rocking() ? q[j] : 0.0;
+      s.theta_dot = phases_[j].is_rocking() ? qd[j] : 0.0;
       if (reactions) {
         const JointReaction c = contact_reaction(j, y);
         s.N = c.N;
@@ -598,14 +796,14 @@ class ChainDriver {
   }
 
   void sample_step() {
-    const int count = integrator_->sample_count();
-    const double t0 = integrator_->previous_time(), t1 = integrator_->time();
+    const int count = active_->sample_count();
+    const double t0 = active_->previous_time(), t1 = active_->time();
     for (int k = 1; k <= count; ++k) {
-      const Eigen::VectorXd& y = integrator_->sample(k, count);
+      const Eigen::VectorXd& y = active_->sample(k, count);
       track(response(ode::Integrator::sample_time(t0, t1, k, count), y, true), y);
     }
     if (observer_ == nullptr) return;
-    history_.rows(*integrator_, dense_, [this](double t, const Eigen::VectorXd& y) { history_row(t, y); });
+    history_.rows(*active_, dense_, [this](double t, const Eigen::VectorXd& y) { history_row(t, y); });
   }
 
   // A history row, with the energy balance's terms so far: the mechanical
@@ -638,14 +836,15 @@ class ChainDriver {
   }
 
   void finish() {
-    y_ = integrator_->state();
-    result_.t_end = integrator_->time();
+    y_ = active_->state();
+    closed_at_rest(y_);
+    result_.t_end = active_->time();
     result_.final_phase = phases_[0];
     result_.final_theta = y_[0];
     result_.final_state = y_;
     result_.peaks = peaks_.peaks();
     result_.top_total_mm = result_.peak(Quantity::delta_t) * scales_.H_N * 1000.0;
-    result_.stats = integrator_->stats();
+    result_.stats = run_stats(*integrator_, exact_.get());
     result_.energy.final = mechanical();
     result_.energy.ground = y_[work_];
     result_.energy.viscous = y_[work_ + 1];
@@ -685,7 +884,20 @@ class ChainDriver {
   ChainAnchor top_;
   std::vector<ChainGuardDef> guards_;
   GroundTravel travel_{ground_};
-  std::unique_ptr<ode::Integrator> integrator_;
+  // The closed phase's first-order reactions (linearise_reactions) and the
+  // margins of its guards (set_margins).
+  struct Margins {
+    double normal = 0, moment = 0;
+    std::array<double, 2> corner{};
+  };
+  struct LinearReactions {
+    Eigen::MatrixXd R;
+    Eigen::VectorXd r0, ra, values, held;
+    std::vector<Margins> margins;
+    bool trusted = true;
+  } linear_;
+  std::unique_ptr<ode::Integrator> integrator_, exact_;  // the backend; every joint closed under a record
+  ode::Integrator* active_ = nullptr;                    // the one stepping the current phases
   double t_end_ = 0, tendons_initial_ = 0;
   std::vector<double> tendon_start_;  // each tendon's stored energy at the start [J]
   double last_row_ = -std::numeric_limits<double>::infinity();  // the last history row's time
