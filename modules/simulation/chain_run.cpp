@@ -473,24 +473,74 @@ class ChainDriver {
     while (integrator_->time() < t_end_) {
       check_stop(opt_, integrator_->time());
       const ode::StepReport rep = integrator_->step(t_end_);
+      if (rep.reason != ode::Stop::event) {
+        // A rocking joint can end a step on the wrong side without a located
+        // crossing: a return inside one step that the guards' samples did not
+        // see (a joint an impact or uplift left open with s theta_j' ~ 0 and
+        // its acceleration pointing back), or round-off right after an
+        // uplift. Its impact is where s theta_j falls through 0 on the step's
+        // dense output; the step ends there, so that no state past it (the
+        // joint through its face, with less potential energy than any
+        // motion gives) enters the outputs or the energy.
+        double at = std::numeric_limits<double>::infinity();
+        int which = -1;
+        for (int j = 0; j < c_.joints; ++j)
+          if (phases_[j].is_rocking() && sign(*phases_[j].pivot()) * integrator_->state()[j] < 0) {
+            const double tj = wrong_side_crossing(j);
+            if (tj < at) {
+              at = tj;
+              which = j;
+            }
+          }
+        if (which >= 0) {
+          sample_step(at);
+          Eigen::VectorXd y(size_);
+          integrator_->dense(at, y);
+          if (!handle_event({ChainGuard::impact, which, *phases_[which].pivot()}, at, &y)) return;
+          continue;
+        }
+      }
       sample_step();
       if (rep.reason == ode::Stop::event) {
         if (!handle_event(guards_[static_cast<std::size_t>(rep.guard)], rep.t)) return;
         continue;
       }
-      // Round-off right after an uplift can put a theta on the wrong side
-      // without a crossing: treat it as the impact it is.
-      for (int j = 0; j < c_.joints; ++j)
-        if (phases_[j].is_rocking() && sign(*phases_[j].pivot()) * integrator_->state()[j] < 0) {
-          if (!handle_event({ChainGuard::impact, j, *phases_[j].pivot()}, integrator_->time())) return;
-          break;
-        }
     }
   }
 
+  // The last time in the last step at which rocking joint j is still on its
+  // side, s theta_j >= 0, before it falls through 0 (it ends the step below
+  // 0): the first of 16 even samples below 0, then bisection to round-off
+  // from the sample before it (the step's start, where s theta_j >= 0, when
+  // that is the first).
+  double wrong_side_crossing(int j) {
+    const double t0 = integrator_->previous_time(), t1 = integrator_->time();
+    const double s = sign(*phases_[j].pivot());
+    const auto side = [&](double t) {
+      integrator_->dense(t, scratch_);
+      return s * scratch_[j];
+    };
+    double lo = t0, hi = t1;
+    constexpr int samples = 16;
+    for (int k = 1; k < samples; ++k) {
+      const double tk = t0 + (t1 - t0) * k / samples;
+      if (side(tk) < 0) {
+        hi = tk;
+        break;
+      }
+      lo = tk;
+    }
+    for (int i = 0; i < 200 && hi - lo > 4 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(hi)); ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (side(mid) < 0 ? hi : lo) = mid;
+    }
+    return lo;
+  }
+
   // Returns false when the run ends (overturning, separation).
-  bool handle_event(const ChainGuardDef& d, double t) {
-    y_ = integrator_->state();
+  // With `y`, the state at t (an event found after the step, not at its end).
+  bool handle_event(const ChainGuardDef& d, double t, const Eigen::VectorXd* y = nullptr) {
+    y_ = y != nullptr ? *y : integrator_->state();
     const int j = d.joint;
     count_phase_change(events_, opt_, t);
     switch (d.what) {
@@ -675,15 +725,26 @@ class ChainDriver {
     return t.prestress * x + 0.5 * t.stiffness * x * x;
   }
 
-  void sample_step() {
+  // The peaks and history rows of the last step, or of its part up to `until`
+  // (an event found after the step, which ends it there).
+  void sample_step(double until = std::numeric_limits<double>::infinity()) {
     const int count = integrator_->sample_count();
-    const double t0 = integrator_->previous_time(), t1 = integrator_->time();
-    for (int k = 1; k <= count; ++k) {
-      const Eigen::VectorXd& y = integrator_->sample(k, count);
-      track(response(ode::Integrator::sample_time(t0, t1, k, count), y, true), y);
+    const double t0 = integrator_->previous_time();
+    if (until < integrator_->time()) {
+      for (int k = 1; k <= count; ++k) {
+        const double t = ode::Integrator::sample_time(t0, until, k, count);
+        integrator_->dense(t, scratch_);
+        track(response(t, scratch_, true), scratch_);
+      }
+    } else {
+      const double t1 = integrator_->time();
+      for (int k = 1; k <= count; ++k) {
+        const Eigen::VectorXd& y = integrator_->sample(k, count);
+        track(response(ode::Integrator::sample_time(t0, t1, k, count), y, true), y);
+      }
     }
     if (observer_ == nullptr) return;
-    history_.rows(*integrator_, dense_, [this](double t, const Eigen::VectorXd& y) { history_row(t, y); });
+    history_.rows(*integrator_, dense_, [this](double t, const Eigen::VectorXd& y) { history_row(t, y); }, until);
   }
 
   // A history row, with the energy balance's terms so far: the mechanical
@@ -758,6 +819,7 @@ class ChainDriver {
   std::vector<std::pair<std::size_t, std::size_t>> where_;  // per device across a joint: its group, its local number
   Eigen::Index z_, work_, size_;   // the state's z block, its works, its size
   Eigen::VectorXd y_, dense_, qdd_;
+  Eigen::VectorXd scratch_ = Eigen::VectorXd::Zero(size_);  // a state on the last step's dense output
   std::vector<double> elongation_;  // per tendon, at the last response
   std::vector<DeviceSample> device_samples_;  // per device, for the history's device columns
   ChainAnchor top_;
