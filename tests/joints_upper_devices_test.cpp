@@ -14,7 +14,8 @@
 //   Bouc-Wen pair across its joint, gives the one-body run of that block
 //   with the same pair (Eq. 10, the momentum law for a block of lumped
 //   masses on its centre line): the same events, first uplift and impact,
-//   peak theta and the devices' peaks to 1e-6, their works to 1e-6 of the total;
+//   peak theta and the devices' peaks to 1e-6, their works to 1e-6 of the
+//   total; with a capacity, the same fracture times to 1e-6;
 // - the energy balance of the segmental pier on a held footing with a
 //   yielding pair across joint 1 under a 1.2 g pulse closes with the devices'
 //   work in it (1e-7 of the input, the joints tests' tolerance), each
@@ -198,6 +199,29 @@ TEST_CASE("a yielding pair across the joint of a top whose base cannot lift runs
                          << " J; chain: peak " << chain.result.joints[1].peak_theta << " rad, W_devices " << eb.damper
                          << " J");
   }
+}
+
+TEST_CASE("a pair across joint 1 that breaks at its capacity breaks when the one-body top block's does") {
+  const Ran one = run(scene_from("top_breaks", top_block(0.1, 1.0, "eq10", yielding_pair("capacity = 0.01"))));
+  const Ran chain = run(scene_from("stack_breaks", two_blocks(1.0, 5000, 0.1, 1.0, yielding_pair("capacity = 0.01\njoint = 1")),
+                                   {"contact.rocking=false"}));
+  REQUIRE(one.result.devices.size() == 2);
+  REQUIRE(chain.result.devices.size() == 2);
+  int broke = 0;
+  for (std::size_t k = 0; k < 2; ++k) {
+    CAPTURE(one.result.devices[k].name);
+    const double t = one.result.devices[k].fracture_time;
+    if (!std::isfinite(t)) continue;
+    ++broke;
+    CHECK(chain.result.devices[k].fracture_time == close_to(t, 1e-6));
+  }
+  REQUIRE(broke >= 1);  // the capacity is reached
+  // The chain's fracture event names the joint it stands across.
+  bool named = false;
+  for (const Event& e : chain.watch.events)
+    if (e.kind == EventKind::fracture) named = e.joint == 1;
+  CHECK(named);
+  CHECK(chain.result.joints[1].peak_theta == close_to(one.result.peak(Quantity::theta), 1e-6));
 }
 
 TEST_CASE("the segmental pier on a held footing with a yielding pair across joint 1 under a 1.2 g pulse: the energy balance closes with the devices' work") {
