@@ -434,8 +434,9 @@ export function segmentTop(base, heights) {
 // j-1's at the joint's height; a point (x, z) of segment j (z its height at
 // rest) is then placed through every segment below. Returns per segment its
 // place function, base corners, top corners and angle (the sum of the
-// rotations up to it), and each device (a tendon) from its anchor on the
-// ground (x, 0) to its end on its segment.
+// rotations up to it), and each device (a tendon, or a device across a
+// joint above the base) from its anchor on the ground (x, 0), or on its
+// from_segment at height bottom, to its end on its segment at height top.
 export function chainPoints(structure, thetas) {
   const segments = structure.segments;
   const places = [];

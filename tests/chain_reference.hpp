@@ -28,6 +28,9 @@
 //    on the ground and at (x_t, H_top) on the top segment (rest coordinates);
 //    elongation e = |anchor distance| - L0, L0 = H_top (the rest distance);
 //    force F = max(0, P0 + k e) (tension only); stored energy U(e) = int_0^e F.
+//  * Optional devices across one joint (JointDevice, MODEL.md 11's chord form in
+//    the joint's frame, Kelvin-Voigt law F = k e + c e'): a generalised force on
+//    that joint's theta alone, while it is open.
 //
 // Derivation used (my own route, analytic Jacobians of the chain):
 //  * Joint k's active corner c_k is a material point common to segments k-1 and
@@ -88,10 +91,24 @@ struct Tendon {
     double k = 0.0;    // stiffness, N/m
 };
 
+// A device across one joint (MODEL.md 11 in that joint's frame, 15): anchored
+// at x on the face below and at x on the slab of the segment above, both at
+// the joint's height at rest, in section 11's chord form: while joint j rocks
+// about s, e = 2 l sin(|theta_j| / 2), l = B_j - s x, and e' = (de/dtheta_j)
+// theta_j'. Its law is the Kelvin-Voigt one, F = k e + c e'; it adds
+// -F de/dtheta_j to Q on theta_j and nothing while the joint is closed.
+struct JointDevice {
+    int joint = 1;
+    double x = 0.0;  // m from the centre line
+    double k = 0.0;  // N/m
+    double c = 0.0;  // N s/m
+};
+
 struct Chain {
     std::vector<Segment> seg;  // j = 0..J
     double H_top = 0.0;        // rest height of the top segment's top (tendon anchor), m
     Tendon tendon;
+    std::vector<JointDevice> devices;
     double g = kG;
 };
 
@@ -292,6 +309,17 @@ inline Dyn mass_and_forces(const Chain& C, const Phases& ph, const std::vector<d
     if (C.tendon.present) {
         TendonState S = tendon_state(C, K, qd);
         for (int a = 0; a < n; ++a) D.Q[a] -= S.F * (S.dir[0] * S.top.Jx[a] + S.dir[1] * S.top.Jy[a]);
+    }
+    for (const JointDevice& dv : C.devices) {
+        int a = -1;  // theta_j's place among the open joints' coordinates
+        for (int i = 0; i < n; ++i)
+            if (K.joint_of[i] == dv.joint) a = i;
+        if (a < 0) continue;  // closed: no elongation
+        const int s = ph[dv.joint];
+        const double l = C.seg[dv.joint].B - s * dv.x, th = q[a];
+        const double e = 2.0 * l * std::sin(s * th / 2.0);
+        const double de = s * l * std::cos(th / 2.0);
+        D.Q[a] -= (dv.k * e + dv.c * de * qd[a]) * de;
     }
     return D;
 }

@@ -249,7 +249,7 @@ TEST_CASE("a wrong [[device]] is a one-line error naming the device, the key and
   const std::string typo = chimney_with("[excitation]", std::string(tendon_and_fluid) + "spring_rate = 1\n\n[excitation]");
   const std::string e = error_of(typo);
   CHECK(e.find("device[1].spring_rate: unknown key for a viscous device (known: a, at, c, capacity, free_length, "
-               "from_segment, kind, kinematics, name, segment)") != std::string::npos);
+               "from_segment, joint, kind, kinematics, name, segment)") != std::string::npos);
   CHECK(e.find(std::to_string(line_of(typo, "spring_rate = 1"))) != std::string::npos);
   CHECK(tendon_line > 0);
   CHECK(error({"device+=3"}).find("expected one device as an inline table") != std::string::npos);

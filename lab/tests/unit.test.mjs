@@ -274,6 +274,15 @@ test('a structure with joints is drawn segment by segment, each turning about it
   assert.deepEqual(q.devices[0].from, q.segments[0].place(0.1, 0));
   assert.ok(Math.abs(q.devices[0].from[1] - (0.4 - 0.1) * Math.sin(0.02)) < 1e-12, 'lifted as the plinth turns about its right corner');
   assert.equal(segmentTop(6, [7, 8]), 8, 'a segment whose last node is its top face');
+  // A damper across joint 1 at the upper block's right edge (x = B_1): from the plinth's top face to the
+  // block's base, of no length at rest; with the block rocking on its left corner, its length is
+  // MODEL.md 11's chord 2 l sin(|theta_1| / 2), l = B_1 - s x = 2 B_1, whatever the plinth does.
+  const across = { ...structure, devices: [{ name: 'damper', x: 0.15, joint: 1, segment: 1, top: 1.0, from_segment: 0, bottom: 1.0 }] };
+  const still = chainPoints(across, [0, 0]);
+  assert.deepEqual(still.devices[0].from, still.devices[0].to);
+  const d = chainPoints(across, th).devices[0];
+  const chord = Math.hypot(d.to[0] - d.from[0], d.to[1] - d.from[1]);
+  assert.ok(Math.abs(chord - 2 * 0.3 * Math.sin(0.07 / 2)) < 1e-12, `chord ${chord}`);
 });
 
 test('a structure on rocking columns: each column turns about its pivot corner, the beam moves with the tops opposite them', () => {

@@ -804,6 +804,29 @@ double corner_acceleration(const Chain& c, ChainPhases phases, int joint, Pivot 
   return sign(s) * acc[joint];
 }
 
+namespace {
+
+// The velocities of the mass points before an impact (with the kinematics
+// before) and the scale of the impulses, sum m |v-|: what every candidate
+// outcome of one impact shares.
+struct BeforeImpact {
+  Eigen::MatrixXd v;
+  double momentum = 0;
+};
+BeforeImpact before_impact(const Chain& c, ChainPhases before, Eigen::Ref<const Eigen::VectorXd> q,
+                           Eigen::Ref<const Eigen::VectorXd> q_dot, ChainWorkspace& w) {
+  kinematics(c, before, q, q_dot, c.size, w);
+  BeforeImpact out{w.points.middleCols(2, 2), 0.0};
+  for (int i = 0; i < c.points; ++i) out.momentum += point_mass(c, i) * out.v.row(i).norm();
+  return out;
+}
+
+ImpactCandidate impact_with(const Chain& c, ChainPhases before, int joint, ChainPhases after,
+                            Eigen::Ref<const Eigen::VectorXd> q, Eigen::Ref<const Eigen::VectorXd> q_dot,
+                            const BeforeImpact& b, ChainWorkspace& w);
+
+}  // namespace
+
 ImpactCandidate impact_into(const Chain& c, ChainPhases before, int joint, ChainPhases after,
                             Eigen::Ref<const Eigen::VectorXd> q, Eigen::Ref<const Eigen::VectorXd> q_dot) {
   if (static_cast<int>(before.size()) != c.joints || static_cast<int>(after.size()) != c.joints || q.size() != c.size ||
@@ -811,11 +834,16 @@ ImpactCandidate impact_into(const Chain& c, ChainPhases before, int joint, Chain
     throw std::invalid_argument("chain impact: one phase per joint, and the impacting joint rocking");
   ChainWorkspace w = make_workspace(c);
   w.per_point = true;  // the momenta below are summed point by point
-  // velocities before, with the kinematics before
-  kinematics(c, before, q, q_dot, c.size, w);
-  const Eigen::MatrixXd v_before = w.points.middleCols(2, 2);
-  double momentum = 0;  // scale of the impulses
-  for (int i = 0; i < c.points; ++i) momentum += point_mass(c, i) * v_before.row(i).norm();
+  return impact_with(c, before, joint, after, q, q_dot, before_impact(c, before, q, q_dot, w), w);
+}
+
+namespace {
+
+ImpactCandidate impact_with(const Chain& c, ChainPhases before, int joint, ChainPhases after,
+                            Eigen::Ref<const Eigen::VectorXd> q, Eigen::Ref<const Eigen::VectorXd> q_dot,
+                            const BeforeImpact& b, ChainWorkspace& w) {
+  const Eigen::MatrixXd& v_before = b.v;
+  const double momentum = b.momentum;
   // p_k = sum m v- . dp/dq_k with the kinematics after (augmented)
   partition(c, after, true, w);
   kinematics(c, after, q, q_dot, c.augmented, w);
@@ -855,6 +883,8 @@ ImpactCandidate impact_into(const Chain& c, ChainPhases before, int joint, Chain
   return out;
 }
 
+}  // namespace
+
 ImpactOutcome chain_impact(const Chain& c, ChainPhases before, int joint, Eigen::Ref<const Eigen::VectorXd> q,
                            Eigen::Ref<const Eigen::VectorXd> q_dot, double restitution) {
   ImpactOutcome out;
@@ -869,28 +899,30 @@ ImpactOutcome chain_impact(const Chain& c, ChainPhases before, int joint, Eigen:
     out.q_dot[joint] = restitution * q_dot[joint];
     return out;
   }
-  // Joint j continues about -s or closes; the others keep their phases unless
-  // that needs a tensile impulse, which opens that joint about the corner the
-  // resultant lies beyond (impact-induced uplift).
+  // Joint j continues about -s or closes; every other closed joint stays
+  // closed or opens about either corner (impact-induced uplift); the joints
+  // already rocking keep their pivots (theta != 0 there). Every combination
+  // is examined, and the admissible ones (impact_into's `consistent`) counted.
+  std::vector<int> others;  // the closed joints that may open
+  for (int k = 0; k < c.joints; ++k)
+    if (k != joint && closed(before[k]) && !(k == 0 && c.data.base_held)) others.push_back(k);
+  std::size_t combinations = 2;
+  for (std::size_t i = 0; i < others.size(); ++i) combinations *= 3;
   std::vector<std::size_t> good;
-  for (const Phase pj : {Phase::rocking(opposite(s)), Phase::full_contact()}) {
-    std::vector<Phase> after(before.begin(), before.end());
-    after[joint] = pj;
-    for (int pass = 0; pass <= c.joints; ++pass) {
-      out.candidates.push_back(impact_into(c, before, joint, after, q, q_dot));
-      const ImpactCandidate& cand = out.candidates.back();
-      bool changed = false;
-      for (int k = 0; k < c.joints; ++k) {
-        if (k == joint || !closed(after[k]) || (k == 0 && c.data.base_held)) continue;
-        const JointReaction& r = cand.impulse[k];
-        const double B = c.data.segments[k].half_width;
-        if (std::abs(r.M) > B * r.N * (1 + 1e-12) || r.N < 0) {
-          after[k] = Phase::rocking(r.M >= 0 ? Pivot::right : Pivot::left);
-          changed = true;
-        }
-      }
-      if (!changed) break;
+  std::vector<Phase> after(before.begin(), before.end());
+  ChainWorkspace w = make_workspace(c);
+  w.per_point = true;  // the momenta are summed point by point
+  const BeforeImpact b = before_impact(c, before, q, q_dot, w);
+  for (std::size_t code = 0; code < combinations; ++code) {
+    std::size_t digits = code;
+    after[joint] = digits % 2 == 0 ? Phase::rocking(opposite(s)) : Phase::full_contact();
+    digits /= 2;
+    for (int k : others) {
+      const std::size_t d = digits % 3;
+      digits /= 3;
+      after[k] = d == 0 ? Phase::full_contact() : Phase::rocking(d == 1 ? Pivot::right : Pivot::left);
     }
+    out.candidates.push_back(impact_with(c, before, joint, after, q, q_dot, b, w));
     if (out.candidates.back().consistent) good.push_back(out.candidates.size() - 1);
   }
   if (good.size() == 1) {

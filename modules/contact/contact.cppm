@@ -75,6 +75,7 @@ struct Layout {
 };
 
 struct Discrete;
+struct ContactModel;
 
 // A device's elongation [m] and force [N] (active_damper below).
 struct DamperState {
@@ -96,8 +97,28 @@ struct JointedModel {
   // The model's devices [0, base_devices) stand across the base joint, as on
   // a one-joint structure (MODEL.md 11: chord or vertical, any law; their
   // acting lists and state slots are a rigid block's, from 2 after theta_0 and
-  // theta_0'); the devices from base_devices on are the chain's tendons, in order.
+  // theta_0'); then come the devices across the joints above (`upper`, in
+  // that order), then the chain's tendons, in order.
   std::size_t base_devices = 0;
+  // The devices across one joint j >= 1, as those across the base: section
+  // 11's forms in joint j's frame (from the face of segment j-1 to the slab of
+  // segment j), their elongation a function of theta_j alone. `block` holds
+  // them as a rigid block on a base of half-width B_j holds them (its acting
+  // lists, breakable lists and state slots from 2 after theta_j and theta_j',
+  // numbered 0.. in `devices`' order); `devices` are their places in
+  // ContactModel::devices.
+  struct UpperDevices {
+    int joint = 0;
+    std::vector<std::size_t> devices;
+    std::shared_ptr<const ContactModel> block;
+  };
+  std::vector<UpperDevices> upper;
+  // The devices across some joint (base and upper): the tendons start here.
+  std::size_t joint_devices() const {
+    std::size_t n = base_devices;
+    for (const UpperDevices& u : upper) n += u.devices.size();
+    return n;
+  }
   double theta_dot_min = 0.0015;       // Eq. 8's threshold, per joint [rad/s]
   // contact.rocking = false holds the base joint closed: chain.data.base_held.
   bool base_rocks() const { return !chain.data.base_held; }

@@ -231,9 +231,10 @@ json structure_json(const Scene& scene, const ContactModel& model) {
   const Structure& s = model.body.structure;
   // A structure with joints (MODEL.md 15): each segment's base (the joint it
   // stands on: its height and half-width) and nodes, from the ground up; a
-  // device is a tendon whose upper end is on a segment, at a height above
-  // the ground at rest, and whose lower end is on the ground or on a segment
-  // (its from_segment, at its base's height at rest).
+  // tendon's upper end is on a segment, at a height above the ground at
+  // rest, and its lower end on the ground or on a segment (its from_segment,
+  // at its base's height at rest); a device across joint j >= 1 joins
+  // segment j-1 to segment j the same way (its joint, segment, from_segment).
   json segments = json::array();
   if (model.jointed) {
     const ChainData& chain = model.jointed->chain.data;
@@ -241,6 +242,22 @@ json structure_json(const Scene& scene, const ContactModel& model) {
       segments.push_back({{"base_height", g.base_height},
                           {"half_width", g.half_width},
                           {"heights", std::vector<double>(g.heights.data(), g.heights.data() + g.heights.size())}});
+    // A device across joint j >= 1: from the face below (segment j-1 at the
+    // joint's height) to segment j's base, or to the height of its free
+    // length above it (vertical), as a base device is drawn on a block.
+    for (const JointedModel::UpperDevices& u : model.jointed->upper)
+      for (std::size_t k : u.devices) {
+        const Device& dev = model.devices[k];
+        for (json& d : devices) {
+          if (d["name"].get<std::string>() != dev.name) continue;
+          const double h = chain.segments[static_cast<std::size_t>(u.joint)].base_height;
+          d["joint"] = u.joint;
+          d["segment"] = u.joint;
+          d["top"] = h + (dev.geometry.kinematics == Kinematics::vertical ? dev.geometry.free_length : 0.0);
+          d["from_segment"] = u.joint - 1;
+          d["bottom"] = h;
+        }
+      }
     for (json& d : devices) {
       const auto& names = model.jointed->tendons;
       const auto at = std::find(names.begin(), names.end(), d["name"].get<std::string>());

@@ -439,7 +439,9 @@ json columns_modal(const Scene& scene) {
 // (Eq. 10); and the static uplift threshold of a rigid stack, the a_g / g
 // at which the joint's reaction reaches its corner: (B_j + D_0,j / (m g)) /
 // H_j, where D_0,j is the least over the two pivots of sum P0 (B_j - s x)
-// over the tendons across the joint at rest (vertical there, MODEL.md 11). Under a slow push the smallest lifts first. The
+// over the tendons across the joint at rest (vertical there, MODEL.md 11)
+// plus sum F(e = 0) l_s over the devices across it (at the base or above).
+// Under a slow push the smallest lifts first. The
 // structure's fixed-base modes (every joint closed) when it is flexible.
 json joints_modal(const Scene& scene) {
   const ContactModel model = make_contact_model(scene, false);
@@ -462,9 +464,9 @@ json joints_modal(const Scene& scene) {
       for (Eigen::Index i = 0; i < sg.masses.size(); ++i) add(sg.masses[i], sg.heights[i]);
     }
     const double H = mz / m, R = std::hypot(B, H);
-    // The tendons across the joint hold sum P0 (B - s x) about pivot s, and at
-    // the base its devices sum F(e = 0) l: the push lifts the joint about the
-    // pivot where that is least.
+    // The tendons across the joint hold sum P0 (B - s x) about pivot s, and
+    // the devices across it sum F(e = 0) l: the push lifts the joint about
+    // the pivot where that is least.
     double held = std::numeric_limits<double>::infinity();
     for (Pivot p : pivots) {
       double about = 0;
@@ -473,6 +475,9 @@ json joints_modal(const Scene& scene) {
           about += std::max(0.0, t.prestress) * (B - sign(p) * t.to.x);
       if (j == 0)
         for (const ContactModel::Acting& a : model.acting[index(p)]) about += law_force_at_rest(a.law, 0.0) * a.lever;
+      for (const JointedModel::UpperDevices& u : model.jointed->upper)
+        if (u.joint == static_cast<int>(j))
+          for (const ContactModel::Acting& a : u.block->acting[index(p)]) about += law_force_at_rest(a.law, 0.0) * a.lever;
       held = std::min(held, about);
     }
     const double uplift_g = (B + held / (m * d.g)) / H;

@@ -493,7 +493,9 @@ Damper read_damper(const toml::table& root, const std::string& file, const Origi
 // NAME_left and NAME_right), kinematics (chord, or vertical with free_length
 // [m]), capacity [m] (optional), name (optional), and the law's own keys;
 // with [[joint]] tables, a tendon's segment and from_segment (its anchors'
-// segments; the ground and the top by default).
+// segments; the ground and the top by default), or another device's joint
+// (the joint it stands across, 0 .. J; 0, the base, by default), whose half-width
+// bounds its at.
 // On [columns] (`columns` given) a device stands at each column's base (at
 // from the column's axis), or with kinematics = "beam" joins the ground to the
 // cap beam, once (MODEL.md 16): at is then its ground anchor's x and
@@ -503,7 +505,9 @@ Damper read_damper(const toml::table& root, const std::string& file, const Origi
 // anchors' rest distance.
 std::vector<Device> read_devices(const toml::table& root, const std::string& file, const Origins& origins,
                                  const Structure& st, const ColumnGroup* columns, const Damper& damper,
-                                 std::size_t joints, std::vector<int>& segments, std::vector<int>& from_segments) {
+                                 const std::vector<JointTable>& joint_tables, std::vector<int>& segments,
+                                 std::vector<int>& from_segments, std::vector<int>& device_joints) {
+  const std::size_t joints = joint_tables.size();
   const bool on_columns = columns != nullptr;
   std::vector<Device> out;
   const toml::array* list = root.get_as<toml::array>("device");
@@ -512,7 +516,7 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
   std::set<std::string, std::less<>> names;
   if (damper.enabled)
     for (const Device& d : edge_dampers(damper, st.half_width)) names.insert(d.name);
-  const double B = st.half_width;
+  const Structure& base = st;
   for (std::size_t i = 0; i < list->size(); ++i) {
     const std::string table_name = fmt::format("device[{}]", i);
     const toml::table* table = list->get_as<toml::table>(i);
@@ -525,7 +529,7 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
       t.fail(&t.required("kind"), "kind",
              fmt::format("unknown law '{}' (laws: {})", kind, fmt::join(laws | std::views::transform(&LawInfo::name), ", ")));
     std::set<std::string, std::less<>> known = {"name", "kind", "at", "kinematics", "free_length", "capacity",
-                                                "segment", "from_segment"};
+                                                "segment", "from_segment", "joint"};
     if (on_columns) known.insert({"beam_at", "ground_height"});
     for (const LawParameter& p : law->parameters) known.insert(p.key);
     for (auto&& [key, value] : *table)
@@ -588,6 +592,21 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
         return v >= 0 && v < upper && v == std::floor(v);
       }, fmt::format("a segment below the upper anchor's, an integer 0 to {}", static_cast<int>(upper) - 1)));
     }
+    // The joint it stands across (0: the base), with [[joint]] tables: a
+    // device that is not a tendon, anchored on the face below and the segment above.
+    int joint = -1;
+    if (t.has("joint")) {
+      if (joints == 0)
+        t.fail(&t.required("joint"), "joint", "only a structure with [[joint]] tables has joints above its base");
+      joint = static_cast<int>(t.number("joint", [joints](double v) {
+        return v >= 0 && v <= static_cast<double>(joints) && v == std::floor(v);
+      }, fmt::format("a joint of the structure, an integer 0 (the base) to {} (one per [[joint]])", joints)));
+      if (t.has("segment") || t.has("from_segment"))
+        t.fail(&t.required("joint"), "joint",
+               "a device across one joint has no segment or from_segment (those place a tendon's anchors)");
+      if (geometry.kinematics == Kinematics::beam)
+        t.fail(&t.required("joint"), "joint", "a beam device joins the ground to the cap beam, across no joint");
+    }
     std::map<std::string, double, std::less<>> given;
     for (const LawParameter& p : law->parameters)
       if (t.has(p.key)) given[p.key] = t.number(p.key, [&p](double v) { return within(p, v); }, bounds_text(p));
@@ -602,6 +621,7 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
     }
     std::vector<Device> made;
     const toml::node& at = t.required("at");
+    const double B = joint > 0 ? joint_tables[static_cast<std::size_t>(joint - 1)].half_width : base.half_width;
     if (geometry.kinematics == Kinematics::beam) {
       geometry.x = t.number("at", [](double x) { return std::abs(x) <= max_length; },
                             fmt::format("the ground anchor's x [m] from the frame's centre line, in [{:g}, {:g}]",
@@ -620,7 +640,8 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
       geometry.x = t.number("at", [B](double x) { return std::abs(x) <= B; },
                             on_columns
                                 ? fmt::format("on a column's base, from its axis: -b <= x <= b = {:g} [m]", B)
-                                : fmt::format("on the base, -B <= x <= B = {:g} [m]", B));
+                                : joint > 0 ? fmt::format("on joint {}'s face, -B_{} <= x <= B_{} = {:g} [m]", joint, joint, joint, B)
+                                            : fmt::format("on the base, -B <= x <= B = {:g} [m]", B));
       made.push_back({name, geometry, device_law, capacity});
     }
     if (damper.enabled && name == "damper")
@@ -629,6 +650,7 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
     for (Device& d : made) {
       segments.push_back(segment);
       from_segments.push_back(from_segment);
+      device_joints.push_back(joint);
       d.group = name;
       if (!names.insert(d.name).second)
         t.fail(t.has("name") ? &t.required("name") : nullptr, "name", fmt::format("'{}' names two devices", d.name));
@@ -876,8 +898,7 @@ Scene read_scene(toml::table root, const std::string& file, const std::vector<st
   scene.damper = read_damper(root, file, origins, base);
   scene.joints = read_joints(root, file, origins, scene.structure, scene.contact);
   scene.devices = read_devices(root, file, origins, base, scene.columns ? &*scene.columns : nullptr, scene.damper,
-                               scene.joints.size(),
-                               scene.device_segments, scene.device_from_segments);
+                               scene.joints, scene.device_segments, scene.device_from_segments, scene.device_joints);
   scene.excitation = read_excitation(root, file, origins);
   scene.initial = read_initial(root, file, origins, scene.structure, scene.contact);
   scene.output = read_output(root, file, origins, scene.structure);
@@ -935,9 +956,18 @@ namespace {
 // On a structure with joints, scene device k is one of the chain's tendons
 // (MODEL.md 15: from the ground to a segment) when it is elastic and
 // vertical; any other device stands across the base joint.
+// The joint device k stands across when it is not a tendon ([[device]] joint;
+// -1: not given).
+int device_joint(const Scene& scene, std::size_t k) {
+  return k < scene.device_joints.size() ? scene.device_joints[k] : -1;
+}
+
+// An elastic, vertical device named across no joint is a tendon through the
+// chain (from the ground or its from_segment to its segment).
 bool is_tendon(const Scene& scene, std::size_t k) {
   const Device& d = scene.devices[k];
-  return std::string_view(law_name(d.law)) == "elastic" && d.geometry.kinematics == Kinematics::vertical;
+  return std::string_view(law_name(d.law)) == "elastic" && d.geometry.kinematics == Kinematics::vertical &&
+         device_joint(scene, k) < 0;
 }
 
 }  // namespace
@@ -982,14 +1012,21 @@ JointedModel jointed_model(const Scene& scene) {
   const int top = static_cast<int>(data.segments.size()) - 1;
   JointedModel out;
   out.base_devices = scene.damper.enabled ? 2 : 0;  // the [damper]'s pair stands at the base's edges
+  // The devices across each joint above the base, by joint (their places
+  // after the base's, joint by joint, in the scene's order).
+  std::vector<std::vector<Device>> upper(data.segments.size());
   for (std::size_t k = 0; k < scene.devices.size(); ++k) {
     const Device& d = scene.devices[k];
     if (!is_tendon(scene, k)) {
       if (scene.device_segments[k] >= 0 || scene.device_from_segments[k] >= 0)
         throw InputError(fmt::format("{}: device '{}': segment: a device anchored on a segment is a tendon from the "
                                      "ground (kind = \"elastic\", kinematics = \"vertical\"); other devices stand "
-                                     "across the base joint (no segment)", file, d.name));
-      ++out.base_devices;
+                                     "across one joint (joint = 0 .. {}, the base by default)", file, d.name, top));
+      const int j = std::max(0, device_joint(scene, k));
+      if (j == 0)
+        ++out.base_devices;
+      else
+        upper[static_cast<std::size_t>(j)].push_back(d);
       continue;
     }
     if (d.capacity > 0)
@@ -1012,6 +1049,33 @@ JointedModel jointed_model(const Scene& scene) {
     out.chain = make_chain(data);
   } catch (const std::invalid_argument& e) {
     throw InputError(fmt::format("{}: joint: {}", file, e.what()));
+  }
+  // Each joint's devices held as a rigid block on a base of half-width B_j
+  // holds them (rocking.contact): everything above the joint as one rigid
+  // body there (its mass at its centre of mass, which the acting lists,
+  // levers and state slots do not read).
+  std::size_t next = out.base_devices;
+  for (std::size_t j = 1; j < upper.size(); ++j) {
+    if (upper[j].empty()) continue;
+    double m = 0, mz = 0;
+    for (std::size_t k = j; k < data.segments.size(); ++k) {
+      const ChainSegment& sg = data.segments[k];
+      m += sg.base_mass + sg.masses.sum();
+      mz += sg.base_mass * sg.base_height + sg.masses.dot(sg.heights);
+    }
+    Structure block;
+    block.rigid = true;
+    block.half_width = data.segments[j].half_width;
+    block.heights = Eigen::VectorXd::Constant(1, std::max(mz / m - data.segments[j].base_height, 1e-3));
+    block.masses = Eigen::VectorXd::Constant(1, m);
+    block.base_mass = 0;
+    Contact rocking = scene.contact;
+    rocking.rocking = true;
+    JointedModel::UpperDevices u;
+    u.joint = static_cast<int>(j);
+    for (std::size_t k = 0; k < upper[j].size(); ++k) u.devices.push_back(next++);
+    u.block = std::make_shared<const ContactModel>(make_contact_model(block, rocking, upper[j], false));
+    out.upper.push_back(std::move(u));
   }
   // Eq. 10 of the whole structure on its base, for restitution = "eq10".
   const double r_eq10 = make_contact_model(st, scene.contact, {}, false).r_eq10;
@@ -1135,15 +1199,20 @@ ContactModel columns_contact_model(const Scene& scene, bool track_energy, std::v
 // base (its outputs), carrying the chain. Its devices are those across the
 // base joint, held as a rigid block on the same base holds them
 // (devices_as_on_block: the chain's run keeps their states from 2), `extra`
-// with them, then the chain's tendons (JointedModel::base_devices tells them
-// apart).
+// with them, then those across each joint above (JointedModel::upper), then the
+// chain's tendons (JointedModel::base_devices and upper tell them apart).
 ContactModel jointed_contact_model(const Scene& scene, bool track_energy, std::vector<Device> extra) {
   JointedModel jointed = jointed_model(scene);
   jointed.base_devices += extra.size();
+  for (JointedModel::UpperDevices& u : jointed.upper)
+    for (std::size_t& k : u.devices) k += extra.size();
   std::vector<Device> base, tendons;
+  std::vector<std::vector<Device>> upper(jointed.chain.data.segments.size());
   if (scene.damper.enabled) base = edge_dampers(scene.damper, scene.structure.half_width);
-  for (std::size_t k = 0; k < scene.devices.size(); ++k)
-    (is_tendon(scene, k) ? tendons : base).push_back(scene.devices[k]);
+  for (std::size_t k = 0; k < scene.devices.size(); ++k) {
+    const int j = std::max(0, device_joint(scene, k));
+    (is_tendon(scene, k) ? tendons : j == 0 ? base : upper[static_cast<std::size_t>(j)]).push_back(scene.devices[k]);
+  }
   for (Device& d : extra) base.push_back(std::move(d));  // added devices stand at the base
   Contact contact = scene.contact;
   contact.rocking = true;  // the structure's own model: a fixed base's is the chain's with its base joint held
@@ -1159,6 +1228,8 @@ ContactModel jointed_contact_model(const Scene& scene, bool track_energy, std::v
     block.base_mass = 0;
     devices_as_on_block(m, block, scene.contact, std::move(base));
   }
+  for (std::vector<Device>& at : upper)
+    for (Device& d : at) m.devices.push_back(std::move(d));
   for (Device& d : tendons) m.devices.push_back(std::move(d));
   m.jointed = std::make_shared<const JointedModel>(std::move(jointed));
   return m;

@@ -102,6 +102,10 @@ struct Scene {
   // lower anchor is on ([[device]] from_segment, 0 .. J-1; -1: the ground).
   std::vector<int> device_segments;
   std::vector<int> device_from_segments;
+  // Per device of `devices`: the joint it stands across ([[device]] joint,
+  // 0 .. J, 0 the base; -1: not given, the base for a device that is not a
+  // tendon).
+  std::vector<int> device_joints;
   std::vector<JointTable> joints;  // the [[joint]] tables, from the ground up
   bool momentum_base = false;      // [contact] restitution = "momentum"
   double base_friction = std::numeric_limits<double>::infinity();  // [contact] friction

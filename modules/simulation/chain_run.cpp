@@ -19,18 +19,20 @@
 // than contact.theta_dot_min closes the joint by the momentum law into full
 // contact (Eq. 8's threshold, which acts only when the motion dies out).
 // Devices: the chain's tendons (rocking.chain: forces in its equations and
-// reactions) and the devices across the base joint, as on a one-joint
-// structure (MODEL.md 11, rocking.contact's acting devices of a rigid block
-// on the same base): while the base rocks about s they exert the generalised
-// force -s D on theta_0 (D = sum F de/d|theta_0|), their states z integrated,
-// their fractures located events; in full contact they rest, keeping their
-// states for the next uplift about the same side, and hold D_0(s) against
-// uplift about s (the moment condition less D_0, the corner's acceleration
-// less D_0 over the inertia about the corner).
-// The state is [q, q', z, W_ground, W_viscous, W_devices, the work on each
-// base device]: the works are integrals that do not steer the steps. The
-// mechanical energy is kinetic + gravity + elastic; the tendons' stored
-// energy and the base devices' work are the work done on the devices.
+// reactions) and the devices across one joint, the base or one above, as on
+// a one-joint structure (MODEL.md 11 in that joint's frame, rocking.contact's
+// acting devices of a rigid block on a base of the joint's half-width): while
+// joint j rocks about s they exert the generalised force -s D on theta_j
+// (D = sum F de/d|theta_j|; their elongation depends on theta_j alone), their
+// states z integrated, their fractures located events; while it is closed
+// they rest, keeping their states for the next uplift about the same side,
+// and hold D_0(s) against uplift about s (the moment condition less D_0, the
+// corner's acceleration less D_0 over the inertia about the corner).
+// The state is [q, q', z of each joint's devices, W_ground, W_viscous,
+// W_devices, the work on each device across a joint]: the works are
+// integrals that do not steer the steps. The mechanical energy is kinetic +
+// gravity + elastic; the tendons' stored energy and the joint devices' work
+// are the work done on the devices.
 // The devices' moment M_dev is not computed.
 // contact.rocking = false holds the base joint closed (a fixed base): the
 // joints above still rock.
@@ -74,12 +76,12 @@ struct ChainGuardDef {
   ChainGuard what = ChainGuard::uplift;
   int joint = 0;
   Pivot pivot = Pivot::right;
-  int acting = 0;  // a fracture guard's base device, by its place in the pivot's acting list
+  int acting = 0;  // a fracture guard's device across the joint, by its place in the pivot's acting list
 };
 
-// The states z of the base devices: the slots after theta and theta' that
+// The states z of a joint's devices: the slots after theta and theta' that
 // the model's acting devices use (a rigid block's, rocking.scene).
-Eigen::Index base_device_states(const ContactModel& m) {
+Eigen::Index device_states(const ContactModel& m) {
   Eigen::Index end = 2;
   for (const auto& acting : m.acting)
     for (const ContactModel::Acting& a : acting)
@@ -93,11 +95,10 @@ class ChainDriver {
       : m_(m), jm_(*m.jointed), c_(jm_.chain), ground_(ground), vertical_(ground.vertical()), opt_(o),
         observer_(observer), scales_(output_scales(m)), w_(make_workspace(c_)), n_(c_.size),
         phases_(static_cast<std::size_t>(c_.joints)), reactions_(static_cast<std::size_t>(c_.joints)),
-        samples_(static_cast<std::size_t>(c_.joints)), nb_(jm_.base_devices), z_(2 * n_),
-        work_(z_ + base_device_states(m)), size_(work_ + 3 + static_cast<Eigen::Index>(nb_)),
+        samples_(static_cast<std::size_t>(c_.joints)), nb_(jm_.joint_devices()), z_(2 * n_),
+        work_(z_ + make_groups()), size_(work_ + 3 + static_cast<Eigen::Index>(nb_)),
         y_(Eigen::VectorXd::Zero(size_)), dense_(size_), qdd_(n_), elongation_(c_.data.tendons.size(), 0.0),
-        device_samples_(m.devices.size()), block_(Eigen::VectorXd::Zero(2 + work_ - z_)),
-        block_rates_(Eigen::VectorXd::Zero(block_.size())), power_(nb_, 0.0) {
+        device_samples_(m.devices.size()) {
     auto rhs = [this](double t, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& dydt) {
       derivatives(t, y, dydt);
     };
@@ -126,7 +127,7 @@ class ChainDriver {
     result_.presence = presence(m_);
     result_.energy_tracked = true;
     result_.joints.resize(static_cast<std::size_t>(c_.joints));
-    // The base devices, then the chain's tendons, in the model's order.
+    // The devices across each joint, then the chain's tendons, in the model's order.
     for (const Device& dev : m_.devices)
       result_.devices.push_back({.name = dev.name, .law = law_name(dev.law), .force_at_rest = law_force_at_rest(dev.law, 0.0),
                                  .work = 0.0});
@@ -215,75 +216,148 @@ class ChainDriver {
   void derivatives(double t, Eigen::Ref<const Eigen::VectorXd> y, Eigen::Ref<Eigen::VectorXd> dydt) {
     const GroundAcceleration a = ground_at(t);
     const auto q = y.head(n_), qd = y.segment(n_, n_);
-    apply_base_devices(y, true);
+    apply_devices(y, true);
     ChainPower p;
     chain_acceleration(c_, phases_, a, q, qd, dydt.segment(n_, n_), w_, &p);
     dydt.head(n_) = qd;
     for (int j = 0; j < c_.joints; ++j)
       if (!phases_[j].is_rocking()) dydt[j] = 0;  // a closed joint's theta stays 0
-    // The base devices' states rest unless the pivot's acting devices write theirs.
-    dydt.segment(z_, work_ - z_) = block_rates_.segment(2, work_ - z_);
+    // The devices' states rest unless the pivot's acting devices write theirs.
     dydt[work_] = p.ground;
     dydt[work_ + 1] = p.damping;
     double total = 0;
-    for (std::size_t k = 0; k < nb_; ++k) {
-      dydt[work_ + 3 + static_cast<Eigen::Index>(k)] = power_[k];
-      total += power_[k];
+    for (const JointDevices& g : groups_) {
+      dydt.segment(g.z, g.states) = g.rates.segment(2, g.states);
+      for (std::size_t k = 0; k < g.devices.size(); ++k) {
+        dydt[work_ + 3 + static_cast<Eigen::Index>(g.devices[k])] = g.power[k];
+        total += g.power[k];
+      }
     }
     dydt[work_ + 2] = total;
   }
 
-  // The base devices' generalised force on theta_0 into the workspace (-s D
-  // while the base rocks about s, else 0), from the state y; with `rates`,
-  // their states' rates into block_rates_ and each one's power into power_.
-  void apply_base_devices(Eigen::Ref<const Eigen::VectorXd> y, bool rates) {
-    w_.applied[0] = 0.0;
-    if (rates) {
-      block_rates_.setZero();
-      std::fill(power_.begin(), power_.end(), 0.0);
+  // The devices across one joint: held as a rigid block on a base of the
+  // joint's half-width holds them (`model`: its acting and breakable lists,
+  // its device numbers local), their states z in y from `z` (slot 2 there),
+  // [theta_j, theta_j', z] their view of the state and its rates.
+  struct JointDevices {
+    int joint = 0;
+    const ContactModel* model = nullptr;
+    std::vector<std::size_t> devices;  // local number -> place in the model's devices (and the results')
+    Eigen::Index z = 0, states = 0;
+    Discrete discrete;  // the joint's phase for its devices, their states kept, their fractures
+    Eigen::VectorXd block, rates;
+    std::vector<double> power;  // on each device [W]
+  };
+
+  // The joints' device groups (the base's from the model itself, those above
+  // from JointedModel::upper), their states laid out from z_; returns the
+  // number of states.
+  Eigen::Index make_groups() {
+    group_of_.assign(static_cast<std::size_t>(c_.joints), -1);
+    Eigen::Index next = z_;
+    const auto add = [&](int joint, const ContactModel& model, std::vector<std::size_t> devices) {
+      JointDevices g;
+      g.joint = joint;
+      g.model = &model;
+      g.devices = std::move(devices);
+      g.z = next;
+      g.states = device_states(model);
+      next += g.states;
+      g.block = Eigen::VectorXd::Zero(2 + g.states);
+      g.rates = Eigen::VectorXd::Zero(2 + g.states);
+      g.power.assign(g.devices.size(), 0.0);
+      group_of_[static_cast<std::size_t>(joint)] = static_cast<int>(groups_.size());
+      for (std::size_t k = 0; k < g.devices.size(); ++k) where_.push_back({groups_.size(), k});
+      groups_.push_back(std::move(g));
+    };
+    if (jm_.base_devices > 0) {
+      std::vector<std::size_t> base(jm_.base_devices);
+      for (std::size_t k = 0; k < base.size(); ++k) base[k] = k;
+      add(0, m_, std::move(base));
     }
-    if (nb_ == 0 || !phases_[0].is_rocking()) return;
-    block_[0] = y[0];
-    block_[1] = y[n_];
-    block_.tail(work_ - z_) = y.segment(z_, work_ - z_);
-    const int s = phases_[0].sign();
-    const Tilt tilt(y[0]);
-    double moment = 0;
-    for (const ContactModel::Acting& a : acting()) {
-      const ContactModel::DeviceTerms dt =
-          a.terms(a, devices_, base_half_width(), s, tilt, y[n_], block_.data(), block_rates_.data());
-      moment += dt.moment;
-      if (rates) power_[static_cast<std::size_t>(a.device)] = dt.power;
-    }
-    w_.applied[0] = -s * moment;
+    for (const JointedModel::UpperDevices& u : jm_.upper) add(u.joint, *u.block, u.devices);
+    return next - z_;
+  }
+  const JointDevices* group_at(int j) const {
+    const int g = group_of_[static_cast<std::size_t>(j)];
+    return g < 0 ? nullptr : &groups_[static_cast<std::size_t>(g)];
+  }
+  JointDevices* group_at(int j) {
+    const int g = group_of_[static_cast<std::size_t>(j)];
+    return g < 0 ? nullptr : &groups_[static_cast<std::size_t>(g)];
+  }
+  // Whether device k (a place in the model's devices, across a joint) has broken.
+  bool broken(std::size_t k) const {
+    const auto [g, local] = where_[k];
+    return groups_[g].discrete.is_broken(static_cast<int>(local));
+  }
+  // [theta_j, theta_j', z] of group g from the state y.
+  void load_block(JointDevices& g, Eigen::Ref<const Eigen::VectorXd> y) const {
+    g.block[0] = y[g.joint];
+    g.block[1] = y[n_ + g.joint];
+    g.block.tail(g.states) = y.segment(g.z, g.states);
+  }
+  const std::vector<ContactModel::Acting>& acting(const JointDevices& g) const {
+    return g.model->acting[index(*phases_[g.joint].pivot())];
   }
 
-  double base_half_width() const { return c_.data.segments[0].half_width; }
-  const std::vector<ContactModel::Acting>& acting() const { return m_.acting[index(*phases_[0].pivot())]; }
-  // The moment the intact base devices hold against uplift about p at rest.
-  double held(Pivot p) const { return nb_ == 0 ? 0.0 : held_moment(m_, devices_, p); }
+  // Each joint's devices' generalised force on its theta into the workspace
+  // (-s D while the joint rocks about s, else 0), from the state y; with
+  // `rates`, their states' rates into the group's rates and each one's power.
+  void apply_devices(Eigen::Ref<const Eigen::VectorXd> y, bool rates) {
+    for (JointDevices& g : groups_) {
+      const int j = g.joint;
+      w_.applied[j] = 0.0;
+      if (rates) {
+        g.rates.setZero();
+        std::fill(g.power.begin(), g.power.end(), 0.0);
+      }
+      if (!phases_[j].is_rocking()) continue;
+      load_block(g, y);
+      const int s = phases_[j].sign();
+      const Tilt tilt(y[j]);
+      double moment = 0;
+      for (const ContactModel::Acting& a : acting(g)) {
+        const ContactModel::DeviceTerms dt =
+            a.terms(a, g.discrete, half_width(j), s, tilt, y[n_ + j], g.block.data(), g.rates.data());
+        moment += dt.moment;
+        if (rates) g.power[static_cast<std::size_t>(a.device)] = dt.power;
+      }
+      w_.applied[j] = -s * moment;
+    }
+  }
 
-  // Joint j's contact reaction: the multipliers' N and V, with, at the base,
-  // the pull of the base devices, which the chain applies on theta_0 alone
-  // (the moment condition holds it as D_0): the contact carries it as well.
-  // A device from the ground at (x, 0) to the base's anchor pulls along its
-  // chord, at |theta_0| / 2 from the vertical toward the pivot's side
-  // (MODEL.md 11), or vertically (kinematics vertical); at rest each intact
-  // device pulls down with its force at rest.
+  double half_width(int j) const { return c_.data.segments[static_cast<std::size_t>(j)].half_width; }
+  // The moment the intact devices across joint j hold against uplift about p at rest.
+  double held(int j, Pivot p) const {
+    const JointDevices* g = group_at(j);
+    return g == nullptr ? 0.0 : held_moment(*g->model, g->discrete, p);
+  }
+
+  // Joint j's contact reaction: the multipliers' N and V, with the pull of
+  // the devices across it, which the chain applies on theta_j alone (the
+  // moment condition holds it as D_0): the contact carries it as well. A
+  // device from the face below at (x, 0) to the anchor above pulls along its
+  // chord, at |theta_j| / 2 from the face's normal toward the pivot's side
+  // (MODEL.md 11), or along that normal (kinematics vertical); at rest each
+  // intact device pulls down with its force at rest. (Across the joints
+  // below, the pair of forces is internal to the part above: no change.)
   JointReaction contact_reaction(int j, Eigen::Ref<const Eigen::VectorXd> y) {
     JointReaction r = reactions_[j];
-    if (j != 0 || nb_ == 0) return r;
-    if (!phases_[0].is_rocking()) {
-      for (std::size_t k = 0; k < nb_; ++k)
-        if (!devices_.is_broken(static_cast<int>(k)))
-          r.N += law_force_at_rest(m_.devices[k].law, devices_.z(static_cast<int>(k)));
+    const JointDevices* g = group_at(j);
+    if (g == nullptr) return r;
+    if (!phases_[j].is_rocking()) {
+      for (std::size_t k = 0; k < g->devices.size(); ++k)
+        if (!g->discrete.is_broken(static_cast<int>(k)))
+          r.N += law_force_at_rest(g->model->devices[k].law, g->discrete.z(static_cast<int>(k)));
       return r;
     }
     sample_devices(y);
-    const double half = 0.5 * std::abs(y[0]), s = phases_[0].sign();
-    for (const ContactModel::Acting& a : acting()) {
-      if (devices_.is_broken(a.device)) continue;
-      const double F = device_samples_[static_cast<std::size_t>(a.device)].F;
+    const double half = 0.5 * std::abs(y[j]), s = phases_[j].sign();
+    for (const ContactModel::Acting& a : acting(*g)) {
+      if (g->discrete.is_broken(a.device)) continue;
+      const double F = device_samples_[g->devices[static_cast<std::size_t>(a.device)]].F;
       const bool chord = a.geometry.kinematics == Kinematics::chord;
       r.N += chord ? F * std::cos(half) : F;
       r.V += chord ? s * F * std::sin(half) : 0.0;
@@ -291,18 +365,25 @@ class ChainDriver {
     return r;
   }
 
-  // The base joint's devices follow its phase: the acting devices of a new
-  // rocking phase resume the states they kept (keep_device_states).
-  void base_phase_set() {
-    devices_.phase = phases_[0];
-    if (nb_ == 0 || !phases_[0].is_rocking()) return;
-    for (const ContactModel::Acting& a : acting())
-      if (a.slot) y_[z_ + *a.slot - 2] = devices_.z(a.device);
+  // A joint's devices follow its phase: the acting devices of a new rocking
+  // phase resume the states they kept (keep_device_states).
+  void phase_set(int j) {
+    JointDevices* g = group_at(j);
+    if (g == nullptr) return;
+    g->discrete.phase = phases_[j];
+    if (!phases_[j].is_rocking()) return;
+    for (const ContactModel::Acting& a : acting(*g))
+      if (a.slot) y_[g->z + *a.slot - 2] = g->discrete.z(a.device);
+  }
+  void phases_set() {
+    for (int j = 0; j < c_.joints; ++j) phase_set(j);
   }
   void keep_device_states() {
-    if (nb_ == 0 || !phases_[0].is_rocking()) return;
-    for (const ContactModel::Acting& a : acting())
-      if (a.slot) devices_.set_z(a.device, y_[z_ + *a.slot - 2]);
+    for (JointDevices& g : groups_) {
+      if (!phases_[g.joint].is_rocking()) continue;
+      for (const ContactModel::Acting& a : acting(g))
+        if (a.slot) g.discrete.set_z(a.device, y_[g.z + *a.slot - 2]);
+    }
   }
 
   std::string phases_text() const {
@@ -323,7 +404,7 @@ class ChainDriver {
       y_[j] = theta;
       y_[n_ + j] = rate;
     }
-    base_phase_set();
+    phases_set();
   }
 
   ChainEnergy energy() { return chain_energy(c_, phases_, y_.head(n_), y_.segment(n_, n_), w_); }
@@ -338,7 +419,7 @@ class ChainDriver {
     if (phases_[j].is_rocking() || (j == 0 && !jm_.base_rocks())) return;
     const GroundAcceleration a = ground_at(t);
     const auto q = y_.head(n_), qd = y_.segment(n_, n_);
-    apply_base_devices(y_, false);
+    apply_devices(y_, false);
     chain_reactions(c_, phases_, a, q, qd, reactions_, qdd_, w_, corners_);
     for (Pivot s : pivots)
       if (lift_moment(j, s) > 0 && lift_acceleration(j, s) > 0) {
@@ -349,19 +430,15 @@ class ChainDriver {
 
   // Closed joint j's uplift conditions about s from the last reactions: the
   // resultant past the corner, and the corner's relative acceleration away
-  // from the face, each less the base devices' held moment at the base.
-  double lift_moment(int j, Pivot s) const {
-    return uplift_guard(c_, j, s, reactions_[j]) - (j == 0 ? held(s) : 0.0);
-  }
-  double lift_acceleration(int j, Pivot s) const {
-    return corners_[j][s] + (j == 0 ? held(s) * corners_[j].gain(s) : 0.0);
-  }
+  // from the face, each less the held moment of the devices across it.
+  double lift_moment(int j, Pivot s) const { return uplift_guard(c_, j, s, reactions_[j]) - held(j, s); }
+  double lift_acceleration(int j, Pivot s) const { return corners_[j][s] + held(j, s) * corners_[j].gain(s); }
 
   void lift(int j, Pivot s, double t) {
     phases_[j] = Phase::rocking(s);
     y_[j] = 0;
     y_[n_ + j] = 0;
-    if (j == 0) base_phase_set();
+    phase_set(j);
     JointResult& r = result_.joints[j];
     if (r.uplifts++ == 0) r.first_uplift = t;
     if (result_.counts.uplifts++ == 0) result_.first_uplift = t;
@@ -423,12 +500,12 @@ class ChainDriver {
         directions.push_back(ode::Direction::falling);
       }
     }
-    if (phases_[0].is_rocking())  // the base devices that can break: at their capacity
-      for (std::size_t k = 0; k < m_.breakable[index(*phases_[0].pivot())].size(); ++k) {
-        guards_.push_back({ChainGuard::fracture, 0, *phases_[0].pivot(),
-                           m_.breakable[index(*phases_[0].pivot())][k]});
-        directions.push_back(ode::Direction::rising);
-      }
+    for (const JointDevices& g : groups_)  // the devices across a rocking joint that can break: at their capacity
+      if (phases_[g.joint].is_rocking())
+        for (int k : g.model->breakable[index(*phases_[g.joint].pivot())]) {
+          guards_.push_back({ChainGuard::fracture, g.joint, *phases_[g.joint].pivot(), k});
+          directions.push_back(ode::Direction::rising);
+        }
     ode::Guards guards{[this](double tg, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& g) {
                          guard_values(tg, y, g);
                        },
@@ -522,7 +599,7 @@ class ChainDriver {
       if (near) linear_.held = linear_.values;
     }
     if (near) {
-      apply_base_devices(y, false);
+      apply_devices(y, false);
       chain_reactions(c_, phases_, a, q, qd, reactions_, qdd_, w_, corners_);
       if (active_ == exact_.get() && linear_.trusted) check_linear();
     }
@@ -542,10 +619,11 @@ class ChainDriver {
           break;
         }
         case ChainGuard::fracture: {
-          const ContactModel::Acting& dev = acting()[static_cast<std::size_t>(d.acting)];
-          g[k] = devices_.is_broken(dev.device)
+          const JointDevices& at = *group_at(j);
+          const ContactModel::Acting& dev = acting(at)[static_cast<std::size_t>(d.acting)];
+          g[k] = at.discrete.is_broken(dev.device)
                      ? -1.0
-                     : stretch(dev.geometry, base_half_width(), phases_[0].sign(), Tilt(q[0])).e - dev.capacity;
+                     : stretch(dev.geometry, half_width(j), phases_[j].sign(), Tilt(q[j])).e - dev.capacity;
           break;
         }
       }
@@ -591,24 +669,74 @@ class ChainDriver {
     while (active_->time() < t_end_) {
       check_stop(opt_, active_->time());
       const ode::StepReport rep = active_->step(t_end_);
+      if (rep.reason != ode::Stop::event) {
+        // A rocking joint can end a step on the wrong side without a located
+        // crossing: a return inside one step that the guards' samples did not
+        // see (a joint an impact or uplift left open with s theta_j' ~ 0 and
+        // its acceleration pointing back), or round-off right after an
+        // uplift. Its impact is where s theta_j falls through 0 on the step's
+        // dense output; the step ends there, so that no state past it (the
+        // joint through its face, with less potential energy than any
+        // motion gives) enters the outputs or the energy.
+        double at = std::numeric_limits<double>::infinity();
+        int which = -1;
+        for (int j = 0; j < c_.joints; ++j)
+          if (phases_[j].is_rocking() && sign(*phases_[j].pivot()) * active_->state()[j] < 0) {
+            const double tj = wrong_side_crossing(j);
+            if (tj < at) {
+              at = tj;
+              which = j;
+            }
+          }
+        if (which >= 0) {
+          sample_step(at);
+          Eigen::VectorXd y(size_);
+          active_->dense(at, y);
+          if (!handle_event({ChainGuard::impact, which, *phases_[which].pivot()}, at, &y)) return;
+          continue;
+        }
+      }
       sample_step();
       if (rep.reason == ode::Stop::event) {
         if (!handle_event(guards_[static_cast<std::size_t>(rep.guard)], rep.t)) return;
         continue;
       }
-      // Round-off right after an uplift can put a theta on the wrong side
-      // without a crossing: treat it as the impact it is.
-      for (int j = 0; j < c_.joints; ++j)
-        if (phases_[j].is_rocking() && sign(*phases_[j].pivot()) * active_->state()[j] < 0) {
-          if (!handle_event({ChainGuard::impact, j, *phases_[j].pivot()}, active_->time())) return;
-          break;
-        }
     }
   }
 
+  // The last time in the last step at which rocking joint j is still on its
+  // side, s theta_j >= 0, before it falls through 0 (it ends the step below
+  // 0): the first of 16 even samples below 0, then bisection to round-off
+  // from the sample before it (the step's start, where s theta_j >= 0, when
+  // that is the first).
+  double wrong_side_crossing(int j) {
+    const double t0 = active_->previous_time(), t1 = active_->time();
+    const double s = sign(*phases_[j].pivot());
+    const auto side = [&](double t) {
+      active_->dense(t, scratch_);
+      return s * scratch_[j];
+    };
+    double lo = t0, hi = t1;
+    constexpr int samples = 16;
+    for (int k = 1; k < samples; ++k) {
+      const double tk = t0 + (t1 - t0) * k / samples;
+      if (side(tk) < 0) {
+        hi = tk;
+        break;
+      }
+      lo = tk;
+    }
+    for (int i = 0; i < 200 && hi - lo > 4 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(hi)); ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (side(mid) < 0 ? hi : lo) = mid;
+    }
+    return lo;
+  }
+
   // Returns false when the run ends (overturning, separation).
-  bool handle_event(const ChainGuardDef& d, double t) {
-    y_ = active_->state();
+  // With `y`, the state at t (an event found after the step, not at its end).
+  bool handle_event(const ChainGuardDef& d, double t, const Eigen::VectorXd* y = nullptr) {
+    y_ = y != nullptr ? *y : active_->state();
     closed_at_rest(y_);
     const int j = d.joint;
     count_phase_change(events_, opt_, t);
@@ -624,10 +752,12 @@ class ChainDriver {
         throw RunError(fmt::format("joint {} would slide at t = {:.9g} s: its friction demand |V|/N reached the stated "
                                    "limit {:g} (sliding is not modelled)", j, t, jm_.friction_limit[j]));
       case ChainGuard::fracture: {
-        const int device = acting()[static_cast<std::size_t>(d.acting)].device;
-        announce({EventKind::fracture, t, d.pivot, device, 0});
-        fracture(devices_, device);
-        result_.devices[static_cast<std::size_t>(device)].fracture_time = t;
+        JointDevices& at = *group_at(j);
+        const int local = acting(at)[static_cast<std::size_t>(d.acting)].device;
+        const std::size_t device = at.devices[static_cast<std::size_t>(local)];
+        announce({EventKind::fracture, t, d.pivot, static_cast<int>(device), j});
+        fracture(at.discrete, local);
+        result_.devices[device].fracture_time = t;
         break;
       }
     }
@@ -647,7 +777,7 @@ class ChainDriver {
   // A joint already in tension as a phase begins (after an impact, or at the
   // start) ends the run as one whose N falls through 0 does.
   bool separated_at(double t) {
-    apply_base_devices(y_, false);
+    apply_devices(y_, false);
     chain_reactions(c_, phases_, ground_at(t), y_.head(n_), y_.segment(n_, n_), reactions_, qdd_, w_);
     for (int j = 0; j < c_.joints; ++j)
       if ((j > 0 || jm_.base_rocks()) && contact_reaction(j, y_).N < 0) {
@@ -695,7 +825,7 @@ class ChainDriver {
         y_[k] = 0;
         y_[n_ + k] = 0;
       }
-    base_phase_set();
+    phases_set();
     result_.energy.impacts += before - mechanical();
     JointResult& rj = result_.joints[j];
     if (rj.impacts++ == 0) rj.first_impact = t;
@@ -721,7 +851,7 @@ class ChainDriver {
     for (std::size_t k = 0; k < elongation_.size(); ++k)
       elongation_[k] = tendon_elongation(c_, phases_, static_cast<int>(k), q, w_);
     if (reactions && !recall(t, y)) {
-      apply_base_devices(y, false);
+      apply_devices(y, false);
       chain_reactions(c_, phases_, ground_at(t), q, qd, reactions_, qdd_, w_);
     }
     for (int j = 0; j < c_.joints; ++j) {
@@ -749,7 +879,7 @@ class ChainDriver {
     }
     sample_devices(y);
     for (std::size_t k = 0; k < result_.devices.size(); ++k) {
-      if (devices_.is_broken(static_cast<int>(k))) continue;  // its peaks are those it had when it broke
+      if (k < nb_ && broken(k)) continue;  // its peaks are those it had when it broke
       DeviceResult& out = result_.devices[k];
       out.peak_elongation = std::max(out.peak_elongation, device_samples_[k].e);
       out.peak_force = std::max(out.peak_force, std::abs(device_samples_[k].F));
@@ -757,23 +887,21 @@ class ChainDriver {
   }
 
   // Every device's elongation, force and work so far into device_samples_
-  // (after response(), which measured the tendons): the base devices' while
-  // the base rocks (0 in full contact, NaN once broken), then the tendons'.
+  // (after response(), which measured the tendons): those across each joint
+  // while it rocks (0 while it is closed, NaN once broken), then the tendons'.
   void sample_devices(Eigen::Ref<const Eigen::VectorXd> y) {
     for (std::size_t k = 0; k < nb_; ++k)
-      device_samples_[k] = devices_.is_broken(static_cast<int>(k))
-                               ? DeviceSample{std::nan(""), std::nan(""), 0.0}
-                               : DeviceSample{};
+      device_samples_[k] = broken(k) ? DeviceSample{std::nan(""), std::nan(""), 0.0} : DeviceSample{};
     for (std::size_t k = 0; k < nb_; ++k) device_samples_[k].work = y[work_ + 3 + static_cast<Eigen::Index>(k)];
-    if (nb_ > 0 && phases_[0].is_rocking()) {
-      block_[0] = y[0];
-      block_[1] = y[n_];
-      block_.tail(work_ - z_) = y.segment(z_, work_ - z_);
-      const Tilt tilt(y[0]);
-      for (const ContactModel::Acting& a : acting()) {
-        if (devices_.is_broken(a.device)) continue;
-        const DamperState st = a.state(a, devices_, base_half_width(), phases_[0].sign(), tilt, y[n_], block_.data());
-        DeviceSample& out = device_samples_[static_cast<std::size_t>(a.device)];
+    for (JointDevices& g : groups_) {
+      const int j = g.joint;
+      if (!phases_[j].is_rocking()) continue;
+      load_block(g, y);
+      const Tilt tilt(y[j]);
+      for (const ContactModel::Acting& a : acting(g)) {
+        if (g.discrete.is_broken(a.device)) continue;
+        const DamperState st = a.state(a, g.discrete, half_width(j), phases_[j].sign(), tilt, y[n_ + j], g.block.data());
+        DeviceSample& out = device_samples_[g.devices[static_cast<std::size_t>(a.device)]];
         out.e = st.elongation;
         out.F = st.force;
       }
@@ -795,15 +923,26 @@ class ChainDriver {
     return t.prestress * x + 0.5 * t.stiffness * x * x;
   }
 
-  void sample_step() {
+  // The peaks and history rows of the last step, or of its part up to `until`
+  // (an event found after the step, which ends it there).
+  void sample_step(double until = std::numeric_limits<double>::infinity()) {
     const int count = active_->sample_count();
-    const double t0 = active_->previous_time(), t1 = active_->time();
-    for (int k = 1; k <= count; ++k) {
-      const Eigen::VectorXd& y = active_->sample(k, count);
-      track(response(ode::Integrator::sample_time(t0, t1, k, count), y, true), y);
+    const double t0 = active_->previous_time();
+    if (until < active_->time()) {
+      for (int k = 1; k <= count; ++k) {
+        const double t = ode::Integrator::sample_time(t0, until, k, count);
+        active_->dense(t, scratch_);
+        track(response(t, scratch_, true), scratch_);
+      }
+    } else {
+      const double t1 = active_->time();
+      for (int k = 1; k <= count; ++k) {
+        const Eigen::VectorXd& y = active_->sample(k, count);
+        track(response(ode::Integrator::sample_time(t0, t1, k, count), y, true), y);
+      }
     }
     if (observer_ == nullptr) return;
-    history_.rows(*active_, dense_, [this](double t, const Eigen::VectorXd& y) { history_row(t, y); });
+    history_.rows(*active_, dense_, [this](double t, const Eigen::VectorXd& y) { history_row(t, y); }, until);
   }
 
   // A history row, with the energy balance's terms so far: the mechanical
@@ -873,14 +1012,15 @@ class ChainDriver {
   std::vector<Remembered> remembered_ = std::vector<Remembered>(16);
   std::size_t next_remembered_ = 0, held_ = 0;
   std::vector<JointSample> samples_;
-  std::size_t nb_;                 // base devices (the model's first)
+  std::size_t nb_;                 // devices across a joint (the model's first)
+  std::vector<JointDevices> groups_;                       // per joint with devices, from the ground up
+  std::vector<int> group_of_;                              // per joint: its group, or -1
+  std::vector<std::pair<std::size_t, std::size_t>> where_;  // per device across a joint: its group, its local number
   Eigen::Index z_, work_, size_;   // the state's z block, its works, its size
   Eigen::VectorXd y_, dense_, qdd_;
+  Eigen::VectorXd scratch_ = Eigen::VectorXd::Zero(size_);  // a state on the last step's dense output
   std::vector<double> elongation_;  // per tendon, at the last response
   std::vector<DeviceSample> device_samples_;  // per device, for the history's device columns
-  Eigen::VectorXd block_, block_rates_;  // [theta_0, theta_0', z]: the base devices' view of the state, and its rates
-  std::vector<double> power_;            // on each base device [W]
-  Discrete devices_;                     // the base devices': the base's phase, the states kept, the fractures
   ChainAnchor top_;
   std::vector<ChainGuardDef> guards_;
   GroundTravel travel_{ground_};

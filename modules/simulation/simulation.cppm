@@ -319,14 +319,17 @@ RunResult timed_run(const ContactModel& m, const GroundMotion& ground, const Run
 }
 
 // The history's rows every output_interval after t = 0 (the start's row is
-// the caller's): row(t, y) at each one the integrator has passed.
+// the caller's): row(t, y) at each one the integrator has passed, up to
+// `until` when the last step ends earlier than the integrator's (an event
+// found after it).
 class HistoryGrid {
  public:
   explicit HistoryGrid(double interval) : interval_(interval), next_(interval) {}
   template <class Row>
-  void rows(ode::Integrator& integrator, Eigen::VectorXd& dense, Row&& row) {
+  void rows(ode::Integrator& integrator, Eigen::VectorXd& dense, Row&& row,
+            double until = std::numeric_limits<double>::infinity()) {
     if (!(interval_ > 0)) return;
-    while (next_ <= integrator.time()) {
+    while (next_ <= std::min(integrator.time(), until)) {
       integrator.dense(next_, dense);
       row(next_, dense);
       next_ = interval_ * static_cast<double>(++count_);
