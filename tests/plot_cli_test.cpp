@@ -533,6 +533,17 @@ TEST_CASE("plot response marks where a separated run ends: its run's marker on t
   CHECK(from_script.find(fmt::format("(column('theta_over_alpha [-]')*1) every ::{0}::{0} with points",
                                      static_cast<int>(csv_table(file_text(dir / "rocking" / "history.csv")).rows.size()) - 1)) !=
         std::string::npos);
+  // The fixed base alone: its dampers never stretch, so it has no loop to draw (no device panel, where
+  // gnuplot found no point to scale); its crack's marker is there.
+  REQUIRE(run("-q simulate " ROCKING_SOURCE_DIR "/data/scenes/chimney_cracked.toml --set contact.rocking=false --out " +
+              (dir / "fixed").string()).code == 0);
+  const Result fixed = run("plot response --formats png --from " + (dir / "fixed").string() + " --out " +
+                           (dir / "from_fixed").string());
+  REQUIRE_MESSAGE(fixed.code == 0, fixed.err);
+  const std::string fixed_script = file_text(dir / "from_fixed" / "response.gp");
+  CHECK(fixed_script.find("device force") == std::string::npos);
+  CHECK(fixed_script.find("title 'joint 1 separates'") != std::string::npos);
+  CHECK(fs::file_size(dir / "from_fixed" / "response.png") > 1000);
   // A run that completes has no end marker.
   const Result plain = run("plot response " ROCKING_SOURCE_DIR "/data/scenes/stacked_blocks.toml --variants scene "
                            "--formats png --out " + (dir / "plain").string());

@@ -546,15 +546,21 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
         !(contents.front().column(q.name) > 0 &&
           std::ranges::any_of(contents, [&](const HistoryContent& c) { return c.moves(q.name); })))
       continue;  // no panel for a ground that stays still
-    if (use.role == FigureRole::loop && (!any_run_has(info(q.figure_x).name) ||
-                                         (q.needs == Needs::devices && !other_devices) ||
-                                         (q.needs == Needs::dampers && other_devices)))
+    // A loop is broken where x or y is zero: no panel when no run's loop has a point.
+    if (use.role == FigureRole::loop &&
+        (!std::ranges::any_of(contents, [&](const HistoryContent& c) { return c.moves(info(q.figure_x).name) && c.moves(q.name); }) ||
+         (q.needs == Needs::devices && !other_devices) || (q.needs == Needs::dampers && other_devices)))
       continue;
     plan.push_back({use.rank, plan.size(), use.role, q.id, std::nullopt, std::nullopt});
   }
   if (other_devices)
     for (const DeviceQuantityInfo& q : device_quantity_table)
-      if (q.figure.role == FigureRole::loop)
+      if (q.figure.role == FigureRole::loop &&
+          std::ranges::any_of(contents, [&](const HistoryContent& c) {
+            return std::ranges::any_of(c.devices, [&](const std::string& d) {
+              return c.moves(device_quantity_name(d, q.figure_x)) && c.moves(device_quantity_name(d, q.id));
+            });
+          }))
         plan.push_back({q.figure.rank, plan.size(), q.figure.role, std::nullopt, q.id, std::nullopt});
   const int joints = std::ranges::max(contents, {}, &HistoryContent::joints).joints;
   for (std::size_t k = 0; k < joint_quantity_count && joints > 0; ++k)
