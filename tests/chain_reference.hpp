@@ -31,6 +31,23 @@
 //  * Optional devices across one joint (JointDevice, MODEL.md 11's chord form in
 //    the joint's frame, Kelvin-Voigt law F = k e + c e'): a generalised force on
 //    that joint's theta alone, while it is open.
+//  * Tendons between segments (MODEL.md 15's devices; `from_segment`): elastic,
+//    anchored at the base of segment `from` (the rest point (x, h_from) of that
+//    segment; from = -1: the ground at (x, 0)) and at (x, y_top) on segment `to`
+//    > from; e = |anchor distance| - rest distance. Each crosses the joints
+//    from + 1 .. to, and a force on the anchors only: it is internal to every
+//    part above a joint at or below `from`.
+//  * Devices across the base joint (MODEL.md 11, one-body style): anchor at x on
+//    the base, lever l = B_0 - s x about corner s; `chord` e = 2 l sin(|th_0|/2)
+//    or `vertical` e = sqrt((L + l sin|th_0|)^2 + (l (1 - cos th_0))^2) - L;
+//    de/dth_0 = s de/d|th_0|; acting while joint 0 rocks and l > 0, adding
+//    - F de/dth_0 to Q. Laws: elastic F = max(0, P0 + k e), or Bouc-Wen
+//    F = k eps e + k (1 - eps) d_y z, d_y z' = e' - alpha |e'| z |z|^(n-1) - beta e' |z|^n,
+//    its z part of the ODE state (at rest while joint 0 is closed). As forces:
+//    a chord device pulls its anchor on the base (rotated about the corner)
+//    back along the chord toward its ground anchor (x, 0); a vertical one pulls
+//    the point (x, L) of segment 0 toward (x, 0); at rest (joint 0 closed) each
+//    pulls its anchor (x, 0) down with F(0, z).
 //
 // Derivation used (my own route, analytic Jacobians of the chain):
 //  * Joint k's active corner c_k is a material point common to segments k-1 and
@@ -104,11 +121,36 @@ struct JointDevice {
     double c = 0.0;  // N s/m
 };
 
+// A tendon between segments (or from the ground): see the header.
+struct SegmentTendon {
+    int from = -1;       // segment whose base holds the lower anchor; -1 = the ground
+    int to = 0;          // segment of the upper anchor (> from)
+    double x = 0.0;      // both anchors' x from the centre line at rest, m
+    double y_top = 0.0;  // the upper anchor's rest height, m
+    double P0 = 0.0;     // prestress, N
+    double k = 0.0;      // stiffness, N/m
+};
+
+enum class Law { elastic, bouc_wen };
+enum class BaseKinematics { chord, vertical };
+
+// A device across the base joint: see the header.
+struct BaseDevice {
+    BaseKinematics kin = BaseKinematics::chord;
+    double x = 0.0;   // anchor on the base from the centre line, |x| <= B_0, m
+    double L = 0.0;   // vertical: free length, m
+    Law law = Law::elastic;
+    double k = 0.0, P0 = 0.0;                                           // N/m, N (P0: elastic)
+    double eps = 0.0, dy = 1e-3, alpha = 0.5, beta = 0.5, nbw = 1.0;  // Bouc-Wen
+};
+
 struct Chain {
     std::vector<Segment> seg;  // j = 0..J
     double H_top = 0.0;        // rest height of the top segment's top (tendon anchor), m
     Tendon tendon;
     std::vector<JointDevice> devices;
+    std::vector<SegmentTendon> tendons;
+    std::vector<BaseDevice> base;  // one state z each (used by the Bouc-Wen ones)
     double g = kG;
 };
 
@@ -284,6 +326,94 @@ inline TendonState tendon_state(const Chain& C, const Kin& K, const std::vector<
     return S;
 }
 
+// ---------------------------------------------------------------- tendons between segments
+struct SegmentTendonState {
+    double e = 0.0, F = 0.0, U = 0.0;
+    std::array<double, 2> dir{0.0, 1.0};  // unit vector lower anchor -> upper anchor
+    PointKin low, up;                      // the anchors (the ground's: zero Jacobian)
+};
+
+inline SegmentTendonState segment_tendon_state(const Chain& C, const Kin& K, const SegmentTendon& T) {
+    SegmentTendonState S;
+    const double y_low = T.from < 0 ? 0.0 : C.seg[T.from].h;
+    if (T.from < 0) {
+        S.low.x = T.x;
+        S.low.y = 0.0;
+        S.low.Jx.assign(K.n, 0.0);
+        S.low.Jy.assign(K.n, 0.0);
+    } else {
+        S.low = point_on(K, T.from, T.x, y_low, 0.0);
+    }
+    S.up = point_on(K, T.to, T.x, T.y_top, 0.0);
+    const double dx = S.up.x - S.low.x, dy = S.up.y - S.low.y, L = std::hypot(dx, dy);
+    S.dir = {dx / L, dy / L};
+    S.e = L - (T.y_top - y_low);
+    Tendon as_law{true, T.x, T.P0, T.k};
+    S.F = tendon_force(as_law, S.e);
+    S.U = tendon_energy(as_law, S.e);
+    return S;
+}
+
+// ---------------------------------------------------------------- devices across the base joint
+struct BaseDeviceState {
+    bool acting = false;
+    double e = 0.0, dedth = 0.0;   // m, m/rad (theta_0 signed)
+    double F = 0.0;                // N
+    double px = 0.0, py = 0.0;     // where it pulls on the base (ground frame), m
+    double fx = 0.0, fy = -1.0;    // unit direction of its pull on the base
+};
+
+inline double base_device_force(const BaseDevice& d, double e, double z) {
+    if (d.law == Law::elastic) return std::max(0.0, d.P0 + d.k * e);
+    return d.k * d.eps * e + d.k * (1 - d.eps) * d.dy * z;
+}
+
+inline double base_device_rate(const BaseDevice& d, double edot, double z) {
+    const double az = std::fabs(z);
+    return (edot - d.alpha * std::fabs(edot) * z * std::pow(az, d.nbw - 1) - d.beta * edot * std::pow(az, d.nbw)) / d.dy;
+}
+
+// Device d with state z, joint 0 in phase s0 at theta_0 = th.
+inline BaseDeviceState base_device_state(const Chain& C, const BaseDevice& d, int s0, double th, double z) {
+    BaseDeviceState S;
+    S.px = d.x;
+    S.py = 0.0;
+    const double B = C.seg[0].B, l = s0 != 0 ? B - s0 * d.x : 0.0;
+    if (s0 == 0 || l <= 0.0) {  // at rest: its force at rest pulls the anchor down
+        S.F = base_device_force(d, 0.0, z);
+        return S;
+    }
+    S.acting = true;
+    const double a = std::fabs(th), c = std::cos(th), sn = std::sin(th);
+    double de = 0.0;  // de/d|theta_0|
+    // A rest point (x, y) of the base, clockwise by th about the corner (s0 B, 0).
+    auto turned = [&](double y, double& X, double& Y) {
+        const double rx = d.x - s0 * B;
+        X = s0 * B + rx * c + y * sn;
+        Y = -rx * sn + y * c;
+    };
+    if (d.kin == BaseKinematics::chord) {
+        S.e = 2 * l * std::sin(0.5 * a);
+        de = l * std::cos(0.5 * a);
+        turned(0.0, S.px, S.py);
+        // the anchor has moved toward the corner: the chord back to (x, 0) leans |th|/2 from the vertical
+        S.fx = -s0 * std::sin(0.5 * a);
+        S.fy = -std::cos(0.5 * a);
+    } else {
+        const double A = d.L + l * std::sin(a), Bv = l * (1 - std::cos(a)), r = std::hypot(A, Bv);
+        S.e = r - d.L;
+        de = (A * l * std::cos(a) + Bv * l * std::sin(a)) / r;
+        turned(d.L, S.px, S.py);
+        S.fx = -(S.px - d.x) / r;
+        S.fy = -S.py / r;
+    }
+    S.dedth = s0 * de;
+    S.F = base_device_force(d, S.e, z);
+    return S;
+}
+
+inline double z_at(const std::vector<double>& z, std::size_t k) { return k < z.size() ? z[k] : 0.0; }
+
 // ---------------------------------------------------------------- dynamics
 struct Dyn {
     int n = 0;
@@ -292,7 +422,8 @@ struct Dyn {
 };
 
 inline Dyn mass_and_forces(const Chain& C, const Phases& ph, const std::vector<double>& q,
-                           const std::vector<double>& qd, double t, const Ground& G) {
+                           const std::vector<double>& qd, double t, const Ground& G,
+                           const std::vector<double>& z = {}) {
     Kin K = kinematics(C, ph, q, qd);
     Dyn D;
     D.n = K.n;
@@ -321,6 +452,16 @@ inline Dyn mass_and_forces(const Chain& C, const Phases& ph, const std::vector<d
         const double de = s * l * std::cos(th / 2.0);
         D.Q[a] -= (dv.k * e + dv.c * de * qd[a]) * de;
     }
+    for (const SegmentTendon& T : C.tendons) {
+        const SegmentTendonState S = segment_tendon_state(C, K, T);
+        for (int a = 0; a < n; ++a)
+            D.Q[a] -= S.F * (S.dir[0] * (S.up.Jx[a] - S.low.Jx[a]) + S.dir[1] * (S.up.Jy[a] - S.low.Jy[a]));
+    }
+    if (ph[0] != 0)
+        for (std::size_t k = 0; k < C.base.size(); ++k) {
+            const BaseDeviceState S = base_device_state(C, C.base[k], ph[0], q[K.idx[0]], z_at(z, k));
+            if (S.acting) D.Q[K.idx[0]] -= S.F * S.dedth;
+        }
     return D;
 }
 
@@ -341,8 +482,9 @@ inline std::vector<double> solve(std::vector<double> A, std::vector<double> b) {
 
 // q'' (rad/s^2) of the open joints, for the given phases, state and time.
 inline std::vector<double> accelerations(const Chain& C, const Phases& ph, const std::vector<double>& q,
-                                         const std::vector<double>& qd, double t, const Ground& G) {
-    Dyn D = mass_and_forces(C, ph, q, qd, t, G);
+                                         const std::vector<double>& qd, double t, const Ground& G,
+                                         const std::vector<double>& z = {}) {
+    Dyn D = mass_and_forces(C, ph, q, qd, t, G, z);
     return solve(D.M, D.Q);
 }
 
@@ -361,6 +503,13 @@ inline double energy(const Chain& C, const Phases& ph, const std::vector<double>
         E += 0.5 * P.m * (vx * vx + vy * vy) + P.m * C.g * P.y;
     }
     if (C.tendon.present) E += tendon_state(C, K, qd).U;
+    for (const SegmentTendon& T : C.tendons) E += segment_tendon_state(C, K, T).U;
+    if (ph[0] != 0)  // the elastic base devices' stored energy (a Bouc-Wen device's is not counted)
+        for (const BaseDevice& d : C.base) {
+            if (d.law != Law::elastic) continue;
+            const BaseDeviceState S = base_device_state(C, d, ph[0], q[K.idx[0]], 0.0);
+            if (S.acting) E += tendon_energy(Tendon{true, d.x, d.P0, d.k}, S.e);
+        }
     return E;
 }
 
@@ -629,8 +778,9 @@ struct Reaction {
 };
 
 inline std::vector<Reaction> closed_joint_reactions(const Chain& C, const Phases& ph, const std::vector<double>& q,
-                                                    const std::vector<double>& qd, double t, const Ground& G) {
-    std::vector<double> qdd = accelerations(C, ph, q, qd, t, G);
+                                                    const std::vector<double>& qd, double t, const Ground& G,
+                                                    const std::vector<double>& z = {}) {
+    std::vector<double> qdd = accelerations(C, ph, q, qd, t, G, z);
     Kin K = kinematics(C, ph, q, qd);
     const int nj = static_cast<int>(C.seg.size());
     const double fx = -G.ah(t), fy = -(C.g + G.av(t));
@@ -665,12 +815,245 @@ inline std::vector<Reaction> closed_joint_reactions(const Chain& C, const Phases
             Ry -= Ty;
             Mo -= (S.top.x - Ox) * Ty - (S.top.y - Oy) * Tx;
         }
+        // tendons between segments: external to the part above joint j when they cross it
+        for (const SegmentTendon& T : C.tendons) {
+            if (!(T.from < j && j <= T.to)) continue;
+            const SegmentTendonState ST = segment_tendon_state(C, K, T);
+            const double fx_t = -ST.F * ST.dir[0], fy_t = -ST.F * ST.dir[1];  // on the upper anchor
+            Rx -= fx_t;
+            Ry -= fy_t;
+            Mo -= (ST.up.x - Ox) * fy_t - (ST.up.y - Oy) * fx_t;
+        }
+        // devices across the base joint: external to everything above the ground
+        if (j == 0)
+            for (std::size_t k = 0; k < C.base.size(); ++k) {
+                const BaseDeviceState B = base_device_state(C, C.base[k], ph[0], ph[0] != 0 ? q[K.idx[0]] : 0.0, z_at(z, k));
+                const double fx_b = B.F * B.fx, fy_b = B.F * B.fy;
+                Rx -= fx_b;
+                Ry -= fy_b;
+                Mo -= (B.px - Ox) * fy_b - (B.py - Oy) * fx_b;
+            }
         const double c = std::cos(Phi), s = std::sin(Phi);
         out[j].V = c * Rx + s * Ry;
         out[j].N = -s * Rx + c * Ry;
         out[j].M = Mo;
     }
     return out;
+}
+
+// ---------------------------------------------------------------- phases with devices and uplift
+// A run with the phases held from (t0, q, q', z) to the first event: an open
+// joint's theta returning to 0 (impact), or a closed joint lifting about a
+// corner s, when both of MODEL.md 15's conditions hold:
+//   s M_j - N_j B_j >= 0 (closed_joint_reactions, devices included), and
+//   s theta_j'' > 0 were joint j open about s at theta_j = theta_j' = 0.
+// y = [q, q', z]; z (one per base device) changes only while joint 0 rocks.
+// Events are located by bisection to opts.t_loc; the state returned is at the
+// bracket's early end for an impact, its late end (where both uplift
+// conditions hold) for an uplift. A joint that starts the phase at theta = 0
+// (just opened) arms its impact once s theta > 0: at its uplift instant its
+// s theta'' is zero to round-off. With no open joint nothing moves (rigid segments): the
+// guards vary with the record alone and are sampled every 1 ms between its samples.
+// out_times (sorted): the state is recorded at those in [t0, event).
+struct PhaseState {
+    double t = 0.0;
+    std::vector<double> q, qd, z;
+};
+struct PhaseEvent {
+    enum class Kind { impact, uplift, end } kind = Kind::end;
+    double t = 0.0;
+    int joint = -1;  // the joint that strikes or lifts
+    int side = 0;    // an uplift's corner
+    std::vector<double> q, qd, z;
+    std::vector<PhaseState> out;  // the state at each of the out_times passed before the event
+};
+
+// Joint j (closed in ph) opened about s at theta_j = theta_j' = 0: its s theta_j''.
+inline double opening_acceleration(const Chain& C, const Phases& ph, const std::vector<double>& q,
+                                   const std::vector<double>& qd, const std::vector<double>& z, double t,
+                                   const Ground& G, int j, int s) {
+    Phases p2 = ph;
+    p2[j] = s;
+    std::vector<double> q2, qd2;
+    int i = 0, at = -1;
+    for (std::size_t k = 0; k < ph.size(); ++k) {
+        if (static_cast<int>(k) == j) {
+            at = static_cast<int>(q2.size());
+            q2.push_back(0.0);
+            qd2.push_back(0.0);
+        } else if (ph[k] != 0) {
+            q2.push_back(q[i]);
+            qd2.push_back(qd[i]);
+            ++i;
+        }
+    }
+    return s * accelerations(C, p2, q2, qd2, t, G, z)[at];
+}
+
+namespace detail {
+struct PhaseCtx {
+    const Chain* C;
+    const Phases* ph;
+    const Ground* G;
+    int n;
+    int nz;
+};
+inline int phase_rhs(double t, const double y[], double dydt[], void* params) {
+    auto* X = static_cast<PhaseCtx*>(params);
+    const int n = X->n, nz = X->nz;
+    std::vector<double> q(y, y + n), qd(y + n, y + 2 * n), z(y + 2 * n, y + 2 * n + nz);
+    const std::vector<double> qdd = accelerations(*X->C, *X->ph, q, qd, t, *X->G, z);
+    for (int i = 0; i < n; ++i) {
+        dydt[i] = qd[i];
+        dydt[n + i] = qdd[i];
+    }
+    const Phases& ph = *X->ph;
+    for (int k = 0; k < nz; ++k) {
+        dydt[2 * n + k] = 0.0;
+        const BaseDevice& d = X->C->base[k];
+        if (ph[0] == 0 || d.law != Law::bouc_wen) continue;
+        const BaseDeviceState S = base_device_state(*X->C, d, ph[0], q[0], z[k]);  // theta_0 is q[0] when open
+        if (S.acting) dydt[2 * n + k] = base_device_rate(d, S.dedth * qd[0], z[k]);
+    }
+    return GSL_SUCCESS;
+}
+}  // namespace detail
+
+inline PhaseEvent run_phase(const Chain& C, const Phases& ph, std::vector<double> q, std::vector<double> qd,
+                            std::vector<double> z, double t0, double t_end, const Ground& G, IntegOpts o = {},
+                            const std::vector<double>& out_times = {}) {
+    check_inputs(C, ph, q);
+    const int n = static_cast<int>(q.size()), nz = static_cast<int>(C.base.size());
+    z.resize(static_cast<std::size_t>(nz), 0.0);
+    const int nj = static_cast<int>(ph.size());
+    const std::vector<int> open = [&] {
+        std::vector<int> v;
+        for (int j = 0; j < nj; ++j)
+            if (ph[j] != 0) v.push_back(j);
+        return v;
+    }();
+    auto split = [&](const std::vector<double>& y, std::vector<double>& qq, std::vector<double>& vv,
+                     std::vector<double>& zz) {
+        qq.assign(y.begin(), y.begin() + n);
+        vv.assign(y.begin() + n, y.begin() + 2 * n);
+        zz.assign(y.begin() + 2 * n, y.end());
+    };
+    std::vector<bool> armed(open.size());
+    for (std::size_t i = 0; i < open.size(); ++i) armed[i] = ph[open[i]] * q[i] > 0.0;
+    // The first event at (t, y): {-1, ...} none, else {joint, side (0 for an impact)}.
+    auto events = [&](double t, const std::vector<double>& y) -> std::pair<int, int> {
+        std::vector<double> qq, vv, zz;
+        split(y, qq, vv, zz);
+        for (std::size_t i = 0; i < open.size(); ++i)
+            if (armed[i] && ph[open[i]] * qq[i] < 0.0) return {open[i], 0};
+        const std::vector<Reaction> R = closed_joint_reactions(C, ph, qq, vv, t, G, zz);
+        for (int j = 0; j < nj; ++j) {
+            if (ph[j] != 0) continue;
+            for (int s : {+1, -1})
+                if (s * R[j].M - R[j].N * C.seg[j].B >= 0.0 && opening_acceleration(C, ph, qq, vv, zz, t, G, j, s) > 0.0)
+                    return {j, s};
+        }
+        return {-1, 0};
+    };
+    detail::PhaseCtx ctx{&C, &ph, &G, n, nz};
+    const std::size_t dim = static_cast<std::size_t>(2 * n + nz);
+    gsl_odeiv2_system sys{detail::phase_rhs, nullptr, dim, &ctx};
+    auto integrate_to = [&](double ta, std::vector<double> ya, double tb) {
+        if (n == 0 || tb <= ta) return ya;  // nothing moves, and z rests with joint 0 closed
+        gsl_odeiv2_driver* d = gsl_odeiv2_driver_alloc_y_new(&sys, gsl_odeiv2_step_rk8pd,
+                                                             std::min(o.h0, tb - ta), o.atol, o.rtol);
+        double tt = ta;
+        const int status = gsl_odeiv2_driver_apply(d, &tt, tb, ya.data());
+        gsl_odeiv2_driver_free(d);
+        if (status != GSL_SUCCESS) throw std::runtime_error("chainref: driver failed");
+        return ya;
+    };
+    std::vector<double> y(dim);
+    for (int i = 0; i < n; ++i) {
+        y[i] = q[i];
+        y[n + i] = qd[i];
+    }
+    for (int k = 0; k < nz; ++k) y[2 * n + k] = z[k];
+    PhaseEvent E;
+    auto finish = [&](PhaseEvent::Kind kind, double t, const std::vector<double>& yy, std::pair<int, int> ev) {
+        E.kind = kind;
+        E.t = t;
+        E.joint = ev.first;
+        E.side = ev.second;
+        split(yy, E.q, E.qd, E.z);
+        return E;
+    };
+    {  // a closed joint already past its guards lifts at once
+        const auto ev = events(t0, y);
+        if (ev.first >= 0 && ev.second != 0) return finish(PhaseEvent::Kind::uplift, t0, y, ev);
+    }
+    std::vector<double> stops;
+    for (double b : G.breakpoints())
+        if (b > t0 && b < t_end) stops.push_back(b);
+    for (double b : out_times)
+        if (b > t0 && b < t_end) stops.push_back(b);
+    stops.push_back(t_end);
+    std::sort(stops.begin(), stops.end());
+    stops.erase(std::unique(stops.begin(), stops.end()), stops.end());
+    auto record = [&](double tt, const std::vector<double>& yy) {
+        if (!std::binary_search(out_times.begin(), out_times.end(), tt)) return;
+        PhaseState S;
+        S.t = tt;
+        split(yy, S.q, S.qd, S.z);
+        E.out.push_back(S);
+    };
+    record(t0, y);
+    gsl_odeiv2_step* st = n > 0 ? gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, dim) : nullptr;
+    gsl_odeiv2_control* ct = n > 0 ? gsl_odeiv2_control_y_new(o.atol, o.rtol) : nullptr;
+    gsl_odeiv2_evolve* evo = n > 0 ? gsl_odeiv2_evolve_alloc(dim) : nullptr;
+    auto cleanup = [&] {
+        if (evo) gsl_odeiv2_evolve_free(evo);
+        if (ct) gsl_odeiv2_control_free(ct);
+        if (st) gsl_odeiv2_step_free(st);
+    };
+    double t = t0, h = o.h0;
+    for (double t1 : stops) {
+        if (evo) gsl_odeiv2_evolve_reset(evo);
+        while (t < t1) {
+            const double tprev = t;
+            const std::vector<double> yprev = y;
+            if (n > 0) {
+                const int status = gsl_odeiv2_evolve_apply(evo, ct, st, &sys, &t, t1, &h, y.data());
+                if (status != GSL_SUCCESS) {
+                    cleanup();
+                    throw std::runtime_error("chainref: evolve failed");
+                }
+            } else {
+                t = std::min(t1, t + 1e-3);
+            }
+            auto ev = events(t, y);
+            if (ev.first < 0) {
+                for (std::size_t i = 0; i < open.size(); ++i) armed[i] = armed[i] || ph[open[i]] * y[i] > 0.0;
+                continue;
+            }
+            double lo = tprev, hi = t;
+            std::vector<double> ylo = yprev;
+            while (hi - lo > o.t_loc) {
+                const double mid = 0.5 * (lo + hi);
+                if (mid <= lo || mid >= hi) break;
+                const std::vector<double> ym = integrate_to(lo, ylo, mid);
+                const auto em = events(mid, ym);
+                if (em.first >= 0) {
+                    hi = mid;
+                    ev = em;
+                } else {
+                    lo = mid;
+                    ylo = ym;
+                }
+            }
+            cleanup();
+            if (ev.second == 0) return finish(PhaseEvent::Kind::impact, lo, ylo, ev);
+            return finish(PhaseEvent::Kind::uplift, hi, integrate_to(lo, ylo, hi), ev);
+        }
+        record(t1, y);
+    }
+    cleanup();
+    return finish(PhaseEvent::Kind::end, t, y, {-1, 0});
 }
 
 }  // namespace chainref

@@ -489,3 +489,140 @@ TEST_CASE("uplift from theta = 0 under a record pulse: the event arms only once 
     CHECK(R.t > 0.31);
     CHECK(R.qd[0] < 0.0);
 }
+
+// ------------------------------------------------ devices: base devices, tendons between segments
+
+namespace {
+
+// The three-segment stack with a prestressed chord spring off the base's axis,
+// a vertical tendon at the base, and a tendon from segment 0's base to the top.
+Chain stack3_devices() {
+    Chain C = stack3();
+    BaseDevice chord; chord.kin = BaseKinematics::chord; chord.x = 0.6; chord.k = 4e6; chord.P0 = 2e4;
+    BaseDevice vert; vert.kin = BaseKinematics::vertical; vert.x = -0.3; vert.L = 2.0; vert.k = 3e6; vert.P0 = 1e4;
+    C.base = {chord, vert};
+    SegmentTendon T; T.from = 0; T.to = 2; T.x = 0.2; T.y_top = 7.0; T.P0 = 3e4; T.k = 2e6;
+    C.tendons = {T};
+    return C;
+}
+
+}  // namespace
+
+TEST_CASE("devices: a tendon from the ground (from = -1) as a SegmentTendon is the vertical Tendon") {
+    Chain A = stack3(), B = stack3();
+    A.tendon = Tendon{true, 0.2, 3e4, 2e6};
+    SegmentTendon T; T.from = -1; T.to = 2; T.x = 0.2; T.y_top = A.H_top; T.P0 = 3e4; T.k = 2e6;
+    B.tendons = {T};
+    const Phases ph{1, -1, 1};
+    const std::vector<double> q{0.02, -0.05, 0.03}, qd{0.1, -0.2, 0.3};
+    Ground G; G.ah_fn = [](double) { return 1.3; }; G.av_fn = [](double) { return -0.4; };
+    const auto a = accelerations(A, ph, q, qd, 0.0, G), b = accelerations(B, ph, q, qd, 0.0, G);
+    for (int i = 0; i < 3; ++i) CHECK(b[i] == close_to(a[i], 1e-13, 1e-14));
+    CHECK(energy(B, ph, q, qd) == close_to(energy(A, ph, q, qd), 1e-14));
+    const auto ra = closed_joint_reactions(A, Phases{0, 1, 0}, {0.04}, {0.2}, 0.0, G);
+    const auto rb = closed_joint_reactions(B, Phases{0, 1, 0}, {0.04}, {0.2}, 0.0, G);
+    for (int j = 0; j < 3; ++j) {
+        CHECK(rb[j].N == close_to(ra[j].N, 1e-12, 1e-9));
+        CHECK(rb[j].M == close_to(ra[j].M, 1e-12, 1e-9));
+    }
+}
+
+TEST_CASE("devices: generalised forces are -dU/dq, and energy is constant between impacts with base devices and a tendon between segments") {
+    const Chain C = stack3_devices();
+    const Phases ph{1, -1, 1};
+    const std::vector<double> q{0.03, -0.04, 0.05}, qd(3, 0.0);
+    // With no gravity and no ground motion, Q = -dU_devices/dq: central differences of the energy at rest.
+    Chain C0 = C; C0.g = 0.0;
+    const Dyn D = mass_and_forces(C0, ph, q, qd, 0.0, Ground{});
+    for (int i = 0; i < 3; ++i) {
+        std::vector<double> qp = q, qm = q;
+        qp[i] += 1e-6; qm[i] -= 1e-6;
+        const double dU = (energy(C0, ph, qp, qd) - energy(C0, ph, qm, qd)) / 2e-6;
+        CAPTURE(i);
+        CHECK(D.Q[i] == close_to(-dU, 1e-7, 1e-6));
+    }
+    // free rocking of all three joints until one strikes
+    const std::vector<double> v{0.05, -0.1, 0.08};
+    const double E0 = energy(C, ph, q, v);
+    const PhaseEvent ev = run_phase(C, ph, q, v, {}, 0.0, 5.0, Ground{});
+    REQUIRE(ev.kind == PhaseEvent::Kind::impact);
+    CHECK(energy(C, ph, ev.q, ev.qd) == close_to(E0, 1e-10));
+    std::printf("devices, three open joints: joint %d strikes at %.9f s, energy %.12e -> %.12e J\n", ev.joint, ev.t, E0,
+                energy(C, ph, ev.q, ev.qd));
+}
+
+TEST_CASE("devices: with joint 0 rocking, the contact force at joint 0 (devices' pulls outside it) sits at the corner") {
+    const Chain C = stack3_devices();
+    Ground G; G.ah_fn = [](double) { return 0.9; };
+    for (int s : {+1, -1}) {
+        const Phases ph{s, 0, 0};
+        const auto R = closed_joint_reactions(C, ph, {s * 0.07}, {s * 0.3}, 0.0, G, {0.0, 0.0});
+        CAPTURE(s);
+        CHECK(R[0].M == close_to(s * C.seg[0].B * R[0].N, 1e-10));
+    }
+}
+
+TEST_CASE("devices: a prestressed base device raises the base's threshold under a ramp to (B_0 + D_0/(m g)) / H_cg; a tendon between segments raises the joint it crosses") {
+    // A block on the ground with a chord spring at x: it holds the block by P0 (B_0 - s x) about s.
+    const double c = 2.0;
+    Ground G; G.ah_fn = [c](double t) { return c * t; };
+    Chain C = single_block();
+    double m = 0, mH = 0;
+    for (const Segment& sg : C.seg) {
+        m += sg.m0; mH += sg.m0 * sg.h;
+        for (auto [y, mm] : sg.masses) { m += mm; mH += mm * y; }
+    }
+    BaseDevice spring; spring.x = 0.5; spring.k = 1e7; spring.P0 = 4e4;
+    C.base = {spring};
+    // a_g > 0 tips the stack left (s = -1): lever B_0 + x
+    const double a_star = (C.seg[0].B * m * C.g + spring.P0 * (C.seg[0].B + spring.x)) / mH;
+    const PhaseEvent ev = run_phase(C, Phases{0}, {}, {}, {}, 0.0, 10.0, G);
+    REQUIRE(ev.kind == PhaseEvent::Kind::uplift);
+    CHECK(ev.joint == 0);
+    CHECK(ev.side == -1);
+    CHECK(ev.t == close_to(a_star / c, 1e-10));
+    // A tendon from segment 0's base to the top (x = 0): it crosses joints 1 and 2 and holds them by P0 B_j.
+    Chain T = stack3();
+    SegmentTendon tie; tie.from = 0; tie.to = 2; tie.x = 0.0; tie.y_top = 7.0; tie.P0 = 2e3; tie.k = 1e7;
+    T.tendons = {tie};
+    double first = 1e9; int which = -1;
+    for (int j = 0; j < 3; ++j) {
+        double mj = 0, mHj = 0;
+        for (int k = j; k < 3; ++k) {
+            mj += T.seg[k].m0; mHj += T.seg[k].m0 * (T.seg[k].h - T.seg[j].h);
+            for (auto [y, mm] : T.seg[k].masses) { mj += mm; mHj += mm * (y - T.seg[j].h); }
+        }
+        const double held = j >= 1 ? tie.P0 * T.seg[j].B : 0.0;
+        const double aj = (T.seg[j].B * mj * T.g + held) / mHj;
+        if (aj < first) { first = aj; which = j; }
+    }
+    const PhaseEvent et = run_phase(T, Phases{0, 0, 0}, {}, {}, {}, 0.0, 10.0, G);
+    REQUIRE(et.kind == PhaseEvent::Kind::uplift);
+    CHECK(which == 1);  // held, joint 1 still lifts first, later than bare
+    CHECK(et.joint == which);
+    CHECK(et.t == close_to(first / c, 1e-10));
+    std::printf("ramp: the held base lifts at %.12f s (closed form %.12f s); with the tie joint %d at %.12f s (%.12f s)\n",
+                ev.t, a_star / c, et.joint, et.t, first / c);
+}
+
+TEST_CASE("devices: a Bouc-Wen base device with eps = 1 is the elastic law with P0 = 0; while it stretches z follows its closed form") {
+    Chain A = single_block(), B = single_block();
+    BaseDevice bw; bw.x = -0.5; bw.law = Law::bouc_wen; bw.k = 2e6; bw.eps = 1.0; bw.dy = 1e-3; bw.alpha = 0.7; bw.beta = 0.3;
+    BaseDevice el = bw; el.law = Law::elastic; el.P0 = 0.0;
+    A.base = {bw};
+    B.base = {el};
+    const PhaseEvent a = run_phase(A, Phases{1}, {0.2}, {0.0}, {0.4}, 0.0, 5.0, Ground{});
+    const PhaseEvent b = run_phase(B, Phases{1}, {0.2}, {0.0}, {}, 0.0, 5.0, Ground{});
+    REQUIRE(a.kind == PhaseEvent::Kind::impact);
+    CHECK(a.t == close_to(b.t, 1e-10));
+    CHECK(a.qd[0] == close_to(b.qd[0], 1e-10));
+    // eps < 1, lifted at rest with theta' > 0: d_y z' = e' (1 - (alpha + beta) z) while e' > 0 (n = 1)
+    Chain Y = single_block();
+    bw.eps = 0.1;
+    Y.base = {bw};
+    const PhaseEvent y = run_phase(Y, Phases{1}, {0.0}, {0.4}, {0.0}, 0.0, 0.05, Ground{});
+    REQUIRE(y.kind == PhaseEvent::Kind::end);
+    REQUIRE(y.qd[0] > 0);
+    const double e = base_device_state(Y, bw, 1, y.q[0], y.z[0]).e, ab = bw.alpha + bw.beta;
+    CHECK(y.z[0] == close_to((1 - std::exp(-ab * e / bw.dy)) / ab, 1e-9));
+}

@@ -13,6 +13,12 @@
 //   at the quadrature of the energy equation (gravity's potential and the
 //   device's P0 e + k e^2 / 2) to 1e-6, the energy balance closing to 1e-9
 //   of the initial energy, the device's peak elongation and force;
+// - against the independent reference tests/columns_reference.hpp (MODEL.md
+//   16 with 11's devices, written without rocking.columns): a flexible
+//   structure on two columns with an inclined prestressed beam tendon and a
+//   Bouc-Wen damper at each column's edges under a pulse, its first uplift,
+//   its first impact and every history row's theta, theta' and M_dev up to it,
+//   to 1e-6;
 // - bad input, each refused key in one line (exit 2).
 // Runs use rk45 at rtol 1e-10 (atol 1e-12), far below the tolerances stated.
 #include <rocking/eigen.hpp>
@@ -24,11 +30,15 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <algorithm>
 #include <memory>
+#include <numbers>
 #include <string>
+#include <vector>
 
 #include "close.hpp"
 #include "columns_frame.hpp"
+#include "columns_reference.hpp"
 #include "run_program.hpp"
 #include "temp_path.hpp"
 #include "watched_run.hpp"
@@ -185,4 +195,167 @@ TEST_CASE("a beam device through the program: history columns by name, and each 
   refused(frame_scene, tendon_keys + ",kinematics=\"chord\",at=0.0,beam_at=0.0", "device[0].beam_at");
   refused(frame_scene, tendon_keys + ",kinematics=\"vertical\",free_length=9.6,at=0.0,ground_height=1.0",
           "device[0].ground_height");
+}
+
+TEST_CASE("an inclined beam tendon and a yielding damper at each column's edges under a pulse: the program's run is the independent reference's to 1e-6 up to the first impact") {
+  // A flexible three-storey structure on two piers (columns_run_test's), a
+  // tendon from the ground at x = 1.5 m to the beam's underside at x = -1 m
+  // (50 kN prestress), and a Bouc-Wen plate at both edges of each column's base.
+  // The pulse pushes the frame to the left first, where the tendon, leaning
+  // left from its ground anchor, holds it down.
+  const std::string text = R"(
+[structure]
+half_width = 0.3
+heights = [3.0, 6.0, 9.0]
+masses = [10000.0, 8000.0, 6000.0]
+second_moments = [6.0, 5.0, 4.0]
+youngs_modulus = 1.0e8
+damping_ratio = 0.05
+base_mass = 8000.0
+
+[columns]
+count = 2
+half_width = 0.15
+half_height = 2.5
+mass = 3000.0
+spacing = 4.0
+
+[contact]
+restitution = "momentum"
+
+[[device]]
+name = "tie"
+kind = "elastic"
+kinematics = "beam"
+at = 1.5
+ground_height = 0.0
+beam_at = -1.0
+P0 = 5e4
+k = 2e6
+
+[[device]]
+name = "plate"
+kind = "bouc-wen"
+at = "edges"
+kinematics = "chord"
+k = 4e7
+eps = 0.05
+d_y = 0.001
+alpha = 0.6
+beta = 0.4
+n = 1.0
+)";
+  // A one-sine pulse of 0.3 g and 0.7 s, sampled every 5 ms, then still.
+  std::vector<double> t, ah;
+  for (int k = 0; k <= 1200; ++k) {
+    const double tk = 0.005 * k;
+    t.push_back(tk);
+    ah.push_back(tk < 0.7 ? 0.3 * gravity * std::sin(2 * std::numbers::pi * tk / 0.7) : 0.0);
+  }
+  const auto motion = std::make_shared<const GroundMotion>(GroundMotion::from_samples("pulse", t, ah));
+  const Scene scene = scene_from("tie_and_plates", text);
+  const Ran ran = run(scene, motion, 6.0);
+  REQUIRE(ran.watch.events.size() >= 2);
+  REQUIRE(ran.watch.events[0].kind == EventKind::uplift);
+  REQUIRE(ran.watch.events[1].kind == EventKind::impact);
+
+  // The reference: the same frame from MODEL.md 16 and 11, K and C as rocking.beam assembles them.
+  RunSpec spec;
+  spec.scene = scene;
+  spec.motion.given = motion;
+  const PreparedRun p = prepare_run(spec);
+  const Columns& c = p.model.on_columns->columns;
+  colref::Frame f;
+  f.n = 2;
+  f.b = 0.15;
+  f.h = 2.5;
+  f.mc = 3000;
+  f.xcol = {-2.0, 2.0};
+  f.mb = 8000;
+  f.m = {10000, 8000, 6000};
+  f.H = {3, 6, 9};
+  f.flexible = true;
+  f.g = gravity;
+  for (Eigen::Index i = 0; i < 3; ++i)
+    for (Eigen::Index j = 0; j < 3; ++j) {
+      f.K.push_back(c.matrices.K(i, j));
+      f.C.push_back(c.matrices.C(i, j));
+    }
+  colref::Device tie;
+  tie.kin = colref::Kinematics::beam;
+  tie.x = 1.5;
+  tie.gy = 0.0;
+  tie.bx = -1.0;
+  tie.P0 = 5e4;
+  tie.k = 2e6;
+  colref::Device plate;
+  plate.kin = colref::Kinematics::chord;
+  plate.law = colref::Law::bouc_wen;
+  plate.k = 4e7;
+  plate.eps = 0.05;
+  plate.dy = 0.001;
+  plate.alpha = 0.6;
+  plate.beta = 0.4;
+  plate.nbw = 1.0;
+  colref::Device left = plate, right = plate;
+  left.x = -f.b;
+  right.x = f.b;
+  f.dev = {tie, left, right};
+  colref::Ground gm{t, ah, std::vector<double>(t.size(), 0.0)};
+  colref::State rest;
+  rest.u.assign(3, 0.0);
+  rest.ud.assign(3, 0.0);
+  rest.z.assign(3, 0.0);
+  // The rows' times, each phase its own.
+  std::vector<double> contact_times, rocking_times;
+  const colref::RunResult up0 = colref::full_contact_until_uplift(f, rest, 0.0, gm, {.t_end = 6.0, .out_times = {}});
+  REQUIRE(up0.outcome == colref::Outcome::Uplift);
+  for (const Response& r : ran.watch.rows) (r.t < up0.t ? contact_times : rocking_times).push_back(r.t);
+  const colref::RunResult up = colref::full_contact_until_uplift(f, rest, 0.0, gm, {.t_end = 6.0, .out_times = contact_times});
+  colref::State lifted = up.state;
+  lifted.s = up.uplift_s;
+  const colref::RunResult hit = colref::first_impact(f, lifted, up.t, gm, {.t_end = 6.0, .out_times = rocking_times});
+  REQUIRE(hit.outcome == colref::Outcome::Impact);
+  CHECK(hit.min_top_N > 0);  // the beam stays on the columns: the program does not stop as separated
+  CHECK(ran.result.first_uplift == close_to(up.t, 1e-6));
+  CHECK(ran.watch.events[0].pivot == (up.uplift_s > 0 ? Pivot::right : Pivot::left));
+  CHECK(ran.result.first_impact == close_to(hit.t, 1e-6));
+  // The tendon holds the frame down about the side it lifts on (a positive moment at rest).
+  REQUIRE(up.uplift_s == -1);
+  const double D0 = colref::device_moment_at_rest(f, rest, up.uplift_s);
+  CHECK(D0 > 0);
+
+  // Every row before the impact: theta, theta' and the devices' moment (signed as theta). The
+  // row recorded at the uplift is the rocking phase's first (theta = 0): the devices hold D_0 there.
+  std::vector<colref::State> states = up.out;
+  states.insert(states.end(), hit.out.begin(), hit.out.end());
+  std::size_t compared = 0;
+  double peak_th = 0, peak_thd = 0, peak_m = 0;
+  std::vector<double> ref_m(states.size());
+  const std::size_t uplift_row = ran.watch.row_after[0];
+  for (std::size_t k = 0; k < states.size(); ++k) {
+    ref_m[k] = k == uplift_row ? up.uplift_s * D0 : states[k].s * colref::device_moment(f, states[k]);
+    peak_th = std::max(peak_th, std::abs(states[k].th));
+    peak_thd = std::max(peak_thd, std::abs(states[k].thd));
+    peak_m = std::max(peak_m, std::abs(ref_m[k]));
+  }
+  REQUIRE(peak_th > 0.1 * f.b / f.h);
+  double worst = 0;  // the largest difference over the quantity's peak
+  for (std::size_t k = 0; k < ran.watch.rows.size() && ran.watch.rows[k].t < hit.t - 1e-6; ++k) {
+    const Response& r = ran.watch.rows[k];
+    REQUIRE(k < states.size());
+    CAPTURE(r.t);
+    worst = std::max({worst, std::abs(r[Quantity::columns_theta] - states[k].th) / peak_th,
+                      std::abs(r[Quantity::columns_theta_dot] - states[k].thd) / peak_thd,
+                      std::abs(r[Quantity::device_moment] - ref_m[k]) / peak_m});
+    CHECK(r[Quantity::columns_theta] == within(states[k].th, 1e-6 * peak_th));
+    CHECK(r[Quantity::columns_theta_dot] == within(states[k].thd, 1e-6 * peak_thd));
+    CHECK(r[Quantity::device_moment] == within(ref_m[k], 1e-6 * peak_m));
+    ++compared;
+  }
+  CHECK(compared > 50);
+  MESSAGE("uplift " << ran.result.first_uplift << " s (reference " << up.t << " s), first impact " << ran.result.first_impact
+                    << " s (reference " << hit.t << " s); " << compared << " rows, peak theta " << peak_th
+                    << " rad, peak M_dev " << peak_m << " N m, held moment at rest " << D0
+                    << " N m; largest row difference " << worst << " of the peak");
 }

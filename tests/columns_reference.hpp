@@ -32,7 +32,22 @@
 //   [u]; full contact & rigid: none.
 //   Lagrange: M(q) q'' = Q(q, q', t) with M = sum m J^T J (+ the columns'
 //   rotational inertia), Q = - sum m J^T (J' q') - sum m J^T (a_h, g + a_v)
-//   - [K u + C u'; 0].
+//   - [K u + C u'; 0] - sum_k F_k de_k/dq (devices, below).
+// * Devices (MODEL.md 11, 16), each with a law: `elastic` F = max(0, P0 + k e)
+//   (no state) or `bouc-wen` F = k eps e + k (1 - eps) d_y z with
+//   d_y z' = e' - alpha |e'| z |z|^(n-1) - beta e' |z|^n (one state z, part of
+//   the ODE state).  Kinematics:
+//   - `chord` / `vertical` at the base of EVERY column alike (n copies), anchor
+//     at x from the column's axis, lever l = b - s x about the pivot s;
+//     e = 2 l sin(|th|/2) (chord) or sqrt((L + l sin|th|)^2 + (l (1 - cos th))^2) - L
+//     (vertical, free length L), de/dth = s de/d|th| (section 11's forms).
+//     A device acts while its anchor is lifted (s != 0, l > 0).
+//   - `beam`: one device between a ground anchor (gx, gy) and an anchor on the
+//     beam's underside at (bx, 2h) at rest, which moves with the beam by
+//     (dx, dy); e = |anchor distance| - rest distance, de/dth = n . d(dx, dy)/dth.
+//     Acts while the frame rocks about either side.
+//   In full contact e = e' = 0: a device's states rest; its force at rest
+//   F(0, z) restrains uplift by F(0, z) de/d|th| at th = 0 (section 11).
 //
 // Units: SI (m, kg, s, N, rad).  Angles in rad, angular rates in rad/s.
 #pragma once
@@ -55,6 +70,22 @@ using Vec = std::vector<double>;
 
 // ----------------------------------------------------------------- data ---
 
+enum class Law { elastic, bouc_wen };
+enum class Kinematics { chord, vertical, beam };
+
+struct Device {
+    Kinematics kin = Kinematics::chord;
+    double x = 0.0;     // chord / vertical: anchor from each column's axis, |x| <= b (m);
+                        // beam: the ground anchor's x from the frame's centre line (m)
+    double L = 0.0;     // vertical: free length (m)
+    double gy = 0.0;    // beam: the ground anchor's height above the columns' bottoms (m)
+    double bx = 0.0;    // beam: the beam anchor's x from the centre line, at height 2h (m)
+    Law law = Law::elastic;
+    double k = 0.0;     // stiffness (N/m)
+    double P0 = 0.0;    // elastic: prestress (N)
+    double eps = 0.0, dy = 1e-3, alpha = 0.5, beta = 0.5, nbw = 1.0;  // bouc-wen
+};
+
 struct Frame {
     // columns
     int n = 2;          // number of identical columns (>= 1; >= 2 for contact forces)
@@ -75,6 +106,7 @@ struct Frame {
     Vec K;              // N x N row-major stiffness (N/m), flexible only
     Vec C;              // N x N row-major damping (N s/m), flexible only (empty = 0)
     double g = 9.81;    // gravity (m/s^2)
+    std::vector<Device> dev;  // devices (MODEL.md 11 / 16), none by default
 
     int N() const { return static_cast<int>(m.size()); }
     int ndof_u() const { return flexible ? N() : 0; }
@@ -98,6 +130,7 @@ struct State {
     double thd = 0.0;   // its rate (rad/s)
     Vec u, ud;          // elastic displacements / velocities relative to the beam (m, m/s);
                         // size N when flexible, empty when rigid
+    Vec z;              // one Bouc-Wen state per device (0 for the others); empty = all 0
 };
 
 // Piecewise-linear ground motion: samples (t_k, ah_k, av_k).  Zero before the
@@ -261,6 +294,98 @@ inline std::vector<Point> points(const Frame& f, const State& st) {
 // (1/2) n mc R^2/3 theta'^2 to T (the column angle is -theta in both phases).
 inline double columns_rot_inertia(const Frame& f) { return f.n * f.mc * f.R() * f.R() / 3.0; }
 
+// --------------------------------------------------------------- devices ---
+//
+// Section 11's kinematics for the column devices (lever l = b - s x about the
+// pivot s, e a function of |theta|), and the beam device's straight distance
+// with the beam's translation (dx, dy) of section 16.
+
+struct DeviceKin {
+    bool acting = false;  // lifted anchor (column devices) / rocking (beam device)
+    double e = 0.0;       // elongation (m)
+    double dedth = 0.0;   // de/dtheta, theta signed (m/rad); e' = dedth theta'
+    double copies = 1.0;  // n for a column device (one per column), 1 for the beam device
+    double nx = 0.0, ny = 1.0;  // beam device: unit vector ground anchor -> beam anchor
+    double ax = 0.0;      // beam device: the beam anchor's x relative to the beam's centre (= bx)
+};
+
+inline double z_of(const State& st, std::size_t k) { return st.z.empty() ? 0.0 : st.z[k]; }
+
+// Device d in phase s at angle th (s = 0: full contact, e = 0).
+inline DeviceKin device_kin(const Frame& f, const Device& d, int s, double th) {
+    DeviceKin k;
+    if (d.kin == Kinematics::beam) {
+        const double R = f.R(), a = f.alpha(), ph = a - s * th;
+        const double dx = s != 0 ? 2 * s * R * (std::sin(a) - std::sin(ph)) : 0.0;
+        const double dy = s != 0 ? 2 * R * (std::cos(ph) - std::cos(a)) : 0.0;
+        const double rx0 = d.bx - d.x, ry0 = 2 * f.h - d.gy;
+        const double rx = rx0 + dx, ry = ry0 + dy, r = std::hypot(rx, ry);
+        k.nx = rx / r;
+        k.ny = ry / r;
+        k.ax = d.bx;
+        if (s == 0) return k;
+        k.acting = true;
+        k.e = r - std::hypot(rx0, ry0);
+        k.dedth = k.nx * 2 * R * std::cos(ph) + k.ny * 2 * s * R * std::sin(ph);
+        return k;
+    }
+    k.copies = f.n;
+    const double l = f.b - s * d.x;
+    if (s == 0 || l <= 0.0) return k;
+    k.acting = true;
+    const double a = std::fabs(th);
+    double de = 0.0;  // de/d|theta|
+    if (d.kin == Kinematics::chord) {
+        k.e = 2 * l * std::sin(0.5 * a);
+        de = l * std::cos(0.5 * a);
+    } else {
+        const double A = d.L + l * std::sin(a), B = l * (1 - std::cos(a)), r = std::hypot(A, B);
+        k.e = r - d.L;
+        de = (A * l * std::cos(a) + B * l * std::sin(a)) / r;
+    }
+    k.dedth = s * de;
+    return k;
+}
+
+// Tension F (N) of one device at elongation e with state z.
+inline double device_force(const Device& d, double e, double z) {
+    if (d.law == Law::elastic) return std::max(0.0, d.P0 + d.k * e);
+    return d.k * d.eps * e + d.k * (1 - d.eps) * d.dy * z;
+}
+
+// z' of a Bouc-Wen device at elongation rate edot.
+inline double bouc_wen_rate(const Device& d, double edot, double z) {
+    const double az = std::fabs(z);
+    return (edot - d.alpha * std::fabs(edot) * z * std::pow(az, d.nbw - 1) - d.beta * edot * std::pow(az, d.nbw)) / d.dy;
+}
+
+// Stored energy of an elastic device, int_0^e max(0, P0 + k x) dx (J; 0 for Bouc-Wen).
+inline double device_energy(const Device& d, double e) {
+    if (d.law != Law::elastic) return 0.0;
+    auto prim = [&](double x) { return d.P0 * x + 0.5 * d.k * x * x; };
+    const double slack = d.k > 0 ? -d.P0 / d.k : -std::numeric_limits<double>::infinity();  // F = 0 below
+    if (d.P0 >= 0) return e >= slack ? prim(e) : prim(slack);
+    return e >= slack ? prim(e) - prim(slack) : 0.0;
+}
+
+// The devices' moment D = sum F de/d|theta| of phase st.s (N m): -s D on theta.
+inline double device_moment(const Frame& f, const State& st) {
+    double D = 0.0;
+    for (std::size_t k = 0; k < f.dev.size(); ++k) {
+        const DeviceKin K = device_kin(f, f.dev[k], st.s, st.th);
+        if (K.acting) D += K.copies * device_force(f.dev[k], K.e, z_of(st, k)) * st.s * K.dedth;
+    }
+    return D;
+}
+
+// The devices' moment at rest about s, D_0(s) = sum F(0, z) de/d|theta| at theta = 0 (N m).
+inline double device_moment_at_rest(const Frame& f, const State& st, int s) {
+    State at = st;
+    at.s = s;
+    at.th = 0.0;
+    return device_moment(f, at);
+}
+
 // M(q): nq x nq row-major.
 inline Vec mass_matrix(const Frame& f, const State& st) {
     const Layout L = layout(f, st.s);
@@ -294,6 +419,7 @@ inline Vec gen_forces(const Frame& f, const State& st, double a_h, double a_v) {
             Q[L.iu + i] -= e;
         }
     }
+    if (L.ith >= 0) Q[L.ith] -= st.s * device_moment(f, st);  // - sum F de/dtheta
     return Q;
 }
 
@@ -318,7 +444,8 @@ inline Accel accelerations(const Frame& f, const State& st, double a_h, double a
 
 struct Energy {
     double kinetic = 0, potential = 0, elastic = 0;
-    double total() const { return kinetic + potential + elastic; }
+    double devices = 0;  // elastic devices' stored energy (Bouc-Wen devices not counted)
+    double total() const { return kinetic + potential + elastic + devices; }
 };
 
 // Kinetic (1/2 q'^T M q'), gravitational potential with f.g (zero with every
@@ -338,6 +465,10 @@ inline Energy energy(const Frame& f, const State& st) {
         for (int i = 0; i < N; ++i)
             for (int j = 0; j < N; ++j) E.elastic += 0.5 * st.u[i] * f.K[i * N + j] * st.u[j];
     }
+    for (const Device& d : f.dev) {
+        const DeviceKin K = device_kin(f, d, st.s, st.th);
+        if (K.acting) E.devices += K.copies * device_energy(d, K.e);
+    }
     return E;
 }
 
@@ -350,7 +481,8 @@ inline Energy energy(const Frame& f, const State& st) {
 // (tops at 2h, the deck's weight acting at the top corners 2b from the pivot):
 //   overturning  O_s = s [ 2h (V - mb a_h) - h n mc a_h ]     (rigid: V = -m_s a_h)
 //   restoring    W_s = (g + a_v) [ n mc b + 2b (mb + m_s) ]
-// and g_s = O_s - W_s.  Uplift about s when g_s > 0.  (g_s equals the rocking
+// and g_s = O_s - W_s - D_0(s), D_0(s) the devices' moment at rest about s
+// (section 11: F(0, z) de/d|theta| at theta = 0).  Uplift about s when g_s > 0.  (g_s equals the rocking
 // equations' s theta'' at theta = theta' = 0 times (J - (2h)^2 m_s) for the
 // flexible case, J for the rigid one: the self-test checks it.)  N m.
 inline double uplift_guard(const Frame& f, const State& st, int s, double a_h, double a_v) {
@@ -367,7 +499,7 @@ inline double uplift_guard(const Frame& f, const State& st, int s, double a_h, d
     }
     const double O = s * (2 * f.h * (V - f.mb * a_h) - f.h * f.n * f.mc * a_h);
     const double W = (f.g + a_v) * (f.n * f.mc * f.b + 2 * f.b * f.m_deck());
-    return O - W;
+    return O - W - device_moment_at_rest(f, st, s);
 }
 
 // ------------------------------------------------- column-top contact forces ---
@@ -385,7 +517,12 @@ inline double uplift_guard(const Frame& f, const State& st, int s, double a_h, d
 // axial flexibility).  Each column's own equation (about its pivot) then gives
 // its F_k:  2R [F_k cos(alpha - s th) - s N_k sin(alpha - s th)]
 //         = (4/3) mc R^2 th'' + mc R [(g + a_v) s sin(alpha - s th) + a_h cos(alpha - s th)].
-// `residual` = sum F_k + Fx: zero when Lagrange's theta equation and the
+// Devices: a beam device pulls the deck with -F n at its anchor on the beam's
+// underside (F(0, z) along the rest direction in full contact), so its (Px, Py)
+// leaves the sums above: sum N_k = Fy - Py, sum xi_k N_k = Mo - bx Py,
+// sum F_k = Px - Fx.  A column device acts on its column, adding F de/dth to
+// the right-hand side of the column's equation.
+// `residual` = sum F_k + Fx - Px: zero when Lagrange's theta equation and the
 // bodies' Newton-Euler equations agree (a consistency check).
 // In full contact F_k is -Fx/n (indeterminate too).  N (newtons).
 struct ContactForces {
@@ -417,27 +554,40 @@ inline ContactForces top_contact_forces(const Frame& f, const State& st, double 
         CF.Fy += p.mass * (ay + ge);
         CF.Mo += p.mass * ((p.x - xO) * (ay + ge) - (p.y - yO) * (ax + a_h));
     }
+    double Px = 0, Py = 0, Mp = 0, Gdev = 0;  // beam devices' pull and its moment about O; column devices' F de/dth
+    for (std::size_t k = 0; k < f.dev.size(); ++k) {
+        const DeviceKin K = device_kin(f, f.dev[k], st.s, st.th);
+        const double F = device_force(f.dev[k], K.e, z_of(st, k));
+        if (f.dev[k].kin == Kinematics::beam) {
+            Px -= F * K.nx;
+            Py -= F * K.ny;
+            Mp -= F * K.ny * K.ax;
+        } else if (K.acting) {
+            Gdev += F * K.dedth;
+        }
+    }
     const Vec X = f.column_x();
     Vec xi(f.n);
     for (int k = 0; k < f.n; ++k) xi[k] = X[k] - st.s * f.b;
     double xm = 0; for (double x : xi) xm += x; xm /= f.n;
     double sxx = 0; for (double x : xi) sxx += (x - xm) * (x - xm);
     if (sxx <= 0) throw std::runtime_error("top_contact_forces: columns must not coincide");
-    const double slope = (CF.Mo - xm * CF.Fy) / sxx;
+    const double Ny = CF.Fy - Py, My = CF.Mo - Mp;
+    const double slope = (My - xm * Ny) / sxx;
     CF.N.resize(f.n); CF.F.resize(f.n);
-    for (int k = 0; k < f.n; ++k) CF.N[k] = CF.Fy / f.n + slope * (xi[k] - xm);
+    for (int k = 0; k < f.n; ++k) CF.N[k] = Ny / f.n + slope * (xi[k] - xm);
     if (st.s == 0) {
-        for (int k = 0; k < f.n; ++k) CF.F[k] = -CF.Fx / f.n;
+        for (int k = 0; k < f.n; ++k) CF.F[k] = (Px - CF.Fx) / f.n;
     } else {
         const int s = st.s;
         const double R = f.R(), ph = f.alpha() - s * st.th;
         const double G = (4.0 / 3.0) * f.mc * R * R * A.thdd
-                       + f.mc * R * (ge * s * std::sin(ph) + a_h * std::cos(ph));
+                       + f.mc * R * (ge * s * std::sin(ph) + a_h * std::cos(ph)) + Gdev;
         for (int k = 0; k < f.n; ++k)
             CF.F[k] = (G / (2 * R) + s * CF.N[k] * std::sin(ph)) / std::cos(ph);
     }
     double sF = 0; for (double x : CF.F) sF += x;
-    CF.residual = sF + CF.Fx;
+    CF.residual = sF + CF.Fx - Px;
     CF.Nmin = *std::min_element(CF.N.begin(), CF.N.end());
     return CF;
 }
@@ -482,7 +632,9 @@ inline ImpactOutcome momentum_impact(const Frame& f, const State& pre, double mi
         Vec qd_new = (Lp.nq > 0) ? solve(mass_matrix(f, pp), p) : Vec{};
         Vec qq(Lp.nq, 0.0);
         for (int i = 0; i < f.ndof_u(); ++i) qq[Lp.iu + i] = pm.u[i];
-        return from_q(f, s_new, qq, qd_new);
+        State post = from_q(f, s_new, qq, qd_new);
+        post.z = pm.z;                           // the devices' states carry through
+        return post;
     };
     ImpactOutcome out;
     State rock = post_for(-pre.s);
@@ -538,23 +690,31 @@ struct OdeCtx {
     int seg;                   // record segment in use
 };
 
+// y = [q, q', z]: z one state per device (the Bouc-Wen ones evolve while they act).
 inline int ode_rhs(double t, const double y[], double dydt[], void* par) {
     const OdeCtx& c = *static_cast<const OdeCtx*>(par);
     const Layout L = layout(*c.f, c.s);
     const int nq = L.nq;
+    const std::size_t nz = c.f->dev.size();
     Vec q(y, y + nq), qd(y + nq, y + 2 * nq);
-    const State st = from_q(*c.f, c.s, q, qd);
+    State st = from_q(*c.f, c.s, q, qd);
+    st.z.assign(y + 2 * nq, y + 2 * nq + nz);
     double a_h, a_v; c.gm->eval(c.seg, t, a_h, a_v);
-    const Accel A = accelerations(*c.f, st, a_h, a_v);
+    const Accel A = (nq > 0) ? accelerations(*c.f, st, a_h, a_v) : Accel{};
     for (int r = 0; r < nq; ++r) dydt[r] = qd[r];
     for (int i = 0; i < c.f->ndof_u(); ++i) dydt[nq + L.iu + i] = A.udd[i];
     if (L.ith >= 0) dydt[nq + L.ith] = A.thdd;
+    for (std::size_t k = 0; k < nz; ++k) {
+        const Device& d = c.f->dev[k];
+        const DeviceKin K = device_kin(*c.f, d, c.s, st.th);
+        dydt[2 * nq + k] = (d.law == Law::bouc_wen && K.acting) ? bouc_wen_rate(d, K.dedth * st.thd, st.z[k]) : 0.0;
+    }
     return GSL_SUCCESS;
 }
 
 // Integrate y from t0 to t1 (inside one record segment) with a fresh driver.
 inline Vec advance(OdeCtx& c, const Options& o, Vec y, double t0, double t1) {
-    if (t1 == t0 || y.empty()) return y;
+    if (t1 == t0 || y.empty() || layout(*c.f, c.s).nq == 0) return y;  // nothing moves: z rests too
     gsl_odeiv2_system sys{ode_rhs, nullptr, y.size(), &c};
     gsl_odeiv2_driver* d = gsl_odeiv2_driver_alloc_y_new(&sys, gsl_odeiv2_step_rk8pd,
                                                          (t1 - t0) / 8, o.epsabs, o.epsrel);
@@ -608,9 +768,12 @@ inline RunResult run_phase(const Frame& f, const State& st0, double t0, const Gr
     detail::OdeCtx ctx{&f, &gm, s, 0};
     RunResult res;
 
+    const int nz = static_cast<int>(f.dev.size());
+    const int ny = 2 * nq + nz;
     auto state_of = [&](const Vec& y) {
-        Vec q(y.begin(), y.begin() + nq), qd(y.begin() + nq, y.end());
+        Vec q(y.begin(), y.begin() + nq), qd(y.begin() + nq, y.begin() + 2 * nq);
         State st = from_q(f, s, q, qd);
+        st.z.assign(y.begin() + 2 * nq, y.end());
         if (s == 0) { st.th = 0; st.thd = 0; }
         return st;
     };
@@ -643,6 +806,7 @@ inline RunResult run_phase(const Frame& f, const State& st0, double t0, const Gr
 
     Vec qv, qdv; to_q(f, st0, qv, qdv);
     Vec y(qv); y.insert(y.end(), qdv.begin(), qdv.end());
+    for (int k = 0; k < nz; ++k) y.push_back(z_of(st0, static_cast<std::size_t>(k)));
 
     // Stop times: record samples, output times, t_end.
     Vec stops = gm.breaks();
@@ -672,12 +836,12 @@ inline RunResult run_phase(const Frame& f, const State& st0, double t0, const Gr
         for (double x : stops) if (x > t) { t1 = std::min(t1, x); break; }
         ctx.seg = gm.segment(0.5 * (t + t1));
         // Sub-interval loop with its own evolve (no step across t1).
-        gsl_odeiv2_system sys{detail::ode_rhs, nullptr, static_cast<size_t>(std::max(1, 2 * nq)), &ctx};
+        gsl_odeiv2_system sys{detail::ode_rhs, nullptr, static_cast<size_t>(std::max(1, ny)), &ctx};
         gsl_odeiv2_step* stp = nullptr; gsl_odeiv2_control* ctl = nullptr; gsl_odeiv2_evolve* evo = nullptr;
         if (nq > 0) {
-            stp = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, 2 * nq);
+            stp = gsl_odeiv2_step_alloc(gsl_odeiv2_step_rk8pd, ny);
             ctl = gsl_odeiv2_control_y_new(opts.epsabs, opts.epsrel);
-            evo = gsl_odeiv2_evolve_alloc(2 * nq);
+            evo = gsl_odeiv2_evolve_alloc(ny);
         }
         auto cleanup = [&] {
             if (evo) gsl_odeiv2_evolve_free(evo);

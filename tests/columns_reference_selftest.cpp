@@ -362,7 +362,7 @@ TEST_CASE("squat columns: the structure on the beam = the fixed-base structure")
     double a0, a1; f.C = rayleigh(f.m, f.K, 0.05, a0, a1);
     const Ground gm = wiggly_record(0.02, 151, 0.35 * G, 0.0);
     Options o; o.t_end = gm.t.back(); o.out_times = gm.t;
-    const RunResult r = full_contact_until_uplift(f, State{0, 0, 0, {0, 0, 0}, {0, 0, 0}}, 0.0, gm, o);
+    const RunResult r = full_contact_until_uplift(f, State{0, 0, 0, {0, 0, 0}, {0, 0, 0}, {}}, 0.0, gm, o);
     CHECK(r.outcome == Outcome::End);
     REQUIRE(r.out.size() == gm.t.size());
     // the same structure on a fixed base (its beam's mass carried by the ground)
@@ -378,7 +378,7 @@ TEST_CASE("squat columns: the structure on the beam = the fixed-base structure")
                 peak, err, err / peak);
     // the same structure on slender columns does lift
     Frame sl = f; sl.b = 0.15; sl.h = 2.5;
-    const RunResult rs = full_contact_until_uplift(sl, State{0, 0, 0, {0, 0, 0}, {0, 0, 0}}, 0.0, gm, o);
+    const RunResult rs = full_contact_until_uplift(sl, State{0, 0, 0, {0, 0, 0}, {0, 0, 0}, {}}, 0.0, gm, o);
     CHECK(rs.outcome == Outcome::Uplift);
     std::printf("slender columns lift at t = %.6f s about s = %+d\n", rs.t, rs.uplift_s);
 }
@@ -449,7 +449,7 @@ TEST_CASE("phases chain: uplift under a record, rocking, impact, momentum law") 
     f.b = 0.15; f.h = 2.5;
     const Ground gm = wiggly_record(0.02, 151, 0.35 * G, 0.1 * G);
     Options o; o.t_end = gm.t.back();
-    const RunResult up = full_contact_until_uplift(f, State{0, 0, 0, {0, 0, 0}, {0, 0, 0}}, 0.0, gm, o);
+    const RunResult up = full_contact_until_uplift(f, State{0, 0, 0, {0, 0, 0}, {0, 0, 0}, {}}, 0.0, gm, o);
     REQUIRE(up.outcome == Outcome::Uplift);
     State st = up.state; st.s = up.uplift_s;
     double ah, av; gm.at(up.t, ah, av);
@@ -461,4 +461,144 @@ TEST_CASE("phases chain: uplift under a record, rocking, impact, momentum law") 
     CHECK(energy(f, im.post).kinetic < energy(f, ro.state).kinetic);
     std::printf("chain: uplift t %.9f (s %+d), impact t %.9f, th'- %.5f, th'+ %.5f (%s)\n",
                 up.t, up.uplift_s, ro.t, ro.state.thd, im.post.thd, im.rocking ? "rocks on" : "full contact");
+}
+
+// ------------------------------------------------------------- devices (11) ---
+
+namespace {
+
+// A column device at the left edge of each column (chord, prestressed), a
+// vertical tendon on each column's axis, and an inclined tendon from the
+// ground at x = -1 m to the beam at x = 2 m.
+std::vector<Device> elastic_devices(const Frame& f) {
+    Device chord; chord.kin = Kinematics::chord; chord.x = -f.b; chord.k = 2e6; chord.P0 = 5e3;
+    Device tendon; tendon.kin = Kinematics::vertical; tendon.x = 0.0; tendon.L = 2 * f.h; tendon.k = 5e6; tendon.P0 = 1e4;
+    Device beam; beam.kin = Kinematics::beam; beam.x = -1.0; beam.gy = 0.0; beam.bx = 2.0; beam.k = 3e5; beam.P0 = 2e4;
+    return {chord, tendon, beam};
+}
+
+// The same point of a column rigidly turned clockwise by th about its pivot
+// corner s: the distance from a ground point, by rotation (not section 11's forms).
+double turned_distance(double X, double Y, double th, double gx, double gy) {
+    const double c = std::cos(th), s = std::sin(th);
+    return std::hypot(X * c + Y * s - gx, -X * s + Y * c - gy);
+}
+
+}  // namespace
+
+TEST_CASE("devices: section 11's elongations are the anchors' distances under the columns' rigid rotation; de/dtheta by differences") {
+    const Frame f = rigid_frame();
+    for (const Device& d : elastic_devices(f))
+        for (int s : {+1, -1})
+            for (double a : {0.01, 0.1, 0.7 * f.alpha()}) {
+                const double th = s * a;
+                const DeviceKin K = device_kin(f, d, s, th);
+                CAPTURE(static_cast<int>(d.kin)); CAPTURE(s); CAPTURE(a);
+                double e = 0;
+                if (d.kin == Kinematics::beam) {
+                    // the beam rides on the top corner opposite the pivot, (-2 s b, 2h) from it
+                    const double X = -2 * s * f.b, Y = 2 * f.h;
+                    const double c = std::cos(th), sn = std::sin(th);
+                    const double dx = X * c + Y * sn - X, dy = -X * sn + Y * c - Y;
+                    e = std::hypot(d.bx + dx - d.x, 2 * f.h + dy - d.gy) - std::hypot(d.bx - d.x, 2 * f.h - d.gy);
+                } else {
+                    // the anchor at (x, L) on the column (L = 0: chord), the ground anchor at (x, 0); from the pivot
+                    const double Lc = d.kin == Kinematics::vertical ? d.L : 0.0, X = d.x - s * f.b;
+                    e = turned_distance(X, Lc, th, X, 0.0) - Lc;
+                    if (s * d.x >= f.b) { CHECK(!K.acting); continue; }  // the anchor at the pivot: not lifted
+                }
+                REQUIRE(K.acting);
+                CHECK(K.e == close_to(e, 1e-12, 1e-15));
+                const double hstep = 1e-6;
+                const double num = (device_kin(f, d, s, th + hstep).e - device_kin(f, d, s, th - hstep).e) / (2 * hstep);
+                CHECK(K.dedth == close_to(num, 1e-7, 1e-12));
+            }
+}
+
+TEST_CASE("devices: the uplift guard with devices at rest is the rocking equations' s theta'' times the inertia") {
+    for (bool flexible : {false, true}) {
+        Frame f = flexible ? flexible_frame(true) : rigid_frame();
+        f.dev = elastic_devices(f);
+        Device yielding; yielding.kin = Kinematics::chord; yielding.x = f.b; yielding.law = Law::bouc_wen;
+        yielding.k = 4e6; yielding.eps = 0.05; yielding.dy = 2e-3; yielding.alpha = 0.6; yielding.beta = 0.4; yielding.nbw = 2;
+        f.dev.push_back(yielding);
+        State st;
+        st.z = {0, 0, 0, -0.4};  // the yielding device holds a stored force
+        if (flexible) { st.u = {0.01, -0.004, 0.02}; st.ud = {0.2, 0.1, -0.3}; }
+        const double ah = 1.7, av = -0.9;
+        for (int s : {+1, -1}) {
+            State r = st; r.s = s; r.th = 0; r.thd = 0;
+            const Accel A = accelerations(f, r, ah, av);
+            const double ms = f.m_structure();
+            const double J = (4.0 / 3.0) * f.n * f.mc * f.R() * f.R() + 4 * f.R() * f.R() * f.m_deck();
+            const double inertia = flexible ? J - 4 * f.h * f.h * ms : J;
+            CAPTURE(flexible); CAPTURE(s);
+            CHECK(s * A.thdd * inertia == close_to(uplift_guard(f, st, s, ah, av), 1e-10, 1e-9 * f.m_deck() * G * f.b));
+        }
+        // what the devices hold: the beam tendon's lever differs by side, the yielding device holds about s = -1 only
+        const double D_right = device_moment_at_rest(f, st, +1), D_left = device_moment_at_rest(f, st, -1);
+        const double rx = 3.0, ry = 2 * f.h, r = std::hypot(rx, ry);
+        const double beam_right = 2e4 * (rx * 2 * f.h + ry * 2 * f.b) / r, beam_left = 2e4 * (-rx * 2 * f.h + ry * 2 * f.b) / r;
+        const double yield_force = 4e6 * 0.95 * 2e-3 * -0.4;
+        CHECK(D_right == close_to(f.n * (5e3 * 2 * f.b + 1e4 * f.b) + beam_right, 1e-12));
+        CHECK(D_left == close_to(f.n * (1e4 * f.b + yield_force * 2 * f.b) + beam_left, 1e-12));
+    }
+}
+
+TEST_CASE("devices: free rocking with elastic devices conserves gravity's, the structure's and the devices' energy; the contact forces close on Lagrange's equation") {
+    for (bool flexible : {false, true}) {
+        Frame f = flexible ? flexible_frame(false) : rigid_frame();
+        f.dev = elastic_devices(f);
+        for (int s : {+1, -1}) {
+            State st; st.s = s; st.th = s * 0.6 * f.alpha(); st.thd = 0.05 * s;
+            if (flexible) { st.u = {0.004, -0.002, 0.006}; st.ud = {0.05, -0.1, 0.02}; }
+            const double E0 = energy(f, st).total();
+            const RunResult ri = first_impact(f, st, 0.0, Ground::none());
+            REQUIRE(ri.outcome == Outcome::Impact);
+            const Energy E1 = energy(f, ri.state);
+            CAPTURE(flexible); CAPTURE(s);
+            CHECK(E1.total() == close_to(E0, 1e-10));
+            CHECK(energy(f, st).devices > 0);
+            const ContactForces cf = top_contact_forces(f, st, 0.8, 0.3);
+            CHECK(std::fabs(cf.residual) < 1e-9 * f.m_deck() * G);
+            std::printf("devices, %s, s %+d: impact at %.9f s, energy %.12e -> %.12e J\n", flexible ? "flexible" : "rigid",
+                        s, ri.t, E0, E1.total());
+        }
+    }
+    // at rest the beam tendon's pull adds to the columns' load
+    Frame f = rigid_frame();
+    f.dev = elastic_devices(f);
+    const ContactForces cf = top_contact_forces(f, State{}, 0, 0);
+    double sN = 0; for (double N : cf.N) sN += N;
+    CHECK(sN == close_to(f.m_deck() * G + 2e4 * 2 * f.h / std::hypot(3.0, 2 * f.h), 1e-13));
+}
+
+TEST_CASE("devices: a Bouc-Wen device follows its closed form while it stretches, and with eps = 1 is the elastic law") {
+    Frame f = rigid_frame();
+    Device bw; bw.kin = Kinematics::beam; bw.x = -1.0; bw.gy = 0.5; bw.bx = 1.0; bw.law = Law::bouc_wen;
+    bw.k = 2e6; bw.eps = 0.1; bw.dy = 5e-4; bw.alpha = 0.7; bw.beta = 0.3; bw.nbw = 1;
+    f.dev = {bw};
+    // Lifted about the right corners at theta = 0 with theta' > 0: the device
+    // stretches until theta' turns; with e' > 0 and z >= 0,
+    // d_y z' = e' (1 - (alpha + beta) z), so z = (1 - exp(-(alpha + beta) e / d_y)) / (alpha + beta).
+    State st; st.s = 1; st.thd = 0.15; st.z = {0.0};
+    Options o; o.out_times = {0.01, 0.02, 0.04, 0.06};
+    const RunResult r = first_impact(f, st, 0.0, Ground::none(), o);
+    REQUIRE(r.outcome == Outcome::Impact);
+    REQUIRE(r.out.size() == o.out_times.size());
+    for (const State& x : r.out) {
+        if (x.thd <= 0) continue;
+        const double e = device_kin(f, bw, 1, x.th).e, ab = bw.alpha + bw.beta;
+        CHECK(x.z[0] == close_to((1 - std::exp(-ab * e / bw.dy)) / ab, 1e-9));
+    }
+    // eps = 1: F = k e, the elastic law with P0 = 0
+    Frame fe = f, fb = f;
+    fb.dev[0].eps = 1.0;
+    fe.dev[0].law = Law::elastic; fe.dev[0].P0 = 0;
+    State s0; s0.s = 1; s0.th = 0.5 * f.alpha(); s0.z = {0.3};  // tipped right the device stays stretched (the elastic law's F >= 0 never binds)
+    REQUIRE(device_kin(f, bw, 1, 1e-3).e > 0);
+    const RunResult a = first_impact(fb, s0, 0.0, Ground::none()), b = first_impact(fe, s0, 0.0, Ground::none());
+    REQUIRE(a.outcome == Outcome::Impact);
+    CHECK(a.t == close_to(b.t, 1e-10));
+    CHECK(a.state.thd == close_to(b.state.thd, 1e-10));
 }

@@ -47,6 +47,7 @@ TEST_CASE("the cracked chimney under its pulse: the crack opens after the base l
   CHECK(s["outcome"] == "separated");
   REQUIRE(s.contains("separation"));
   CHECK_MESSAGE(s["separation"].get<std::string>().starts_with("joint 0 at t = "), s["separation"]);
+  CHECK(s["separated_joint"] == 0);
   const auto& base = s["joints"][0];
   const auto& crack = s["joints"][1];
   CHECK(base["first_uplift_s"].get<double>() < crack["first_uplift_s"].get<double>());
@@ -60,6 +61,7 @@ TEST_CASE("the cracked chimney under its pulse: the crack opens after the base l
   const nlohmann::json fixed = simulate("cracked_fixed", "--set contact.rocking=false");
   CHECK(fixed["outcome"] == "separated");
   CHECK_MESSAGE(fixed["separation"].get<std::string>().starts_with("joint 1 at t = "), fixed["separation"]);
+  CHECK(fixed["separated_joint"] == 1);
   CHECK(fixed["joints"][0]["uplifts"].get<long>() == 0);
   CHECK(fixed["joints"][1]["first_uplift_s"].get<double>() == within(0.1453, 5e-5));
   CHECK(fixed["joints"][1]["peak_theta"].get<double>() == within(0.0172, 5e-5));

@@ -22,6 +22,12 @@
 //   the closed form's time, to 1e-6;
 // - a fixed base (contact.rocking = false): the base never lifts, and the
 //   joint above lifts at its own threshold, to 1e-6;
+// - against the independent reference tests/chain_reference.hpp (MODEL.md 15
+//   with 11's devices, written without rocking.chain): a stack of two rigid
+//   blocks with a Bouc-Wen pair at its base and a tendon from the lower
+//   block's base to the top (from_segment) under a pulse; the top lifts, then
+//   the base, then the base strikes: each event's time, and every history
+//   row's joint angles and device forces up to the impact, to 1e-6;
 // - the energy balance of a segmental pier with yielding dampers at its
 //   footing and its tendon, and each device's work adding to the total;
 // - through the program: the chimney's [damper] on a cracked chimney, and a
@@ -35,11 +41,14 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <algorithm>
 #include <memory>
+#include <numbers>
 #include <span>
 #include <string>
 #include <vector>
 
+#include "chain_reference.hpp"
 #include "chain_sums.hpp"
 #include "close.hpp"
 #include "csv_table.hpp"
@@ -353,4 +362,224 @@ TEST_CASE("the program: the chimney's [damper] on a cracked chimney, and a non-t
   CHECK(bad.code == 2);
   CHECK(cli::lines(bad.err) == 1);
   CHECK_MESSAGE(bad.err.find("segment") != std::string::npos, bad.err);
+}
+
+namespace {
+
+// Every event, and at each history row the joints' and the devices' samples.
+struct JointsAndDevices : Observer {
+  std::vector<Event> events;
+  std::vector<double> t;
+  std::vector<std::vector<JointSample>> joint_rows;
+  std::vector<std::vector<DeviceSample>> device_rows;
+  std::vector<JointSample> joints_now;
+  std::vector<DeviceSample> devices_now;
+  void event(const Event& e) override { events.push_back(e); }
+  void joints(std::span<const JointSample> s) override { joints_now.assign(s.begin(), s.end()); }
+  void devices(const std::vector<DeviceSample>& s) override { devices_now = s; }
+  void record(const Response& r) override {
+    t.push_back(r.t);
+    joint_rows.push_back(joints_now);
+    device_rows.push_back(devices_now);
+  }
+};
+
+}  // namespace
+
+TEST_CASE("a stack with a yielding pair at its base and a tendon from the lower block's base to the top, under a pulse: the program's run is the independent reference's to 1e-6 up to the first impact") {
+  const double B0 = 0.25, m_lower = 200, B1 = 0.12, height = 1.0, P0 = 300, k_tie = 1e6;
+  const std::string devices = fmt::format(R"(
+[[device]]
+name = "tie"
+kind = "elastic"
+at = 0.0
+kinematics = "vertical"
+free_length = 1.0
+from_segment = 0
+segment = 1
+P0 = {}
+k = {}
+
+[[device]]
+name = "plate"
+kind = "bouc-wen"
+at = "edges"
+k = 4e5
+eps = 0.05
+d_y = 0.0001
+alpha = 0.6
+beta = 0.4
+n = 1.0
+)",
+                                          P0, k_tie);
+  // A one-sine pulse of 0.4 g and 0.6 s, sampled every 5 ms, then still.
+  std::vector<double> t, ah;
+  for (int k = 0; k <= 400; ++k) {
+    const double tk = 0.005 * k;
+    t.push_back(tk);
+    ah.push_back(tk < 0.6 ? 0.4 * gravity * std::sin(2 * std::numbers::pi * tk / 0.6) : 0.0);
+  }
+  const auto motion = std::make_shared<const GroundMotion>(GroundMotion::from_samples("pulse", t, ah));
+  const Scene scene = scene_from("stack_tie_plates", two_blocks(B0, m_lower, B1, height, devices));
+  const WatchedRun<JointsAndDevices> ran = watched_run<JointsAndDevices>(scene, 1e-10, motion, 2.0);
+  const std::vector<Event>& ev = ran.watch.events;
+  REQUIRE(ev.size() >= 3);
+  // The model's order: the devices across the base joint, then the tendons.
+  REQUIRE(ran.result.devices.size() == 3);
+  CHECK(ran.result.devices[0].name == "plate_left");
+  CHECK(ran.result.devices[1].name == "plate_right");
+  CHECK(ran.result.devices[2].name == "tie");
+
+  // The reference: two_blocks' masses on the centre line (node 3, the 1 kg cap at 1 m, is the lower
+  // block's), the tie from (0, 0) on segment 0 to the top node of segment 1, the plates at x = -+B0.
+  chainref::Chain C;
+  C.g = gravity;
+  chainref::Segment lower, upper;
+  lower.h = 0.0;
+  lower.B = B0;
+  lower.m0 = 10.0;
+  lower.masses = {{0.25, m_lower}, {0.75, m_lower}, {1.0, 1.0}};
+  upper.h = 1.0;
+  upper.B = B1;
+  upper.m0 = 10.0;
+  upper.masses = {{1 + height / 6, 30.0}, {1 + height / 2, 30.0}, {1 + 5 * height / 6, 30.0}};
+  C.seg = {lower, upper};
+  chainref::SegmentTendon tie;
+  tie.from = 0;
+  tie.to = 1;
+  tie.x = 0.0;
+  tie.y_top = 1 + 5 * height / 6;
+  tie.P0 = P0;
+  tie.k = k_tie;
+  C.tendons = {tie};
+  chainref::BaseDevice plate;
+  plate.law = chainref::Law::bouc_wen;
+  plate.k = 4e5;
+  plate.eps = 0.05;
+  plate.dy = 0.0001;
+  plate.alpha = 0.6;
+  plate.beta = 0.4;
+  plate.nbw = 1.0;
+  chainref::BaseDevice left = plate, right = plate;
+  left.x = -B0;
+  right.x = B0;
+  C.base = {left, right};
+  chainref::Ground G;
+  G.ah_rec.t = t;
+  G.ah_rec.a = ah;
+
+  // Phase by phase to the first impact, opening each joint that lifts; the rows' times recorded.
+  const std::vector<double>& rows = ran.watch.t;
+  chainref::Phases ph{0, 0};
+  std::vector<double> q, qd, z{0.0, 0.0};
+  double t0 = 0.0;
+  std::vector<chainref::PhaseEvent> found;
+  std::vector<std::pair<chainref::Phases, chainref::PhaseState>> states;
+  for (int phase = 0; phase < 4; ++phase) {
+    const chainref::PhaseEvent e = chainref::run_phase(C, ph, q, qd, z, t0, 2.0, G, {}, rows);
+    for (const chainref::PhaseState& s : e.out) states.push_back({ph, s});
+    found.push_back(e);
+    if (e.kind != chainref::PhaseEvent::Kind::uplift) break;
+    std::vector<double> q2, qd2;
+    for (int j = 0, i = 0; j < 2; ++j) {
+      if (j == e.joint) {
+        q2.push_back(0.0);
+        qd2.push_back(0.0);
+      } else if (ph[j] != 0) {
+        q2.push_back(e.q[i]);
+        qd2.push_back(e.qd[i]);
+        ++i;
+      }
+    }
+    ph[e.joint] = e.side;
+    q = q2;
+    qd = qd2;
+    z = e.z;
+    t0 = e.t;
+  }
+  // The top lifts, then the base, then the base strikes: both devices act before the impact.
+  REQUIRE(found.size() == 3);
+  CHECK(found[0].joint == 1);
+  CHECK(found[1].joint == 0);
+  REQUIRE(found[2].kind == chainref::PhaseEvent::Kind::impact);
+  for (std::size_t k = 0; k < found.size(); ++k) {
+    CAPTURE(k);
+    CHECK(ev[k].kind == (k < 2 ? EventKind::uplift : EventKind::impact));
+    CHECK(ev[k].joint == found[k].joint);
+    if (k < 2) CHECK(ev[k].pivot == (found[k].side > 0 ? Pivot::right : Pivot::left));
+    CHECK(ev[k].t == close_to(found[k].t, 1e-6));
+  }
+  const double t_hit = found[2].t;
+
+  // Every row before the impact: both joints' angles and rates, and each device's elongation and force,
+  // within 1e-6 of their peaks over the rows.
+  struct Values {
+    double th0, th1, thd0, thd1, e_tie, F_tie, e_plate, F_plate;
+  };
+  std::vector<Values> ref;
+  for (const auto& [phases, s] : states) {
+    if (s.t >= t_hit - 1e-6) break;
+    const chainref::Kin K = chainref::kinematics(C, phases, s.q, s.qd);
+    Values v{};
+    double th[2] = {0, 0}, thd[2] = {0, 0};
+    for (int j = 0, i = 0; j < 2; ++j)
+      if (phases[j] != 0) {
+        th[j] = s.q[i];
+        thd[j] = s.qd[i];
+        ++i;
+      }
+    v.th0 = th[0];
+    v.th1 = th[1];
+    v.thd0 = thd[0];
+    v.thd1 = thd[1];
+    const chainref::SegmentTendonState T = chainref::segment_tendon_state(C, K, tie);
+    v.e_tie = T.e;
+    v.F_tie = T.F;
+    // the plate that the base's rocking lifts (about the left corner: the right plate)
+    const chainref::BaseDeviceState P = chainref::base_device_state(C, right, phases[0], th[0], s.z[1]);
+    v.e_plate = P.acting ? P.e : 0.0;
+    v.F_plate = P.F;
+    ref.push_back(v);
+  }
+  REQUIRE(ref.size() > 20);
+  Values peak{};
+  auto grow = [](double& p, double x) { p = std::max(p, std::abs(x)); };
+  for (const Values& v : ref) {
+    grow(peak.th0, v.th0);
+    grow(peak.th1, v.th1);
+    grow(peak.thd0, v.thd0);
+    grow(peak.thd1, v.thd1);
+    grow(peak.e_tie, v.e_tie);
+    grow(peak.F_tie, v.F_tie);
+    grow(peak.e_plate, v.e_plate);
+    grow(peak.F_plate, v.F_plate);
+  }
+  REQUIRE(peak.e_tie > 0);
+  REQUIRE(peak.F_plate > 0);
+  REQUIRE(found[1].side == -1);  // the base rocks about its left corner: the right plate stretches
+  double worst = 0;  // the largest difference over the quantity's peak
+  for (std::size_t k = 0; k < ref.size(); ++k) {
+    CAPTURE(rows[k]);
+    const std::vector<JointSample>& j = ran.watch.joint_rows[k];
+    const std::vector<DeviceSample>& d = ran.watch.device_rows[k];
+    REQUIRE(j.size() == 2);
+    REQUIRE(d.size() == 3);
+    worst = std::max({worst, std::abs(j[0].theta - ref[k].th0) / peak.th0, std::abs(j[1].theta - ref[k].th1) / peak.th1,
+                      std::abs(j[0].theta_dot - ref[k].thd0) / peak.thd0, std::abs(j[1].theta_dot - ref[k].thd1) / peak.thd1,
+                      std::abs(d[2].e - ref[k].e_tie) / peak.e_tie, std::abs(d[2].F - ref[k].F_tie) / peak.F_tie,
+                      std::abs(d[1].e - ref[k].e_plate) / peak.e_plate, std::abs(d[1].F - ref[k].F_plate) / peak.F_plate});
+    CHECK(j[0].theta == within(ref[k].th0, 1e-6 * peak.th0));
+    CHECK(j[1].theta == within(ref[k].th1, 1e-6 * peak.th1));
+    CHECK(j[0].theta_dot == within(ref[k].thd0, 1e-6 * peak.thd0));
+    CHECK(j[1].theta_dot == within(ref[k].thd1, 1e-6 * peak.thd1));
+    CHECK(d[2].e == within(ref[k].e_tie, 1e-6 * peak.e_tie));
+    CHECK(d[2].F == within(ref[k].F_tie, 1e-6 * peak.F_tie));
+    CHECK(d[1].e == within(ref[k].e_plate, 1e-6 * peak.e_plate));
+    CHECK(d[1].F == within(ref[k].F_plate, 1e-6 * peak.F_plate));
+  }
+  MESSAGE("top lifts " << ev[0].t << " s (reference " << found[0].t << "), base lifts " << ev[1].t << " s (" << found[1].t
+                       << "), base strikes " << ev[2].t << " s (" << t_hit << "); " << ref.size()
+                       << " rows; peaks: theta_0 " << peak.th0 << ", theta_1 " << peak.th1 << " rad, tie "
+                       << peak.F_tie << " N, plate " << peak.F_plate << " N; largest row difference " << worst
+                       << " of the peak");
 }

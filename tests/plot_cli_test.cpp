@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fmt/format.h>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -398,21 +399,23 @@ TEST_CASE("plot response with a tendon and dampers draws each device's loop and 
         std::string::npos);
 }
 
-TEST_CASE("plot response of a structure with joints: one panel of the joints' rotations, a curve per joint named by its dash") {
+TEST_CASE("plot response of a structure with joints: one panel of the joints' rotations, a curve per joint in its run's dash, named by its marker") {
   // The segmental pier: three joints above its footing and a tendon. The
-  // joints' panel reads jointK.theta by name, one dash per joint named in
-  // its axis label; the tendon draws its loop; a jointed run reports no M_dev,
+  // joints' panel reads jointK.theta by name, each curve in its run's colour
+  // and dash (as the key draws the run), one marker per joint named in its
+  // axis label; the tendon draws its loop; a jointed run reports no M_dev,
   // so no moment panel.
   const fs::path dir = scratch_dir("plot_test_joints");
   const Result r = run("plot response " ROCKING_SOURCE_DIR "/data/scenes/segmental_pier.toml --variants scene "
                        "--formats png --out " + dir.string());
   REQUIRE_MESSAGE(r.code == 0, r.err);
   const std::string script = file_text(dir / "response.gp");
-  CHECK(script.find("time t [s]   (solid joint 1, dashed joint 2, dotted joint 3)") != std::string::npos);
+  CHECK(script.find("time t [s]   (circles joint 1, triangles joint 2, squares joint 3)") != std::string::npos);
+  const std::array<int, 3> markers{6, 8, 4};
   for (int j = 1; j <= 3; ++j) {
     CAPTURE(j);
-    CHECK(script.find(fmt::format("using (column('t [s]')):(column('joint{}.theta [rad]')*1) with lines linestyle 1 "
-                                  "dashtype {} notitle", j, j)) != std::string::npos);
+    CHECK(script.find(fmt::format("using (column('t [s]')):(column('joint{}.theta [rad]')*1) with linespoints linestyle 1 "
+                                  "dashtype 1 pointtype {} pointnumber 12 notitle", j, markers[j - 1])) != std::string::npos);
   }
   CHECK(script.find("joint4") == std::string::npos);
   CHECK(script.find("rocking angle at the joint") != std::string::npos);
@@ -425,7 +428,10 @@ TEST_CASE("plot response of a structure with joints: one panel of the joints' ro
   const Result blocks = run("plot response " ROCKING_SOURCE_DIR "/data/scenes/stacked_blocks.toml --variants scene "
                             "--formats png --out " + (dir / "blocks").string());
   REQUIRE_MESSAGE(blocks.code == 0, blocks.err);
-  CHECK(file_text(dir / "blocks" / "response.gp").find("time t [s]   (solid joint 1)") != std::string::npos);
+  // One joint: its curve in its run's line, no marker to name.
+  const std::string blocks_script = file_text(dir / "blocks" / "response.gp");
+  CHECK(blocks_script.find("(column('joint1.theta [rad]')*1) with lines linestyle 1 dashtype 1 notitle") != std::string::npos);
+  CHECK(blocks_script.find("joint 1)") == std::string::npos);
   const CsvTable history = csv_table(file_text(dir / "blocks" / "response.data" / "scene.csv"));
   const std::size_t theta1 = history.column("joint1.theta [rad]");
   double peak = 0;
@@ -483,4 +489,65 @@ TEST_CASE("--window: T0:T1 or the record's strong shaking on the time axes, refu
   // The frames whose times (i / 4 s) lie in the window.
   const std::string frames = fmt::format("do for [i={}:{}]", static_cast<int>(std::ceil(4 * lo)), static_cast<int>(std::floor(4 * hi)));
   CHECK_MESSAGE(script.find(frames) != std::string::npos, frames);
+}
+
+TEST_CASE("plot response marks where a separated run ends: its run's marker on the last row of the separating joint's curve, and a key entry in words, and the joints' curves in their runs' dashes as the key draws them") {
+  // The cracked chimney under its pulse (README): on its rocking base the run
+  // ends when the base's contact turns tensile at its first impact (joint 0),
+  // on a fixed base when the crack's does (joint 1).
+  const fs::path dir = scratch_dir("plot_test_separated");
+  const Result r = run("plot response " ROCKING_SOURCE_DIR "/data/scenes/chimney_cracked.toml --variants "
+                       "scene,fixed-base --window 0:0.7 --formats png --out " + dir.string());
+  REQUIRE_MESSAGE(r.code == 0, r.err);
+  const std::string script = file_text(dir / "response.gp");
+  // Each marker sits on the last data row of its run's history (gnuplot's `every` counts data rows from 0).
+  auto last_row = [&](const char* run_name) {
+    return static_cast<int>(csv_table(file_text(dir / "response.data" / (std::string(run_name) + ".csv"))).rows.size()) - 1;
+  };
+  const int scene_last = last_row("scene"), fixed_last = last_row("fixed-base");
+  CHECK(script.find(fmt::format("'response.data/scene.csv' using (column('t [s]')):(column('theta_over_alpha [-]')*1) "
+                                "every ::{0}::{0} with points linestyle 1 pointsize 2.2 notitle",
+                                scene_last)) != std::string::npos);
+  CHECK(script.find(fmt::format("'response.data/fixed-base.csv' using (column('t [s]')):(column('joint1.theta [rad]')*1) "
+                                "every ::{0}::{0} with points linestyle 2 pointsize 2.2 notitle",
+                                fixed_last)) != std::string::npos);
+  CHECK(script.find("NaN with points linestyle 1 pointsize 2.2 title 'the base separates' noenhanced") != std::string::npos);
+  CHECK(script.find("NaN with points linestyle 2 pointsize 2.2 title 'joint 1 separates' noenhanced") != std::string::npos);
+  // The fixed base's joint curve is drawn as the key draws the fixed base: dashed, with its markers when
+  // the key shows them (the dampers' loops carry them).
+  std::smatch key;
+  REQUIRE(std::regex_search(script, key, std::regex("NaN with (lines|linespoints) linestyle 2 dashtype 2 title 'fixed base' noenhanced")));
+  const std::string kind = key[1].str();
+  CHECK(script.find(fmt::format("'response.data/fixed-base.csv' using (column('t [s]')):(column('joint1.theta [rad]')*1) "
+                                "with {} linestyle 2 dashtype 2{} notitle",
+                                kind, kind == "linespoints" ? " pointnumber 12" : "")) != std::string::npos);
+  CHECK(fs::file_size(dir / "response.png") > 1000);
+  // --from: the run's own summary says where it ended (separated_joint).
+  REQUIRE(run("-q simulate " ROCKING_SOURCE_DIR "/data/scenes/chimney_cracked.toml --out " + (dir / "rocking").string())
+              .code == 0);
+  const Result from = run("plot response --formats png --from " + (dir / "rocking").string() + " --out " +
+                          (dir / "from").string());
+  REQUIRE_MESSAGE(from.code == 0, from.err);
+  const std::string from_script = file_text(dir / "from" / "response.gp");
+  CHECK(from_script.find("NaN with points linestyle 1 pointsize 2.2 title 'the base separates' noenhanced") !=
+        std::string::npos);
+  CHECK(from_script.find(fmt::format("(column('theta_over_alpha [-]')*1) every ::{0}::{0} with points",
+                                     static_cast<int>(csv_table(file_text(dir / "rocking" / "history.csv")).rows.size()) - 1)) !=
+        std::string::npos);
+  // The fixed base alone: its dampers never stretch, so it has no loop to draw (no device panel, where
+  // gnuplot found no point to scale); its crack's marker is there.
+  REQUIRE(run("-q simulate " ROCKING_SOURCE_DIR "/data/scenes/chimney_cracked.toml --set contact.rocking=false --out " +
+              (dir / "fixed").string()).code == 0);
+  const Result fixed = run("plot response --formats png --from " + (dir / "fixed").string() + " --out " +
+                           (dir / "from_fixed").string());
+  REQUIRE_MESSAGE(fixed.code == 0, fixed.err);
+  const std::string fixed_script = file_text(dir / "from_fixed" / "response.gp");
+  CHECK(fixed_script.find("device force") == std::string::npos);
+  CHECK(fixed_script.find("title 'joint 1 separates'") != std::string::npos);
+  CHECK(fs::file_size(dir / "from_fixed" / "response.png") > 1000);
+  // A run that completes has no end marker.
+  const Result plain = run("plot response " ROCKING_SOURCE_DIR "/data/scenes/stacked_blocks.toml --variants scene "
+                           "--formats png --out " + (dir / "plain").string());
+  REQUIRE_MESSAGE(plain.code == 0, plain.err);
+  CHECK(file_text(dir / "plain" / "response.gp").find("separates") == std::string::npos);
 }

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <tuple>
 import rocking.study;
 import rocking.errors;
@@ -88,6 +89,13 @@ int response(const ResponseArgs& a) {
       const fs::path summary_file = fs::path(run_dir) / "summary.json";
       std::ifstream summary(summary_file);
       const auto s = nlohmann::json::parse(summary, nullptr, false);
+      // A separated run's end: the joint in tension (separated_joint), or the columns' tops.
+      if (!s.is_discarded() && s.is_object() && s.contains("outcome") && s["outcome"] == "separated") {
+        if (s.contains("separated_joint") && s["separated_joint"].is_number_integer())
+          series.back().end = {.separated = true, .joint = s["separated_joint"].get<int>()};
+        else if (s.contains("columns"))
+          series.back().end = {.separated = true, .joint = std::nullopt};
+      }
       if (!s.is_discarded() && s.is_object() && s.contains("scene") && s.contains("motion") && s["scene"].is_string() &&
           s["motion"].is_string())
         what.push_back(fmt::format("{}: {} under {}", label, s["scene"].get<std::string>(), s["motion"].get<std::string>()));
@@ -143,6 +151,7 @@ int response(const ResponseArgs& a) {
                  peak_or_dash(columns ? Quantity::columns_theta_over_alpha : Quantity::theta_over_alpha, "{:.4f}"),
                  peak_or_dash(Quantity::base_moment, "{:.3f}"), r.counts.uplifts, outcome_name(r.outcome));
       series.push_back({label, (fs::path(a.figure.name + ".data") / (stem + ".csv")).string()});
+      if (r.outcome == Outcome::separated) series.back().end = {.separated = true, .joint = r.separated_joint};
     }
   }
   fig.title = title;

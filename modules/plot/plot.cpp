@@ -434,6 +434,7 @@ HistoryContent check_history(const fs::path& file) {
     content.has_damper = content.has_damper || value(damper_d) != 0;
   }
   if (rows < 2) throw InputError(fmt::format("{}: empty history ({} rows): nothing to plot", file.string(), rows));
+  content.rows = rows;
   // The response figure's one panel every run has: the drift.
   if (content.column(name(Quantity::delta_t)) == 0)
     throw InputError(fmt::format("{}:1: no {} column: the response figure draws the drift (a history of "
@@ -469,7 +470,7 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
   // dash (series_dash). One curve per run whose spec(i) (its `using`
   // columns) is not empty; the first run is drawn last, over the others it
   // is compared with.
-  auto curves = [&](auto&& spec) {
+  auto curve_items = [&](auto&& spec) {
     std::vector<std::string> items;
     for (std::size_t i = runs.size(); i-- > 0;) {
       const std::string using_spec = spec(i);
@@ -477,12 +478,47 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
       items.push_back(fmt::format("{} using {} with lines linestyle {} dashtype {} title {} noenhanced",
                                   quote(runs[i].history), using_spec, i + 1, series_dash(i), quote(runs[i].label)));
     }
-    return plot_command(items);
+    return items;
   };
+  auto curves = [&](auto&& spec) { return plot_command(curve_items(spec)); };
   // A quantity against time, in its figure unit.
   auto in_time = [&](std::size_t i, std::string_view name, double factor) {
     const std::string t = col(i, info(Quantity::t).name), c = col(i, name);
     return t.empty() || c.empty() ? std::string() : fmt::format("({}):({}*{:.9g})", t, c, factor);
+  };
+  // A separated run (RunEnd) stops where a joint turned tensile: its run's
+  // point shape, large, in its colour, on the last row of the curve of that
+  // joint's angle (the base's theta / alpha_cg, joint K's jointK.theta, the
+  // columns' theta / alpha on a rocking frame), and a key entry in words. The
+  // words are the program's own (a joint's number), never a run's label.
+  const std::string end_marker = "pointsize 2.2";
+  auto end_words = [](const RunEnd& e) {
+    if (!e.joint) return std::string("a column top separates");
+    return *e.joint == 0 ? std::string("the base separates") : fmt::format("joint {} separates", *e.joint);
+  };
+  auto end_column = [&](std::size_t i) {
+    const RunEnd& e = runs[i].end;
+    if (!e.separated) return std::string();
+    if (!e.joint) return std::string(info(Quantity::columns_theta_over_alpha).name);
+    if (*e.joint == 0) return std::string(info(Quantity::theta_over_alpha).name);
+    return JointQuantityName{*e.joint, JointQuantity::theta}.name();
+  };
+  auto ends_on = [&](std::size_t i, std::string_view name) {
+    const std::string c = end_column(i);
+    return !c.empty() && c == name;
+  };
+  std::vector<bool> end_drawn(runs.size(), false);
+  auto end_items = [&](std::string_view name, double factor) {
+    std::vector<std::string> items;
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+      const std::string spec = in_time(i, name, factor);
+      if (!ends_on(i, name) || spec.empty()) continue;
+      const int last = contents[i].rows - 1;
+      items.push_back(fmt::format("{} using {} every ::{}::{} with points linestyle {} {} notitle",
+                                  quote(runs[i].history), spec, last, last, i + 1, end_marker));
+      end_drawn[i] = true;
+    }
+    return items;
   };
   // A loop: y against x, in their figure units, broken where either is zero
   // (d = 0: full contact, and the impacts where one edge's damper hands over
@@ -510,15 +546,21 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
         !(contents.front().column(q.name) > 0 &&
           std::ranges::any_of(contents, [&](const HistoryContent& c) { return c.moves(q.name); })))
       continue;  // no panel for a ground that stays still
-    if (use.role == FigureRole::loop && (!any_run_has(info(q.figure_x).name) ||
-                                         (q.needs == Needs::devices && !other_devices) ||
-                                         (q.needs == Needs::dampers && other_devices)))
+    // A loop is broken where x or y is zero: no panel when no run's loop has a point.
+    if (use.role == FigureRole::loop &&
+        (!std::ranges::any_of(contents, [&](const HistoryContent& c) { return c.moves(info(q.figure_x).name) && c.moves(q.name); }) ||
+         (q.needs == Needs::devices && !other_devices) || (q.needs == Needs::dampers && other_devices)))
       continue;
     plan.push_back({use.rank, plan.size(), use.role, q.id, std::nullopt, std::nullopt});
   }
   if (other_devices)
     for (const DeviceQuantityInfo& q : device_quantity_table)
-      if (q.figure.role == FigureRole::loop)
+      if (q.figure.role == FigureRole::loop &&
+          std::ranges::any_of(contents, [&](const HistoryContent& c) {
+            return std::ranges::any_of(c.devices, [&](const std::string& d) {
+              return c.moves(device_quantity_name(d, q.figure_x)) && c.moves(device_quantity_name(d, q.id));
+            });
+          }))
         plan.push_back({q.figure.rank, plan.size(), q.figure.role, std::nullopt, q.id, std::nullopt});
   const int joints = std::ranges::max(contents, {}, &HistoryContent::joints).joints;
   for (std::size_t k = 0; k < joint_quantity_count && joints > 0; ++k)
@@ -567,10 +609,23 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
   // that never opens, a base that does not lift) is drawn flat on that axis,
   // not magnified into noise, nor on gnuplot's -1..1 for an all-zero curve.
   const std::string smallest_span = "  set yrange [*<-0.001:0.001<*]\n";
-  // Each device's and each joint's dash pattern, named in an axis label so that no key covers the curves.
+  // Each device's dash pattern, and each joint's marker when there are
+  // several, named in an axis label so that no key covers the curves.
   static constexpr std::array<const char*, 5> dashes{"solid", "dashed", "dotted", "dash-dot", "dash-dot-dot"};
+  struct JointMarker {
+    int pointtype;
+    const char* words;
+  };
+  static constexpr std::array<JointMarker, 5> joint_markers{JointMarker{6, "circles"}, JointMarker{8, "triangles"},
+                                                            JointMarker{4, "squares"},
+                                                            JointMarker{10, "inverted triangles"},
+                                                            JointMarker{12, "diamonds"}};
+  // The key draws the runs with their markers when the devices' loops carry them.
+  const bool device_panels = std::ranges::any_of(plan, [](const Planned& p) { return p.device.has_value(); });
   std::vector<std::string> labels;
   for (const ResponseSeries& r : runs) labels.push_back(r.label);
+  for (std::size_t i = 0; i < runs.size(); ++i)
+    if (!end_column(i).empty() && contents[i].column(end_column(i)) > 0) labels.push_back(end_words(runs[i].end));
   const int points = font_points(fig, 1000, 1300);
   const Grid grid = shared_key_grid(fig, panels, 1, points, labels);
   // The time axis (set first, and again by a time panel that follows a loop).
@@ -594,17 +649,22 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
       const QuantityInfo& q = info(*pl.scalar);
       body += scalar_ylabel(q.id);
       body += smallest_span;
-      body += curves([&](std::size_t i) { return in_time(i, q.name, q.figure_factor); });
+      std::vector<std::string> items = curve_items([&](std::size_t i) { return in_time(i, q.name, q.figure_factor); });
+      for (std::string& item : end_items(q.name, q.figure_factor)) items.push_back(std::move(item));
+      body += plot_command(items);
       body += "  set yrange [*:*]\n";
     } else if (pl.joint) {
-      // Each joint above the base against time, in its run's colour, with one
-      // dash pattern per joint (the same in every run), named in the x label.
+      // Each joint above the base against time, in its run's colour and dash
+      // (as the key draws the run); with several joints, one marker per joint
+      // (the same in every run), named in the x label.
       const JointQuantityInfo& q = info(*pl.joint);
-      std::vector<std::string> legend;
-      for (int j = 1; j <= joints; ++j)
-        legend.push_back(fmt::format("{} joint {}", dashes[static_cast<std::size_t>(j - 1) % dashes.size()], j));
-      body += fmt::format("  set xlabel {} noenhanced\n",
-                          quote(fmt::format("{}   ({})", axis_label(Quantity::t), fmt::join(legend, ", "))));
+      if (joints > 1) {
+        std::vector<std::string> legend;
+        for (int j = 1; j <= joints; ++j)
+          legend.push_back(fmt::format("{} joint {}", joint_markers[static_cast<std::size_t>(j - 1) % joint_markers.size()].words, j));
+        body += fmt::format("  set xlabel {} noenhanced\n",
+                            quote(fmt::format("{}   ({})", axis_label(Quantity::t), fmt::join(legend, ", "))));
+      }
       body += ylabel(q.words, q.symbol, q.figure_unit);
       body += smallest_span;
       std::vector<std::string> items;
@@ -612,13 +672,21 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
         for (int j = 1; j <= contents[i].joints; ++j) {
           const std::string spec = in_time(i, JointQuantityName{j, *pl.joint}.name(), q.figure_factor);
           if (spec.empty()) continue;
-          items.push_back(fmt::format("{} using {} with lines linestyle {} dashtype {} notitle", quote(runs[i].history),
-                                      spec, i + 1, static_cast<std::size_t>(j - 1) % dashes.size() + 1));
+          const std::string marker =
+              joints > 1 ? fmt::format(" pointtype {} pointnumber 12",
+                                       joint_markers[static_cast<std::size_t>(j - 1) % joint_markers.size()].pointtype)
+              : device_panels ? std::string(" pointnumber 12")
+                              : std::string();
+          items.push_back(fmt::format("{} using {} with {} linestyle {} dashtype {}{} notitle", quote(runs[i].history),
+                                      spec, marker.empty() ? "lines" : "linespoints", i + 1, series_dash(i), marker));
         }
+      for (int j = 1; j <= joints; ++j)
+        for (std::string& item : end_items(JointQuantityName{j, *pl.joint}.name(), q.figure_factor))
+          items.push_back(std::move(item));
       body += plot_command(items);
       body += "  set yrange [*:*]\n";
       // The time axis's own label again for the panels below.
-      body += fmt::format("  set xlabel {}\n", quote(axis_label(Quantity::t)));
+      if (joints > 1) body += fmt::format("  set xlabel {}\n", quote(axis_label(Quantity::t)));
     } else if (pl.device) {
       // Each device's force against its elongation, in its run's colour and
       // with its run's markers (about a dozen along the run), with one dash
@@ -657,11 +725,14 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
       body += curves([&](std::size_t i) { return loop(i, x.name, x.figure_factor, y.name, y.figure_factor); });
     }
   }
-  const bool device_panels = std::ranges::any_of(plan, [](const Planned& p) { return p.device.has_value(); });
   std::vector<std::string> entries;
   for (std::size_t i = 0; i < runs.size(); ++i)
     entries.push_back(fmt::format("NaN with {} linestyle {} dashtype {} title {} noenhanced",
                                   device_panels ? "linespoints" : "lines", i + 1, series_dash(i), quote(runs[i].label)));
+  for (std::size_t i = 0; i < runs.size(); ++i)
+    if (end_drawn[i])
+      entries.push_back(fmt::format("NaN with points linestyle {} {} title {} noenhanced", i + 1, end_marker,
+                                    quote(end_words(runs[i].end))));
   body += key_plot(grid, entries);
   const std::string script = fmt::format(
       "# rocking: response figure in the style of the paper's Fig. 4.\n"

@@ -11,6 +11,7 @@
 // key above the panels; figures whose panels differ carry theirs below each.
 module;
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -35,11 +36,21 @@ void check_name(const std::string& name, const std::string& option);
 // "png,pdf" -> {"png", "pdf"}; InputError for anything else.
 std::vector<std::string> parse_formats(const std::string& list);
 
-// One run of the response figure: its legend and its history CSV (a path
-// relative to the figure's folder, or absolute).
+// How a run of the response figure ended, when its curves stop at a state
+// the figure marks: `separated` (MODEL.md 15, 16: a joint in tension, the
+// part above would leave it; on rocking columns, a column top in tension).
+// An overturned run needs none: its rocking angle reaches the slenderness.
+struct RunEnd {
+  bool separated = false;
+  std::optional<int> joint;  // the joint in tension (0 the base, K >= 1 joint K); none: the columns' tops
+};
+
+// One run of the response figure: its legend, its history CSV (a path
+// relative to the figure's folder, or absolute) and how it ended.
 struct ResponseSeries {
   std::string label;
   std::string history;
+  RunEnd end = {};
 };
 
 // What a history file holds: InputError unless it has the header (t first)
@@ -55,6 +66,7 @@ struct HistoryContent {
   bool rocks = false, elastic = false, has_damper = false, ground = false, ground_moves = false;
   std::vector<std::string> devices;
   int joints = 0;
+  int rows = 0;  // data rows under the header
   std::vector<std::pair<std::string, int>> columns;
   std::vector<std::string> headers;
   std::vector<bool> nonzero;
@@ -68,7 +80,10 @@ HistoryContent check_history(const std::filesystem::path& file);
 // panels are those of the output schema (rocking.quantities' FigureUse), in
 // the order of their ranks, each drawn when some run's history has its
 // column: the ground acceleration, the drifts, the rocking angle, the
-// joints' rotations (one curve per joint, its dash named in the axis label),
+// joints' rotations (one curve per joint in its run's colour and dash, the
+// joints told apart by markers named in the axis label when there are
+// several), a separated run's end marked on the curve of the joint that
+// separates, with a key entry in words ("joint 1 separates"),
 // and the hysteresis of the devices: the paper's edge dampers alone as one
 // loop signed by the pivot; any other device (a tendon, a viscous damper)
 // draws each device's force against its elongation, and the devices' moment

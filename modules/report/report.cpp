@@ -89,6 +89,7 @@ json run_summary(const RunLabel& label, const RunResult& r) {
   };
   if (r.outcome == Outcome::failed) out["failure"] = r.failure;
   if (r.outcome == Outcome::separated) out["separation"] = r.separation;
+  if (r.separated_joint) out["separated_joint"] = *r.separated_joint;
   json devices = json::array();
   for (const DeviceResult& d : r.devices)
     devices.push_back({{"name", d.name},

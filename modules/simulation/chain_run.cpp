@@ -769,6 +769,7 @@ class ChainDriver {
   // Joint j's normal force reached 0: the part above would leave it (MODEL.md 15).
   void separate(int j, double t) {
     result_.outcome = Outcome::separated;
+    result_.separated_joint = j;
     result_.separation = fmt::format("joint {} at t = {:.9g} s: its normal force N reached 0, so the part above "
                                      "would leave it, which the model does not follow (phases {})",
                                      j, t, phases_text());

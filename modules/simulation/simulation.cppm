@@ -203,6 +203,7 @@ struct RunResult {
   Outcome outcome = Outcome::completed;
   std::string failure;             // what stopped a failed run, with time and phase
   std::string separation;          // a separated run: which joint, when, and the phases
+  std::optional<int> separated_joint;  // a separated chain: the joint in tension (0 the base); none on columns
   double t_end = 0;                // where the run ended [s]
   Phase final_phase;               // at t_end
   double final_theta = 0;          // theta at t_end [rad]: the residual tilt when the motion has died out
