@@ -34,6 +34,7 @@
 #include "rocking_record.hpp"
 #include "run_program.hpp"
 #include "temp_path.hpp"
+#include "scene_file.hpp"
 #include "watched_run.hpp"
 import rocking.run;
 import rocking.report;
@@ -42,12 +43,6 @@ import rocking.errors;
 using namespace rocking;
 
 namespace {
-
-Scene scene_from(const std::string& name, const std::string& toml) {
-  const std::filesystem::path path = temp_path(name + ".toml");
-  std::ofstream(path) << toml;
-  return load_scene(path.string());
-}
 
 using namespace columns_frame;
 

@@ -38,6 +38,7 @@
 #include "rocking_record.hpp"
 #include "run_program.hpp"
 #include "temp_path.hpp"
+#include "scene_file.hpp"
 #include "watched_run.hpp"
 #include "records.hpp"
 #include "rosw_events.hpp"
@@ -53,10 +54,6 @@ std::filesystem::path write_scene(const std::string& name, const std::string& to
   const std::filesystem::path path = temp_path(name + ".toml");
   std::ofstream(path) << toml;
   return path;
-}
-
-Scene scene_from(const std::string& name, const std::string& toml, const std::vector<std::string>& overrides = {}) {
-  return load_scene(write_scene(name, toml).string(), overrides);
 }
 
 // A rigid deck (a cap beam and two masses) on three columns 0.5 m wide, 4 m

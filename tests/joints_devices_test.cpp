@@ -55,6 +55,7 @@
 #include "records.hpp"
 #include "run_program.hpp"
 #include "temp_path.hpp"
+#include "scene_file.hpp"
 #include "two_blocks.hpp"
 #include "watched_run.hpp"
 import rocking.run;
@@ -66,12 +67,6 @@ import rocking.records;
 using namespace rocking;
 
 namespace {
-
-Scene scene_from(const std::string& name, const std::string& toml, const std::vector<std::string>& overrides = {}) {
-  const std::filesystem::path path = temp_path(name + ".toml");
-  std::ofstream(path) << toml;
-  return load_scene(path.string(), overrides);
-}
 
 using Ran = WatchedRun<EventsAndRows>;
 template <class... Args>

@@ -32,6 +32,7 @@
 #include "chain_reference.hpp"
 #include "records.hpp"
 #include "temp_path.hpp"
+#include "scene_file.hpp"
 #include "two_blocks.hpp"
 #include "watched_run.hpp"
 import rocking.run;
@@ -40,12 +41,6 @@ import rocking.errors;
 using namespace rocking;
 
 namespace {
-
-Scene scene_from(const std::string& name, const std::string& toml, const std::vector<std::string>& overrides = {}) {
-  const std::filesystem::path path = temp_path(name + ".toml");
-  std::ofstream(path) << toml;
-  return load_scene(path.string(), overrides);
-}
 
 // Every phase change and every history row's joint samples.
 struct Watch : Observer {
