@@ -2,6 +2,8 @@
 (MODEL.md 15): the joints' histories under the names history.csv gives them
 (joint1.theta, ...) and summary.json's joints list, as `rocking simulate`
 writes them for the same scene."""
+import json
+
 import numpy as np
 
 import rocking
@@ -50,3 +52,21 @@ def test_a_joints_quantities_are_listed_and_chosen_by_name():
     alpha_1 = np.arctan(0.15 / 0.45)  # the artefact: B_1 = 0.15 m, its centre of mass 0.45 m above its joint
     np.testing.assert_allclose(chosen.history["joint1.theta_over_alpha"], chosen.history["joint1.theta"] / alpha_1,
                                rtol=1e-12, atol=0)
+
+
+def test_a_separated_run_names_its_joint_as_the_program_does(cli, tmp_path):
+    """The cracked chimney under its pulse ends separated (a joint in tension,
+    MODEL.md 15): Python's outcome and summary name the separating joint and
+    the time as the program's summary.json does, on the rocking base (joint
+    0, at the base's first impact) and on a fixed base (joint 1, the crack)."""
+    scene_file = SCENES / "chimney_cracked.toml"
+    expected, _, _, result = program_and_module(cli, tmp_path, scene_file)
+    assert result.outcome == expected["outcome"] == "separated"
+    assert result.summary["separated_joint"] == expected["separated_joint"] == 0
+    assert result.summary["separation"] == expected["separation"]
+    out = tmp_path / "fixed"
+    r = cli.run("simulate", scene_file, "--set", "contact.rocking=false", "--out", out)
+    assert r.returncode == 0, r.stderr
+    fixed = rocking.simulate(rocking.Scene.load(str(scene_file), ["contact.rocking=false"]))
+    assert fixed.outcome == "separated"
+    assert fixed.summary["separated_joint"] == json.loads((out / "summary.json").read_text())["separated_joint"] == 1
