@@ -434,6 +434,21 @@ class ChainDriver {
   double lift_moment(int j, Pivot s) const { return uplift_guard(c_, j, s, reactions_[j]) - held(j, s); }
   double lift_acceleration(int j, Pivot s) const { return corners_[j][s] + held(j, s) * corners_[j].gain(s); }
 
+  // The uplift guard: both conditions in one value, their min. In the exact
+  // closed phase the moment's is taken over the inertia about the corner
+  // (-1 / gain, > 0), so that both are angular accelerations: a positive
+  // scale keeps its sign, so the event is the same, and in the same units
+  // the two terms nearly coincide where they cross (for a rigid block they
+  // are the same moment about the corner), so that the min has no kink there
+  // by a factor of that inertia, across which the event search's secant
+  // steps creep, each step a solve of the nonlinear reactions. The phases
+  // the backend integrates take the moment as it is, their event times
+  // unchanged to the bit (docs/chain.md).
+  double uplift_value(int j, Pivot s) const {
+    const double moment = lift_moment(j, s);
+    return std::min(active_ == exact_.get() ? -corners_[j].gain(s) * moment : moment, lift_acceleration(j, s));
+  }
+
   void lift(int j, Pivot s, double t) {
     phases_[j] = Phase::rocking(s);
     y_[j] = 0;
@@ -609,7 +624,7 @@ class ChainDriver {
       const int j = d.joint;
       const double s = sign(d.pivot);
       switch (d.what) {
-        case ChainGuard::uplift: g[k] = std::min(lift_moment(j, d.pivot), lift_acceleration(j, d.pivot)); break;
+        case ChainGuard::uplift: g[k] = uplift_value(j, d.pivot); break;
         case ChainGuard::impact: g[k] = s * q[j]; break;
         case ChainGuard::overturn: g[k] = s * q[j] - jm_.overturn_angle[j]; break;
         case ChainGuard::tension: g[k] = contact_reaction(j, y).N; break;
