@@ -477,12 +477,16 @@ void assemble_equations(const Chain& c, ChainPhases phases, GroundAcceleration a
 // The free coordinates (open joints' theta, every elastic one) and, when
 // augmented, the fixed ones (closed joints' theta, every d).
 void partition(const Chain& c, ChainPhases phases, bool augmented, ChainWorkspace& w) {
-  w.free.clear();
-  w.fixed.clear();
-  for (int j = 0; j < c.joints; ++j) (closed(phases[j]) ? w.fixed : w.free).push_back(j);
-  for (int k = c.joints; k < c.size; ++k) w.free.push_back(k);
+  int closed_joints = 0;
+  for (int j = 0; j < c.joints; ++j) closed_joints += closed(phases[j]) ? 1 : 0;
+  w.free.resize(static_cast<std::size_t>(c.size - closed_joints));  // within make_workspace's reserve
+  w.fixed.resize(static_cast<std::size_t>(closed_joints + (augmented ? c.augmented - c.size : 0)));
+  int* f = w.free.data();
+  int* x = w.fixed.data();
+  for (int j = 0; j < c.joints; ++j) *(closed(phases[j]) ? x++ : f++) = j;
+  for (int k = c.joints; k < c.size; ++k) *f++ = k;
   if (augmented)
-    for (int k = c.size; k < c.augmented; ++k) w.fixed.push_back(k);
+    for (int k = c.size; k < c.augmented; ++k) *x++ = k;
 }
 
 // x = M_ff^-1 x in place, with M_ff's Cholesky factor in w.reduced (solve_free).
@@ -498,6 +502,31 @@ void solve_factored(const ChainWorkspace& w, Eigen::VectorXd& x) {
     double v = x[i];
     for (int p = i + 1; p < n; ++p) v -= L(p, i) * x[p];
     x[i] = v / L(i, i);
+  }
+}
+
+// x = M_ff^-1 x and y = M_ff^-1 y in place, in one pass (solve_factored's
+// operations on each: two independent chains of dependent steps interleaved).
+void solve_factored(const ChainWorkspace& w, double* x, double* y) {
+  const int n = static_cast<int>(w.free.size());
+  const Eigen::MatrixXd& L = w.reduced;
+  for (int i = 0; i < n; ++i) {
+    double v = x[i], u = y[i];
+    for (int p = 0; p < i; ++p) {
+      v -= L(i, p) * x[p];
+      u -= L(i, p) * y[p];
+    }
+    x[i] = v / L(i, i);
+    y[i] = u / L(i, i);
+  }
+  for (int i = n - 1; i >= 0; --i) {
+    double v = x[i], u = y[i];
+    for (int p = i + 1; p < n; ++p) {
+      v -= L(p, i) * x[p];
+      u -= L(p, i) * y[p];
+    }
+    x[i] = v / L(i, i);
+    y[i] = u / L(i, i);
   }
 }
 
@@ -859,16 +888,20 @@ void chain_reactions(const Chain& c, ChainPhases phases, GroundAcceleration a, E
     }
     // b'M_ff^-1 b for b = b0 + s B b1, from b0'M_ff^-1 b0, b0'M_ff^-1 b1, b1'M_ff^-1 b1
     double b0y0 = 0, b0y1 = 0, b1y1 = 0;
-    Eigen::VectorXd& z = w.rhs;
-    for (int i = 0; i < nf; ++i) z[i] = b0[i];
-    solve_factored(w, z);
+    // M_ff^-1 b0 and M_ff^-1 b1, the latter in w.lumped's first row (scratch
+    // of the assembly, done by now)
+    double* z = w.rhs.data();
+    double* z1 = &w.lumped(0, 0);
+    for (int i = 0; i < nf; ++i) {
+      z[i] = b0[i];
+      z1[i] = b1[i];
+    }
+    solve_factored(w, z, z1);
     for (int i = 0; i < nf; ++i) {
       b0y0 += b0[i] * z[i];
       b0y1 += b1[i] * z[i];
     }
-    for (int i = 0; i < nf; ++i) z[i] = b1[i];
-    solve_factored(w, z);
-    for (int i = 0; i < nf; ++i) b1y1 += b1[i] * z[i];
+    for (int i = 0; i < nf; ++i) b1y1 += b1[i] * z1[i];
     const double B = c.data.segments[j].half_width;
     for (Pivot p : pivots) {
       const double sB = sign(p) * B;
