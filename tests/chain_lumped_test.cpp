@@ -8,7 +8,8 @@
 // 1e-12 relative (of each vector's largest entry for a component that may
 // cancel to nothing; of g sum m y_rest, absolute, for gravity's energy). The
 // corner accelerations that chain_reactions gives from its own factorisation
-// agree with corner_acceleration's trial solve.
+// agree with corner_acceleration's trial solve, and anchor_position's
+// positions with the general path's points, to 1e-12 of the chain's height.
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
 
@@ -104,7 +105,7 @@ void check_vector(const Vec& actual, const Vec& expected) {
 
 }  // namespace
 
-TEST_CASE("the lumped segments, rigid and flexible, give the general path's right-hand sides, reactions, corner accelerations, powers and energies to 1e-12") {
+TEST_CASE("the lumped segments, rigid and flexible, give the general path's right-hand sides, reactions, corner accelerations, powers, energies and positions to 1e-12") {
   std::mt19937 rng(55);
   std::uniform_real_distribution<double> U(-1.0, 1.0);
   for (const auto& [name, data] : chains()) {
@@ -115,6 +116,7 @@ TEST_CASE("the lumped segments, rigid and flexible, give the general path's righ
     const int n = c.size, J = c.joints;
     double weight_height = 0;
     for (int i = 0; i < c.points; ++i) weight_height += c.data.g * c.masses[i] * c.rest_height[i];
+    const double height = *std::max_element(c.rest_height.begin(), c.rest_height.end());
     int compared = 0;
     for (const std::vector<Phase>& phases : every_phase(J)) {
       for (int trial = 0; trial < 4; ++trial) {
@@ -148,6 +150,18 @@ TEST_CASE("the lumped segments, rigid and flexible, give the general path's righ
         CHECK(e_l.gravity == within(e_g.gravity, tol * weight_height));
         CHECK(e_l.elastic == close_to(e_g.elastic, tol, 0.0));
         CHECK(e_l.tendons == close_to(e_g.tendons, tol, 0.0));
+
+        // anchor_position walks the frames for positions alone: every slab's
+        // and node's against the general path's points (its kinematics of
+        // this state, just now), to tol of the chain's height.
+        for (int j = 0, pt = 0; j < J; ++j) {
+          const int nodes = static_cast<int>(c.local_heights[j].size());
+          for (int i = -1; i < nodes; ++i, ++pt) {
+            const Eigen::Vector2d at = anchor_position(c, phases, {.segment = j, .x = 0.0, .z = 0.0, .node = i}, q, lumped);
+            CHECK(at.x() == within(general.points(pt, 0), tol * height));
+            CHECK(at.y() == within(general.points(pt, 1), tol * height));
+          }
+        }
 
         std::vector<JointReaction> r_l(J), r_g(J);
         std::vector<CornerAcceleration> corners(J);

@@ -2,7 +2,9 @@ module;
 #include <rocking/eigen.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <span>
 #include <stdexcept>
@@ -14,13 +16,42 @@ namespace rocking {
 
 namespace {
 
+// The columns, of the first ncol, in which a frame's Jacobian may be
+// nonzero: a frame turns and moves with the joints and the faces below it
+// only (segment j's slab frame with theta_0..theta_j, the top u and phi of
+// each segment below j and, augmented, d_0..d_j), so that the loops over a
+// Jacobian's columns skip the others, where every term is an exact zero. A
+// bit set, or every column (`all`: with per_point, whose point Jacobians
+// read every column, or beyond 64 columns).
+struct Columns {
+  std::uint64_t bits = 0;
+  bool all = false;
+  void add(int k, int ncol) {
+    if (!all && k >= 0 && k < ncol) bits |= std::uint64_t{1} << k;
+  }
+  bool has(int k) const { return all || (k >= 0 && k < 64 && ((bits >> k) & 1U) != 0); }
+};
+
+// f(k) for each column k of s (of the first ncol).
+template <class F>
+void each_column(const Columns& s, int ncol, F f) {
+  if (s.all) {
+    for (int k = 0; k < ncol; ++k) f(k);
+    return;
+  }
+  for (std::uint64_t m = s.bits; m != 0; m &= m - 1) f(std::countr_zero(m));
+}
+
 // A frame: origin O, angle psi (clockwise, as theta), their rates, and the
 // bias acceleration of O (its acceleration at q'' = 0). Its Jacobian lives in
-// three rows of ChainWorkspace::frames: dOx/dq, dOy/dq, dpsi/dq.
+// three rows of ChainWorkspace::frames: dOx/dq, dOy/dq, dpsi/dq, nonzero in
+// the columns `cols` only (the rows' other entries are not kept up to date
+// unless cols is every column).
 struct Frame {
   double ox = 0, oy = 0, psi = 0, c = 1, s = 0;
   double vx = 0, vy = 0, omega = 0, bx = 0, by = 0;
   int row = 0;  // first of its three Jacobian rows
+  Columns cols;
 };
 
 // A point of frame f at local (x, z), local rate (x', 0), whose x is
@@ -71,20 +102,29 @@ Frame frame_from(const Frame& f, Rows& fj, double x, double z, double x_dot, int
   double* gx = &fj(row, 0);
   double* gy = &fj(row + 1, 0);
   double* gp = &fj(row + 2, 0);
-  for (int k = 0; k < ncol; ++k) {
+  each_column(f.cols, ncol, [&](int k) {
     gx[k] = fx[k] + px * fp[k];
     gy[k] = fy[k] + py * fp[k];
     gp[k] = fp[k];
-  }
+  });
+  // f's Jacobian is zero on ucol and col (a segment's own u, a joint above
+  // f): there g's is the new terms alone.
   if (ucol >= 0 && ucol < ncol) {
-    gx[ucol] += f.c;
-    gy[ucol] -= f.s;
+    gx[ucol] = f.c;
+    gy[ucol] = -f.s;
+    gp[ucol] = 0.0;
   }
-  if (col >= 0 && col < ncol) gp[col] += 1.0;
+  if (col >= 0 && col < ncol) {
+    gx[col] = gy[col] = 0.0;
+    gp[col] = 1.0;
+  }
   const double w = f.omega;
   const double rdx = x_dot * f.c, rdy = -x_dot * f.s;  // R r'
   Frame g;
   g.row = row;
+  g.cols = f.cols;
+  g.cols.add(ucol, ncol);
+  g.cols.add(col, ncol);
   g.ox = f.ox + rx;
   g.oy = f.oy + ry;
   g.vx = f.vx + w * px + rdx;
@@ -120,6 +160,30 @@ constexpr int slab_U = 9, slab_U_dot = 10, slab_uu = 11, slab_uu_dot = 12, slab_
 // Row of w.frames where segment j's slab frame Jacobian starts.
 int slab_row(int j) { return 6 + 3 * j; }
 
+// Whether the frames' Jacobians are kept on every column (Columns::all).
+bool every_column(const Chain& c, const ChainWorkspace& w) { return w.per_point || c.augmented > 64; }
+
+// The columns of segment j's slab frame, as kinematics builds them: each
+// joint i <= j (theta_i and, augmented, d_i) and each face below j (the top
+// node's u and phi of segment i - 1).
+Columns frame_columns(const Chain& c, int j, int ncol, const ChainWorkspace& w) {
+  Columns s;
+  s.all = every_column(c, w);
+  for (int i = 0; i <= j && !s.all; ++i) {
+    if (i > 0) {
+      const int eb = c.elastic_offset[i - 1];
+      if (eb >= 0) s.add(eb + static_cast<int>(c.data.segments[i - 1].heights.size()) - 1, ncol);
+      s.add(c.rotation_index[i - 1], ncol);
+    }
+    s.add(i, ncol);
+    if (ncol > c.size) {
+      s.add(c.size + 2 * i, ncol);
+      s.add(c.size + 2 * i + 1, ncol);
+    }
+  }
+  return s;
+}
+
 // Kinematics of every segment's slab frame (w.slabs, its Jacobian in
 // w.frames from slab_row(j)), of every mass point of a segment not lumped
 // (rows 2i, 2i+1 of w.jac; position, velocity and bias in w.points) and of
@@ -127,9 +191,9 @@ int slab_row(int j) { return 6 + 3 * j; }
 // the first ncol coordinates (size, or augmented with each joint's relative
 // translation (d_x, d_y) in its face's frame, about the joint's reference
 // point: the active corner, or the centre of a closed joint, where theta_j
-// then turns). `extra` is one more anchor (anchor_position).
+// then turns).
 void kinematics(const Chain& c, ChainPhases phases, Eigen::Ref<const Eigen::VectorXd> q,
-                Eigen::Ref<const Eigen::VectorXd> q_dot, int ncol, ChainWorkspace& w, const ChainAnchor* extra = nullptr) {
+                Eigen::Ref<const Eigen::VectorXd> q_dot, int ncol, ChainWorkspace& w) {
   const ChainData& d = c.data;
   Rows& fj = w.frames;  // rows 0-2 face, 3-5 pivot, then the slab frames
   Rows& jac = w.jac;
@@ -158,12 +222,13 @@ void kinematics(const Chain& c, ChainPhases phases, Eigen::Ref<const Eigen::Vect
   };
   for (int t = 0; t < tendons; ++t)
     if (d.tendons[t].from.segment < 0) place_anchor(d.tendons[t].from, 2 * t, nullptr, -1);
-  if (extra && extra->segment < 0) place_anchor(*extra, 2 * tendons, nullptr, -1);
 
   Frame face;  // the ground
   face.row = 0;
-  for (int r = 0; r < 3; ++r)
-    for (int k = 0; k < ncol; ++k) fj(r, k) = 0.0;
+  face.cols.all = every_column(c, w);
+  if (face.cols.all)
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < ncol; ++k) fj(r, k) = 0.0;
   Frame seg;
   int pt = 0;
   for (int j = 0; j < c.joints; ++j) {
@@ -182,13 +247,17 @@ void kinematics(const Chain& c, ChainPhases phases, Eigen::Ref<const Eigen::Vect
     // pivot frame there turns by theta_j
     const double cx = closed(phases[j]) ? 0.0 : pivot_sign(phases[j]) * sg.half_width;
     const double th = closed(phases[j]) ? 0.0 : q[j], th_dot = closed(phases[j]) ? 0.0 : q_dot[j];
-    const Frame pivot = frame_from(face, fj, cx, 0.0, 0.0, -1, ncol, 3, th, th_dot, j);
-    if (ncol > c.size) {  // relative translation of the slab on the face
+    Frame pivot = frame_from(face, fj, cx, 0.0, 0.0, -1, ncol, 3, th, th_dot, j);
+    if (ncol > c.size) {  // relative translation of the slab on the face (zero in the face's Jacobian)
       const int dx = c.size + 2 * j;
-      fj(3, dx) += face.c;
-      fj(4, dx) -= face.s;
-      fj(3, dx + 1) += face.s;
-      fj(4, dx + 1) += face.c;
+      fj(3, dx) = face.c;
+      fj(4, dx) = -face.s;
+      fj(5, dx) = 0.0;
+      fj(3, dx + 1) = face.s;
+      fj(4, dx + 1) = face.c;
+      fj(5, dx + 1) = 0.0;
+      pivot.cols.add(dx, ncol);
+      pivot.cols.add(dx + 1, ncol);
     }
     seg = frame_from(pivot, fj, -cx, 0.0, 0.0, -1, ncol, slab_row(j), 0.0, 0.0, -1);
     double* slab = &w.slabs(j, 0);  // row-major, as w.slabs is declared
@@ -224,7 +293,6 @@ void kinematics(const Chain& c, ChainPhases phases, Eigen::Ref<const Eigen::Vect
       place_anchor(d.tendons[t].from, 2 * t, &seg, j);
       place_anchor(d.tendons[t].to, 2 * t + 1, &seg, j);
     }
-    if (extra) place_anchor(*extra, 2 * tendons, &seg, j);
     (void)sg;
   }
 }
@@ -275,6 +343,27 @@ void for_each_wanted(const Chain& c, ChainPhases phases, int ncol, const ChainWo
   }
 }
 
+// for_each_wanted's entries in the rows and columns of cols alone (every
+// other entry of a term whose factors vanish outside cols is zero).
+template <class Add>
+void for_each_wanted_in(const Chain& c, ChainPhases phases, int ncol, const ChainWorkspace& w, const Columns& cols,
+                        Add add) {
+  if (cols.all) {
+    for_each_wanted(c, phases, ncol, w, add);
+    return;
+  }
+  for (int k : w.free)
+    if (cols.has(k)) each_column(cols, ncol, [&](int l) { add(l, k); });
+  if (ncol <= c.size) return;
+  for (int j = 0; j < c.joints; ++j) {
+    if (!closed(phases[j])) continue;
+    const int dy = c.size + 2 * j + 1;
+    if (cols.has(j)) add(j, j);
+    if (cols.has(j) && cols.has(dy)) add(dy, j);
+    if (cols.has(dy)) add(dy, dy);
+  }
+}
+
 // A segment's share of M and Q from its slab frame (docs/chain.md). Its
 // points sit at r_i = (u_i, z_i) in the frame (u = 0 when rigid) and move with
 // J_i = J_O + perp(R r_i) J_psi + R e_x e_(u_i)', so
@@ -307,25 +396,32 @@ void lumped_segment(const Chain& c, ChainPhases phases, int j, int first, double
   double* gy = &w.lumped(1, 0);
   double* gp = &w.lumped(2, 0);
   Eigen::VectorXd& Q = w.force;
-  for (int k = 0; k < ncol; ++k) {
+  Columns cols = frame_columns(c, j, ncol, w);
+  each_column(cols, ncol, [&](int k) {
     Q[k] -= jx[k] * Fx + jy[k] * Fy + jp[k] * T;
     gx[k] = m * jx[k] + Px * jp[k];
     gy[k] = m * jy[k] + Py * jp[k];
     gp[k] = Px * jx[k] + Py * jy[k] + I * jp[k];
-  }
+  });
   Eigen::MatrixXd& M = w.mass;
   const int eo = c.elastic_offset[j];
   if (eo < 0) {
-    for_each_wanted(c, phases, ncol, w, [&](int l, int k) { M(l, k) += jx[l] * gx[k] + jy[l] * gy[k] + jp[l] * gp[k]; });
+    for_each_wanted_in(c, phases, ncol, w, cols,
+                       [&](int l, int k) { M(l, k) += jx[l] * gx[k] + jy[l] * gy[k] + jp[l] * gp[k]; });
     return;
   }
   const int nodes = static_cast<int>(c.local_heights[j].size());
+  // The frame's Jacobian (and so A's columns) is 0 on the segment's own u
+  // columns, which its terms below touch too.
+  for (int i = 0; i < nodes && eo + i < ncol; ++i) {
+    if (!cols.all) gx[eo + i] = gy[eo + i] = gp[eo + i] = 0.0;
+    cols.add(eo + i, ncol);
+  }
   const double* mass = c.masses.data() + first + 1;
   const double* z = c.local_heights[j].data();
   for (int i = 0; i < nodes && eo + i < ncol; ++i)
     Q[eo + i] -= mass[i] * (cs * ax - sn * ay - om * om * q[eo + i]);
-  // The frame's Jacobian is 0 on the segment's own u columns.
-  for_each_wanted(c, phases, ncol, w, [&](int l, int k) {
+  for_each_wanted_in(c, phases, ncol, w, cols, [&](int l, int k) {
     double v = jx[l] * gx[k] + jy[l] * gy[k] + jp[l] * gp[k];
     const int il = l - eo, ik = k - eo;
     if (il >= 0 && il < nodes) v += mass[il] * (cs * jx[k] - sn * jy[k] + z[il] * jp[k]);
@@ -381,12 +477,16 @@ void assemble_equations(const Chain& c, ChainPhases phases, GroundAcceleration a
 // The free coordinates (open joints' theta, every elastic one) and, when
 // augmented, the fixed ones (closed joints' theta, every d).
 void partition(const Chain& c, ChainPhases phases, bool augmented, ChainWorkspace& w) {
-  w.free.clear();
-  w.fixed.clear();
-  for (int j = 0; j < c.joints; ++j) (closed(phases[j]) ? w.fixed : w.free).push_back(j);
-  for (int k = c.joints; k < c.size; ++k) w.free.push_back(k);
+  int closed_joints = 0;
+  for (int j = 0; j < c.joints; ++j) closed_joints += closed(phases[j]) ? 1 : 0;
+  w.free.resize(static_cast<std::size_t>(c.size - closed_joints));  // within make_workspace's reserve
+  w.fixed.resize(static_cast<std::size_t>(closed_joints + (augmented ? c.augmented - c.size : 0)));
+  int* f = w.free.data();
+  int* x = w.fixed.data();
+  for (int j = 0; j < c.joints; ++j) *(closed(phases[j]) ? x++ : f++) = j;
+  for (int k = c.joints; k < c.size; ++k) *f++ = k;
   if (augmented)
-    for (int k = c.size; k < c.augmented; ++k) w.fixed.push_back(k);
+    for (int k = c.size; k < c.augmented; ++k) *x++ = k;
 }
 
 // x = M_ff^-1 x in place, with M_ff's Cholesky factor in w.reduced (solve_free).
@@ -402,6 +502,31 @@ void solve_factored(const ChainWorkspace& w, Eigen::VectorXd& x) {
     double v = x[i];
     for (int p = i + 1; p < n; ++p) v -= L(p, i) * x[p];
     x[i] = v / L(i, i);
+  }
+}
+
+// x = M_ff^-1 x and y = M_ff^-1 y in place, in one pass (solve_factored's
+// operations on each: two independent chains of dependent steps interleaved).
+void solve_factored(const ChainWorkspace& w, double* x, double* y) {
+  const int n = static_cast<int>(w.free.size());
+  const Eigen::MatrixXd& L = w.reduced;
+  for (int i = 0; i < n; ++i) {
+    double v = x[i], u = y[i];
+    for (int p = 0; p < i; ++p) {
+      v -= L(i, p) * x[p];
+      u -= L(i, p) * y[p];
+    }
+    x[i] = v / L(i, i);
+    y[i] = u / L(i, i);
+  }
+  for (int i = n - 1; i >= 0; --i) {
+    double v = x[i], u = y[i];
+    for (int p = i + 1; p < n; ++p) {
+      v -= L(p, i) * x[p];
+      u -= L(p, i) * y[p];
+    }
+    x[i] = v / L(i, i);
+    y[i] = u / L(i, i);
   }
 }
 
@@ -646,7 +771,7 @@ Chain make_chain(const ChainData& d) {
 
 ChainWorkspace make_workspace(const Chain& c) {
   ChainWorkspace w;
-  const int anchors = 2 * static_cast<int>(c.data.tendons.size()) + 1;
+  const int anchors = 2 * static_cast<int>(c.data.tendons.size());
   w.jac = Rows::Zero(2 * (c.points + anchors), c.augmented);
   w.points = Eigen::MatrixXd::Zero(c.points, 6);
   w.anchors = Eigen::MatrixXd::Zero(anchors, 4);
@@ -763,16 +888,20 @@ void chain_reactions(const Chain& c, ChainPhases phases, GroundAcceleration a, E
     }
     // b'M_ff^-1 b for b = b0 + s B b1, from b0'M_ff^-1 b0, b0'M_ff^-1 b1, b1'M_ff^-1 b1
     double b0y0 = 0, b0y1 = 0, b1y1 = 0;
-    Eigen::VectorXd& z = w.rhs;
-    for (int i = 0; i < nf; ++i) z[i] = b0[i];
-    solve_factored(w, z);
+    // M_ff^-1 b0 and M_ff^-1 b1, the latter in w.lumped's first row (scratch
+    // of the assembly, done by now)
+    double* z = w.rhs.data();
+    double* z1 = &w.lumped(0, 0);
+    for (int i = 0; i < nf; ++i) {
+      z[i] = b0[i];
+      z1[i] = b1[i];
+    }
+    solve_factored(w, z, z1);
     for (int i = 0; i < nf; ++i) {
       b0y0 += b0[i] * z[i];
       b0y1 += b1[i] * z[i];
     }
-    for (int i = 0; i < nf; ++i) z[i] = b1[i];
-    solve_factored(w, z);
-    for (int i = 0; i < nf; ++i) b1y1 += b1[i] * z[i];
+    for (int i = 0; i < nf; ++i) b1y1 += b1[i] * z1[i];
     const double B = c.data.segments[j].half_width;
     for (Pivot p : pivots) {
       const double sB = sign(p) * B;
@@ -997,10 +1126,38 @@ double tendon_elongation(const Chain& c, ChainPhases phases, int k, Eigen::Ref<c
 }
 
 Eigen::Vector2d anchor_position(const Chain& c, ChainPhases phases, const ChainAnchor& p,
-                                Eigen::Ref<const Eigen::VectorXd> q, ChainWorkspace& w) {
-  kinematics(c, phases, q, q, 0, w, &p);  // positions only: the velocities (here q) are not read back
-  const int slot = 2 * static_cast<int>(c.data.tendons.size());
-  return {w.anchors(slot, 0), w.anchors(slot, 1)};
+                                Eigen::Ref<const Eigen::VectorXd> q, ChainWorkspace&) {
+  if (p.segment < 0) return {p.x, p.z};
+  // kinematics' frames, positions only (the same arithmetic): the face,
+  // the pivot and the slab frame of each segment up to the anchor's.
+  struct Place {
+    double ox = 0, oy = 0, psi = 0, c = 1, s = 0;
+  };
+  const auto from = [](const Place& f, double x, double z, double dpsi) {
+    Place g{f.ox + (x * f.c + z * f.s), f.oy + (-x * f.s + z * f.c), f.psi + dpsi, f.c, f.s};
+    if (dpsi != 0.0) {  // cos(psi + 0) = cos(psi) exactly
+      g.c = std::cos(g.psi);
+      g.s = std::sin(g.psi);
+    }
+    return g;
+  };
+  Place face, seg;  // the ground
+  for (int j = 0; j <= p.segment; ++j) {
+    if (j > 0) {  // segment j-1's top node, turning with its phi
+      const int n = static_cast<int>(c.data.segments[j - 1].heights.size());
+      const int eb = c.elastic_offset[j - 1], pcol = c.rotation_index[j - 1];
+      face = from(seg, eb >= 0 ? q[eb + n - 1] : 0.0, c.local_heights[j - 1][n - 1], pcol >= 0 ? q[pcol] : 0.0);
+    }
+    const double cx = closed(phases[j]) ? 0.0 : pivot_sign(phases[j]) * c.data.segments[j].half_width;
+    const Place pivot = from(face, cx, 0.0, closed(phases[j]) ? 0.0 : q[j]);
+    seg = from(pivot, -cx, 0.0, 0.0);
+  }
+  double x = p.x, z = p.z;
+  if (p.node >= 0) {
+    z = c.local_heights[p.segment][p.node];
+    if (c.elastic_offset[p.segment] >= 0) x += q[c.elastic_offset[p.segment] + p.node];
+  }
+  return {seg.ox + (x * seg.c + z * seg.s), seg.oy + (-x * seg.s + z * seg.c)};
 }
 
 }  // namespace rocking

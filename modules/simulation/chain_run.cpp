@@ -434,6 +434,36 @@ class ChainDriver {
   double lift_moment(int j, Pivot s) const { return uplift_guard(c_, j, s, reactions_[j]) - held(j, s); }
   double lift_acceleration(int j, Pivot s) const { return corners_[j][s] + held(j, s) * corners_[j].gain(s); }
 
+  // The uplift guard: both conditions in one value, their min. In the exact
+  // closed phase the moment's is taken over the inertia about the corner
+  // (-1 / gain, > 0), so that both are angular accelerations: a positive
+  // scale keeps its sign, so the event is the same, and in the same units
+  // the two terms nearly coincide where they cross (for a rigid block they
+  // are the same moment about the corner), so that the min has no kink there
+  // by a factor of that inertia, across which the event search's secant
+  // steps creep, each step a solve of the nonlinear reactions. The phases
+  // the backend integrates take the moment as it is, their event times
+  // unchanged to the bit (docs/chain.md).
+  double uplift_value(std::size_t k) const {
+    const Lift& l = lifts_[k];
+    return std::min(active_ == exact_.get() ? l.scale * l.moment : l.moment, l.acceleration);
+  }
+
+  // The terms the guards compare, from the reactions now in reactions_ and
+  // corners_ at state y, once for each evaluation: each joint's contact
+  // reaction (contacts_) and each uplift guard's two conditions (lifts_).
+  struct Lift {
+    double moment = 0, acceleration = 0, scale = 0;  // scale: -gain, 1 / the inertia about the corner
+  };
+  void guard_terms(Eigen::Ref<const Eigen::VectorXd> y) {
+    for (int j = 0; j < c_.joints; ++j) contacts_[j] = contact_reaction(j, y);
+    for (std::size_t k = 0; k < guards_.size(); ++k) {
+      const ChainGuardDef& d = guards_[k];
+      if (d.what == ChainGuard::uplift)
+        lifts_[k] = {lift_moment(d.joint, d.pivot), lift_acceleration(d.joint, d.pivot), -corners_[d.joint].gain(d.pivot)};
+    }
+  }
+
   void lift(int j, Pivot s, double t) {
     phases_[j] = Phase::rocking(s);
     y_[j] = 0;
@@ -455,7 +485,7 @@ class ChainDriver {
   struct Remembered {
     double t = 0;
     Eigen::VectorXd y;
-    std::vector<JointReaction> reactions;
+    std::vector<JointReaction> reactions, contacts;
   };
   void remember(double t, Eigen::Ref<const Eigen::VectorXd> y) {
     Remembered& r = remembered_[next_remembered_];
@@ -463,6 +493,7 @@ class ChainDriver {
     r.t = t;
     r.y = y;
     r.reactions.assign(reactions_.begin(), reactions_.end());
+    r.contacts.assign(contacts_.begin(), contacts_.end());
     held_ = std::min(held_ + 1, remembered_.size());
   }
   bool recall(double t, Eigen::Ref<const Eigen::VectorXd> y) {
@@ -470,6 +501,7 @@ class ChainDriver {
       const Remembered& r = remembered_[k];
       if (r.t == t && r.y == y) {
         std::copy(r.reactions.begin(), r.reactions.end(), reactions_.begin());
+        std::copy(r.contacts.begin(), r.contacts.end(), contacts_.begin());
         return true;
       }
     }
@@ -506,6 +538,7 @@ class ChainDriver {
           guards_.push_back({ChainGuard::fracture, g.joint, *phases_[g.joint].pivot(), k});
           directions.push_back(ode::Direction::rising);
         }
+    lifts_.assign(guards_.size(), {});
     ode::Guards guards{[this](double tg, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& g) {
                          guard_values(tg, y, g);
                        },
@@ -564,21 +597,21 @@ class ChainDriver {
   }
 
   // Whether guard k's sign could differ between the first-order reactions
-  // (in reactions_ and corners_) and the nonlinear ones: one of the terms it
-  // compares with 0 lies within its margin of 0.
-  bool near_threshold(std::size_t k, Eigen::Ref<const Eigen::VectorXd> y) {
+  // (their terms in contacts_ and lifts_) and the nonlinear ones: one of the
+  // terms it compares with 0 lies within its margin of 0.
+  bool near_threshold(std::size_t k) const {
     const ChainGuardDef& d = guards_[k];
     const int j = d.joint;
     const Margins& m = linear_.margins[static_cast<std::size_t>(j)];
     switch (d.what) {
       case ChainGuard::uplift: {
-        const double a = lift_moment(j, d.pivot), b = lift_acceleration(j, d.pivot);
+        const double a = lifts_[k].moment, b = lifts_[k].acceleration;
         const double ma = m.moment, mb = m.corner[index(d.pivot)];
         return a > -ma && b > -mb && (a < ma || b < mb);
       }
-      case ChainGuard::tension: return std::abs(contact_reaction(j, y).N) < m.normal;
+      case ChainGuard::tension: return std::abs(contacts_[j].N) < m.normal;
       case ChainGuard::friction: {
-        const JointReaction c = contact_reaction(j, y);
+        const JointReaction& c = contacts_[j];
         return std::abs(jm_.friction_limit[j] * c.N - std::abs(c.V)) < jm_.friction_limit[j] * m.normal;
       }
       default: return true;
@@ -594,14 +627,16 @@ class ChainDriver {
       // first-order reactions while each is far from its threshold, else
       // (and then for all) from the nonlinear chain's.
       linear_reactions(a.h, y);
+      guard_terms(y);
       near = false;
-      for (std::size_t k = 0; k < guards_.size() && !near; ++k) near = near_threshold(k, y);
+      for (std::size_t k = 0; k < guards_.size() && !near; ++k) near = near_threshold(k);
       if (near) linear_.held = linear_.values;
     }
     if (near) {
       apply_devices(y, false);
       chain_reactions(c_, phases_, a, q, qd, reactions_, qdd_, w_, corners_);
       if (active_ == exact_.get() && linear_.trusted) check_linear();
+      guard_terms(y);
     }
     remember(t, y);
     for (std::size_t k = 0; k < guards_.size(); ++k) {
@@ -609,12 +644,12 @@ class ChainDriver {
       const int j = d.joint;
       const double s = sign(d.pivot);
       switch (d.what) {
-        case ChainGuard::uplift: g[k] = std::min(lift_moment(j, d.pivot), lift_acceleration(j, d.pivot)); break;
+        case ChainGuard::uplift: g[k] = uplift_value(k); break;
         case ChainGuard::impact: g[k] = s * q[j]; break;
         case ChainGuard::overturn: g[k] = s * q[j] - jm_.overturn_angle[j]; break;
-        case ChainGuard::tension: g[k] = contact_reaction(j, y).N; break;
+        case ChainGuard::tension: g[k] = contacts_[j].N; break;
         case ChainGuard::friction: {
-          const JointReaction c = contact_reaction(j, y);
+          const JointReaction& c = contacts_[j];
           g[k] = jm_.friction_limit[j] * c.N - std::abs(c.V);
           break;
         }
@@ -854,6 +889,7 @@ class ChainDriver {
     if (reactions && !recall(t, y)) {
       apply_devices(y, false);
       chain_reactions(c_, phases_, ground_at(t), q, qd, reactions_, qdd_, w_);
+      for (int j = 0; j < c_.joints; ++j) contacts_[j] = contact_reaction(j, y);
     }
     for (int j = 0; j < c_.joints; ++j) {
       JointSample& s = samples_[j];
@@ -861,7 +897,7 @@ class ChainDriver {
       s.theta = phases_[j].is_rocking() ? q[j] : 0.0;
       s.theta_dot = phases_[j].is_rocking() ? qd[j] : 0.0;
       if (reactions) {
-        const JointReaction c = contact_reaction(j, y);
+        const JointReaction& c = contacts_[j];
         s.N = c.N;
         s.V = c.V;
         s.M = reactions_[j].M;
@@ -1009,6 +1045,8 @@ class ChainDriver {
   int n_;
   std::vector<Phase> phases_;
   std::vector<JointReaction> reactions_;
+  std::vector<JointReaction> contacts_ = std::vector<JointReaction>(static_cast<std::size_t>(c_.joints));  // contact_reaction's, per joint
+  std::vector<Lift> lifts_;  // per guard (uplift guards only)
   std::vector<CornerAcceleration> corners_ = std::vector<CornerAcceleration>(static_cast<std::size_t>(c_.joints));
   std::vector<Remembered> remembered_ = std::vector<Remembered>(16);
   std::size_t next_remembered_ = 0, held_ = 0;
