@@ -435,6 +435,15 @@ std::vector<std::pair<std::string, HuntResult>> read_resumed_hunts(
   std::string line;
   if (!std::getline(in, line) || line + "\n" != hunt_csv_header)
     throw InputError(fmt::format("--resume: {}:1: not a hunt CSV of this version (header differs)", rows_file.string()));
+  // The fields after a row's hunt_fields (record, variant, im, which may be
+  // quoted), by the header's names.
+  const std::vector<std::string> names = csv_fields(hunt_csv_header.substr(0, hunt_csv_header.size() - 1));
+  const auto header_index = [&](std::string_view name) {
+    return static_cast<std::size_t>(std::ranges::find(names, name) - names.begin());
+  };
+  const auto at = [&](std::string_view name) { return header_index(name) - (header_index("im") + 1); };
+  const std::size_t collapse = at("collapse_level"), survived = at("survived_level"), run_count = at("runs"),
+                    error = at("error");
   std::vector<std::pair<std::string, HuntResult>> out;
   for (int n = 2; std::getline(in, line); ++n) {
     if (in.eof()) break;  // a last line without its newline was cut: hunt it again
@@ -444,7 +453,7 @@ std::vector<std::pair<std::string, HuntResult>> read_resumed_hunts(
                                                 : std::string();
     const std::string rest = k < pairs.size() && line.starts_with(prefix) ? line.substr(prefix.size()) : std::string();
     const std::vector<std::string> f = csv_fields(rest);
-    if (f.size() < 10)
+    if (f.size() <= error)
       throw InputError(fmt::format("--resume: {}:{}: this row is not hunt {} of this study", rows_file.string(), n, k + 1));
     // Its levels and count are finite numbers: a row holding anything else
     // (nan, inf, text) is hunted again, with every one after it.
@@ -455,18 +464,20 @@ std::vector<std::pair<std::string, HuntResult>> read_resumed_hunts(
     };
     HuntResult h;
     double runs = 0;
-    h.collapsed = !f[0].empty();
-    if ((h.collapsed && !number(f[0], h.collapse_level)) || (!f[1].empty() && !number(f[1], h.survived_level)) ||
-        !number(f[8], runs) || runs < 0 || runs > 1e9) {
+    h.collapsed = !f[collapse].empty();
+    if ((h.collapsed && !number(f[collapse], h.collapse_level)) ||
+        (!f[survived].empty() && !number(f[survived], h.survived_level)) || !number(f[run_count], runs) || runs < 0 ||
+        runs > 1e9) {
       spdlog::warn("--resume: {}:{}: not a whole hunt row (collapse '{}', survived '{}', runs '{}'): hunt {} runs "
-                   "again, with the {} after it", rows_file.string(), n, f[0], f[1], f[8], k + 1, pairs.size() - k - 1);
+                   "again, with the {} after it", rows_file.string(), n, f[collapse], f[survived], f[run_count], k + 1,
+                   pairs.size() - k - 1);
       break;
     }
     h.runs = static_cast<int>(runs);
-    std::size_t at = 0;  // the error, last, may hold commas (quoted)
-    for (int comma = 0; comma < 9; ++comma) at = rest.find(',', at) + 1;
+    std::size_t from = 0;  // the error, last, may hold commas (quoted): the rest of the row after its field's comma
+    for (std::size_t comma = 0; comma < error; ++comma) from = rest.find(',', from) + 1;
     h.fixed_base = !st.can_overturn(pairs[k].second);
-    if (!h.fixed_base) h.error = rest.substr(at);  // a fixed base's row says why it was not run
+    if (!h.fixed_base) h.error = rest.substr(from);  // a fixed base's row says why it was not run
     out.emplace_back(line + "\n", std::move(h));
   }
   return out;
