@@ -606,19 +606,21 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
   for (std::size_t i = 0; i < done; ++i) {
     const rocking::Job& j = jobs[i];
     const rocking::JobResult& r = results[i];
+    const rocking::StudyRow study_row = rocking::study_row(columns, j, r);
     py::dict row("record"_a = study.records()[j.record], "variant"_a = study.variants()[j.variant].name,
-                 "im"_a = im.name(), "level"_a = j.level, "scale"_a = j.scale,
+                 "im"_a = im.name(), "level"_a = study_row.level, "scale"_a = j.scale,
                  "record_im"_a = study.record_intensity(j.record));
-    if (!r.error.empty()) {
+    if (!study_row.ran) {
       row["outcome"] = "error";
       row["error"] = r.error;
     } else {
-      row["outcome"] = std::string(rocking::outcome_name(r.run.outcome));
-      if (r.run.outcome == rocking::Outcome::failed) row["error"] = r.run.failure;
+      row["outcome"] = std::string(rocking::outcome_name(study_row.outcome));
+      if (study_row.outcome == rocking::Outcome::failed) row["error"] = r.run.failure;
       // The columns of ida.csv, by name (None where the run's model lacks one).
-      const std::vector<double> values = columns.values(r.run);
-      for (std::size_t k = 0; k < names.size(); ++k)
-        row[py::str(names[k])] = std::isnan(values[k]) ? py::object(py::none()) : py::object(py::float_(values[k]));
+      for (std::size_t k = 0; k < names.size(); ++k) {
+        const double v = study_row.values[k];
+        row[py::str(names[k])] = std::isnan(v) ? py::object(py::none()) : py::object(py::float_(v));
+      }
       row["t_end"] = r.run.t_end;
     }
     out.rows.append(row);

@@ -120,11 +120,20 @@ std::vector<double> study_levels(const StudyArgs& a, const IntensityMeasure& im)
   return levels;
 }
 
+// A row of a per-record figure's data: the level, the study's columns (empty
+// where the run has none), the collapse code (plot::Collapse).
+std::string figure_data_row(const StudyRow& row, plot::Collapse code) {
+  std::string out = fmt::format("{:.9g}", row.level);
+  for (double v : row.values) out += "," + peak_field(v);
+  return out + fmt::format(",{}\n", static_cast<unsigned>(code));
+}
+
 // One data file per (record, variant) and one figure per record: peaks
 // against the scale, with each variant's first overturning drawn as collapse.
+// rows: every job's, as written (the runs that could not run are left out).
 void study_figures(const StudyArgs& a, const Study& st, const StudyColumns& columns,
                    const std::vector<std::string>& ids, const std::vector<Job>& jobs,
-                   const std::vector<std::string>& lines, const std::string& kind, const std::string& scene_name) {
+                   const std::vector<StudyRow>& rows, const std::string& kind, const std::string& scene_name) {
   const fs::path dir(a.out);
   // One panel per scalar study quantity that some variant reports; the
   // devices' peaks are in the data files and the CSV.
@@ -157,21 +166,21 @@ void study_figures(const StudyArgs& a, const Study& st, const StudyColumns& colu
       const std::string file = (fs::path(name + ".data") / (fmt::format("{}.csv", v))).string();
       std::ofstream out(dir / file);
       out << header;
-      int rows = 0;
+      int written = 0;
       bool fallen = false;
       unsigned codes = 0;
       std::vector<double> levels;
       for (std::size_t i = 0; i < jobs.size(); ++i) {
-        if (jobs[i].record != r || jobs[i].variant != v || lines[i].empty()) continue;
-        const bool down = lines[i].ends_with(",1");
+        if (jobs[i].record != r || jobs[i].variant != v || !rows[i].ran) continue;
+        const bool down = rows[i].collapsed();
         const plot::Collapse code = plot::collapse_of(down, fallen);
         fallen = fallen || down;
         codes |= code != plot::Collapse::standing ? plot::collapse_bit(code) : 0u;
         levels.push_back(jobs[i].level);
-        out << lines[i].substr(0, lines[i].size() - 1) << static_cast<unsigned>(code) << '\n';
-        ++rows;
+        out << figure_data_row(rows[i], code);
+        ++written;
       }
-      if (rows == 0) continue;
+      if (written == 0) continue;
       plot::Series s{variant_label(st.variants()[v].name), file, {}, fallen ? "collapse" : ""};
       s.collapse_codes = codes;
       // The variants' collapse markers side by side: a fifth of the levels' spacing apart.
@@ -190,12 +199,11 @@ void study_figures(const StudyArgs& a, const Study& st, const StudyColumns& colu
     std::vector<plot::Panel> record_panels = panels;
     for (std::size_t p = 0; p < shown.size(); ++p) {
       if (!force_like[p] || a.log_axes == "off") continue;
+      const QuantityName q(columns.quantities[shown[p]]);
       double low = std::numeric_limits<double>::infinity(), high = 0;
       for (std::size_t i = 0; i < jobs.size(); ++i) {
-        if (jobs[i].record != r || lines[i].empty()) continue;
-        const std::vector<std::string> f = csv_fields(lines[i]);
-        if (shown[p] + 1 >= f.size() || f[shown[p] + 1].empty()) continue;
-        const double v = std::abs(std::stod(f[shown[p] + 1]));
+        if (jobs[i].record != r || !rows[i].ran) continue;
+        const double v = std::abs(rows[i].value(columns, q));  // NaN where the run has none
         if (v > 0 && std::isfinite(v)) {
           low = std::min(low, v);
           high = std::max(high, v);
@@ -221,9 +229,11 @@ void study_figures(const StudyArgs& a, const Study& st, const StudyColumns& colu
 
 // What an earlier, interrupted run of the same study left in DIR: its rows are
 // the first jobs in order (rows are written in job order), each checked
-// against the job it must be; their figure data follow from the rows.
+// against the job it must be; rows: their text, kept as it is; results: each
+// read back.
 struct Resumed {
-  std::vector<std::string> rows, lines, timings;
+  std::vector<std::string> rows, timings;
+  std::vector<StudyRow> results;
 };
 Resumed read_resumed(const fs::path& csv_file, const fs::path& timing_file, const std::vector<Job>& jobs,
                      const std::vector<std::string>& ids, const Study& st, const StudyColumns& columns) {
@@ -236,7 +246,7 @@ Resumed read_resumed(const fs::path& csv_file, const fs::path& timing_file, cons
   ResumedRows kept = read_resumed_rows(in, rows_file.string(), jobs, ids, st, columns);
   if (!kept.rerun.empty()) spdlog::warn("{}", kept.rerun);
   r.rows = std::move(kept.rows);
-  r.lines = std::move(kept.lines);
+  r.results = std::move(kept.results);
   std::string line;
   std::ifstream timing(resume_source(timing_file));
   if (timing && std::getline(timing, line))
@@ -292,19 +302,20 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
                  first > 0 ? fmt::format(" ({} done before, resumed)", first) : "");
   // A single process streams its rows and timings (a long study shows them
   // as they come) into temporary files, renamed when the study ends or stops,
-  // and keeps of each job only its cell of the summary (and its figure line
-  // when it draws one figure per record): memory does not grow with the
-  // number of jobs. Under mpirun, rank 0 gathers the rows and lines.
+  // and keeps of each job only its cell of the summary (and its row when it
+  // draws one figure per record): memory does not grow with the number of
+  // jobs. Under mpirun, rank 0 gathers the rows' text and reads them back.
   const std::size_t nr = st.records().size();
   const bool per_record_figures = !a.no_plot && (nr <= 3 || a.per_record);
-  const bool keep_lines = per_record_figures || world.size > 1;
   StudySummary summary(st, levels, ladder.limits, resurrection);
-  std::vector<std::pair<long, std::string>> rows, timings, lines;
+  std::vector<std::pair<long, std::string>> rows, timings;
+  std::vector<StudyRow> figure_rows(per_record_figures ? jobs.size() : 0);
   std::size_t failed = 0;
   for (std::size_t i = 0; i < first; ++i) {
-    summary.add(jobs[i], line_result(columns, resumed.lines[i]));
-    failed += resumed.lines[i].empty() ? 1 : 0;
-    if (keep_lines) lines.emplace_back(static_cast<long>(i), resumed.lines[i]);
+    const StudyRow& row = resumed.results[i];
+    summary.add(jobs[i], row);
+    failed += row.ran ? 0 : 1;
+    if (per_record_figures) figure_rows[i] = row;
   }
   const char* timing_header = "record,scale,variant,im,level,record_im,wall_s\n";
   const fs::path partial = csv_file.string() + ".partial", timing_partial = timing_file.string() + ".partial";
@@ -332,31 +343,28 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
           csv << text << std::flush;
           timing << time;
           failed += r.error.empty() ? 0 : 1;
+          if (per_record_figures) figure_rows[i] = written_row(columns, jobs[i], r);
         } else {
           rows.emplace_back(static_cast<long>(i), text);
           timings.emplace_back(static_cast<long>(i), time);
         }
-        if (keep_lines) lines.emplace_back(static_cast<long>(i), figure_line(columns, jobs[i], r));
       },
       {.progress = [&](std::size_t done, std::size_t total) { progress(done, total); },
        .stop = [] { return stop_signal() != 0; }});
+  MpiRows gathered;
   if (world.size > 1) {
-    auto all = gather_rows(world, rows);
+    gathered = gather_rows(world, rows);
     auto all_timings = gather_rows(world, timings);
-    std::sort(all.begin(), all.end());
+    std::sort(gathered.begin(), gathered.end());
     std::sort(all_timings.begin(), all_timings.end());
     if (world.rank == 0) {
       csv.open(partial);
       timing.open(timing_partial);
       csv << study_csv_header(columns);
-      for (const auto& [i, text] : all) csv << text;
+      for (const auto& [i, text] : gathered) csv << text;
       timing << timing_header;
       for (const auto& [i, text] : all_timings) timing << text;
     }
-  }
-  if (keep_lines) {
-    lines = gather_rows(world, lines);
-    std::sort(lines.begin(), lines.end());
   }
   if (world.rank != 0) return 0;
   csv.close();
@@ -375,12 +383,14 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
                stop_signal_name(signal), done, jobs.size(), csv_file.string());
     return stop_exit_code(signal);
   }
-  std::vector<std::string> figure_lines(keep_lines ? jobs.size() : 0);
-  for (auto& [i, text] : lines) figure_lines[static_cast<std::size_t>(i)] = std::move(text);
-  if (world.size > 1) {
-    failed = static_cast<std::size_t>(std::count(figure_lines.begin(), figure_lines.end(), std::string()));
-    for (std::size_t i = 0; i < jobs.size(); ++i) summary.add(jobs[i], line_result(columns, figure_lines[i]));
-  }
+  if (world.size > 1)  // rank 0 reads back the rows the ranks wrote
+    for (const auto& [i, text] : gathered) {
+      const auto k = static_cast<std::size_t>(i);
+      const StudyRow row = read_study_row(columns, text);
+      summary.add(jobs[k], row);
+      failed += row.ran ? 0 : 1;
+      if (per_record_figures) figure_rows[k] = row;
+    }
   fmt::print("wrote {} ({} runs)\n", csv_file.string(), jobs.size());
   const SuiteFragility fragility = suite_fragility(st, summary, fragility_opts, threads);
   const StudyReport report = ladder_report(st, summary, fragility, ids);
@@ -391,7 +401,7 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
   if (!a.no_plot) {
     // One figure per record for a few records (the paper's Figs. 5-8); the
     // suite's figures (every record, fractiles, fragility) for two or more.
-    if (per_record_figures) study_figures(a, st, columns, ids, jobs, figure_lines, kind, scene_name);
+    if (per_record_figures) study_figures(a, st, columns, ids, jobs, figure_rows, kind, scene_name);
     if (nr >= 2)
       for (const fs::path& f : draw_ladder_report(dir, st, summary, fragility, kind, scene_name, plot::parse_formats(a.formats)))
         fmt::print("wrote {}\n", f.string());
@@ -425,6 +435,15 @@ std::vector<std::pair<std::string, HuntResult>> read_resumed_hunts(
   std::string line;
   if (!std::getline(in, line) || line + "\n" != hunt_csv_header)
     throw InputError(fmt::format("--resume: {}:1: not a hunt CSV of this version (header differs)", rows_file.string()));
+  // The fields after a row's hunt_fields (record, variant, im, which may be
+  // quoted), by the header's names.
+  const std::vector<std::string> names = csv_fields(hunt_csv_header.substr(0, hunt_csv_header.size() - 1));
+  const auto header_index = [&](std::string_view name) {
+    return static_cast<std::size_t>(std::ranges::find(names, name) - names.begin());
+  };
+  const auto at = [&](std::string_view name) { return header_index(name) - (header_index("im") + 1); };
+  const std::size_t collapse = at("collapse_level"), survived = at("survived_level"), run_count = at("runs"),
+                    error = at("error");
   std::vector<std::pair<std::string, HuntResult>> out;
   for (int n = 2; std::getline(in, line); ++n) {
     if (in.eof()) break;  // a last line without its newline was cut: hunt it again
@@ -434,7 +453,7 @@ std::vector<std::pair<std::string, HuntResult>> read_resumed_hunts(
                                                 : std::string();
     const std::string rest = k < pairs.size() && line.starts_with(prefix) ? line.substr(prefix.size()) : std::string();
     const std::vector<std::string> f = csv_fields(rest);
-    if (f.size() < 10)
+    if (f.size() <= error)
       throw InputError(fmt::format("--resume: {}:{}: this row is not hunt {} of this study", rows_file.string(), n, k + 1));
     // Its levels and count are finite numbers: a row holding anything else
     // (nan, inf, text) is hunted again, with every one after it.
@@ -445,18 +464,20 @@ std::vector<std::pair<std::string, HuntResult>> read_resumed_hunts(
     };
     HuntResult h;
     double runs = 0;
-    h.collapsed = !f[0].empty();
-    if ((h.collapsed && !number(f[0], h.collapse_level)) || (!f[1].empty() && !number(f[1], h.survived_level)) ||
-        !number(f[8], runs) || runs < 0 || runs > 1e9) {
+    h.collapsed = !f[collapse].empty();
+    if ((h.collapsed && !number(f[collapse], h.collapse_level)) ||
+        (!f[survived].empty() && !number(f[survived], h.survived_level)) || !number(f[run_count], runs) || runs < 0 ||
+        runs > 1e9) {
       spdlog::warn("--resume: {}:{}: not a whole hunt row (collapse '{}', survived '{}', runs '{}'): hunt {} runs "
-                   "again, with the {} after it", rows_file.string(), n, f[0], f[1], f[8], k + 1, pairs.size() - k - 1);
+                   "again, with the {} after it", rows_file.string(), n, f[collapse], f[survived], f[run_count], k + 1,
+                   pairs.size() - k - 1);
       break;
     }
     h.runs = static_cast<int>(runs);
-    std::size_t at = 0;  // the error, last, may hold commas (quoted)
-    for (int comma = 0; comma < 9; ++comma) at = rest.find(',', at) + 1;
+    std::size_t from = 0;  // the error, last, may hold commas (quoted): the rest of the row after its field's comma
+    for (std::size_t comma = 0; comma < error; ++comma) from = rest.find(',', from) + 1;
     h.fixed_base = !st.can_overturn(pairs[k].second);
-    if (!h.fixed_base) h.error = rest.substr(at);  // a fixed base's row says why it was not run
+    if (!h.fixed_base) h.error = rest.substr(from);  // a fixed base's row says why it was not run
     out.emplace_back(line + "\n", std::move(h));
   }
   return out;

@@ -636,13 +636,13 @@ json Lab::ida(const json& r) const {
     const JobResult res = study.run(job);
     if (!res.error.empty()) throw InputError(res.error);
     check_result(res.run, deadline, limits_);
-    const std::vector<double> values = columns.values(res.run);
+    const StudyRow row = study_row(columns, job, res);
     json peaks = json::object();
     for (std::size_t i = 0; i < names.size(); ++i)
-      peaks[names[i]] = std::isfinite(values[i]) ? json(values[i]) : json(nullptr);
+      peaks[names[i]] = std::isfinite(row.values[i]) ? json(row.values[i]) : json(nullptr);
     rows.push_back({{"variant", study.variants()[job.variant].name},
-                    {"level", job.level},
-                    {"outcome", outcome_name(res.run.outcome)},
+                    {"level", row.level},
+                    {"outcome", outcome_name(row.outcome)},
                     {"peaks", std::move(peaks)}});
   }
   return {{"columns", names}, {"rows", std::move(rows)}};

@@ -443,105 +443,138 @@ HistoryContent check_history(const fs::path& file) {
   return content;
 }
 
-std::vector<fs::path> render_response(const Figure& fig, const std::vector<ResponseSeries>& runs) {
-  if (runs.empty()) throw InputError("response figure: no runs to plot");
-  std::vector<HistoryContent> contents;  // per run: its columns, found by name
-  for (const ResponseSeries& r : runs)
-    contents.push_back(check_history(fs::path(r.history).is_absolute() ? fs::path(r.history) : fig.dir / r.history));
+namespace {
+
+// The histories of a response figure's runs and what is drawn from them: each
+// run's columns found by name, and the curves, loops and end markers made of
+// them. Each run has its colour (linestyle i + 1, with its point type) and its
+// dash (series_dash); the first run is drawn last, over the others it is
+// compared with.
+class ResponseRuns {
+ public:
+  ResponseRuns(const Figure& fig, const std::vector<ResponseSeries>& runs) : runs_(runs), end_drawn_(runs.size(), false) {
+    for (const ResponseSeries& r : runs)
+      contents_.push_back(check_history(fs::path(r.history).is_absolute() ? fs::path(r.history) : fig.dir / r.history));
+  }
+  const std::vector<ResponseSeries>& runs() const { return runs_; }
+  const std::vector<HistoryContent>& contents() const { return contents_; }
+  std::size_t size() const { return runs_.size(); }
+
   // Devices besides the paper's edge dampers (whose pair comes with the
-  // damper_d column): a tendon, a scene's own dampers. With some, the
-  // figure draws each device's loop and the devices' moment (the loops of
+  // damper_d column): a tendon, a scene's own dampers. With some, the figure
+  // draws each device's loop and the devices' moment (the loops of
   // quantities that need devices); without, the paper's one signed damper
   // loop (those that need the paper's dampers).
-  bool other_devices = false;
-  for (const HistoryContent& c : contents)
-    other_devices = other_devices ||
-                    c.devices.size() > (c.column(info(Quantity::damper_d).name) > 0 ? std::size_t{2} : std::size_t{0});
+  bool other_devices() const {
+    return std::ranges::any_of(contents_, [](const HistoryContent& c) {
+      return c.devices.size() > (c.column(info(Quantity::damper_d).name) > 0 ? std::size_t{2} : std::size_t{0});
+    });
+  }
+  bool any_run_has(std::string_view name) const {
+    return std::ranges::any_of(contents_, [&](const HistoryContent& c) { return c.column(name) > 0; });
+  }
+  // The most joints above the base of any run.
+  int joints() const { return std::ranges::max(contents_, {}, &HistoryContent::joints).joints; }
+
   // A column of run i's history as a gnuplot expression, by its header name
   // ("column('delta_t [-]')"); empty when the history has none.
-  auto col = [&](std::size_t i, std::string_view name) {
-    const std::string h = contents[i].header(name);
+  std::string col(std::size_t i, std::string_view name) const {
+    const std::string h = contents_[i].header(name);
     return h.empty() ? std::string() : column(h);
-  };
-  auto any_run_has = [&](std::string_view name) {
-    return std::ranges::any_of(contents, [&](const HistoryContent& c) { return c.column(name) > 0; });
-  };
-  // Each run has its colour (linestyle i + 1, with its point type) and its
-  // dash (series_dash). One curve per run whose spec(i) (its `using`
-  // columns) is not empty; the first run is drawn last, over the others it
-  // is compared with.
-  auto curve_items = [&](auto&& spec) {
+  }
+  // A quantity against time, in its figure unit.
+  std::string in_time(std::size_t i, std::string_view name, double factor) const {
+    const std::string t = col(i, info(Quantity::t).name), c = col(i, name);
+    return t.empty() || c.empty() ? std::string() : fmt::format("({}):({}*{:.9g})", t, c, factor);
+  }
+  // A loop: y against x, in their figure units, broken where either is zero
+  // (d = 0: full contact, and the impacts where one edge's damper hands over
+  // to the other's; F = 0: a broken device).
+  std::string loop(std::size_t i, std::string_view x, double fx, std::string_view y, double fy) const {
+    const std::string cx = col(i, x), cy = col(i, y);
+    return cx.empty() || cy.empty() ? std::string()
+                                    : fmt::format("({} == 0 || {} == 0 ? NaN : {}*{:.9g}):({}*{:.9g})", cx, cy, cx, fx,
+                                                  cy, fy);
+  }
+  // One curve per run whose spec(i) (its `using` columns) is not empty, the
+  // first run last.
+  template <class Spec>
+  std::vector<std::string> curve_items(Spec&& spec) const {
     std::vector<std::string> items;
-    for (std::size_t i = runs.size(); i-- > 0;) {
+    for (std::size_t i = runs_.size(); i-- > 0;) {
       const std::string using_spec = spec(i);
       if (using_spec.empty()) continue;
       items.push_back(fmt::format("{} using {} with lines linestyle {} dashtype {} title {} noenhanced",
-                                  quote(runs[i].history), using_spec, i + 1, series_dash(i), quote(runs[i].label)));
+                                  quote(runs_[i].history), using_spec, i + 1, series_dash(i), quote(runs_[i].label)));
     }
     return items;
-  };
-  auto curves = [&](auto&& spec) { return plot_command(curve_items(spec)); };
-  // A quantity against time, in its figure unit.
-  auto in_time = [&](std::size_t i, std::string_view name, double factor) {
-    const std::string t = col(i, info(Quantity::t).name), c = col(i, name);
-    return t.empty() || c.empty() ? std::string() : fmt::format("({}):({}*{:.9g})", t, c, factor);
-  };
+  }
+
   // A separated run (RunEnd) stops where a joint turned tensile: its run's
   // point shape, large, in its colour, on the last row of the curve of that
   // joint's angle (the base's theta / alpha_cg, joint K's jointK.theta, the
   // columns' theta / alpha on a rocking frame), and a key entry in words. The
   // words are the program's own (a joint's number), never a run's label.
-  const std::string end_marker = "pointsize 2.2";
-  auto end_words = [](const RunEnd& e) {
+  static constexpr const char* end_marker = "pointsize 2.2";
+  static std::string end_words(const RunEnd& e) {
     if (!e.joint) return std::string("a column top separates");
     return *e.joint == 0 ? std::string("the base separates") : fmt::format("joint {} separates", *e.joint);
-  };
-  auto end_column = [&](std::size_t i) {
-    const RunEnd& e = runs[i].end;
+  }
+  // The column whose curve carries run i's end marker; empty when it did not separate.
+  std::string end_column(std::size_t i) const {
+    const RunEnd& e = runs_[i].end;
     if (!e.separated) return std::string();
     if (!e.joint) return std::string(info(Quantity::columns_theta_over_alpha).name);
     if (*e.joint == 0) return std::string(info(Quantity::theta_over_alpha).name);
     return JointQuantityName{*e.joint, JointQuantity::theta}.name();
-  };
-  auto ends_on = [&](std::size_t i, std::string_view name) {
-    const std::string c = end_column(i);
-    return !c.empty() && c == name;
-  };
-  std::vector<bool> end_drawn(runs.size(), false);
-  auto end_items = [&](std::string_view name, double factor) {
+  }
+  // The end markers on the curves of a quantity, each run's noted as drawn (end_drawn) for the key.
+  std::vector<std::string> end_items(std::string_view name, double factor) {
     std::vector<std::string> items;
-    for (std::size_t i = 0; i < runs.size(); ++i) {
+    for (std::size_t i = 0; i < runs_.size(); ++i) {
       const std::string spec = in_time(i, name, factor);
       if (!ends_on(i, name) || spec.empty()) continue;
-      const int last = contents[i].rows - 1;
+      const int last = contents_[i].rows - 1;
       items.push_back(fmt::format("{} using {} every ::{}::{} with points linestyle {} {} notitle",
-                                  quote(runs[i].history), spec, last, last, i + 1, end_marker));
-      end_drawn[i] = true;
+                                  quote(runs_[i].history), spec, last, last, i + 1, end_marker));
+      end_drawn_[i] = true;
     }
     return items;
-  };
-  // A loop: y against x, in their figure units, broken where either is zero
-  // (d = 0: full contact, and the impacts where one edge's damper hands over
-  // to the other's; F = 0: a broken device).
-  auto loop = [&](std::size_t i, std::string_view x, double fx, std::string_view y, double fy) {
-    const std::string cx = col(i, x), cy = col(i, y);
-    return cx.empty() || cy.empty() ? std::string()
-                                    : fmt::format("({} == 0 || {} == 0 ? NaN : {}*{:.9g}):({}*{:.9g})", cx, cy, cx, fx,
-                                                  cy, fy);
-  };
-  // The panels of the schema, in the order of their ranks.
-  struct Planned {
-    unsigned char rank;
-    std::size_t order;  // in the schema's tables, for panels of one rank
-    FigureRole role;
-    std::optional<Quantity> scalar;        // a scalar quantity's panel, or ...
-    std::optional<DeviceQuantity> device;  // ... the devices' loops, or ...
-    std::optional<JointQuantity> joint;    // ... the joints'
-  };
-  std::vector<Planned> plan;
+  }
+  bool end_drawn(std::size_t i) const { return end_drawn_[i]; }
+
+ private:
+  bool ends_on(std::size_t i, std::string_view name) const {
+    const std::string c = end_column(i);
+    return !c.empty() && c == name;
+  }
+  const std::vector<ResponseSeries>& runs_;
+  std::vector<HistoryContent> contents_;  // per run: its columns, found by name
+  std::vector<bool> end_drawn_;
+};
+
+// A panel of the response figure, from the schema.
+struct PlannedPanel {
+  unsigned char rank;
+  std::size_t order;  // in the schema's tables, for panels of one rank
+  FigureRole role;
+  std::optional<Quantity> scalar;        // a scalar quantity's panel, or ...
+  std::optional<DeviceQuantity> device;  // ... the devices' loops, or ...
+  std::optional<JointQuantity> joint;    // ... the joints'
+};
+
+// The panels the schema's figure roles give for what the runs hold, in the
+// order of their ranks: a quantity's panel when some run has it (the
+// excitation when the first run's ground moves; a loop when some run's loop
+// has a point, of the paper's dampers or of the other devices as the runs
+// have them), the devices' loops, the joints' panels.
+std::vector<PlannedPanel> response_panels(const ResponseRuns& runs) {
+  const std::vector<HistoryContent>& contents = runs.contents();
+  const bool other_devices = runs.other_devices();
+  std::vector<PlannedPanel> plan;
   for (const QuantityInfo& q : quantity_table) {
     const FigureUse use = q.figure;
-    if (use.role == FigureRole::none || !any_run_has(q.name)) continue;
+    if (use.role == FigureRole::none || !runs.any_run_has(q.name)) continue;
     if (use.role == FigureRole::excitation &&
         !(contents.front().column(q.name) > 0 &&
           std::ranges::any_of(contents, [&](const HistoryContent& c) { return c.moves(q.name); })))
@@ -562,179 +595,210 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
             });
           }))
         plan.push_back({q.figure.rank, plan.size(), q.figure.role, std::nullopt, q.id, std::nullopt});
-  const int joints = std::ranges::max(contents, {}, &HistoryContent::joints).joints;
+  const int joints = runs.joints();
   for (std::size_t k = 0; k < joint_quantity_count && joints > 0; ++k)
     if (joint_quantity_table[k].figure.role == FigureRole::joints)
       plan.push_back({joint_quantity_table[k].figure.rank, plan.size(), FigureRole::joints, std::nullopt, std::nullopt,
                       static_cast<JointQuantity>(k)});
-  std::ranges::sort(plan, [](const Planned& a, const Planned& b) {
+  std::ranges::sort(plan, [](const PlannedPanel& a, const PlannedPanel& b) {
     return a.rank != b.rank ? a.rank < b.rank : a.order < b.order;
   });
-  const int panels = static_cast<int>(plan.size());
-  const double panel_px = 0.8 * fig.height / std::max(panels, 1);
-  // A y label longer than its panel is tall goes on as many lines as it
-  // needs, broken between its words (the symbol and the unit whole): about
-  // 0.6 em a visible character, enhanced text's markup left out.
-  auto ylabel = [&](std::string_view words, std::string_view symbol, std::string_view unit) {
-    const auto visible = [](std::string_view text) {
-      std::size_t n = 0;
-      for (std::size_t k = 0; k < text.size(); ++k) {
-        if (text.compare(k, 9, "{/Symbol ") == 0) k += 8;
-        else if (text[k] != '{' && text[k] != '}' && text[k] != '_' && text[k] != '^') ++n;
-      }
-      return n;
-    };
-    std::vector<std::string> tokens;
-    const std::string text(axis_words(words));
-    for (std::size_t at = 0; at < text.size();) {
-      const std::size_t end = std::min(text.find(' ', at), text.size());
-      if (end > at) tokens.push_back(text.substr(at, end - at));
-      at = end + 1;
+  return plan;
+}
+
+// A y label longer than its panel (panel_px) is tall goes on as many lines as
+// it needs, broken between its words (the symbol and the unit whole): about
+// 0.6 em a visible character, enhanced text's markup left out.
+std::string wrapped_ylabel(const Figure& fig, double panel_px, std::string_view words, std::string_view symbol,
+                           std::string_view unit) {
+  const auto visible = [](std::string_view text) {
+    std::size_t n = 0;
+    for (std::size_t k = 0; k < text.size(); ++k) {
+      if (text.compare(k, 9, "{/Symbol ") == 0) k += 8;
+      else if (text[k] != '{' && text[k] != '}' && text[k] != '_' && text[k] != '^') ++n;
     }
-    tokens.emplace_back(symbol);
-    tokens.push_back(fmt::format("[{}]", unit));
-    const auto fits = static_cast<std::size_t>(std::max(8.0, panel_px / (0.6 * font_points(fig, 1000, 1300))));
-    std::vector<std::string> lines{tokens.front()};
-    for (std::size_t k = 1; k < tokens.size(); ++k) {
-      if (visible(lines.back()) + 1 + visible(tokens[k]) <= fits) lines.back() += " " + tokens[k];
-      else lines.push_back(tokens[k]);
-    }
-    std::vector<std::string> quoted;
-    for (const std::string& l : lines) quoted.push_back(quote(l));
-    return fmt::format("  set ylabel {}\n", fmt::join(quoted, " . \"\\n\" . "));
+    return n;
   };
-  auto scalar_ylabel = [&](Quantity q) { return ylabel(info(q).words, info(q).symbol, info(q).figure_unit); };
-  // A response panel's y axis spans at least +-0.001 of its display unit
-  // (gnuplot's autoscale bounds): a response that stays at round-off (a joint
-  // that never opens, a base that does not lift) is drawn flat on that axis,
-  // not magnified into noise, nor on gnuplot's -1..1 for an all-zero curve.
-  const std::string smallest_span = "  set yrange [*<-0.001:0.001<*]\n";
-  // Each device's dash pattern, and each joint's marker when there are
-  // several, named in an axis label so that no key covers the curves.
-  static constexpr std::array<const char*, 5> dashes{"solid", "dashed", "dotted", "dash-dot", "dash-dot-dot"};
-  struct JointMarker {
-    int pointtype;
-    const char* words;
-  };
-  static constexpr std::array<JointMarker, 5> joint_markers{JointMarker{6, "circles"}, JointMarker{8, "triangles"},
-                                                            JointMarker{4, "squares"},
-                                                            JointMarker{10, "inverted triangles"},
-                                                            JointMarker{12, "diamonds"}};
-  // The key draws the runs with their markers when the devices' loops carry them.
-  const bool device_panels = std::ranges::any_of(plan, [](const Planned& p) { return p.device.has_value(); });
-  std::vector<std::string> labels;
-  for (const ResponseSeries& r : runs) labels.push_back(r.label);
-  for (std::size_t i = 0; i < runs.size(); ++i)
-    if (!end_column(i).empty() && contents[i].column(end_column(i)) > 0) labels.push_back(end_words(runs[i].end));
-  const int points = font_points(fig, 1000, 1300);
-  const Grid grid = shared_key_grid(fig, panels, 1, points, labels);
-  // The time axis (set first, and again by a time panel that follows a loop).
-  const std::string time_label = fmt::format("  set autoscale xfix\n  set xlabel {}\n", quote(axis_label(Quantity::t)));
-  const std::string time_range = fig.time_range.empty() ? "" : fmt::format("  set xrange {}\n", fig.time_range);
-  const std::string time_axis = time_label + time_range;
-  std::string body = grid.begin + "  set grid\n" + time_label + "  unset key\n" + time_range;
-  bool x_is_time = true;
-  for (std::size_t p = 0; p < plan.size(); ++p) {
-    const Planned& pl = plan[p];
-    body += grid.panels[p];
-    const bool in_time_panel = pl.role != FigureRole::loop;
-    if (in_time_panel && !x_is_time) body += time_axis;
-    x_is_time = in_time_panel;
-    if (pl.role == FigureRole::excitation) {  // the excitation the response answers, the first run's
-      const QuantityInfo& q = info(*pl.scalar);
-      body += scalar_ylabel(q.id);
-      body += fmt::format("  plot {} using {} with lines linecolor rgb \"#555555\" notitle\n", quote(runs.front().history),
-                          in_time(0, q.name, q.figure_factor));
-    } else if (pl.role == FigureRole::response) {
-      const QuantityInfo& q = info(*pl.scalar);
-      body += scalar_ylabel(q.id);
-      body += smallest_span;
-      std::vector<std::string> items = curve_items([&](std::size_t i) { return in_time(i, q.name, q.figure_factor); });
-      for (std::string& item : end_items(q.name, q.figure_factor)) items.push_back(std::move(item));
-      body += plot_command(items);
-      body += "  set yrange [*:*]\n";
-    } else if (pl.joint) {
-      // Each joint above the base against time, in its run's colour and dash
-      // (as the key draws the run); with several joints, one marker per joint
-      // (the same in every run), named in the x label.
-      const JointQuantityInfo& q = info(*pl.joint);
-      if (joints > 1) {
-        std::vector<std::string> legend;
-        for (int j = 1; j <= joints; ++j)
-          legend.push_back(fmt::format("{} joint {}", joint_markers[static_cast<std::size_t>(j - 1) % joint_markers.size()].words, j));
-        body += fmt::format("  set xlabel {} noenhanced\n",
-                            quote(fmt::format("{}   ({})", axis_label(Quantity::t), fmt::join(legend, ", "))));
-      }
-      body += ylabel(q.words, q.symbol, q.figure_unit);
-      body += smallest_span;
-      std::vector<std::string> items;
-      for (std::size_t i = runs.size(); i-- > 0;)
-        for (int j = 1; j <= contents[i].joints; ++j) {
-          const std::string spec = in_time(i, JointQuantityName{j, *pl.joint}.name(), q.figure_factor);
-          if (spec.empty()) continue;
-          const std::string marker =
-              joints > 1 ? fmt::format(" pointtype {} pointnumber 12",
-                                       joint_markers[static_cast<std::size_t>(j - 1) % joint_markers.size()].pointtype)
-              : device_panels ? std::string(" pointnumber 12")
-                              : std::string();
-          items.push_back(fmt::format("{} using {} with {} linestyle {} dashtype {}{} notitle", quote(runs[i].history),
-                                      spec, marker.empty() ? "lines" : "linespoints", i + 1, series_dash(i), marker));
-        }
-      for (int j = 1; j <= joints; ++j)
-        for (std::string& item : end_items(JointQuantityName{j, *pl.joint}.name(), q.figure_factor))
-          items.push_back(std::move(item));
-      body += plot_command(items);
-      body += "  set yrange [*:*]\n";
-      // The time axis's own label again for the panels below.
-      if (joints > 1) body += fmt::format("  set xlabel {}\n", quote(axis_label(Quantity::t)));
-    } else if (pl.device) {
-      // Each device's force against its elongation, in its run's colour and
-      // with its run's markers (about a dozen along the run), with one dash
-      // pattern per device name (the same in every run), named in the axis
-      // label so that no key covers the loops.
-      std::vector<std::string> names;
-      for (const HistoryContent& c : contents)
-        for (const std::string& name : c.devices)
-          if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
-      std::vector<std::string> legend;
-      for (std::size_t k = 0; k < names.size(); ++k)
-        legend.push_back(fmt::format("{} {}", dashes[k % dashes.size()], names[k]));
-      const DeviceQuantityInfo &y_info = info(*pl.device), &x_info = info(y_info.figure_x);
-      body += fmt::format("  set autoscale x\n  set xlabel {} noenhanced\n",
-                          quote(fmt::format("device {} {} [{}]   ({})", x_info.words, x_info.symbol, x_info.figure_unit,
-                                            fmt::join(legend, ", ")))) +
-              fmt::format("  set ylabel {}\n",
-                          quote(fmt::format("device {} {} [{}]", y_info.words, y_info.symbol, y_info.figure_unit)));
-      std::vector<std::string> items;
-      for (std::size_t i = runs.size(); i-- > 0;)
-        for (const std::string& device : contents[i].devices) {
-          const auto dash = std::find(names.begin(), names.end(), device) - names.begin();
-          const std::string spec =
-              loop(i, device_quantity_name(device, x_info.id), x_info.figure_factor,
-                   device_quantity_name(device, y_info.id), y_info.figure_factor);
-          if (spec.empty()) continue;
-          items.push_back(fmt::format("{} using {} with linespoints linestyle {} dashtype {} pointnumber 12 notitle",
-                                      quote(runs[i].history), spec, i + 1,
-                                      static_cast<std::size_t>(dash) % dashes.size() + 1));
-        }
-      body += plot_command(items);
-    } else {  // a scalar loop: the paper's damper, the devices' moment against theta
-      const QuantityInfo &y = info(*pl.scalar), &x = info(y.figure_x);
-      body += fmt::format("  set autoscale x\n  set xlabel {} enhanced\n", quote(axis_label(x.id))) +
-              scalar_ylabel(y.id);
-      body += curves([&](std::size_t i) { return loop(i, x.name, x.figure_factor, y.name, y.figure_factor); });
-    }
+  std::vector<std::string> tokens;
+  const std::string text(axis_words(words));
+  for (std::size_t at = 0; at < text.size();) {
+    const std::size_t end = std::min(text.find(' ', at), text.size());
+    if (end > at) tokens.push_back(text.substr(at, end - at));
+    at = end + 1;
   }
+  tokens.emplace_back(symbol);
+  tokens.push_back(fmt::format("[{}]", unit));
+  const auto fits = static_cast<std::size_t>(std::max(8.0, panel_px / (0.6 * font_points(fig, 1000, 1300))));
+  std::vector<std::string> lines{tokens.front()};
+  for (std::size_t k = 1; k < tokens.size(); ++k) {
+    if (visible(lines.back()) + 1 + visible(tokens[k]) <= fits) lines.back() += " " + tokens[k];
+    else lines.push_back(tokens[k]);
+  }
+  std::vector<std::string> quoted;
+  for (const std::string& l : lines) quoted.push_back(quote(l));
+  return fmt::format("  set ylabel {}\n", fmt::join(quoted, " . \"\\n\" . "));
+}
+
+// A response panel's y axis spans at least +-0.001 of its display unit
+// (gnuplot's autoscale bounds): a response that stays at round-off (a joint
+// that never opens, a base that does not lift) is drawn flat on that axis,
+// not magnified into noise, nor on gnuplot's -1..1 for an all-zero curve.
+constexpr const char* smallest_span = "  set yrange [*<-0.001:0.001<*]\n";
+
+// Each device's dash pattern, and each joint's marker when there are
+// several, named in an axis label so that no key covers the curves.
+constexpr std::array<const char*, 5> device_dashes{"solid", "dashed", "dotted", "dash-dot", "dash-dot-dot"};
+struct JointMarker {
+  int pointtype;
+  const char* words;
+};
+constexpr std::array<JointMarker, 5> joint_markers{JointMarker{6, "circles"}, JointMarker{8, "triangles"},
+                                                   JointMarker{4, "squares"}, JointMarker{10, "inverted triangles"},
+                                                   JointMarker{12, "diamonds"}};
+const JointMarker& joint_marker(int joint) {
+  return joint_markers[static_cast<std::size_t>(joint - 1) % joint_markers.size()];
+}
+
+// The panels' bodies: each sets its axes and plots its curves.
+class ResponsePanels {
+ public:
+  ResponsePanels(const Figure& fig, ResponseRuns& runs, double panel_px, bool device_panels)
+      : fig_(fig), runs_(runs), panel_px_(panel_px), device_panels_(device_panels) {}
+
+  std::string body(const PlannedPanel& pl) {
+    if (pl.role == FigureRole::excitation) return excitation_panel(info(*pl.scalar));
+    if (pl.role == FigureRole::response) return response_panel(info(*pl.scalar));
+    if (pl.joint) return joint_panel(info(*pl.joint), *pl.joint);
+    if (pl.device) return device_loop_panel(info(*pl.device));
+    return scalar_loop_panel(info(*pl.scalar));
+  }
+
+ private:
+  std::string scalar_ylabel(Quantity q) const {
+    return wrapped_ylabel(fig_, panel_px_, info(q).words, info(q).symbol, info(q).figure_unit);
+  }
+  // The excitation the response answers, the first run's.
+  std::string excitation_panel(const QuantityInfo& q) const {
+    return scalar_ylabel(q.id) + fmt::format("  plot {} using {} with lines linecolor rgb \"#555555\" notitle\n",
+                                             quote(runs_.runs().front().history), runs_.in_time(0, q.name, q.figure_factor));
+  }
+  // A quantity against time, one curve per run, with the end markers on it.
+  std::string response_panel(const QuantityInfo& q) {
+    std::string out = scalar_ylabel(q.id) + smallest_span;
+    std::vector<std::string> items =
+        runs_.curve_items([&](std::size_t i) { return runs_.in_time(i, q.name, q.figure_factor); });
+    for (std::string& item : runs_.end_items(q.name, q.figure_factor)) items.push_back(std::move(item));
+    return out + plot_command(items) + "  set yrange [*:*]\n";
+  }
+  // Each joint above the base against time, in its run's colour and dash (as
+  // the key draws the run); with several joints, one marker per joint (the
+  // same in every run), named in the x label.
+  std::string joint_panel(const JointQuantityInfo& q, JointQuantity which) {
+    const int joints = runs_.joints();
+    std::string out;
+    if (joints > 1) {
+      std::vector<std::string> legend;
+      for (int j = 1; j <= joints; ++j) legend.push_back(fmt::format("{} joint {}", joint_marker(j).words, j));
+      out += fmt::format("  set xlabel {} noenhanced\n",
+                         quote(fmt::format("{}   ({})", axis_label(Quantity::t), fmt::join(legend, ", "))));
+    }
+    out += wrapped_ylabel(fig_, panel_px_, q.words, q.symbol, q.figure_unit);
+    out += smallest_span;
+    std::vector<std::string> items;
+    for (std::size_t i = runs_.size(); i-- > 0;)
+      for (int j = 1; j <= runs_.contents()[i].joints; ++j) {
+        const std::string spec = runs_.in_time(i, JointQuantityName{j, which}.name(), q.figure_factor);
+        if (spec.empty()) continue;
+        const std::string marker = joints > 1 ? fmt::format(" pointtype {} pointnumber 12", joint_marker(j).pointtype)
+                                   : device_panels_ ? std::string(" pointnumber 12")
+                                                    : std::string();
+        items.push_back(fmt::format("{} using {} with {} linestyle {} dashtype {}{} notitle",
+                                    quote(runs_.runs()[i].history), spec, marker.empty() ? "lines" : "linespoints",
+                                    i + 1, series_dash(i), marker));
+      }
+    for (int j = 1; j <= joints; ++j)
+      for (std::string& item : runs_.end_items(JointQuantityName{j, which}.name(), q.figure_factor))
+        items.push_back(std::move(item));
+    out += plot_command(items);
+    out += "  set yrange [*:*]\n";
+    // The time axis's own label again for the panels below.
+    if (joints > 1) out += fmt::format("  set xlabel {}\n", quote(axis_label(Quantity::t)));
+    return out;
+  }
+  // Each device's force against its elongation, in its run's colour and with
+  // its run's markers (about a dozen along the run), with one dash pattern
+  // per device name (the same in every run), named in the axis label so that
+  // no key covers the loops.
+  std::string device_loop_panel(const DeviceQuantityInfo& y_info) const {
+    std::vector<std::string> names;
+    for (const HistoryContent& c : runs_.contents())
+      for (const std::string& name : c.devices)
+        if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+    std::vector<std::string> legend;
+    for (std::size_t k = 0; k < names.size(); ++k)
+      legend.push_back(fmt::format("{} {}", device_dashes[k % device_dashes.size()], names[k]));
+    const DeviceQuantityInfo& x_info = info(y_info.figure_x);
+    std::string out = fmt::format("  set autoscale x\n  set xlabel {} noenhanced\n",
+                                  quote(fmt::format("device {} {} [{}]   ({})", x_info.words, x_info.symbol,
+                                                    x_info.figure_unit, fmt::join(legend, ", ")))) +
+                      fmt::format("  set ylabel {}\n",
+                                  quote(fmt::format("device {} {} [{}]", y_info.words, y_info.symbol, y_info.figure_unit)));
+    std::vector<std::string> items;
+    for (std::size_t i = runs_.size(); i-- > 0;)
+      for (const std::string& device : runs_.contents()[i].devices) {
+        const auto dash = std::find(names.begin(), names.end(), device) - names.begin();
+        const std::string spec = runs_.loop(i, device_quantity_name(device, x_info.id), x_info.figure_factor,
+                                            device_quantity_name(device, y_info.id), y_info.figure_factor);
+        if (spec.empty()) continue;
+        items.push_back(fmt::format("{} using {} with linespoints linestyle {} dashtype {} pointnumber 12 notitle",
+                                    quote(runs_.runs()[i].history), spec, i + 1,
+                                    static_cast<std::size_t>(dash) % device_dashes.size() + 1));
+      }
+    return out + plot_command(items);
+  }
+  // A scalar loop: the paper's damper, the devices' moment against theta.
+  std::string scalar_loop_panel(const QuantityInfo& y) const {
+    const QuantityInfo& x = info(y.figure_x);
+    return fmt::format("  set autoscale x\n  set xlabel {} enhanced\n", quote(axis_label(x.id))) + scalar_ylabel(y.id) +
+           plot_command(runs_.curve_items(
+               [&](std::size_t i) { return runs_.loop(i, x.name, x.figure_factor, y.name, y.figure_factor); }));
+  }
+
+  const Figure& fig_;
+  ResponseRuns& runs_;
+  double panel_px_;
+  bool device_panels_;
+};
+
+// The key's labels, for its layout: the runs', then the words of each end
+// marker a run may draw.
+std::vector<std::string> response_key_labels(const ResponseRuns& runs) {
+  std::vector<std::string> labels;
+  for (const ResponseSeries& r : runs.runs()) labels.push_back(r.label);
+  for (std::size_t i = 0; i < runs.size(); ++i)
+    if (!runs.end_column(i).empty() && runs.contents()[i].column(runs.end_column(i)) > 0)
+      labels.push_back(ResponseRuns::end_words(runs.runs()[i].end));
+  return labels;
+}
+
+// The key's entries: each run as its curves draw it (with the markers the
+// devices' loops carry), then each end marker drawn.
+std::vector<std::string> response_key_entries(const ResponseRuns& runs, bool device_panels) {
   std::vector<std::string> entries;
   for (std::size_t i = 0; i < runs.size(); ++i)
     entries.push_back(fmt::format("NaN with {} linestyle {} dashtype {} title {} noenhanced",
-                                  device_panels ? "linespoints" : "lines", i + 1, series_dash(i), quote(runs[i].label)));
+                                  device_panels ? "linespoints" : "lines", i + 1, series_dash(i),
+                                  quote(runs.runs()[i].label)));
   for (std::size_t i = 0; i < runs.size(); ++i)
-    if (end_drawn[i])
-      entries.push_back(fmt::format("NaN with points linestyle {} {} title {} noenhanced", i + 1, end_marker,
-                                    quote(end_words(runs[i].end))));
-  body += key_plot(grid, entries);
-  const std::string script = fmt::format(
+    if (runs.end_drawn(i))
+      entries.push_back(fmt::format("NaN with points linestyle {} {} title {} noenhanced", i + 1,
+                                    ResponseRuns::end_marker, quote(ResponseRuns::end_words(runs.runs()[i].end))));
+  return entries;
+}
+
+// The response figure's gnuplot script around its body.
+std::string response_script(const Figure& fig, const std::string& body, int points) {
+  return fmt::format(
       "# rocking: response figure in the style of the paper's Fig. 4.\n"
       "# Re-render after restyling: gnuplot {}.gp (in this folder).\n"
       "# Data: rocking simulate history CSVs, their columns read by their header\n"
@@ -743,7 +807,35 @@ std::vector<fs::path> render_response(const Figure& fig, const std::vector<Respo
       "set datafile columnheaders\n"
       "{}{}",
       fig.name, style_lines(1.5, 0.6), render_loop(fig, body, points));
-  return render_script(fig, script);
+}
+
+}  // namespace
+
+std::vector<fs::path> render_response(const Figure& fig, const std::vector<ResponseSeries>& runs) {
+  if (runs.empty()) throw InputError("response figure: no runs to plot");
+  ResponseRuns histories(fig, runs);
+  const std::vector<PlannedPanel> plan = response_panels(histories);
+  const int panels = static_cast<int>(plan.size());
+  // The key draws the runs with their markers when the devices' loops carry them.
+  const bool device_panels = std::ranges::any_of(plan, [](const PlannedPanel& p) { return p.device.has_value(); });
+  const int points = font_points(fig, 1000, 1300);
+  const Grid grid = shared_key_grid(fig, panels, 1, points, response_key_labels(histories));
+  // The time axis (set first, and again by a time panel that follows a loop).
+  const std::string time_label = fmt::format("  set autoscale xfix\n  set xlabel {}\n", quote(axis_label(Quantity::t)));
+  const std::string time_range = fig.time_range.empty() ? "" : fmt::format("  set xrange {}\n", fig.time_range);
+  const std::string time_axis = time_label + time_range;
+  std::string body = grid.begin + "  set grid\n" + time_label + "  unset key\n" + time_range;
+  ResponsePanels bodies(fig, histories, 0.8 * fig.height / std::max(panels, 1), device_panels);
+  bool x_is_time = true;
+  for (std::size_t p = 0; p < plan.size(); ++p) {
+    body += grid.panels[p];
+    const bool in_time_panel = plan[p].role != FigureRole::loop;
+    if (in_time_panel && !x_is_time) body += time_axis;
+    x_is_time = in_time_panel;
+    body += bodies.body(plan[p]);
+  }
+  body += key_plot(grid, response_key_entries(histories, device_panels));
+  return render_script(fig, response_script(fig, body, points));
 }
 
 std::vector<fs::path> render_fit(const Figure& fig, const std::string& data_file, const std::string& fitted_label,

@@ -503,12 +503,162 @@ Damper read_damper(const toml::table& root, const std::string& file, const Origi
 // its anchor's x on the beam's underside (within the outer columns' outer
 // faces), all from the frame's centre line; its elongation counts from the
 // anchors' rest distance.
+// A [[device]] table's keys: the common ones, a beam device's on [columns],
+// and its law's parameters; any other fails naming the known ones.
+void check_device_keys(const TableReader& t, const toml::table& table, const std::string& kind, const LawInfo& law,
+                       bool on_columns) {
+  std::set<std::string, std::less<>> known = {"name", "kind", "at", "kinematics", "free_length", "capacity",
+                                              "segment", "from_segment", "joint"};
+  if (on_columns) known.insert({"beam_at", "ground_height"});
+  for (const LawParameter& p : law.parameters) known.insert(p.key);
+  for (auto&& [key, value] : table)
+    if (!known.contains(key.str()))
+      t.fail(&value, key.str(), fmt::format("unknown key for a {} device (known: {})", kind, fmt::join(known, ", ")));
+}
+
+// A device's name (KIND_N, the table's number, unless given): it names output
+// columns, so letters, digits, _ or - only.
+std::string device_name(const TableReader& t, const std::string& kind, std::size_t i) {
+  const std::string name = t.string_or("name", fmt::format("{}_{}", kind, i + 1));
+  const bool plain = !name.empty() && std::ranges::all_of(name, [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '-';
+  });
+  if (!plain) t.fail(&t.required("name"), "name", "must be letters, digits, _ or - (it names output columns)");
+  return name;
+}
+
+// A device's kinematics: chord (default), vertical with its free_length, or
+// on [columns] (`columns` given) beam, with its anchor on the beam (beam_at)
+// and its ground anchor's height (ground_height); its x is placed_devices'.
+DeviceGeometry device_geometry(const TableReader& t, const ColumnGroup* columns) {
+  const bool on_columns = columns != nullptr;
+  DeviceGeometry geometry;
+  const std::string kinematics = t.string_or("kinematics", "chord");
+  if (kinematics == "vertical") {
+    geometry.kinematics = Kinematics::vertical;
+    geometry.free_length = t.number("free_length", in_range(min_length, max_length, true),
+                                    fmt::format("in [{:g}, {:g}] m", min_length, max_length));
+  } else if (kinematics == "chord") {
+    if (t.has("free_length")) t.fail(&t.required("free_length"), "free_length", "only a vertical device has a free length");
+  } else if (kinematics == "beam") {
+    if (!on_columns)
+      t.fail(&t.required("kinematics"), "kinematics",
+             "beam joins the ground to the cap beam of a structure on [columns]; this scene has none");
+    geometry.kinematics = Kinematics::beam;
+    if (t.has("free_length"))
+      t.fail(&t.required("free_length"), "free_length",
+             "a beam device's elongation counts from its anchors' rest distance (a prestress is its law's)");
+    const double reach = columns->count >= 2 ? 0.5 * columns->spacing + columns->half_width : columns->half_width;
+    geometry.beam_x = t.number("beam_at", [reach](double x) { return std::abs(x) <= reach; },
+                               fmt::format("on the beam's underside over the columns, from the frame's centre "
+                                           "line: |x| <= {:g} [m]", reach));
+    geometry.ground_y = t.number_or("ground_height", 0.0, [](double y) { return std::abs(y) <= max_length; },
+                                    fmt::format("the ground anchor's height above the columns' bottoms, in [{:g}, {:g}] m",
+                                                -max_length, max_length));
+  } else {
+    t.fail(&t.required("kinematics"), "kinematics",
+           fmt::format("must be chord or vertical{} (got '{}')", on_columns ? ", or beam" : "", kinematics));
+  }
+  if (geometry.kinematics != Kinematics::beam)
+    for (const char* key : {"beam_at", "ground_height"})
+      if (t.has(key)) t.fail(&t.required(key), key, "only a beam device (kinematics = \"beam\", on [columns]) has it");
+  return geometry;
+}
+
+// Where a device stands on a structure with [[joint]] tables (-1: not given):
+// a tendon's anchors' segments, or the joint another device stands across.
+struct DevicePlace {
+  int segment = -1;       // its upper anchor's segment (0 .. J; -1: the top)
+  int from_segment = -1;  // its lower anchor's, below the upper one's (-1: the ground)
+  int joint = -1;         // the joint it stands across (0: the base; -1: the base by default)
+};
+DevicePlace device_place(const TableReader& t, std::size_t joints, const DeviceGeometry& geometry) {
+  DevicePlace place;
+  if (t.has("segment")) {
+    if (joints == 0)
+      t.fail(&t.required("segment"), "segment", "only a structure with [[joint]] tables has segments above its base");
+    place.segment = static_cast<int>(t.number("segment", [joints](double v) {
+      return v >= 0 && v <= static_cast<double>(joints) && v == std::floor(v);
+    }, fmt::format("a segment of the structure, an integer 0 to {} (one per [[joint]] above the base)", joints)));
+  }
+  if (t.has("from_segment")) {
+    if (joints == 0)
+      t.fail(&t.required("from_segment"), "from_segment",
+             "only a structure with [[joint]] tables has segments above its base");
+    const double upper = place.segment < 0 ? static_cast<double>(joints) : place.segment;
+    place.from_segment = static_cast<int>(t.number("from_segment", [upper](double v) {
+      return v >= 0 && v < upper && v == std::floor(v);
+    }, fmt::format("a segment below the upper anchor's, an integer 0 to {}", static_cast<int>(upper) - 1)));
+  }
+  // A device that is not a tendon, anchored on the face below and the segment above.
+  if (t.has("joint")) {
+    if (joints == 0)
+      t.fail(&t.required("joint"), "joint", "only a structure with [[joint]] tables has joints above its base");
+    place.joint = static_cast<int>(t.number("joint", [joints](double v) {
+      return v >= 0 && v <= static_cast<double>(joints) && v == std::floor(v);
+    }, fmt::format("a joint of the structure, an integer 0 (the base) to {} (one per [[joint]])", joints)));
+    if (t.has("segment") || t.has("from_segment"))
+      t.fail(&t.required("joint"), "joint",
+             "a device across one joint has no segment or from_segment (those place a tendon's anchors)");
+    if (geometry.kinematics == Kinematics::beam)
+      t.fail(&t.required("joint"), "joint", "a beam device joins the ground to the cap beam, across no joint");
+  }
+  return place;
+}
+
+// The device's law from the parameters given, each within its bounds.
+DeviceLaw read_device_law(const TableReader& t, const std::string& kind, const LawInfo& law) {
+  std::map<std::string, double, std::less<>> given;
+  for (const LawParameter& p : law.parameters)
+    if (t.has(p.key)) given[p.key] = t.number(p.key, [&p](double v) { return within(p, v); }, bounds_text(p));
+  try {
+    return make_law(kind, [&](std::string_view key) -> std::optional<double> {
+      const auto v = given.find(key);
+      return v == given.end() ? std::nullopt : std::optional<double>(v->second);
+    });
+  } catch (const InputError& e) {  // values each within bounds that the law refuses together
+    t.fail(nullptr, "", e.what());
+  }
+}
+
+// The devices a table makes from its `at`: a beam device's ground anchor x;
+// "edges", one at each edge of the face (half-width B), NAME_left and
+// NAME_right; or one at x, within the face.
+std::vector<Device> placed_devices(const TableReader& t, const std::string& name, DeviceGeometry geometry,
+                                   const DeviceLaw& law, double capacity, double B, const ColumnGroup* columns,
+                                   int joint) {
+  std::vector<Device> made;
+  const toml::node& at = t.required("at");
+  if (geometry.kinematics == Kinematics::beam) {
+    geometry.x = t.number("at", [](double x) { return std::abs(x) <= max_length; },
+                          fmt::format("the ground anchor's x [m] from the frame's centre line, in [{:g}, {:g}]",
+                                      -max_length, max_length));
+    if (!(std::hypot(geometry.beam_x - geometry.x, 2 * columns->half_height - geometry.ground_y) >= min_length))
+      t.fail(t.has("ground_height") ? &t.required("ground_height") : &at, t.has("ground_height") ? "ground_height" : "at",
+             fmt::format("the ground anchor meets the beam's at rest (they must be at least {:g} m apart)", min_length));
+    made.push_back({name, geometry, law, capacity});
+  } else if (at.is_string()) {
+    if (t.string("at") != "edges") t.fail(&at, "at", "must be x [m] from the centre line, or \"edges\"");
+    made.push_back({name + "_left", geometry, law, capacity});
+    made.back().geometry.x = -B;
+    made.push_back({name + "_right", geometry, law, capacity});
+    made.back().geometry.x = B;
+  } else {
+    geometry.x = t.number("at", [B](double x) { return std::abs(x) <= B; },
+                          columns != nullptr
+                              ? fmt::format("on a column's base, from its axis: -b <= x <= b = {:g} [m]", B)
+                              : joint > 0 ? fmt::format("on joint {}'s face, -B_{} <= x <= B_{} = {:g} [m]", joint, joint, joint, B)
+                                          : fmt::format("on the base, -B <= x <= B = {:g} [m]", B));
+    made.push_back({name, geometry, law, capacity});
+  }
+  return made;
+}
+
 std::vector<Device> read_devices(const toml::table& root, const std::string& file, const Origins& origins,
                                  const Structure& st, const ColumnGroup* columns, const Damper& damper,
                                  const std::vector<JointTable>& joint_tables, std::vector<int>& segments,
                                  std::vector<int>& from_segments, std::vector<int>& device_joints) {
   const std::size_t joints = joint_tables.size();
-  const bool on_columns = columns != nullptr;
   std::vector<Device> out;
   const toml::array* list = root.get_as<toml::array>("device");
   if (list == nullptr) return out;
@@ -516,7 +666,6 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
   std::set<std::string, std::less<>> names;
   if (damper.enabled)
     for (const Device& d : edge_dampers(damper, st.half_width)) names.insert(d.name);
-  const Structure& base = st;
   for (std::size_t i = 0; i < list->size(); ++i) {
     const std::string table_name = fmt::format("device[{}]", i);
     const toml::table* table = list->get_as<toml::table>(i);
@@ -528,129 +677,22 @@ std::vector<Device> read_devices(const toml::table& root, const std::string& fil
     if (law == laws.end())
       t.fail(&t.required("kind"), "kind",
              fmt::format("unknown law '{}' (laws: {})", kind, fmt::join(laws | std::views::transform(&LawInfo::name), ", ")));
-    std::set<std::string, std::less<>> known = {"name", "kind", "at", "kinematics", "free_length", "capacity",
-                                                "segment", "from_segment", "joint"};
-    if (on_columns) known.insert({"beam_at", "ground_height"});
-    for (const LawParameter& p : law->parameters) known.insert(p.key);
-    for (auto&& [key, value] : *table)
-      if (!known.contains(key.str()))
-        t.fail(&value, key.str(), fmt::format("unknown key for a {} device (known: {})", kind, fmt::join(known, ", ")));
-
-    const std::string name = t.string_or("name", fmt::format("{}_{}", kind, i + 1));
-    const bool plain = !name.empty() && std::ranges::all_of(name, [](char c) {
-      return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '-';
-    });
-    if (!plain) t.fail(&t.required("name"), "name", "must be letters, digits, _ or - (it names output columns)");
-    DeviceGeometry geometry;
-    const std::string kinematics = t.string_or("kinematics", "chord");
-    if (kinematics == "vertical") {
-      geometry.kinematics = Kinematics::vertical;
-      geometry.free_length = t.number("free_length", in_range(min_length, max_length, true),
-                                      fmt::format("in [{:g}, {:g}] m", min_length, max_length));
-    } else if (kinematics == "chord") {
-      if (t.has("free_length")) t.fail(&t.required("free_length"), "free_length", "only a vertical device has a free length");
-    } else if (kinematics == "beam") {
-      if (!on_columns)
-        t.fail(&t.required("kinematics"), "kinematics",
-               "beam joins the ground to the cap beam of a structure on [columns]; this scene has none");
-      geometry.kinematics = Kinematics::beam;
-      if (t.has("free_length"))
-        t.fail(&t.required("free_length"), "free_length",
-               "a beam device's elongation counts from its anchors' rest distance (a prestress is its law's)");
-      const double reach = columns->count >= 2 ? 0.5 * columns->spacing + columns->half_width : columns->half_width;
-      geometry.beam_x = t.number("beam_at", [reach](double x) { return std::abs(x) <= reach; },
-                                 fmt::format("on the beam's underside over the columns, from the frame's centre "
-                                             "line: |x| <= {:g} [m]", reach));
-      geometry.ground_y = t.number_or("ground_height", 0.0, [](double y) { return std::abs(y) <= max_length; },
-                                      fmt::format("the ground anchor's height above the columns' bottoms, in [{:g}, {:g}] m",
-                                                  -max_length, max_length));
-    } else {
-      t.fail(&t.required("kinematics"), "kinematics",
-             fmt::format("must be chord or vertical{} (got '{}')", on_columns ? ", or beam" : "", kinematics));
-    }
-    if (geometry.kinematics != Kinematics::beam)
-      for (const char* key : {"beam_at", "ground_height"})
-        if (t.has(key)) t.fail(&t.required(key), key, "only a beam device (kinematics = \"beam\", on [columns]) has it");
+    check_device_keys(t, *table, kind, *law, columns != nullptr);
+    const std::string name = device_name(t, kind, i);
+    const DeviceGeometry geometry = device_geometry(t, columns);
     const double capacity = t.number_or("capacity", 0.0, positive, "positive [m] (leave it out: never breaks)");
-    // The segment its upper anchor is on, with [[joint]] tables (0 .. J).
-    int segment = -1;
-    if (t.has("segment")) {
-      if (joints == 0)
-        t.fail(&t.required("segment"), "segment", "only a structure with [[joint]] tables has segments above its base");
-      segment = static_cast<int>(t.number("segment", [joints](double v) {
-        return v >= 0 && v <= static_cast<double>(joints) && v == std::floor(v);
-      }, fmt::format("a segment of the structure, an integer 0 to {} (one per [[joint]] above the base)", joints)));
-    }
-    // The segment its lower anchor is on (-1: the ground), below the upper one's.
-    int from_segment = -1;
-    if (t.has("from_segment")) {
-      if (joints == 0)
-        t.fail(&t.required("from_segment"), "from_segment",
-               "only a structure with [[joint]] tables has segments above its base");
-      const double upper = segment < 0 ? static_cast<double>(joints) : segment;
-      from_segment = static_cast<int>(t.number("from_segment", [upper](double v) {
-        return v >= 0 && v < upper && v == std::floor(v);
-      }, fmt::format("a segment below the upper anchor's, an integer 0 to {}", static_cast<int>(upper) - 1)));
-    }
-    // The joint it stands across (0: the base), with [[joint]] tables: a
-    // device that is not a tendon, anchored on the face below and the segment above.
-    int joint = -1;
-    if (t.has("joint")) {
-      if (joints == 0)
-        t.fail(&t.required("joint"), "joint", "only a structure with [[joint]] tables has joints above its base");
-      joint = static_cast<int>(t.number("joint", [joints](double v) {
-        return v >= 0 && v <= static_cast<double>(joints) && v == std::floor(v);
-      }, fmt::format("a joint of the structure, an integer 0 (the base) to {} (one per [[joint]])", joints)));
-      if (t.has("segment") || t.has("from_segment"))
-        t.fail(&t.required("joint"), "joint",
-               "a device across one joint has no segment or from_segment (those place a tendon's anchors)");
-      if (geometry.kinematics == Kinematics::beam)
-        t.fail(&t.required("joint"), "joint", "a beam device joins the ground to the cap beam, across no joint");
-    }
-    std::map<std::string, double, std::less<>> given;
-    for (const LawParameter& p : law->parameters)
-      if (t.has(p.key)) given[p.key] = t.number(p.key, [&p](double v) { return within(p, v); }, bounds_text(p));
-    DeviceLaw device_law;
-    try {
-      device_law = make_law(kind, [&](std::string_view key) -> std::optional<double> {
-        const auto v = given.find(key);
-        return v == given.end() ? std::nullopt : std::optional<double>(v->second);
-      });
-    } catch (const InputError& e) {  // values each within bounds that the law refuses together
-      t.fail(nullptr, "", e.what());
-    }
-    std::vector<Device> made;
-    const toml::node& at = t.required("at");
-    const double B = joint > 0 ? joint_tables[static_cast<std::size_t>(joint - 1)].half_width : base.half_width;
-    if (geometry.kinematics == Kinematics::beam) {
-      geometry.x = t.number("at", [](double x) { return std::abs(x) <= max_length; },
-                            fmt::format("the ground anchor's x [m] from the frame's centre line, in [{:g}, {:g}]",
-                                        -max_length, max_length));
-      if (!(std::hypot(geometry.beam_x - geometry.x, 2 * columns->half_height - geometry.ground_y) >= min_length))
-        t.fail(t.has("ground_height") ? &t.required("ground_height") : &at, t.has("ground_height") ? "ground_height" : "at",
-               fmt::format("the ground anchor meets the beam's at rest (they must be at least {:g} m apart)", min_length));
-      made.push_back({name, geometry, device_law, capacity});
-    } else if (at.is_string()) {
-      if (t.string("at") != "edges") t.fail(&at, "at", "must be x [m] from the centre line, or \"edges\"");
-      made.push_back({name + "_left", geometry, device_law, capacity});
-      made.back().geometry.x = -B;
-      made.push_back({name + "_right", geometry, device_law, capacity});
-      made.back().geometry.x = B;
-    } else {
-      geometry.x = t.number("at", [B](double x) { return std::abs(x) <= B; },
-                            on_columns
-                                ? fmt::format("on a column's base, from its axis: -b <= x <= b = {:g} [m]", B)
-                                : joint > 0 ? fmt::format("on joint {}'s face, -B_{} <= x <= B_{} = {:g} [m]", joint, joint, joint, B)
-                                            : fmt::format("on the base, -B <= x <= B = {:g} [m]", B));
-      made.push_back({name, geometry, device_law, capacity});
-    }
+    const DevicePlace place = device_place(t, joints, geometry);
+    const DeviceLaw device_law = read_device_law(t, kind, *law);
+    // The face it stands on: joint K's, or the base's.
+    const double B = place.joint > 0 ? joint_tables[static_cast<std::size_t>(place.joint - 1)].half_width : st.half_width;
+    std::vector<Device> made = placed_devices(t, name, geometry, device_law, capacity, B, columns, place.joint);
     if (damper.enabled && name == "damper")
       t.fail(t.has("name") ? &t.required("name") : nullptr, "name",
              "'damper' names the scene's [damper] (its two edge dampers): choose another name");
     for (Device& d : made) {
-      segments.push_back(segment);
-      from_segments.push_back(from_segment);
-      device_joints.push_back(joint);
+      segments.push_back(place.segment);
+      from_segments.push_back(place.from_segment);
+      device_joints.push_back(place.joint);
       d.group = name;
       if (!names.insert(d.name).second)
         t.fail(t.has("name") ? &t.required("name") : nullptr, "name", fmt::format("'{}' names two devices", d.name));

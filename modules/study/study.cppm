@@ -274,13 +274,30 @@ struct StudyColumns {
   std::vector<QuantityName> all() const;
   std::vector<std::string> names() const;
   std::size_t size() const { return quantities.size() + joints.size() + devices.size() * device_study_count; }
+  // Where a quantity is among the columns (all()'s order); none when it is not one of them.
+  std::optional<std::size_t> index(const QuantityName& q) const;
   // A run's peaks in the columns' order: NaN where its model does not report one.
   std::vector<double> values(const RunResult& run) const;
-  // The run a row of values stands for (peaks and devices; NaN where absent),
-  // its outcome given.
-  RunResult run(const std::vector<double>& values, Outcome outcome) const;
 };
 StudyColumns study_columns(const Study& study);
+
+// A finished job as a study carries it from its run to the writers that
+// format it (rocking.study_files: the study's CSV, the per-record figures'
+// data, Python's rows) and to the summary: its level, its peaks in the order
+// of the study's columns, and how it ended. A job that could not run (an
+// error row) has no peaks.
+struct StudyRow {
+  double level = 0;
+  std::vector<double> values;  // StudyColumns order: NaN where the run's model does not report one
+  Outcome outcome = Outcome::completed;
+  bool ran = false;  // false: the job could not run (JobResult::error), or no job's row yet
+  // Past every limit (overturned, or a joint separated): a study's collapse.
+  bool collapsed() const { return ran && past_every_limit(outcome); }
+  // The peak of a quantity by name: NaN when it is not one of the columns or the run has none.
+  double value(const StudyColumns& columns, const QuantityName& q) const;
+};
+// The job's row: its level, the run's peaks (none for an error), its outcome.
+StudyRow study_row(const StudyColumns& columns, const Job& job, const JobResult& result);
 
 // How a record that survives a level above its first overturning (a
 // "resurrection") counts there. first, the convention of Vamvatsikos &
@@ -332,6 +349,8 @@ class StudySummary {
   StudySummary(const Study& study, std::vector<double> levels, std::vector<Limit> limits,
                Resurrection resurrection = Resurrection::first);
   void add(const Job& job, const JobResult& result);
+  // A row as a study carries it (a job's, or one read back from its CSV); an error row is left out.
+  void add(const Job& job, const StudyRow& row);
   const std::vector<double>& levels() const { return levels_; }  // ascending
   const std::vector<Limit>& limits() const { return limits_; }
   Resurrection resurrection() const { return resurrection_; }
@@ -372,10 +391,10 @@ class StudySummary {
 
  private:
   struct Cell {
-    std::vector<double> peaks;  // in the order of columns_ (NaN: not reported)
-    bool ran = false, overturned = false;
+    StudyRow row;
+    bool ran = false;
   };
-  double value(const Cell& c, const QuantityName& q) const;
+  double value(const Cell& c, const QuantityName& q) const { return c.row.value(columns_, q); }
   const Cell& cell(std::size_t record, std::size_t variant, std::size_t level) const {
     return cells_[(record * variants_ + variant) * levels_.size() + level];
   }

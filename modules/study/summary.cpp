@@ -130,38 +130,35 @@ std::vector<double> StudyColumns::values(const RunResult& run) const {
   return out;
 }
 
-RunResult StudyColumns::run(const std::vector<double>& values, Outcome outcome) const {
-  RunResult r;
-  r.outcome = outcome;
-  // Every quantity counts as reported: an absent one's value is NaN.
-  r.presence = {.rocking = true, .elasticity = true, .dampers = true, .devices = true};
-  for (std::size_t i = 0; i < quantities.size(); ++i) r.peaks[index(quantities[i])] = values.at(i);
-  for (std::size_t i = 0; i < joints.size(); ++i) {
-    const double v = values.at(quantities.size() + i);
-    if (std::isnan(v)) continue;  // the run's structure has no such joint
-    const auto j = static_cast<std::size_t>(joints[i].joint);
-    if (r.joints.size() <= j) r.joints.resize(j + 1);
-    JointResult& out = r.joints[j];
-    switch (joints[i].which) {
-      case JointQuantity::theta: out.peak_theta = v; break;
-      case JointQuantity::friction: out.peak_friction = v; break;
-      case JointQuantity::theta_over_alpha: out.peak_theta_over_alpha = v; break;
-      default: break;
-    }
+std::optional<std::size_t> StudyColumns::index(const QuantityName& q) const {
+  if (q.scalar) {
+    const auto at = std::ranges::find(quantities, *q.scalar);
+    if (at == quantities.end()) return std::nullopt;
+    return static_cast<std::size_t>(at - quantities.begin());
   }
-  const std::size_t first_device = quantities.size() + joints.size();
-  for (std::size_t k = 0; k < devices.size(); ++k) {
-    const std::size_t at = first_device + device_study_count * k;
-    const double e = values.at(at + device_study_position(DeviceQuantity::elongation)),
-                 f = values.at(at + device_study_position(DeviceQuantity::force));
-    if (std::isnan(e)) continue;  // the run's model has no such device
-    DeviceResult d;
-    d.name = devices[k];
-    d.peak_elongation = e;
-    d.peak_force = f;
-    r.devices.push_back(std::move(d));
+  if (q.joint) {
+    const auto at = std::ranges::find(joints, *q.joint);
+    if (at == joints.end()) return std::nullopt;
+    return quantities.size() + static_cast<std::size_t>(at - joints.begin());
   }
-  return r;
+  const auto at = std::ranges::find(devices, q.device);
+  if (at == devices.end() || !info(q.of).is(Role::study)) return std::nullopt;
+  return quantities.size() + joints.size() + device_study_count * static_cast<std::size_t>(at - devices.begin()) +
+         device_study_position(q.of);
+}
+
+double StudyRow::value(const StudyColumns& columns, const QuantityName& q) const {
+  const std::optional<std::size_t> k = columns.index(q);
+  return k && *k < values.size() ? values[*k] : std::nan("");
+}
+
+StudyRow study_row(const StudyColumns& columns, const Job& job, const JobResult& result) {
+  StudyRow row;
+  row.level = job.level;
+  row.ran = result.error.empty();
+  row.outcome = result.run.outcome;
+  if (row.ran) row.values = columns.values(result.run);
+  return row;
 }
 
 StudyColumns study_columns(const Study& study) {
@@ -200,36 +197,20 @@ StudySummary::StudySummary(const Study& study, std::vector<double> levels, std::
   cells_.resize(records_ * variants_ * levels_.size());
 }
 
-void StudySummary::add(const Job& job, const JobResult& result) {
-  if (!result.error.empty()) return;
+void StudySummary::add(const Job& job, const JobResult& result) { add(job, study_row(columns_, job, result)); }
+
+void StudySummary::add(const Job& job, const StudyRow& row) {
+  if (!row.ran) return;
   const auto at = std::lower_bound(levels_.begin(), levels_.end(), job.level);
   if (at == levels_.end() || *at != job.level) return;  // not a level of this summary
   Cell& c = cells_[(job.record * variants_ + job.variant) * levels_.size() + static_cast<std::size_t>(at - levels_.begin())];
   c.ran = true;
-  c.overturned = past_every_limit(result.run.outcome);
-  c.peaks = columns_.values(result.run);
-}
-
-double StudySummary::value(const Cell& c, const QuantityName& q) const {
-  if (q.scalar) {
-    const auto at = std::ranges::find(columns_.quantities, *q.scalar);
-    return at == columns_.quantities.end() ? std::nan("") : c.peaks[static_cast<std::size_t>(at - columns_.quantities.begin())];
-  }
-  if (q.joint) {
-    const auto at = std::ranges::find(columns_.joints, *q.joint);
-    return at == columns_.joints.end() ? std::nan("")
-                                       : c.peaks[columns_.quantities.size() + static_cast<std::size_t>(at - columns_.joints.begin())];
-  }
-  const auto at = std::ranges::find(columns_.devices, q.device);
-  if (at == columns_.devices.end() || !info(q.of).is(Role::study)) return std::nan("");
-  return c.peaks[columns_.quantities.size() + columns_.joints.size() +
-                 device_study_count * static_cast<std::size_t>(at - columns_.devices.begin()) +
-                 device_study_position(q.of)];
+  c.row = row;
 }
 
 // A quantity the run does not report (NaN) never reaches a limit.
 bool StudySummary::reached(const Cell& c, const Limit& l) const {
-  return c.overturned || (l.quantity && value(c, *l.quantity) >= l.value);
+  return c.row.collapsed() || (l.quantity && value(c, *l.quantity) >= l.value);
 }
 
 std::vector<StudySummary::FractileRow> StudySummary::fractiles(std::size_t variant, const QuantityName& q) const {
@@ -262,7 +243,7 @@ StudySummary::Curve StudySummary::curve(std::size_t record, std::size_t variant,
   for (std::size_t k = 0; k < levels_.size(); ++k) {
     const Cell& c = cell(record, variant, k);
     if (!c.ran) continue;
-    if (c.overturned) {
+    if (c.row.collapsed()) {
       out.collapse_level = levels_[k];
       break;
     }
@@ -406,8 +387,8 @@ std::vector<StudySummary::Resurrections> StudySummary::resurrections(std::size_t
     for (std::size_t k = 0; k < levels_.size(); ++k) {
       const Cell& c = cell(r, variant, k);
       if (!c.ran) continue;
-      if (!rec && c.overturned) rec = Resurrections{r, levels_[k], {}};
-      else if (rec && !c.overturned) rec->survived.push_back(levels_[k]);
+      if (!rec && c.row.collapsed()) rec = Resurrections{r, levels_[k], {}};
+      else if (rec && !c.row.collapsed()) rec->survived.push_back(levels_[k]);
     }
     if (rec && !rec->survived.empty()) out.push_back(*rec);
   }

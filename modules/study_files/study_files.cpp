@@ -12,7 +12,9 @@ module;
 #include <filesystem>
 #include <functional>
 #include <istream>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <system_error>
 #include <vector>
 module rocking.study_files;
@@ -149,13 +151,81 @@ std::string study_csv_row(const Study& st, const StudyColumns& columns, const st
                           const Job& job, const JobResult& r) {
   std::string q;
   const RunResult& run = r.run;
-  if (r.error.empty())
-    for (double v : columns.values(run)) q += peak_field(v) + ",";
+  const StudyRow row = study_row(columns, job, r);
+  if (row.ran)
+    for (double v : row.values) q += peak_field(v) + ",";
   else
     q.assign(columns.size(), ',');
   return fmt::format("{},{}{},{},{},{},{}\n", job_fields(st, ids, job), q,
                      r.error.empty() ? fmt::format("{:.6g}", run.top_total_mm) : "", outcome_name(run.outcome),
                      run.counts.uplifts, fmt::format("{},{}", run.counts.impacts, run.stats.rhs), csv_field(r.error));
+}
+
+namespace {
+
+// A study CSV's fields by the names of its header's columns.
+struct StudyCsvFields {
+  std::vector<std::string> names;
+  std::size_t at(std::string_view name) const {
+    return static_cast<std::size_t>(std::ranges::find(names, name) - names.begin());
+  }
+};
+
+// A field that is a number, whole (strtod reads all of it); none otherwise.
+std::optional<double> number_field(const std::string& text) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size()) return std::nullopt;
+  return v;
+}
+
+// The first field from `first` to `last` (by name, in the header's order)
+// that is not empty and not a finite number; none when all are.
+std::optional<std::size_t> not_finite(const StudyCsvFields& header, const std::vector<std::string>& f,
+                                      std::string_view first, std::string_view last) {
+  for (std::size_t c = header.at(first); c <= header.at(last); ++c) {
+    const std::optional<double> v = number_field(f[c]);
+    if (!f[c].empty() && !(v && std::isfinite(*v))) return c;
+  }
+  return std::nullopt;
+}
+
+StudyRow row_of(const StudyColumns& columns, const StudyCsvFields& header, const std::vector<std::string>& f,
+                double level) {
+  StudyRow row;
+  row.level = level;
+  row.ran = f[header.at("error")].empty();
+  const std::string& outcome = f[header.at("outcome")];
+  for (Outcome o : {Outcome::completed, Outcome::overturned, Outcome::failed, Outcome::separated})
+    if (outcome == outcome_name(o)) row.outcome = o;
+  if (!row.ran) return row;
+  for (const std::string& name : columns.names()) {
+    const std::string& text = f[header.at(name)];
+    const std::optional<double> v = number_field(text);
+    if (!text.empty() && !v) throw InputError(fmt::format("{}: '{}' is not a number", name, text));
+    row.values.push_back(v.value_or(std::nan("")));
+  }
+  return row;
+}
+
+}  // namespace
+
+StudyRow written_row(const StudyColumns& columns, const Job& job, const JobResult& r) {
+  StudyRow row = study_row(columns, job, r);
+  for (double& v : row.values)
+    if (!std::isnan(v)) v = std::stod(peak_field(v));
+  return row;
+}
+
+StudyRow read_study_row(const StudyColumns& columns, const std::string& row) {
+  const std::string header = study_csv_header(columns);
+  const StudyCsvFields names{csv_fields(header.substr(0, header.size() - 1))};
+  const std::vector<std::string> f = csv_fields(row.ends_with("\n") ? row.substr(0, row.size() - 1) : row);
+  if (f.size() < names.names.size())
+    throw InputError(fmt::format("a study row of {} fields: expected {}", f.size(), names.names.size()));
+  const std::optional<double> level = number_field(f[names.at("level")]);
+  if (!level) throw InputError(fmt::format("level: '{}' is not a number", f[names.at("level")]));
+  return row_of(columns, names, f, *level);
 }
 
 ResumedRows read_resumed_rows(std::istream& in, const std::string& name, const std::vector<Job>& jobs,
@@ -164,33 +234,26 @@ ResumedRows read_resumed_rows(std::istream& in, const std::string& name, const s
   std::string line;
   if (!std::getline(in, line) || line + "\n" != study_csv_header(columns))
     throw InputError(fmt::format("--resume: {}:1: not a study CSV of this version (header differs)", name));
+  const StudyCsvFields header{csv_fields(line)};
   for (int n = 2; std::getline(in, line); ++n) {
     if (in.eof()) break;  // a last line without its newline was cut: run that job again
     const std::size_t k = r.rows.size();
     const std::vector<std::string> f = csv_fields(line);
     const std::string expected = k < jobs.size() ? job_fields(st, ids, jobs[k]) : std::string("(no more jobs)");
-    const std::size_t nc = columns.size(), fields = job_field_count + nc + run_field_count;
-    if (k >= jobs.size() || f.size() < fields || !line.starts_with(expected + ","))
+    if (k >= jobs.size() || f.size() < header.names.size() || !line.starts_with(expected + ","))
       throw InputError(fmt::format("--resume: {}:{}: this row is not job {} of this study ({}): give the same scene, "
                                    "--record, --im, --levels and --variants as the interrupted run",
                                    name, n, k + 1, expected));
-    // A kept row holds finite numbers: one with nan or inf (a run gone wrong,
-    // or an edited file) runs again, with every job after it.
-    for (std::size_t c = job_field_count - 2; c < job_field_count + nc + 1; ++c) {
-      char* end = nullptr;
-      const double v = std::strtod(f[c].c_str(), &end);
-      if (!f[c].empty() && end == f[c].c_str() + f[c].size() && !std::isfinite(v)) {
-        r.rerun = fmt::format("--resume: {}:{}: '{}' in column {}: job {} runs again, with the {} after it", name, n,
-                              f[c], c + 1, k + 1, jobs.size() - k - 1);
-        return r;
-      }
+    // A kept row holds finite numbers from its level to top_total_mm: one
+    // with nan, inf or text (a run gone wrong, or an edited file) runs
+    // again, with every job after it.
+    if (const std::optional<std::size_t> c = not_finite(header, f, "level", "top_total_mm")) {
+      r.rerun = fmt::format("--resume: {}:{}: '{}' in column {}: job {} runs again, with the {} after it", name, n,
+                            f[*c], *c + 1, k + 1, jobs.size() - k - 1);
+      return r;
     }
     r.rows.push_back(line + "\n");
-    std::string data = f[4];  // the level, then the columns
-    for (std::size_t c = job_field_count; c < job_field_count + nc; ++c) data += "," + f[c];
-    const bool failed = !f[fields - 1].empty(), overturned = f[job_field_count + nc + 1] == "overturned" ||
-                                                  f[job_field_count + nc + 1] == "separated";
-    r.lines.push_back(failed ? std::string() : data + (overturned ? ",1" : ",0"));
+    r.results.push_back(row_of(columns, header, f, jobs[k].level));
   }
   return r;
 }
@@ -202,32 +265,6 @@ std::vector<std::string> csv_fields(const std::string& row) {
     out.push_back(row.substr(from, comma - from));
   if (from < row.size() || row.ends_with(",")) out.push_back(row.substr(from));
   return out;
-}
-
-std::string figure_line(const StudyColumns& columns, const Job& job, const JobResult& r) {
-  if (!r.error.empty()) return {};
-  std::string out = fmt::format("{:.9g}", job.level);
-  for (double v : columns.values(r.run)) out += "," + peak_field(v);
-  return out + (past_every_limit(r.run.outcome) ? ",1" : ",0");
-}
-
-JobResult line_result(const StudyColumns& columns, const std::string& line) {
-  JobResult r;
-  if (line.empty()) {
-    r.error = "failed";
-    return r;
-  }
-  const std::vector<std::string> f = csv_fields(line);
-  if (f.size() != columns.size() + 2)
-    throw RunError(fmt::format("figure line with {} fields: expected {}", f.size(), columns.size() + 2));
-  std::vector<double> values;
-  for (std::size_t i = 1; i <= columns.size(); ++i) values.push_back(f[i].empty() ? std::nan("") : std::stod(f[i]));
-  r.run = columns.run(values, f.back() == "1" ? Outcome::overturned : Outcome::completed);
-  return r;
-}
-
-JobResult as_written(const StudyColumns& columns, const Job& job, const JobResult& r) {
-  return line_result(columns, figure_line(columns, job, r));
 }
 
 std::string records_csv(const Study& st, const std::vector<std::string>& ids) {

@@ -38,7 +38,6 @@ std::vector<std::string> record_ids(const std::vector<std::string>& paths);
 // record_im), the study's columns (StudyColumns: the schema's study
 // quantities, then each device's by name), then the run's outcome and cost
 // (top_total_mm, outcome, uplifts, impacts, rhs, error).
-inline constexpr std::size_t job_field_count = 6, run_field_count = 6;
 std::string study_csv_header(const StudyColumns& columns);
 std::string job_fields(const Study& st, const std::vector<std::string>& ids, const Job& job);
 std::string study_csv_row(const Study& st, const StudyColumns& columns, const std::vector<std::string>& ids,
@@ -46,26 +45,26 @@ std::string study_csv_row(const Study& st, const StudyColumns& columns, const st
 // The fields of a study's CSV row (no field but the last, the error, holds a
 // quoted comma).
 std::vector<std::string> csv_fields(const std::string& row);
-// A job's result as a line: the level, the study's columns (empty where not
-// reported), 1 if it overturned; empty for a job that failed. The per-record
-// figures' data, and what a rank or a resumed row hands the summary.
-std::string figure_line(const StudyColumns& columns, const Job& job, const JobResult& r);
-// The result a figure line stands for (peaks and outcome).
-JobResult line_result(const StudyColumns& columns, const std::string& line);
-// The result as the files hold it (peaks to their 9 digits): what every front
-// end adds to a StudySummary, so that a study's summary is the same whether
-// its runs were fresh, resumed from rows or sent by other processes.
-JobResult as_written(const StudyColumns& columns, const Job& job, const JobResult& r);
+// The row as the files hold it: its peaks rounded to the digits the CSV
+// writes (peak_field). What every front end adds to a StudySummary and draws,
+// so that a study's summary and figures are the same whether its runs were
+// fresh, resumed from rows or sent by other processes.
+StudyRow written_row(const StudyColumns& columns, const Job& job, const JobResult& r);
+// A row of the study CSV read back (`row` as study_csv_row wrote it): its
+// level, peaks and outcome by the names of study_csv_header's columns; an
+// error row did not run. InputError when a field is not a number.
+StudyRow read_study_row(const StudyColumns& columns, const std::string& row);
 
 // What an interrupted study left in its CSV (`name`: the file, for messages):
 // its rows in job order, each checked against the job it must be. rows: the
-// text of each row kept; lines: its figure line (empty for a failed run);
-// rerun: why the rows stop early when a row holds a value that is not finite
-// (that job and every one after it run again), else empty. A last line
-// without its newline was cut: its job runs again. InputError naming the
-// file and line for a header or row of another study or version.
+// text of each row kept; results: each as a StudyRow; rerun: why the rows
+// stop early when a row holds a value that is not a finite number (that job
+// and every one after it run again), else empty. A last line without its
+// newline was cut: its job runs again. InputError naming the file and line
+// for a header or row of another study or version.
 struct ResumedRows {
-  std::vector<std::string> rows, lines;
+  std::vector<std::string> rows;
+  std::vector<StudyRow> results;
   std::string rerun;
 };
 ResumedRows read_resumed_rows(std::istream& in, const std::string& name, const std::vector<Job>& jobs,

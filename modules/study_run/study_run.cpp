@@ -50,7 +50,7 @@ std::size_t run_ladder(const Study& study, const Ladder& ladder, std::span<const
         }
         ++emitted;
         const Job& job = ladder.jobs[which[k]];
-        if (summary != nullptr) summary->add(job, as_written(ladder.columns, job, r));
+        if (summary != nullptr) summary->add(job, written_row(ladder.columns, job, r));
         emit(which[k], r);
       },
       [&](std::size_t done, std::size_t total) {

@@ -44,7 +44,7 @@ Ladder plan_ladder(const Study& study, std::vector<double> levels, std::span<con
 
 // Runs the jobs ladder.jobs[which[k]] (which ascending) on `threads` threads
 // and hands each result to emit(job index, result) in order; with a summary,
-// adds each to it as the study's rows write it (as_written), so that a summary
+// adds each to it as the study's rows write it (written_row), so that a summary
 // of rows read back is the same. A run a stop cut short ends the emission:
 // it and every job after it are left to run again (--resume). Returns how
 // many were emitted: which[0 .. n) ran.

@@ -140,15 +140,12 @@ inline void study_csv(const std::uint8_t* data, std::size_t size) {
   std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));
   input_or_error([&] {
     const rocking::ResumedRows r = rocking::read_resumed_rows(in, "ida.csv", f.jobs, f.ids, *f.study, f.columns);
-    if (r.rows.size() > f.jobs.size() || r.lines.size() != r.rows.size()) __builtin_trap();
-    for (const std::string& line : r.lines) {
-      std::size_t at = 0;
-      while (at <= line.size() && !line.empty()) {
-        const std::size_t comma = std::min(line.find(',', at), line.size());
-        const std::string field = line.substr(at, comma - at);
-        if (!field.empty() && !std::isfinite(std::strtod(field.c_str(), nullptr))) __builtin_trap();
-        at = comma + 1;
-      }
+    if (r.rows.size() > f.jobs.size() || r.results.size() != r.rows.size()) __builtin_trap();
+    for (std::size_t k = 0; k < r.results.size(); ++k) {
+      const rocking::StudyRow& row = r.results[k];
+      if (row.level != f.jobs[k].level || (row.ran && row.values.size() != f.columns.size())) __builtin_trap();
+      for (double v : row.values)
+        if (!std::isnan(v) && !std::isfinite(v)) __builtin_trap();
     }
   });
 }
