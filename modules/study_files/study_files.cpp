@@ -12,6 +12,7 @@ module;
 #include <filesystem>
 #include <functional>
 #include <istream>
+#include <optional>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -188,8 +189,8 @@ ResumedRows read_resumed_rows(std::istream& in, const std::string& name, const s
     r.rows.push_back(line + "\n");
     std::string data = f[4];  // the level, then the columns
     for (std::size_t c = job_field_count; c < job_field_count + nc; ++c) data += "," + f[c];
-    const bool failed = !f[fields - 1].empty(), overturned = f[job_field_count + nc + 1] == "overturned" ||
-                                                  f[job_field_count + nc + 1] == "separated";
+    const std::optional<Outcome> outcome = outcome_named(f[job_field_count + nc + 1]);
+    const bool failed = !f[fields - 1].empty(), overturned = outcome && past_every_limit(*outcome);
     r.lines.push_back(failed ? std::string() : data + (overturned ? ",1" : ",0"));
   }
   return r;
