@@ -291,10 +291,10 @@ duration = 3.0
 )";
   const Ran ran = run(scene_from("tension", text), 1e-8);
   CHECK(ran.result.outcome == Outcome::separated);
-  CHECK(ran.result.separation.find("tensile") != std::string::npos);
+  CHECK(ran.result.stated.find("tensile") != std::string::npos);
   REQUIRE(ran.result.columns);
   CHECK(ran.result.columns->smallest_top_force <= 1e-3 * 21000 * gravity);
-  MESSAGE(ran.result.separation);
+  MESSAGE(ran.result.stated);
 }
 
 TEST_CASE("the rigid frame's overturning spectrum is the single block's with p-hat and the frame's r, to the spectrum's grid") {

@@ -611,7 +611,8 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
                  "im"_a = im.name(), "level"_a = study_row.level, "scale"_a = j.scale,
                  "record_im"_a = study.record_intensity(j.record));
     if (!study_row.ran) {
-      row["outcome"] = "error";
+      // A run the momentum law left undecided keeps its outcome; the others could not run.
+      row["outcome"] = r.run.outcome == rocking::Outcome::undecided ? "undecided" : "error";
       row["error"] = r.error;
     } else {
       row["outcome"] = std::string(rocking::outcome_name(study_row.outcome));
@@ -785,7 +786,7 @@ void bind_simulate(py::module_& m) {
                     "Phase changes in time order: dicts of kind (uplift, impact, overturn,\n"
                     "fracture), t [s], pivot, device for a fracture, and joint (0 the base, K\n"
                     "the joint K above it) on a structure with [[joint]]s.")
-      .def_readonly("outcome", &PyResult::outcome, "completed, overturned, separated (a joint in tension: the part above would leave it) or failed")
+      .def_readonly("outcome", &PyResult::outcome, "completed, overturned, separated (a joint in tension: the part above would leave it), sliding (a joint's friction demand reached its scene's limit), undecided (an impact the momentum law does not decide; summary['undecided'] says which) or failed")
       .def("to_pandas", [](const PyResult& r) { return to_pandas(r.history); },
            "The history as a pandas DataFrame (needs pandas; the project does not).")
       .def("__repr__", [](const PyResult& r) {

@@ -36,8 +36,8 @@ void print_text(const nlohmann::json& s) {
   fmt::print("  {:<17} {} at t = {:.3f} s; {}, {}\n", "outcome", s["outcome"].get<std::string>(),
              s["t_end"].get<double>(), count(s["counts"]["uplifts"].get<long>(), "uplift"),
              count(s["counts"]["impacts"].get<long>(), "impact"));
-  if (const auto sep = s.find("separation"); sep != s.end())
-    fmt::print("  {:<17} {}\n", "separation", sep->get<std::string>());
+  for (const char* stated : {"separation", "sliding", "undecided"})  // why the model ended the run there
+    if (const auto it = s.find(stated); it != s.end()) fmt::print("  {:<17} {}\n", stated, it->get<std::string>());
   for (Quantity q : peak_quantities) {
     const QuantityInfo& i = info(q);
     const auto v = p.find(std::string(i.name));

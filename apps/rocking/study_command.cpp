@@ -709,13 +709,16 @@ void write_azimuth_summary(const fs::path& study_csv, const fs::path& out) {
     if (!groups.contains(key)) order.push_back(key);
     groups[key].push_back(std::move(f));
   }
-  // overturned: the runs past every limit (overturned, or a joint separated).
+  // overturned: the runs past every limit (overturned, or a joint separated or slid).
   std::string text = "record,variant,level,azimuths,overturned";
   for (std::size_t c = first; c < outcome; ++c) text += fmt::format(",{0}_max,{0}_median", header[c]);
   text += "\n";
   for (const auto& key : order) {
     const auto& rows = groups[key];
-    const long overturned = std::ranges::count_if(rows, [&](const auto& f) { return f[outcome] == "overturned" || f[outcome] == "separated"; });
+    const long overturned = std::ranges::count_if(rows, [&](const auto& f) {
+      const std::optional<Outcome> o = outcome_named(f[outcome]);
+      return o && past_every_limit(*o);
+    });
     text += fmt::format("{},{},{},{},{}", csv_field(std::get<0>(key)), csv_field(std::get<1>(key)), std::get<2>(key),
                         rows.size(), overturned);
     for (std::size_t c = first; c < outcome; ++c) {

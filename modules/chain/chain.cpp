@@ -995,6 +995,7 @@ ImpactCandidate impact_with(const Chain& c, ChainPhases before, int joint, Chain
     return v;
   };
   out.impulse.resize(c.joints);
+  out.refused.assign(static_cast<std::size_t>(c.joints), ImpactCandidate::Refusal::none);
   const double tol = 1e-10 * momentum;
   out.consistent = true;
   for (int j = 0; j < c.joints; ++j) {
@@ -1004,15 +1005,29 @@ ImpactCandidate impact_with(const Chain& c, ChainPhases before, int joint, Chain
     r.M = closed(after[j]) ? -impulse(j) : 0.0;
     const double B = c.data.segments[j].half_width;
     if (j == 0 && c.data.base_held) continue;  // a fixed base takes any impulse
-    if (r.N < -tol) out.consistent = false;  // a tensile impulse
-    if (closed(after[j]) && std::abs(r.M) > B * r.N + B * tol) out.consistent = false;  // past a corner
     const bool opened = !closed(after[j]) && (j == joint || closed(before[j]));
-    if (opened && after[j].sign() * out.q_dot[j] < -1e-12 * std::abs(q_dot[joint])) out.consistent = false;
+    using enum ImpactCandidate::Refusal;
+    ImpactCandidate::Refusal refused = none;
+    if (r.N < -tol) refused = tensile;
+    else if (closed(after[j]) && std::abs(r.M) > B * r.N + B * tol) refused = past_corner;
+    else if (opened && after[j].sign() * out.q_dot[j] < -1e-12 * std::abs(q_dot[joint])) refused = shutting;
+    out.refused[static_cast<std::size_t>(j)] = refused;
+    if (refused != none) out.consistent = false;
   }
   return out;
 }
 
 }  // namespace
+
+std::string refusal_words(ImpactCandidate::Refusal r, int joint) {
+  switch (r) {
+    case ImpactCandidate::Refusal::none: return "joint " + std::to_string(joint) + " admissible";
+    case ImpactCandidate::Refusal::tensile: return "a tensile impulse at joint " + std::to_string(joint);
+    case ImpactCandidate::Refusal::past_corner: return "the resultant past a corner of joint " + std::to_string(joint);
+    case ImpactCandidate::Refusal::shutting: return "joint " + std::to_string(joint) + " opened but moving shut";
+  }
+  return "?";
+}
 
 ImpactOutcome chain_impact(const Chain& c, ChainPhases before, int joint, Eigen::Ref<const Eigen::VectorXd> q,
                            Eigen::Ref<const Eigen::VectorXd> q_dot, double restitution) {

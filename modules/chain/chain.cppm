@@ -27,6 +27,7 @@ module;
 #include <rocking/eigen.hpp>
 
 #include <span>
+#include <string>
 #include <vector>
 export module rocking.chain;
 export import rocking.geometry;
@@ -195,7 +196,14 @@ struct ImpactCandidate {
   Eigen::VectorXd q_dot;            // after the impact
   std::vector<JointReaction> impulse;  // per joint [N s] (M: [N m s])
   bool consistent = false;
+  // Why an outcome is not admissible, joint by joint (none where the joint's
+  // condition holds): a tensile impulse (the part above would be thrown off
+  // the joint), a closed joint's resultant past its corner, or a joint the
+  // impact opens moving shut.
+  enum class Refusal { none, tensile, past_corner, shutting };
+  std::vector<Refusal> refused;
 };
+std::string refusal_words(ImpactCandidate::Refusal r, int joint);  // "a tensile impulse at joint 1", ...
 enum class ImpactStatus { unique, non_unique, none };
 struct ImpactOutcome {
   ImpactStatus status = ImpactStatus::none;

@@ -88,7 +88,8 @@ json run_summary(const RunLabel& label, const RunResult& r) {
       {"wall_s", r.wall_s},
   };
   if (r.outcome == Outcome::failed) out["failure"] = r.failure;
-  if (r.outcome == Outcome::separated) out["separation"] = r.separation;
+  // A stated end under the key that names it: separation, sliding, undecided.
+  if (is_stated(r.outcome)) out[r.outcome == Outcome::separated ? "separation" : std::string(outcome_name(r.outcome))] = r.stated;
   if (r.separated_joint) out["separated_joint"] = *r.separated_joint;
   json devices = json::array();
   for (const DeviceResult& d : r.devices)

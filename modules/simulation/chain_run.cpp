@@ -59,6 +59,8 @@ module;
 #include <string>
 #include <vector>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <map>
 module rocking.simulation;
 import :peaks;
 import :record_steps;
@@ -777,15 +779,20 @@ class ChainDriver {
     count_phase_change(events_, opt_, t);
     switch (d.what) {
       case ChainGuard::uplift: lift(j, d.pivot, t); break;
-      case ChainGuard::impact: impact(j, t); break;
+      case ChainGuard::impact:
+        if (!impact(j, t)) return false;
+        break;
       case ChainGuard::overturn:
         announce({EventKind::overturn, t, d.pivot, std::nullopt, j});
         result_.outcome = Outcome::overturned;
         return false;
       case ChainGuard::tension: separate(j, t); return false;
       case ChainGuard::friction:
-        throw RunError(fmt::format("joint {} would slide at t = {:.9g} s: its friction demand |V|/N reached the stated "
-                                   "limit {:g} (sliding is not modelled)", j, t, jm_.friction_limit[j]));
+        result_.outcome = Outcome::sliding;
+        result_.stated = fmt::format("joint {} at t = {:.9g} s: its friction demand |V|/N reached the scene's limit "
+                                     "{:g}, so it would slide, which the model does not follow (phases {})",
+                                     j, t, jm_.friction_limit[j], phases_text());
+        return false;
       case ChainGuard::fracture: {
         JointDevices& at = *group_at(j);
         const int local = acting(at)[static_cast<std::size_t>(d.acting)].device;
@@ -801,13 +808,14 @@ class ChainDriver {
     return !separated_at(t);
   }
 
-  // Joint j's normal force reached 0: the part above would leave it (MODEL.md 15).
-  void separate(int j, double t) {
+  // Joint j's normal force reached 0 (or, with `impulse`, an impact's
+  // impulse there would be tensile): the part above would leave it (MODEL.md 15).
+  void separate(int j, double t, std::string_view impulse = {}) {
     result_.outcome = Outcome::separated;
     result_.separated_joint = j;
-    result_.separation = fmt::format("joint {} at t = {:.9g} s: its normal force N reached 0, so the part above "
-                                     "would leave it, which the model does not follow (phases {})",
-                                     j, t, phases_text());
+    result_.stated = fmt::format("joint {} at t = {:.9g} s: {}, so the part above would leave it, which the model "
+                                 "does not follow (phases {})",
+                                 j, t, impulse.empty() ? "its normal force N reached 0" : impulse, phases_text());
   }
 
   // A joint already in tension as a phase begins (after an impact, or at the
@@ -823,8 +831,41 @@ class ChainDriver {
     return false;
   }
 
+  // Why the momentum law leaves an impact's outcome open, in words: how many
+  // outcomes it admits, and when none, what refused them ("none of the 2
+  // outcomes examined is admissible: 2 need a tensile impulse at joint 1;
+  // 1 opens joint 0 moving shut").
+  static std::string undecided_impact(const ImpactOutcome& out) {
+    const auto admitted = std::ranges::count_if(out.candidates, [](const ImpactCandidate& c) { return c.consistent; });
+    if (admitted > 0)
+      return fmt::format("the momentum law admits {} of the {} outcomes examined", admitted, out.candidates.size());
+    std::map<std::pair<ImpactCandidate::Refusal, std::size_t>, int> why;
+    for (const ImpactCandidate& c : out.candidates)
+      for (std::size_t k = 0; k < c.refused.size(); ++k)
+        if (c.refused[k] != ImpactCandidate::Refusal::none) ++why[{c.refused[k], k}];
+    std::vector<std::string> parts;
+    for (const auto& [key, count] : why)
+      parts.push_back(fmt::format("{} with {}", count, refusal_words(key.first, static_cast<int>(key.second))));
+    return fmt::format("the momentum law admits none of the {} outcomes examined ({})", out.candidates.size(),
+                       fmt::join(parts, "; "));
+  }
+
+  // The joint at which every outcome of an impact needs a tensile impulse:
+  // the impact would throw the part above it off, which ends the run as a
+  // tensile N between impacts does (separated).
+  static std::optional<int> thrown_off(const ImpactOutcome& out) {
+    if (out.status != ImpactStatus::none || out.candidates.empty()) return std::nullopt;
+    for (std::size_t k = 0; k < out.candidates.front().refused.size(); ++k)
+      if (std::ranges::all_of(out.candidates,
+                              [&](const ImpactCandidate& c) { return c.refused[k] == ImpactCandidate::Refusal::tensile; }))
+        return static_cast<int>(k);
+    return std::nullopt;
+  }
+
   // Impact at joint j (theta_j back to 0): the momentum law or a given r.
-  void impact(int j, double t) {
+  // Returns false when the law does not decide the outcome (the run ends
+  // `undecided`, in the state just before the impact).
+  bool impact(int j, double t) {
     const Pivot s = *phases_[j].pivot();
     announce({EventKind::impact, t, s, std::nullopt, j});
     y_[j] = 0;
@@ -842,11 +883,19 @@ class ChainDriver {
       y_.segment(n_, n_) = cand.q_dot;
     } else {
       const ImpactOutcome out = chain_impact(c_, phases_, j, q, qd, r);
-      if (out.status != ImpactStatus::unique)
-        throw RunError(fmt::format("impact at joint {} at t = {:.9g} s: the momentum law gives {} ({} candidates "
-                                   "examined): the outcome is not decided",
-                                   j, t, out.status == ImpactStatus::none ? "no admissible outcome" : "more than one admissible outcome",
-                                   out.candidates.size()));
+      if (const std::optional<int> k = thrown_off(out)) {
+        separate(*k, t,
+                 fmt::format("the impact at joint {} needs a tensile impulse there in each of the {} outcomes the "
+                             "momentum law examines",
+                             j, out.candidates.size()));
+        return false;
+      }
+      if (out.status != ImpactStatus::unique) {
+        result_.outcome = Outcome::undecided;
+        result_.stated = fmt::format("impact at joint {} at t = {:.9g} s: {}, so the outcome is not decided (phases {})",
+                                     j, t, undecided_impact(out), phases_text());
+        return false;
+      }
       for (int k : out.uplifted) {  // impact-induced uplift
         JointResult& rk = result_.joints[k];
         if (rk.uplifts++ == 0) rk.first_uplift = t;
@@ -867,6 +916,7 @@ class ChainDriver {
     if (rj.impacts++ == 0) rj.first_impact = t;
     if (result_.counts.impacts++ == 0) result_.first_impact = t;
     for (int k = 0; k < c_.joints; ++k) lift_if_lifting(k, t);
+    return true;
   }
 
   // The response of joint 0 and the whole structure in today's quantities,

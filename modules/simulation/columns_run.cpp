@@ -138,7 +138,7 @@ class ColumnsDriver {
             }
           } catch (const Separation& s) {
             result_.outcome = Outcome::separated;
-            result_.separation = s.what;
+            result_.stated = s.what;
           }
         },
         [this] { return fmt::format("phase {}", phase_name(phase_)); });

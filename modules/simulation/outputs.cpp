@@ -3,6 +3,7 @@ module;
 #include <rocking/static_size.hpp>
 #include <fmt/format.h>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <string_view>
 module rocking.simulation;
@@ -39,8 +40,17 @@ std::string_view outcome_name(Outcome o) {
     case Outcome::overturned: return "overturned";
     case Outcome::failed: return "failed";
     case Outcome::separated: return "separated";
+    case Outcome::sliding: return "sliding";
+    case Outcome::undecided: return "undecided";
   }
   return "?";
+}
+
+std::optional<Outcome> outcome_named(std::string_view name) {
+  for (Outcome o : {Outcome::completed, Outcome::overturned, Outcome::failed, Outcome::separated, Outcome::sliding,
+                    Outcome::undecided})
+    if (outcome_name(o) == name) return o;
+  return std::nullopt;
 }
 
 std::string_view event_name(EventKind k) {

@@ -150,14 +150,29 @@ struct RunOptions {
 // ("--rtol 2: must be in (0, 1)" for the command line's "--").
 void check_run_options(const RunOptions& o, std::string_view prefix);
 
-// separated: a joint's normal force reached 0 (MODEL.md 15: the part above
-// would leave it), where the model ends; stated, never continued.
-enum class Outcome { completed, overturned, failed, separated };
+// Three outcomes end a run where the model's assumptions end; each is
+// stated (RunResult::stated), never continued or guessed:
+// - separated: a joint's normal force reached 0 (MODEL.md 15: the part above
+//   would leave it), or a column top's (16: the beam would lift off);
+// - sliding: a joint's friction demand |V|/N reached the limit its scene
+//   states (15: sliding is not modelled);
+// - undecided: an impact for which the momentum law (15) admits no outcome,
+//   or more than one.
+enum class Outcome { completed, overturned, failed, separated, sliding, undecided };
 std::string_view outcome_name(Outcome o);
+std::optional<Outcome> outcome_named(std::string_view name);  // outcome_name's inverse
 // Whether a run that ended so has reached every limit a study sets: it
-// overturned, or a joint separated (beyond it the model says nothing, so a
-// study counts it with overturning as the state past every limit).
-inline bool past_every_limit(Outcome o) { return o == Outcome::overturned || o == Outcome::separated; }
+// overturned, a joint separated or slid (beyond them the model says nothing,
+// so a study counts them with overturning as the state past every limit).
+// An undecided run has no such answer: a study reports it as a row without
+// a result, with its statement.
+inline bool past_every_limit(Outcome o) {
+  return o == Outcome::overturned || o == Outcome::separated || o == Outcome::sliding;
+}
+// Whether the model stated why it ended the run there (RunResult::stated).
+inline bool is_stated(Outcome o) {
+  return o == Outcome::separated || o == Outcome::sliding || o == Outcome::undecided;
+}
 
 struct Counts {
   long uplifts = 0, impacts = 0;
@@ -202,7 +217,7 @@ struct EnergyBalance {
 struct RunResult {
   Outcome outcome = Outcome::completed;
   std::string failure;             // what stopped a failed run, with time and phase
-  std::string separation;          // a separated run: which joint, when, and the phases
+  std::string stated;              // a separated, sliding or undecided run: which joint, when, why
   std::optional<int> separated_joint;  // a separated chain: the joint in tension (0 the base); none on columns
   double t_end = 0;                // where the run ended [s]
   Phase final_phase;               // at t_end

@@ -130,6 +130,8 @@ JobResult Study::run(const Job& job) const {
     return out;
   }
   if (out.run.outcome == Outcome::failed) out.error = out.run.failure;
+  // The momentum law left the outcome open: a row without a result, saying why.
+  if (out.run.outcome == Outcome::undecided) out.error = "undecided: " + out.run.stated;
   return out;
 }
 

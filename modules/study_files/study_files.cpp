@@ -195,9 +195,7 @@ StudyRow row_of(const StudyColumns& columns, const StudyCsvFields& header, const
   StudyRow row;
   row.level = level;
   row.ran = f[header.at("error")].empty();
-  const std::string& outcome = f[header.at("outcome")];
-  for (Outcome o : {Outcome::completed, Outcome::overturned, Outcome::failed, Outcome::separated})
-    if (outcome == outcome_name(o)) row.outcome = o;
+  if (const std::optional<Outcome> o = outcome_named(f[header.at("outcome")])) row.outcome = *o;
   if (!row.ran) return row;
   for (const std::string& name : columns.names()) {
     const std::string& text = f[header.at(name)];

@@ -70,3 +70,18 @@ def test_a_separated_run_names_its_joint_as_the_program_does(cli, tmp_path):
     fixed = rocking.simulate(rocking.Scene.load(str(scene_file), ["contact.rocking=false"]))
     assert fixed.outcome == "separated"
     assert fixed.summary["separated_joint"] == json.loads((out / "summary.json").read_text())["separated_joint"] == 1
+
+
+def test_a_sliding_run_states_its_joint_as_the_program_does(cli, tmp_path):
+    """A joint's friction demand reaching its stated limit ends the run as
+    `sliding` (MODEL.md 15: sliding is not modelled): Python's outcome and
+    statement are the program's summary.json's."""
+    scene_file = SCENES / "stacked_blocks.toml"
+    out = tmp_path / "sliding"
+    r = cli.run("simulate", scene_file, "--set", "joint[0].friction=0.2", "--out", out)
+    assert r.returncode == 0, r.stderr
+    expected = json.loads((out / "summary.json").read_text())
+    result = rocking.simulate(rocking.Scene.load(str(scene_file), ["joint[0].friction=0.2"]))
+    assert result.outcome == expected["outcome"] == "sliding"
+    assert result.summary["sliding"] == expected["sliding"]
+    assert result.summary["sliding"].startswith("joint 1 at t = ")
