@@ -180,7 +180,7 @@ TEST_CASE("gamma = 0: the bare columns are rocking.dynamics' single uniform colu
     const double D = 500.0 * std::abs(U(rng));
     const double frame = rocking_acceleration(bare, s, a, D, {none, none, Tilt(th), U(rng)}, none);
     // the frame's D acts on n columns: the single column carries D / n
-    const double column = rigid_rocking_acceleration(body, s, a, D / group.count, Tilt(th));
+    const double column = rigid_rocking_acceleration(body, s > 0 ? Pivot::right : Pivot::left, a, D / group.count, Tilt(th));
     CHECK(frame == close_to(column, 1e-12, 1e-12 * frame_p2(bare)));
   }
   Vec u_dot;
@@ -198,7 +198,7 @@ TEST_CASE("gamma = 0: the bare columns are rocking.dynamics' single uniform colu
   const chain_ode::Crossing b = chain_ode::integrate(
       [&](double t, const double* y, double* dy) {
         dy[0] = y[1];
-        dy[1] = rigid_rocking_acceleration(body, -1, ground(t), 0.0, Tilt(y[0]));
+        dy[1] = rigid_rocking_acceleration(body, Pivot::left, ground(t), 0.0, Tilt(y[0]));
       },
       0.0, {th0, 0.0}, 10.0, [](double, const double* y) { return -y[0]; });
   REQUIRE(f.found);

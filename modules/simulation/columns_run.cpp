@@ -148,6 +148,7 @@ class ColumnsDriver {
 
  private:
   int s() const { return phase_.sign(); }
+  Pivot pivot() const { return *phase_.pivot(); }  // while rocking
   // The ground's accelerations at t, the last instant's remembered: a step's
   // last two stages and its end's guards share theirs.
   GroundAcceleration ground_at(double t) const {
@@ -175,7 +176,7 @@ class ColumnsDriver {
     double* rates = dydt != nullptr ? dydt : scratch_.data();
     double moment = 0;
     for (const ContactModel::Acting& a : acting()) {
-      const ContactModel::DeviceTerms t = a.terms(a, devices_, base_half_width(), s(), tilt, y[1], y.data(), rates);
+      const ContactModel::DeviceTerms t = a.terms(a, devices_, base_half_width(), pivot(), tilt, y[1], y.data(), rates);
       moment += t.moment;
       power_[static_cast<std::size_t>(a.device)] = count() * t.power;
     }
@@ -429,7 +430,7 @@ class ColumnsDriver {
           const ContactModel::Acting& dev = acting()[static_cast<std::size_t>(d.acting)];
           g[k] = devices_.is_broken(dev.device)
                      ? -1.0
-                     : stretch(dev.geometry, base_half_width(), s(), Tilt(y[0])).e - dev.capacity;
+                     : stretch(dev.geometry, base_half_width(), pivot(), Tilt(y[0])).e - dev.capacity;
           break;
         }
       }
@@ -561,8 +562,8 @@ class ColumnsDriver {
     double moment = 0;
     for (const ContactModel::Acting& a : acting()) {
       if (devices_.is_broken(a.device)) continue;
-      const DamperState st = a.state(a, devices_, base_half_width(), s(), tilt, y[1], y.data());
-      const double de_dtheta = stretch(a.geometry, base_half_width(), s(), tilt).de_dtheta;
+      const DamperState st = a.state(a, devices_, base_half_width(), pivot(), tilt, y[1], y.data());
+      const double de_dtheta = stretch(a.geometry, base_half_width(), pivot(), tilt).de_dtheta;
       DeviceSample& out = samples_[static_cast<std::size_t>(a.device)];
       out.e = st.elongation;
       out.F = st.force;
