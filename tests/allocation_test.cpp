@@ -97,12 +97,13 @@ TEST_CASE("the rocking frame's right-hand sides, guard, impact, energy and top f
   double sum = 0;
   for (int k = 0; k < 100; ++k) {
     const Coordinates q{u, v, Tilt(0.01 * (k % 7)), 0.2};
-    const double thdd = rocking_acceleration(c, +1, {0.5, 0.1}, 1e3, q, rates);
-    sum += top_contact_forces(c, +1, {0.5, 0.1}, q, thdd, rates.tail(3), normal).smallest;
+    const double thdd = rocking_acceleration(c, Pivot::right, {0.5, 0.1}, 1e3, q, rates);
+    const Phase rocking = Phase::rocking(Pivot::right);
+    sum += top_contact_forces(c, rocking, {0.5, 0.1}, q, thdd, rates.tail(3), normal).smallest;
     full_contact_acceleration(c, 0.5, u, v, rates);
-    sum += uplift_guard(c, -1, {0.5, 0.1}, 0.0, u, v);
-    sum += mechanical_energy(c, +1, q).total() + ground_input_power(c, +1, {0.5, 0.1}, q) + viscous_power(c, v);
-    sum += impact(c, +1, -0.1, v).theta_dot;
+    sum += uplift_guard(c, Pivot::left, {0.5, 0.1}, 0.0, u, v);
+    sum += mechanical_energy(c, rocking, q).total() + ground_input_power(c, rocking, {0.5, 0.1}, q) + viscous_power(c, v);
+    sum += impact(c, Pivot::right, -0.1, v).theta_dot;
   }
   CHECK(allocations.load() - before == 0);
   CHECK(std::isfinite(sum));

@@ -66,12 +66,12 @@ TEST_CASE("one joint: the generic assembly gives the chimney's and the rigid blo
         const Phase phases[] = {Phase::rocking(p)};
         chain_acceleration(chain, phases, a, q, q_dot, q_ddot, w);
         if (st->rigid) {
-          const double expected = rigid_rocking_acceleration(body, s, a, 0.0, Tilt(th));
+          const double expected = rigid_rocking_acceleration(body, p, a, 0.0, Tilt(th));
           CHECK_MESSAGE(q_ddot[0] == close_to(expected, 1e-12), q_ddot[0] << " vs " << expected);
           worst = std::max(worst, std::abs(q_ddot[0] / expected - 1));
         } else {
           Vec rates(2 * n);
-          const double expected = rocking_acceleration(body, s, a, 0.0, {u, u_dot, Tilt(th), th_dot}, rates);
+          const double expected = rocking_acceleration(body, p, a, 0.0, {u, u_dot, Tilt(th), th_dot}, rates);
           CHECK_MESSAGE(q_ddot[0] == close_to(expected, 1e-12), q_ddot[0] << " vs " << expected);
           const double err = (q_ddot.tail(n) - rates.tail(n)).lpNorm<Eigen::Infinity>() / rates.tail(n).lpNorm<Eigen::Infinity>();
           CHECK(err <= 1e-12);
@@ -274,7 +274,7 @@ TEST_CASE("a top that cannot lift: the run equals the one-joint structure with t
     f[0] = y[1];
     f[1] = acc[0];
     f[2] = y[3];
-    f[3] = rigid_rocking_acceleration(body, +1, ground(t), 0.0, Tilt(y[2]));
+    f[3] = rigid_rocking_acceleration(body, Pivot::right, ground(t), 0.0, Tilt(y[2]));
   };
   auto watch = [&](double t, const double* y) {
     q << y[0], 0.0;

@@ -90,17 +90,17 @@ struct Layout {
   std::size_t size() const { return static_cast<std::size_t>(2 + 2 * n); }
 };
 
-// Rocking about s from y at (a_g, a_v), devices holding D: fills f.
+// Rocking about p from y at (a_g, a_v), devices holding D: fills f.
 struct EngineRhs {
   const Columns& c;
-  int s;
+  Pivot p;
   Vec rates;
-  explicit EngineRhs(const Columns& cc, int ss) : c(cc), s(ss), rates(2 * elastic_size(cc)) {}
+  explicit EngineRhs(const Columns& cc, Pivot pp) : c(cc), p(pp), rates(2 * elastic_size(cc)) {}
   void operator()(GroundAcceleration a, double D, const double* y, double* f) {
     const Eigen::Index n = elastic_size(c);
     const Eigen::Map<const Vec> u(y + 1, n), u_dot(y + 2 + n, n);
     const Coordinates q{u, u_dot, Tilt(y[0]), y[1 + n]};
-    const double thdd = rocking_acceleration(c, s, a, D, q, rates);
+    const double thdd = rocking_acceleration(c, p, a, D, q, rates);
     f[0] = y[1 + n];
     for (Eigen::Index i = 0; i < n; ++i) f[1 + i] = rates[i];
     f[1 + n] = thdd;
@@ -121,14 +121,15 @@ TEST_CASE("a rigid deck makes the frame a single column with p-hat: theta'' to r
     CHECK(frame_gamma(c) == close_to((6000.0 + 7000.0) / 6000.0, 1e-15));
     CHECK(frame_p2(c) == close_to(3 * gravity / (4 * c.R) * (1 + 2 * frame_gamma(c)) / (1 + 3 * frame_gamma(c)), 1e-15));
     Vec none;
-    for (const int s : {+1, -1})
+    for (const Pivot p : pivots)
       for (const double frac : {0.05, 0.5, 0.9}) {
+        const int s = sign(p);
         const double th = s * frac * c.alpha;
-        const double thdd = rocking_acceleration(c, s, {}, 0.0, {none, none, Tilt(th), 0.3}, none);
+        const double thdd = rocking_acceleration(c, p, {}, 0.0, {none, none, Tilt(th), 0.3}, none);
         CHECK(thdd == close_to(-s * frame_p2(c) * std::sin(c.alpha - s * th), 1e-13));
       }
     const double theta0 = 0.6 * c.alpha;
-    EngineRhs rhs(c, +1);
+    EngineRhs rhs(c, Pivot::right);
     const chain_ode::Crossing hit = chain_ode::integrate([&](double, const double* y, double* f) { rhs({}, 0.0, y, f); },
                                                          0.0, {theta0, 0.0}, 10.0, [](double, const double* y) { return y[0]; });
     REQUIRE(hit.found);
@@ -138,7 +139,7 @@ TEST_CASE("a rigid deck makes the frame a single column with p-hat: theta'' to r
     const double rate = std::sqrt(2 * frame_p2(c) * (std::cos(c.alpha - theta0) - std::cos(c.alpha)));
     CHECK(-hit.y[1] == close_to(rate, 1e-9));
     Vec u_dot;
-    const ColumnsImpact out = impact(c, +1, hit.y[1], u_dot);
+    const ColumnsImpact out = impact(c, Pivot::right, hit.y[1], u_dot);
     CHECK(out.after == Phase::rocking(Pivot::left));
     CHECK(out.ratio == close_to(frame_restitution(c), 1e-12));
     CHECK(out.theta_dot / hit.y[1] == close_to(frame_restitution(c), 1e-6));
@@ -174,31 +175,31 @@ TEST_CASE("gamma = 0: the bare columns are rocking.dynamics' single uniform colu
   std::uniform_real_distribution<double> U(-1.0, 1.0);
   Vec none;
   for (int trial = 0; trial < 50; ++trial) {
-    const int s = trial % 2 ? +1 : -1;
-    const double th = s * 0.95 * bare.alpha * std::abs(U(rng));
+    const Pivot p = trial % 2 ? Pivot::right : Pivot::left;
+    const double th = sign(p) * 0.95 * bare.alpha * std::abs(U(rng));
     const GroundAcceleration a{4.0 * U(rng), 3.0 * U(rng)};
     const double D = 500.0 * std::abs(U(rng));
-    const double frame = rocking_acceleration(bare, s, a, D, {none, none, Tilt(th), U(rng)}, none);
+    const double frame = rocking_acceleration(bare, p, a, D, {none, none, Tilt(th), U(rng)}, none);
     // the frame's D acts on n columns: the single column carries D / n
-    const double column = rigid_rocking_acceleration(body, s, a, D / group.count, Tilt(th));
+    const double column = rigid_rocking_acceleration(body, p, a, D / group.count, Tilt(th));
     CHECK(frame == close_to(column, 1e-12, 1e-12 * frame_p2(bare)));
   }
   Vec u_dot;
-  CHECK(impact(bare, +1, -0.2, u_dot).ratio == close_to(restitution_eq10(block), 1e-13));
-  CHECK(impact(bare, +1, -0.2, u_dot).ratio == close_to(1 - 1.5 * bare.sin_alpha * bare.sin_alpha, 1e-13));
+  CHECK(impact(bare, Pivot::right, -0.2, u_dot).ratio == close_to(restitution_eq10(block), 1e-13));
+  CHECK(impact(bare, Pivot::right, -0.2, u_dot).ratio == close_to(1 - 1.5 * bare.sin_alpha * bare.sin_alpha, 1e-13));
 
   // released from a tilt under a smooth ground motion, both to their first impact
   auto ground = [](double t) {
     return GroundAcceleration{2.5 * std::sin(2 * pi * 1.7 * t), 2.0 * std::sin(2 * pi * 3.1 * t + 0.4)};
   };
-  EngineRhs rhs(bare, -1);
+  EngineRhs rhs(bare, Pivot::left);
   const double th0 = -0.4 * bare.alpha;
   const chain_ode::Crossing f = chain_ode::integrate([&](double t, const double* y, double* dy) { rhs(ground(t), 0.0, y, dy); },
                                                      0.0, {th0, 0.0}, 10.0, [](double, const double* y) { return -y[0]; });
   const chain_ode::Crossing b = chain_ode::integrate(
       [&](double t, const double* y, double* dy) {
         dy[0] = y[1];
-        dy[1] = rigid_rocking_acceleration(body, -1, ground(t), 0.0, Tilt(y[0]));
+        dy[1] = rigid_rocking_acceleration(body, Pivot::left, ground(t), 0.0, Tilt(y[0]));
       },
       0.0, {th0, 0.0}, 10.0, [](double, const double* y) { return -y[0]; });
   REQUIRE(f.found);
@@ -220,11 +221,12 @@ TEST_CASE("a flexible deck under ground motion: full contact, uplift and rocking
   };
   // full contact from rest until the frame lifts: state [u, u']
   Vec rates(2 * n);
-  int side = 0;
+  Pivot side = Pivot::right;
   auto guard_contact = [&](double t, const double* y) {
     const Eigen::Map<const Vec> u(y, n), v(y + n, n);
-    const double right = uplift_guard(c, +1, ground(t), 0.0, u, v), left = uplift_guard(c, -1, ground(t), 0.0, u, v);
-    side = right > left ? +1 : -1;
+    const double right = uplift_guard(c, Pivot::right, ground(t), 0.0, u, v);
+    const double left = uplift_guard(c, Pivot::left, ground(t), 0.0, u, v);
+    side = right > left ? Pivot::right : Pivot::left;
     return -std::max(right, left);
   };
   const chain_ode::Crossing up = chain_ode::integrate(
@@ -259,7 +261,7 @@ TEST_CASE("a flexible deck under ground motion: full contact, uplift and rocking
   std::vector<double> y0(2 + 2 * n, 0.0);
   for (Eigen::Index i = 0; i < n; ++i) y0[1 + i] = up.y[i], y0[2 + n + i] = up.y[n + i];
   EngineRhs rhs(c, side);
-  const int s = side;
+  const int s = sign(side);
   auto impact_guard = [s](double, const double* y) { return s * y[0]; };
   // the guard starts at 0 (theta = 0 at the uplift): chain_ode watches it from there
   const chain_ode::Crossing hit = chain_ode::integrate([&](double t, const double* y, double* f) { rhs(ground(t), 0.0, y, f); },
@@ -300,7 +302,7 @@ TEST_CASE("a flexible deck under ground motion: full contact, uplift and rocking
   const colref::State pre = reference_state(hit.y.data());
   const colref::ImpactOutcome im_ref = colref::momentum_impact(ref, pre);
   Vec u_dot = Eigen::Map<const Vec>(hit.y.data() + 2 + n, n);
-  const ColumnsImpact im = impact(c, s, hit.y[1 + n], u_dot);
+  const ColumnsImpact im = impact(c, side, hit.y[1 + n], u_dot);
   CHECK(im.ratio == close_to(im_ref.ratio, 1e-12));
   CHECK(im.after.is_rocking() == im_ref.rocking);
   CHECK(im.after.sign() == im_ref.post.s);
@@ -327,33 +329,34 @@ TEST_CASE("a flexible deck under ground motion: full contact, uplift and rocking
       const GroundAcceleration a{3.0 * U(rng), 2.0 * U(rng)};
       const Vec u = Eigen::Map<const Vec>(st.u.data(), n), v = Eigen::Map<const Vec>(st.ud.data(), n);
       // full contact
-      for (const int side : {+1, -1})
-        CHECK(uplift_guard(cc, side, a, 0.0, u, v) ==
-              close_to(colref::uplift_guard(rf, st, side, a.h, a.v), 1e-12, 1e-14 * cc.deck_mass * gravity * cc.R));
+      for (const Pivot p : pivots)
+        CHECK(uplift_guard(cc, p, a, 0.0, u, v) ==
+              close_to(colref::uplift_guard(rf, st, sign(p), a.h, a.v), 1e-12, 1e-14 * cc.deck_mass * gravity * cc.R));
       Vec r(2 * n);
       full_contact_acceleration(cc, a.h, u, v, r);
       const Coordinates rest{u, v, Tilt(0.0), 0.0};
-      const TopContact top0 = top_contact_forces(cc, 0, a, rest, 0.0, r.tail(n), normal_contact);
+      const TopContact top0 = top_contact_forces(cc, Phase::full_contact(), a, rest, 0.0, r.tail(n), normal_contact);
       const colref::ContactForces ref0 = colref::top_contact_forces(rf, st, a.h, a.v);
       for (int k = 0; k < count; ++k) CHECK(normal_contact[k] == close_to(ref0.N[k], 1e-12, 1e-14 * ref0.Fy));
       CHECK(top0.smallest == close_to(ref0.Nmin, 1e-12, 1e-14 * ref0.Fy));
       // rocking
-      st.s = trial % 2 ? +1 : -1;
+      const Pivot p = trial % 2 ? Pivot::right : Pivot::left;
+      st.s = sign(p);
       st.th = st.s * 0.5 * cc.alpha * std::abs(U(rng));
       st.thd = 0.3 * U(rng);
       const Coordinates q{u, v, Tilt(st.th), st.thd};
-      const double thdd = rocking_acceleration(cc, st.s, a, 0.0, q, r);
+      const double thdd = rocking_acceleration(cc, p, a, 0.0, q, r);
       const colref::Accel A = colref::accelerations(rf, st, a.h, a.v);
       CHECK(thdd == close_to(A.thdd, 1e-12, 1e-12 * frame_p2(cc)));
       for (Eigen::Index i = 0; i < n; ++i) CHECK(r[n + i] == close_to(A.udd[i], 1e-12, 1e-12 * gravity));
-      const TopContact top = top_contact_forces(cc, st.s, a, q, thdd, r.tail(n), normal);
+      const TopContact top = top_contact_forces(cc, Phase::rocking(p), a, q, thdd, r.tail(n), normal);
       const colref::ContactForces cf = colref::top_contact_forces(rf, st, a.h, a.v);
       for (int k = 0; k < count; ++k) CHECK(normal[k] == close_to(cf.N[k], 1e-11, 1e-13 * cf.Fy));
       CHECK(top.normal == close_to(cf.Fy, 1e-12));
       CHECK(top.shear == close_to(cf.Fx, 1e-11, 1e-13 * cf.Fy));
       CHECK(top.moment == close_to(cf.Mo, 1e-11, 1e-13 * cf.Fy * cc.R));
       CHECK(top.smallest == close_to(cf.Nmin, 1e-11, 1e-13 * cf.Fy));
-      const ColumnsEnergy e = mechanical_energy(cc, st.s, q);
+      const ColumnsEnergy e = mechanical_energy(cc, Phase::rocking(p), q);
       const colref::Energy er = colref::energy(rf, st);
       CHECK(e.kinetic == close_to(er.kinetic, 1e-12));
       CHECK(e.gravity == close_to(er.potential, 1e-12));
@@ -370,24 +373,25 @@ TEST_CASE("free undamped rocking conserves energy to 1e-9 between impacts, and t
     y0[0] = -0.8 * c.alpha;
     y0[1 + n] = 0.05;
     if (flexible) y0[1] = 0.004, y0[2] = -0.002, y0[3] = 0.006, y0[2 + n] = 0.05, y0[3 + n] = -0.1, y0[4 + n] = 0.02;
-    const double e0 = mechanical_energy(c, -1, coordinates_of(y0.data(), n)).total();
+    const Phase left = Phase::rocking(Pivot::left);
+    const double e0 = mechanical_energy(c, left, coordinates_of(y0.data(), n)).total();
     double worst = 0;
-    EngineRhs rhs(c, -1);
+    EngineRhs rhs(c, Pivot::left);
     const chain_ode::Crossing hit = chain_ode::integrate(
         [&](double, const double* y, double* f) { rhs({}, 0.0, y, f); }, 0.0, y0, 10.0,
         [](double, const double* y) { return -y[0]; },
         [&](double, const double* y) {
-          worst = std::max(worst, std::abs(mechanical_energy(c, -1, coordinates_of(y, n)).total() / e0 - 1));
+          worst = std::max(worst, std::abs(mechanical_energy(c, left, coordinates_of(y, n)).total() / e0 - 1));
         });
     REQUIRE(hit.found);
     CHECK(hit.t > 0.5);
     CHECK(worst <= 1e-9);
     // the impact: the energy after (rocking about +1, or full contact) is smaller
-    const ColumnsEnergy before = mechanical_energy(c, -1, coordinates_of(hit.y.data(), n));
+    const ColumnsEnergy before = mechanical_energy(c, left, coordinates_of(hit.y.data(), n));
     Vec u_dot = Eigen::Map<const Vec>(hit.y.data() + 2 + n, n);
     const Vec u = Eigen::Map<const Vec>(hit.y.data() + 1, n);
-    const ColumnsImpact im = impact(c, -1, hit.y[1 + n], u_dot);
-    const ColumnsEnergy after = mechanical_energy(c, im.after.sign(), {u, u_dot, Tilt(0.0), im.theta_dot});
+    const ColumnsImpact im = impact(c, Pivot::left, hit.y[1 + n], u_dot);
+    const ColumnsEnergy after = mechanical_energy(c, im.after, {u, u_dot, Tilt(0.0), im.theta_dot});
     CHECK(after.total() < before.total());
     CHECK(after.kinetic > 0);
     MESSAGE(std::string(flexible ? "flexible" : "rigid") << " deck: relative energy drift " << worst << " over " << hit.t
@@ -404,18 +408,18 @@ TEST_CASE("with damping, a tendon from the ground to the beam and ground motion,
   };
   // an inclined tendon from the ground beside the left pier to the beam's right end
   const double gx = -3.0, gy = 0.0, bx = 2.5, by = 2 * c.group.half_height, P0 = 2e4, k = 2e6;
-  const int s = +1;
+  const Pivot p = Pivot::right;
   auto tendon = [&](const double* y) {
-    const Stretch st = beam_device_stretch(c, gx, gy, bx, by, 0.0, s, Tilt(y[0]));
+    const Stretch st = beam_device_stretch(c, gx, gy, bx, by, 0.0, p, Tilt(y[0]));
     return std::pair{st, std::max(0.0, P0 + k * st.e)};
   };
-  EngineRhs rhs(c, s);
+  EngineRhs rhs(c, p);
   auto f = [&](double t, const double* y, double* dy) {
     const auto [st, F] = tendon(y);
     rhs(ground(t), F * st.de_dtheta, y, dy);
     const Coordinates q = coordinates_of(y, n);
     // the tendon's work -F e' = -F (de/d|theta|) s theta' is what its stored energy gains
-    dy[2 + 2 * n] = ground_input_power(c, s, ground(t), q) - viscous_power(c, q.u_dot);
+    dy[2 + 2 * n] = ground_input_power(c, Phase::rocking(p), ground(t), q) - viscous_power(c, q.u_dot);
   };
   std::vector<double> y0(3 + 2 * n, 0.0);
   y0[0] = 0.02;
@@ -424,12 +428,12 @@ TEST_CASE("with damping, a tendon from the ground to the beam and ground motion,
     const double e = tendon(y).first.e;
     return P0 * e + 0.5 * k * e * e;  // int_0^e (P0 + k e) de while taut
   };
-  const double e0 = mechanical_energy(c, s, coordinates_of(y0.data(), n)).total() + stored(y0.data());
+  const double e0 = mechanical_energy(c, Phase::rocking(p), coordinates_of(y0.data(), n)).total() + stored(y0.data());
   double worst = 0, scale = 0, taut = 1e300, stored_peak = 0;
   const chain_ode::Crossing hit = chain_ode::integrate(
       f, 0.0, y0, 1.5, [](double, const double* y) { return y[0]; },
       [&](double, const double* y) {
-        const ColumnsEnergy e = mechanical_energy(c, s, coordinates_of(y, n));
+        const ColumnsEnergy e = mechanical_energy(c, Phase::rocking(p), coordinates_of(y, n));
         const double total = e.total() + stored(y);
         worst = std::max(worst, std::abs(total - e0 - y[2 + 2 * n]));
         scale = std::max({scale, std::abs(total - e0), std::abs(y[2 + 2 * n]), e.kinetic});
@@ -446,21 +450,22 @@ TEST_CASE("with damping, a tendon from the ground to the beam and ground motion,
 
 TEST_CASE("the beam device's de/d|theta| is the derivative of its elongation, and a device across a column's base is section 11's with half-width b") {
   const Columns c = make_columns(two_piers(), flexible_deck(0.0));
-  for (const int s : {+1, -1})
+  for (const Pivot p : pivots)
     for (const double frac : {0.1, 0.5}) {
+      const int s = sign(p);
       const double th = s * frac * c.alpha, h = 1e-6;
-      const Stretch st = beam_device_stretch(c, 1.0, 0.0, -2.0, 2 * c.group.half_height, 0.0, s, Tilt(th));
-      const double ep = beam_device_stretch(c, 1.0, 0.0, -2.0, 2 * c.group.half_height, 0.0, s, Tilt(th + s * h)).e;
-      const double em = beam_device_stretch(c, 1.0, 0.0, -2.0, 2 * c.group.half_height, 0.0, s, Tilt(th - s * h)).e;
+      const Stretch st = beam_device_stretch(c, 1.0, 0.0, -2.0, 2 * c.group.half_height, 0.0, p, Tilt(th));
+      const double ep = beam_device_stretch(c, 1.0, 0.0, -2.0, 2 * c.group.half_height, 0.0, p, Tilt(th + s * h)).e;
+      const double em = beam_device_stretch(c, 1.0, 0.0, -2.0, 2 * c.group.half_height, 0.0, p, Tilt(th - s * h)).e;
       CHECK(st.de_dtheta == close_to((ep - em) / (2 * h), 1e-7));
-      const BeamMotion m = beam_motion(c, s, Tilt(th));
+      const BeamMotion m = beam_motion(c, p, Tilt(th));
       // the beam stays level on the top corners: its translation is twice a column centre's
       const double cx = s * c.R * (c.sin_alpha - std::sin(c.alpha - s * th)), cy = c.R * std::cos(c.alpha - s * th);
       CHECK(m.dx == close_to(2 * cx, 1e-13));
       CHECK(m.dy == close_to(2 * (cy - c.group.half_height), 1e-12, 1e-15));
     }
   // at rest the beam device is unstretched
-  CHECK(beam_device_stretch(c, 1.0, 0.0, -2.0, 5.0, 0.0, +1, Tilt(0.0)).e == within(0.0, 1e-15));
+  CHECK(beam_device_stretch(c, 1.0, 0.0, -2.0, 5.0, 0.0, Pivot::right, Tilt(0.0)).e == within(0.0, 1e-15));
 }
 
 TEST_CASE("uplift: a rigid deck lifts at |a_g| = (g + a_v) b / h, and the guard is s theta'' times the effective inertia") {
@@ -472,23 +477,23 @@ TEST_CASE("uplift: a rigid deck lifts at |a_g| = (g + a_v) b / h, and the guard 
     Vec rates(2 * n);
     for (const double ah : {-3.0, 0.5, 2.0})
       for (const double av : {-2.0, 0.0, 1.5})
-        for (const int s : {+1, -1}) {
-          const double thdd = rocking_acceleration(c, s, {ah, av}, 1e4, {u, v, Tilt(0.0), 0.0}, rates);
-          CHECK(uplift_guard(c, s, {ah, av}, 1e4, u, v) == close_to(inertia * s * thdd, 1e-12));
+        for (const Pivot p : pivots) {
+          const double thdd = rocking_acceleration(c, p, {ah, av}, 1e4, {u, v, Tilt(0.0), 0.0}, rates);
+          CHECK(uplift_guard(c, p, {ah, av}, 1e4, u, v) == close_to(inertia * sign(p) * thdd, 1e-12));
         }
   }
   const Columns c = make_columns(three_columns(), rigid_deck());
   for (const double av : {0.0, -0.3 * gravity, 0.2 * gravity}) {
     const double threshold = (gravity + av) * c.group.half_width / c.group.half_height;
     Vec none;
-    CHECK(uplift_guard(c, +1, {-threshold, av}, 0.0, none, none) == within(0.0, 1e-9 * c.deck_mass * gravity * c.R));
-    CHECK(uplift_guard(c, +1, {-threshold * 1.001, av}, 0.0, none, none) > 0);
-    CHECK(uplift_guard(c, +1, {-threshold * 0.999, av}, 0.0, none, none) < 0);
-    CHECK(uplift_guard(c, -1, {-threshold * 1.001, av}, 0.0, none, none) < 0);
+    CHECK(uplift_guard(c, Pivot::right, {-threshold, av}, 0.0, none, none) == within(0.0, 1e-9 * c.deck_mass * gravity * c.R));
+    CHECK(uplift_guard(c, Pivot::right, {-threshold * 1.001, av}, 0.0, none, none) > 0);
+    CHECK(uplift_guard(c, Pivot::right, {-threshold * 0.999, av}, 0.0, none, none) < 0);
+    CHECK(uplift_guard(c, Pivot::left, {-threshold * 1.001, av}, 0.0, none, none) < 0);
     // a held moment (a tendon's prestress) raises the threshold by held / (lever h / R)
     const double held = 5e4;
     const double raised = threshold + held / (c.lever * c.cos_alpha);
-    CHECK(uplift_guard(c, +1, {-raised, av}, held, none, none) == within(0.0, 1e-9 * c.deck_mass * gravity * c.R));
+    CHECK(uplift_guard(c, Pivot::right, {-raised, av}, held, none, none) == within(0.0, 1e-9 * c.deck_mass * gravity * c.R));
   }
 }
 
@@ -513,7 +518,7 @@ TEST_CASE("full contact is the fixed-base structure (MODEL.md 3), and on squat c
       0.0, std::vector<double>(2 * n, 0.0), 3.0, {},
       [&](double t, const double* y) {
         const Eigen::Map<const Vec> u(y, n), v(y + n, n);
-        for (const int side : {+1, -1}) worst = std::max(worst, uplift_guard(squat, side, ground(t), 0.0, u, v));
+        for (const Pivot p : pivots) worst = std::max(worst, uplift_guard(squat, p, ground(t), 0.0, u, v));
       });
   CHECK(run.t == close_to(3.0, 1e-12));
   CHECK(differ <= 1e-12);  // relative to the largest entry (m/s, m/s^2), at least 1
@@ -527,7 +532,8 @@ TEST_CASE("full contact is the fixed-base structure (MODEL.md 3), and on squat c
       },
       0.0, std::vector<double>(2 * n, 0.0), 3.0, [&](double t, const double* y) {
         const Eigen::Map<const Vec> u(y, n), v(y + n, n);
-        return -std::max(uplift_guard(slender, +1, ground(t), 0.0, u, v), uplift_guard(slender, -1, ground(t), 0.0, u, v));
+        return -std::max(uplift_guard(slender, Pivot::right, ground(t), 0.0, u, v),
+                         uplift_guard(slender, Pivot::left, ground(t), 0.0, u, v));
       });
   CHECK(lift.found);
   MESSAGE("squat columns: largest guard " << worst << " N m over 3 s; slender ones lift at " << lift.t << " s");
@@ -537,7 +543,7 @@ TEST_CASE("column-top contact forces: the deck's weight shared at rest, and a ta
   const Columns c = make_columns(three_columns(), rigid_deck());
   std::vector<double> normal(3);
   Vec none;
-  const TopContact rest = top_contact_forces(c, 0, {}, {none, none, Tilt(0.0), 0.0}, 0.0, none, normal);
+  const TopContact rest = top_contact_forces(c, Phase::full_contact(), {}, {none, none, Tilt(0.0), 0.0}, 0.0, none, normal);
   for (const double N : normal) CHECK(N == close_to(c.deck_mass * gravity / 3, 1e-14));
   CHECK(rest.smallest == close_to(c.deck_mass * gravity / 3, 1e-14));
   // (the reference's case b) a tall rigid structure on two narrow columns
@@ -548,12 +554,12 @@ TEST_CASE("column-top contact forces: the deck's weight shared at rest, and a ta
   tall.masses = vec({5000});
   const Columns narrow = make_columns({2, 0.15, 1.5, 500.0, 1.0}, tall);
   std::vector<double> pair(2);
-  EngineRhs rhs(narrow, +1);
+  EngineRhs rhs(narrow, Pivot::right);
   double smallest = 1e300;
   auto top = [&](const double* y) {
     const Coordinates q{none, none, Tilt(y[0]), y[1]};
-    const double thdd = rocking_acceleration(narrow, +1, {}, 0.0, q, none);
-    return top_contact_forces(narrow, +1, {}, q, thdd, none, pair);
+    const double thdd = rocking_acceleration(narrow, Pivot::right, {}, 0.0, q, none);
+    return top_contact_forces(narrow, Phase::rocking(Pivot::right), {}, q, thdd, none, pair);
   };
   const double th0 = 0.8 * narrow.alpha;
   CHECK(top(std::vector<double>{th0, 0.0}.data()).smallest > 0);
@@ -574,15 +580,16 @@ TEST_CASE("column-top contact forces: the deck's weight shared at rest, and a ta
   // the same deck low on the beam stays compressive to the impact
   tall.heights = vec({0.5});
   const Columns low = make_columns({2, 0.15, 1.5, 500.0, 1.0}, tall);
-  EngineRhs rhs_low(low, +1);
+  EngineRhs rhs_low(low, Pivot::right);
   double smallest_low = 1e300;
   const chain_ode::Crossing hit_low = chain_ode::integrate(
       [&](double, const double* y, double* f) { rhs_low({}, 0.0, y, f); }, 0.0, {th0, 0.0}, 10.0,
       [](double, const double* y) { return y[0]; },
       [&](double, const double* y) {
         const Coordinates q{none, none, Tilt(y[0]), y[1]};
-        const double thdd = rocking_acceleration(low, +1, {}, 0.0, q, none);
-        smallest_low = std::min(smallest_low, top_contact_forces(low, +1, {}, q, thdd, none, pair).smallest);
+        const double thdd = rocking_acceleration(low, Pivot::right, {}, 0.0, q, none);
+        smallest_low =
+            std::min(smallest_low, top_contact_forces(low, Phase::rocking(Pivot::right), {}, q, thdd, none, pair).smallest);
       });
   REQUIRE(hit_low.found);
   CHECK(smallest_low > 0);
@@ -601,7 +608,8 @@ TEST_CASE("the column-top forces from the state's sums (top_contact_forces_now) 
     const Eigen::Index n = elastic_size(c);
     const double scale = c.deck_mass * gravity;
     for (int trial = 0; trial < 20; ++trial)
-      for (const int s : {-1, 0, +1}) {
+      for (const Phase phase : {Phase::rocking(Pivot::left), Phase::full_contact(), Phase::rocking(Pivot::right)}) {
+        const int s = phase.sign();
         CAPTURE(flexible);
         CAPTURE(trial);
         CAPTURE(s);
@@ -617,10 +625,10 @@ TEST_CASE("the column-top forces from the state's sums (top_contact_forces_now) 
         const DeckLoad load{2e4 * unit(rng), 2e4 * unit(rng), 5e4 * unit(rng)};
         double theta_ddot = 0;
         if (s == 0) full_contact_acceleration(c, a.h, u, u_dot, rates);
-        else theta_ddot = rocking_acceleration(c, s, a, D, q, rates);
+        else theta_ddot = rocking_acceleration(c, *phase.pivot(), a, D, q, rates);
         std::vector<double> N1(static_cast<std::size_t>(c.group.count)), N2(N1.size());
-        const TopContact one = top_contact_forces(c, s, a, q, theta_ddot, rates.tail(n), N1, load);
-        const TopContact two = top_contact_forces_now(c, s, a, q, D, N2, load);
+        const TopContact one = top_contact_forces(c, phase, a, q, theta_ddot, rates.tail(n), N1, load);
+        const TopContact two = top_contact_forces_now(c, phase, a, q, D, N2, load);
         CHECK(two.normal == within(one.normal, 1e-12 * scale));
         CHECK(two.shear == within(one.shear, 1e-12 * scale));
         CHECK(two.moment == within(one.moment, 1e-12 * scale * 10.0));  // [N m]: lever arms of metres

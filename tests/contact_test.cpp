@@ -312,9 +312,9 @@ TEST_CASE("each acting device's kernels are its law and kinematics: terms, z' an
         const Tilt tilt(y[l.theta.start]);
         const double thd = y[l.theta_dot.start];
         Eigen::VectorXd dydt = Eigen::VectorXd::Constant(l.size, 7.0);
-        const ContactModel::DeviceTerms t = a.terms(a, d, B, s, tilt, thd, y.data(), dydt.data());
-        const DamperState state = a.state(a, d, B, s, tilt, thd, y.data());
-        const Stretch st = stretch(a.geometry, B, s, tilt);
+        const ContactModel::DeviceTerms t = a.terms(a, d, B, p, tilt, thd, y.data(), dydt.data());
+        const DamperState state = a.state(a, d, B, p, tilt, thd, y.data());
+        const Stretch st = stretch(a.geometry, B, p, tilt);
         const double e_dot = st.de_dtheta * s * thd, z = a.slot ? y[*a.slot] : 0.0;
         const LawResponse r = law_force_and_rate(a.law, st.e, e_dot, z);
         const bool chord = a.geometry.kinematics == Kinematics::chord;

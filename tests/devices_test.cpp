@@ -52,16 +52,17 @@ DeviceLaw example_law(const LawInfo& info) {
 
 TEST_CASE("chord kinematics at the far edge is the paper's damper, bit for bit") {
   const double B = 0.9;
-  for (int s : {+1, -1})
+  for (const Pivot p : pivots)
     for (double th : {1e-6, 0.003, 0.02, 0.3}) {
+      const int s = sign(p);
       const Tilt tilt(s * th);
-      const Stretch st = stretch({-s * B, Kinematics::chord, 0}, B, s, tilt);
-      CHECK(lever_arm({-s * B, Kinematics::chord, 0}, B, s) == 2 * B);
+      const Stretch st = stretch({-s * B, Kinematics::chord, 0}, B, p, tilt);
+      CHECK(lever_arm({-s * B, Kinematics::chord, 0}, B, p) == 2 * B);
       CHECK(st.e == damper_elongation(B, tilt));
       // e' = de/d|th| s th' is the damper's rate.
-      CHECK(st.de_dtheta * s * 0.7 == close_to(damper_rate(B, tilt, 0.7, s), 1e-15));
+      CHECK(st.de_dtheta * s * 0.7 == close_to(damper_rate(B, tilt, 0.7, p), 1e-15));
       // The device at the pivot does not stretch.
-      CHECK(stretch({s * B, Kinematics::chord, 0}, B, s, tilt).e == 0);
+      CHECK(stretch({s * B, Kinematics::chord, 0}, B, p, tilt).e == 0);
     }
 }
 
@@ -70,19 +71,19 @@ TEST_CASE("vertical kinematics: the closed form, its derivative, and its limits"
   const DeviceGeometry centre{0, Kinematics::vertical, L};
   for (double th : {0.001, 0.01, 0.05, 0.2}) {
     const double l = B;  // a central anchor: l = B about either pivot
-    const Stretch st = stretch(centre, B, +1, Tilt(th));
+    const Stretch st = stretch(centre, B, Pivot::right, Tilt(th));
     CHECK(st.e == close_to(std::hypot(L + l * std::sin(th), l * (1 - std::cos(th))) - L, 1e-13));
     // de/d|th| against a central difference of e.
     const double h = 1e-6;
-    const double fd = (stretch(centre, B, +1, Tilt(th + h)).e - stretch(centre, B, +1, Tilt(th - h)).e) / (2 * h);
+    const double fd = (stretch(centre, B, Pivot::right, Tilt(th + h)).e - stretch(centre, B, Pivot::right, Tilt(th - h)).e) / (2 * h);
     CHECK(st.de_dtheta == close_to(fd, 1e-7));
     // Rocking the other way mirrors it.
-    CHECK(stretch(centre, B, -1, Tilt(-th)).e == close_to(st.e, 1e-15));
+    CHECK(stretch(centre, B, Pivot::left, Tilt(-th)).e == close_to(st.e, 1e-15));
   }
   // At theta = 0 the lever arm is the rate of elongation; a very long tendon
   // follows the anchor's rise, l sin|th|.
-  CHECK(stretch(centre, B, +1, Tilt(0.0)).de_dtheta == close_to(B, 1e-12));
-  const Stretch long_tendon = stretch({0, Kinematics::vertical, 1e7}, B, +1, Tilt(0.1));
+  CHECK(stretch(centre, B, Pivot::right, Tilt(0.0)).de_dtheta == close_to(B, 1e-12));
+  const Stretch long_tendon = stretch({0, Kinematics::vertical, 1e7}, B, Pivot::right, Tilt(0.1));
   CHECK(long_tendon.e == close_to(B * std::sin(0.1), 1e-6));
 }
 

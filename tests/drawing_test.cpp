@@ -111,7 +111,8 @@ TEST_CASE("columns rocking: every column turned about its pivot corner, the beam
   u << 0.01, -0.02;
   for (const double theta : {0.07, -0.07, 0.3, -1e-4}) {
     CAPTURE(theta);
-    const int s = theta > 0 ? 1 : -1;
+    const Pivot p = theta > 0 ? Pivot::right : Pivot::left;
+    const int s = sign(p);
     const ColumnsOutline o = columns_outline(c, theta, u, 10.0);
     REQUIRE(o.columns.size() == 3);
     for (std::size_t k = 0; k < 3; ++k) {
@@ -125,7 +126,7 @@ TEST_CASE("columns rocking: every column turned about its pivot corner, the beam
       check_point(o.columns[k][s > 0 ? 1 : 0], px, 0.0, 1e-15);
     }
     // The beam's translation: beam_motion's, which is MODEL.md 16's formula.
-    const BeamMotion m = beam_motion(c, s, Tilt(theta));
+    const BeamMotion m = beam_motion(c, p, Tilt(theta));
     CHECK(m.dx == close_to(2 * R * s * (std::sin(alpha) - std::sin(alpha - s * theta)), 1e-12));
     CHECK(m.dy == close_to(2 * R * (std::cos(alpha - s * theta) - std::cos(alpha)), 1e-12));
     check_point(o.beam_shift, m.dx, m.dy, 0.0);

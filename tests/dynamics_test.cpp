@@ -40,7 +40,7 @@ double energy_drift_over_one_phase(bool paper_sign, double* phase_duration,
   auto rhs = [&](double, CRef y, Ref f) {
     const Coordinates q{y.head(n), y.segment(n, n), y[2 * n], y[2 * n + 1]};
     f[2 * n] = y[2 * n + 1];
-    double th_ddot = rocking_acceleration(body, +1, 0.0, 0.0, q, f.head(2 * n));  // u', u''
+    double th_ddot = rocking_acceleration(body, Pivot::right, 0.0, 0.0, q, f.head(2 * n));  // u', u''
     Eigen::Ref<Eigen::VectorXd> u_ddot = f.segment(n, n);
     if (paper_sign) {
       // rhs_u loses 2 M1 g sin(th); propagate through the closed-form solve
@@ -59,7 +59,7 @@ double energy_drift_over_one_phase(bool paper_sign, double* phase_duration,
   y0[2 * n] = 0.5 * slenderness(body.structure);
   rk->reset(0.0, y0, {[n](double, CRef y, Ref g) { g[0] = y[2 * n]; }, {ode::Direction::falling}});
   auto energy = [&](const Eigen::VectorXd& y) {
-    return mechanical_energy(body, +1, {y.head(n), y.segment(n, n), y[2 * n], y[2 * n + 1]});
+    return mechanical_energy(body, Pivot::right, {y.head(n), y.segment(n, n), y[2 * n], y[2 * n + 1]});
   };
   const double e0 = energy(y0);
   double worst = 0;

@@ -105,6 +105,6 @@ TEST_CASE("damper kinematics: chord of the lifted edge and its rate") {
   // v = d(d)/dt for theta > 0 about the right pivot (s = +1)
   const double th = 0.05, thd = 0.3, h = 1e-6;
   const double numeric = (damper_elongation(B, th + h * thd) - damper_elongation(B, th - h * thd)) / (2 * h);
-  CHECK(damper_rate(B, th, thd, +1) == close_to(numeric, 1e-8));
-  CHECK(damper_rate(B, -th, -thd, -1) == close_to(numeric, 1e-8));
+  CHECK(damper_rate(B, th, thd, Pivot::right) == close_to(numeric, 1e-8));
+  CHECK(damper_rate(B, -th, -thd, Pivot::left) == close_to(numeric, 1e-8));
 }

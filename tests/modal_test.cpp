@@ -75,7 +75,7 @@ TEST_CASE("devices linearised at theta = 0: k (de/dth)^2 per device, prestress P
   const Structure& s = scene.structure;
   const double B = s.half_width, k_tendon = 5e7, k_damper = 1e7, eps = 0.06;
   // The paper's edge damper alone: k (2B)^2 pre-yield, eps k (2B)^2 yielded (hysteresis's own formulas).
-  const RockingStiffness damper = rocking_stiffness(edge_dampers(scene.damper, B), B, +1);
+  const RockingStiffness damper = rocking_stiffness(edge_dampers(scene.damper, B), B, Pivot::right);
   CHECK(damper.at_rest == close_to(pre_yield_rotational_stiffness(scene.damper, B), 1e-14));
   CHECK(damper.yielded == close_to(post_yield_rotational_stiffness(scene.damper, B), 1e-14));
   CHECK(damper.held_moment == 0.0);
@@ -93,8 +93,8 @@ TEST_CASE("devices linearised at theta = 0: k (de/dth)^2 per device, prestress P
   CHECK(m.damper_pre_yield_hz > modal_analysis(s, edge_dampers(scene.damper, B)).damper_pre_yield_hz);
   // An anchor off the centre: its lever arm differs by pivot, l = B - s x.
   const Device off{"off", {1.0, Kinematics::vertical, 10.0}, ElasticLaw{0.0, 1e6}, 0};
-  CHECK(rocking_stiffness({off}, B, +1).at_rest == close_to(1e6 * (B - 1.0) * (B - 1.0), 1e-14));
-  CHECK(rocking_stiffness({off}, B, -1).at_rest == close_to(1e6 * (B + 1.0) * (B + 1.0), 1e-14));
+  CHECK(rocking_stiffness({off}, B, Pivot::right).at_rest == close_to(1e6 * (B - 1.0) * (B - 1.0), 1e-14));
+  CHECK(rocking_stiffness({off}, B, Pivot::left).at_rest == close_to(1e6 * (B + 1.0) * (B + 1.0), 1e-14));
 }
 
 TEST_CASE("devices on one side only: rocking about the other pivot is free, and the summary says unstable") {

@@ -17,7 +17,8 @@ namespace {
 struct Angle {
   double sin = 0, cos = 1;
 };
-Angle phi_of(const Columns& c, int s, const Tilt& tilt) {
+Angle phi_of(const Columns& c, Pivot p, const Tilt& tilt) {
+  const int s = sign(p);
   const double st = tilt.sin(), ct = tilt.cos();
   return {c.sin_alpha * ct - s * c.cos_alpha * st, c.cos_alpha * ct + s * c.sin_alpha * st};
 }
@@ -80,10 +81,11 @@ double rocking_rates(const Columns& c, double a, double rhs_theta, double ax, co
 }
 
 // Contacts at x_k = X_k - s b (the top corners opposite the pivots; the
-// axes in full contact), fixed on the beam: sum N = normal, sum x N = moment,
-// the minimum-norm split N_k = normal / n + slope (x_k - mean), into normal
-// and out.smallest.
-void split_over_columns(const Columns& c, int s, TopContact& out, std::span<double> normal) {
+// axes in full contact, s = 0), fixed on the beam: sum N = normal, sum x N =
+// moment, the minimum-norm split N_k = normal / n + slope (x_k - mean), into
+// normal and out.smallest.
+void split_over_columns(const Columns& c, Phase phase, TopContact& out, std::span<double> normal) {
+  const int s = phase.sign();
   const int count = c.group.count;
   const double offset = -s * c.group.half_width;
   if (count == 2) {  // determined: N_1 (x_2 - x_1) = x_2 sum N - sum x N, one division
@@ -174,8 +176,9 @@ double frame_restitution(const Columns& c) {
          (1.0 + 3.0 * gamma);
 }
 
-BeamMotion beam_motion(const Columns& c, int s, const Tilt& tilt) {
-  const Angle p = phi_of(c, s, tilt);
+BeamMotion beam_motion(const Columns& c, Pivot pivot, const Tilt& tilt) {
+  const int s = sign(pivot);
+  const Angle p = phi_of(c, pivot, tilt);
   const double R2 = 2.0 * c.R;
   // dx = 2R s (sin alpha - sin phi), dy = 2R (cos phi - cos alpha), dphi/dtheta = -s
   return {R2 * s * (c.sin_alpha - p.sin), R2 * (p.cos - c.cos_alpha), R2 * p.cos, R2 * s * p.sin,
@@ -183,8 +186,9 @@ BeamMotion beam_motion(const Columns& c, int s, const Tilt& tilt) {
 }
 
 Stretch beam_device_stretch(const Columns& c, double ground_x, double ground_y, double beam_x, double beam_y,
-                            double free_length, int s, const Tilt& tilt) {
-  const BeamMotion m = beam_motion(c, s, tilt);
+                            double free_length, Pivot p, const Tilt& tilt) {
+  const int s = sign(p);
+  const BeamMotion m = beam_motion(c, p, tilt);
   const double rx = beam_x - ground_x, ry = beam_y - ground_y;
   const double L = free_length > 0 ? free_length : std::hypot(rx, ry);
   const double x = rx + m.dx, y = ry + m.dy, length = std::hypot(x, y);
@@ -193,9 +197,9 @@ Stretch beam_device_stretch(const Columns& c, double ground_x, double ground_y, 
   return {length - L, s * (x * m.jx + y * m.jy) / length};
 }
 
-DeckLoad beam_device_load(const Columns& c, double ground_x, double ground_y, double beam_x, double beam_y, int s,
+DeckLoad beam_device_load(const Columns& c, double ground_x, double ground_y, double beam_x, double beam_y, Phase phase,
                           const Tilt& tilt, double force) {
-  const BeamMotion m = s != 0 ? beam_motion(c, s, tilt) : BeamMotion{};
+  const BeamMotion m = phase.is_rocking() ? beam_motion(c, *phase.pivot(), tilt) : BeamMotion{};
   const double x = beam_x - ground_x + m.dx, y = beam_y - ground_y + m.dy, length = std::hypot(x, y);
   if (length == 0) return {};
   // -F n on the deck at (beam_x, beam_y - 2h) from O
@@ -213,9 +217,10 @@ void full_contact_acceleration(const Columns& c, double a_g, Eigen::Ref<const Ei
   for (Eigen::Index i = 0; i < n; ++i) acc[i] *= c.inverse_masses[i];  // M u'' = -M1 a_g - K u - C u'
 }
 
-double rocking_acceleration(const Columns& c, int s, GroundAcceleration a, double device_moment, const Coordinates& q,
+double rocking_acceleration(const Columns& c, Pivot pivot, GroundAcceleration a, double device_moment, const Coordinates& q,
                             Eigen::Ref<Eigen::VectorXd> rates) {
-  const Angle p = phi_of(c, s, q.tilt);
+  const int s = sign(pivot);
+  const Angle p = phi_of(c, pivot, q.tilt);
   const double ge = c.g + a.v;
   // rhs_theta = -R (n m_c + 2 m_d) (s (g + a_v) sin phi + a_g cos phi) - s D
   const double rhs_theta = -c.lever * (s * ge * p.sin + a.h * p.cos) - s * device_moment;
@@ -235,8 +240,9 @@ double rocking_acceleration(const Columns& c, int s, GroundAcceleration a, doubl
   return theta_ddot;
 }
 
-double uplift_guard(const Columns& c, int s, GroundAcceleration a, double held_moment,
+double uplift_guard(const Columns& c, Pivot p, GroundAcceleration a, double held_moment,
                     Eigen::Ref<const Eigen::VectorXd> u, Eigen::Ref<const Eigen::VectorXd> u_dot) {
+  const int s = sign(p);
   // The rocking equations' numerator at theta = theta' = 0 (phi = alpha,
   // R sin alpha = b, R cos alpha = h), times s.
   const double b = c.group.half_width, h = c.group.half_height;
@@ -247,7 +253,7 @@ double uplift_guard(const Columns& c, int s, GroundAcceleration a, double held_m
   return s * (rhs_theta - 2.0 * h * shear);
 }
 
-ColumnsImpact impact(const Columns& c, int s, double theta_dot, Eigen::Ref<Eigen::VectorXd> u_dot, double restitution,
+ColumnsImpact impact(const Columns& c, Pivot p, double theta_dot, Eigen::Ref<Eigen::VectorXd> u_dot, double restitution,
                      double min_rate) {
   const double R2 = c.R * c.R, b = c.group.half_width, h = c.group.half_height;
   const double cos2 = 1.0 - 2.0 * c.sin_alpha * c.sin_alpha;
@@ -268,7 +274,7 @@ ColumnsImpact impact(const Columns& c, int s, double theta_dot, Eigen::Ref<Eigen
   }
   const bool rocks = out.ratio > 0 && std::abs(theta_dot) > min_rate;
   if (rocks) {
-    out.after = Phase::rocking(s > 0 ? Pivot::left : Pivot::right);
+    out.after = Phase::rocking(opposite(p));
     out.theta_dot = out.ratio * theta_dot;
     // theta'+ = ratio theta'-; a flexible deck keeps its nodes' horizontal momentum
     if (c.flexible && restitution < 0) u_dot.array() += 2.0 * h * (theta_dot - out.theta_dot);
@@ -281,15 +287,15 @@ ColumnsImpact impact(const Columns& c, int s, double theta_dot, Eigen::Ref<Eigen
   return out;
 }
 
-ColumnsEnergy mechanical_energy(const Columns& c, int s, const Coordinates& q) {
+ColumnsEnergy mechanical_energy(const Columns& c, Phase phase, const Coordinates& q) {
   ColumnsEnergy e;
   const Eigen::Index n = nodes(c);
   if (n > 0) {
     e.kinetic = 0.5 * q.u_dot.dot(c.structure.masses.cwiseProduct(q.u_dot));
     e.elastic = 0.5 * quadratic(c.matrices.K, q.u);
   }
-  if (s != 0) {
-    const Angle p = phi_of(c, s, q.tilt);
+  if (phase.is_rocking()) {
+    const Angle p = phi_of(c, *phase.pivot(), q.tilt);
     const double w = q.theta_dot;
     // T = 1/2 J theta'^2 + 2R cos phi theta' 1'M u' + 1/2 u'M u'
     e.kinetic += 0.5 * c.inertia * w * w;
@@ -300,11 +306,12 @@ ColumnsEnergy mechanical_energy(const Columns& c, int s, const Coordinates& q) {
   return e;
 }
 
-double ground_input_power(const Columns& c, int s, GroundAcceleration a, const Coordinates& q) {
+double ground_input_power(const Columns& c, Phase phase, GroundAcceleration a, const Coordinates& q) {
+  const int s = phase.sign();
   const Eigen::Index n = nodes(c);
   double P = n > 0 ? -a.h * c.structure.masses.dot(q.u_dot) : 0.0;
   if (s != 0) {
-    const Angle p = phi_of(c, s, q.tilt);
+    const Angle p = phi_of(c, *phase.pivot(), q.tilt);
     P -= c.lever * q.theta_dot * (a.h * p.cos + a.v * s * p.sin);
   }
   return P;
@@ -314,14 +321,14 @@ double viscous_power(const Columns& c, Eigen::Ref<const Eigen::VectorXd> u_dot) 
   return nodes(c) > 0 ? quadratic(c.matrices.C, u_dot) : 0.0;
 }
 
-TopContact top_contact_forces(const Columns& c, int s, GroundAcceleration a, const Coordinates& q, double theta_ddot,
+TopContact top_contact_forces(const Columns& c, Phase phase, GroundAcceleration a, const Coordinates& q, double theta_ddot,
                               Eigen::Ref<const Eigen::VectorXd> u_ddot, std::span<double> normal,
                               const DeckLoad& load) {
   // The deck's accelerations in the ground's frame: the beam's (0 in full
   // contact), plus u'' for the nodes; the contact forces balance m (acc + (a_g, g + a_v)).
   double ax = 0, ay = 0;
-  if (s != 0) {
-    const BeamMotion m = beam_motion(c, s, q.tilt);
+  if (phase.is_rocking()) {
+    const BeamMotion m = beam_motion(c, *phase.pivot(), q.tilt);
     const double w2 = q.theta_dot * q.theta_dot;
     ax = m.jx * theta_ddot + m.kx * w2;
     ay = m.jy * theta_ddot + m.ky * w2;
@@ -341,12 +348,13 @@ TopContact top_contact_forces(const Columns& c, int s, GroundAcceleration a, con
     // about O (the beam's underside centre), counterclockwise: x F_y - y F_x
     out.moment += m * (ui * fy - c.structure.heights[i] * (fx + ui_dd));
   }
-  split_over_columns(c, s, out, normal);
+  split_over_columns(c, phase, out, normal);
   return out;
 }
 
-TopContact top_contact_forces_now(const Columns& c, int s, GroundAcceleration a, const Coordinates& q,
+TopContact top_contact_forces_now(const Columns& c, Phase phase, GroundAcceleration a, const Coordinates& q,
                                   double device_moment, std::span<double> normal, const DeckLoad& load) {
+  const int s = phase.sign();
   // The nodes enter through 1'M u'', H'M u'' and 1'M u. With f = -M1 acc -
   // (K u + C u') (acc = a_g, or a_g + the beam's bias while rocking),
   // M u'' = f - jac M1 theta'' gives 1'M u'' = 1'f - jac m_s theta'' and
@@ -360,7 +368,8 @@ TopContact top_contact_forces_now(const Columns& c, int s, GroundAcceleration a,
   }
   double ax = 0, ay = 0, Mu_dd = 0, HMu_dd = 0;
   if (s != 0) {
-    const Angle p = phi_of(c, s, q.tilt);
+    const Pivot pivot = *phase.pivot();
+    const Angle p = phi_of(c, pivot, q.tilt);
     const double w2 = q.theta_dot * q.theta_dot;
     const double rhs_theta = -c.lever * (s * (c.g + a.v) * p.sin + a.h * p.cos) - s * device_moment;
     double theta_ddot = 0;
@@ -373,7 +382,7 @@ TopContact top_contact_forces_now(const Columns& c, int s, GroundAcceleration a,
       Mu_dd = f - jac * c.structure_mass * theta_ddot;
       HMu_dd = Hf - jac * c.height_mass * theta_ddot;
     }
-    const BeamMotion m = beam_motion(c, s, q.tilt);
+    const BeamMotion m = beam_motion(c, pivot, q.tilt);
     ax = m.jx * theta_ddot + m.kx * w2;
     ay = m.jy * theta_ddot + m.ky * w2;
   } else if (n > 0) {
@@ -386,7 +395,7 @@ TopContact top_contact_forces_now(const Columns& c, int s, GroundAcceleration a,
   out.shear = c.deck_mass * fx + Mu_dd - load.fx;
   // about O, counterclockwise: sum m (u fy - H (fx + u''))
   out.moment = -load.moment + fy * Mu - fx * c.height_mass - HMu_dd;
-  split_over_columns(c, s, out, normal);
+  split_over_columns(c, phase, out, normal);
   return out;
 }
 

@@ -83,20 +83,21 @@ double frame_gamma(const Columns& c);
 double frame_p2(const Columns& c);
 double frame_restitution(const Columns& c);
 
-// The beam's translation (MODEL.md 16) while rocking about s, with its
+// The beam's translation (MODEL.md 16) while rocking about pivot p, with its
 // derivative in theta and its second derivative [m].
 struct BeamMotion {
   double dx = 0, dy = 0;      // translation
   double jx = 0, jy = 0;      // d(dx, dy)/dtheta
   double kx = 0, ky = 0;      // d2(dx, dy)/dtheta2
 };
-BeamMotion beam_motion(const Columns& c, int s, const Tilt& tilt);
+BeamMotion beam_motion(const Columns& c, Pivot p, const Tilt& tilt);
 
 // A device between a ground point and a point of the beam (both given at
 // rest in the ground's frame: x from the centre line, y up from the columns'
-// bottoms) with free length L (<= 0: the rest distance): its elongation and de/d|theta| = s de/dtheta while rocking about s.
+// bottoms) with free length L (<= 0: the rest distance): its elongation and
+// de/d|theta| = s de/dtheta while rocking about p (s = sign(p)).
 Stretch beam_device_stretch(const Columns& c, double ground_x, double ground_y, double beam_x, double beam_y,
-                            double free_length, int s, const Tilt& tilt);
+                            double free_length, Pivot p, const Tilt& tilt);
 
 // A load on the deck from outside it, applied at its underside: the force
 // [N] and its moment about the underside's centre O [N m], counterclockwise.
@@ -104,9 +105,10 @@ struct DeckLoad {
   double fx = 0, fy = 0, moment = 0;
 };
 // The load on the deck of such a device pulling with `force` (tension > 0,
-// toward the ground anchor) while rocking about s (0: full contact, at rest).
-// beam_y is measured from the columns' bottoms: 2h on the underside.
-DeckLoad beam_device_load(const Columns& c, double ground_x, double ground_y, double beam_x, double beam_y, int s,
+// toward the ground anchor) in the phase: rocking about its pivot, or full
+// contact (the beam at rest). beam_y is measured from the columns' bottoms:
+// 2h on the underside.
+DeckLoad beam_device_load(const Columns& c, double ground_x, double ground_y, double beam_x, double beam_y, Phase phase,
                           const Tilt& tilt, double force);
 
 // (u', u'') under full contact into rates (2N entries): MODEL.md 3, the beam fixed.
@@ -114,21 +116,22 @@ void full_contact_acceleration(const Columns& c, double a_g, Eigen::Ref<const Ei
                                Eigen::Ref<const Eigen::VectorXd> u_dot, Eigen::Ref<Eigen::VectorXd> rates);
 
 // (u', u'') into rates (2N entries; none when rigid) and theta'' as the
-// result, while rocking about s with device moment D [N m]. These, the guard,
-// the impact, the energy and powers and the top forces allocate nothing.
-double rocking_acceleration(const Columns& c, int s, GroundAcceleration a, double device_moment, const Coordinates& q,
+// result, while rocking about pivot p (s = sign(p)) with device moment D [N m].
+// These, the guard, the impact, the energy and powers and the top forces
+// allocate nothing.
+double rocking_acceleration(const Columns& c, Pivot p, GroundAcceleration a, double device_moment, const Coordinates& q,
                             Eigen::Ref<Eigen::VectorXd> rates);
 
-// In full contact: s theta'' that rocking about s would start with now, times
+// In full contact: s theta'' that rocking about p (s = sign(p)) would start with now, times
 // the effective inertia (J - 4 h^2 m_s for a flexible deck, J for a rigid one)
 // [N m] (> 0: the frame lifts), the devices holding `held_moment`
 // (sum_k F_k(e = 0) de_k/d|theta|, a tendon's prestress times its lever).
 // For a rigid deck under a_g alone it is zero at |a_g| = (g + a_v) b / h.
-double uplift_guard(const Columns& c, int s, GroundAcceleration a, double held_moment,
+double uplift_guard(const Columns& c, Pivot p, GroundAcceleration a, double held_moment,
                     Eigen::Ref<const Eigen::VectorXd> u, Eigen::Ref<const Eigen::VectorXd> u_dot);
 
-// Impact at theta = 0 while rocking about s. restitution < 0: the momentum law
-// (MODEL.md 15): rocking about -s if that gives theta'+ of the sign -s and
+// Impact at theta = 0 while rocking about p (s = sign(p)). restitution < 0: the
+// momentum law (MODEL.md 15): rocking about opposite(p) if that gives theta'+ of the sign -s and
 // |theta'-| > min_rate, else full contact (u'+ = u'- + 2h theta'-). A given r:
 // theta'+ = r theta'-, u' continuous, full contact when r <= 0 or |theta'-| <= min_rate.
 // u_dot is updated in place.
@@ -137,24 +140,26 @@ struct ColumnsImpact {
   double theta_dot = 0;  // after [rad/s]
   double ratio = 0;      // theta'+ / theta'- of the rocking outcome (even if it was not taken)
 };
-ColumnsImpact impact(const Columns& c, int s, double theta_dot, Eigen::Ref<Eigen::VectorXd> u_dot,
+ColumnsImpact impact(const Columns& c, Pivot p, double theta_dot, Eigen::Ref<Eigen::VectorXd> u_dot,
                      double restitution = -1, double min_rate = 0);
 
 // Energy (MODEL.md 7 and 14): kinetic, gravity m g y from rest (columns'
-// centres, beam and nodes), elastic 1/2 u'K u [J]; s is the pivot (any in full
-// contact, theta = 0). Power of the ground, -sum m (a_g x' + a_v y') [W], so
-// that dE/dt = ground - u'C u' - s D theta'.
+// centres, beam and nodes), elastic 1/2 u'K u [J], in the phase (rocking
+// about its pivot, s = sign(p), or full contact: theta = 0, the beam at rest).
+// Power of the ground, -sum m (a_g x' + a_v y') [W], so that
+// dE/dt = ground - u'C u' - s D theta'.
 struct ColumnsEnergy {
   double kinetic = 0, gravity = 0, elastic = 0;
   double total() const { return kinetic + gravity + elastic; }
 };
-ColumnsEnergy mechanical_energy(const Columns& c, int s, const Coordinates& q);
-double ground_input_power(const Columns& c, int s, GroundAcceleration a, const Coordinates& q);
+ColumnsEnergy mechanical_energy(const Columns& c, Phase phase, const Coordinates& q);
+double ground_input_power(const Columns& c, Phase phase, GroundAcceleration a, const Coordinates& q);
 double viscous_power(const Columns& c, Eigen::Ref<const Eigen::VectorXd> u_dot);
 
 // The column-top contact forces on the deck (beam and structure, one free body
 // whose underside centre is O): the normal force of each column (compression
-// > 0) into `normal` (count entries) and the totals. `s` is 0 in full contact;
+// > 0) into `normal` (count entries) and the totals, in the phase (rocking
+// about its pivot, or full contact: the contacts at the columns' axes);
 // theta_ddot and u_ddot are the accelerations the equations give now, `load`
 // what else acts on the deck (the devices between the ground and the beam). With
 // n = 2 the split is determined; with n > 2 it is the minimum-norm one (linear
@@ -166,15 +171,15 @@ struct TopContact {
   double moment = 0;    // about O, counterclockwise, that the contacts carry [N m]
   double smallest = 0;  // min N [N]: < 0 is tension the model cannot carry
 };
-TopContact top_contact_forces(const Columns& c, int s, GroundAcceleration a, const Coordinates& q, double theta_ddot,
+TopContact top_contact_forces(const Columns& c, Phase phase, GroundAcceleration a, const Coordinates& q, double theta_ddot,
                               Eigen::Ref<const Eigen::VectorXd> u_ddot, std::span<double> normal,
                               const DeckLoad& load = {});
 // The same forces at the accelerations the equations give in this state
-// (rocking about s with the devices' moment D, or s = 0 in full contact),
+// (rocking about the phase's pivot with the devices' moment D, or in full contact),
 // from the sums over the nodes they need (1'M u'', H'M u'', 1'M u: dot
 // products with 1'K, 1'C, H'K, H'C), without the nodes' accelerations: what
 // a guard sampled several times a step costs.
-TopContact top_contact_forces_now(const Columns& c, int s, GroundAcceleration a, const Coordinates& q,
+TopContact top_contact_forces_now(const Columns& c, Phase phase, GroundAcceleration a, const Coordinates& q,
                                   double device_moment, std::span<double> normal, const DeckLoad& load = {});
 
 }  // namespace rocking

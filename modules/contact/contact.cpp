@@ -46,21 +46,21 @@ Layout make_layout(ModelKind kind, Eigen::Index n, Eigen::Index z_count, Eigen::
 // its law and kinematics: the chord's stretch with its lever arm l = a.lever,
 // else stretch(); the law's force and z' at (e, e', z); nothing once broken.
 template <bool Chord>
-Stretch stretch_of(const ContactModel::Acting& a, double half_width, int s, const Tilt& tilt) {
+Stretch stretch_of(const ContactModel::Acting& a, double half_width, Pivot p, const Tilt& tilt) {
   if constexpr (Chord) return {2.0 * a.lever * std::abs(tilt.sin_half), a.lever * tilt.cos_half};
-  else return stretch(a.geometry, half_width, s, tilt);
+  else return stretch(a.geometry, half_width, p, tilt);
 }
 
 template <class Law, bool Chord>
-ContactModel::DeviceTerms device_terms(const ContactModel::Acting& a, const Discrete& d, double half_width, int s,
+ContactModel::DeviceTerms device_terms(const ContactModel::Acting& a, const Discrete& d, double half_width, Pivot p,
                                        const Tilt& tilt, double thd, const double* y, double* dydt) {
   if (d.broken != 0 && d.is_broken(a.device)) {
     if constexpr (Law::states > 0) dydt[*a.slot] = 0.0;
     return {};
   }
   const Law& law = *std::get_if<Law>(&a.law);
-  const Stretch st = stretch_of<Chord>(a, half_width, s, tilt);
-  const double e_dot = st.de_dtheta * s * thd;
+  const Stretch st = stretch_of<Chord>(a, half_width, p, tilt);
+  const double e_dot = st.de_dtheta * sign(p) * thd;
   const double z = Law::states > 0 ? y[*a.slot] : 0.0;  // a law with a state has a slot
   const double F = law.force(st.e, e_dot, z);
   if constexpr (Law::states > 0) dydt[*a.slot] = law.rate(st.e, e_dot, z);
@@ -68,11 +68,11 @@ ContactModel::DeviceTerms device_terms(const ContactModel::Acting& a, const Disc
 }
 
 template <class Law, bool Chord>
-DamperState device_state(const ContactModel::Acting& a, const Discrete& d, double half_width, int s, const Tilt& tilt,
+DamperState device_state(const ContactModel::Acting& a, const Discrete& d, double half_width, Pivot p, const Tilt& tilt,
                          double thd, const double* y) {
-  const Stretch st = stretch_of<Chord>(a, half_width, s, tilt);
+  const Stretch st = stretch_of<Chord>(a, half_width, p, tilt);
   if (d.broken != 0 && d.is_broken(a.device)) return {st.e, 0.0};
-  const double e_dot = st.de_dtheta * s * thd;
+  const double e_dot = st.de_dtheta * sign(p) * thd;
   return {st.e, std::get_if<Law>(&a.law)->force(st.e, e_dot, Law::states > 0 ? y[*a.slot] : 0.0)};
 }
 
@@ -169,7 +169,7 @@ double uplift_guard(const ContactModel& m, const Discrete& d, Pivot p, const Upl
   return std::min(gs, s * t.momentum);
 }
 
-double restitution(const ContactModel& m, int s, Eigen::Ref<const Eigen::VectorXd> y, double l_new,
+double restitution(const ContactModel& m, Pivot p, Eigen::Ref<const Eigen::VectorXd> y, double l_new,
                    double theta_dot) {
   switch (m.contact.restitution_rule) {
     case RestitutionRule::constant: return m.contact.restitution;
@@ -180,7 +180,7 @@ double restitution(const ContactModel& m, int s, Eigen::Ref<const Eigen::VectorX
   const Structure& st = m.body.structure;
   const Eigen::Ref<const Eigen::VectorXd> u = u_of(m, y);
   double j = pivot_inertia(st);
-  j += mass_dot(m.body, u, u) - 2.0 * s * st.half_width * mass_sum(m.body, u);
+  j += mass_dot(m.body, u, u) - 2.0 * sign(p) * st.half_width * mass_sum(m.body, u);
   const double hmu = moment_of_velocities(m, y);
   const double l_old = j * theta_dot + hmu;
   const double scale = std::abs(j * theta_dot) + std::abs(hmu);
@@ -221,7 +221,7 @@ ContactModel make_contact_model(const Structure& st, const Contact& contact, std
   for (Pivot p : pivots)
     for (std::size_t k = 0; k < m.devices.size(); ++k) {
       const Device& dev = m.devices[k];
-      const double lever = lever_arm(dev.geometry, st.half_width, sign(p));
+      const double lever = lever_arm(dev.geometry, st.half_width, p);
       if (!(lever > 0)) continue;
       const std::size_t i = index(p);
       if (dev.capacity > 0) m.breakable[i].push_back(static_cast<int>(m.acting[i].size()));
@@ -265,8 +265,9 @@ void full_contact_power(const ContactModel& m, LinearPhase& sys) {
   for (Eigen::Index i = 0; i < n; ++i) {
     e.setZero();
     e[i] = 1;
-    sys.ground[i] = ground_input_power(m.body, 1, 1.0, Coordinates{e, zero, Tilt(0.0), 0.0});
-    sys.ground[n + i] = ground_input_power(m.body, 1, 1.0, Coordinates{zero, e, Tilt(0.0), 0.0});
+    // Full contact has no pivot; at theta = theta' = 0 either pivot's power is -a_g 1'M u'.
+    sys.ground[i] = ground_input_power(m.body, Pivot::right, 1.0, Coordinates{e, zero, Tilt(0.0), 0.0});
+    sys.ground[n + i] = ground_input_power(m.body, Pivot::right, 1.0, Coordinates{zero, e, Tilt(0.0), 0.0});
     sys.viscous(n + i, n + i) = viscous_power(m.body, e);
   }
   for (Eigen::Index i = 0; i < n; ++i)
@@ -312,7 +313,7 @@ DamperState active_damper(const ContactModel& m, const Discrete& d, const Tilt& 
   if (!k) return {};
   const ContactModel::Acting& a = m.acting[index(*p)][*k];
   if (d.broken != 0 && d.is_broken(a.device)) return {};
-  return a.state(a, d, m.body.structure.half_width, sign(*p), tilt, theta_dot_of(m, y), y.data());
+  return a.state(a, d, m.body.structure.half_width, *p, tilt, theta_dot_of(m, y), y.data());
 }
 
 void phase_rhs(const ContactModel& m, const Discrete& d, GroundAcceleration a, const Eigen::Ref<const Eigen::VectorXd>& y,
@@ -326,7 +327,8 @@ void phase_rhs(const ContactModel& m, const Discrete& d, GroundAcceleration a, c
   // (a chord device's as (F l) cos(th/2)), their state rates and their power.
   double device_moment = 0, damper_power = 0;
   if (s != 0) {
-    const std::size_t i = index(*d.phase.pivot());
+    const Pivot p = *d.phase.pivot();
+    const std::size_t i = index(p);
     if (m.idle_slots[i])  // a slot this pivot leaves unused rests
       for (Eigen::Index k = 0; k < l.z.count; ++k) dydt[l.z.start + k] = 0.0;
     const bool split_work = l.energy.count > 3;
@@ -334,12 +336,12 @@ void phase_rhs(const ContactModel& m, const Discrete& d, GroundAcceleration a, c
     const std::vector<ContactModel::Acting>& acting = m.acting[i];
     if (acting.size() == 1 && !split_work) {  // the paper's case: one damper per pivot
       const ContactModel::Acting& a = acting.front();
-      const ContactModel::DeviceTerms t = a.terms(a, d, B, s, tilt, thd, y.data(), dydt.data());
+      const ContactModel::DeviceTerms t = a.terms(a, d, B, p, tilt, thd, y.data(), dydt.data());
       device_moment = t.moment;
       damper_power = t.power;
     } else {
       for (const ContactModel::Acting& a : acting) {
-        const ContactModel::DeviceTerms t = a.terms(a, d, B, s, tilt, thd, y.data(), dydt.data());
+        const ContactModel::DeviceTerms t = a.terms(a, d, B, p, tilt, thd, y.data(), dydt.data());
         device_moment += t.moment;
         damper_power += t.power;
         if (split_work) dydt[l.energy.start + 3 + a.device] = t.power;
@@ -347,12 +349,13 @@ void phase_rhs(const ContactModel& m, const Discrete& d, GroundAcceleration a, c
     }
   }
   if (s != 0) {
+    const Pivot p = *d.phase.pivot();
     dydt[l.theta.start] = thd;
     if (!l.u.present()) {
-      dydt[l.theta_dot.start] = rigid_rocking_acceleration(m.body, s, a, device_moment, tilt);
+      dydt[l.theta_dot.start] = rigid_rocking_acceleration(m.body, p, a, device_moment, tilt);
     } else {
       const Coordinates q{y.segment(l.u.start, l.n), y.segment(l.u_dot.start, l.n), tilt, thd};
-      dydt[l.theta_dot.start] = rocking_acceleration(m.body, s, a, device_moment, q, dydt.segment(l.u.start, 2 * l.n));
+      dydt[l.theta_dot.start] = rocking_acceleration(m.body, p, a, device_moment, q, dydt.segment(l.u.start, 2 * l.n));
     }
 
   } else {
@@ -364,7 +367,8 @@ void phase_rhs(const ContactModel& m, const Discrete& d, GroundAcceleration a, c
   if (l.energy.present()) {
     double input = 0, viscous = 0;
     const Coordinates q{u_of(m, y), u_dot_of(m, y), tilt, thd};
-    input = ground_input_power(m.body, s == 0 ? 1 : s, a, q);
+    // Full contact has no pivot; at theta = theta' = 0 either pivot's power is -a_g 1'M u'.
+    input = ground_input_power(m.body, s == 0 ? Pivot::right : *d.phase.pivot(), a, q);
     viscous = viscous_power(m.body, q.u_dot);
     dydt[l.energy.start] = input;
     dydt[l.energy.start + 1] = viscous;
@@ -402,7 +406,7 @@ void guard_values(const ContactModel& m, const Discrete& d, GroundAcceleration a
     for (int i : breakable) {
       const ContactModel::Acting& a = m.acting[index(*p)][static_cast<std::size_t>(i)];
       g[k++] = d.is_broken(a.device) ? -1.0
-                                     : stretch(a.geometry, m.body.structure.half_width, sign(*p), tilt).e - a.capacity;
+                                     : stretch(a.geometry, m.body.structure.half_width, *p, tilt).e - a.capacity;
     }
   }
 }
@@ -435,8 +439,8 @@ void device_samples(const ContactModel& m, const Discrete& d, Eigen::Ref<const E
   const double thd = y[m.layout.theta_dot.start];
   for (const ContactModel::Acting& a : m.acting[index(*p)]) {
     if (d.broken != 0 && d.is_broken(a.device)) continue;
-    const DamperState n = a.state(a, d, m.body.structure.half_width, s, tilt, thd, y.data());
-    const double de_dtheta = stretch(a.geometry, m.body.structure.half_width, s, tilt).de_dtheta;
+    const DamperState n = a.state(a, d, m.body.structure.half_width, *p, tilt, thd, y.data());
+    const double de_dtheta = stretch(a.geometry, m.body.structure.half_width, *p, tilt).de_dtheta;
     out[static_cast<std::size_t>(a.device)] = {n.elongation, n.force, s * n.force * de_dtheta};
   }
 }
@@ -490,7 +494,7 @@ ImpactResult impact(const ContactModel& m, Discrete& d, Eigen::Ref<Eigen::Vector
   ImpactResult out;
   out.continues = -s * l_new >= 0 && std::abs(theta_dot) > m.contact.theta_dot_min;
   if (out.continues) {
-    out.r = restitution(m, s, y, l_new, theta_dot);
+    out.r = restitution(m, p, y, l_new, theta_dot);
     y[l.theta_dot.start] = out.r * theta_dot;
     d.phase = Phase::rocking(opposite(p));
     d.last_pivot = opposite(p);
@@ -504,9 +508,10 @@ ImpactResult impact(const ContactModel& m, Discrete& d, Eigen::Ref<Eigen::Vector
 }
 
 double mechanical_energy(const ContactModel& m, Phase phase, Eigen::Ref<const Eigen::VectorXd> y) {
-  const int s = phase.is_rocking() ? phase.sign() : 1;  // theta = 0 in full contact: either pivot's
+  // Full contact has no pivot; at theta = 0 the energy about either pivot is the same.
+  const Pivot p = phase.is_rocking() ? *phase.pivot() : Pivot::right;
   const Coordinates q{u_of(m, y), u_dot_of(m, y), Tilt(theta_of(m, y)), theta_dot_of(m, y)};
-  return mechanical_energy(m.body, s, q);
+  return mechanical_energy(m.body, p, q);
 }
 
 void view(const ContactModel& m, Eigen::Ref<const Eigen::VectorXd> y, StateView& out) {

@@ -164,9 +164,9 @@ struct ContactModel {
   struct DeviceTerms {
     double moment = 0, power = 0;
   };
-  using TermsFn = DeviceTerms (*)(const Acting& a, const Discrete& d, double half_width, int s, const Tilt& tilt,
+  using TermsFn = DeviceTerms (*)(const Acting& a, const Discrete& d, double half_width, Pivot p, const Tilt& tilt,
                                   double theta_dot, const double* y, double* dydt);
-  using StateFn = DamperState (*)(const Acting& a, const Discrete& d, double half_width, int s, const Tilt& tilt,
+  using StateFn = DamperState (*)(const Acting& a, const Discrete& d, double half_width, Pivot p, const Tilt& tilt,
                                   double theta_dot, const double* y);
   struct Acting {
     int device = 0;

@@ -65,12 +65,12 @@ std::vector<Device> edge_dampers(const Damper& damper, double half_width) {
           Device{"damper_right", {half_width, Kinematics::chord, 0}, law, damper.capacity, true, "damper"}};
 }
 
-RockingStiffness rocking_stiffness(const std::vector<Device>& devices, double half_width, int s) {
+RockingStiffness rocking_stiffness(const std::vector<Device>& devices, double half_width, Pivot p) {
   RockingStiffness out;
   for (const Device& d : devices) {
-    const double l = lever_arm(d.geometry, half_width, s);
+    const double l = lever_arm(d.geometry, half_width, p);
     if (!(l > 0)) continue;
-    const double slope = stretch(d.geometry, half_width, s, Tilt(0.0)).de_dtheta;
+    const double slope = stretch(d.geometry, half_width, p, Tilt(0.0)).de_dtheta;
     out.at_rest += law_stiffness(d.law) * slope * slope;
     out.yielded += law_yielded_stiffness(d.law) * slope * slope;
     out.held_moment += law_force_at_rest(d.law, 0.0) * l;

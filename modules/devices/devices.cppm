@@ -4,7 +4,7 @@
 // centre line), a kinematics that turns the tilt into an elongation, a force
 // law F(e, e', z) with an optional internal state z, and optionally a
 // capacity e_u at which it fractures.
-// Kinematics, rocking about pivot s with lever arm l = B - s x:
+// Kinematics, rocking about pivot p (s = sign(p)) with lever arm l = B - s x:
 //   chord (the paper's damper):  e = 2 l sin(|th| / 2),  de/d|th| = l cos(th / 2);
 //   vertical (free length L):    e = sqrt((L + l sin|th|)^2 + (l (1 - cos th))^2) - L,
 //                                de/d|th| = l ((L + l sin|th|) cos th + l (1 - cos th) sin|th|) / (e + L);
@@ -67,15 +67,15 @@ struct Device {
 };
 
 // The elongation of a device and its derivative with respect to |theta|
-// while rocking about pivot s.
+// while rocking about pivot p.
 struct Stretch {
   double e = 0;          // [m]
   double de_dtheta = 0;  // de / d|theta| [m]
 };
-inline double lever_arm(const DeviceGeometry& g, double half_width, int s) { return half_width - s * g.x; }
+inline double lever_arm(const DeviceGeometry& g, double half_width, Pivot p) { return half_width - sign(p) * g.x; }
 // Inline: it runs in every rocking right-hand side.
-inline Stretch stretch(const DeviceGeometry& g, double half_width, int s, const Tilt& tilt) {
-  const double l = lever_arm(g, half_width, s);
+inline Stretch stretch(const DeviceGeometry& g, double half_width, Pivot p, const Tilt& tilt) {
+  const double l = lever_arm(g, half_width, p);
   if (g.kinematics == Kinematics::chord) return {2.0 * l * std::abs(tilt.sin_half), l * tilt.cos_half};
   const double L = g.free_length, sin_abs = std::abs(tilt.sin()), cos_th = tilt.cos();
   const double rise = L + l * sin_abs, slide = l * (1.0 - cos_th);
@@ -128,7 +128,7 @@ inline double law_yielded_stiffness(const DeviceLaw& law) {  // dF/de once yield
   return std::visit([](const auto& l) { return l.yielded_stiffness(); }, law);
 }
 
-// The devices linearised about theta = 0 while rocking about pivot s
+// The devices linearised about theta = 0 while rocking about pivot p
 // (MODEL.md 8 and 11): the rocking stiffness they add, sum_k k_k (de_k/dth)^2
 // (de/d|th| = l at theta = 0 for both kinematics), with each law's stiffness
 // at rest and once yielded; and the moment their forces at rest hold against
@@ -138,7 +138,7 @@ struct RockingStiffness {
   double held_moment = 0;           // [N m]
   bool any = false;                 // some device acts about this pivot
 };
-RockingStiffness rocking_stiffness(const std::vector<Device>& devices, double half_width, int s);
+RockingStiffness rocking_stiffness(const std::vector<Device>& devices, double half_width, Pivot p);
 
 // The paper's [damper] (MODEL.md 5) as devices: a Bouc-Wen chord device at
 // each edge, "damper_left" at x = -B (stretched about pivot +1, l = 2B) and

@@ -56,7 +56,7 @@ ColumnsOutline columns_outline(const Columns& c, double theta, const Eigen::Vect
     const Turn place(x + s * b, 0.0, theta);
     o.columns.push_back({place(x - b, 0.0), place(x + b, 0.0), place(x + b, top), place(x - b, top)});
   }
-  const BeamMotion m = s == 0 ? BeamMotion{} : beam_motion(c, s, Tilt(theta));
+  const BeamMotion m = s == 0 ? BeamMotion{} : beam_motion(c, s > 0 ? Pivot::right : Pivot::left, Tilt(theta));
   o.beam_shift = {m.dx, m.dy};
   const double reach = (c.axes.size() > 0 ? c.axes.cwiseAbs().maxCoeff() : 0.0) + b;
   o.beam_left = {-reach + m.dx, top + m.dy};

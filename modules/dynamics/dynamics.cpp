@@ -42,8 +42,9 @@ void restoring_force(const StructuralMatrices& sm, const double* u, const double
 
 // The body of rocking_acceleration (below) for static size S.
 template <int S>
-double rocking_acceleration_n(const RockingBody& b, int s, double a_g, double g, double device_moment,
+double rocking_acceleration_n(const RockingBody& b, Pivot p, double a_g, double g, double device_moment,
                               const Coordinates& q, double* vel, double* acc) {
+  const int s = sign(p);
   const Structure& st = b.structure;
   const long n = static_or<S>(q.u.size());
   const double* m = st.masses.data();
@@ -89,8 +90,9 @@ double rocking_acceleration_n(const RockingBody& b, int s, double a_g, double g,
 // same terms as rocking_acceleration_n, each a diagonal or a dot product
 // (Eigen's, vectorised with several partial sums: a plain loop's sum is one
 // chain of dependent additions).
-double rocking_acceleration_modal(const RockingBody& b, int s, double a_g, double g, double device_moment,
+double rocking_acceleration_modal(const RockingBody& b, Pivot p, double a_g, double g, double device_moment,
                                   const Coordinates& q, Eigen::Ref<Eigen::VectorXd> rates) {
+  const int s = sign(p);
   const ModalBasis& md = b.modes;
   const auto& x = q.u;
   const auto& v = q.u_dot;
@@ -239,20 +241,21 @@ void full_contact_acceleration(const RockingBody& b, double a_g, Eigen::Ref<cons
 
 // Unrolled for the node count (static_size.hpp): the right-hand side of
 // every rocking step.
-double rocking_acceleration(const RockingBody& b, int s, GroundAcceleration a, double device_moment, const Coordinates& q,
+double rocking_acceleration(const RockingBody& b, Pivot p, GroundAcceleration a, double device_moment, const Coordinates& q,
                             Eigen::Ref<Eigen::VectorXd> rates) {
   const double g = b.g + a.v;  // the gravity the rocking structure feels (MODEL.md 14)
   if (b.coordinates == ElasticCoordinates::modal)
-    return rocking_acceleration_modal(b, s, a.h, g, device_moment, q, rates);
+    return rocking_acceleration_modal(b, p, a.h, g, device_moment, q, rates);
   double th_ddot = 0;
   const Eigen::Index n = q.u.size();
   with_static_size(n, [&](auto size) {
-    th_ddot = rocking_acceleration_n<decltype(size)::value>(b, s, a.h, g, device_moment, q, rates.data(), rates.data() + n);
+    th_ddot = rocking_acceleration_n<decltype(size)::value>(b, p, a.h, g, device_moment, q, rates.data(), rates.data() + n);
   });
   return th_ddot;
 }
 
-double rigid_rocking_acceleration(const RockingBody& b, int s, GroundAcceleration a, double device_moment, const Tilt& tilt) {
+double rigid_rocking_acceleration(const RockingBody& b, Pivot p, GroundAcceleration a, double device_moment, const Tilt& tilt) {
+  const int s = sign(p);
   const Structure& st = b.structure;
   const double B = st.half_width, c = tilt.cos(), sn = tilt.sin();
   const double BM = B * b.total_mass;
@@ -261,7 +264,8 @@ double rigid_rocking_acceleration(const RockingBody& b, int s, GroundAcceleratio
   return rhs_th / pivot_inertia(st);
 }
 
-double ground_input_power(const RockingBody& b, int s, GroundAcceleration a, const Coordinates& q) {
+double ground_input_power(const RockingBody& b, Pivot p, GroundAcceleration a, const Coordinates& q) {
+  const int s = sign(p);
   const Structure& st = b.structure;
   const double B = st.half_width, c = q.tilt.cos(), sn = q.tilt.sin();
   double Mw = 0, Mu_dot = 0;  // 1'M w, 1'M u'
@@ -286,7 +290,8 @@ double ground_input_power(const RockingBody& b, int s, GroundAcceleration a, con
   return horizontal - a.v * momentum_up;
 }
 
-double mechanical_energy(const RockingBody& b, int s, const Coordinates& q) {
+double mechanical_energy(const RockingBody& b, Pivot p, const Coordinates& q) {
+  const int s = sign(p);
   const Structure& st = b.structure;
   if (b.coordinates == ElasticCoordinates::modal) {
     const double B = st.half_width, thd = q.theta_dot, c = q.tilt.cos(), sn = q.tilt.sin();

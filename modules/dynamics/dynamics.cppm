@@ -104,20 +104,20 @@ void full_contact_acceleration(const RockingBody& b, double a_g, Eigen::Ref<cons
                                Eigen::Ref<const Eigen::VectorXd> u_dot, Eigen::Ref<Eigen::VectorXd> rates);
 
 // (u', u'') into rates (2N entries: u' is a copy of q.u_dot) and th'' as the
-// result, while rocking about pivot s (+1 right, -1 left) with device moment
+// result, while rocking about pivot p (s = sign(p): +1 right, -1 left) with device moment
 // D [N m]. Allocates nothing (it runs in every right-hand side).
-double rocking_acceleration(const RockingBody& b, int s, GroundAcceleration a, double device_moment, const Coordinates& q,
+double rocking_acceleration(const RockingBody& b, Pivot p, GroundAcceleration a, double device_moment, const Coordinates& q,
                             Eigen::Ref<Eigen::VectorXd> rates);
 
-// th'' of a rigid block rocking about pivot s (u = u' = 0).
-double rigid_rocking_acceleration(const RockingBody& b, int s, GroundAcceleration a, double device_moment, const Tilt& tilt);
+// th'' of a rigid block rocking about pivot p (u = u' = 0).
+double rigid_rocking_acceleration(const RockingBody& b, Pivot p, GroundAcceleration a, double device_moment, const Tilt& tilt);
 
 // Power of the ground-acceleration terms of MODEL.md 4 and 14 on (u', th')
 // [W]: -a_g times the horizontal momentum's rate terms, -a_v sum m_i y_i'
 // (full contact: theta = theta' = 0 gives -a_g 1'M u', the heights fixed).
-double ground_input_power(const RockingBody& b, int s, GroundAcceleration a, const Coordinates& q);
+double ground_input_power(const RockingBody& b, Pivot p, GroundAcceleration a, const Coordinates& q);
 
-// Kinetic + gravity (zero at rest) + elastic energy [J]; s is the pivot (any when theta = 0).
-double mechanical_energy(const RockingBody& b, int s, const Coordinates& q);
+// Kinetic + gravity (zero at rest) + elastic energy [J]; p is the pivot (either when theta = 0).
+double mechanical_energy(const RockingBody& b, Pivot p, const Coordinates& q);
 
 }  // namespace rocking

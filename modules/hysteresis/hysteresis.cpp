@@ -18,8 +18,8 @@ double post_yield_rotational_stiffness(const Damper& d, double B) {
 
 double damper_elongation(double B, const Tilt& tilt) { return 4.0 * B * std::abs(tilt.sin_half); }
 
-double damper_rate(double B, const Tilt& tilt, double theta_dot, int s) {
-  return 2.0 * B * tilt.cos_half * s * theta_dot;
+double damper_rate(double B, const Tilt& tilt, double theta_dot, Pivot p) {
+  return 2.0 * B * tilt.cos_half * sign(p) * theta_dot;
 }
 
 }  // namespace rocking

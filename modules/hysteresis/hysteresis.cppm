@@ -35,11 +35,11 @@ double yield_displacement(const Damper& d, double half_width);
 double pre_yield_rotational_stiffness(const Damper& d, double half_width);
 double post_yield_rotational_stiffness(const Damper& d, double half_width);
 
-// Kinematics of the damper of the lifted edge while rocking about pivot s
-// (theta > 0 about the right pivot, s = +1): elongation d = 4B sin(|theta|/2),
-// rate v = 2B cos(theta/2) s theta'.
+// Kinematics of the damper of the lifted edge while rocking about pivot p
+// (theta > 0 about the right pivot, s = sign(p) = +1): elongation
+// d = 4B sin(|theta|/2), rate v = 2B cos(theta/2) s theta'.
 double damper_elongation(double half_width, const Tilt& tilt);
-double damper_rate(double half_width, const Tilt& tilt, double theta_dot, int s);
+double damper_rate(double half_width, const Tilt& tilt, double theta_dot, Pivot p);
 
 // F_hd = k eps d + k (1 - eps) d_y z (Eq. 6) [N]; inline, for the right-hand side.
 inline double damper_force(const Damper& d, double d_y, double elongation, double z) {

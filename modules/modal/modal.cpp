@@ -55,7 +55,7 @@ ModalSummary modal_analysis(const Structure& s, const std::vector<Device>& devic
   for (double l : out.free_rocking.lambda)
     if (l > 0) out.rocking_hz.push_back(std::sqrt(l) / two_pi);
   out.rocking_p = unstable_p(out.free_rocking);
-  for (int side : {0, 1}) out.devices[side] = rocking_stiffness(devices, s.half_width, 2 * side - 1);
+  for (Pivot p : pivots) out.devices[index(p)] = rocking_stiffness(devices, s.half_width, p);
   // The structure rocks about either pivot, and a pivot that no device
   // stretches rocks freely: with devices anywhere, both pivots count. At rest
   // the lower frequency of the two, none when either is unstable; yielded the

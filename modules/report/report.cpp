@@ -386,7 +386,7 @@ BlockSummary block_summary(const Scene& scene) {
   b.p = std::sqrt(b.mass * gravity * b.R / b.J_p);
   b.r_eq10 = restitution_eq10(s);
   // Uplift about the right pivot when m a_g H_cg = m g B + the devices' held moment (MODEL.md 11).
-  b.devices = rocking_stiffness(scene_devices(scene), s.half_width, +1);
+  b.devices = rocking_stiffness(scene_devices(scene), s.half_width, Pivot::right);
   b.uplift_g = (b.mass * gravity * s.half_width + b.devices.held_moment) / (b.mass * b.H_cg * gravity);
   return b;
 }

@@ -1228,7 +1228,7 @@ ContactModel columns_contact_model(const Scene& scene, bool track_energy, std::v
                                  .beam_x = g.beam_x};
       for (Pivot p : pivots)
         d.lever[index(p)] =
-            beam_device_stretch(c, g.x, g.ground_y, g.beam_x, 2 * c.group.half_height, 0.0, sign(p), Tilt(0.0)).de_dtheta;
+            beam_device_stretch(c, g.x, g.ground_y, g.beam_x, 2 * c.group.half_height, 0.0, p, Tilt(0.0)).de_dtheta;
       on->beam_devices.push_back(d);
     }
     m.devices = std::move(devices);

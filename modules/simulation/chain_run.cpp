@@ -317,12 +317,13 @@ class ChainDriver {
       }
       if (!phases_[j].is_rocking()) continue;
       load_block(g, y);
-      const int s = phases_[j].sign();
+      const Pivot p = *phases_[j].pivot();
+      const int s = sign(p);
       const Tilt tilt(y[j]);
       double moment = 0;
       for (const ContactModel::Acting& a : acting(g)) {
         const ContactModel::DeviceTerms dt =
-            a.terms(a, g.discrete, half_width(j), s, tilt, y[n_ + j], g.block.data(), g.rates.data());
+            a.terms(a, g.discrete, half_width(j), p, tilt, y[n_ + j], g.block.data(), g.rates.data());
         moment += dt.moment;
         if (rates) g.power[static_cast<std::size_t>(a.device)] = dt.power;
       }
@@ -660,7 +661,7 @@ class ChainDriver {
           const ContactModel::Acting& dev = acting(at)[static_cast<std::size_t>(d.acting)];
           g[k] = at.discrete.is_broken(dev.device)
                      ? -1.0
-                     : stretch(dev.geometry, half_width(j), phases_[j].sign(), Tilt(q[j])).e - dev.capacity;
+                     : stretch(dev.geometry, half_width(j), *phases_[j].pivot(), Tilt(q[j])).e - dev.capacity;
           break;
         }
       }
@@ -987,7 +988,7 @@ class ChainDriver {
       const Tilt tilt(y[j]);
       for (const ContactModel::Acting& a : acting(g)) {
         if (g.discrete.is_broken(a.device)) continue;
-        const DamperState st = a.state(a, g.discrete, half_width(j), phases_[j].sign(), tilt, y[n_ + j], g.block.data());
+        const DamperState st = a.state(a, g.discrete, half_width(j), *phases_[j].pivot(), tilt, y[n_ + j], g.block.data());
         DeviceSample& out = device_samples_[g.devices[static_cast<std::size_t>(a.device)]];
         out.e = st.elongation;
         out.F = st.force;

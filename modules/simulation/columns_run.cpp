@@ -147,7 +147,7 @@ class ColumnsDriver {
   }
 
  private:
-  int s() const { return phase_.sign(); }
+  Pivot pivot() const { return *phase_.pivot(); }  // while rocking
   // The ground's accelerations at t, the last instant's remembered: a step's
   // last two stages and its end's guards share theirs.
   GroundAcceleration ground_at(double t) const {
@@ -175,7 +175,7 @@ class ColumnsDriver {
     double* rates = dydt != nullptr ? dydt : scratch_.data();
     double moment = 0;
     for (const ContactModel::Acting& a : acting()) {
-      const ContactModel::DeviceTerms t = a.terms(a, devices_, base_half_width(), s(), tilt, y[1], y.data(), rates);
+      const ContactModel::DeviceTerms t = a.terms(a, devices_, base_half_width(), pivot(), tilt, y[1], y.data(), rates);
       moment += t.moment;
       power_[static_cast<std::size_t>(a.device)] = count() * t.power;
     }
@@ -186,7 +186,7 @@ class ColumnsDriver {
         continue;
       }
       const Stretch st = beam_stretch(d, tilt);
-      const double e_dot = st.de_dtheta * s() * y[1];
+      const double e_dot = st.de_dtheta * sign(pivot()) * y[1];
       const LawResponse f = law_force_and_rate(law(d), st.e, e_dot, d.slot ? y[*d.slot] : 0.0);
       if (d.slot) rates[*d.slot] = f.rate;
       moment += f.F * st.de_dtheta;
@@ -195,10 +195,10 @@ class ColumnsDriver {
     return moment;
   }
 
-  // A beam device's law, and its stretch while rocking about s().
+  // A beam device's law, and its stretch while rocking about pivot().
   const DeviceLaw& law(const ColumnsModel::BeamDevice& d) const { return m_.devices[static_cast<std::size_t>(d.device)].law; }
   Stretch beam_stretch(const ColumnsModel::BeamDevice& d, const Tilt& tilt) const {
-    return beam_device_stretch(c_, d.ground_x, d.ground_y, d.beam_x, 2.0 * c_.group.half_height, 0.0, s(), tilt);
+    return beam_device_stretch(c_, d.ground_x, d.ground_y, d.beam_x, 2.0 * c_.group.half_height, 0.0, pivot(), tilt);
   }
 
   // The beam devices' force on the deck (at rest in full contact): each
@@ -212,10 +212,10 @@ class ColumnsDriver {
       double F = law_force(law(d), 0.0, 0.0, z);
       if (phase_.is_rocking()) {
         const Stretch st = beam_stretch(d, tilt);
-        F = law_force(law(d), st.e, st.de_dtheta * s() * y[1], z);
+        F = law_force(law(d), st.e, st.de_dtheta * sign(pivot()) * y[1], z);
       }
       const DeckLoad l =
-          beam_device_load(c_, d.ground_x, d.ground_y, d.beam_x, 2.0 * c_.group.half_height, s(), tilt, F);
+          beam_device_load(c_, d.ground_x, d.ground_y, d.beam_x, 2.0 * c_.group.half_height, phase_, tilt, F);
       total.fx += l.fx;
       total.fy += l.fy;
       total.moment += l.moment;
@@ -236,7 +236,7 @@ class ColumnsDriver {
     } else {
       const double moment = device_terms(y, q.tilt, dydt.data());
       dydt[0] = y[1];
-      dydt[1] = rocking_acceleration(c_, s(), a, moment, q, dydt.segment(u_, 2 * n_));
+      dydt[1] = rocking_acceleration(c_, pivot(), a, moment, q, dydt.segment(u_, 2 * n_));
       if (!m_.devices.empty()) {
         double total = 0;
         for (std::size_t k = 0; k < power_.size(); ++k) {
@@ -246,7 +246,7 @@ class ColumnsDriver {
         dydt[work_ + 2] = total;
       }
     }
-    dydt[work_] = ground_input_power(c_, s(), a, q);
+    dydt[work_] = ground_input_power(c_, phase_, a, q);
     dydt[work_ + 1] = viscous_power(c_, q.u_dot);
   }
 
@@ -268,7 +268,7 @@ class ColumnsDriver {
   }
   TopContact top_forces(GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> y, const Coordinates& q) {
     const double moment = phase_.is_rocking() ? device_terms(y, q.tilt, nullptr) : 0.0;
-    return top_contact_forces_now(c_, s(), a, q, moment, normal_, cm_.beam_devices.empty() ? DeckLoad{} : beam_load(y));
+    return top_contact_forces_now(c_, phase_, a, q, moment, normal_, cm_.beam_devices.empty() ? DeckLoad{} : beam_load(y));
   }
 
   // The deck at an instant: the smallest column-top force and the beam's
@@ -285,7 +285,7 @@ class ColumnsDriver {
   };
   Deck deck_now(GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> y) {
     const Coordinates q = coordinates(y);
-    return {top_forces(a, y, q).smallest, phase_.is_rocking() ? beam_motion(c_, s(), q.tilt).dx : 0.0};
+    return {top_forces(a, y, q).smallest, phase_.is_rocking() ? beam_motion(c_, pivot(), q.tilt).dx : 0.0};
   }
   double remembered_top_force(double t, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> y) {
     Remembered& r = remembered_[next_remembered_];
@@ -322,7 +322,7 @@ class ColumnsDriver {
     y_[1] = init.theta_dot;
   }
 
-  double mechanical() { return mechanical_energy(c_, s(), coordinates(y_)).total(); }
+  double mechanical() { return mechanical_energy(c_, phase_, coordinates(y_)).total(); }
 
   // In full contact (at the start or after an impact): lift now if the uplift
   // condition already holds about one side.
@@ -330,7 +330,7 @@ class ColumnsDriver {
     if (phase_.is_rocking() || !cm_.rocking) return;
     const GroundAcceleration a = ground_at(t);
     for (Pivot p : pivots)
-      if (uplift_guard(c_, sign(p), a, held(p), y_.segment(u_, n_), y_.segment(u_ + n_, n_)) > 0) {
+      if (uplift_guard(c_, p, a, held(p), y_.segment(u_, n_), y_.segment(u_ + n_, n_)) > 0) {
         lift(p, t);
         return;
       }
@@ -413,7 +413,7 @@ class ColumnsDriver {
       const double sd = sign(d.pivot);
       switch (d.what) {
         case ColumnsGuard::uplift:
-          g[k] = uplift_guard(c_, sign(d.pivot), a, held(d.pivot), y.segment(u_, n_), y.segment(u_ + n_, n_));
+          g[k] = uplift_guard(c_, d.pivot, a, held(d.pivot), y.segment(u_, n_), y.segment(u_ + n_, n_));
           break;
         case ColumnsGuard::impact: g[k] = sd * y[0]; break;
         case ColumnsGuard::overturn: g[k] = sd * y[0] - cm_.overturn_angle; break;
@@ -429,7 +429,7 @@ class ColumnsDriver {
           const ContactModel::Acting& dev = acting()[static_cast<std::size_t>(d.acting)];
           g[k] = devices_.is_broken(dev.device)
                      ? -1.0
-                     : stretch(dev.geometry, base_half_width(), s(), Tilt(y[0])).e - dev.capacity;
+                     : stretch(dev.geometry, base_half_width(), pivot(), Tilt(y[0])).e - dev.capacity;
           break;
         }
       }
@@ -497,7 +497,7 @@ class ColumnsDriver {
     const double before = mechanical();
     keep_device_states();
     Eigen::VectorXd u_dot = y_.segment(u_ + n_, n_);
-    const ColumnsImpact out = rocking::impact(c_, sign(p), y_[1], u_dot, cm_.restitution, cm_.theta_dot_min);
+    const ColumnsImpact out = rocking::impact(c_, p, y_[1], u_dot, cm_.restitution, cm_.theta_dot_min);
     y_.segment(u_ + n_, n_) = u_dot;
     set_phase(out.after);
     y_[1] = out.theta_dot;
@@ -561,22 +561,22 @@ class ColumnsDriver {
     double moment = 0;
     for (const ContactModel::Acting& a : acting()) {
       if (devices_.is_broken(a.device)) continue;
-      const DamperState st = a.state(a, devices_, base_half_width(), s(), tilt, y[1], y.data());
-      const double de_dtheta = stretch(a.geometry, base_half_width(), s(), tilt).de_dtheta;
+      const DamperState st = a.state(a, devices_, base_half_width(), pivot(), tilt, y[1], y.data());
+      const double de_dtheta = stretch(a.geometry, base_half_width(), pivot(), tilt).de_dtheta;
       DeviceSample& out = samples_[static_cast<std::size_t>(a.device)];
       out.e = st.elongation;
       out.F = st.force;
-      out.moment = count() * s() * st.force * de_dtheta;
+      out.moment = count() * sign(pivot()) * st.force * de_dtheta;
       moment += out.moment;
     }
     for (const ColumnsModel::BeamDevice& d : cm_.beam_devices) {
       if (devices_.is_broken(d.device)) continue;
       const Stretch st = beam_stretch(d, tilt);
-      const double F = law_force(law(d), st.e, st.de_dtheta * s() * y[1], d.slot ? y[*d.slot] : 0.0);
+      const double F = law_force(law(d), st.e, st.de_dtheta * sign(pivot()) * y[1], d.slot ? y[*d.slot] : 0.0);
       DeviceSample& out = samples_[static_cast<std::size_t>(d.device)];
       out.e = st.e;
       out.F = F;
-      out.moment = s() * F * st.de_dtheta;
+      out.moment = sign(pivot()) * F * st.de_dtheta;
       moment += out.moment;
     }
     return moment;
@@ -603,7 +603,7 @@ class ColumnsDriver {
     r[Quantity::a_g] = ground_.acceleration(t);
     r[Quantity::a_v] = vertical_ ? vertical_->acceleration(t) : 0.0;
     r[Quantity::x_g] = travel_.at(t).d;
-    r[Quantity::energy] = mechanical_energy(c_, s(), coordinates(y)).total();
+    r[Quantity::energy] = mechanical_energy(c_, phase_, coordinates(y)).total();
     r[Quantity::work_ground] = y[work_];
     r[Quantity::work_viscous] = y[work_ + 1];
     r[Quantity::work_devices] = y[work_ + 2];
