@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "chain_reference.hpp"
+#include "chain_reference_from.hpp"
 #include "close.hpp"
 #include "run_program.hpp"
 #include "scene_file.hpp"
@@ -66,22 +67,6 @@ node = 2
 half_width = 0.27
 base_mass = 0.0
 )" + more;
-}
-
-// The same chain in the independent reference's terms, from the model's data.
-chainref::Chain reference_of(const Scene& scene) {
-  const ChainData d = jointed_model(scene).chain.data;
-  chainref::Chain ref;
-  for (const ChainSegment& sg : d.segments) {
-    chainref::Segment s;
-    s.h = sg.base_height;
-    s.B = sg.half_width;
-    s.m0 = sg.base_mass;
-    for (Eigen::Index i = 0; i < sg.masses.size(); ++i) s.masses.emplace_back(sg.heights[i], sg.masses[i]);
-    ref.seg.push_back(s);
-  }
-  ref.g = d.g;
-  return ref;
 }
 
 }  // namespace
@@ -123,7 +108,7 @@ TEST_CASE("a plinth striking while the heavier block on it tips on: every outcom
   CHECK_MESSAGE(ran.result.stated.find("tensile impulse") != std::string::npos, ran.result.stated);
 
   // The reference: free rocking from the same tilts to the first impact.
-  const chainref::Chain ref = reference_of(scene);
+  const chainref::Chain ref = reference_from(jointed_model(scene).chain.data);
   const chainref::Phases before = {-1, -1};
   const chainref::ImpactResult hit =
       chainref::first_impact(ref, before, {th0, th1}, {0.0, 0.0}, 0.0, 2.0, chainref::Ground{});

@@ -47,6 +47,7 @@
 #include <vector>
 
 #include "chain_reference.hpp"
+#include "chain_reference_from.hpp"
 #include "chain_sums.hpp"
 #include "close.hpp"
 #include "csv_table.hpp"
@@ -362,17 +363,7 @@ TEST_CASE("two blocks rocking from a tilt with a Kelvin-Voigt device across join
   REQUIRE(ran.result.counts.impacts >= 1);
   const double t_program = ran.result.first_impact;
   // The reference: the same chain (its segments from the model's data), the device in its own form.
-  const ChainData d = jointed_model(scene).chain.data;
-  chainref::Chain ref;
-  for (const ChainSegment& sg : d.segments) {
-    chainref::Segment s;
-    s.h = sg.base_height;
-    s.B = sg.half_width;
-    s.m0 = sg.base_mass;
-    for (Eigen::Index i = 0; i < sg.masses.size(); ++i) s.masses.emplace_back(sg.heights[i], sg.masses[i]);
-    ref.seg.push_back(s);
-  }
-  ref.g = d.g;
+  const chainref::Chain ref = reference_from(jointed_model(scene).chain.data);
   chainref::Ground ground;  // none
   const auto with = [&](bool device_on) {
     chainref::Chain r = ref;
