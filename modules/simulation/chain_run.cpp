@@ -833,9 +833,9 @@ class ChainDriver {
   }
 
   // Why the momentum law leaves an impact's outcome open, in words: how many
-  // outcomes it admits, and when none, what refused them ("none of the 2
-  // outcomes examined is admissible: 2 need a tensile impulse at joint 1;
-  // 1 opens joint 0 moving shut").
+  // outcomes it admits, and when none, what refused them ("the momentum law
+  // admits none of the 2 outcomes examined (2 with a tensile impulse at
+  // joint 1; 1 with joint 0 opened but moving shut)").
   static std::string undecided_impact(const ImpactOutcome& out) {
     const auto admitted = std::ranges::count_if(out.candidates, [](const ImpactCandidate& c) { return c.consistent; });
     if (admitted > 0)
