@@ -842,6 +842,22 @@ ChainAtRest chain_at_rest(const Chain& c) {
   return out;
 }
 
+Eigen::MatrixXd chain_mass_at_rest(const Chain& c, ChainPhases phases) {
+  const int n = c.size;
+  ChainWorkspace w = make_workspace(c);
+  w.per_point = true;  // every mass point's own Jacobian
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
+  kinematics(c, phases, zero, zero, n, w);
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(n, n);
+  for (int i = 0; i < c.points; ++i) {
+    const double m = point_mass(c, i);
+    for (int k = 0; k < n; ++k)
+      for (int l = 0; l < n; ++l)
+        M(k, l) += m * (w.jac(2 * i, k) * w.jac(2 * i, l) + w.jac(2 * i + 1, k) * w.jac(2 * i + 1, l));
+  }
+  return M;
+}
+
 void chain_acceleration(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
                         Eigen::Ref<const Eigen::VectorXd> q_dot, Eigen::Ref<Eigen::VectorXd> q_ddot, ChainWorkspace& w,
                         ChainPower* power) {

@@ -251,6 +251,14 @@ struct ChainAtRest {
 };
 ChainAtRest chain_at_rest(const Chain& c);
 
+// The mass matrix sum m_i J_i'J_i on every coordinate (size x size) at rest
+// (q = q' = 0) in the given phases: a rocking joint's theta turns the part
+// above about its corner; a closed joint's rows and columns are its rotation
+// about its centre (which its constraint then holds). What rosw's linear
+// solves take for the inertia of the current phases (docs/chain.md "Stiff
+// steps").
+Eigen::MatrixXd chain_mass_at_rest(const Chain& c, ChainPhases phases);
+
 // Tendon k's elongation e [m] and force [N].
 double tendon_elongation(const Chain& c, ChainPhases phases, int k, Eigen::Ref<const Eigen::VectorXd> q,
                          ChainWorkspace& w);

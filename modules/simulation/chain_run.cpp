@@ -104,7 +104,19 @@ class ChainDriver {
     auto rhs = [this](double t, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& dydt) {
       derivatives(t, y, dydt);
     };
-    integrator_ = motion_integrator(o, ground, size_, rhs, motion_tolerances(o, ground, work_));
+    // The one-joint structure's choice (choose_backend: rosw when the fixed-base
+    // modes would hold rk45's steps far below the record's), and rosw solves
+    // with the stiff elastic part of the current phases. Unlike a one-joint
+    // structure's, an automatic rosw keeps the exact closed steps below.
+    const ode::Backend backend = choose_backend(m, ground, o.backend);
+    ode::LinearSolve stiff;
+    if (backend == ode::Backend::rosw && n_ > c_.joints) {
+      stiff_ = std::make_unique<ChainStiff>(c_);
+      stiff = [this](double g, Eigen::Ref<const Eigen::VectorXd> b, Eigen::Ref<Eigen::VectorXd> x) {
+        stiff_->solve(phases_, g, b, x);
+      };
+    }
+    integrator_ = motion_integrator(backend, ground, size_, rhs, motion_tolerances(o, ground, work_), std::move(stiff));
     t_end_ = run_end(o, ground);
     // Every joint closed under a piecewise-linear record (no vertical
     // shaking, no tendons: their forces are not linear): the chain
@@ -1126,6 +1138,7 @@ class ChainDriver {
     std::vector<Margins> margins;
     bool trusted = true;
   } linear_;
+  std::unique_ptr<ChainStiff> stiff_;                    // rosw's linear solves
   std::unique_ptr<ode::Integrator> integrator_, exact_;  // the backend; every joint closed under a record
   ode::Integrator* active_ = nullptr;                    // the one stepping the current phases
   double t_end_ = 0, tendons_initial_ = 0;

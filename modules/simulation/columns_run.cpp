@@ -100,7 +100,8 @@ class ColumnsDriver {
     auto rhs = [this](double t, const Eigen::Ref<const Eigen::VectorXd>& y, Eigen::Ref<Eigen::VectorXd>&& dydt) {
       derivatives(t, y, dydt);
     };
-    integrator_ = motion_integrator(o, ground, size_, rhs, motion_tolerances(o, ground, work_));
+    integrator_ = motion_integrator(o.backend == ode::Backend::automatic ? ode::Backend::rk45 : o.backend, ground, size_,
+                                    rhs, motion_tolerances(o, ground, work_));
     t_end_ = run_end(o, ground);
     // Full contact of a flexible structure under a piecewise-linear record:
     // the structure on the still beam is MODEL.md 3's linear system, stepped

@@ -29,10 +29,10 @@ ode::Options motion_tolerances(const RunOptions& o, const GroundMotion& ground, 
   return t;
 }
 
-std::unique_ptr<ode::Integrator> motion_integrator(const RunOptions& o, const GroundMotion& ground, Eigen::Index size,
-                                                   ode::Rhs rhs, const ode::Options& tolerances) {
-  const ode::Backend backend = o.backend == ode::Backend::automatic ? ode::Backend::rk45 : o.backend;
-  std::unique_ptr<ode::Integrator> integrator = ode::make_integrator(backend, size, std::move(rhs), tolerances);
+std::unique_ptr<ode::Integrator> motion_integrator(ode::Backend backend, const GroundMotion& ground, Eigen::Index size,
+                                                   ode::Rhs rhs, const ode::Options& tolerances, ode::LinearSolve stiff) {
+  std::unique_ptr<ode::Integrator> integrator =
+      ode::make_integrator(backend, size, std::move(rhs), tolerances, std::move(stiff));
   integrator->set_breakpoints(record_samples(ground));
   return integrator;
 }

@@ -43,6 +43,7 @@ export import rocking.quantities;
 export import rocking.contact;
 export import rocking.sundials;
 export import rocking.ground_motion;
+export import :chain_stiff;
 
 export namespace rocking {
 
@@ -310,10 +311,11 @@ GroundAcceleration ground_at(const GroundMotion& ground, const GroundMotion* ver
 // vertical motion's), the error measured on the first `steering` components
 // only (the energy accumulators after them are integrals nothing depends on).
 ode::Options motion_tolerances(const RunOptions& o, const GroundMotion& ground, Eigen::Index steering);
-// The backend asked for (automatic: rk45; rosw without a stiff part is its
+// The backend `backend` (rosw solves with `stiff`, without one it is its
 // explicit order-3 method), stopping at every sample of the records.
-std::unique_ptr<ode::Integrator> motion_integrator(const RunOptions& o, const GroundMotion& ground, Eigen::Index size,
-                                                   ode::Rhs rhs, const ode::Options& tolerances);
+std::unique_ptr<ode::Integrator> motion_integrator(ode::Backend backend, const GroundMotion& ground, Eigen::Index size,
+                                                   ode::Rhs rhs, const ode::Options& tolerances,
+                                                   ode::LinearSolve stiff = {});
 // Where the run ends: the duration asked for, else the motion's.
 double run_end(const RunOptions& o, const GroundMotion& ground);
 // One more phase change at t: RunError beyond the run's limit (chattering).
