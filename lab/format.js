@@ -251,12 +251,20 @@ export function describeRun(data) {
       `they tilt together about their bottom corners, and the cap beam on their tops moves sideways${beam} without tilting, ` +
       'the structure upright on it.' : '';
     const counted = (k, word) => `${k} ${word}${k === 1 ? '' : 's'}`;
-    return `${who}: ${s.outcome}, ${counted(s.counts.uplifts, 'uplift')} and ${counted(s.counts.impacts, 'impact')}` +
+    const stated = outcomeStatement(s);
+    return `${who}: ${s.outcome}${stated ? ` (${stated})` : ''}, ${counted(s.counts.uplifts, 'uplift')} and ${counted(s.counts.impacts, 'impact')}` +
       (peaks.length ? `; ${peaks.join(', ')}` : '') + `.${columns}`;
   };
   let text = one(data, 'This run');
   if (data.twin) text += ` ${one(data.twin, `Its twin (${data.twin.variant})`)}`;
   return text;
+}
+
+// The sentence a run that ended short of its duration states (summary.json's
+// separation, sliding or undecided: where and why), or '' for a run that
+// completed or overturned, which its outcome says in full.
+export function outcomeStatement(summary) {
+  return summary.separation || summary.sliding || summary.undecided || '';
 }
 
 // What each peak of the summary means, in words (the table's tooltips; the
@@ -282,7 +290,9 @@ export const peakWords = {
   'beam.x': 'how far the cap beam on the columns\' tops moves sideways (it does not tilt)',
   a_g: 'the ground\'s horizontal acceleration',
   a_v: 'the ground\'s vertical acceleration',
-  outcome: 'what the run ended in: survived or overturned',
+  outcome: 'what the run ended in: completed (rocked or not, and stayed up), overturned, or, for a structure with joints, ' +
+    'separated (a part would leave its joint), sliding (a joint would slide past its friction limit) or undecided ' +
+    '(an impact the model cannot settle): the model stops there and says where',
   counts: 'uplifts: a corner of the base leaving the ground; impacts: the base landing again',
 };
 

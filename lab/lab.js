@@ -6,7 +6,7 @@
 import {
   formatG, buildRequest, twinChoices, tendonOf, damperDevices, peakOf, exaggeration, bodyPoints, pulses, ownPulse, groundStill,
   forStudents, axisRange, describeRun, peakTitle, groundDrawn, scaleBar, drawnRows, energyBars, chartsFrom, columnOf,
-  chainPoints, columnsPoints, columnsThetaOf, twinRequest, otherOverrides,
+  chainPoints, columnsPoints, columnsThetaOf, twinRequest, otherOverrides, outcomeStatement,
 } from './format.js';
 import { lessons } from './lessons.js';
 
@@ -138,7 +138,8 @@ async function rerun(started = performance.now()) {
       state.runs += 1;
       state.redrawMs = performance.now() - started;
       const s = body.summary;
-      setStatus(`${s.outcome}; run ${formatG(s.wall_s * 1000, 3)} ms, re-run and redraw ${Math.round(state.redrawMs)} ms`, 'ready');
+      const stated = outcomeStatement(s);
+      setStatus(`${s.outcome}${stated ? ` (${stated})` : ''}; run ${formatG(s.wall_s * 1000, 3)} ms, re-run and redraw ${Math.round(state.redrawMs)} ms`, 'ready');
       $('status').dataset.runs = state.runs;
       $('status').dataset.redrawMs = state.redrawMs.toFixed(1);
     }

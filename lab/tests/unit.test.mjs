@@ -8,7 +8,7 @@ import { fileURLToPath } from 'node:url';
 import {
   formatG, buildRequest, twinChoices, exaggeration, bodyPoints, splitOverrides, forStudents, axisRange, describeRun, groundStill,
   drawnRows,
-  chartsFrom, energyBars, chainPoints, segmentTop, columnsPoints, columnsThetaOf, twinRequest,
+  chartsFrom, energyBars, chainPoints, segmentTop, columnsPoints, columnsThetaOf, twinRequest, outcomeStatement,
 } from '../format.js';
 import { lessons } from '../lessons.js';
 
@@ -368,4 +368,15 @@ test('lesson 7 answers its prediction from the run, and says so when its twin (t
   assert.equal(choice({ ...run('overturned', 3), twin: run('overturned', 2) }), 'neither');
   assert.match(lesson.predict.because({ ...run('completed', 15), twin: run('overturned', 2) }), /overturned at t = 2 s/);
   assert.match(lesson.predict.because({ ...run('completed', 15), twin: null }), /were not run/);
+});
+
+test('a run that stops short states where and why: the status and the description carry the summary\'s sentence', () => {
+  const said = 'joint 0 at t = 0.458 s: its normal force N reached 0, so the part above would leave it';
+  const run = (outcome, extra) => ({ summary: { outcome, counts: { uplifts: 2, impacts: 1 }, peaks: {}, ...extra } });
+  for (const key of ['separation', 'sliding', 'undecided']) {
+    assert.equal(outcomeStatement(run('x', { [key]: said }).summary), said);
+    assert.match(describeRun(run('x', { [key]: said })), new RegExp(`This run: x \\(${said.replace(/[.()]/g, '\\$&')}\\), 2 uplifts`));
+  }
+  assert.equal(outcomeStatement(run('completed', {}).summary), '');
+  assert.match(describeRun(run('completed', {})), /^This run: completed, 2 uplifts and 1 impact\./);
 });
