@@ -232,7 +232,7 @@ TEST_CASE("an impact the momentum law admits no outcome for, with no joint tensi
       if (!tensile) tensile_in_all[static_cast<std::size_t>(k)] = 0;
     }
     CHECK(fails);
-    CHECK(!cand.consistent);
+    CHECK(!cand.consistent());
   }
   // No joint is tensile in every candidate: the impact throws no one part off, so the run cannot end separated.
   CHECK(std::ranges::count(tensile_in_all, 1) == 0);

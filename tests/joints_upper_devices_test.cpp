@@ -345,10 +345,10 @@ TEST_CASE("an impact at joint 1 with the base rocking: the momentum law's one ad
   // Closing joint 1 with the others closed sends joints 2 and 3 past their corners; opening both (where the
   // sequence of openings stops) leaves joint 3 moving shut: neither is admissible.
   const ImpactCandidate closed = impact_into(c, before, 1, std::vector<Phase>{left, shut, shut, shut}, q, qd);
-  CHECK(!closed.consistent);
+  CHECK(!closed.consistent());
   for (int k : {2, 3}) CHECK(std::abs(closed.impulse[k].M) > c.data.segments[k].half_width * closed.impulse[k].N);
   const ImpactCandidate both = impact_into(c, before, 1, std::vector<Phase>{left, shut, right, right}, q, qd);
-  CHECK(!both.consistent);
+  CHECK(!both.consistent());
   CHECK(both.q_dot[3] < 0);
 }
 

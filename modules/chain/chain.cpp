@@ -1013,7 +1013,6 @@ ImpactCandidate impact_with(const Chain& c, ChainPhases before, int joint, Chain
   out.impulse.resize(c.joints);
   out.refused.assign(static_cast<std::size_t>(c.joints), ImpactCandidate::Refusal::none);
   const double tol = 1e-10 * momentum;
-  out.consistent = true;
   for (int j = 0; j < c.joints; ++j) {
     JointReaction& r = out.impulse[j];
     r.V = impulse(c.size + 2 * j);
@@ -1028,7 +1027,6 @@ ImpactCandidate impact_with(const Chain& c, ChainPhases before, int joint, Chain
     else if (closed(after[j]) && std::abs(r.M) > B * r.N + B * tol) refused = past_corner;
     else if (opened && after[j].sign() * out.q_dot[j] < -1e-12 * std::abs(q_dot[joint])) refused = shutting;
     out.refused[static_cast<std::size_t>(j)] = refused;
-    if (refused != none) out.consistent = false;
   }
   return out;
 }
@@ -1062,7 +1060,7 @@ ImpactOutcome chain_impact(const Chain& c, ChainPhases before, int joint, Eigen:
   // Joint j continues about -s or closes; every other closed joint stays
   // closed or opens about either corner (impact-induced uplift); the joints
   // already rocking keep their pivots (theta != 0 there). Every combination
-  // is examined, and the admissible ones (impact_into's `consistent`) counted.
+  // is examined, and the admissible ones (impact_into's `consistent()`) counted.
   std::vector<int> others;  // the closed joints that may open
   for (int k = 0; k < c.joints; ++k)
     if (k != joint && closed(before[k]) && !(k == 0 && c.data.base_held)) others.push_back(k);
@@ -1083,7 +1081,7 @@ ImpactOutcome chain_impact(const Chain& c, ChainPhases before, int joint, Eigen:
       after[k] = d == 0 ? Phase::full_contact() : Phase::rocking(d == 1 ? Pivot::right : Pivot::left);
     }
     out.candidates.push_back(impact_with(c, before, joint, after, q, q_dot, b, w));
-    if (out.candidates.back().consistent) good.push_back(out.candidates.size() - 1);
+    if (out.candidates.back().consistent()) good.push_back(out.candidates.size() - 1);
   }
   if (good.size() == 1) {
     out.status = ImpactStatus::unique;

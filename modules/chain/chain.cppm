@@ -195,13 +195,18 @@ struct ImpactCandidate {
   std::vector<Phase> phases;        // after the impact
   Eigen::VectorXd q_dot;            // after the impact
   std::vector<JointReaction> impulse;  // per joint [N s] (M: [N m s])
-  bool consistent = false;
   // Why an outcome is not admissible, joint by joint (none where the joint's
   // condition holds): a tensile impulse (the part above would be thrown off
   // the joint), a closed joint's resultant past its corner, or a joint the
   // impact opens moving shut.
   enum class Refusal { none, tensile, past_corner, shutting };
   std::vector<Refusal> refused;
+  // Admissible: no joint refuses it.
+  bool consistent() const {
+    for (Refusal r : refused)
+      if (r != Refusal::none) return false;
+    return true;
+  }
 };
 std::string refusal_words(ImpactCandidate::Refusal r, int joint);  // "a tensile impulse at joint 1", ...
 enum class ImpactStatus { unique, non_unique, none };
@@ -217,7 +222,7 @@ struct ImpactOutcome {
 ImpactOutcome chain_impact(const Chain& c, ChainPhases before, int joint, Eigen::Ref<const Eigen::VectorXd> q,
                            Eigen::Ref<const Eigen::VectorXd> q_dot, double restitution = -1);
 // Velocities after an impact into the given phases (the momentum law), with the
-// impulses; `consistent` tells whether the outcome is admissible.
+// impulses; `consistent()` tells whether the outcome is admissible.
 ImpactCandidate impact_into(const Chain& c, ChainPhases before, int joint, ChainPhases after,
                             Eigen::Ref<const Eigen::VectorXd> q, Eigen::Ref<const Eigen::VectorXd> q_dot);
 

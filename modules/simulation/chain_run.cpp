@@ -849,7 +849,7 @@ class ChainDriver {
   // admits none of the 2 outcomes examined (2 with a tensile impulse at
   // joint 1; 1 with joint 0 opened but moving shut)").
   static std::string undecided_impact(const ImpactOutcome& out) {
-    const auto admitted = std::ranges::count_if(out.candidates, [](const ImpactCandidate& c) { return c.consistent; });
+    const auto admitted = std::ranges::count_if(out.candidates, [](const ImpactCandidate& c) { return c.consistent(); });
     if (admitted > 0)
       return fmt::format("the momentum law admits {} of the {} outcomes examined", admitted, out.candidates.size());
     std::map<std::pair<ImpactCandidate::Refusal, std::size_t>, int> why;
