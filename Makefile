@@ -2,7 +2,7 @@
 # CMake 4.3 lives in .tools/bin (installed by scripts/setup.sh).
 export PATH := $(CURDIR)/.tools/bin:$(PATH)
 
-.PHONY: all setup configure build program test demo bench golden sanitize fuzz pgo clean
+.PHONY: all setup configure build program test demo bench golden sanitize fuzz pgo extension-check clean
 all: build
 
 setup:
@@ -45,6 +45,14 @@ fuzz: setup
 	@cmake --preset sanitize >/dev/null
 	@cmake --build --preset sanitize --target record_fuzz scene_fuzz set_override_fuzz number_list_fuzz cyclic_test_fuzz device_set_fuzz option_value_fuzz processing_fuzz lab_request_fuzz history_csv_fuzz study_csv_fuzz
 	@bash scripts/fuzz.sh $(FUZZ_SECONDS)
+
+# A new history quantity in 2 files reaches history.csv, the response figure
+# and the lab: tests/extension/new_quantity.patch applied to a scratch copy of
+# the committed tree (under build/, removed after), the program built there
+# (the quick preset) and run (scripts/extension_check.sh). Not in make test:
+# it builds the program once more.
+extension-check: setup
+	@bash scripts/extension_check.sh
 
 # Reruns the paper's checks and the README's suite study, rewrites
 # tests/golden/paper_checks.tsv and tests/golden/suite_fragility.csv, and prints

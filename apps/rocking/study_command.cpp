@@ -264,154 +264,251 @@ std::string unreadable(const Study& st, const std::vector<std::string>& ids) {
 
 void write_azimuth_summary(const fs::path& study_csv, const fs::path& out);
 
-int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, const std::string& scene_name,
-               const MpiWorld& world) {
+// A ladder as it will run, everything it is refused for checked before any
+// run: its levels (the largest checked against the study), the fragility's
+// options, the resurrection rule, its jobs (at most --max-runs), the figures'
+// formats, and --resume under mpirun.
+struct LadderPlan {
+  FragilityOptions fragility;
+  Resurrection resurrection = Resurrection::first;
+  Ladder ladder;
+  std::vector<std::string> ids;  // the records' ids, as rows name them
+  int threads = 1;
+};
+
+LadderPlan plan_study_ladder(const StudyArgs& a, const Study& st, const MpiWorld& world) {
   const std::vector<double> levels = study_levels(a, st.intensity_measure());
-  const FragilityOptions fragility_opts = fragility_options(a);  // refused before any run
-  const Resurrection resurrection = parse_resurrection(a.resurrection);
-  const Ladder ladder = plan_ladder(st, levels, a.limit_states);
+  LadderPlan plan;
+  plan.fragility = fragility_options(a);
+  plan.resurrection = parse_resurrection(a.resurrection);
+  plan.ladder = plan_ladder(st, levels, a.limit_states);
   st.check_level(*std::max_element(levels.begin(), levels.end()), a.scales.empty() ? "--levels" : "--scales");
-  const std::vector<Job>& jobs = ladder.jobs;
-  if (static_cast<double>(jobs.size()) > a.max_runs)
+  const std::size_t jobs = plan.ladder.jobs.size();
+  if (static_cast<double>(jobs) > a.max_runs)
     throw InputError(fmt::format("{} runs ({} records x {} levels x {} variants): more than --max-runs {:g}; raise it "
                                  "to run them all",
-                                 jobs.size(), st.records().size(), levels.size(), st.variants().size(), a.max_runs));
-  const std::vector<std::string> ids = record_ids(st.records());
-  const int threads = thread_count(a.threads);
-  if (!a.no_plot) plot::parse_formats(a.formats);  // refused before any run
+                                 jobs, st.records().size(), levels.size(), st.variants().size(), a.max_runs));
+  plan.ids = record_ids(st.records());
+  plan.threads = thread_count(a.threads);
+  if (!a.no_plot) plot::parse_formats(a.formats);
   if (a.resume && world.size > 1) throw InputError("--resume: run it as one process (not under mpirun)");
-  const fs::path dir(a.out), csv_file = dir / (kind + ".csv"), timing_file = dir / "timing.csv";
-  std::optional<FolderLock> lock;
-  if (world.rank == 0) {
-    make_output_dir(dir);
-    lock.emplace(dir);
-    check_outputs_free(dir, {kind + ".csv", kind + ".csv.partial", "timing.csv", "timing.csv.partial", "records.csv",
-                             "summary.csv", "fragility.csv", "fragility_points.csv", "summary.json", "inputs.txt"});
-    record_inputs(dir, inputs_of(a, st, kind), a.resume);
-  }
-  const StudyColumns& columns = ladder.columns;
-  const Resumed resumed = a.resume ? read_resumed(csv_file, timing_file, jobs, ids, st, columns) : Resumed{};
-  const std::size_t first = resumed.rows.size();
-  if (world.size == 1) catch_stop_signals();
+  return plan;
+}
+
+// The study's folder, claimed by rank 0: made, locked against a second study
+// writing into it, its files checked free (or those of the study resumed),
+// and the inputs that make the study what it is recorded. The lock is held
+// while the answer lives.
+std::unique_ptr<FolderLock> claim_study_folder(const StudyArgs& a, const Study& st, const std::string& kind,
+                                               const MpiWorld& world) {
+  if (world.rank != 0) return nullptr;
+  const fs::path dir(a.out);
+  make_output_dir(dir);
+  auto lock = std::make_unique<FolderLock>(dir);
+  check_outputs_free(dir, {kind + ".csv", kind + ".csv.partial", "timing.csv", "timing.csv.partial", "records.csv",
+                           "summary.csv", "fragility.csv", "fragility_points.csv", "summary.json", "inputs.txt"});
+  record_inputs(dir, inputs_of(a, st, kind), a.resume);
+  return lock;
+}
+
+// The jobs this process runs, from the first not done before: under mpirun
+// rank r runs the jobs i with i % size == r.
+std::vector<std::size_t> jobs_of_this_rank(std::size_t first, std::size_t count, const MpiWorld& world) {
   std::vector<std::size_t> mine;
-  for (std::size_t i = first; i < jobs.size(); ++i)
+  for (std::size_t i = first; i < count; ++i)
     if (static_cast<int>(i % static_cast<std::size_t>(world.size)) == world.rank) mine.push_back(i);
-  if (world.rank == 0)
-    spdlog::info("{}: {} jobs on {} thread(s){}{}", kind, jobs.size() - first, threads,
-                 world.size > 1 ? fmt::format(" x {} processes", world.size) : "",
-                 first > 0 ? fmt::format(" ({} done before, resumed)", first) : "");
-  // A single process streams its rows and timings (a long study shows them
-  // as they come) into temporary files, renamed when the study ends or stops,
-  // and keeps of each job only its cell of the summary (and its row when it
-  // draws one figure per record): memory does not grow with the number of
-  // jobs. Under mpirun, rank 0 gathers the rows' text and reads them back.
-  const std::size_t nr = st.records().size();
-  const bool per_record_figures = !a.no_plot && (nr <= 3 || a.per_record);
-  StudySummary summary(st, levels, ladder.limits, resurrection);
-  std::vector<std::pair<long, std::string>> rows, timings;
-  std::vector<StudyRow> figure_rows(per_record_figures ? jobs.size() : 0);
-  std::size_t failed = 0;
-  for (std::size_t i = 0; i < first; ++i) {
-    const StudyRow& row = resumed.results[i];
-    summary.add(jobs[i], row);
+  return mine;
+}
+
+// Where a ladder's rows go as they come. A single process streams its rows
+// and timings (a long study shows them as they come) into temporary files,
+// renamed when the study ends or stops, and keeps of each job only its cell of
+// the summary (and its row when it draws one figure per record): memory does
+// not grow with the number of jobs. Under mpirun each rank keeps its rows'
+// text; rank 0 gathers them, writes them in job order and reads them back.
+class LadderSink {
+ public:
+  LadderSink(const Study& st, const LadderPlan& plan, const fs::path& csv_file, const fs::path& timing_file,
+             bool one_figure_per_record, const MpiWorld& world)
+      : summary(st, plan.ladder.levels, plan.ladder.limits, plan.resurrection),
+        per_record_figures(one_figure_per_record),
+        figure_rows(one_figure_per_record ? plan.ladder.jobs.size() : 0),
+        st_(st), plan_(plan), world_(world), csv_file_(csv_file), timing_file_(timing_file),
+        partial_(csv_file.string() + ".partial"), timing_partial_(timing_file.string() + ".partial") {}
+
+  StudySummary summary;
+  const bool per_record_figures;
+  std::vector<StudyRow> figure_rows;  // every job's row when one figure per record is drawn
+  std::size_t failed = 0;             // runs that could not run
+
+  // The rows an interrupted study left, counted as if they had just run; a
+  // single process opens its files with them (rank 0 under mpirun opens its
+  // after the gather).
+  void start(const Resumed& resumed) {
+    const std::size_t first = resumed.rows.size();
+    for (std::size_t i = 0; i < first; ++i) count(i, resumed.results[i]);
+    if (world_.size != 1) return;
+    open();
+    if (!csv_ || !timing_) throw InputError(fmt::format("{}: cannot write", (!csv_ ? partial_ : timing_partial_).string()));
+    for (const std::string& r : resumed.rows) csv_ << r;
+    csv_ << std::flush;
+    for (std::size_t i = 0; i < first; ++i) timing_ << (i < resumed.timings.size() ? resumed.timings[i] : std::string());
+  }
+
+  // What a single process's run adds to the summary as it emits (none under
+  // mpirun: rank 0 adds the rows it reads back).
+  StudySummary* summary_of_runs() { return world_.size == 1 ? &summary : nullptr; }
+
+  // Job i's result, as the ladder emits it in job order.
+  void emit(std::size_t i, const JobResult& r) {
+    const Job& job = plan_.ladder.jobs[i];
+    const std::string text = study_csv_row(st_, plan_.ladder.columns, plan_.ids, job, r);
+    const std::string time = fmt::format("{},{:.6f}\n", job_fields(st_, plan_.ids, job), r.run.wall_s);
+    if (world_.size == 1) {
+      csv_ << text << std::flush;
+      timing_ << time;
+      failed += r.error.empty() ? 0 : 1;
+      if (per_record_figures) figure_rows[i] = written_row(plan_.ladder.columns, job, r);
+    } else {
+      rows_.emplace_back(static_cast<long>(i), text);
+      timings_.emplace_back(static_cast<long>(i), time);
+    }
+  }
+
+  // Under mpirun, every rank's rows to rank 0, written there in job order.
+  void gather() {
+    if (world_.size == 1) return;
+    gathered_ = gather_rows(world_, rows_);
+    MpiRows all_timings = gather_rows(world_, timings_);
+    std::sort(gathered_.begin(), gathered_.end());
+    std::sort(all_timings.begin(), all_timings.end());
+    if (world_.rank != 0) return;
+    open();
+    for (const auto& [i, text] : gathered_) csv_ << text;
+    for (const auto& [i, text] : all_timings) timing_ << text;
+  }
+
+  // The temporary files closed and renamed into place (rank 0).
+  void close() {
+    csv_.close();
+    timing_.close();
+    if (!csv_ || !timing_) throw RunError(fmt::format("{}: cannot write", (!csv_ ? partial_ : timing_partial_).string()));
+    fs::rename(partial_, csv_file_);
+    fs::rename(timing_partial_, timing_file_);
+  }
+
+  // Under mpirun, rank 0 reads back the rows the ranks wrote into the summary.
+  void read_back_gathered() {
+    for (const auto& [i, text] : gathered_) count(static_cast<std::size_t>(i), read_study_row(plan_.ladder.columns, text));
+  }
+
+ private:
+  static constexpr const char* timing_header = "record,scale,variant,im,level,record_im,wall_s\n";
+
+  // The temporary files, with their headers; a file that cannot be written
+  // shows when they are closed.
+  void open() {
+    csv_.open(partial_);
+    timing_.open(timing_partial_);
+    csv_ << study_csv_header(plan_.ladder.columns);
+    timing_ << timing_header;
+  }
+
+  // A row read back (resumed, or gathered) into the summary and the counts.
+  void count(std::size_t i, const StudyRow& row) {
+    summary.add(plan_.ladder.jobs[i], row);
     failed += row.ran ? 0 : 1;
     if (per_record_figures) figure_rows[i] = row;
   }
-  const char* timing_header = "record,scale,variant,im,level,record_im,wall_s\n";
-  const fs::path partial = csv_file.string() + ".partial", timing_partial = timing_file.string() + ".partial";
-  std::ofstream csv, timing;
-  if (world.size == 1) {
-    csv.open(partial);
-    timing.open(timing_partial);
-    if (!csv || !timing) throw InputError(fmt::format("{}: cannot write", (!csv ? partial : timing_partial).string()));
-    csv << study_csv_header(columns);
-    for (const std::string& r : resumed.rows) csv << r;
-    csv << std::flush;
-    timing << timing_header;
-    for (std::size_t i = 0; i < first; ++i) timing << (i < resumed.timings.size() ? resumed.timings[i] : std::string());
-  }
-  Progress progress(world.rank == 0 && spdlog::get_level() <= spdlog::level::info);
-  // Rows in job order up to the first run a stop cut short: that one and any
-  // after it are left for --resume (rocking.study_run). Under mpirun rank 0
-  // summarises the gathered rows.
-  const std::size_t emitted = rocking::run_ladder(
-      st, ladder, mine, threads, world.size == 1 ? &summary : nullptr,
-      [&](std::size_t i, const JobResult& r) {
-        const std::string text = study_csv_row(st, columns, ids, jobs[i], r);
-        const std::string time = fmt::format("{},{:.6f}\n", job_fields(st, ids, jobs[i]), r.run.wall_s);
-        if (world.size == 1) {
-          csv << text << std::flush;
-          timing << time;
-          failed += r.error.empty() ? 0 : 1;
-          if (per_record_figures) figure_rows[i] = written_row(columns, jobs[i], r);
-        } else {
-          rows.emplace_back(static_cast<long>(i), text);
-          timings.emplace_back(static_cast<long>(i), time);
-        }
-      },
-      {.progress = [&](std::size_t done, std::size_t total) { progress(done, total); },
-       .stop = [] { return stop_signal() != 0; }});
-  MpiRows gathered;
-  if (world.size > 1) {
-    gathered = gather_rows(world, rows);
-    auto all_timings = gather_rows(world, timings);
-    std::sort(gathered.begin(), gathered.end());
-    std::sort(all_timings.begin(), all_timings.end());
-    if (world.rank == 0) {
-      csv.open(partial);
-      timing.open(timing_partial);
-      csv << study_csv_header(columns);
-      for (const auto& [i, text] : gathered) csv << text;
-      timing << timing_header;
-      for (const auto& [i, text] : all_timings) timing << text;
-    }
-  }
-  if (world.rank != 0) return 0;
-  csv.close();
-  timing.close();
-  if (!csv || !timing) throw RunError(fmt::format("{}: cannot write", (!csv ? partial : timing_partial).string()));
-  fs::rename(partial, csv_file);
-  fs::rename(timing_partial, timing_file);
-  if (!a.azimuths.empty()) write_azimuth_summary(csv_file, dir / "azimuths.csv");
-  // What each record id is, as its file says (rows name records by id).
-  write_text(dir / "records.csv", records_csv(st, ids));
-  if (emitted < mine.size()) {  // stopped by a signal (one process: mine is every job left)
-    const std::size_t done = first + emitted;
-    const int signal = stop_signal();
-    fmt::print(stderr, "rocking: stopped by {} after {} of {} runs; {} holds them; continue with the same command and "
-                       "--resume\n",
-               stop_signal_name(signal), done, jobs.size(), csv_file.string());
-    return stop_exit_code(signal);
-  }
-  if (world.size > 1)  // rank 0 reads back the rows the ranks wrote
-    for (const auto& [i, text] : gathered) {
-      const auto k = static_cast<std::size_t>(i);
-      const StudyRow row = read_study_row(columns, text);
-      summary.add(jobs[k], row);
-      failed += row.ran ? 0 : 1;
-      if (per_record_figures) figure_rows[k] = row;
-    }
+
+  const Study& st_;
+  const LadderPlan& plan_;
+  const MpiWorld& world_;
+  fs::path csv_file_, timing_file_, partial_, timing_partial_;
+  std::ofstream csv_, timing_;
+  MpiRows rows_, timings_, gathered_;
+};
+
+// A study stopped by a signal before its last job: what holds the runs done,
+// how to go on, and the signal's exit code.
+int report_stopped(std::size_t done, std::size_t jobs, const fs::path& csv_file) {
+  const int signal = stop_signal();
+  fmt::print(stderr, "rocking: stopped by {} after {} of {} runs; {} holds them; continue with the same command and "
+                     "--resume\n",
+             stop_signal_name(signal), done, jobs, csv_file.string());
+  return stop_exit_code(signal);
+}
+
+// A finished ladder's report (summary.csv, the fragility fits, summary.json)
+// and figures: one per record for a few records (the paper's Figs. 5-8); the
+// suite's (every record, fractiles, fragility) for two or more. The exit
+// code: 4 when some runs failed.
+int report_ladder(const StudyArgs& a, const Study& st, const LadderPlan& plan, const LadderSink& sink,
+                  const std::string& kind, const std::string& scene_name, const fs::path& csv_file) {
+  const fs::path dir(a.out);
+  const std::vector<Job>& jobs = plan.ladder.jobs;
   fmt::print("wrote {} ({} runs)\n", csv_file.string(), jobs.size());
-  const SuiteFragility fragility = suite_fragility(st, summary, fragility_opts, threads);
-  const StudyReport report = ladder_report(st, summary, fragility, ids);
+  const SuiteFragility fragility = suite_fragility(st, sink.summary, plan.fragility, plan.threads);
+  const StudyReport report = ladder_report(st, sink.summary, fragility, plan.ids);
   for (const std::string& note : report.notes) fmt::print("{}\n", note);
   write_report(dir, report);
   fmt::print("wrote {} (16/50/84 % fractiles), {}, {}, {}\n", (dir / "summary.csv").string(),
              (dir / "fragility.csv").string(), (dir / "fragility_points.csv").string(), (dir / "summary.json").string());
   if (!a.no_plot) {
-    // One figure per record for a few records (the paper's Figs. 5-8); the
-    // suite's figures (every record, fractiles, fragility) for two or more.
-    if (per_record_figures) study_figures(a, st, columns, ids, jobs, figure_rows, kind, scene_name);
-    if (nr >= 2)
-      for (const fs::path& f : draw_ladder_report(dir, st, summary, fragility, kind, scene_name, plot::parse_formats(a.formats)))
+    if (sink.per_record_figures)
+      study_figures(a, st, plan.ladder.columns, plan.ids, jobs, sink.figure_rows, kind, scene_name);
+    if (st.records().size() >= 2)
+      for (const fs::path& f : draw_ladder_report(dir, st, sink.summary, fragility, kind, scene_name, plot::parse_formats(a.formats)))
         fmt::print("wrote {}\n", f.string());
   }
-  if (failed > 0) {
-    fmt::print(stderr, "rocking: {} of {} runs failed{}: see the error column of {}\n", failed, jobs.size(),
-               unreadable(st, ids), csv_file.string());
+  if (sink.failed > 0) {
+    fmt::print(stderr, "rocking: {} of {} runs failed{}: see the error column of {}\n", sink.failed, jobs.size(),
+               unreadable(st, plan.ids), csv_file.string());
     return exit_jobs_failed;
   }
   return 0;
+}
+
+// A ladder of runs (ida, sweep): planned and refused before any run, the
+// folder claimed, an interrupted study's rows taken up (--resume), the jobs
+// run with their rows streamed in job order (and gathered under mpirun), the
+// files renamed into place, and, unless a signal stopped it, the report.
+int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, const std::string& scene_name,
+               const MpiWorld& world) {
+  const LadderPlan plan = plan_study_ladder(a, st, world);
+  const std::vector<Job>& jobs = plan.ladder.jobs;
+  const fs::path dir(a.out), csv_file = dir / (kind + ".csv"), timing_file = dir / "timing.csv";
+  const std::unique_ptr<FolderLock> lock = claim_study_folder(a, st, kind, world);
+  const Resumed resumed = a.resume ? read_resumed(csv_file, timing_file, jobs, plan.ids, st, plan.ladder.columns)
+                                   : Resumed{};
+  const std::size_t first = resumed.rows.size();
+  if (world.size == 1) catch_stop_signals();
+  const std::vector<std::size_t> mine = jobs_of_this_rank(first, jobs.size(), world);
+  if (world.rank == 0)
+    spdlog::info("{}: {} jobs on {} thread(s){}{}", kind, jobs.size() - first, plan.threads,
+                 world.size > 1 ? fmt::format(" x {} processes", world.size) : "",
+                 first > 0 ? fmt::format(" ({} done before, resumed)", first) : "");
+  const bool per_record_figures = !a.no_plot && (st.records().size() <= 3 || a.per_record);
+  LadderSink sink(st, plan, csv_file, timing_file, per_record_figures, world);
+  sink.start(resumed);
+  Progress progress(world.rank == 0 && spdlog::get_level() <= spdlog::level::info);
+  // Rows in job order up to the first run a stop cut short: that one and any
+  // after it are left for --resume (rocking.study_run).
+  const std::size_t emitted = rocking::run_ladder(
+      st, plan.ladder, mine, plan.threads, sink.summary_of_runs(),
+      [&](std::size_t i, const JobResult& r) { sink.emit(i, r); },
+      {.progress = [&](std::size_t done, std::size_t total) { progress(done, total); },
+       .stop = [] { return stop_signal() != 0; }});
+  sink.gather();
+  if (world.rank != 0) return 0;
+  sink.close();
+  if (!a.azimuths.empty()) write_azimuth_summary(csv_file, dir / "azimuths.csv");
+  // What each record id is, as its file says (rows name records by id).
+  write_text(dir / "records.csv", records_csv(st, plan.ids));
+  // Stopped by a signal (one process: mine is every job left).
+  if (emitted < mine.size()) return report_stopped(first + emitted, jobs.size(), csv_file);
+  sink.read_back_gathered();
+  return report_ladder(a, st, plan, sink, kind, scene_name, csv_file);
 }
 
 // A hunt's options: the first level starts it; the others default to
