@@ -275,9 +275,10 @@ double element_value(const ContactModel& m, ElementQuantity q, int element, Eige
 // record's mean sample interval, a pulse's period / 40): Dormand-Prince is
 // stable up to about h = 3.3 / |lambda|, with lambda the fastest eigenvalue
 // of the fixed-base modes under Rayleigh damping (an overdamped mode's fast
-// root a0 + a1 omega^2 and above). Else rk45. A given backend is kept. An
-// automatic rosw integrates full contact as well (exact_full_contact applies
-// to an automatic rk45 and to a backend given by name).
+// root a0 + a1 omega^2 and above). Else rk45. A given backend is kept. On a
+// one-joint structure an automatic rosw integrates full contact as well
+// (exact_full_contact applies to an automatic rk45 and to a backend given by
+// name); a chain (chain_run.cpp) keeps its exact closed steps under either.
 ode::Backend choose_backend(const ContactModel& m, const GroundMotion& ground, ode::Backend requested);
 
 // Runs the model under the ground motion: along the model's plane and, when
