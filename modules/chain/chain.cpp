@@ -801,14 +801,9 @@ ChainAtRest chain_at_rest(const Chain& c) {
   const std::vector<Phase> closed(J);
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(n);
   kinematics(c, closed, zero, zero, n, w);
-  for (int i = 0; i < c.points; ++i) {
-    const double m = point_mass(c, i);
-    for (int k = 0; k < ne; ++k) {
-      out.f[k] -= m * w.jac(2 * i, J + k);
-      for (int l = 0; l < ne; ++l)
-        out.M(k, l) += m * (w.jac(2 * i, J + k) * w.jac(2 * i, J + l) + w.jac(2 * i + 1, J + k) * w.jac(2 * i + 1, J + l));
-    }
-  }
+  for (int i = 0; i < c.points; ++i)
+    for (int k = 0; k < ne; ++k) out.f[k] -= point_mass(c, i) * w.jac(2 * i, J + k);
+  out.M = chain_mass_at_rest(c, closed).bottomRightCorner(ne, ne);
   // Gravity's Hessian g sum m_i d2y_i/dq2 =: G: at rest with rates v the
   // points' vertical bias accelerations are v'(d2y_i/dq2)v, so g sum m_i
   // bias_y,i(v) = v'G v, and G(k, l) follows by polarisation from
