@@ -2,13 +2,21 @@
 # CMake 4.3 lives in .tools/bin (installed by scripts/setup.sh).
 export PATH := $(CURDIR)/.tools/bin:$(PATH)
 
-.PHONY: all setup configure build program test demo bench golden sanitize fuzz pgo extension-check clean
+.PHONY: all setup setup-program configure configure-program build program test demo bench golden sanitize fuzz pgo extension-check clean
 all: build
 
 setup:
 	@bash scripts/setup.sh
 
+# What the program alone needs (scripts/setup.sh says which packages): most of
+# the download (Chromium, ffmpeg, Matplotlib) is the tests' and examples'.
+setup-program:
+	@bash scripts/setup.sh program
+
 configure: setup
+	@cmake --preset default >/dev/null
+
+configure-program: setup-program
 	@cmake --preset default >/dev/null
 
 build: configure
@@ -17,8 +25,9 @@ build: configure
 test: build
 	@ctest --preset default
 
-# The program and the plugins it loads, not the tests, fuzzers or benchmarks.
-program: configure
+# The program and the plugins it loads, not the tests, fuzzers or benchmarks,
+# with only the packages they need installed.
+program: configure-program
 	@cmake --build --preset default --target rocking_cli
 
 demo: program
@@ -49,8 +58,8 @@ fuzz: setup
 # A new history quantity in 2 files reaches history.csv, the response figure
 # and the lab: tests/extension/new_quantity.patch applied to a scratch copy of
 # the committed tree (under build/, removed after), the program built there
-# (the quick preset) and run (scripts/extension_check.sh). Not in make test:
-# it builds the program once more.
+# (the quick preset) and run (scripts/extension_check.sh). Not in make test
+# (it builds the program once more): CI runs it after make test (.ci/run).
 extension-check: setup
 	@bash scripts/extension_check.sh
 

