@@ -501,16 +501,10 @@ py::dict hunt_row(const rocking::HuntResult& h, const std::string& record, const
   return row;
 }
 
-PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std::string& im_text, std::vector<double> levels,
-          std::optional<std::vector<std::string>> variant_names, int threads, double rtol, double atol,
-          const std::string& integrator, double damping, std::optional<std::vector<std::string>> limit_texts,
-          const std::string& resurrection, bool hunt, std::optional<double> hunt_step, double hunt_growth,
-          std::optional<double> hunt_max, std::optional<double> precision, std::optional<double> fill_step) {
-  const PyScene s = scene_of(scene_arg);
-  std::vector<rocking::Limit> limits;  // refused before the records are read
-  for (const std::string& l : limit_texts.value_or(std::vector<std::string>{})) limits.push_back(rocking::parse_limit(l));
-  // Records: Record objects (kept as they are in memory) and paths of files,
-  // folders or list files (read as the program reads them).
+// A study's records: Record objects (kept as they are in memory) and paths of
+// files, folders or list files (read as the program reads them), one or an
+// iterable of them.
+std::vector<rocking::StudyRecord> study_records(const py::object& records_arg) {
   std::vector<rocking::StudyRecord> records;
   auto add = [&](const py::handle& r) {
     if (py::isinstance<PyRecord>(r)) {
@@ -528,6 +522,43 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
     for (const auto& r : py::iter(records_arg)) add(r);
   else
     add(records_arg);
+  return records;
+}
+
+// One row of a ladder's rows as Python's dict: the columns of ida.csv by name
+// (None where the run's model lacks one).
+py::dict ladder_row(const rocking::Study& study, const rocking::IntensityMeasure& im,
+                    const rocking::StudyColumns& columns, const std::vector<std::string>& names,
+                    const rocking::Job& j, const rocking::JobResult& r) {
+  const rocking::StudyRow study_row = rocking::study_row(columns, j, r);
+  py::dict row("record"_a = study.records()[j.record], "variant"_a = study.variants()[j.variant].name,
+               "im"_a = im.name(), "level"_a = study_row.level, "scale"_a = j.scale,
+               "record_im"_a = study.record_intensity(j.record));
+  if (!study_row.ran) {
+    // A run the momentum law left undecided keeps its outcome; the others could not run.
+    row["outcome"] = r.run.outcome == rocking::Outcome::undecided ? "undecided" : "error";
+    row["error"] = r.error;
+    return row;
+  }
+  row["outcome"] = std::string(rocking::outcome_name(study_row.outcome));
+  if (study_row.outcome == rocking::Outcome::failed) row["error"] = r.run.failure;
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const double v = study_row.values[k];
+    row[py::str(names[k])] = std::isnan(v) ? py::object(py::none()) : py::object(py::float_(v));
+  }
+  row["t_end"] = r.run.t_end;
+  return row;
+}
+
+PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std::string& im_text, std::vector<double> levels,
+          std::optional<std::vector<std::string>> variant_names, int threads, double rtol, double atol,
+          const std::string& integrator, double damping, std::optional<std::vector<std::string>> limit_texts,
+          const std::string& resurrection, bool hunt, std::optional<double> hunt_step, double hunt_growth,
+          std::optional<double> hunt_max, std::optional<double> precision, std::optional<double> fill_step) {
+  const PyScene s = scene_of(scene_arg);
+  std::vector<rocking::Limit> limits;  // refused before the records are read
+  for (const std::string& l : limit_texts.value_or(std::vector<std::string>{})) limits.push_back(rocking::parse_limit(l));
+  const std::vector<rocking::StudyRecord> records = study_records(records_arg);
   if (records.empty()) throw rocking::InputError("ida: records: give at least one ground-motion file");
   if (levels.empty()) throw rocking::InputError("ida: levels: give at least one level");
   for (double l : levels)
@@ -603,29 +634,7 @@ PyIda ida(const py::object& scene_arg, const py::object& records_arg, const std:
   out.jobs.assign(jobs.begin(), jobs.begin() + static_cast<long>(done));
   out.results.assign(results.begin(), results.begin() + static_cast<long>(done));
   const std::vector<std::string> names = columns.names();
-  for (std::size_t i = 0; i < done; ++i) {
-    const rocking::Job& j = jobs[i];
-    const rocking::JobResult& r = results[i];
-    const rocking::StudyRow study_row = rocking::study_row(columns, j, r);
-    py::dict row("record"_a = study.records()[j.record], "variant"_a = study.variants()[j.variant].name,
-                 "im"_a = im.name(), "level"_a = study_row.level, "scale"_a = j.scale,
-                 "record_im"_a = study.record_intensity(j.record));
-    if (!study_row.ran) {
-      // A run the momentum law left undecided keeps its outcome; the others could not run.
-      row["outcome"] = r.run.outcome == rocking::Outcome::undecided ? "undecided" : "error";
-      row["error"] = r.error;
-    } else {
-      row["outcome"] = std::string(rocking::outcome_name(study_row.outcome));
-      if (study_row.outcome == rocking::Outcome::failed) row["error"] = r.run.failure;
-      // The columns of ida.csv, by name (None where the run's model lacks one).
-      for (std::size_t k = 0; k < names.size(); ++k) {
-        const double v = study_row.values[k];
-        row[py::str(names[k])] = std::isnan(v) ? py::object(py::none()) : py::object(py::float_(v));
-      }
-      row["t_end"] = r.run.t_end;
-    }
-    out.rows.append(row);
-  }
+  for (std::size_t i = 0; i < done; ++i) out.rows.append(ladder_row(study, im, columns, names, jobs[i], results[i]));
   return out;
 }
 

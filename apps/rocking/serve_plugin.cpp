@@ -241,31 +241,21 @@ std::string foreign(const httplib::Request& req, const RockingServeConfig& c) {
   return {};
 }
 
-int serve(const RockingServeConfig& c) {
-  std::map<std::string, const RockingServeFile*> files;
-  for (std::size_t i = 0; i < c.file_count; ++i) files[c.files[i].url] = &c.files[i];
+void refuse(httplib::Response& res, int status, const std::string& message) {
+  res.status = status;
+  res.set_content(json_error(message), json_type);
+  close_after_answer = true;
+}
 
-  GuardedServer server(c.limits, c.payload_max + header_bytes + c.payload_max / 8);
-  // Workers mostly wait on sockets; the program bounds the runs computed at once.
-  server.new_task_queue = [&c] { return new httplib::ThreadPool(static_cast<std::size_t>(std::max(4, c.limits.connections))); };
-  server.set_payload_max_length(c.payload_max);
-  server.set_tcp_nodelay(true);  // an answer leaves whole, not held back for the client's acknowledgement
-  server.set_default_headers({{"X-Content-Type-Options", "nosniff"},
-                              {"Content-Security-Policy", "default-src 'self'; img-src 'self' data:"},
-                              {"Cache-Control", "no-store"}});
-  const auto refuse = [](httplib::Response& res, int status, const std::string& message) {
-    res.status = status;
-    res.set_content(json_error(message), json_type);
-    close_after_answer = true;
-  };
-  const auto too_large = [](const std::string& path, std::size_t limit) {
-    return "the request is too large for " + path + " (at most " + bytes_text(limit) + ", " + std::to_string(limit) +
-           " bytes)" +
-           (path == "/api/upload" ? ": upload a shorter record" : "");
-  };
-  // Before any body is read: where the request comes from, what it is
-  // addressed to, and the size it announces.
-  server.set_pre_routing_handler([&](const httplib::Request& req, httplib::Response& res) {
+std::string too_large(const std::string& path, std::size_t limit) {
+  return "the request is too large for " + path + " (at most " + bytes_text(limit) + ", " + std::to_string(limit) +
+         " bytes)" + (path == "/api/upload" ? ": upload a shorter record" : "");
+}
+
+// Before any body is read: where the request comes from, what it is
+// addressed to, and the size it announces.
+void screen_requests(GuardedServer& server, const RockingServeConfig& c) {
+  server.set_pre_routing_handler([&c](const httplib::Request& req, httplib::Response& res) {
     if (const std::string why = foreign(req, c); !why.empty()) {
       refuse(res, 403, why);
       return httplib::Server::HandlerResponse::Handled;
@@ -284,12 +274,18 @@ int serve(const RockingServeConfig& c) {
     }
     return httplib::Server::HandlerResponse::Unhandled;
   });
+}
+
+// The API's GETs and POSTs to the program's answer, every other GET to the
+// page's files.
+void route_requests(GuardedServer& server, const RockingServeConfig& c,
+                    const std::map<std::string, const RockingServeFile*>& files) {
   server.Get(R"(/api/.*)", [&c](const httplib::Request& req, httplib::Response& res) {
     c.answer(c.context, req.method.c_str(), req.path.c_str(), "", 0, &res, respond);
   });
   // A POST's body read as it arrives, up to its endpoint's limit.
-  server.Post(R"(/api/.*)", [&](const httplib::Request& req, httplib::Response& res,
-                                const httplib::ContentReader& reader) {
+  server.Post(R"(/api/.*)", [&c](const httplib::Request& req, httplib::Response& res,
+                                 const httplib::ContentReader& reader) {
     const std::size_t limit = std::min(c.payload_max, c.body_limit(c.context, req.path.c_str()));
     std::string body;
     bool over = false;
@@ -314,14 +310,18 @@ int serve(const RockingServeConfig& c) {
     }
     res.set_content(std::string(it->second->content, it->second->size), it->second->type);
   });
-  // httplib's own refusals (a bad request line, a request cut off) get the one-line message too.
+}
+
+// httplib's own refusals and what the program does not answer itself.
+void answer_failures(GuardedServer& server, const RockingServeConfig& c) {
+  // httplib's refusals (a bad request line, a request cut off) get the one-line message too.
   server.set_error_handler([](const httplib::Request&, httplib::Response& res) {
     if (!res.body.empty()) return;
     close_after_answer = true;
     res.set_content(json_error("the server refused the request (HTTP " + std::to_string(res.status) + ")"),
                     json_type);
   });
-  // What the program does not answer itself: memory, or a fault of ours.
+  // Memory, or a fault of ours.
   server.set_exception_handler([&c](const httplib::Request& req, httplib::Response& res, std::exception_ptr e) {
     std::string what = "unknown";
     try {
@@ -336,7 +336,10 @@ int serve(const RockingServeConfig& c) {
     res.status = 500;
     res.set_content(json_error("the server failed on this request (" + what + "); please report it"), json_type);
   });
+}
 
+// Binds the configured address and answers until the program asks to stop.
+int listen_until_stopped(GuardedServer& server, const RockingServeConfig& c) {
   // The listening socket: SO_REUSEADDR only, so that a restarted server gets
   // its port back at once while a second server on a port in use is refused
   // (httplib's default, SO_REUSEPORT, lets both listen and share the requests).
@@ -368,6 +371,24 @@ int serve(const RockingServeConfig& c) {
   server.listen_after_bind();
   watcher.request_stop();
   return c.stop_requested(c.context) != 0 ? rocking_serve_stopped : rocking_serve_ended;
+}
+
+int serve(const RockingServeConfig& c) {
+  std::map<std::string, const RockingServeFile*> files;
+  for (std::size_t i = 0; i < c.file_count; ++i) files[c.files[i].url] = &c.files[i];
+
+  GuardedServer server(c.limits, c.payload_max + header_bytes + c.payload_max / 8);
+  // Workers mostly wait on sockets; the program bounds the runs computed at once.
+  server.new_task_queue = [&c] { return new httplib::ThreadPool(static_cast<std::size_t>(std::max(4, c.limits.connections))); };
+  server.set_payload_max_length(c.payload_max);
+  server.set_tcp_nodelay(true);  // an answer leaves whole, not held back for the client's acknowledgement
+  server.set_default_headers({{"X-Content-Type-Options", "nosniff"},
+                              {"Content-Security-Policy", "default-src 'self'; img-src 'self' data:"},
+                              {"Cache-Control", "no-store"}});
+  screen_requests(server, c);
+  route_requests(server, c, files);
+  answer_failures(server, c);
+  return listen_until_stopped(server, c);
 }
 
 }  // namespace

@@ -65,19 +65,12 @@ std::vector<std::pair<bool, bool>> resumed_points(const fs::path& file, const st
   return out;
 }
 
-int spectrum(const SpectrumArgs& a) {
-  SceneOptions opts = a.scene;
-  if (opts.path.empty()) opts.path = std::string(ROCKING_SCENES_DIR) + "/rigid_block.toml";
-  Scene scene = load_scene(opts);
-  if (!scene.structure.rigid) {
-    spdlog::info("{}: treated as a rigid block (structure.rigid = true) for the spectrum", scene.source);
-    opts.overrides.push_back("structure.rigid=true");
-    scene = load_scene(opts);
-  }
-  const PulseShape shape = parse_pulse_shape(a.pulse);
-  const std::vector<double> freqs = number_list("--frequencies", a.frequencies),
-                            amps = number_list("--amplitudes", a.amplitudes);
-  const std::vector<double> sizes = number_list("--sizes", a.sizes);
+// Refuses, before any run, a grid that is hours of work or whose points are
+// pulses no ground motion has: periods from a millisecond to a thousand
+// seconds, peaks within max_acceleration_g, through Housner's p and the
+// slenderness of each size.
+void check_spectrum_grid(const SpectrumArgs& a, const Scene& scene, const std::vector<double>& sizes,
+                         const std::vector<double>& freqs, const std::vector<double>& amps) {
   for (double size : sizes)
     if (!(size >= 0.01 && size <= 100))
       throw InputError(fmt::format("--sizes {}: every size factor must be in [0.01, 100] (got {:g})", a.sizes, size));
@@ -93,9 +86,6 @@ int spectrum(const SpectrumArgs& a) {
     for (double v : *grid)
       if (!(v > 0 && v <= 1000))
         throw InputError(fmt::format("{} {}: every ratio must be in (0, 1000] (got {:g})", flag, text, v));
-  // Each point is a pulse of a period and an amplitude that a ground motion
-  // can have: periods from a millisecond to a thousand seconds, peaks within
-  // max_acceleration_g, through Housner's p and the slenderness of each size.
   for (double size : sizes) {
     const SpectrumScale scale = spectrum_scale(scene, size);
     const double p = scale.p, tan_alpha = std::tan(scale.alpha);
@@ -111,6 +101,60 @@ int spectrum(const SpectrumArgs& a) {
                                      "the ratios it takes are at most {:.3g} ({:g} g)", a.amplitudes, amp,
                                      amp * tan_alpha, size, max_acceleration_g / tan_alpha, max_acceleration_g));
   }
+}
+
+// The rows of spectrum.data/size_X.csv for the points done, and how many of
+// them overturn the block.
+std::pair<std::string, long> spectrum_rows(const BlockSpectrum& s, const std::vector<double>& freqs,
+                                           const std::vector<double>& amps) {
+  std::string out = spectrum_header;
+  long overturned = 0;
+  // Each grid point's cell reaches halfway to its neighbours (as far on the
+  // outside), in the normalised axes; in seconds and g through the same map.
+  auto cell = [](const std::vector<double>& grid, std::size_t i) {
+    const double below = i > 0 ? grid[i] - grid[i - 1] : grid.size() > 1 ? grid[1] - grid[0] : 0.1 * grid[0];
+    const double above = i + 1 < grid.size() ? grid[i + 1] - grid[i] : below;
+    return std::pair{grid[i] - below / 2, grid[i] + above / 2};
+  };
+  // In seconds a cell reaches halfway to its neighbours' periods (as far on
+  // the outside): mapping the frequency cell instead would stretch the
+  // lowest frequencies' cells over many seconds never computed.
+  auto period_cell = [&](std::size_t i, double to_period) {
+    const auto T = [&](std::size_t j) { return to_period / freqs[j]; };
+    const std::size_t n = freqs.size();
+    const double longer = i > 0 ? T(i - 1) - T(i) : n > 1 ? T(0) - T(1) : 0.1 * T(0);
+    const double shorter = i + 1 < n ? T(i) - T(i + 1) : longer;
+    return std::pair{T(i) - shorter / 2, T(i) + longer / 2};
+  };
+  for (std::size_t k = 0; k < s.complete; ++k) {
+    const SpectrumPoint& pt = s.points[k];
+    const auto [f_lo, f_hi] = cell(freqs, k / amps.size());
+    const auto [a_lo, a_hi] = cell(amps, k % amps.size());
+    const double to_period = pt.period_s * pt.frequency_ratio, to_g = pt.amplitude_g / pt.amplitude_ratio;
+    const auto [t_lo, t_hi] = period_cell(k / amps.size(), to_period);
+    out += fmt::format("{:.6g},{:.6g},{:.6g},{:.6g},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n",
+                       pt.frequency_ratio, pt.amplitude_ratio, pt.period_s, pt.amplitude_g, pt.overturned ? 1 : 0,
+                       pt.uplift ? 1 : 0, f_lo, f_hi, a_lo, a_hi, t_lo, t_hi, a_lo * to_g,
+                       a_hi * to_g);
+    overturned += pt.overturned;
+  }
+  return {out, overturned};
+}
+
+int spectrum(const SpectrumArgs& a) {
+  SceneOptions opts = a.scene;
+  if (opts.path.empty()) opts.path = std::string(ROCKING_SCENES_DIR) + "/rigid_block.toml";
+  Scene scene = load_scene(opts);
+  if (!scene.structure.rigid) {
+    spdlog::info("{}: treated as a rigid block (structure.rigid = true) for the spectrum", scene.source);
+    opts.overrides.push_back("structure.rigid=true");
+    scene = load_scene(opts);
+  }
+  const PulseShape shape = parse_pulse_shape(a.pulse);
+  const std::vector<double> freqs = number_list("--frequencies", a.frequencies),
+                            amps = number_list("--amplitudes", a.amplitudes);
+  const std::vector<double> sizes = number_list("--sizes", a.sizes);
+  check_spectrum_grid(a, scene, sizes, freqs, amps);
   const int threads = thread_count(a.threads);
   const std::vector<std::string> formats = plot::parse_formats(a.formats);  // refused before any run
   const fs::path dir(a.out);
@@ -133,37 +177,7 @@ int spectrum(const SpectrumArgs& a) {
     const BlockSpectrum s = overturning_spectrum(
         scene, size, shape, freqs, amps, threads, [&](std::size_t n, std::size_t total) { progress(n, total); }, done,
         [] { return stop_signal() != 0; });
-    std::string out = spectrum_header;
-    long overturned = 0;
-    // Each grid point's cell reaches halfway to its neighbours (as far on the
-    // outside), in the normalised axes; in seconds and g through the same map.
-    auto cell = [](const std::vector<double>& grid, std::size_t i) {
-      const double below = i > 0 ? grid[i] - grid[i - 1] : grid.size() > 1 ? grid[1] - grid[0] : 0.1 * grid[0];
-      const double above = i + 1 < grid.size() ? grid[i + 1] - grid[i] : below;
-      return std::pair{grid[i] - below / 2, grid[i] + above / 2};
-    };
-    // In seconds a cell reaches halfway to its neighbours' periods (as far on
-    // the outside): mapping the frequency cell instead would stretch the
-    // lowest frequencies' cells over many seconds never computed.
-    auto period_cell = [&](std::size_t i, double to_period) {
-      const auto T = [&](std::size_t j) { return to_period / freqs[j]; };
-      const std::size_t n = freqs.size();
-      const double longer = i > 0 ? T(i - 1) - T(i) : n > 1 ? T(0) - T(1) : 0.1 * T(0);
-      const double shorter = i + 1 < n ? T(i) - T(i + 1) : longer;
-      return std::pair{T(i) - shorter / 2, T(i) + longer / 2};
-    };
-    for (std::size_t k = 0; k < s.complete; ++k) {
-      const SpectrumPoint& pt = s.points[k];
-      const auto [f_lo, f_hi] = cell(freqs, k / amps.size());
-      const auto [a_lo, a_hi] = cell(amps, k % amps.size());
-      const double to_period = pt.period_s * pt.frequency_ratio, to_g = pt.amplitude_g / pt.amplitude_ratio;
-      const auto [t_lo, t_hi] = period_cell(k / amps.size(), to_period);
-      out += fmt::format("{:.6g},{:.6g},{:.6g},{:.6g},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n",
-                         pt.frequency_ratio, pt.amplitude_ratio, pt.period_s, pt.amplitude_g, pt.overturned ? 1 : 0,
-                         pt.uplift ? 1 : 0, f_lo, f_hi, a_lo, a_hi, t_lo, t_hi, a_lo * to_g,
-                         a_hi * to_g);
-      overturned += pt.overturned;
-    }
+    const auto [out, overturned] = spectrum_rows(s, freqs, amps);
     std::error_code ec;
     if (s.complete < s.points.size()) {  // stopped: the points done, whole, in the .partial file
       write_text(partial, out);
