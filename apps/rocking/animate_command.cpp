@@ -8,7 +8,7 @@
 #include "commands.hpp"
 #include "run_output.hpp"
 #include "stop_signals.hpp"
-#include <spdlog/spdlog.h>
+#include "log.hpp"
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <algorithm>
@@ -253,7 +253,7 @@ std::unique_ptr<Runs> run_both(const AnimateArgs& a, const Scene& scene, const S
   catch_stop_signals();
   // The run prepared once: its duration, checked, sets the frames, which set
   // how often it records.
-  auto r = std::make_unique<Runs>(Runs{.main = prepared(scene, 0.01), .twin = {}});
+  auto r = std::make_unique<Runs>(Runs{.main = prepared(scene, 0.01), .twin = {}, .timing = {}});
   const RunOptions& ro = r->main.options;
   r->timing = frame_timing(a, ro.duration > 0 ? ro.duration : motion.duration(), motion);
   const double every = r->timing.frame_dt / r->timing.m;
@@ -508,7 +508,7 @@ int animate(const AnimateArgs& a) {
   const auto m = static_cast<std::size_t>(timing.m);
   const std::size_t rows = std::min(r.main_rec.rows.size(), r.twin_rec.rows.size());
   const std::size_t frames = (rows + m - 1) / m;
-  ScriptParts parts{.stem = fs::path(a.out).stem().string(), .timing = timing, .alone = alone};
+  ScriptParts parts{.stem = fs::path(a.out).stem().string(), .title = {}, .twin_label = {}, .timing = timing, .exaggeration = {}, .alone = alone};
   parts.first_frame = static_cast<std::size_t>(std::ceil(timing.shown_from / timing.frame_dt - 1e-9));
   parts.last_frame =
       std::min(frames, static_cast<std::size_t>(std::floor(timing.shown_to / timing.frame_dt + 1e-9)) + 1) - 1;

@@ -2,8 +2,7 @@
 // and maps failures to exit codes: 2 for bad input (a one-line message naming
 // what and where), 3 for a run that cannot finish.
 #include <CLI/CLI.hpp>
-#include <spdlog/spdlog.h>
-#include <spdlog/sinks/stdout_color_sinks.h>
+#include "log.hpp"
 #include <fmt/format.h>
 #include <algorithm>
 #include <array>
@@ -125,9 +124,8 @@ int main(int argc, char** argv) {
   for (Subcommand& c : subcommands)
     if (all || asked == c.name) c.run = c.add(app);
 
-  auto logger = spdlog::stderr_color_mt("rocking");
-  spdlog::set_default_logger(logger);
-  spdlog::set_pattern("%^%l%$: %v");
+  namespace log = rocking::app::log;
+  log::start(log::Level::info);
   if (const std::string unknown = unknown_subcommand(app, argc, argv); !unknown.empty()) {
     fmt::print(stderr, "rocking: error: {}\n", unknown);
     return rocking::exit_input_error;
@@ -155,7 +153,7 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "rocking: error: {}\n", empty);
     return rocking::exit_input_error;
   }
-  spdlog::set_level(verbose ? spdlog::level::debug : quiet ? spdlog::level::warn : spdlog::level::info);
+  log::show(verbose ? log::Level::debug : quiet ? log::Level::warn : log::Level::info);
 
   try {
     for (const Subcommand& c : subcommands)

@@ -1,6 +1,6 @@
 // `rocking modal`: linearised modal analysis of a scene (MODEL.md 8).
 #include <rocking/eigen.hpp>
-#include <spdlog/spdlog.h>
+#include "log.hpp"
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
@@ -161,7 +161,7 @@ Command add_modal_command(CLI::App& app) {
     if (scene.columns) return on_columns(scene);
     if (scene.jointed()) return with_joints(scene);
     if (scene.structure.rigid) return rigid_block(scene);
-    spdlog::debug("modal analysis of '{}' from {}", scene.name, scene.source);
+    log::debug("modal analysis of '{}' from {}", scene.name, scene.source);
     const ModalSummary m = modal_analysis(scene.structure, scene_devices(scene));
     print_table(scene, m);
     return 0;

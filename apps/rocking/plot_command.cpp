@@ -3,7 +3,7 @@
 #include "commands.hpp"
 #include "run_output.hpp"
 #include "stop_signals.hpp"
-#include <spdlog/spdlog.h>
+#include "log.hpp"
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <cctype>
@@ -100,7 +100,7 @@ int response(const ResponseArgs& a) {
           s["motion"].is_string())
         what.push_back(fmt::format("{}: {} under {}", label, s["scene"].get<std::string>(), s["motion"].get<std::string>()));
       else if (summary.is_open())
-        spdlog::warn("{}: not a whole run summary (cut, or another program's); the title names the folders instead",
+        log::warn("{}: not a whole run summary (cut, or another program's); the title names the folders instead",
                      summary_file.string());
     }
     title = what.size() == a.from.size() ? fmt::format("{}", fmt::join(what, "\n"))

@@ -6,7 +6,7 @@
 #include "commands.hpp"
 #include "run_output.hpp"
 #include <nlohmann/json.hpp>
-#include <spdlog/spdlog.h>
+#include "log.hpp"
 #include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
@@ -159,8 +159,8 @@ void write_figures(const RecordArgs& a, const std::vector<Measured>& rs, const s
   const auto more = plot::render_panels(fig, 1, 1, "T [s]", {plot::Panel{"PSA [g]", plot::column("period_s"), plot::column("psa_g"), !a.log_axes, "", marks}},
                                         spectra, a.log_axes);
   written.insert(written.end(), more.begin(), more.end());
-  for (const auto& f : written) spdlog::info("wrote {}", f.string());
-  spdlog::info("wrote {} (the spectrum at {} periods from 0.01 to 10 s)", (dir / "spectrum.csv").string(), dense.size());
+  for (const auto& f : written) log::info("wrote {}", f.string());
+  log::info("wrote {} (the spectrum at {} periods from 0.01 to 10 s)", (dir / "spectrum.csv").string(), dense.size());
 }
 
 // The scene's fixed-base periods (at most three), to mark on the spectrum.
@@ -169,7 +169,7 @@ std::vector<plot::Mark> scene_periods(const RecordArgs& a, std::string& scene_na
   const Scene scene = load_scene(SceneOptions{a.scene, a.overrides});
   scene_name = scene.name;
   if (scene.structure.rigid) {
-    spdlog::info("{}: a rigid block has no fixed-base periods to mark", scene.source);
+    log::info("{}: a rigid block has no fixed-base periods to mark", scene.source);
     return {};
   }
   const ModalSummary m = modal_analysis(scene.structure, scene_devices(scene));

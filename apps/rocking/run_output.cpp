@@ -2,7 +2,7 @@
 #include <rocking/decimal.hpp>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
-#include <spdlog/spdlog.h>
+#include "log.hpp"
 #include <cerrno>
 #include <system_error>
 #include <cmath>
@@ -167,7 +167,7 @@ void Progress::operator()(std::size_t done, std::size_t total) {
 
 int thread_count(int requested) {
   const WorkerThreads w = worker_threads(requested, "--threads");
-  if (w.capped) spdlog::warn("--threads {}: this machine has {} cores; running {} threads", requested, w.cores, w.threads);
+  if (w.capped) log::warn("--threads {}: this machine has {} cores; running {} threads", requested, w.cores, w.threads);
   return w.threads;
 }
 

@@ -10,7 +10,7 @@
 #include "serve_plugin.hpp"
 #include "stop_signals.hpp"
 #include <nlohmann/json.hpp>
-#include <spdlog/spdlog.h>
+#include "log.hpp"
 #include <fmt/format.h>
 #include <algorithm>
 #include <chrono>
@@ -150,7 +150,7 @@ void answer(void* context, const char* method, const char* path, const char* bod
   try {
     a = s.lab.answer(method, path, std::string_view(body, body_size));
   } catch (const std::exception& e) {  // the lab answers every input error itself: memory, or a fault of ours
-    spdlog::error("{} {}: {}", method, path, e.what());
+    log::error("{} {}: {}", method, path, e.what());
     a = {500, nlohmann::json{{"error", "the server failed on this request (its log in the terminal says why); "
                                        "please report it"}}
                   .dump()};
@@ -163,7 +163,7 @@ int run(const ServeOptions& o) {
   if (o.port < 0 || o.port > 65535) throw InputError(fmt::format("--port {}: must be in [0, 65535]", o.port));
   if (o.runs < 0) throw InputError(fmt::format("--runs {}: must be 0 (the cores) or more", o.runs));
   if (!loopback(o.host))
-    spdlog::warn("serving on {}: anyone who reaches this machine there can run simulations on it", o.host);
+    log::warn("serving on {}: anyone who reaches this machine there can run simulations on it", o.host);
   const auto files = read_lab(o.lab);
   const auto serve = reinterpret_cast<RockingServe>(
       plugin_symbol("librocking_serve.so", "rocking_serve", "the lab's web server"));
@@ -201,7 +201,7 @@ int run(const ServeOptions& o) {
             std::fflush(stdout);
           },
       .stop_requested = [](void*) { return stop_signal(); },
-      .log_error = [](void*, const char* message) { spdlog::error("{}", message); },
+      .log_error = [](void*, const char* message) { log::error("{}", message); },
   };
   catch_stop_signals();
   const int result = serve(&config);

@@ -2,7 +2,7 @@
 #include "commands.hpp"
 #include "run_output.hpp"
 #include "stop_signals.hpp"
-#include <spdlog/spdlog.h>
+#include "log.hpp"
 #include <fmt/format.h>
 #include <csignal>
 #include <iostream>
@@ -103,7 +103,7 @@ int run(const SimulateOptions& o) {
   // The summary's room first: a history that fills the disk leaves it.
   ReservedFile summary_file(dir / "summary.json", summary_room);
   HistoryCsv history(dir / "history.csv", prepared.model, prepared.columns);
-  spdlog::info("simulating '{}' under {}{} ({}) with {}", scene.name, prepared.motion.name(),
+  log::info("simulating '{}' under {}{} ({}) with {}", scene.name, prepared.motion.name(),
                prepared.motion.vertical() ? " and vertical " + prepared.motion.vertical()->name() : std::string(),
                prepared.scale.describe(), o.solver.integrator);
   const RunResult result = simulate(prepared.model, prepared.motion, ro, &history);
@@ -123,7 +123,7 @@ int run(const SimulateOptions& o) {
   summary_file.write(summary.dump(2) + "\n");
   if (o.json) std::cout << summary.dump(2) << '\n';
   else print_text(summary);
-  spdlog::info("wrote {} and {}", (dir / "history.csv").string(), (dir / "summary.json").string());
+  log::info("wrote {} and {}", (dir / "history.csv").string(), (dir / "summary.json").string());
   if (const int signal = stop_signal(); signal != 0) {
     fmt::print(stderr, "rocking: stopped by {} at t = {:.6g} s; {} holds the history up to there, summary.json says "
                        "interrupted\n",

@@ -5,7 +5,7 @@
 #include "run_output.hpp"
 #include "stop_signals.hpp"
 #include "study_folder.hpp"
-#include <spdlog/spdlog.h>
+#include "log.hpp"
 #include <fmt/format.h>
 #include <numbers>
 #include <fstream>
@@ -146,7 +146,7 @@ int spectrum(const SpectrumArgs& a) {
   if (opts.path.empty()) opts.path = std::string(ROCKING_SCENES_DIR) + "/rigid_block.toml";
   Scene scene = load_scene(opts);
   if (!scene.structure.rigid) {
-    spdlog::info("{}: treated as a rigid block (structure.rigid = true) for the spectrum", scene.source);
+    log::info("{}: treated as a rigid block (structure.rigid = true) for the spectrum", scene.source);
     opts.overrides.push_back("structure.rigid=true");
     scene = load_scene(opts);
   }
@@ -173,7 +173,7 @@ int spectrum(const SpectrumArgs& a) {
     const fs::path path = dir / file, partial = path.string() + ".partial";
     check_outputs_free(dir, {file, file + ".partial"});
     const auto done = a.resume ? resumed_points(path, freqs, amps) : std::vector<std::pair<bool, bool>>{};
-    Progress progress(spdlog::get_level() <= spdlog::level::info);
+    Progress progress(log::shows(log::Level::info));
     const BlockSpectrum s = overturning_spectrum(
         scene, size, shape, freqs, amps, threads, [&](std::size_t n, std::size_t total) { progress(n, total); }, done,
         [] { return stop_signal() != 0; });

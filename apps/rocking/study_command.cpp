@@ -10,7 +10,7 @@
 #include "mpi_jobs.hpp"
 #include "run_output.hpp"
 #include "stop_signals.hpp"
-#include <spdlog/spdlog.h>
+#include "log.hpp"
 #include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
@@ -244,7 +244,7 @@ Resumed read_resumed(const fs::path& csv_file, const fs::path& timing_file, cons
   std::ifstream in(rows_file);
   if (!in) throw InputError(fmt::format("--resume: {} not found: nothing to resume", csv_file.string()));
   ResumedRows kept = read_resumed_rows(in, rows_file.string(), jobs, ids, st, columns);
-  if (!kept.rerun.empty()) spdlog::warn("{}", kept.rerun);
+  if (!kept.rerun.empty()) log::warn("{}", kept.rerun);
   r.rows = std::move(kept.rows);
   r.results = std::move(kept.results);
   std::string line;
@@ -485,13 +485,13 @@ int run_ladder(const StudyArgs& a, const Study& st, const std::string& kind, con
   if (world.size == 1) catch_stop_signals();
   const std::vector<std::size_t> mine = jobs_of_this_rank(first, jobs.size(), world);
   if (world.rank == 0)
-    spdlog::info("{}: {} jobs on {} thread(s){}{}", kind, jobs.size() - first, plan.threads,
+    log::info("{}: {} jobs on {} thread(s){}{}", kind, jobs.size() - first, plan.threads,
                  world.size > 1 ? fmt::format(" x {} processes", world.size) : "",
                  first > 0 ? fmt::format(" ({} done before, resumed)", first) : "");
   const bool per_record_figures = !a.no_plot && (st.records().size() <= 3 || a.per_record);
   LadderSink sink(st, plan, csv_file, timing_file, per_record_figures, world);
   sink.start(resumed);
-  Progress progress(world.rank == 0 && spdlog::get_level() <= spdlog::level::info);
+  Progress progress(world.rank == 0 && log::shows(log::Level::info));
   // Rows in job order up to the first run a stop cut short: that one and any
   // after it are left for --resume (rocking.study_run).
   const std::size_t emitted = rocking::run_ladder(
@@ -565,7 +565,7 @@ std::vector<std::pair<std::string, HuntResult>> read_resumed_hunts(
     if ((h.collapsed && !number(f[collapse], h.collapse_level)) ||
         (!f[survived].empty() && !number(f[survived], h.survived_level)) || !number(f[run_count], runs) || runs < 0 ||
         runs > 1e9) {
-      spdlog::warn("--resume: {}:{}: not a whole hunt row (collapse '{}', survived '{}', runs '{}'): hunt {} runs "
+      log::warn("--resume: {}:{}: not a whole hunt row (collapse '{}', survived '{}', runs '{}'): hunt {} runs "
                    "again, with the {} after it", rows_file.string(), n, f[collapse], f[survived], f[run_count], k + 1,
                    pairs.size() - k - 1);
       break;
@@ -626,11 +626,11 @@ int run_hunt(const StudyArgs& a, const Study& st) {
     failed += h.error.empty() ? 0 : 1;
   }
   csv << std::flush;
-  spdlog::info("hunt: {} from {:g}{} by a step of {:g} growing x{:g} to {:g}; bracket {:g}; fill below at {:g}{}",
+  log::info("hunt: {} from {:g}{} by a step of {:g} growing x{:g} to {:g}; bracket {:g}; fill below at {:g}{}",
                im.name(), o.first, unit, o.step, o.growth, o.max, o.precision, o.fill_step,
                first > 0 ? fmt::format(" ({} hunts done before, resumed)", first) : "");
   catch_stop_signals();
-  Progress progress(spdlog::get_level() <= spdlog::level::info);
+  Progress progress(log::shows(log::Level::info));
   // Hunts in order up to the first one a stop cut short (its runs stop
   // within a step): that one and any after it are left for --resume
   // (rocking.study_run).
@@ -703,7 +703,7 @@ std::vector<std::string> study_records(const StudyArgs& a) {
   for (const std::string& r : a.records) {
     std::vector<std::string> skipped;
     for (std::string& p : record_paths(r, &skipped)) out.push_back(std::move(p));
-    for (const std::string& s : skipped) spdlog::info("{}: skipped (not a record format this program reads)", s);
+    for (const std::string& s : skipped) log::info("{}: skipped (not a record format this program reads)", s);
   }
   if (!a.suite.empty()) {
     const fs::path list = fs::path(ROCKING_SUITES_DIR) / (a.suite + ".txt");
@@ -735,7 +735,7 @@ std::unique_ptr<Study> make_study(StudyArgs& a, const std::vector<std::string>& 
   if (!(a.damping >= 0 && a.damping < 1)) throw InputError(fmt::format("--damping {}: must be in [0, 1)", a.damping));
   const IntensityMeasure im = parse_intensity_measure(a.im, a.damping, t1);
   if (a.im.find("T1") != std::string::npos)
-    spdlog::info("--im {}: T1 = {:.4f} s, the fixed-base first period of {}", a.im, t1, scene.name);
+    log::info("--im {}: T1 = {:.4f} s, the fixed-base first period of {}", a.im, t1, scene.name);
   RecordOptions ro = record_options(a.file);
   ro.vertical_component = a.vertical;
   ro.other_horizontal = im.needs_pair();  // RotD: each record with its file's other horizontal component

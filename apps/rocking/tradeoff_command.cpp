@@ -5,7 +5,7 @@
 #include "stop_signals.hpp"
 #include "study_folder.hpp"
 #include "run_output.hpp"
-#include <spdlog/spdlog.h>
+#include "log.hpp"
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <algorithm>
