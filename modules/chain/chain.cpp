@@ -589,11 +589,234 @@ ChainPower power_of(const Chain& c, GroundAcceleration a, Eigen::Ref<const Eigen
   return p;
 }
 
+void check_sizes(const Chain& c, ChainPhases phases, Eigen::Ref<const Eigen::VectorXd> q,
+                 Eigen::Ref<const Eigen::VectorXd> q_dot, Eigen::Ref<Eigen::VectorXd> q_ddot) {
+  if (static_cast<int>(phases.size()) != c.joints || q.size() != c.size || q_dot.size() != c.size || q_ddot.size() != c.size)
+    throw std::invalid_argument("chain: one phase per joint and one q, q', q'' per coordinate");
+}
+
+// docs/chain.md "A rigid top rocking on a closed chain": every joint but the
+// top one (J) closed, the top segment rigid and rocking about s, every
+// segment below its face rigid but the one it stands on (b = J - 1), no
+// tendon. Every segment below the top then stands still in the ground's
+// frame (a rigid one is its closed joint's face; a flexible b on a rigid
+// one has its slab frame fixed and its nodes move by u alone), so the free
+// coordinates are theta_J and, when b is flexible, its u and phi; M is the
+// nodes' masses on u_1..u_(n-1) (no other term touches them) and a dense
+// block on (theta_J, u_n, phi), the top's [J_O; J_psi]' A [J_O; J_psi] with
+// m_n on u_n. Whether the workspace and the phases take it.
+bool top_rocking_applies(const Chain& c, ChainPhases phases, const ChainWorkspace& w) {
+  if (!w.top_rocking || w.per_point || !c.data.tendons.empty() || c.joints < 2) return false;
+  const int J = c.joints - 1;
+  if (c.elastic_offset[J] >= 0 || closed(phases[J])) return false;
+  for (int j = 0; j < J; ++j)
+    if (!closed(phases[j])) return false;
+  for (int j = 0; j + 1 < J; ++j)
+    if (c.elastic_offset[j] >= 0) return false;
+  return true;
+}
+
+// The closed form: q'' (and the power) always; with `out`, every joint's
+// reaction, and with `corners`, every closed joint's corner accelerations.
+void top_rocking(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
+                 Eigen::Ref<const Eigen::VectorXd> q_dot, Eigen::Ref<Eigen::VectorXd> q_ddot, ChainWorkspace& w,
+                 ChainPower* power, std::span<JointReaction> out, std::span<CornerAcceleration> corners) {
+  const ChainData& d = c.data;
+  const int J = c.joints - 1, b = J - 1;
+  const double gv = d.g + a.v;
+  // The fixed frames' heights O_k.y (x = 0, psi = 0), summed up the chain as
+  // kinematics sums them; the first mass point of b.
+  double* height = w.column.data();
+  int first_b = 0;
+  height[0] = 0.0;
+  for (int k = 0; k < b; ++k) {
+    const Eigen::Index top = c.local_heights[k].size() - 1;
+    height[k + 1] = height[k] + c.local_heights[k][top];
+    first_b += 1 + static_cast<int>(c.local_heights[k].size());
+  }
+  const int eo = c.elastic_offset[b];
+  const bool flex = eo >= 0;
+  const int nb = static_cast<int>(c.local_heights[b].size());
+  const int ucol = flex ? eo + nb - 1 : -1, pcol = flex ? c.rotation_index[b] : -1;
+  const double u = flex ? q[ucol] : 0.0, ud = flex ? q_dot[ucol] : 0.0;
+  const double phi = flex ? q[pcol] : 0.0, phid = flex ? q_dot[pcol] : 0.0;
+  // The face of joint J: b's top node, turning with phi.
+  const double fx = u, fy = height[b] + c.local_heights[b][nb - 1];
+  const double cF = flex ? std::cos(phi) : 1.0, sF = flex ? std::sin(phi) : 0.0;
+  // The top: its slab frame about the corner (s B, 0) of the face.
+  const double sB = pivot_sign(phases[J]) * d.segments[J].half_width;
+  const double th = q[J], psi = phi + th, om = phid + q_dot[J];
+  const double cJ = std::cos(psi), sJ = std::sin(psi);
+  const double RFx = sB * cF, RFy = -sB * sF;  // R(psi_F) (s B, 0)
+  const double RJx = sB * cJ, RJy = -sB * sJ;  // R(psi) (s B, 0)
+  const double Ox = fx + RFx - RJx, Oy = fy + RFy - RJy;
+  const double vx = ud + phid * RFy - om * RJy, vy = -phid * RFx + om * RJx;
+  const double bx = -phid * phid * RFx + om * om * RJx, by = -phid * phid * RFy + om * om * RJy;
+  // Its frame's Jacobian on (theta_J, u_n, phi): J_O = -perp(R c),
+  // (1, 0), perp(R_F c) - perp(R c); J_psi = 1, 0, 1.
+  const int nf = flex ? 3 : 1;
+  const double jx[3] = {-RJy, 1.0, RFy - RJy}, jy[3] = {RJx, 0.0, -RFx + RJx}, jp[3] = {1.0, 0.0, 1.0};
+  const double m = c.segment_mass[J], S = c.segment_moment[J], I = c.segment_inertia[J];
+  const double Px = S * cJ, Py = -S * sJ;  // P = sum m perp(R r) = R (S, 0)
+  const double ax = bx + a.h, ay = by + gv;
+  const double Fx = m * ax - om * om * S * sJ, Fy = m * ay - om * om * S * cJ;  // R (0, S) = S (sin, cos)
+  const double T = Px * ax + Py * ay;
+  double Mb[3][3], Qb[3];
+  for (int k = 0; k < nf; ++k) {
+    const double gx = m * jx[k] + Px * jp[k], gy = m * jy[k] + Py * jp[k], gp = Px * jx[k] + Py * jy[k] + I * jp[k];
+    for (int l = k; l < nf; ++l) Mb[l][k] = jx[l] * gx + jy[l] * gy + jp[l] * gp;
+    Qb[k] = -(jx[k] * Fx + jy[k] * Fy + jp[k] * T);
+  }
+  Qb[0] += w.applied[J];
+  // b's coordinates: the nodes' forces -m a_h (their frame still), - K x - C x'.
+  double* Qe = w.rhs.data();
+  const double* mass = c.masses.data() + first_b + 1;
+  if (flex) {
+    for (int i = 0; i <= nb; ++i) Qe[i] = i < nb ? -mass[i] * a.h : 0.0;
+    const Eigen::MatrixXd &K = c.K[b], &C = c.C[b];
+    for (int l = 0; l <= nb; ++l) {
+      const double x = q[eo + l], v = q_dot[eo + l];
+      for (int k = 0; k <= nb; ++k) Qe[k] -= K(k, l) * x + C(k, l) * v;
+    }
+    for (int i = 0; i <= nb; ++i) Qe[i] += w.applied[eo + i];
+    Mb[1][1] += mass[nb - 1];
+    Qb[1] += Qe[nb - 1];
+    Qb[2] += Qe[nb];
+  }
+  // Cholesky of the block (lower triangle), then q''.
+  double L[3][3];
+  for (int k = 0; k < nf; ++k) {
+    double dk = Mb[k][k];
+    for (int p = 0; p < k; ++p) dk -= L[k][p] * L[k][p];
+    if (!(dk > 0.0)) throw std::runtime_error("chain: mass matrix not positive definite");
+    L[k][k] = std::sqrt(dk);
+    for (int i = k + 1; i < nf; ++i) {
+      double v = Mb[i][k];
+      for (int p = 0; p < k; ++p) v -= L[i][p] * L[k][p];
+      L[i][k] = v / L[k][k];
+    }
+  }
+  auto solve = [&](double* x) {
+    for (int i = 0; i < nf; ++i) {
+      double v = x[i];
+      for (int p = 0; p < i; ++p) v -= L[i][p] * x[p];
+      x[i] = v / L[i][i];
+    }
+    for (int i = nf - 1; i >= 0; --i) {
+      double v = x[i];
+      for (int p = i + 1; p < nf; ++p) v -= L[p][i] * x[p];
+      x[i] = v / L[i][i];
+    }
+  };
+  double acc[3] = {Qb[0], Qb[1], Qb[2]};
+  solve(acc);
+  q_ddot.setZero();
+  q_ddot[J] = acc[0];
+  if (flex) {
+    for (int i = 0; i + 1 < nb; ++i) q_ddot[eo + i] = Qe[i] / mass[i];
+    q_ddot[ucol] = acc[1];
+    q_ddot[pcol] = acc[2];
+  }
+  if (power) {  // momentum: b's nodes' sum m u', the top's m O' + psi' P
+    double Ud = 0;
+    for (int i = 0; flex && i < nb; ++i) Ud += mass[i] * q_dot[eo + i];
+    const double px = Ud + (m * vx + om * Px), py = m * vy + om * Py;
+    power->ground = -(a.h * px + a.v * py);
+    power->damping = 0.0;
+    if (flex) {
+      const Eigen::MatrixXd& C = c.C[b];
+      for (int l = 0; l <= nb; ++l)
+        for (int k = 0; k <= nb; ++k) power->damping += q_dot[eo + k] * C(k, l) * q_dot[eo + l];
+    }
+  }
+  if (out.empty()) return;
+
+  // Reactions: the force sum m (a_i + (a_h, g + a_v)) on each part above a
+  // joint and its moment about the joint's centre (docs/chain.md).
+  const double psi_dd = acc[0] + (flex ? acc[2] : 0.0);
+  double Ax = bx, Ay = by;  // O''
+  for (int k = 0; k < nf; ++k) {
+    Ax += jx[k] * acc[k];
+    Ay += jy[k] * acc[k];
+  }
+  const double ex = Ax + a.h, ey = Ay + gv;
+  double Sx = m * ex + psi_dd * Px - om * om * S * sJ, Sy = m * ey + psi_dd * Py - om * om * S * cJ;
+  double Mo = Px * ex + Py * ey + I * psi_dd;  // about the top's O
+  out[J].V = cF * Sx - sF * Sy;
+  out[J].N = sF * Sx + cF * Sy;
+  out[J].M = 0.0;
+  if (!corners.empty()) corners[J] = {};
+  // The part above, for the corners: mass, first and second moments about (Xx, Xy).
+  double mt = m, Wx = S * sJ, Wy = S * cJ, It = I, Xx = Ox, Xy = Oy;
+  // The top's share of b = M_f,t (for the corners), about a point C:
+  // J_O'perp(W) + J_psi L with W = m (O - C) + R (0, S), L = R (0, S).(O - C) + I.
+  for (int k = b; k >= 0; --k) {
+    const double ox = 0.0, oy = height[k];
+    // move the sums to O_k
+    const double rx = Xx - ox, ry = Xy - oy;
+    Mo += ry * Sx - rx * Sy;
+    It += 2.0 * (rx * Wx + ry * Wy) + mt * (rx * rx + ry * ry);
+    Wx += mt * rx;
+    Wy += mt * ry;
+    Xx = ox, Xy = oy;
+    // segment k's own, about O_k
+    const double mk = c.segment_mass[k], Sk = c.segment_moment[k];
+    double Fk = mk * a.h, Tk = Sk * a.h, Uk = 0, uu = 0;
+    if (k == b && flex)
+      for (int i = 0; i < nb; ++i) {
+        const double ui = q[eo + i], ai = q_ddot[eo + i];
+        Fk += mass[i] * ai;
+        Tk += mass[i] * (c.local_heights[b][i] * ai - gv * ui);
+        Uk += mass[i] * ui;
+        uu += mass[i] * ui * ui;
+      }
+    Sx += Fk;
+    Sy += mk * gv;
+    Mo += Tk;
+    mt += mk;
+    Wx += Uk;
+    Wy += Sk;
+    It += c.segment_inertia[k] + uu;
+    out[k].V = Sx;
+    out[k].N = Sy;
+    out[k].M = w.applied[k] - Mo;
+    if (corners.empty()) continue;
+    const double Bk = d.segments[k].half_width;
+    for (Pivot p : pivots) {
+      const double sBk = sign(p) * Bk;  // the corner C = O_k + (s B_k, 0)
+      const double tMt = It - 2.0 * sBk * Wx + mt * sBk * sBk;
+      const double cx = ox + sBk, cy = oy;
+      const double Wtx = m * (Ox - cx) + S * sJ, Wty = m * (Oy - cy) + S * cJ;
+      const double Lt = S * sJ * (Ox - cx) + S * cJ * (Oy - cy) + I;
+      double bt[3], bMb = 0;
+      for (int l = 0; l < nf; ++l) bt[l] = jx[l] * Wty - jy[l] * Wtx + jp[l] * Lt;
+      if (flex) {
+        for (int i = 0; i < nb; ++i) {
+          const double bi = mass[i] * (height[b] + c.local_heights[b][i] - cy);
+          if (i + 1 < nb)
+            bMb += bi * bi / mass[i];
+          else
+            bt[1] += bi;
+        }
+      }
+      double y[3] = {bt[0], bt[1], bt[2]};
+      solve(y);
+      for (int l = 0; l < nf; ++l) bMb += bt[l] * y[l];
+      const double den = tMt - bMb;
+      (p == Pivot::left ? corners[k].left : corners[k].right) = (sign(p) * out[k].M - Bk * out[k].N) / den;
+      (p == Pivot::left ? corners[k].left_gain : corners[k].right_gain) = -1.0 / den;
+    }
+  }
+}
+
 void accelerate(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
                 Eigen::Ref<const Eigen::VectorXd> q_dot, Eigen::Ref<Eigen::VectorXd> q_ddot, bool augmented,
                 ChainWorkspace& w, ChainPower* power = nullptr) {
-  if (static_cast<int>(phases.size()) != c.joints || q.size() != c.size || q_dot.size() != c.size || q_ddot.size() != c.size)
-    throw std::invalid_argument("chain: one phase per joint and one q, q', q'' per coordinate");
+  check_sizes(c, phases, q, q_dot, q_ddot);
+  if (!augmented && top_rocking_applies(c, phases, w)) {
+    top_rocking(c, phases, a, q, q_dot, q_ddot, w, power, {}, {});
+    return;
+  }
   partition(c, phases, augmented, w);
   // Without the augmentation only the free coordinates' columns are read (M_ff,
   // Q_f): the Jacobians stop at the last free one (free is increasing, and
@@ -862,6 +1085,11 @@ void chain_acceleration(const Chain& c, ChainPhases phases, GroundAcceleration a
 void chain_reactions(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
                      Eigen::Ref<const Eigen::VectorXd> q_dot, std::span<JointReaction> out,
                      Eigen::Ref<Eigen::VectorXd> q_ddot, ChainWorkspace& w, std::span<CornerAcceleration> corners) {
+  check_sizes(c, phases, q, q_dot, q_ddot);
+  if (top_rocking_applies(c, phases, w)) {
+    top_rocking(c, phases, a, q, q_dot, q_ddot, w, nullptr, out, corners);
+    return;
+  }
   accelerate(c, phases, a, q, q_dot, q_ddot, true, w);
   // lambda_c = M_cf q_f'' - Q_c: the generalised force of constraint c
   auto lambda = [&](int col) {
@@ -923,6 +1151,10 @@ void chain_reactions(const Chain& c, ChainPhases phases, GroundAcceleration a, E
       (p == Pivot::left ? corners[j].left_gain : corners[j].right_gain) = -1.0 / den;
     }
   }
+}
+
+bool chain_top_rocking(const Chain& c, ChainPhases phases, const ChainWorkspace& w) {
+  return static_cast<int>(phases.size()) == c.joints && top_rocking_applies(c, phases, w);
 }
 
 double uplift_guard(const Chain& c, int joint, Pivot s, const JointReaction& r) {
