@@ -683,30 +683,30 @@ void top_rocking(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen
     Qb[1] += Qe[nb - 1];
     Qb[2] += Qe[nb];
   }
-  // Cholesky of the block (lower triangle), then q''.
-  double L[3][3];
-  for (int k = 0; k < nf; ++k) {
-    double dk = Mb[k][k];
-    for (int p = 0; p < k; ++p) dk -= L[k][p] * L[k][p];
-    if (!(dk > 0.0)) throw std::runtime_error("chain: mass matrix not positive definite");
-    L[k][k] = std::sqrt(dk);
-    for (int i = k + 1; i < nf; ++i) {
-      double v = Mb[i][k];
-      for (int p = 0; p < k; ++p) v -= L[i][p] * L[k][p];
-      L[i][k] = v / L[k][k];
-    }
+  // The block's inverse by its adjugate (one division on the path, where a
+  // Cholesky factor's solves take nine), after the leading minors' check
+  // that it is positive definite; then q''.
+  double Mi[3][3];
+  if (nf == 1) {
+    if (!(Mb[0][0] > 0.0)) throw std::runtime_error("chain: mass matrix not positive definite");
+    Mi[0][0] = 1.0 / Mb[0][0];
+  } else {
+    const double a0 = Mb[0][0], a1 = Mb[1][0], a2 = Mb[2][0], d1 = Mb[1][1], e1 = Mb[2][1], f2 = Mb[2][2];
+    const double A00 = d1 * f2 - e1 * e1, A01 = a2 * e1 - a1 * f2, A02 = a1 * e1 - a2 * d1;
+    const double A11 = a0 * f2 - a2 * a2, A12 = a1 * a2 - a0 * e1, A22 = a0 * d1 - a1 * a1;
+    const double det = a0 * A00 + a1 * A01 + a2 * A02;
+    if (!(a0 > 0.0) || !(A22 > 0.0) || !(det > 0.0)) throw std::runtime_error("chain: mass matrix not positive definite");
+    const double r = 1.0 / det;
+    Mi[0][0] = A00 * r, Mi[0][1] = Mi[1][0] = A01 * r, Mi[0][2] = Mi[2][0] = A02 * r;
+    Mi[1][1] = A11 * r, Mi[1][2] = Mi[2][1] = A12 * r, Mi[2][2] = A22 * r;
   }
   auto solve = [&](double* x) {
+    double y[3];
     for (int i = 0; i < nf; ++i) {
-      double v = x[i];
-      for (int p = 0; p < i; ++p) v -= L[i][p] * x[p];
-      x[i] = v / L[i][i];
+      y[i] = 0.0;
+      for (int k = 0; k < nf; ++k) y[i] += Mi[i][k] * x[k];
     }
-    for (int i = nf - 1; i >= 0; --i) {
-      double v = x[i];
-      for (int p = i + 1; p < nf; ++p) v -= L[p][i] * x[p];
-      x[i] = v / L[i][i];
-    }
+    for (int i = 0; i < nf; ++i) x[i] = y[i];
   };
   double acc[3] = {Qb[0], Qb[1], Qb[2]};
   solve(acc);
@@ -803,8 +803,9 @@ void top_rocking(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen
       solve(y);
       for (int l = 0; l < nf; ++l) bMb += bt[l] * y[l];
       const double den = tMt - bMb;
-      (p == Pivot::left ? corners[k].left : corners[k].right) = (sign(p) * out[k].M - Bk * out[k].N) / den;
-      (p == Pivot::left ? corners[k].left_gain : corners[k].right_gain) = -1.0 / den;
+      const double inertia = 1.0 / den;
+      (p == Pivot::left ? corners[k].left : corners[k].right) = (sign(p) * out[k].M - Bk * out[k].N) * inertia;
+      (p == Pivot::left ? corners[k].left_gain : corners[k].right_gain) = -inertia;
     }
   }
 }
