@@ -598,9 +598,9 @@ void check_sizes(const Chain& c, ChainPhases phases, Eigen::Ref<const Eigen::Vec
 // docs/chain.md "A rigid top rocking on a closed chain": every joint but the
 // top one (J) closed, the top segment rigid and rocking about s, every
 // segment below its face rigid but the one it stands on (b = J - 1), no
-// tendon. Every segment below the top then stands still in the ground's
-// frame (a rigid one is its closed joint's face; a flexible b on a rigid
-// one has its slab frame fixed and its nodes move by u alone), so the free
+// tendon. Every segment below the top then has its slab frame fixed in the
+// ground's (each stands closed on the ground or on a rigid segment whose
+// frame is fixed); a flexible b's nodes move by u alone, so the free
 // coordinates are theta_J and, when b is flexible, its u and phi; M is the
 // nodes' masses on u_1..u_(n-1) (no other term touches them) and a dense
 // block on (theta_J, u_n, phi), the top's [J_O; J_psi]' A [J_O; J_psi] with
