@@ -1,7 +1,7 @@
-// rocking.chain's closed form for a rigid top rocking on a closed chain
-// (docs/chain.md "A rigid top rocking on a closed chain") against the
-// assembly it replaces (ChainWorkspace::top_rocking false): every joint but
-// the top one closed, the top rigid and rocking about either corner. Both
+// rocking.chain's closed form for a rigid top on a closed chain
+// (docs/chain.md "A rigid top on a closed chain") against the assembly it
+// replaces (ChainWorkspace::rigid_top false): every joint but the top one
+// closed, the top rigid and rocking about either corner, or closed. Both
 // are the same equations, so on random states, with and without ground
 // accelerations (horizontal and vertical) and applied generalised forces
 // (a device's moment on a closed joint's theta enters that joint's M alone;
@@ -13,7 +13,8 @@
 // On the cracked chimney's chain (data/scenes/chimney_cracked.toml), the
 // stacked blocks (data/scenes/stacked_blocks.toml) and a flexible shaft on a
 // rigid pedestal under a rigid top. Where the closed form does not hold (a
-// tendon, a flexible top, a second joint rocking, per_point) it is not taken.
+// tendon, a flexible top, a joint below the top rocking, a flexible segment under a
+// rigid one under the top, per_point) it is not taken.
 #include <rocking/eigen.hpp>
 #include <doctest/doctest.h>
 
@@ -69,27 +70,30 @@ void check_vector(const Vec& actual, const Vec& expected) {
 
 }  // namespace
 
-TEST_CASE("a rigid top rocking on a closed chain: the closed form gives the assembly's q'', powers, reactions and corner accelerations to 1e-12") {
+TEST_CASE("a rigid top on a closed chain, rocking or closed: the closed form gives the assembly's q'', powers, reactions and corner accelerations to 1e-12") {
   std::mt19937 rng(54);
   std::uniform_real_distribution<double> U(-1.0, 1.0);
   for (const auto& [name, data] : chains()) {
     CAPTURE(name);
     const Chain c = make_chain(data);
     ChainWorkspace fast = make_workspace(c), general = make_workspace(c);
-    general.top_rocking = false;
+    general.rigid_top = false;
     const int n = c.size, J = c.joints, top = J - 1;
     const double weight = c.segment_mass[top] * c.data.g;  // the top's weight, the scale of the applied forces
     int compared = 0;
-    for (Pivot s : pivots) {
+    for (const Phase top_phase : {Phase::rocking(Pivot::left), Phase::rocking(Pivot::right), Phase::full_contact()}) {
       std::vector<Phase> phases(J, Phase::full_contact());
-      phases[top] = Phase::rocking(s);
-      REQUIRE(chain_top_rocking(c, phases, fast));
-      CHECK_FALSE(chain_top_rocking(c, phases, general));
+      phases[top] = top_phase;
+      CAPTURE(top_phase.sign());
+      REQUIRE(chain_rigid_top(c, phases, fast));
+      CHECK_FALSE(chain_rigid_top(c, phases, general));
       for (int trial = 0; trial < 16; ++trial) {
         CAPTURE(trial);
         Vec q = Vec::Zero(n), v = Vec::Zero(n);
-        q[top] = sign(s) * 0.05 * std::abs(U(rng));
-        v[top] = 0.5 * U(rng);
+        if (top_phase.is_rocking()) {  // a closed joint's theta and theta' are 0
+          q[top] = top_phase.sign() * 0.05 * std::abs(U(rng));
+          v[top] = 0.5 * U(rng);
+        }
         for (int k = J; k < n; ++k) {
           q[k] = 0.01 * U(rng);
           v[k] = 0.2 * U(rng);
@@ -142,23 +146,23 @@ TEST_CASE("a rigid top rocking on a closed chain: the closed form gives the asse
         ++compared;
       }
     }
-    CHECK(compared == 32);
+    CHECK(compared == 48);
   }
 }
 
-TEST_CASE("the closed form for a rocking top is not taken where it does not hold") {
+TEST_CASE("the closed form for a rigid top on a closed chain is not taken where it does not hold") {
   const ChainData pedestal = pedestal_chain();
   const Chain c = make_chain(pedestal);
   ChainWorkspace w = make_workspace(c);
   const std::vector<Phase> top_rocks{Phase::full_contact(), Phase::full_contact(), Phase::rocking(Pivot::left)};
-  CHECK(chain_top_rocking(c, top_rocks, w));
-  // a second joint rocking, or the top closed
-  CHECK_FALSE(chain_top_rocking(c, std::vector<Phase>{Phase::rocking(Pivot::right), Phase::full_contact(), Phase::rocking(Pivot::left)}, w));
-  CHECK_FALSE(chain_top_rocking(c, std::vector<Phase>{Phase::full_contact(), Phase::rocking(Pivot::right), Phase::rocking(Pivot::left)}, w));
-  CHECK_FALSE(chain_top_rocking(c, std::vector<Phase>(3, Phase::full_contact()), w));
+  CHECK(chain_rigid_top(c, top_rocks, w));
+  CHECK(chain_rigid_top(c, std::vector<Phase>(3, Phase::full_contact()), w));
+  // a joint below the top rocking
+  CHECK_FALSE(chain_rigid_top(c, std::vector<Phase>{Phase::rocking(Pivot::right), Phase::full_contact(), Phase::rocking(Pivot::left)}, w));
+  CHECK_FALSE(chain_rigid_top(c, std::vector<Phase>{Phase::full_contact(), Phase::rocking(Pivot::right), Phase::full_contact()}, w));
   // per_point
   w.per_point = true;
-  CHECK_FALSE(chain_top_rocking(c, top_rocks, w));
+  CHECK_FALSE(chain_rigid_top(c, top_rocks, w));
   // a tendon
   ChainData tied = pedestal;
   ChainTendon tendon;
@@ -167,19 +171,19 @@ TEST_CASE("the closed form for a rocking top is not taken where it does not hold
   tendon.stiffness = 1e6;
   tied.tendons.push_back(tendon);
   const Chain ct = make_chain(tied);
-  CHECK_FALSE(chain_top_rocking(ct, top_rocks, make_workspace(ct)));
+  CHECK_FALSE(chain_rigid_top(ct, top_rocks, make_workspace(ct)));
   // a flexible top (on a rigid segment)
   ChainData flexible_top;
   flexible_top.segments.push_back(segment(0.0, 1.0, 1000.0, {1.0}, {2000.0}));
   flexible_top.segments.push_back(segment(1.0, 0.5, 500.0, {3.0, 5.0}, {800.0, 600.0}, false, {2e9, 1e9}));
   const Chain cf = make_chain(flexible_top);
-  CHECK_FALSE(chain_top_rocking(cf, std::vector<Phase>{Phase::full_contact(), Phase::rocking(Pivot::left)}, make_workspace(cf)));
+  CHECK_FALSE(chain_rigid_top(cf, std::vector<Phase>{Phase::full_contact(), Phase::rocking(Pivot::left)}, make_workspace(cf)));
   // a flexible segment below a rigid one below the top (the middle one turns with phi)
   ChainData turning;
   turning.segments.push_back(segment(0.0, 1.0, 3000.0, {2.0, 4.0}, {2000.0, 1500.0}, false, {4e9, 3e9}));
   turning.segments.push_back(segment(4.0, 0.6, 400.0, {5.0}, {600.0}));
   turning.segments.push_back(segment(5.0, 0.3, 0.0, {5.5}, {100.0}));
   const Chain cm = make_chain(turning);
-  CHECK_FALSE(chain_top_rocking(cm, std::vector<Phase>{Phase::full_contact(), Phase::full_contact(), Phase::rocking(Pivot::right)},
+  CHECK_FALSE(chain_rigid_top(cm, std::vector<Phase>{Phase::full_contact(), Phase::full_contact(), Phase::rocking(Pivot::right)},
                                 make_workspace(cm)));
 }

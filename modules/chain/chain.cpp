@@ -595,20 +595,22 @@ void check_sizes(const Chain& c, ChainPhases phases, Eigen::Ref<const Eigen::Vec
     throw std::invalid_argument("chain: one phase per joint and one q, q', q'' per coordinate");
 }
 
-// docs/chain.md "A rigid top rocking on a closed chain": every joint but the
-// top one (J) closed, the top segment rigid and rocking about s, every
+// docs/chain.md "A rigid top on a closed chain": every joint but the top one
+// (J) closed, the top segment rigid, rocking about s or closed, every
 // segment below its face rigid but the one it stands on (b = J - 1), no
 // tendon. Every segment below the top then has its slab frame fixed in the
 // ground's (each stands closed on the ground or on a rigid segment whose
 // frame is fixed); a flexible b's nodes move by u alone, so the free
-// coordinates are theta_J and, when b is flexible, its u and phi; M is the
-// nodes' masses on u_1..u_(n-1) (no other term touches them) and a dense
-// block on (theta_J, u_n, phi), the top's [J_O; J_psi]' A [J_O; J_psi] with
-// m_n on u_n. Whether the workspace and the phases take it.
-bool top_rocking_applies(const Chain& c, ChainPhases phases, const ChainWorkspace& w) {
-  if (!w.top_rocking || w.per_point || !c.data.tendons.empty() || c.joints < 2) return false;
+// coordinates are theta_J when the top rocks and, when b is flexible, its u
+// and phi; M is the nodes' masses on u_1..u_(n-1) (no other term touches
+// them) and a dense block on (theta_J, u_n, phi), the top's
+// [J_O; J_psi]' A [J_O; J_psi] with m_n on u_n. A closed top turns with the
+// face about its centre: the same kinematics with the corner at the centre
+// (s B = 0) and no theta_J. Whether the workspace and the phases take it.
+bool rigid_top_applies(const Chain& c, ChainPhases phases, const ChainWorkspace& w) {
+  if (!w.rigid_top || w.per_point || !c.data.tendons.empty() || c.joints < 2) return false;
   const int J = c.joints - 1;
-  if (c.elastic_offset[J] >= 0 || closed(phases[J])) return false;
+  if (c.elastic_offset[J] >= 0) return false;
   for (int j = 0; j < J; ++j)
     if (!closed(phases[j])) return false;
   for (int j = 0; j + 1 < J; ++j)
@@ -618,9 +620,9 @@ bool top_rocking_applies(const Chain& c, ChainPhases phases, const ChainWorkspac
 
 // The closed form: q'' (and the power) always; with `out`, every joint's
 // reaction, and with `corners`, every closed joint's corner accelerations.
-void top_rocking(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
-                 Eigen::Ref<const Eigen::VectorXd> q_dot, Eigen::Ref<Eigen::VectorXd> q_ddot, ChainWorkspace& w,
-                 ChainPower* power, std::span<JointReaction> out, std::span<CornerAcceleration> corners) {
+void rigid_top(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
+               Eigen::Ref<const Eigen::VectorXd> q_dot, Eigen::Ref<Eigen::VectorXd> q_ddot, ChainWorkspace& w,
+               ChainPower* power, std::span<JointReaction> out, std::span<CornerAcceleration> corners) {
   const ChainData& d = c.data;
   const int J = c.joints - 1, b = J - 1;
   const double gv = d.g + a.v;
@@ -635,7 +637,7 @@ void top_rocking(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen
     first_b += 1 + static_cast<int>(c.local_heights[k].size());
   }
   const int eo = c.elastic_offset[b];
-  const bool flex = eo >= 0;
+  const bool flex = eo >= 0, rocks = !closed(phases[J]);
   const int nb = static_cast<int>(c.local_heights[b].size());
   const int ucol = flex ? eo + nb - 1 : -1, pcol = flex ? c.rotation_index[b] : -1;
   const double u = flex ? q[ucol] : 0.0, ud = flex ? q_dot[ucol] : 0.0;
@@ -643,31 +645,39 @@ void top_rocking(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen
   // The face of joint J: b's top node, turning with phi.
   const double fx = u, fy = height[b] + c.local_heights[b][nb - 1];
   const double cF = flex ? std::cos(phi) : 1.0, sF = flex ? std::sin(phi) : 0.0;
-  // The top: its slab frame about the corner (s B, 0) of the face.
-  const double sB = pivot_sign(phases[J]) * d.segments[J].half_width;
-  const double th = q[J], psi = phi + th, om = phid + q_dot[J];
-  const double cJ = std::cos(psi), sJ = std::sin(psi);
+  // The top: its slab frame about the corner (s B, 0) of the face (the
+  // centre, s B = 0, when closed).
+  const double sB = rocks ? pivot_sign(phases[J]) * d.segments[J].half_width : 0.0;
+  const double th = rocks ? q[J] : 0.0, psi = phi + th, om = phid + (rocks ? q_dot[J] : 0.0);
+  const double cJ = rocks ? std::cos(psi) : cF, sJ = rocks ? std::sin(psi) : sF;
   const double RFx = sB * cF, RFy = -sB * sF;  // R(psi_F) (s B, 0)
   const double RJx = sB * cJ, RJy = -sB * sJ;  // R(psi) (s B, 0)
   const double Ox = fx + RFx - RJx, Oy = fy + RFy - RJy;
   const double vx = ud + phid * RFy - om * RJy, vy = -phid * RFx + om * RJx;
   const double bx = -phid * phid * RFx + om * om * RJx, by = -phid * phid * RFy + om * om * RJy;
-  // Its frame's Jacobian on (theta_J, u_n, phi): J_O = -perp(R c),
-  // (1, 0), perp(R_F c) - perp(R c); J_psi = 1, 0, 1.
-  const int nf = flex ? 3 : 1;
-  const double jx[3] = {-RJy, 1.0, RFy - RJy}, jy[3] = {RJx, 0.0, -RFx + RJx}, jp[3] = {1.0, 0.0, 1.0};
+  // Its frame's Jacobian on the free ones of (theta_J, u_n, phi), in that
+  // order: J_O = -perp(R c), (1, 0), perp(R_F c) - perp(R c); J_psi = 1, 0, 1.
+  int nf = 0, col[3], iu = -1;
+  double jx[3], jy[3], jp[3];
+  auto add = [&](int k, double x, double y, double p) { col[nf] = k, jx[nf] = x, jy[nf] = y, jp[nf] = p, ++nf; };
+  if (rocks) add(J, -RJy, RJx, 1.0);
+  if (flex) {
+    iu = nf;
+    add(ucol, 1.0, 0.0, 0.0);
+    add(pcol, RFy - RJy, -RFx + RJx, 1.0);
+  }
   const double m = c.segment_mass[J], S = c.segment_moment[J], I = c.segment_inertia[J];
   const double Px = S * cJ, Py = -S * sJ;  // P = sum m perp(R r) = R (S, 0)
   const double ax = bx + a.h, ay = by + gv;
   const double Fx = m * ax - om * om * S * sJ, Fy = m * ay - om * om * S * cJ;  // R (0, S) = S (sin, cos)
   const double T = Px * ax + Py * ay;
-  double Mb[3][3], Qb[3];
+  double Mb[3][3], Qb[3] = {0.0, 0.0, 0.0};
   for (int k = 0; k < nf; ++k) {
     const double gx = m * jx[k] + Px * jp[k], gy = m * jy[k] + Py * jp[k], gp = Px * jx[k] + Py * jy[k] + I * jp[k];
     for (int l = k; l < nf; ++l) Mb[l][k] = jx[l] * gx + jy[l] * gy + jp[l] * gp;
     Qb[k] = -(jx[k] * Fx + jy[k] * Fy + jp[k] * T);
   }
-  Qb[0] += w.applied[J];
+  if (rocks) Qb[0] += w.applied[J];
   // b's coordinates: the nodes' forces -m a_h (their frame still), - K x - C x'.
   double* Qe = w.rhs.data();
   const double* mass = c.masses.data() + first_b + 1;
@@ -679,23 +689,29 @@ void top_rocking(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen
       for (int k = 0; k <= nb; ++k) Qe[k] -= K(k, l) * x + C(k, l) * v;
     }
     for (int i = 0; i <= nb; ++i) Qe[i] += w.applied[eo + i];
-    Mb[1][1] += mass[nb - 1];
-    Qb[1] += Qe[nb - 1];
-    Qb[2] += Qe[nb];
+    Mb[iu][iu] += mass[nb - 1];
+    Qb[iu] += Qe[nb - 1];
+    Qb[iu + 1] += Qe[nb];
   }
   // The block's inverse by its adjugate (one division on the path, where a
   // Cholesky factor's solves take nine), after the leading minors' check
   // that it is positive definite; then q''.
   double Mi[3][3];
+  auto not_definite = [] { throw std::runtime_error("chain: mass matrix not positive definite"); };
   if (nf == 1) {
-    if (!(Mb[0][0] > 0.0)) throw std::runtime_error("chain: mass matrix not positive definite");
+    if (!(Mb[0][0] > 0.0)) not_definite();
     Mi[0][0] = 1.0 / Mb[0][0];
-  } else {
+  } else if (nf == 2) {
+    const double a0 = Mb[0][0], a1 = Mb[1][0], d1 = Mb[1][1], det = a0 * d1 - a1 * a1;
+    if (!(a0 > 0.0) || !(det > 0.0)) not_definite();
+    const double r = 1.0 / det;
+    Mi[0][0] = d1 * r, Mi[0][1] = Mi[1][0] = -a1 * r, Mi[1][1] = a0 * r;
+  } else if (nf == 3) {
     const double a0 = Mb[0][0], a1 = Mb[1][0], a2 = Mb[2][0], d1 = Mb[1][1], e1 = Mb[2][1], f2 = Mb[2][2];
     const double A00 = d1 * f2 - e1 * e1, A01 = a2 * e1 - a1 * f2, A02 = a1 * e1 - a2 * d1;
     const double A11 = a0 * f2 - a2 * a2, A12 = a1 * a2 - a0 * e1, A22 = a0 * d1 - a1 * a1;
     const double det = a0 * A00 + a1 * A01 + a2 * A02;
-    if (!(a0 > 0.0) || !(A22 > 0.0) || !(det > 0.0)) throw std::runtime_error("chain: mass matrix not positive definite");
+    if (!(a0 > 0.0) || !(A22 > 0.0) || !(det > 0.0)) not_definite();
     const double r = 1.0 / det;
     Mi[0][0] = A00 * r, Mi[0][1] = Mi[1][0] = A01 * r, Mi[0][2] = Mi[2][0] = A02 * r;
     Mi[1][1] = A11 * r, Mi[1][2] = Mi[2][1] = A12 * r, Mi[2][2] = A22 * r;
@@ -711,12 +727,9 @@ void top_rocking(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen
   double acc[3] = {Qb[0], Qb[1], Qb[2]};
   solve(acc);
   q_ddot.setZero();
-  q_ddot[J] = acc[0];
-  if (flex) {
+  for (int k = 0; k < nf; ++k) q_ddot[col[k]] = acc[k];
+  if (flex)
     for (int i = 0; i + 1 < nb; ++i) q_ddot[eo + i] = Qe[i] / mass[i];
-    q_ddot[ucol] = acc[1];
-    q_ddot[pcol] = acc[2];
-  }
   if (power) {  // momentum: b's nodes' sum m u', the top's m O' + psi' P
     double Ud = 0;
     for (int i = 0; flex && i < nb; ++i) Ud += mass[i] * q_dot[eo + i];
@@ -733,23 +746,47 @@ void top_rocking(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen
 
   // Reactions: the force sum m (a_i + (a_h, g + a_v)) on each part above a
   // joint and its moment about the joint's centre (docs/chain.md).
-  const double psi_dd = acc[0] + (flex ? acc[2] : 0.0);
-  double Ax = bx, Ay = by;  // O''
+  double psi_dd = 0, Ax = bx, Ay = by;  // psi'', O''
   for (int k = 0; k < nf; ++k) {
+    psi_dd += jp[k] * acc[k];
     Ax += jx[k] * acc[k];
     Ay += jy[k] * acc[k];
   }
   const double ex = Ax + a.h, ey = Ay + gv;
   double Sx = m * ex + psi_dd * Px - om * om * S * sJ, Sy = m * ey + psi_dd * Py - om * om * S * cJ;
-  double Mo = Px * ex + Py * ey + I * psi_dd;  // about the top's O
+  double Mo = Px * ex + Py * ey + I * psi_dd;  // about the top's O (the face's centre when closed)
   out[J].V = cF * Sx - sF * Sy;
   out[J].N = sF * Sx + cF * Sy;
-  out[J].M = 0.0;
-  if (!corners.empty()) corners[J] = {};
+  out[J].M = rocks ? 0.0 : w.applied[J] - Mo;
+  // The top's share of b = M_f,t about a corner C (for the corners):
+  // J_O'perp(W) + J_psi L with W = m (O - C) + R (0, S), L = R (0, S).(O - C) + I.
+  auto top_share = [&](double cx, double cy, double* bt) {
+    const double Wtx = m * (Ox - cx) + S * sJ, Wty = m * (Oy - cy) + S * cJ;
+    const double Lt = S * sJ * (Ox - cx) + S * cJ * (Oy - cy) + I;
+    for (int l = 0; l < nf; ++l) bt[l] = jx[l] * Wty - jy[l] * Wtx + jp[l] * Lt;
+  };
+  auto set_corner = [&](int k, Pivot p, double den) {
+    const double inertia = 1.0 / den;
+    (p == Pivot::left ? corners[k].left : corners[k].right) = (sign(p) * out[k].M - d.segments[k].half_width * out[k].N) * inertia;
+    (p == Pivot::left ? corners[k].left_gain : corners[k].right_gain) = -inertia;
+  };
+  if (!corners.empty()) {
+    corners[J] = {};
+    if (!rocks)  // the top alone about a corner of its face, C = O + R_F (s B_J, 0)
+      for (Pivot p : pivots) {
+        const double sBJ = sign(p) * d.segments[J].half_width;
+        const double cx = Ox + sBJ * cF, cy = Oy - sBJ * sF, rx = Ox - cx, ry = Oy - cy;
+        const double tMt = m * (rx * rx + ry * ry) + 2.0 * S * (sJ * rx + cJ * ry) + I;
+        double bt[3], y[3], bMb = 0;
+        top_share(cx, cy, bt);
+        for (int l = 0; l < nf; ++l) y[l] = bt[l];
+        solve(y);
+        for (int l = 0; l < nf; ++l) bMb += bt[l] * y[l];
+        set_corner(J, p, tMt - bMb);
+      }
+  }
   // The part above, for the corners: mass, first and second moments about (Xx, Xy).
   double mt = m, Wx = S * sJ, Wy = S * cJ, It = I, Xx = Ox, Xy = Oy;
-  // The top's share of b = M_f,t (for the corners), about a point C:
-  // J_O'perp(W) + J_psi L with W = m (O - C) + R (0, S), L = R (0, S).(O - C) + I.
   for (int k = b; k >= 0; --k) {
     const double ox = 0.0, oy = height[k];
     // move the sums to O_k
@@ -781,31 +818,25 @@ void top_rocking(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen
     out[k].N = Sy;
     out[k].M = w.applied[k] - Mo;
     if (corners.empty()) continue;
-    const double Bk = d.segments[k].half_width;
     for (Pivot p : pivots) {
-      const double sBk = sign(p) * Bk;  // the corner C = O_k + (s B_k, 0)
+      const double sBk = sign(p) * d.segments[k].half_width;  // the corner C = O_k + (s B_k, 0)
       const double tMt = It - 2.0 * sBk * Wx + mt * sBk * sBk;
       const double cx = ox + sBk, cy = oy;
-      const double Wtx = m * (Ox - cx) + S * sJ, Wty = m * (Oy - cy) + S * cJ;
-      const double Lt = S * sJ * (Ox - cx) + S * cJ * (Oy - cy) + I;
-      double bt[3], bMb = 0;
-      for (int l = 0; l < nf; ++l) bt[l] = jx[l] * Wty - jy[l] * Wtx + jp[l] * Lt;
+      double bt[3], y[3], bMb = 0;
+      top_share(cx, cy, bt);
       if (flex) {
         for (int i = 0; i < nb; ++i) {
           const double bi = mass[i] * (height[b] + c.local_heights[b][i] - cy);
           if (i + 1 < nb)
             bMb += bi * bi / mass[i];
           else
-            bt[1] += bi;
+            bt[iu] += bi;
         }
       }
-      double y[3] = {bt[0], bt[1], bt[2]};
+      for (int l = 0; l < nf; ++l) y[l] = bt[l];
       solve(y);
       for (int l = 0; l < nf; ++l) bMb += bt[l] * y[l];
-      const double den = tMt - bMb;
-      const double inertia = 1.0 / den;
-      (p == Pivot::left ? corners[k].left : corners[k].right) = (sign(p) * out[k].M - Bk * out[k].N) * inertia;
-      (p == Pivot::left ? corners[k].left_gain : corners[k].right_gain) = -inertia;
+      set_corner(k, p, tMt - bMb);
     }
   }
 }
@@ -814,8 +845,8 @@ void accelerate(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen:
                 Eigen::Ref<const Eigen::VectorXd> q_dot, Eigen::Ref<Eigen::VectorXd> q_ddot, bool augmented,
                 ChainWorkspace& w, ChainPower* power = nullptr) {
   check_sizes(c, phases, q, q_dot, q_ddot);
-  if (!augmented && top_rocking_applies(c, phases, w)) {
-    top_rocking(c, phases, a, q, q_dot, q_ddot, w, power, {}, {});
+  if (!augmented && rigid_top_applies(c, phases, w)) {
+    rigid_top(c, phases, a, q, q_dot, q_ddot, w, power, {}, {});
     return;
   }
   partition(c, phases, augmented, w);
@@ -1087,8 +1118,8 @@ void chain_reactions(const Chain& c, ChainPhases phases, GroundAcceleration a, E
                      Eigen::Ref<const Eigen::VectorXd> q_dot, std::span<JointReaction> out,
                      Eigen::Ref<Eigen::VectorXd> q_ddot, ChainWorkspace& w, std::span<CornerAcceleration> corners) {
   check_sizes(c, phases, q, q_dot, q_ddot);
-  if (top_rocking_applies(c, phases, w)) {
-    top_rocking(c, phases, a, q, q_dot, q_ddot, w, nullptr, out, corners);
+  if (rigid_top_applies(c, phases, w)) {
+    rigid_top(c, phases, a, q, q_dot, q_ddot, w, nullptr, out, corners);
     return;
   }
   accelerate(c, phases, a, q, q_dot, q_ddot, true, w);
@@ -1154,8 +1185,8 @@ void chain_reactions(const Chain& c, ChainPhases phases, GroundAcceleration a, E
   }
 }
 
-bool chain_top_rocking(const Chain& c, ChainPhases phases, const ChainWorkspace& w) {
-  return static_cast<int>(phases.size()) == c.joints && top_rocking_applies(c, phases, w);
+bool chain_rigid_top(const Chain& c, ChainPhases phases, const ChainWorkspace& w) {
+  return static_cast<int>(phases.size()) == c.joints && rigid_top_applies(c, phases, w);
 }
 
 double uplift_guard(const Chain& c, int joint, Pivot s, const JointReaction& r) {

@@ -126,12 +126,12 @@ using ChainPhases = std::span<const Phase>;
 struct ChainWorkspace {
   bool per_point = false;
   // chain_acceleration and chain_reactions take the closed form of
-  // docs/chain.md "A rigid top rocking on a closed chain" where
-  // chain_top_rocking says it holds (the same equations: a dense block on the
-  // top's theta and its face's u and phi, the rest diagonal; the closed
-  // joints' reactions the balance of everything above them). False: the
-  // assembly above in every phase, the reference the closed form is held to.
-  bool top_rocking = true;
+  // docs/chain.md "A rigid top on a closed chain" where chain_rigid_top says
+  // it holds (the same equations: a dense block on the top's theta, when it
+  // rocks, and its face's u and phi, the rest diagonal; the closed joints'
+  // reactions the balance of everything above them). False: the assembly
+  // above in every phase, the reference the closed form is held to.
+  bool rigid_top = true;
   using Rows = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;  // a Jacobian row contiguous
   Rows jac;                  // 2 rows per point (+ anchors) x augmented
   Eigen::MatrixXd points;    // per point: x, y, vx, vy, bias x, bias y (per_point)
@@ -161,11 +161,11 @@ void chain_acceleration(const Chain& c, ChainPhases phases, GroundAcceleration a
                         ChainPower* power = nullptr);
 
 // Whether chain_acceleration and chain_reactions take the closed form for a
-// rigid top rocking on a closed chain (docs/chain.md): w.top_rocking and not
-// per_point, no tendon, every joint closed but the top one, which rocks, the
-// top segment rigid, and every segment below rigid but the one the top
-// stands on.
-bool chain_top_rocking(const Chain& c, ChainPhases phases, const ChainWorkspace& w);
+// rigid top on a closed chain (docs/chain.md): w.rigid_top and not
+// per_point, no tendon, every joint closed but the top one, which rocks or
+// is closed, the top segment rigid, and every segment below rigid but the
+// one the top stands on.
+bool chain_rigid_top(const Chain& c, ChainPhases phases, const ChainWorkspace& w);
 
 // The reaction of joint j on the segment above, in the face's frame: N normal
 // (compression > 0), V shear, M the joint's moment, signed as theta (M > 0 tips
