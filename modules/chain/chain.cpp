@@ -589,11 +589,266 @@ ChainPower power_of(const Chain& c, GroundAcceleration a, Eigen::Ref<const Eigen
   return p;
 }
 
+void check_sizes(const Chain& c, ChainPhases phases, Eigen::Ref<const Eigen::VectorXd> q,
+                 Eigen::Ref<const Eigen::VectorXd> q_dot, Eigen::Ref<Eigen::VectorXd> q_ddot) {
+  if (static_cast<int>(phases.size()) != c.joints || q.size() != c.size || q_dot.size() != c.size || q_ddot.size() != c.size)
+    throw std::invalid_argument("chain: one phase per joint and one q, q', q'' per coordinate");
+}
+
+// docs/chain.md "A rigid top on a closed chain": every joint but the top one
+// (J) closed, the top segment rigid, rocking about s or closed, every
+// segment below its face rigid but the one it stands on (b = J - 1), no
+// tendon. Every segment below the top then has its slab frame fixed in the
+// ground's (each stands closed on the ground or on a rigid segment whose
+// frame is fixed); a flexible b's nodes move by u alone, so the free
+// coordinates are theta_J when the top rocks and, when b is flexible, its u
+// and phi; M is the nodes' masses on u_1..u_(n-1) (no other term touches
+// them) and a dense block on (theta_J, u_n, phi), the top's
+// [J_O; J_psi]' A [J_O; J_psi] with m_n on u_n. A closed top turns with the
+// face about its centre: the same kinematics with the corner at the centre
+// (s B = 0) and no theta_J. Whether the workspace and the phases take it.
+bool rigid_top_applies(const Chain& c, ChainPhases phases, const ChainWorkspace& w) {
+  if (!w.rigid_top || w.per_point || !c.data.tendons.empty() || c.joints < 2) return false;
+  const int J = c.joints - 1;
+  if (c.elastic_offset[J] >= 0) return false;
+  for (int j = 0; j < J; ++j)
+    if (!closed(phases[j])) return false;
+  for (int j = 0; j + 1 < J; ++j)
+    if (c.elastic_offset[j] >= 0) return false;
+  return true;
+}
+
+// The closed form: q'' (and the power) always; with `out`, every joint's
+// reaction, and with `corners`, every closed joint's corner accelerations.
+void rigid_top(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
+               Eigen::Ref<const Eigen::VectorXd> q_dot, Eigen::Ref<Eigen::VectorXd> q_ddot, ChainWorkspace& w,
+               ChainPower* power, std::span<JointReaction> out, std::span<CornerAcceleration> corners) {
+  const ChainData& d = c.data;
+  const int J = c.joints - 1, b = J - 1;
+  const double gv = d.g + a.v;
+  // The fixed frames' heights O_k.y (x = 0, psi = 0), summed up the chain as
+  // kinematics sums them; the first mass point of b.
+  double* height = w.column.data();
+  int first_b = 0;
+  height[0] = 0.0;
+  for (int k = 0; k < b; ++k) {
+    const Eigen::Index top = c.local_heights[k].size() - 1;
+    height[k + 1] = height[k] + c.local_heights[k][top];
+    first_b += 1 + static_cast<int>(c.local_heights[k].size());
+  }
+  const int eo = c.elastic_offset[b];
+  const bool flex = eo >= 0, rocks = !closed(phases[J]);
+  const int nb = static_cast<int>(c.local_heights[b].size());
+  const int ucol = flex ? eo + nb - 1 : -1, pcol = flex ? c.rotation_index[b] : -1;
+  const double u = flex ? q[ucol] : 0.0, ud = flex ? q_dot[ucol] : 0.0;
+  const double phi = flex ? q[pcol] : 0.0, phid = flex ? q_dot[pcol] : 0.0;
+  // The face of joint J: b's top node, turning with phi.
+  const double fx = u, fy = height[b] + c.local_heights[b][nb - 1];
+  const double cF = flex ? std::cos(phi) : 1.0, sF = flex ? std::sin(phi) : 0.0;
+  // The top: its slab frame about the corner (s B, 0) of the face (the
+  // centre, s B = 0, when closed).
+  const double sB = rocks ? pivot_sign(phases[J]) * d.segments[J].half_width : 0.0;
+  const double th = rocks ? q[J] : 0.0, psi = phi + th, om = phid + (rocks ? q_dot[J] : 0.0);
+  const double cJ = rocks ? std::cos(psi) : cF, sJ = rocks ? std::sin(psi) : sF;
+  const double RFx = sB * cF, RFy = -sB * sF;  // R(psi_F) (s B, 0)
+  const double RJx = sB * cJ, RJy = -sB * sJ;  // R(psi) (s B, 0)
+  const double Ox = fx + RFx - RJx, Oy = fy + RFy - RJy;
+  const double vx = ud + phid * RFy - om * RJy, vy = -phid * RFx + om * RJx;
+  const double bx = -phid * phid * RFx + om * om * RJx, by = -phid * phid * RFy + om * om * RJy;
+  // Its frame's Jacobian on the free ones of (theta_J, u_n, phi), in that
+  // order: J_O = -perp(R c), (1, 0), perp(R_F c) - perp(R c); J_psi = 1, 0, 1.
+  int nf = 0, col[3], iu = -1;
+  double jx[3], jy[3], jp[3];
+  auto add = [&](int k, double x, double y, double p) { col[nf] = k, jx[nf] = x, jy[nf] = y, jp[nf] = p, ++nf; };
+  if (rocks) add(J, -RJy, RJx, 1.0);
+  if (flex) {
+    iu = nf;
+    add(ucol, 1.0, 0.0, 0.0);
+    add(pcol, RFy - RJy, -RFx + RJx, 1.0);
+  }
+  const double m = c.segment_mass[J], S = c.segment_moment[J], I = c.segment_inertia[J];
+  const double Px = S * cJ, Py = -S * sJ;  // P = sum m perp(R r) = R (S, 0)
+  const double ax = bx + a.h, ay = by + gv;
+  const double Fx = m * ax - om * om * S * sJ, Fy = m * ay - om * om * S * cJ;  // R (0, S) = S (sin, cos)
+  const double T = Px * ax + Py * ay;
+  double Mb[3][3], Qb[3] = {0.0, 0.0, 0.0};
+  for (int k = 0; k < nf; ++k) {
+    const double gx = m * jx[k] + Px * jp[k], gy = m * jy[k] + Py * jp[k], gp = Px * jx[k] + Py * jy[k] + I * jp[k];
+    for (int l = k; l < nf; ++l) Mb[l][k] = jx[l] * gx + jy[l] * gy + jp[l] * gp;
+    Qb[k] = -(jx[k] * Fx + jy[k] * Fy + jp[k] * T);
+  }
+  if (rocks) Qb[0] += w.applied[J];
+  // b's coordinates: the nodes' forces -m a_h (their frame still), - K x - C x'.
+  double* Qe = w.rhs.data();
+  const double* mass = c.masses.data() + first_b + 1;
+  if (flex) {
+    for (int i = 0; i <= nb; ++i) Qe[i] = i < nb ? -mass[i] * a.h : 0.0;
+    const Eigen::MatrixXd &K = c.K[b], &C = c.C[b];
+    for (int l = 0; l <= nb; ++l) {
+      const double x = q[eo + l], v = q_dot[eo + l];
+      for (int k = 0; k <= nb; ++k) Qe[k] -= K(k, l) * x + C(k, l) * v;
+    }
+    for (int i = 0; i <= nb; ++i) Qe[i] += w.applied[eo + i];
+    Mb[iu][iu] += mass[nb - 1];
+    Qb[iu] += Qe[nb - 1];
+    Qb[iu + 1] += Qe[nb];
+  }
+  // The block's inverse by its adjugate (one division on the path, where a
+  // Cholesky factor's solves take nine), after the leading minors' check
+  // that it is positive definite; then q''.
+  double Mi[3][3];
+  auto not_definite = [] { throw std::runtime_error("chain: mass matrix not positive definite"); };
+  if (nf == 1) {
+    if (!(Mb[0][0] > 0.0)) not_definite();
+    Mi[0][0] = 1.0 / Mb[0][0];
+  } else if (nf == 2) {
+    const double a0 = Mb[0][0], a1 = Mb[1][0], d1 = Mb[1][1], det = a0 * d1 - a1 * a1;
+    if (!(a0 > 0.0) || !(det > 0.0)) not_definite();
+    const double r = 1.0 / det;
+    Mi[0][0] = d1 * r, Mi[0][1] = Mi[1][0] = -a1 * r, Mi[1][1] = a0 * r;
+  } else if (nf == 3) {
+    const double a0 = Mb[0][0], a1 = Mb[1][0], a2 = Mb[2][0], d1 = Mb[1][1], e1 = Mb[2][1], f2 = Mb[2][2];
+    const double A00 = d1 * f2 - e1 * e1, A01 = a2 * e1 - a1 * f2, A02 = a1 * e1 - a2 * d1;
+    const double A11 = a0 * f2 - a2 * a2, A12 = a1 * a2 - a0 * e1, A22 = a0 * d1 - a1 * a1;
+    const double det = a0 * A00 + a1 * A01 + a2 * A02;
+    if (!(a0 > 0.0) || !(A22 > 0.0) || !(det > 0.0)) not_definite();
+    const double r = 1.0 / det;
+    Mi[0][0] = A00 * r, Mi[0][1] = Mi[1][0] = A01 * r, Mi[0][2] = Mi[2][0] = A02 * r;
+    Mi[1][1] = A11 * r, Mi[1][2] = Mi[2][1] = A12 * r, Mi[2][2] = A22 * r;
+  }
+  auto solve = [&](double* x) {
+    double y[3];
+    for (int i = 0; i < nf; ++i) {
+      y[i] = 0.0;
+      for (int k = 0; k < nf; ++k) y[i] += Mi[i][k] * x[k];
+    }
+    for (int i = 0; i < nf; ++i) x[i] = y[i];
+  };
+  double acc[3] = {Qb[0], Qb[1], Qb[2]};
+  solve(acc);
+  q_ddot.setZero();
+  for (int k = 0; k < nf; ++k) q_ddot[col[k]] = acc[k];
+  if (flex)
+    for (int i = 0; i + 1 < nb; ++i) q_ddot[eo + i] = Qe[i] / mass[i];
+  if (power) {  // momentum: b's nodes' sum m u', the top's m O' + psi' P
+    double Ud = 0;
+    for (int i = 0; flex && i < nb; ++i) Ud += mass[i] * q_dot[eo + i];
+    const double px = Ud + (m * vx + om * Px), py = m * vy + om * Py;
+    power->ground = -(a.h * px + a.v * py);
+    power->damping = 0.0;
+    if (flex) {
+      const Eigen::MatrixXd& C = c.C[b];
+      for (int l = 0; l <= nb; ++l)
+        for (int k = 0; k <= nb; ++k) power->damping += q_dot[eo + k] * C(k, l) * q_dot[eo + l];
+    }
+  }
+  if (out.empty()) return;
+
+  // Reactions: the force sum m (a_i + (a_h, g + a_v)) on each part above a
+  // joint and its moment about the joint's centre (docs/chain.md).
+  double psi_dd = 0, Ax = bx, Ay = by;  // psi'', O''
+  for (int k = 0; k < nf; ++k) {
+    psi_dd += jp[k] * acc[k];
+    Ax += jx[k] * acc[k];
+    Ay += jy[k] * acc[k];
+  }
+  const double ex = Ax + a.h, ey = Ay + gv;
+  double Sx = m * ex + psi_dd * Px - om * om * S * sJ, Sy = m * ey + psi_dd * Py - om * om * S * cJ;
+  double Mo = Px * ex + Py * ey + I * psi_dd;  // about the top's O (the face's centre when closed)
+  out[J].V = cF * Sx - sF * Sy;
+  out[J].N = sF * Sx + cF * Sy;
+  out[J].M = rocks ? 0.0 : w.applied[J] - Mo;
+  // The top's share of b = M_f,t about a corner C (for the corners):
+  // J_O'perp(W) + J_psi L with W = m (O - C) + R (0, S), L = R (0, S).(O - C) + I.
+  auto top_share = [&](double cx, double cy, double* bt) {
+    const double Wtx = m * (Ox - cx) + S * sJ, Wty = m * (Oy - cy) + S * cJ;
+    const double Lt = S * sJ * (Ox - cx) + S * cJ * (Oy - cy) + I;
+    for (int l = 0; l < nf; ++l) bt[l] = jx[l] * Wty - jy[l] * Wtx + jp[l] * Lt;
+  };
+  auto set_corner = [&](int k, Pivot p, double den) {
+    const double inertia = 1.0 / den;
+    (p == Pivot::left ? corners[k].left : corners[k].right) = (sign(p) * out[k].M - d.segments[k].half_width * out[k].N) * inertia;
+    (p == Pivot::left ? corners[k].left_gain : corners[k].right_gain) = -inertia;
+  };
+  if (!corners.empty()) {
+    corners[J] = {};
+    if (!rocks)  // the top alone about a corner of its face, C = O + R_F (s B_J, 0)
+      for (Pivot p : pivots) {
+        const double sBJ = sign(p) * d.segments[J].half_width;
+        const double cx = Ox + sBJ * cF, cy = Oy - sBJ * sF, rx = Ox - cx, ry = Oy - cy;
+        const double tMt = m * (rx * rx + ry * ry) + 2.0 * S * (sJ * rx + cJ * ry) + I;
+        double bt[3], y[3], bMb = 0;
+        top_share(cx, cy, bt);
+        for (int l = 0; l < nf; ++l) y[l] = bt[l];
+        solve(y);
+        for (int l = 0; l < nf; ++l) bMb += bt[l] * y[l];
+        set_corner(J, p, tMt - bMb);
+      }
+  }
+  // The part above, for the corners: mass, first and second moments about (Xx, Xy).
+  double mt = m, Wx = S * sJ, Wy = S * cJ, It = I, Xx = Ox, Xy = Oy;
+  for (int k = b; k >= 0; --k) {
+    const double ox = 0.0, oy = height[k];
+    // move the sums to O_k
+    const double rx = Xx - ox, ry = Xy - oy;
+    Mo += ry * Sx - rx * Sy;
+    It += 2.0 * (rx * Wx + ry * Wy) + mt * (rx * rx + ry * ry);
+    Wx += mt * rx;
+    Wy += mt * ry;
+    Xx = ox, Xy = oy;
+    // segment k's own, about O_k
+    const double mk = c.segment_mass[k], Sk = c.segment_moment[k];
+    double Fk = mk * a.h, Tk = Sk * a.h, Uk = 0, uu = 0;
+    if (k == b && flex)
+      for (int i = 0; i < nb; ++i) {
+        const double ui = q[eo + i], ai = q_ddot[eo + i];
+        Fk += mass[i] * ai;
+        Tk += mass[i] * (c.local_heights[b][i] * ai - gv * ui);
+        Uk += mass[i] * ui;
+        uu += mass[i] * ui * ui;
+      }
+    Sx += Fk;
+    Sy += mk * gv;
+    Mo += Tk;
+    mt += mk;
+    Wx += Uk;
+    Wy += Sk;
+    It += c.segment_inertia[k] + uu;
+    out[k].V = Sx;
+    out[k].N = Sy;
+    out[k].M = w.applied[k] - Mo;
+    if (corners.empty()) continue;
+    for (Pivot p : pivots) {
+      const double sBk = sign(p) * d.segments[k].half_width;  // the corner C = O_k + (s B_k, 0)
+      const double tMt = It - 2.0 * sBk * Wx + mt * sBk * sBk;
+      const double cx = ox + sBk, cy = oy;
+      double bt[3], y[3], bMb = 0;
+      top_share(cx, cy, bt);
+      if (flex) {
+        for (int i = 0; i < nb; ++i) {
+          const double bi = mass[i] * (height[b] + c.local_heights[b][i] - cy);
+          if (i + 1 < nb)
+            bMb += bi * bi / mass[i];
+          else
+            bt[iu] += bi;
+        }
+      }
+      for (int l = 0; l < nf; ++l) y[l] = bt[l];
+      solve(y);
+      for (int l = 0; l < nf; ++l) bMb += bt[l] * y[l];
+      set_corner(k, p, tMt - bMb);
+    }
+  }
+}
+
 void accelerate(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
                 Eigen::Ref<const Eigen::VectorXd> q_dot, Eigen::Ref<Eigen::VectorXd> q_ddot, bool augmented,
                 ChainWorkspace& w, ChainPower* power = nullptr) {
-  if (static_cast<int>(phases.size()) != c.joints || q.size() != c.size || q_dot.size() != c.size || q_ddot.size() != c.size)
-    throw std::invalid_argument("chain: one phase per joint and one q, q', q'' per coordinate");
+  check_sizes(c, phases, q, q_dot, q_ddot);
+  if (!augmented && rigid_top_applies(c, phases, w)) {
+    rigid_top(c, phases, a, q, q_dot, q_ddot, w, power, {}, {});
+    return;
+  }
   partition(c, phases, augmented, w);
   // Without the augmentation only the free coordinates' columns are read (M_ff,
   // Q_f): the Jacobians stop at the last free one (free is increasing, and
@@ -862,6 +1117,11 @@ void chain_acceleration(const Chain& c, ChainPhases phases, GroundAcceleration a
 void chain_reactions(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
                      Eigen::Ref<const Eigen::VectorXd> q_dot, std::span<JointReaction> out,
                      Eigen::Ref<Eigen::VectorXd> q_ddot, ChainWorkspace& w, std::span<CornerAcceleration> corners) {
+  check_sizes(c, phases, q, q_dot, q_ddot);
+  if (rigid_top_applies(c, phases, w)) {
+    rigid_top(c, phases, a, q, q_dot, q_ddot, w, nullptr, out, corners);
+    return;
+  }
   accelerate(c, phases, a, q, q_dot, q_ddot, true, w);
   // lambda_c = M_cf q_f'' - Q_c: the generalised force of constraint c
   auto lambda = [&](int col) {
@@ -923,6 +1183,10 @@ void chain_reactions(const Chain& c, ChainPhases phases, GroundAcceleration a, E
       (p == Pivot::left ? corners[j].left_gain : corners[j].right_gain) = -1.0 / den;
     }
   }
+}
+
+bool chain_rigid_top(const Chain& c, ChainPhases phases, const ChainWorkspace& w) {
+  return static_cast<int>(phases.size()) == c.joints && rigid_top_applies(c, phases, w);
 }
 
 double uplift_guard(const Chain& c, int joint, Pivot s, const JointReaction& r) {

@@ -125,6 +125,13 @@ using ChainPhases = std::span<const Phase>;
 // the same equations to round-off).
 struct ChainWorkspace {
   bool per_point = false;
+  // chain_acceleration and chain_reactions take the closed form of
+  // docs/chain.md "A rigid top on a closed chain" where chain_rigid_top says
+  // it holds (the same equations: a dense block on the top's theta, when it
+  // rocks, and its face's u and phi, the rest diagonal; the closed joints'
+  // reactions the balance of everything above them). False: the assembly
+  // above in every phase, the reference the closed form is held to.
+  bool rigid_top = true;
   using Rows = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;  // a Jacobian row contiguous
   Rows jac;                  // 2 rows per point (+ anchors) x augmented
   Eigen::MatrixXd points;    // per point: x, y, vx, vy, bias x, bias y (per_point)
@@ -152,6 +159,13 @@ struct ChainPower;
 void chain_acceleration(const Chain& c, ChainPhases phases, GroundAcceleration a, Eigen::Ref<const Eigen::VectorXd> q,
                         Eigen::Ref<const Eigen::VectorXd> q_dot, Eigen::Ref<Eigen::VectorXd> q_ddot, ChainWorkspace& w,
                         ChainPower* power = nullptr);
+
+// Whether chain_acceleration and chain_reactions take the closed form for a
+// rigid top on a closed chain (docs/chain.md): w.rigid_top and not
+// per_point, no tendon, every joint closed but the top one, which rocks or
+// is closed, the top segment rigid, and every segment below rigid but the
+// one the top stands on.
+bool chain_rigid_top(const Chain& c, ChainPhases phases, const ChainWorkspace& w);
 
 // The reaction of joint j on the segment above, in the face's frame: N normal
 // (compression > 0), V shear, M the joint's moment, signed as theta (M > 0 tips
