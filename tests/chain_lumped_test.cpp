@@ -21,6 +21,7 @@
 
 #include "chain_segment.hpp"
 #include "close.hpp"
+#include "vector_close.hpp"
 import rocking.chain;
 import rocking.geometry;
 import rocking.dynamics;
@@ -96,13 +97,6 @@ std::vector<std::vector<Phase>> every_phase(int joints) {
   return out;
 }
 
-// Each entry of `actual` against `expected` to tol relative, with a floor of tol
-// times the vector's largest entry for an entry that cancels to nothing.
-void check_vector(const Vec& actual, const Vec& expected) {
-  const double floor = tol * std::max(actual.cwiseAbs().maxCoeff(), expected.cwiseAbs().maxCoeff());
-  for (Eigen::Index k = 0; k < expected.size(); ++k) CHECK(actual[k] == close_to(expected[k], tol, floor));
-}
-
 }  // namespace
 
 TEST_CASE("the lumped segments, rigid and flexible, give the general path's right-hand sides, reactions, corner accelerations, powers, energies and positions to 1e-12") {
@@ -134,7 +128,7 @@ TEST_CASE("the lumped segments, rigid and flexible, give the general path's righ
         ChainPower power_l;
         chain_acceleration(c, phases, a, q, v, acc_l, lumped, &power_l);
         chain_acceleration(c, phases, a, q, v, acc_g, general);
-        check_vector(acc_l, acc_g);
+        check_vector(acc_l, acc_g, tol);
 
         const ChainPower power_g = chain_power(c, phases, a, q, v, general);
         const ChainPower power_alone = chain_power(c, phases, a, q, v, lumped);
@@ -166,14 +160,14 @@ TEST_CASE("the lumped segments, rigid and flexible, give the general path's righ
         std::vector<JointReaction> r_l(J), r_g(J);
         std::vector<CornerAcceleration> corners(J);
         chain_reactions(c, phases, a, q, v, r_l, acc_r, lumped, corners);
-        check_vector(acc_r, acc_g);
+        check_vector(acc_r, acc_g, tol);
         chain_reactions(c, phases, a, q, v, r_g, acc_g, general);
         Vec reactions_l(3 * J), reactions_g(3 * J);
         for (int j = 0; j < J; ++j) {
           reactions_l.segment(3 * j, 3) << r_l[j].N, r_l[j].V, r_l[j].M;
           reactions_g.segment(3 * j, 3) << r_g[j].N, r_g[j].V, r_g[j].M;
         }
-        check_vector(reactions_l, reactions_g);
+        check_vector(reactions_l, reactions_g, tol);
 
         Vec corner_l(2 * J), corner_g(2 * J);
         for (int j = 0; j < J; ++j) {
@@ -183,7 +177,7 @@ TEST_CASE("the lumped segments, rigid and flexible, give the general path's righ
             corner_g[slot] = phases[j].is_rocking() ? 0.0 : corner_acceleration(c, phases, j, s, a, q, v, general);
           }
         }
-        check_vector(corner_l, corner_g);
+        check_vector(corner_l, corner_g, tol);
         ++compared;
       }
     }

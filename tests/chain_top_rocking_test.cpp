@@ -26,6 +26,7 @@
 
 #include "chain_segment.hpp"
 #include "close.hpp"
+#include "vector_close.hpp"
 import rocking.chain;
 import rocking.geometry;
 import rocking.dynamics;
@@ -59,13 +60,6 @@ std::vector<std::pair<std::string, ChainData>> chains() {
   out.emplace_back("stacked blocks", jointed_model(load_scene(scenes + "/stacked_blocks.toml")).chain.data);
   out.emplace_back("flexible shaft on a rigid pedestal under a rigid top", pedestal_chain());
   return out;
-}
-
-// Each entry of `actual` against `expected` to tol relative, with a floor of tol
-// times the vector's largest entry for an entry that cancels to nothing.
-void check_vector(const Vec& actual, const Vec& expected) {
-  const double floor = tol * std::max(actual.cwiseAbs().maxCoeff(), expected.cwiseAbs().maxCoeff());
-  for (Eigen::Index k = 0; k < expected.size(); ++k) CHECK(actual[k] == close_to(expected[k], tol, floor));
 }
 
 }  // namespace
@@ -112,17 +106,17 @@ TEST_CASE("a rigid top on a closed chain, rocking or closed: the closed form giv
         ChainPower power_f, power_g;
         chain_acceleration(c, phases, a, q, v, acc_f, fast, &power_f);
         chain_acceleration(c, phases, a, q, v, acc_g, general, &power_g);
-        check_vector(acc_f, acc_g);
+        check_vector(acc_f, acc_g, tol);
         Vec powers_f(2), powers_g(2);
         powers_f << power_f.ground, power_f.damping;
         powers_g << power_g.ground, power_g.damping;
-        check_vector(powers_f, powers_g);
+        check_vector(powers_f, powers_g, tol);
 
         std::vector<JointReaction> r_f(J), r_g(J);
         std::vector<CornerAcceleration> k_f(J), k_g(J);
         chain_reactions(c, phases, a, q, v, r_f, acc_f, fast, k_f);
         chain_reactions(c, phases, a, q, v, r_g, acc_g, general, k_g);
-        check_vector(acc_f, acc_g);
+        check_vector(acc_f, acc_g, tol);
         Vec reactions_f(3 * J), reactions_g(3 * J), corners_f(2 * J), corners_g(2 * J), gains_f(2 * J), gains_g(2 * J);
         for (int j = 0; j < J; ++j) {
           reactions_f.segment(3 * j, 3) << r_f[j].N, r_f[j].V, r_f[j].M;
@@ -132,9 +126,9 @@ TEST_CASE("a rigid top on a closed chain, rocking or closed: the closed form giv
           gains_f.segment(2 * j, 2) << k_f[j].left_gain, k_f[j].right_gain;
           gains_g.segment(2 * j, 2) << k_g[j].left_gain, k_g[j].right_gain;
         }
-        check_vector(reactions_f, reactions_g);
-        check_vector(corners_f, corners_g);
-        check_vector(gains_f, gains_g);
+        check_vector(reactions_f, reactions_g, tol);
+        check_vector(corners_f, corners_g, tol);
+        check_vector(gains_f, gains_g, tol);
         // chain_reactions without the corners gives the same reactions.
         std::vector<JointReaction> r_alone(J);
         chain_reactions(c, phases, a, q, v, r_alone, acc_f, fast);
