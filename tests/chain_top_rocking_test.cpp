@@ -85,7 +85,9 @@ TEST_CASE("a rigid top on a closed chain, rocking or closed: the closed form giv
         CAPTURE(trial);
         Vec q = Vec::Zero(n), v = Vec::Zero(n);
         if (top_phase.is_rocking()) {  // a closed joint's theta and theta' are 0
-          q[top] = top_phase.sign() * 0.05 * std::abs(U(rng));
+          // Up to 0.15 rad: the closed form's cos and sin take their series
+          // below 1/16 rad and the library's above, both held here.
+          q[top] = top_phase.sign() * 0.15 * std::abs(U(rng));
           v[top] = 0.5 * U(rng);
         }
         for (int k = J; k < n; ++k) {

@@ -345,9 +345,28 @@ class ChainDriver {
 
   double half_width(int j) const { return c_.data.segments[static_cast<std::size_t>(j)].half_width; }
   // The moment the intact devices across joint j hold against uplift about p at rest.
-  double held(int j, Pivot p) const {
-    const JointDevices* g = group_at(j);
-    return g == nullptr ? 0.0 : held_moment(*g->model, g->discrete, p);
+  double held(int j, Pivot p) const { return resting_[static_cast<std::size_t>(j)].held[index(p)]; }
+
+  // What the intact devices across each joint do while it is closed, from
+  // the states they keep: the moment they hold against uplift about each
+  // pivot (held_moment) and the pull their forces at rest add to its N.
+  // Both change only at events (a kept state, a break), so they are taken
+  // there (restart, lift_if_lifting) and read by every guard evaluation.
+  struct Resting {
+    std::array<double, 2> held{};  // left, right (rocking.geometry's index)
+    double pull = 0;
+  };
+  void take_resting() {
+    for (int j = 0; j < c_.joints; ++j) {
+      Resting& r = resting_[static_cast<std::size_t>(j)];
+      r = {};
+      const JointDevices* g = group_at(j);
+      if (g == nullptr) continue;
+      for (Pivot p : pivots) r.held[index(p)] = held_moment(*g->model, g->discrete, p);
+      for (std::size_t k = 0; k < g->devices.size(); ++k)
+        if (!g->discrete.is_broken(static_cast<int>(k)))
+          r.pull += law_force_at_rest(g->model->devices[k].law, g->discrete.z(static_cast<int>(k)));
+    }
   }
 
   // Joint j's contact reaction: the multipliers' N and V, with the pull of
@@ -363,9 +382,7 @@ class ChainDriver {
     const JointDevices* g = group_at(j);
     if (g == nullptr) return r;
     if (!phases_[j].is_rocking()) {
-      for (std::size_t k = 0; k < g->devices.size(); ++k)
-        if (!g->discrete.is_broken(static_cast<int>(k)))
-          r.N += law_force_at_rest(g->model->devices[k].law, g->discrete.z(static_cast<int>(k)));
+      r.N += resting_[static_cast<std::size_t>(j)].pull;
       return r;
     }
     sample_devices(y);
@@ -432,6 +449,7 @@ class ChainDriver {
   // uplift conditions already hold about one of its corners.
   void lift_if_lifting(int j, double t) {
     if (phases_[j].is_rocking() || (j == 0 && !jm_.base_rocks())) return;
+    take_resting();
     const GroundAcceleration a = ground_at(t);
     const auto q = y_.head(n_), qd = y_.segment(n_, n_);
     apply_devices(y_, false);
@@ -507,8 +525,10 @@ class ChainDriver {
     next_remembered_ = (next_remembered_ + 1) % remembered_.size();
     r.t = t;
     r.y = y;
-    r.reactions.assign(reactions_.begin(), reactions_.end());
-    r.contacts.assign(contacts_.begin(), contacts_.end());
+    r.reactions.resize(reactions_.size());
+    r.contacts.resize(contacts_.size());
+    std::copy(reactions_.begin(), reactions_.end(), r.reactions.begin());
+    std::copy(contacts_.begin(), contacts_.end(), r.contacts.begin());
     held_ = std::min(held_ + 1, remembered_.size());
   }
   bool recall(double t, Eigen::Ref<const Eigen::VectorXd> y) {
@@ -524,6 +544,7 @@ class ChainDriver {
   }
 
   void restart(double t) {
+    take_resting();
     held_ = next_remembered_ = 0;
     guards_.clear();
     std::vector<ode::Direction> directions;
@@ -581,31 +602,58 @@ class ChainDriver {
     };
     linear_.r0.resize(rows);
     eval(0.0, linear_.r0);
-    linear_.R = Eigen::MatrixXd::Zero(rows, 2 * n_);
-    for (int k = 0; k < 2 * n_; ++k) {
-      if (k % n_ < J) continue;  // the joints' theta and theta', 0 while closed
-      constexpr double h = 1e-6;    // [m, rad, m/s, rad/s]
+    linear_.columns.clear();
+    for (int k = 0; k < 2 * n_; ++k)
+      if (k % n_ >= J) linear_.columns.push_back(k);  // not the joints' theta and theta', 0 while closed
+    linear_.R.resize(rows, static_cast<Eigen::Index>(linear_.columns.size()));
+    for (std::size_t i = 0; i < linear_.columns.size(); ++i) {
+      const int k = linear_.columns[i];
+      constexpr double h = 1e-6;  // [m, rad, m/s, rad/s]
       y[k] = h;
       eval(0.0, plus);
       y[k] = -h;
       eval(0.0, minus);
       y[k] = 0.0;
-      linear_.R.col(k) = (plus - minus) / (2 * h);
+      linear_.R.col(static_cast<Eigen::Index>(i)) = (plus - minus) / (2 * h);
     }
     constexpr double h = 1e-3;  // [m/s^2]
     eval(h, plus);
     eval(-h, minus);
     linear_.ra = (plus - minus) / (2 * h);
     linear_.values.resize(rows);
+    const std::size_t nc = linear_.columns.size();
+    linear_.packed.assign(static_cast<std::size_t>(J) * 8 * (2 + nc), 0.0);
+    double* p = linear_.packed.data();
+    for (int j = 0; j < J; ++j, p += 8 * (2 + nc))
+      for (int r = 0; r < 7; ++r) {
+        p[r] = linear_.r0[7 * j + r];
+        p[8 + r] = linear_.ra[7 * j + r];
+        for (std::size_t k = 0; k < nc; ++k) p[8 * (2 + k) + r] = linear_.R(7 * j + r, static_cast<Eigen::Index>(k));
+      }
   }
 
-  // The closed phase's reactions to first order into reactions_ and corners_.
+  // The closed phase's reactions to first order into reactions_ and corners_:
+  // r0 + ra a_g + R y over the elastic coordinates and rates (`columns`: the
+  // joints' are 0 while closed). A joint's 7 rows go as one vector of 8
+  // lanes, a column at a time (`packed`: per joint, r0, ra, then each
+  // column's rows, each padded to 8), so that its sums run side by side.
   void linear_reactions(double ag, Eigen::Ref<const Eigen::VectorXd> y) {
-    Eigen::VectorXd& v = linear_.values;
-    v.noalias() = linear_.R * y.head(2 * n_);
-    v += linear_.r0 + linear_.ra * ag;
+    const std::size_t nc = linear_.columns.size();
+    double* v = linear_.values.data();
+    const double* p = linear_.packed.data();
+    for (int j = 0; j < c_.joints; ++j, v += 7) {
+      double acc[8];
+      for (int r = 0; r < 8; ++r) acc[r] = p[r] + p[8 + r] * ag;
+      p += 16;
+      for (std::size_t k = 0; k < nc; ++k, p += 8) {
+        const double x = y[linear_.columns[k]];
+        for (int r = 0; r < 8; ++r) acc[r] += p[r] * x;
+      }
+      for (int r = 0; r < 7; ++r) v[r] = acc[r];
+    }
+    v = linear_.values.data();
     for (int j = 0; j < c_.joints; ++j) {
-      const double* r = v.data() + 7 * j;
+      const double* r = v + 7 * j;
       reactions_[j] = {r[0], r[1], r[2]};
       corners_[j] = {r[3], r[4], r[5], r[6]};
     }
@@ -1110,6 +1158,7 @@ class ChainDriver {
   std::vector<JointReaction> reactions_;
   std::vector<JointReaction> contacts_ = std::vector<JointReaction>(static_cast<std::size_t>(c_.joints));  // contact_reaction's, per joint
   std::vector<Lift> lifts_;  // per guard (uplift guards only)
+  std::vector<Resting> resting_ = std::vector<Resting>(static_cast<std::size_t>(c_.joints));  // per joint
   std::vector<CornerAcceleration> corners_ = std::vector<CornerAcceleration>(static_cast<std::size_t>(c_.joints));
   std::vector<Remembered> remembered_ = std::vector<Remembered>(16);
   std::size_t next_remembered_ = 0, held_ = 0;
@@ -1133,7 +1182,9 @@ class ChainDriver {
     std::array<double, 2> corner{};
   };
   struct LinearReactions {
-    Eigen::MatrixXd R;
+    Eigen::MatrixXd R;         // on the state's entries `columns`
+    std::vector<int> columns;
+    std::vector<double> packed;  // r0, ra and R as linear_reactions reads them
     Eigen::VectorXd r0, ra, values, held;
     std::vector<Margins> margins;
     bool trusted = true;
