@@ -17,13 +17,15 @@ namespace rocking {
 namespace {
 
 // cos and sin of a rotation, for the closed form of a rigid top
-// (rigid_top), which runs at every step. A joint's or a face's angle is
+// (rigid_top), which runs at every step, and the anchors' positions (the
+// outputs' top drift at every sample). A joint's or a face's angle is
 // small in every motion short of overturning: there (|x| <= 1/16) the Taylor
 // series to x^10 for the cosine and x^9 for the sine is exact to round-off
 // (the first term left out, x^12/12! or x^11/11!, is below 1e-19 of the
 // value), at a fraction of the library's cost; larger angles take the
 // library's. The generic path (kinematics) keeps the library's, which the
-// one-joint structure's equations share.
+// one-joint structure's equations share: a difference in the last bit there
+// grows over a long run's impacts.
 struct CosSin {
   double c = 1, s = 0;
 };
@@ -1448,8 +1450,9 @@ Eigen::Vector2d anchor_position(const Chain& c, ChainPhases phases, const ChainA
   const auto from = [](const Place& f, double x, double z, double dpsi) {
     Place g{f.ox + (x * f.c + z * f.s), f.oy + (-x * f.s + z * f.c), f.psi + dpsi, f.c, f.s};
     if (dpsi != 0.0) {  // cos(psi + 0) = cos(psi) exactly
-      g.c = std::cos(g.psi);
-      g.s = std::sin(g.psi);
+      const CosSin r = cos_sin(g.psi);
+      g.c = r.c;
+      g.s = r.s;
     }
     return g;
   };
