@@ -155,6 +155,7 @@ class ChainDriver {
     run_stated(
         result_,
         [this] {
+          take_resting();
           for (int j = 0; j < c_.joints; ++j) lift_if_lifting(j, 0.0);
           restart(0.0);
           if (separated_at(0.0)) return;
@@ -351,7 +352,8 @@ class ChainDriver {
   // the states they keep: the moment they hold against uplift about each
   // pivot (held_moment) and the pull their forces at rest add to its N.
   // Both change only at events (a kept state, a break), so they are taken
-  // there (restart, lift_if_lifting) and read by every guard evaluation.
+  // there (restart, and before the uplift checks at the start and after an
+  // impact) and read by every guard evaluation.
   struct Resting {
     std::array<double, 2> held{};  // left, right (rocking.geometry's index)
     double pull = 0;
@@ -449,7 +451,6 @@ class ChainDriver {
   // uplift conditions already hold about one of its corners.
   void lift_if_lifting(int j, double t) {
     if (phases_[j].is_rocking() || (j == 0 && !jm_.base_rocks())) return;
-    take_resting();
     const GroundAcceleration a = ground_at(t);
     const auto q = y_.head(n_), qd = y_.segment(n_, n_);
     apply_devices(y_, false);
@@ -525,10 +526,8 @@ class ChainDriver {
     next_remembered_ = (next_remembered_ + 1) % remembered_.size();
     r.t = t;
     r.y = y;
-    r.reactions.resize(reactions_.size());
-    r.contacts.resize(contacts_.size());
-    std::copy(reactions_.begin(), reactions_.end(), r.reactions.begin());
-    std::copy(contacts_.begin(), contacts_.end(), r.contacts.begin());
+    r.reactions.assign(reactions_.begin(), reactions_.end());
+    r.contacts.assign(contacts_.begin(), contacts_.end());
     held_ = std::min(held_ + 1, remembered_.size());
   }
   bool recall(double t, Eigen::Ref<const Eigen::VectorXd> y) {
@@ -605,7 +604,7 @@ class ChainDriver {
     linear_.columns.clear();
     for (int k = 0; k < 2 * n_; ++k)
       if (k % n_ >= J) linear_.columns.push_back(k);  // not the joints' theta and theta', 0 while closed
-    linear_.R.resize(rows, static_cast<Eigen::Index>(linear_.columns.size()));
+    Eigen::MatrixXd R(rows, static_cast<Eigen::Index>(linear_.columns.size()));  // on the state's entries `columns`
     for (std::size_t i = 0; i < linear_.columns.size(); ++i) {
       const int k = linear_.columns[i];
       constexpr double h = 1e-6;  // [m, rad, m/s, rad/s]
@@ -614,12 +613,12 @@ class ChainDriver {
       y[k] = -h;
       eval(0.0, minus);
       y[k] = 0.0;
-      linear_.R.col(static_cast<Eigen::Index>(i)) = (plus - minus) / (2 * h);
+      R.col(static_cast<Eigen::Index>(i)) = (plus - minus) / (2 * h);
     }
     constexpr double h = 1e-3;  // [m/s^2]
     eval(h, plus);
     eval(-h, minus);
-    linear_.ra = (plus - minus) / (2 * h);
+    const Eigen::VectorXd ra = (plus - minus) / (2 * h);
     linear_.values.resize(rows);
     const std::size_t nc = linear_.columns.size();
     linear_.packed.assign(static_cast<std::size_t>(J) * 8 * (2 + nc), 0.0);
@@ -627,8 +626,8 @@ class ChainDriver {
     for (int j = 0; j < J; ++j, p += 8 * (2 + nc))
       for (int r = 0; r < 7; ++r) {
         p[r] = linear_.r0[7 * j + r];
-        p[8 + r] = linear_.ra[7 * j + r];
-        for (std::size_t k = 0; k < nc; ++k) p[8 * (2 + k) + r] = linear_.R(7 * j + r, static_cast<Eigen::Index>(k));
+        p[8 + r] = ra[7 * j + r];
+        for (std::size_t k = 0; k < nc; ++k) p[8 * (2 + k) + r] = R(7 * j + r, static_cast<Eigen::Index>(k));
       }
   }
 
@@ -976,6 +975,7 @@ class ChainDriver {
     JointResult& rj = result_.joints[j];
     if (rj.impacts++ == 0) rj.first_impact = t;
     if (result_.counts.impacts++ == 0) result_.first_impact = t;
+    take_resting();
     for (int k = 0; k < c_.joints; ++k) lift_if_lifting(k, t);
     return true;
   }
@@ -1182,10 +1182,9 @@ class ChainDriver {
     std::array<double, 2> corner{};
   };
   struct LinearReactions {
-    Eigen::MatrixXd R;         // on the state's entries `columns`
-    std::vector<int> columns;
+    std::vector<int> columns;  // the state's entries the reactions depend on
     std::vector<double> packed;  // r0, ra and R as linear_reactions reads them
-    Eigen::VectorXd r0, ra, values, held;
+    Eigen::VectorXd r0, values, held;
     std::vector<Margins> margins;
     bool trusted = true;
   } linear_;
