@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <initializer_list>
@@ -67,6 +68,22 @@ TEST_CASE("the acceleration is linear between samples and zero outside the recor
   const GroundMotion u = GroundMotion::from_samples("uneven", {0.0, 0.1, 0.3}, {1.0, 3.0, 1.0});
   CHECK(u.acceleration(0.2) == close_to(2.0, 1e-12));
   CHECK(u.next_breakpoint(0.1) == 0.3);
+  CHECK(u.acceleration(0.3) == close_to(1.0, 1e-12));
+  CHECK(u.acceleration(0.31) == 0.0);
+  CHECK(u.acceleration(-0.01) == 0.0);
+  // A record that starts late is zero before its first sample.
+  const GroundMotion late = GroundMotion::from_samples("late", {0.5, 0.6, 0.7}, {1.0, 3.0, 1.0});
+  CHECK(late.acceleration(0.4) == 0.0);
+  CHECK(late.acceleration(0.55) == close_to(2.0, 1e-12));
+  // A scaled copy reads the samples it shares after the original is gone.
+  const GroundMotion copy = [] {
+    const GroundMotion even = GroundMotion::evenly_sampled("even", 0.5, {0.0, 1.0, 4.0});
+    return even.scaled(2.0);
+  }();
+  CHECK(copy.acceleration(0.75) == close_to(5.0, 1e-12));
+  CHECK(copy.acceleration(1.0) == close_to(8.0, 1e-12));
+  CHECK(copy.acceleration(1.01) == 0.0);
+  CHECK(copy.acceleration(std::numeric_limits<double>::quiet_NaN()) == 0.0);
 }
 
 TEST_CASE("two-column and one-column files, units and scale") {

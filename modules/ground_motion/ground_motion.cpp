@@ -126,7 +126,7 @@ double GroundMotion::time_of(std::size_t i) const {
 
 std::size_t GroundMotion::sample_count() const { return samples_ ? samples_->values.size() : 0; }
 
-double GroundMotion::acceleration(double t) const {
+double GroundMotion::acceleration_otherwise(double t) const {
   if (!samples_) {  // analytic pulse
     const double A = amplitude_ * scale_;
     if (shape_ == PulseShape::one_sine)
@@ -134,20 +134,14 @@ double GroundMotion::acceleration(double t) const {
     const double u = std::pow(std::numbers::pi * (t - 1.5 * period_) / period_, 2);
     return A * (1 - 2 * u) * std::exp(-u);
   }
+  // Evenly spaced samples are read inline (acceleration) within the record:
+  // here they are asked for outside it.
   const Samples& sm = *samples_;
+  if (sm.dt > 0 || !(t >= sm.times.front() && t <= duration_)) return 0.0;
   const std::size_t n = sm.values.size();
-  if (t < time_of(0) || t > duration_) return 0.0;
-  std::size_t i;
-  double s;
-  if (sm.dt > 0) {  // no search, no division (called ~10 times a step)
-    const double x = t * sm.inv_dt;
-    i = std::min(static_cast<std::size_t>(x), n - 2);
-    s = x - static_cast<double>(i);
-  } else {
-    i = static_cast<std::size_t>(std::upper_bound(sm.times.begin(), sm.times.end(), t) - sm.times.begin());
-    i = std::clamp<std::size_t>(i, 1, n - 1) - 1;
-    s = (t - sm.times[i]) / (sm.times[i + 1] - sm.times[i]);
-  }
+  std::size_t i = static_cast<std::size_t>(std::upper_bound(sm.times.begin(), sm.times.end(), t) - sm.times.begin());
+  i = std::clamp<std::size_t>(i, 1, n - 1) - 1;
+  const double s = (t - sm.times[i]) / (sm.times[i + 1] - sm.times[i]);
   return scale_ * ((1 - s) * sm.values[i] + s * sm.values[i + 1]);
 }
 
@@ -217,6 +211,9 @@ GroundMotion GroundMotion::evenly_sampled(std::string name, double dt, std::vect
   g.duration_ = dt * static_cast<double>(accelerations.size() - 1);
   samples->values = std::move(accelerations);
   for (double v : samples->values) samples->peak = std::max(samples->peak, std::abs(v));
+  g.even_values_ = samples->values.data();
+  g.even_inv_dt_ = samples->inv_dt;
+  g.even_last_ = samples->values.size() - 2;
   g.samples_ = std::move(samples);
   return g;
 }

@@ -20,7 +20,9 @@
 // a vertical one is refused as the horizontal motion and a horizontal one as
 // the vertical (MODEL.md 14), where the name tells.
 module;
+#include <algorithm>
 #include <array>
+#include <cstddef>
 #include <memory>
 #include <optional>
 #include <string>
@@ -79,7 +81,17 @@ class GroundMotion {
   // amplitude [m/s^2], period T [s] (Ricker: f = 1 / T).
   static GroundMotion pulse(PulseShape shape, double amplitude, double period);
 
-  double acceleration(double t) const;       // a_g(t) [m/s^2]
+  // a_g(t) [m/s^2]. Inline for a record sampled evenly from t = 0 (every
+  // right-hand side and guard of a run asks): no search, no division.
+  double acceleration(double t) const {
+    if (even_values_ != nullptr && t >= 0 && t <= duration_) {
+      const double x = t * even_inv_dt_;
+      const std::size_t i = std::min(static_cast<std::size_t>(x), even_last_);
+      const double s = x - static_cast<double>(i);
+      return scale_ * ((1 - s) * even_values_[i] + s * even_values_[i + 1]);
+    }
+    return acceleration_otherwise(t);
+  }
   // The first breakpoint (a record's sample, a pulse's end) strictly after t,
   // or +infinity: computed, not listed, so that a run holds no copy of them.
   double next_breakpoint(double t) const;
@@ -128,6 +140,7 @@ class GroundMotion {
     double peak = 0;             // max |value| [m/s^2]
   };
   double time_of(std::size_t i) const;
+  double acceleration_otherwise(double t) const;  // a pulse, uneven samples, or t outside the record
 
   std::string name_, description_;
   RecordInfo info_;
@@ -137,6 +150,11 @@ class GroundMotion {
   double duration_ = 0;
   PulseShape shape_ = PulseShape::one_sine;
   double amplitude_ = 0, period_ = 0, scale_ = 1;
+  // Evenly spaced samples (from samples_, which keeps them): the first value,
+  // 1 / dt and the last interval's first index; null when not evenly spaced.
+  const double* even_values_ = nullptr;
+  double even_inv_dt_ = 0;
+  std::size_t even_last_ = 0;
 };
 
 // The ground's velocity and displacement from rest at t = 0 (before a

@@ -1196,7 +1196,7 @@ class ChainDriver {
   double last_row_ = -std::numeric_limits<double>::infinity();  // the last history row's time
   long events_ = 0;
   HistoryGrid history_{opt_.output_interval};
-  PeakTracker peaks_;
+  PeakTracker<> peaks_;
   RunResult result_;
 };
 

@@ -672,7 +672,7 @@ class ColumnsDriver {
   double t_end_ = 0;
   long events_ = 0;
   HistoryGrid history_;
-  PeakTracker peaks_;
+  PeakTracker<> peaks_;
   RunResult result_;
   // As many as a step has guard samples (the exact stepping's most).
   std::vector<Remembered> remembered_ = std::vector<Remembered>(16, Remembered{0.0, y_, {}});

@@ -10,17 +10,35 @@ import rocking.quantities;
 
 namespace rocking {
 
+// The peak quantities a driver's structure can have: peak_quantities without
+// those that need `absent` (the one-joint structure's driver has no columns:
+// its tracker spends no lanes on them, and their peaks stay 0).
+template <Needs absent>
+constexpr auto peak_quantities_without() {
+  constexpr std::size_t n = [] {
+    std::size_t k = 0;
+    for (Quantity q : peak_quantities) k += info(q).needs != absent ? 1 : 0;
+    return k;
+  }();
+  std::array<Quantity, n> out{};
+  std::size_t k = 0;
+  for (Quantity q : peak_quantities)
+    if (info(q).needs != absent) out[k++] = q;
+  return out;
+}
+
 // Absolute peaks over samples of the continuous response; an interior local
 // maximum of |q| is refined by the parabola through its neighbours. It runs
 // at every sample of every step, so the quantities go four at a time through
 // vector registers (the GCC/Clang vector extension), and the parabola, with
 // its divisions, is computed only when some quantity's middle sample is a
 // local maximum: every lane is treated alike, the condition selecting rather
-// than branching.
+// than branching. It tracks the quantities `tracked_list`; the others' peaks are 0.
+template <auto tracked_list = peak_quantities>
 class PeakTracker {
   using Lanes = double __attribute__((vector_size(4 * sizeof(double))));
   using Mask = long __attribute__((vector_size(4 * sizeof(long))));  // a comparison's lanes: -1 or 0
-  static constexpr std::size_t tracked = peak_quantities.size();
+  static constexpr std::size_t tracked = tracked_list.size();
   static constexpr std::size_t lanes = 4, groups = (tracked + lanes - 1) / lanes;
   using Group = std::array<Lanes, groups>;
 
@@ -29,7 +47,7 @@ class PeakTracker {
     Group a{};
     Mask local_max{};  // some lane's middle sample above one neighbour and below neither
     for (std::size_t g = 0; g < groups; ++g) {
-      for (std::size_t j = 0; j < lanes && g * lanes + j < tracked; ++j) a[g][j] = q[index(peak_quantities[g * lanes + j])];
+      for (std::size_t j = 0; j < lanes && g * lanes + j < tracked; ++j) a[g][j] = q[index(tracked_list[g * lanes + j])];
       a[g] = __builtin_elementwise_abs(a[g]);
       const Lanes v1 = v1_[g], v2 = v2_[g];
       local_max |= (v1 >= v2) & (v1 >= a[g]) & ((v1 > v2) | (v1 > a[g]));
@@ -48,7 +66,7 @@ class PeakTracker {
   void break_continuity() { count_ = 0; }
   std::array<double, quantity_count> peaks() const {
     std::array<double, quantity_count> out{};
-    for (std::size_t i = 0; i < tracked; ++i) out[index(peak_quantities[i])] = peak_[i / lanes][i % lanes];
+    for (std::size_t i = 0; i < tracked; ++i) out[index(tracked_list[i])] = peak_[i / lanes][i % lanes];
     return out;
   }
 

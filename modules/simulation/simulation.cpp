@@ -443,7 +443,7 @@ class Driver {
   double t_end_ = 0, next_output_ = 0, work_at_event_ = 0;
   double last_row_ = -std::numeric_limits<double>::infinity();  // the last history row's time
   long outputs_ = 0, events_ = 0;
-  PeakTracker peaks_;
+  PeakTracker<peak_quantities_without<Needs::columns>()> peaks_;
   std::array<Response, 4> batch_;  // samples awaiting the peak tracker
   RunResult result_;
 };
