@@ -244,3 +244,67 @@ TEST_CASE("an impact the momentum law admits no outcome for, with no joint tensi
   CHECK(rs.t_end == close_to(r.t_end, 1e-6));
   MESSAGE(r.stated);
 }
+
+// Thirteen squat drums (2 m wide, 0.2 m tall, 400 kg as two masses: at
+// mid-height and at the top, where the next joint is) under a slender top
+// (0.1 m wide, 1 m tall, 20 kg): a 0.15 g pulse lifts the top alone (its
+// threshold is 0.1 g; every joint below it carries its cg less than 1.3 m
+// above a half-width of 1 m, 0.77 g and more).
+std::string drums_under_a_slender_top() {
+  std::string heights, masses, joints;
+  for (int k = 1; k <= 13; ++k) {
+    heights += fmt::format("{}, {}, ", 0.2 * k - 0.1, 0.2 * k);
+    masses += "200.0, 200.0, ";
+    joints += fmt::format("[[joint]]\nnode = {}\nhalf_width = {}\nbase_mass = 0.0\n", 2 * k, k < 13 ? 1.0 : 0.05);
+  }
+  return fmt::format(R"(
+[structure]
+rigid = true
+half_width = 1.0
+heights = [{}3.1, 3.6]
+masses = [{}10.0, 10.0]
+base_mass = 0.0
+
+[contact]
+restitution = "momentum"
+
+{}
+[excitation]
+pulse = "one-sine"
+amplitude_g = 0.15
+period = 0.5
+duration = 3.0
+)", heights, masses, joints);
+}
+
+TEST_CASE("an impact with more closed joints free to open than the search examines ends the run undecided, at once, saying so") {
+  const Scene scene = scene_from("drums", drums_under_a_slender_top());
+  const Chain c = jointed_model(scene).chain;
+  REQUIRE(c.joints == 14);
+  // The top rocking back onto the last drum, every other joint closed: 13 joints may open, 2 x 3^13 outcomes.
+  std::vector<Phase> before(static_cast<std::size_t>(c.joints), Phase::full_contact());
+  before.back() = Phase::rocking(Pivot::right);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(c.size), qd = Eigen::VectorXd::Zero(c.size);
+  qd[c.joints - 1] = -0.5;
+  const ImpactOutcome out = chain_impact(c, before, c.joints - 1, q, qd);
+  CHECK(out.status == ImpactStatus::beyond_search);
+  CHECK(out.may_open == 13);
+  CHECK(out.candidates.empty());
+  // Ten closed joints free to open are examined, every outcome: the three lowest joints rocking (theta != 0).
+  std::vector<Phase> fewer = before;
+  for (int k = 0; k < 3; ++k) fewer[static_cast<std::size_t>(k)] = Phase::rocking(Pivot::left);
+  Eigen::VectorXd q3 = q;
+  for (int k = 0; k < 3; ++k) q3[k] = -1e-3;
+  const ImpactOutcome examined = chain_impact(c, fewer, c.joints - 1, q3, qd);
+  CHECK(examined.status != ImpactStatus::beyond_search);
+  CHECK(examined.may_open == 10);
+  CHECK(examined.candidates.size() == max_impact_outcomes);
+  // A run reaches such an impact, the top striking the drums: it ends undecided there, the count in its statement.
+  const Ran ran = run(scene);
+  REQUIRE_MESSAGE(ran.result.outcome == Outcome::undecided, ran.result.stated);
+  CHECK_MESSAGE(ran.result.stated.find("13 closed joints may open, so the momentum law has 2 x 3^13 outcomes to "
+                                       "examine, beyond the 118098 it examines at one impact") != std::string::npos,
+                ran.result.stated);
+  CHECK(ran.result.counts.uplifts == 1);
+  CHECK(ran.result.joints.back().uplifts == 1);
+}

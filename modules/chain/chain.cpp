@@ -1345,12 +1345,20 @@ ImpactOutcome chain_impact(const Chain& c, ChainPhases before, int joint, Eigen:
   // Joint j continues about -s or closes; every other closed joint stays
   // closed or opens about either corner (impact-induced uplift); the joints
   // already rocking keep their pivots (theta != 0 there). Every combination
-  // is examined, and the admissible ones (impact_into's `consistent()`) counted.
+  // is examined, and the admissible ones (impact_into's `consistent()`)
+  // counted, up to max_impact_outcomes of them.
   std::vector<int> others;  // the closed joints that may open
   for (int k = 0; k < c.joints; ++k)
     if (k != joint && closed(before[k]) && !(k == 0 && c.data.base_held)) others.push_back(k);
+  out.may_open = static_cast<int>(others.size());
   std::size_t combinations = 2;
-  for (std::size_t i = 0; i < others.size(); ++i) combinations *= 3;
+  for (std::size_t i = 0; i < others.size(); ++i) {
+    if (combinations * 3 > max_impact_outcomes) {
+      out.status = ImpactStatus::beyond_search;
+      return out;
+    }
+    combinations *= 3;
+  }
   std::vector<std::size_t> good;
   std::vector<Phase> after(before.begin(), before.end());
   ChainWorkspace w = make_workspace(c);

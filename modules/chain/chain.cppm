@@ -26,6 +26,7 @@
 module;
 #include <rocking/eigen.hpp>
 
+#include <cstddef>
 #include <span>
 #include <string>
 #include <vector>
@@ -223,9 +224,16 @@ struct ImpactCandidate {
   }
 };
 std::string refusal_words(ImpactCandidate::Refusal r, int joint);  // "a tensile impulse at joint 1", ...
-enum class ImpactStatus { unique, non_unique, none };
+// beyond_search: more outcomes than max_impact_outcomes to examine (none examined).
+enum class ImpactStatus { unique, non_unique, none, beyond_search };
+// The most outcomes the momentum law examines at one impact: 2 x 3^10, the
+// impacting joint's two with every combination of ten closed joints' three
+// (some 80 MB of them held at once). Each closed joint more triples them; an impact
+// with more closed joints free to open states its outcome undecided instead.
+inline constexpr std::size_t max_impact_outcomes = 118098;
 struct ImpactOutcome {
   ImpactStatus status = ImpactStatus::none;
+  int may_open = 0;            // the closed joints, other than the impacting one, that the impact may open
   std::vector<Phase> phases;   // the outcome (when unique)
   Eigen::VectorXd q_dot;
   std::vector<int> uplifted;   // joints the impact opened (impact-induced uplift)

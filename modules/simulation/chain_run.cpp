@@ -894,8 +894,13 @@ class ChainDriver {
   // Why the momentum law leaves an impact's outcome open, in words: how many
   // outcomes it admits, and when none, what refused them ("the momentum law
   // admits none of the 2 outcomes examined (2 with a tensile impulse at
-  // joint 1; 1 with joint 0 opened but moving shut)").
+  // joint 1; 1 with joint 0 opened but moving shut)"), or that it has too
+  // many to examine.
   static std::string undecided_impact(const ImpactOutcome& out) {
+    if (out.status == ImpactStatus::beyond_search)
+      return fmt::format("{} closed joints may open, so the momentum law has 2 x 3^{} outcomes to examine, beyond the "
+                         "{} it examines at one impact",
+                         out.may_open, out.may_open, max_impact_outcomes);
     const auto admitted = std::ranges::count_if(out.candidates, [](const ImpactCandidate& c) { return c.consistent(); });
     if (admitted > 0)
       return fmt::format("the momentum law admits {} of the {} outcomes examined", admitted, out.candidates.size());
