@@ -21,7 +21,9 @@
 // the multipliers, so their restraint is inside N_j and M_j). Impacts conserve
 // the generalised momentum conjugate to the post-impact coordinates; the
 // outcome is searched over the phases the other joints may take and reported
-// unique, non-unique or none, never guessed. docs/chain.md has the derivation.
+// unique, non-unique or none, or left unexamined beyond max_impact_outcomes
+// (more than ten other closed joints free to open): never guessed.
+// docs/chain.md has the derivation.
 // SI units.
 module;
 #include <rocking/eigen.hpp>
@@ -228,8 +230,10 @@ std::string refusal_words(ImpactCandidate::Refusal r, int joint);  // "a tensile
 enum class ImpactStatus { unique, non_unique, none, beyond_search };
 // The most outcomes the momentum law examines at one impact: 2 x 3^10, the
 // impacting joint's two with every combination of ten closed joints' three
-// (some 80 MB of them held at once). Each closed joint more triples them; an impact
-// with more closed joints free to open states its outcome undecided instead.
+// (for a rigid chain of 14 joints, some 80 MB of candidates held at once;
+// each holds vectors over the joints and coordinates). Each closed joint more
+// triples them; an impact with more closed joints free to open states its
+// outcome undecided instead.
 inline constexpr std::size_t max_impact_outcomes = 118098;
 struct ImpactOutcome {
   ImpactStatus status = ImpactStatus::none;

@@ -99,7 +99,7 @@ GroundMotion GroundMotion::from_samples(std::string name, std::vector<double> ti
   samples->times = std::move(times);
   samples->values = std::move(accelerations);
   for (double v : samples->values) samples->peak = std::max(samples->peak, std::abs(v));
-  g.samples_ = std::move(samples);
+  g.set_samples(std::move(samples));
   return g;
 }
 
@@ -211,11 +211,16 @@ GroundMotion GroundMotion::evenly_sampled(std::string name, double dt, std::vect
   g.duration_ = dt * static_cast<double>(accelerations.size() - 1);
   samples->values = std::move(accelerations);
   for (double v : samples->values) samples->peak = std::max(samples->peak, std::abs(v));
-  g.even_values_ = samples->values.data();
-  g.even_inv_dt_ = samples->inv_dt;
-  g.even_last_ = samples->values.size() - 2;
-  g.samples_ = std::move(samples);
+  g.set_samples(std::move(samples));
   return g;
+}
+
+void GroundMotion::set_samples(std::shared_ptr<const Samples> samples) {
+  const bool even = samples->dt > 0;
+  even_values_ = even ? samples->values.data() : nullptr;
+  even_inv_dt_ = even ? samples->inv_dt : 0.0;
+  even_last_ = even ? samples->values.size() - 2 : 0;
+  samples_ = std::move(samples);
 }
 
 std::array<double, 2> direction_cosines(double degrees) {

@@ -83,7 +83,7 @@ class GroundMotion {
 
   // a_g(t) [m/s^2]. Inline for a record sampled evenly from t = 0 (every
   // right-hand side and guard of a run asks): no search, no division.
-  double acceleration(double t) const {
+  inline double acceleration(double t) const {
     if (even_values_ != nullptr && t >= 0 && t <= duration_) {
       const double x = t * even_inv_dt_;
       const std::size_t i = std::min(static_cast<std::size_t>(x), even_last_);
@@ -141,6 +141,9 @@ class GroundMotion {
   };
   double time_of(std::size_t i) const;
   double acceleration_otherwise(double t) const;  // a pulse, uneven samples, or t outside the record
+  // samples_ and, when they are evenly spaced, the even_ fields from them:
+  // the only way samples_ is set, so that the two always agree.
+  void set_samples(std::shared_ptr<const Samples> samples);
 
   std::string name_, description_;
   RecordInfo info_;
@@ -150,8 +153,9 @@ class GroundMotion {
   double duration_ = 0;
   PulseShape shape_ = PulseShape::one_sine;
   double amplitude_ = 0, period_ = 0, scale_ = 1;
-  // Evenly spaced samples (from samples_, which keeps them): the first value,
-  // 1 / dt and the last interval's first index; null when not evenly spaced.
+  // Evenly spaced samples (from samples_, which keeps them alive: copies
+  // share them): the first value, 1 / dt and the last interval's first
+  // index; null when not evenly spaced (set_samples).
   const double* even_values_ = nullptr;
   double even_inv_dt_ = 0;
   std::size_t even_last_ = 0;

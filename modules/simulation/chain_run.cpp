@@ -898,8 +898,8 @@ class ChainDriver {
   // many to examine.
   static std::string undecided_impact(const ImpactOutcome& out) {
     if (out.status == ImpactStatus::beyond_search)
-      return fmt::format("{} closed joints may open, so the momentum law has 2 x 3^{} outcomes to examine, beyond the "
-                         "{} it examines at one impact",
+      return fmt::format("{} closed joints may open, giving 2 x 3^{} outcomes to examine, beyond the {} the "
+                         "momentum law examines at one impact",
                          out.may_open, out.may_open, max_impact_outcomes);
     const auto admitted = std::ranges::count_if(out.candidates, [](const ImpactCandidate& c) { return c.consistent(); });
     if (admitted > 0)

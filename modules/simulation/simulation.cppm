@@ -158,7 +158,8 @@ void check_run_options(const RunOptions& o, std::string_view prefix);
 // - sliding: a joint's friction demand |V|/N reached the limit its scene
 //   states (15: sliding is not modelled);
 // - undecided: an impact for which the momentum law (15) admits no outcome,
-//   or more than one.
+//   or more than one, or has more outcomes than it examines
+//   (rocking.chain's max_impact_outcomes).
 enum class Outcome { completed, overturned, failed, separated, sliding, undecided };
 std::string_view outcome_name(Outcome o);
 std::optional<Outcome> outcome_named(std::string_view name);  // outcome_name's inverse
