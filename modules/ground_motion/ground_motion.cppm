@@ -81,9 +81,12 @@ class GroundMotion {
   // amplitude [m/s^2], period T [s] (Ricker: f = 1 / T).
   static GroundMotion pulse(PulseShape shape, double amplitude, double period);
 
-  // a_g(t) [m/s^2]. Inline for a record sampled evenly from t = 0 (every
-  // right-hand side and guard of a run asks): no search, no division.
-  inline double acceleration(double t) const {
+  // a_g(t) [m/s^2]. For a record sampled evenly from t = 0 (every
+  // right-hand side and guard of a run asks) no search, no division and no
+  // chain of loads; defined here so that the link-time optimiser can inline
+  // it into its callers (a member defined in a named module's class is not
+  // implicitly inline: without LTO, callers call it).
+  double acceleration(double t) const {
     if (even_values_ != nullptr && t >= 0 && t <= duration_) {
       const double x = t * even_inv_dt_;
       const std::size_t i = std::min(static_cast<std::size_t>(x), even_last_);
